@@ -1,0 +1,38 @@
+/* The simulation box: lower corner, edge lengths and which directions are periodic. */
+#ifndef SPAM_BOX_H
+#define SPAM_BOX_H
+#include <petscsys.h>
+
+typedef struct {
+  int       dim;
+  double    lo[3], len[3];
+  PetscBool periodic[3];
+} SpamBox;
+
+/* Coordinate relative to the lower corner, wrapped into [0, len) in periodic directions.
+ * Working relative to the corner keeps every pair computation translation invariant. */
+static inline double SpamBoxLocal(const SpamBox *b, int d, double x)
+{
+  double u = x - b->lo[d];
+  if (b->periodic[d]) {
+    u -= b->len[d] * floor(u / b->len[d]);
+    if (u >= b->len[d]) u -= b->len[d]; /* floor round-off at the upper face */
+  }
+  return u;
+}
+
+/* Minimum image of a separation whose two ends were both wrapped by SpamBoxLocal. */
+static inline double SpamBoxMinImage(double dx, double len, double half, int periodic)
+{
+  if (periodic) {
+    dx = dx > half ? dx - len : dx;
+    dx = dx < -half ? dx + len : dx;
+  }
+  return dx;
+}
+
+/* Checks the box against the kernel range: each periodic edge at least 2h so that a
+ * particle meets at most one image of another. Raises a bad-input error otherwise. */
+PetscErrorCode SpamBoxValidate(const SpamBox *b, double h);
+double         SpamBoxVolume(const SpamBox *b);
+#endif

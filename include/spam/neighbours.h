@@ -1,0 +1,33 @@
+/* Neighbour search: cell binning plus a half Verlet list (each pair once, i < j) with a
+ * skin. The list is kept while no particle has moved more than half the skin since the
+ * last build, so it serves many RK stages and steps. Positions are read from a strided
+ * array (the packed state) and copied, wrapped into the box, into SoA scratch arrays so
+ * that the pair loops stream through memory. */
+#ifndef SPAM_NEIGHBOURS_H
+#define SPAM_NEIGHBOURS_H
+#include <spam/box.h>
+
+typedef struct {
+  int     dim, n;
+  double  cutoff, skin, rc2;     /* rc = cutoff + skin                             */
+  int     ncell[3], ncells;
+  double  cellw[3];
+  int    *cell_of;               /* [n] cell index of each particle at the build     */
+  int    *cell_start, *cell_list;/* CSR: particles of each cell                      */
+  int    *start, *nbr;           /* CSR half list: j > i of particle i               */
+  size_t  npairs, cap;
+  double *xref;                  /* [dim*n] positions at the last build              */
+  double *u[3];                  /* [n] per direction: box-local wrapped positions   */
+  long    builds, grows;         /* statistics                                       */
+} SpamNeighbours;
+
+PetscErrorCode SpamNeighboursCreate(int n, const SpamBox *box, double cutoff, double skin, SpamNeighbours *nl);
+PetscErrorCode SpamNeighboursDestroy(SpamNeighbours *nl);
+/* Copies positions (x[i*stride + d]) into nl->u, rebuilding the list when needed or when
+ * force is set. Returns PETSC_ERR_FP with the particle index in *bad if a position is not
+ * finite (bad is -1 otherwise). */
+PetscErrorCode SpamNeighboursUpdate(SpamNeighbours *nl, const SpamBox *box, const double *x, int stride, PetscBool force, PetscInt *bad);
+/* Cell of a box-local point, and the distinct cells adjacent to it (itself included). */
+int SpamNeighboursCellOf(const SpamNeighbours *nl, const SpamBox *box, const double *u);
+int SpamNeighboursAdjacentCells(const SpamNeighbours *nl, const SpamBox *box, int cell, int *adj);
+#endif

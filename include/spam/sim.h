@@ -1,0 +1,52 @@
+/* The simulation: particles in a DMSwarm whose one packed field is the state vector,
+ * the box, the model, neighbour list and the scratch that the right-hand side uses. */
+#ifndef SPAM_SIM_H
+#define SPAM_SIM_H
+#include <petscdmswarm.h>
+#include <spam/box.h>
+#include <spam/model.h>
+#include <spam/neighbours.h>
+
+#define SPAM_STATE_FIELD "spam_state"
+
+typedef struct {
+  long   rhs_evals;
+  double rhs_time;      /* seconds inside the right-hand side, list builds included */
+  double pair_visits;   /* pair-list entries visited in force passes                */
+} SpamRhsStats;
+
+typedef struct {
+  char   name[64];
+  double volume_ratio;          /* final / initial gas volume; 0 if not an expansion */
+  double sound_traversal_time;  /* time for sound to cross the initial body          */
+  double t_end_default;
+} SpamSceneInfo;
+
+typedef struct SpamSim {
+  MPI_Comm       comm;
+  DM             swarm;
+  Vec            X;        /* state: view on the swarm's packed field                */
+  PetscInt       n;        /* local particles                                        */
+  PetscInt       nglobal;
+  SpamBox        box;
+  SpamModel      model;
+  SpamNeighbours nl;
+  double         skin;
+  double        *rho, *q;  /* scratch: density and P/rho^2 per particle             */
+  double        *acc[3];   /* scratch: acceleration per direction                    */
+  SpamRhsStats   stats;
+  SpamSceneInfo  scene;
+} SpamSim;
+
+/* Creates the swarm with n local particles and the model's layout; X is not yet made. */
+PetscErrorCode SpamSimCreate(MPI_Comm comm, const SpamModel *model, const SpamBox *box, PetscInt n, double skin, SpamSim *sim);
+/* Wraps the packed field in X (zero copy) and allocates scratch: call once the swarm is filled. */
+PetscErrorCode SpamSimSetUp(SpamSim *sim);
+PetscErrorCode SpamSimDestroy(SpamSim *sim);
+
+/* The right-hand side ydot = f(t, y) on raw arrays of length n*nvar. Returns
+ * PETSC_ERR_FP (and the particle in *bad) on a non-finite position. */
+PetscErrorCode SpamRhsIsentrope(SpamSim *sim, const double *y, double *ydot, PetscInt *bad);
+/* Summation density of state y into sim->rho (diagnostics, or the density pass). */
+PetscErrorCode SpamDensitySummation(SpamSim *sim, const double *y, PetscInt *bad);
+#endif

@@ -1,0 +1,13 @@
+/* Translation-invariant error weights (ARKODE's ARKEwtFn). */
+#ifndef SPAM_WEIGHTS_H
+#define SPAM_WEIGHTS_H
+#include <sundials/sundials_nvector.h>
+#include <spam/sim.h>
+
+typedef struct {
+  const SpamSim *sim;
+  double         rtol, atol;
+} SpamWeightsCtx;
+
+int SpamErrorWeights(N_Vector y, N_Vector ewt, void *ctx);
+#endif

@@ -1,0 +1,64 @@
+/* spam-ark: smooth-particle applied mechanics on SUNDIALS ARKODE and PETSc. */
+#include <spam/scene.h>
+#include <spam/run.h>
+#include <spam/errors.h>
+#include <spam/version.h>
+
+static const char help[] = "spam-ark " SPAM_VERSION ": smooth-particle applied mechanics (Lucy-Monaghan SPAM/SPH)\n"
+                           "on SUNDIALS ARKODE and PETSc. Example:\n"
+                           "  spam-ark -options_file options/expansion.opts -output_dir out\n"
+                           "Exit codes: 0 done, 1 failure, 2 bad input, 3 the run went unstable.\n\n";
+
+static PetscErrorCode Run(int *exit_code)
+{
+  SpamSim        sim;
+  SpamRunOptions o;
+  SpamRunResult  r;
+  SpamOutput     out;
+  PetscBool      help;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsHasHelp(NULL, &help));
+  PetscCall(SpamSceneCreateSim(PETSC_COMM_WORLD, &sim));
+  PetscCall(SpamRunOptionsParse(&sim, &o));
+  if (help) { /* every option has been listed with its default: nothing to run */
+    PetscCall(SpamSimDestroy(&sim));
+    PetscFunctionReturn(0);
+  }
+  /* Every input is valid from here on: only now touch the file system. */
+  PetscCall(SpamOutputOpen(o.output_dir, o.hdf5, o.csv, &out));
+  if (o.initial_csv[0]) {
+    const PetscScalar *y;
+    PetscCall(VecGetArrayRead(sim.X, &y));
+    PetscCall(SpamParticlesCsvWrite(o.initial_csv, &sim, y));
+    PetscCall(VecRestoreArrayRead(sim.X, &y));
+  }
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "spam-ark: scene %s, %" PetscInt_FMT " particles in %dD, h %g, %s %s rtol %g atol %g, to t = %g\n", sim.scene.name, sim.nglobal, sim.model.dim, sim.model.kernel.h, o.table, o.fixed_step > 0 ? "fixed step" : o.adapt, o.rtol, o.atol, o.t_end));
+  PetscCall(SpamRunArkode(&sim, &o, &out, &r));
+  if (o.final_csv[0] && r.status != SPAM_STATUS_UNSTABLE) {
+    const PetscScalar *y;
+    PetscCall(VecGetArrayRead(sim.X, &y));
+    PetscCall(SpamParticlesCsvWrite(o.final_csv, &sim, y));
+    PetscCall(VecRestoreArrayRead(sim.X, &y));
+  }
+  PetscCall(SpamSummaryWrite(&out, &sim, &o, &r));
+  PetscCall(SpamOutputClose(&out));
+  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "spam-ark: %s after %ld steps (%ld rejected), %ld RHS evaluations, %.2f s; energy drift %.3e; results in %s\n", r.status == SPAM_STATUS_UNSTABLE ? "unstable" : "done", r.steps, r.rejected, r.rhs_evals, r.wall, r.energy_drift_max, o.output_dir));
+  *exit_code = r.status == SPAM_STATUS_UNSTABLE ? SPAM_EXIT_UNSTABLE : SPAM_EXIT_OK;
+  PetscCall(SpamSimDestroy(&sim));
+  PetscFunctionReturn(0);
+}
+
+int main(int argc, char **argv)
+{
+  PetscErrorCode ierr;
+  int            code = SPAM_EXIT_OK;
+
+  PetscCall(PetscInitialize(&argc, &argv, NULL, help));
+  PetscCall(SpamInstallErrorHandler());
+  ierr = Run(&code);
+  if (ierr) code = ierr == PETSC_ERR_USER_INPUT ? SPAM_EXIT_BAD_INPUT : SPAM_EXIT_ERROR;
+  /* Finalize quietly after an error: the message has been printed already. */
+  PetscFinalize();
+  return code;
+}

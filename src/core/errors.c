@@ -1,0 +1,42 @@
+/* Error reporting: bad input prints one line; other errors keep PETSc's traceback. */
+#include <spam/errors.h>
+#include <arkode/arkode_erkstep.h>
+
+/* The first report of a PETSC_ERR_USER_INPUT error is the user's message: print it alone
+ * and stay silent while the error travels up the call stack. */
+static PetscErrorCode SpamErrorHandler(MPI_Comm comm, int line, const char *fun, const char *file, PetscErrorCode n, PetscErrorType p, const char *mess, void *ctx)
+{
+  (void)ctx;
+  /* A malformed option value (say -h abc) is detected inside PetscOptions*: report it as
+   * bad input too, and pass the bad-input code up from here on. */
+  if (p == PETSC_ERROR_INITIAL && fun && !strncmp(fun, "PetscOptions", 12)) n = PETSC_ERR_USER_INPUT;
+  if (n == PETSC_ERR_USER_INPUT) {
+    if (p == PETSC_ERROR_INITIAL) {
+      PetscMPIInt rank = 0;
+      MPI_Comm_rank(comm, &rank);
+      if (!rank) fprintf(stderr, "spam-ark: error: %s\n", mess);
+    }
+    return n;
+  }
+  return PetscTraceBackErrorHandler(comm, line, fun, file, n, p, mess, NULL);
+}
+
+PetscErrorCode SpamInstallErrorHandler(void)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscPushErrorHandler(SpamErrorHandler, NULL));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamCheckArkode(int flag, const char *call)
+{
+  PetscFunctionBeginUser;
+  if (flag < 0) {
+    char  name[64];
+    char *s = ERKStepGetReturnFlagName(flag); /* allocated by SUNDIALS */
+    PetscCall(PetscStrncpy(name, s ? s : "unknown", sizeof name));
+    free(s);
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "SUNDIALS call %s returned %d (%s)", call, flag, name);
+  }
+  PetscFunctionReturn(0);
+}

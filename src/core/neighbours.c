@@ -1,0 +1,187 @@
+/* Cell binning and the half Verlet list with a skin. */
+#include <spam/neighbours.h>
+
+PetscErrorCode SpamNeighboursCreate(int n, const SpamBox *box, double cutoff, double skin, SpamNeighbours *nl)
+{
+  const double rc = cutoff + skin;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(nl, sizeof *nl));
+  nl->dim    = box->dim;
+  nl->n      = n;
+  nl->cutoff = cutoff;
+  nl->skin   = skin;
+  nl->rc2    = rc * rc;
+  nl->ncells = 1;
+  for (int d = 0; d < 3; d++) {
+    nl->ncell[d] = 1;
+    nl->cellw[d] = 1.0;
+    if (d < box->dim) {
+      nl->ncell[d] = PetscMax(1, (int)floor(box->len[d] / rc));
+      nl->cellw[d] = box->len[d] / nl->ncell[d];
+    }
+    nl->ncells *= nl->ncell[d];
+  }
+  nl->cap = (size_t)PetscMax(n, 1) * 16;
+  PetscCall(PetscMalloc4(n, &nl->cell_of, nl->ncells + 1, &nl->cell_start, n, &nl->cell_list, n + 1, &nl->start));
+  PetscCall(PetscMalloc1(nl->cap, &nl->nbr));
+  PetscCall(PetscCalloc1((size_t)box->dim * n + 1, &nl->xref));
+  for (int d = 0; d < 3; d++) PetscCall(PetscMalloc1(n + 1, &nl->u[d]));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamNeighboursDestroy(SpamNeighbours *nl)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree4(nl->cell_of, nl->cell_start, nl->cell_list, nl->start));
+  PetscCall(PetscFree(nl->nbr));
+  PetscCall(PetscFree(nl->xref));
+  for (int d = 0; d < 3; d++) PetscCall(PetscFree(nl->u[d]));
+  PetscFunctionReturn(0);
+}
+
+/* Cell coordinate along d; points outside an open box fall into the edge cells, which
+ * keeps nearby points in adjacent cells. */
+static int CellCoordinate(const SpamNeighbours *nl, int d, double u)
+{
+  double c = floor(u / nl->cellw[d]);
+  if (c < 0.0) c = 0.0;
+  if (c > nl->ncell[d] - 1) c = nl->ncell[d] - 1;
+  return (int)c;
+}
+
+int SpamNeighboursCellOf(const SpamNeighbours *nl, const SpamBox *box, const double *u)
+{
+  int c = 0;
+  for (int d = box->dim - 1; d >= 0; d--) c = c * nl->ncell[d] + CellCoordinate(nl, d, u[d]);
+  return c;
+}
+
+/* The distinct cell coordinates next to c along d (c itself included). With fewer than
+ * three periodic cells the wrapped neighbours coincide, so every cell is listed once. */
+static int AdjacentAlong(const SpamNeighbours *nl, const SpamBox *box, int d, int c, int *out)
+{
+  const int nc = nl->ncell[d];
+  int       k  = 0;
+  if (d >= box->dim) {
+    out[k++] = 0;
+  } else if (box->periodic[d] && nc < 3) {
+    for (int a = 0; a < nc; a++) out[k++] = a;
+  } else if (box->periodic[d]) {
+    out[k++] = (c + nc - 1) % nc;
+    out[k++] = c;
+    out[k++] = (c + 1) % nc;
+  } else {
+    for (int a = PetscMax(0, c - 1); a <= PetscMin(nc - 1, c + 1); a++) out[k++] = a;
+  }
+  return k;
+}
+
+int SpamNeighboursAdjacentCells(const SpamNeighbours *nl, const SpamBox *box, int cell, int *adj)
+{
+  int c[3], a[3][3], na[3], k = 0;
+  c[0] = cell % nl->ncell[0];
+  c[1] = (cell / nl->ncell[0]) % nl->ncell[1];
+  c[2] = cell / (nl->ncell[0] * nl->ncell[1]);
+  for (int d = 0; d < 3; d++) na[d] = AdjacentAlong(nl, box, d, c[d], a[d]);
+  for (int z = 0; z < na[2]; z++)
+    for (int y = 0; y < na[1]; y++)
+      for (int x = 0; x < na[0]; x++) adj[k++] = (a[2][z] * nl->ncell[1] + a[1][y]) * nl->ncell[0] + a[0][x];
+  return k;
+}
+
+/* Counting sort of the particles by cell; within a cell, by index (deterministic). */
+static void BinParticles(SpamNeighbours *nl, const SpamBox *box)
+{
+  for (int c = 0; c <= nl->ncells; c++) nl->cell_start[c] = 0;
+  for (int i = 0; i < nl->n; i++) {
+    double u[3] = {nl->u[0][i], nl->u[1][i], nl->u[2][i]};
+    nl->cell_of[i] = SpamNeighboursCellOf(nl, box, u);
+    nl->cell_start[nl->cell_of[i] + 1]++;
+  }
+  for (int c = 0; c < nl->ncells; c++) nl->cell_start[c + 1] += nl->cell_start[c];
+  for (int i = 0; i < nl->n; i++) nl->cell_list[nl->cell_start[nl->cell_of[i]]++] = i;
+  for (int c = nl->ncells; c > 0; c--) nl->cell_start[c] = nl->cell_start[c - 1];
+  nl->cell_start[0] = 0;
+}
+
+static PetscErrorCode AppendPair(SpamNeighbours *nl, int j)
+{
+  PetscFunctionBeginUser;
+  if (nl->npairs == nl->cap) { /* rare: the list outgrew its reserve */
+    nl->cap += nl->cap / 2 + 16;
+    PetscCall(PetscRealloc(nl->cap * sizeof(int), &nl->nbr));
+    nl->grows++;
+  }
+  nl->nbr[nl->npairs++] = j;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode BuildList(SpamNeighbours *nl, const SpamBox *box)
+{
+  int    adj[27];
+  double len[3] = {0, 0, 0}, half[3] = {0, 0, 0};
+  int    per[3] = {0, 0, 0};
+
+  PetscFunctionBeginUser;
+  for (int d = 0; d < box->dim; d++) {
+    len[d]  = box->len[d];
+    half[d] = 0.5 * box->len[d];
+    per[d]  = box->periodic[d] ? 1 : 0;
+  }
+  BinParticles(nl, box);
+  nl->npairs   = 0;
+  nl->start[0] = 0;
+  for (int i = 0; i < nl->n; i++) {
+    const int na = SpamNeighboursAdjacentCells(nl, box, nl->cell_of[i], adj);
+    for (int a = 0; a < na; a++) {
+      for (int k = nl->cell_start[adj[a]]; k < nl->cell_start[adj[a] + 1]; k++) {
+        const int j = nl->cell_list[k];
+        double    r2 = 0.0;
+        if (j <= i) continue;
+        for (int d = 0; d < box->dim; d++) {
+          const double dx = SpamBoxMinImage(nl->u[d][i] - nl->u[d][j], len[d], half[d], per[d]);
+          r2 += dx * dx;
+        }
+        if (r2 < nl->rc2) PetscCall(AppendPair(nl, j));
+      }
+    }
+    nl->start[i + 1] = (int)nl->npairs;
+  }
+  nl->builds++;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamNeighboursUpdate(SpamNeighbours *nl, const SpamBox *box, const double *x, int stride, PetscBool force, PetscInt *bad)
+{
+  const int dim     = box->dim;
+  double    maxd2   = 0.0;
+  PetscBool rebuild = (PetscBool)(force || nl->builds == 0);
+
+  PetscFunctionBeginUser;
+  *bad = -1;
+  for (int i = 0; i < nl->n; i++) {
+    double d2 = 0.0;
+    for (int d = 0; d < dim; d++) {
+      const double xi = x[(size_t)i * stride + d];
+      if (!isfinite(xi)) {
+        *bad = i;
+        PetscFunctionReturn(0);
+      }
+      const double dx = xi - nl->xref[(size_t)i * dim + d];
+      d2 += dx * dx;
+      nl->u[d][i] = SpamBoxLocal(box, d, xi);
+    }
+    maxd2 = PetscMax(maxd2, d2);
+  }
+  for (int d = dim; d < 3; d++)
+    for (int i = 0; i < nl->n; i++) nl->u[d][i] = 0.0;
+  /* Two particles each moving skin/2 towards each other stay inside the list range. */
+  if (maxd2 > 0.25 * nl->skin * nl->skin) rebuild = PETSC_TRUE;
+  if (rebuild) {
+    for (int i = 0; i < nl->n; i++)
+      for (int d = 0; d < dim; d++) nl->xref[(size_t)i * dim + d] = x[(size_t)i * stride + d];
+    PetscCall(BuildList(nl, box));
+  }
+  PetscFunctionReturn(0);
+}

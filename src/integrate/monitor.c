@@ -1,0 +1,41 @@
+/* Monitor lines and the drift bookkeeping of conserved quantities. */
+#include <spam/run.h>
+
+PetscErrorCode SpamMonitorStep(const SpamSim *sim, const SpamProgress *p)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscPrintf(sim->comm, "step %6ld  t %-12.6g dt %-11.4e rejected %-5ld rhs %ld\n", p->steps, p->t, p->dt, p->rejected, p->rhs_evals));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamMonitorProgress(const SpamSim *sim, const SpamRunOptions *o, const SpamProgress *p, const SpamRunResult *r)
+{
+  const double frac = o->t_end > 0 ? p->t / o->t_end : 1.0;
+  const double eta  = frac > 0 ? p->wall * (1.0 - frac) / frac : 0.0;
+  const double norm = (double)sim->nglobal * log(sim->scene.volume_ratio > 0 ? sim->scene.volume_ratio : 1.0);
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscPrintf(sim->comm, "t %-10.5g %5.1f%%  steps %-6ld rejected %-4ld rhs %-7ld dt %-10.3e dE/E %-9.2e", p->t, 100.0 * frac, p->steps, p->rejected, p->rhs_evals, p->dt, r->energy_drift_max));
+  if (norm > 0) PetscCall(PetscPrintf(sim->comm, " dS/NklnV %6.3f", (r->last.entropy_sum - r->first.entropy_sum) / norm));
+  PetscCall(PetscPrintf(sim->comm, "  wall %.1fs eta %.1fs\n", p->wall, eta));
+  PetscFunctionReturn(0);
+}
+
+/* Drift scales: energy against |E0|; momentum against sqrt(2 M E0), the momentum the
+ * system would have if all its energy were motion in one direction; angular momentum
+ * against that momentum times the initial radius of gyration. */
+void SpamRunUpdateDrifts(const SpamDiagnostics *d, SpamRunResult *r)
+{
+  const SpamDiagnostics *d0 = &r->first;
+  double                 dp = 0.0, dl = 0.0;
+
+  r->momentum_scale = sqrt(2.0 * d0->mass * PetscMax(fabs(d0->total), 1e-300));
+  r->angmom_scale   = r->momentum_scale * PetscMax(d0->gyration, 1e-300);
+  for (int k = 0; k < 3; k++) {
+    dp += (d->p[k] - d0->p[k]) * (d->p[k] - d0->p[k]);
+    dl += (d->l[k] - d0->l[k]) * (d->l[k] - d0->l[k]);
+  }
+  r->energy_drift_max   = PetscMax(r->energy_drift_max, fabs(d->total - d0->total) / PetscMax(fabs(d0->total), 1e-300));
+  r->momentum_drift_max = PetscMax(r->momentum_drift_max, sqrt(dp) / r->momentum_scale);
+  r->angmom_drift_max   = PetscMax(r->angmom_drift_max, sqrt(dl) / r->angmom_scale);
+}

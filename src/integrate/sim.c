@@ -1,0 +1,50 @@
+/* The simulation object: a DMSwarm holding one packed field, and the scratch of the RHS. */
+#include <spam/sim.h>
+
+PetscErrorCode SpamSimCreate(MPI_Comm comm, const SpamModel *model, const SpamBox *box, PetscInt n, double skin, SpamSim *sim)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(sim, sizeof *sim));
+  sim->comm  = comm;
+  sim->model = *model;
+  sim->box   = *box;
+  sim->n     = n;
+  sim->skin  = skin;
+  PetscCall(DMCreate(comm, &sim->swarm));
+  PetscCall(DMSetType(sim->swarm, DMSWARM));
+  PetscCall(DMSetDimension(sim->swarm, model->dim));
+  PetscCall(DMSwarmSetType(sim->swarm, DMSWARM_BASIC));
+  PetscCall(DMSwarmInitializeFieldRegister(sim->swarm));
+  PetscCall(DMSwarmRegisterPetscDatatypeField(sim->swarm, SPAM_STATE_FIELD, model->layout.nvar, PETSC_REAL));
+  PetscCall(DMSwarmFinalizeFieldRegister(sim->swarm));
+  PetscCall(DMSwarmSetLocalSizes(sim->swarm, n, 0));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamSimSetUp(SpamSim *sim)
+{
+  const PetscInt n = sim->n;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMSwarmGetSize(sim->swarm, &sim->nglobal));
+  PetscCall(DMSwarmCreateGlobalVectorFromField(sim->swarm, SPAM_STATE_FIELD, &sim->X));
+  PetscCall(PetscMalloc2(n + 1, &sim->rho, n + 1, &sim->q));
+  for (int d = 0; d < 3; d++) PetscCall(PetscCalloc1(n + 1, &sim->acc[d]));
+  /* gamma = 2: P/rho^2 = kappa for every particle, set once. */
+  for (PetscInt i = 0; i < n; i++) sim->q[i] = sim->model.eos.kappa;
+  PetscCall(SpamNeighboursCreate((int)n, &sim->box, sim->model.kernel.h, sim->skin, &sim->nl));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamSimDestroy(SpamSim *sim)
+{
+  PetscFunctionBeginUser;
+  if (sim->X) PetscCall(DMSwarmDestroyGlobalVectorFromField(sim->swarm, SPAM_STATE_FIELD, &sim->X));
+  if (sim->rho) {
+    PetscCall(PetscFree2(sim->rho, sim->q));
+    for (int d = 0; d < 3; d++) PetscCall(PetscFree(sim->acc[d]));
+    PetscCall(SpamNeighboursDestroy(&sim->nl));
+  }
+  PetscCall(DMDestroy(&sim->swarm));
+  PetscFunctionReturn(0);
+}

@@ -1,0 +1,32 @@
+/* Error weights for ERKStep. A relative tolerance applied to |x| would make the step
+ * depend on where the origin is, so positions are weighed against the kernel range h:
+ * 1/(rtol h + atol), the same for every particle and every translation. Velocities are
+ * weighed against the particle's speed |v_i| (rotation invariant): 1/(rtol |v_i| + atol). */
+#include <spam/weights.h>
+#include <nvector/nvector_petsc.h>
+
+int SpamErrorWeights(N_Vector y, N_Vector ewt, void *ctx)
+{
+  const SpamWeightsCtx *w = (const SpamWeightsCtx *)ctx;
+  const SpamModel      *m = &w->sim->model;
+  const SpamLayout     *l = &m->layout;
+  const double          wx = 1.0 / (w->rtol * m->kernel.h + w->atol);
+  const PetscScalar    *ya;
+  PetscScalar          *wa;
+
+  if (VecGetArrayRead(N_VGetVector_Petsc(y), &ya)) return -1;
+  if (VecGetArrayWrite(N_VGetVector_Petsc(ewt), &wa)) return -1;
+  for (PetscInt i = 0; i < w->sim->n; i++) {
+    const PetscScalar *p = ya + (size_t)i * l->nvar;
+    PetscScalar       *q = wa + (size_t)i * l->nvar;
+    double             v2 = 0.0;
+    for (int d = 0; d < m->dim; d++) v2 += p[l->v + d] * p[l->v + d];
+    for (int d = 0; d < m->dim; d++) {
+      q[l->x + d] = wx;
+      q[l->v + d] = 1.0 / (w->rtol * sqrt(v2) + w->atol);
+    }
+  }
+  if (VecRestoreArrayWrite(N_VGetVector_Petsc(ewt), &wa)) return -1;
+  if (VecRestoreArrayRead(N_VGetVector_Petsc(y), &ya)) return -1;
+  return 0;
+}

@@ -1,0 +1,63 @@
+/* Conserved and monitored quantities of a state, reduced over all ranks. */
+#include <spam/diagnostics.h>
+
+/* Sums over particles of m, m v, m x and the energies; angular momentum needs the centre
+ * of mass first, so it is a second pass. Positions are taken relative to the box corner
+ * (unwrapped), which keeps every figure independent of where the box sits. */
+PetscErrorCode SpamDiagnosticsCompute(SpamSim *sim, const SpamDiagnosticsOptions *o, double t, const double *y, SpamDiagnostics *d)
+{
+  const SpamModel  *m = &sim->model;
+  const SpamLayout *l = &m->layout;
+  const int         dim = m->dim;
+  double            loc[11] = {0}, glob[11], xc[3] = {0, 0, 0}, vc[3] = {0, 0, 0}, lloc[4] = {0, 0, 0, 0}, lglob[4];
+  PetscInt          bad;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(d, sizeof *d));
+  d->t = t;
+  PetscCall(SpamDensitySummation(sim, y, &bad));
+  PetscCheck(bad < 0, PETSC_COMM_SELF, PETSC_ERR_FP, "non-finite position of particle %" PetscInt_FMT " at t = %g", bad, t);
+  for (PetscInt i = 0; i < sim->n; i++) {
+    const double *p = y + (size_t)i * l->nvar;
+    double        v2 = 0.0;
+    for (int k = 0; k < dim; k++) {
+      loc[1 + k] += m->mass * p[l->v + k];
+      loc[4 + k] += m->mass * (p[l->x + k] - sim->box.lo[k]);
+      v2 += p[l->v + k] * p[l->v + k];
+    }
+    loc[0] += m->mass;
+    loc[7] += 0.5 * m->mass * v2;
+    loc[8] += m->mass * SpamEosEnergy(&m->eos, sim->rho[i]);
+  }
+  PetscCallMPI(MPIU_Allreduce(loc, glob, 11, MPI_DOUBLE, MPI_SUM, sim->comm));
+  d->mass = glob[0];
+  for (int k = 0; k < dim; k++) {
+    d->p[k] = glob[1 + k];
+    xc[k]   = glob[4 + k] / d->mass;
+    vc[k]   = glob[1 + k] / d->mass;
+  }
+  d->kinetic  = glob[7];
+  d->internal = glob[8];
+  d->total    = d->kinetic + d->internal;
+  /* Angular momentum about the centre of mass, in the centre-of-mass frame. */
+  for (PetscInt i = 0; i < sim->n && dim >= 2; i++) {
+    const double *p = y + (size_t)i * l->nvar;
+    double        r[3] = {0, 0, 0}, v[3] = {0, 0, 0};
+    for (int k = 0; k < dim; k++) {
+      r[k] = p[l->x + k] - sim->box.lo[k] - xc[k];
+      v[k] = p[l->v + k] - vc[k];
+    }
+    lloc[0] += m->mass * (r[1] * v[2] - r[2] * v[1]);
+    lloc[1] += m->mass * (r[2] * v[0] - r[0] * v[2]);
+    lloc[2] += m->mass * (r[0] * v[1] - r[1] * v[0]);
+    lloc[3] += m->mass * (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
+  }
+  PetscCallMPI(MPIU_Allreduce(lloc, lglob, 4, MPI_DOUBLE, MPI_SUM, sim->comm));
+  for (int k = 0; k < 3; k++) d->l[k] = lglob[k];
+  d->gyration = sqrt(lglob[3] / d->mass);
+  if (o->entropy) {
+    PetscCall(SpamEntropySum(sim, y, &d->entropy_sum));
+    if (o->grid_spacing > 0) PetscCall(SpamEntropyGrid(sim, y, o->grid_spacing, &d->entropy_grid));
+  }
+  PetscFunctionReturn(0);
+}

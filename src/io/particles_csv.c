@@ -1,0 +1,48 @@
+/* Particles as CSV: file-scene input format, and the snapshots the chart scripts read. */
+#include <spam/output.h>
+
+PetscErrorCode SpamParticlesCsvWrite(const char *path, const SpamSim *sim, const double *y)
+{
+  static const char *ax[3] = {"x", "y", "z"};
+  const SpamLayout  *l     = &sim->model.layout;
+  const int          dim   = sim->model.dim;
+  FILE              *f;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamFileBegin(path, &f));
+  for (int d = 0; d < dim; d++) fprintf(f, "%s%s", d ? "," : "", ax[d]);
+  for (int d = 0; d < dim; d++) fprintf(f, ",v%s", ax[d]);
+  fprintf(f, ",m\n");
+  for (PetscInt i = 0; i < sim->n; i++) {
+    const double *p = y + (size_t)i * l->nvar;
+    for (int d = 0; d < dim; d++) fprintf(f, "%s%.17g", d ? "," : "", p[l->x + d]);
+    for (int d = 0; d < dim; d++) fprintf(f, ",%.17g", p[l->v + d]);
+    fprintf(f, ",%.17g\n", sim->model.mass);
+  }
+  PetscCall(SpamFileCommit(path, f));
+  PetscFunctionReturn(0);
+}
+
+/* Snapshot for charts: positions wrapped into the box, padded to three components. */
+PetscErrorCode SpamSnapshotCsvWrite(const char *path, const SpamSim *sim, const double *y, double t);
+PetscErrorCode SpamSnapshotCsvWrite(const char *path, const SpamSim *sim, const double *y, double t)
+{
+  const SpamLayout *l   = &sim->model.layout;
+  const int         dim = sim->model.dim;
+  FILE             *f;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamFileBegin(path, &f));
+  fprintf(f, "# t=%.10g\nx,y,z,vx,vy,vz,rho\n", t);
+  for (PetscInt i = 0; i < sim->n; i++) {
+    const double *p = y + (size_t)i * l->nvar;
+    double        x[3] = {0, 0, 0}, v[3] = {0, 0, 0};
+    for (int d = 0; d < dim; d++) {
+      x[d] = sim->box.lo[d] + SpamBoxLocal(&sim->box, d, p[l->x + d]);
+      v[d] = p[l->v + d];
+    }
+    fprintf(f, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", x[0], x[1], x[2], v[0], v[1], v[2], sim->rho[i]);
+  }
+  PetscCall(SpamFileCommit(path, f));
+  PetscFunctionReturn(0);
+}

@@ -1,0 +1,24 @@
+/* One row of diagnostics per output time, and one row per accepted step. */
+#include <spam/output.h>
+
+PetscErrorCode SpamTimeseriesAppend(SpamOutput *o, const SpamSim *sim, const SpamProgress *pr, const SpamDiagnostics *d, const SpamDiagnostics *d0)
+{
+  const double norm = (double)sim->nglobal * log(sim->scene.volume_ratio > 0 ? sim->scene.volume_ratio : 1.0);
+  double       rs = NAN, rg = NAN;
+
+  PetscFunctionBeginUser;
+  if (norm > 0) {
+    rs = (d->entropy_sum - d0->entropy_sum) / norm;
+    rg = (d->entropy_grid - d0->entropy_grid) / norm;
+  }
+  fprintf(o->timeseries, "%.10g,%ld,%ld,%ld,%.6e,%.10g,%.10e,%.10e,%.10e,%.10e,%.10e,%.10e,%.12e,%.12e,%.12e,%.10e,%.10e,%.8f,%.8f,%.4f\n", d->t, pr->steps, pr->rejected, pr->rhs_evals, pr->dt, d->mass, d->p[0], d->p[1], d->p[2], d->l[0], d->l[1], d->l[2], d->kinetic, d->internal, d->total, d->entropy_sum, d->entropy_grid, rs, rg, pr->wall);
+  fflush(o->timeseries);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamStepsAppend(SpamOutput *o, const SpamProgress *pr)
+{
+  PetscFunctionBeginUser;
+  fprintf(o->steps, "%ld,%.17g,%.17g,%ld,%ld\n", pr->steps, pr->t, pr->dt, pr->rejected, pr->rhs_evals);
+  PetscFunctionReturn(0);
+}

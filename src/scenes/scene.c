@@ -1,0 +1,149 @@
+/* Scene registry: common options, the choice of scene, and filling the swarm. */
+#include <spam/scene.h>
+#include <spam/errors.h>
+
+static const char *const SceneNames[] = {"expansion", "file"};
+#define NSCENES 2
+
+PetscErrorCode SpamParticlesAllocate(int dim, PetscInt n, SpamParticles *p)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(p, sizeof *p));
+  p->dim = dim;
+  p->n   = n;
+  PetscCall(PetscCalloc1((size_t)n * dim + 1, &p->x));
+  PetscCall(PetscCalloc1((size_t)n * dim + 1, &p->v));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamParticlesFree(SpamParticles *p)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree(p->x));
+  PetscCall(PetscFree(p->v));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode CheckPositive(const char *opt, double v)
+{
+  char val[64];
+  PetscFunctionBeginUser;
+  PetscCall(PetscSNPrintf(val, sizeof val, "%g", v));
+  if (!(v > 0.0) || !isfinite(v)) SPAM_BAD_INPUT(opt, val, "must be a positive number");
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode CommonOptions(SpamCommonParams *c)
+{
+  PetscInt  nd = 3, nl = 3, np = 3, nt = 3, dim = 2;
+  PetscBool set;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(c, sizeof *c));
+  for (int d = 0; d < 3; d++) c->periodic[d] = PETSC_TRUE;
+  c->h    = 3.0;
+  c->mass = 1.0;
+  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Particles, kernel and gas", "spam-ark");
+  PetscCall(PetscOptionsInt("-dim", "Space dimension (1, 2 or 3)", "", dim, &dim, NULL));
+  PetscCall(PetscOptionsReal("-h", "Kernel range h (Lucy's kernel vanishes at r = h)", "", c->h, &c->h, NULL));
+  PetscCall(PetscOptionsReal("-mass", "Particle mass m", "", c->mass, &c->mass, NULL));
+  c->skin = 0.1 * c->h;
+  PetscCall(PetscOptionsReal("-neighbour_skin", "Verlet-list skin (default 0.1 h)", "", c->skin, &c->skin, NULL));
+  c->gamma = 1.0 + 2.0 / (double)PetscClipInterval(dim, 1, 3);
+  PetscCall(PetscOptionsReal("-eos_gamma", "Isentrope exponent gamma in P = kappa rho^gamma (default 1 + 2/D)", "", c->gamma, &c->gamma, NULL));
+  c->kappa = 1.0 / c->gamma;
+  PetscCall(PetscOptionsReal("-eos_kappa", "Isentrope constant kappa (default 1/gamma: sound speed 1 at rho = 1)", "", c->kappa, &c->kappa, NULL));
+  PetscCall(PetscOptionsRealArray("-box_lo", "Lower corner of the box (file scene; default 0)", "", c->box_lo, &nd, NULL));
+  PetscCall(PetscOptionsRealArray("-box_len", "Box edge lengths (file scene: required)", "", c->box_len, &nl, &c->box_len_set));
+  PetscCall(PetscOptionsBoolArray("-periodic", "Periodic in each direction (default true)", "", c->periodic, &np, NULL));
+  PetscCall(PetscOptionsRealArray("-scene_translate", "Shift particles and box by this vector (a test of translation invariance)", "", c->translate, &nt, &set));
+  PetscOptionsEnd();
+  c->dim = (int)dim;
+  {
+    char val[32];
+    PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, dim));
+    if (dim < 1 || dim > 3) SPAM_BAD_INPUT("-dim", val, "allowed: 1, 2 or 3");
+  }
+  PetscCall(CheckPositive("-h", c->h));
+  PetscCall(CheckPositive("-mass", c->mass));
+  PetscCall(CheckPositive("-eos_kappa", c->kappa));
+  {
+    char val[64];
+    PetscCall(PetscSNPrintf(val, sizeof val, "%g", c->skin));
+    if (!(c->skin >= 0.0) || !isfinite(c->skin)) SPAM_BAD_INPUT("-neighbour_skin", val, "must be zero or positive");
+    PetscCall(PetscSNPrintf(val, sizeof val, "%g", c->gamma));
+    if (!(c->gamma > 1.0) || !isfinite(c->gamma)) SPAM_BAD_INPUT("-eos_gamma", val, "must be greater than 1");
+  }
+  PetscFunctionReturn(0);
+}
+
+/* Copies the particles into the swarm's packed field (positions and velocities). */
+static PetscErrorCode FillSwarm(SpamSim *sim, const SpamParticles *p)
+{
+  const SpamLayout *l = &sim->model.layout;
+  PetscReal        *s;
+  PetscInt          bs;
+  PetscDataType     type;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMSwarmGetField(sim->swarm, SPAM_STATE_FIELD, &bs, &type, (void **)&s));
+  for (PetscInt i = 0; i < p->n; i++) {
+    for (int d = 0; d < p->dim; d++) {
+      s[i * bs + l->x + d] = p->x[i * p->dim + d];
+      s[i * bs + l->v + d] = p->v[i * p->dim + d];
+    }
+  }
+  PetscCall(DMSwarmRestoreField(sim->swarm, SPAM_STATE_FIELD, &bs, &type, (void **)&s));
+  PetscFunctionReturn(0);
+}
+
+static void Translate(const double t[3], SpamParticles *p)
+{
+  for (int d = 0; d < p->dim; d++) {
+    p->box.lo[d] += t[d];
+    for (PetscInt i = 0; i < p->n; i++) p->x[i * p->dim + d] += t[d];
+  }
+}
+
+PetscErrorCode SpamSceneCreateSim(MPI_Comm comm, SpamSim *sim)
+{
+  SpamCommonParams    c;
+  SpamExpansionParams ep;
+  SpamFileParams      fp;
+  SpamParticles       p;
+  SpamModel           model;
+  PetscInt            scene = 0;
+  PetscBool           help  = PETSC_FALSE;
+  PetscMPIInt         size;
+  char                val[64];
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCall(PetscOptionsHasHelp(NULL, &help));
+  PetscCall(CommonOptions(&c));
+  {
+    char name[64] = "expansion";
+    PetscOptionsBegin(comm, NULL, "Scene", "spam-ark");
+    PetscCall(PetscOptionsString("-scene", "Scene that builds the particles: expansion or file", "", name, name, sizeof name, NULL));
+    PetscOptionsEnd();
+    scene = -1;
+    for (int s = 0; s < NSCENES; s++)
+      if (!strcmp(name, SceneNames[s])) scene = s;
+    if (scene < 0) SPAM_BAD_INPUT("-scene", name, "allowed: expansion, file");
+  }
+  if (help || scene == 0) PetscCall(SpamExpansionOptions(&c, &ep));
+  if (help || scene == 1) PetscCall(SpamFileOptions(&fp));
+  PetscCall(PetscSNPrintf(val, sizeof val, "%d", size));
+  if (size > 1) SPAM_BAD_INPUT("mpiexec -n", val, "this version runs on one rank; multi-rank halo exchange is not written yet");
+  if (scene == 0) PetscCall(SpamExpansionBuild(&c, &ep, &p));
+  else PetscCall(SpamFileBuild(&c, &fp, &p));
+  Translate(c.translate, &p);
+  PetscCall(SpamBoxValidate(&p.box, c.h));
+  PetscCall(SpamModelIsentropeSetUp(c.dim, c.h, p.mass, c.gamma, c.kappa, &model));
+  PetscCall(SpamSimCreate(comm, &model, &p.box, p.n, c.skin, sim));
+  sim->scene = p.info;
+  PetscCall(FillSwarm(sim, &p));
+  PetscCall(SpamParticlesFree(&p));
+  PetscCall(SpamSimSetUp(sim));
+  PetscFunctionReturn(0);
+}

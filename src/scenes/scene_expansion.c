@@ -1,0 +1,75 @@
+/* Free expansion (Hoover & Hoover 2001, Figs. 2-3): an n^D square lattice of unit
+ * spacing fills one corner of a periodic box of edge 2n, so the gas expands into 2^D
+ * times its volume: twofold in 1D, fourfold in 2D, eightfold in 3D. Small seeded random
+ * offsets (or velocities) break the lattice symmetry. */
+#include <spam/scene.h>
+#include <spam/errors.h>
+
+/* splitmix64: a small generator whose stream depends only on the seed, so runs reproduce
+ * on every platform. Returns a uniform number in [-1, 1). */
+static double Uniform(uint64_t *state)
+{
+  uint64_t z = (*state += 0x9E3779B97F4A7C15ULL);
+  z          = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  z          = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+  z ^= z >> 31;
+  return 2.0 * ((double)(z >> 11) * 0x1.0p-53) - 1.0;
+}
+
+PetscErrorCode SpamExpansionOptions(const SpamCommonParams *c, SpamExpansionParams *p)
+{
+  char val[64];
+
+  PetscFunctionBeginUser;
+  (void)c;
+  p->n          = 32;
+  p->amplitude  = 0.01;
+  p->seed       = 1;
+  p->velocities = PETSC_FALSE;
+  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene expansion (Hoover & Hoover 2001)", "spam-ark");
+  PetscCall(PetscOptionsInt("-expansion_n", "Lattice points per direction of the initial gas (N = n^D)", "", p->n, &p->n, NULL));
+  PetscCall(PetscOptionsReal("-expansion_amplitude", "Size of the uniform random offsets (lattice units) or velocities", "", p->amplitude, &p->amplitude, NULL));
+  PetscCall(PetscOptionsInt("-expansion_seed", "Seed of the random perturbation", "", p->seed, &p->seed, NULL));
+  PetscCall(PetscOptionsBool("-expansion_perturb_velocities", "Perturb velocities instead of positions", "", p->velocities, &p->velocities, NULL));
+  PetscOptionsEnd();
+  PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->n));
+  if (p->n < 1) SPAM_BAD_INPUT("-expansion_n", val, "must be a positive number of lattice points");
+  PetscCall(PetscSNPrintf(val, sizeof val, "%g", p->amplitude));
+  if (!(p->amplitude >= 0.0 && p->amplitude < 0.5)) SPAM_BAD_INPUT("-expansion_amplitude", val, "allowed: 0 <= amplitude < 0.5 lattice spacings");
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamExpansionBuild(const SpamCommonParams *c, const SpamExpansionParams *p, SpamParticles *out)
+{
+  const int  dim = c->dim;
+  PetscInt   n   = 1;
+  uint64_t   rng = (uint64_t)p->seed;
+  SpamEosIsentrope eos = {c->gamma, c->kappa};
+
+  PetscFunctionBeginUser;
+  for (int d = 0; d < dim; d++) n *= p->n;
+  PetscCall(SpamParticlesAllocate(dim, n, out));
+  out->mass    = c->mass;
+  out->box.dim = dim;
+  for (int d = 0; d < dim; d++) {
+    out->box.lo[d]       = 0.0;
+    out->box.len[d]      = 2.0 * (double)p->n;
+    out->box.periodic[d] = c->periodic[d];
+  }
+  for (PetscInt i = 0; i < n; i++) {
+    PetscInt rem = i;
+    for (int d = 0; d < dim; d++) {
+      const double site = (double)(rem % p->n) + 0.5;
+      const double r    = p->amplitude * Uniform(&rng);
+      rem /= p->n;
+      out->x[i * dim + d] = site + (p->velocities ? 0.0 : r);
+      out->v[i * dim + d] = p->velocities ? r : 0.0;
+    }
+  }
+  PetscCall(PetscStrncpy(out->info.name, "expansion", sizeof out->info.name));
+  out->info.volume_ratio = pow(2.0, dim);
+  /* Unit lattice: nominal density m; sound crosses the n-wide gas in n / c. */
+  out->info.sound_traversal_time = (double)p->n / SpamEosSoundSpeed(&eos, c->mass);
+  out->info.t_end_default        = 2.0 * out->info.sound_traversal_time;
+  PetscFunctionReturn(0);
+}
