@@ -731,6 +731,9 @@ def bench_size(n, args, workdir, pin, spam_ok, table_cache):
     L["time_per_eval_s"] = med([r["loop_time_s"] / r["steps"] for r in lam])
     L["pair_time_per_eval_s"] = med([r.get("pair_time_s", float("nan")) / r["steps"]
                                      for r in lam])
+    L["pair_neigh_time_per_eval_s"] = med([(r.get("pair_time_s", float("nan"))
+                                            + r.get("neigh_time_s", float("nan")))
+                                           / r["steps"] for r in lam])
     L["neighbor_builds"] = med([r.get("neighbor_builds") for r in lam])
     L["dangerous_builds"] = max(r.get("dangerous_builds", 0) for r in lam)
     L["ru_maxrss_bytes"] = med([r["ru_maxrss_bytes"] for r in lam])
@@ -794,6 +797,11 @@ def bench_size(n, args, workdir, pin, spam_ok, table_cache):
             cons["kinetic_final_lammps"] = ke_l
             cons["kinetic_final_rel_diff"] = ((float(s0["kinetic_final"]) - ke_l)
                                               / abs(ke_l) if ke_l else None)
+        eos = (s0.get("eos_gamma"), s0.get("eos_kappa"))
+        cons["eos_gamma_kappa"] = eos
+        if eos != (None, None) and eos != (2, 0.5):
+            print("  WARNING: spam-ark ran with eos gamma %s kappa %s; the LAMMPS "
+                  "equivalence needs P = rho^2/2 (gamma 2, kappa 0.5)" % eos)
         if isinstance(s0.get("energy_rel_drift_final"), (int, float)):
             S["energy_rel_drift"] = float(s0["energy_rel_drift_final"])
         res["consistency"] = cons
@@ -866,6 +874,9 @@ def print_size(res, base):
         S.get("time_per_eval_s") and S["time_per_eval_s"] * 1e3,
         L["time_per_eval_s"] * 1e3, "%.3f", ratio=True)
     row("  LAMMPS Pair section only (ms)", NA, L["pair_time_per_eval_s"] * 1e3)
+    row("  same, LAMMPS Pair + Neigh sections only",
+        S.get("time_per_eval_s") and S["time_per_eval_s"] * 1e3,
+        L["pair_neigh_time_per_eval_s"] * 1e3, "%.3f", ratio=True)
     row("ns per pair, initial pair count", S.get("ns_per_pair_initial"),
         L["ns_per_pair_initial"], "%.2f", ratio=True)
     row("ns per pair, time-mean pair count", S.get("ns_per_pair_mean"),

@@ -40,6 +40,8 @@ typedef struct SpamSim {
 
 /* Creates the swarm with n local particles and the model's layout; X is not yet made. */
 PetscErrorCode SpamSimCreate(MPI_Comm comm, const SpamModel *model, const SpamBox *box, PetscInt n, double skin, SpamSim *sim);
+/* Copies positions and velocities ([n*dim] each) into the swarm's packed field. */
+PetscErrorCode SpamSimFill(SpamSim *sim, const double *x, const double *v);
 /* Wraps the packed field in X (zero copy) and allocates scratch: call once the swarm is filled. */
 PetscErrorCode SpamSimSetUp(SpamSim *sim);
 PetscErrorCode SpamSimDestroy(SpamSim *sim);

@@ -21,6 +21,26 @@ PetscErrorCode SpamSimCreate(MPI_Comm comm, const SpamModel *model, const SpamBo
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode SpamSimFill(SpamSim *sim, const double *x, const double *v)
+{
+  const SpamLayout *l   = &sim->model.layout;
+  const int         dim = sim->model.dim;
+  PetscReal        *s;
+  PetscInt          bs;
+  PetscDataType     type;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMSwarmGetField(sim->swarm, SPAM_STATE_FIELD, &bs, &type, (void **)&s));
+  for (PetscInt i = 0; i < sim->n; i++) {
+    for (int d = 0; d < dim; d++) {
+      s[i * bs + l->x + d] = x[i * dim + d];
+      s[i * bs + l->v + d] = v[i * dim + d];
+    }
+  }
+  PetscCall(DMSwarmRestoreField(sim->swarm, SPAM_STATE_FIELD, &bs, &type, (void **)&s));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamSimSetUp(SpamSim *sim)
 {
   const PetscInt n = sim->n;

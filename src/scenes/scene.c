@@ -77,26 +77,6 @@ static PetscErrorCode CommonOptions(SpamCommonParams *c)
   PetscFunctionReturn(0);
 }
 
-/* Copies the particles into the swarm's packed field (positions and velocities). */
-static PetscErrorCode FillSwarm(SpamSim *sim, const SpamParticles *p)
-{
-  const SpamLayout *l = &sim->model.layout;
-  PetscReal        *s;
-  PetscInt          bs;
-  PetscDataType     type;
-
-  PetscFunctionBeginUser;
-  PetscCall(DMSwarmGetField(sim->swarm, SPAM_STATE_FIELD, &bs, &type, (void **)&s));
-  for (PetscInt i = 0; i < p->n; i++) {
-    for (int d = 0; d < p->dim; d++) {
-      s[i * bs + l->x + d] = p->x[i * p->dim + d];
-      s[i * bs + l->v + d] = p->v[i * p->dim + d];
-    }
-  }
-  PetscCall(DMSwarmRestoreField(sim->swarm, SPAM_STATE_FIELD, &bs, &type, (void **)&s));
-  PetscFunctionReturn(0);
-}
-
 static void Translate(const double t[3], SpamParticles *p)
 {
   for (int d = 0; d < p->dim; d++) {
@@ -142,7 +122,7 @@ PetscErrorCode SpamSceneCreateSim(MPI_Comm comm, SpamSim *sim)
   PetscCall(SpamModelIsentropeSetUp(c.dim, c.h, p.mass, c.gamma, c.kappa, &model));
   PetscCall(SpamSimCreate(comm, &model, &p.box, p.n, c.skin, sim));
   sim->scene = p.info;
-  PetscCall(FillSwarm(sim, &p));
+  PetscCall(SpamSimFill(sim, p.x, p.v));
   PetscCall(SpamParticlesFree(&p));
   PetscCall(SpamSimSetUp(sim));
   PetscFunctionReturn(0);

@@ -1,0 +1,66 @@
+"""Helpers for the run tests: invoke spam-ark, read its outputs, count checks."""
+import argparse
+import csv
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+
+class Checks:
+    """Counts checks and prints the closing line 'N passed, N failed'."""
+
+    def __init__(self):
+        self.passed = 0
+        self.failed = 0
+
+    def check(self, ok, message):
+        print(("ok  : " if ok else "FAIL: ") + message, flush=True)
+        if ok:
+            self.passed += 1
+        else:
+            self.failed += 1
+        return ok
+
+    def finish(self):
+        print(f"{self.passed} passed, {self.failed} failed")
+        sys.exit(1 if self.failed else 0)
+
+
+def arguments():
+    p = argparse.ArgumentParser()
+    p.add_argument("--spam-ark", required=True)
+    p.add_argument("--workdir", required=True)
+    a = p.parse_args()
+    shutil.rmtree(a.workdir, ignore_errors=True)
+    os.makedirs(a.workdir)
+    return a
+
+
+def run(binary, args, outdir=None, timeout=600):
+    """Runs spam-ark; returns (exit code, stdout, stderr)."""
+    cmd = [binary] + [str(x) for x in args]
+    if outdir is not None:
+        cmd += ["-output_dir", outdir]
+    p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+    return p.returncode, p.stdout, p.stderr
+
+
+def summary(outdir):
+    with open(os.path.join(outdir, "summary.json")) as f:
+        return json.load(f)
+
+
+def table(path):
+    """A CSV file as a dict of column name -> list of floats."""
+    with open(path) as f:
+        rows = list(csv.DictReader(f))
+    return {k: [float(r[k]) for r in rows] for k in rows[0]}
+
+
+def final_state(path):
+    """Rows of a particles CSV (file-scene format) as lists of floats."""
+    with open(path) as f:
+        next(f)
+        return [[float(v) for v in line.split(",")] for line in f if line.strip()]

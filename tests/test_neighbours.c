@@ -1,0 +1,144 @@
+/* The half Verlet list holds exactly the pairs that brute force finds, in periodic and
+ * open boxes of one to three dimensions, in boxes only 2h + skin wide, and with particles
+ * exactly on cell faces; it is kept while particles move less than half the skin and
+ * still covers every pair within h. */
+#include <spam/neighbours.h>
+#include "test_util.h"
+
+/* Bit per pair (i < j) of the pairs brute force finds within r2max. */
+static void BruteForce(const SpamBox *b, int n, const double *x, double r2max, unsigned char *in)
+{
+  for (int i = 0; i < n; i++)
+    for (int j = i + 1; j < n; j++) {
+      double r2 = 0.0;
+      for (int d = 0; d < b->dim; d++) {
+        const double dx = SpamBoxMinImage(SpamBoxLocal(b, d, x[i * b->dim + d]) - SpamBoxLocal(b, d, x[j * b->dim + d]), b->len[d], 0.5 * b->len[d], b->periodic[d]);
+        r2 += dx * dx;
+      }
+      in[(size_t)i * n + j] = r2 < r2max;
+    }
+}
+
+/* Compares the list with brute force; with exact set, equality, else coverage. */
+static PetscErrorCode Compare(TestCount *c, const char *name, const SpamBox *b, SpamNeighbours *nl, const double *x, double r2max, PetscBool exact)
+{
+  const int      n = nl->n;
+  unsigned char *bf, *ls;
+  long           missing = 0, extra = 0, dup = 0, npairs = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscCalloc2((size_t)n * n, &bf, (size_t)n * n, &ls));
+  BruteForce(b, n, x, r2max, bf);
+  for (int i = 0; i < n; i++)
+    for (int p = nl->start[i]; p < nl->start[i + 1]; p++) {
+      const int j = nl->nbr[p];
+      if (j <= i) extra++;
+      else if (ls[(size_t)i * n + j]++) dup++;
+    }
+  for (size_t k = 0; k < (size_t)n * n; k++) {
+    npairs += bf[k];
+    if (bf[k] && !ls[k]) missing++;
+    if (exact && ls[k] && !bf[k]) extra++;
+  }
+  TestCheck(c, missing == 0 && extra == 0 && dup == 0 && npairs > 0, "%s: %ld brute-force pairs, list has %zu; missing %ld, extra %ld, duplicated %ld", name, npairs, nl->npairs, missing, extra, dup);
+  PetscCall(PetscFree2(bf, ls));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode RandomCase(TestCount *c, const char *name, const SpamBox *b, int n, double h, double skin, uint64_t seed)
+{
+  SpamNeighbours nl;
+  double        *x;
+  PetscInt       bad;
+  const double   rc = h + skin;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1((size_t)n * b->dim, &x));
+  for (int i = 0; i < n; i++)
+    for (int d = 0; d < b->dim; d++) x[i * b->dim + d] = b->lo[d] + b->len[d] * TestUniform(&seed);
+  PetscCall(SpamNeighboursCreate(n, b, h, skin, &nl));
+  PetscCall(SpamNeighboursUpdate(&nl, b, x, b->dim, PETSC_FALSE, &bad));
+  PetscCall(Compare(c, name, b, &nl, x, rc * rc, PETSC_TRUE));
+  /* Move every particle by less than skin/2: no rebuild, and all pairs within h listed. */
+  for (int i = 0; i < n; i++) {
+    double u[3], norm = 0.0;
+    for (int d = 0; d < b->dim; d++) {
+      u[d] = TestUniform(&seed) - 0.5;
+      norm += u[d] * u[d];
+    }
+    for (int d = 0; d < b->dim; d++) x[i * b->dim + d] += 0.49 * skin * u[d] / sqrt(norm + 1e-300);
+  }
+  const long builds = nl.builds;
+  PetscCall(SpamNeighboursUpdate(&nl, b, x, b->dim, PETSC_FALSE, &bad));
+  TestCheck(c, nl.builds == builds, "%s: moves below skin/2 keep the list (builds %ld -> %ld)", name, builds, nl.builds);
+  PetscCall(Compare(c, name, b, &nl, x, h * h, PETSC_FALSE));
+  /* One particle past skin/2: the list is rebuilt and exact again. */
+  x[0] = nl.xref[0] + 0.51 * skin;
+  PetscCall(SpamNeighboursUpdate(&nl, b, x, b->dim, PETSC_FALSE, &bad));
+  TestCheck(c, nl.builds == builds + 1, "%s: a move past skin/2 rebuilds the list", name);
+  PetscCall(Compare(c, name, b, &nl, x, rc * rc, PETSC_TRUE));
+  PetscCall(SpamNeighboursDestroy(&nl));
+  PetscCall(PetscFree(x));
+  PetscFunctionReturn(0);
+}
+
+/* Particles on every cell face of a periodic box (and on the box faces themselves). */
+static PetscErrorCode FaceCase(TestCount *c, int dim, double h, double skin)
+{
+  SpamBox        b = {dim, {-2, -2, -2}, {0, 0, 0}, {PETSC_TRUE, PETSC_TRUE, PETSC_TRUE}};
+  SpamNeighbours nl;
+  int            m = 1, n = 1;
+  double        *x;
+  PetscInt       bad;
+  char           name[64];
+
+  PetscFunctionBeginUser;
+  for (int d = 0; d < dim; d++) b.len[d] = 4.0 * (h + skin);
+  PetscCall(SpamNeighboursCreate(1, &b, h, skin, &nl));
+  const double w = nl.cellw[0];
+  PetscCall(SpamNeighboursDestroy(&nl));
+  m = (int)(b.len[0] / (0.5 * w) + 0.5) + 1; /* faces and mid-planes, both box faces */
+  for (int d = 0; d < dim; d++) n *= m;
+  PetscCall(PetscMalloc1((size_t)n * dim, &x));
+  for (int i = 0; i < n; i++)
+    for (int d = 0, r = i; d < dim; d++, r /= m) x[i * dim + d] = b.lo[d] + 0.5 * w * (r % m);
+  PetscCall(SpamNeighboursCreate(n, &b, h, skin, &nl));
+  PetscCall(SpamNeighboursUpdate(&nl, &b, x, dim, PETSC_TRUE, &bad));
+  PetscCall(PetscSNPrintf(name, sizeof name, "D=%d particles on cell and box faces", dim));
+  PetscCall(Compare(c, name, &b, &nl, x, (h + skin) * (h + skin), PETSC_TRUE));
+  PetscCall(SpamNeighboursDestroy(&nl));
+  PetscCall(PetscFree(x));
+  PetscFunctionReturn(0);
+}
+
+int main(int argc, char **argv)
+{
+  TestCount    c = {0, 0};
+  const double h = 3.0, skin = 0.3;
+  PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
+  for (int dim = 1; dim <= 3; dim++) {
+    const int n = dim == 1 ? 300 : dim == 2 ? 600 : 700;
+    for (int per = 0; per < 2; per++) {
+      for (int narrow = 0; narrow < 2; narrow++) {
+        SpamBox b = {dim, {0.5, -3.0, 1000.0}, {0, 0, 0}, {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE}};
+        char    name[96];
+        for (int d = 0; d < dim; d++) {
+          b.len[d]      = narrow ? 2.0 * h + skin : (dim == 3 ? 14.0 : 23.0);
+          b.periodic[d] = (PetscBool)per;
+        }
+        PetscCall(PetscSNPrintf(name, sizeof name, "D=%d %s box %s", dim, per ? "periodic" : "open", narrow ? "2h+skin wide" : "wide"));
+        PetscCall(RandomCase(&c, name, &b, narrow && dim == 1 ? 40 : n, h, skin, 1234 + 17 * dim + 5 * per + narrow));
+      }
+    }
+    /* Mixed: periodic in x only. */
+    if (dim > 1) {
+      SpamBox b = {dim, {0, 0, 0}, {19, 2 * h + skin, 2 * h + skin}, {PETSC_TRUE, PETSC_FALSE, PETSC_TRUE}};
+      char    name[64];
+      PetscCall(PetscSNPrintf(name, sizeof name, "D=%d mixed periodic/open", dim));
+      PetscCall(RandomCase(&c, name, &b, 400, h, skin, 99 + dim));
+    }
+    PetscCall(FaceCase(&c, dim, h, skin));
+  }
+  PetscCall(PetscFinalize());
+  return TestFinish(&c);
+}

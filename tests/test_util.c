@@ -1,0 +1,41 @@
+#include "test_util.h"
+#include <stdarg.h>
+
+void TestCheck(TestCount *c, int ok, const char *fmt, ...)
+{
+  va_list ap;
+  printf("%s: ", ok ? "ok  " : "FAIL");
+  va_start(ap, fmt);
+  vprintf(fmt, ap);
+  va_end(ap);
+  printf("\n");
+  if (ok) c->passed++;
+  else c->failed++;
+}
+
+int TestFinish(const TestCount *c)
+{
+  printf("%d passed, %d failed\n", c->passed, c->failed);
+  return c->failed ? 1 : 0;
+}
+
+double TestUniform(uint64_t *state)
+{
+  uint64_t z = (*state += 0x9E3779B97F4A7C15ULL);
+  z          = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  z          = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+  z ^= z >> 31;
+  return (double)(z >> 11) * 0x1.0p-53;
+}
+
+PetscErrorCode TestMakeSim(const SpamBox *box, double h, double gamma, PetscInt n, const double *x, const double *v, SpamSim *sim)
+{
+  SpamModel model;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamModelIsentropeSetUp(box->dim, h, 1.0, gamma, 1.0 / gamma, &model));
+  PetscCall(SpamSimCreate(PETSC_COMM_SELF, &model, box, n, 0.1 * h, sim));
+  PetscCall(SpamSimFill(sim, x, v));
+  PetscCall(SpamSimSetUp(sim));
+  PetscFunctionReturn(0);
+}

@@ -1,0 +1,20 @@
+/* Small helpers shared by the C unit tests: checks that count and report, a seeded
+ * generator, and a simulation built from arrays. */
+#ifndef SPAM_TEST_UTIL_H
+#define SPAM_TEST_UTIL_H
+#include <spam/sim.h>
+#include <stdint.h>
+
+typedef struct {
+  int passed, failed;
+} TestCount;
+
+/* Records one check and prints it; the message says what was compared. */
+void TestCheck(TestCount *c, int ok, const char *fmt, ...);
+/* Prints the closing line "N passed, N failed" and returns the exit code. */
+int TestFinish(const TestCount *c);
+/* Uniform in [0, 1) from a splitmix64 stream. */
+double TestUniform(uint64_t *state);
+/* A simulation of the isentropic gas with the given particles. */
+PetscErrorCode TestMakeSim(const SpamBox *box, double h, double gamma, PetscInt n, const double *x, const double *v, SpamSim *sim);
+#endif
