@@ -7,6 +7,7 @@
 typedef struct {
   const SpamSim *sim;
   double         rtol, atol;
+  double         vscale; /* declared velocity scale: the initial sound speed */
 } SpamWeightsCtx;
 
 int SpamErrorWeights(N_Vector y, N_Vector ewt, void *ctx);

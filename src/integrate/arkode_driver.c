@@ -136,6 +136,18 @@ static PetscErrorCode Unstable(SpamSim *sim, SpamOutput *out, const ArkCtx *ctx,
   PetscFunctionReturn(0);
 }
 
+/* Sound speed at the mean summed density of the state whose density was just computed. */
+static PetscErrorCode InitialSoundSpeed(const SpamSim *sim, double *c)
+{
+  double loc = 0.0, sum;
+
+  PetscFunctionBeginUser;
+  for (PetscInt i = 0; i < sim->n; i++) loc += sim->rho[i];
+  PetscCallMPI(MPIU_Allreduce(&loc, &sum, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
+  *c = SpamEosSoundSpeed(&sim->model.eos, sum / (double)PetscMax(sim->nglobal, 1));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamRunArkode(SpamSim *sim, const SpamRunOptions *o, SpamOutput *out, SpamRunResult *r)
 {
   SUNContext     sunctx;
@@ -169,6 +181,7 @@ PetscErrorCode SpamRunArkode(SpamSim *sim, const SpamRunOptions *o, SpamOutput *
     PetscCall(VecGetArrayRead(sim->X, &ya));
     PetscCall(Output(sim, o, out, ya, &p, o->snapshot_interval > 0, r));
     PetscCall(VecRestoreArrayRead(sim->X, &ya));
+    PetscCall(InitialSoundSpeed(sim, &ctx.w.vscale));
   }
   next_out  = NextMultiple(0.0, o->output_interval, o->t_end);
   next_snap = NextMultiple(0.0, o->snapshot_interval, o->t_end);

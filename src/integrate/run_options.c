@@ -91,6 +91,12 @@ PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o)
   PetscCall(CheckRange("-arkode_fixed_step", o->fixed_step, 0.0, PETSC_FALSE, "must be zero (adaptive) or positive"));
   PetscCall(CheckRange("-output_interval", o->output_interval, 0.0, PETSC_FALSE, "must be zero or positive"));
   PetscCall(CheckRange("-snapshot_interval", o->snapshot_interval, 0.0, PETSC_FALSE, "must be zero or positive"));
+  /* With a fixed step, outputs fall on step boundaries: an output time between two steps
+   * would shorten a step and change the method being studied. */
+  if (o->fixed_step > 0) {
+    if (o->output_interval > 0) o->output_interval = o->fixed_step * PetscMax(1.0, ceil(o->output_interval / o->fixed_step - 1e-9));
+    if (o->snapshot_interval > 0) o->snapshot_interval = o->fixed_step * PetscMax(1.0, ceil(o->snapshot_interval / o->fixed_step - 1e-9));
+  }
   {
     char val[32];
     PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, o->max_steps));

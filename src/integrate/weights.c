@@ -23,7 +23,7 @@ int SpamErrorWeights(N_Vector y, N_Vector ewt, void *ctx)
     for (int d = 0; d < m->dim; d++) v2 += p[l->v + d] * p[l->v + d];
     for (int d = 0; d < m->dim; d++) {
       q[l->x + d] = wx;
-      q[l->v + d] = 1.0 / (w->rtol * sqrt(v2) + w->atol);
+      q[l->v + d] = 1.0 / (w->rtol * PetscMax(sqrt(v2), w->vscale) + w->atol);
     }
   }
   if (VecRestoreArrayWrite(N_VGetVector_Petsc(ewt), &wa)) return -1;
