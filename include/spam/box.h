@@ -32,7 +32,8 @@ static inline double SpamBoxMinImage(double dx, double len, double half, int per
 }
 
 /* Checks the box against the kernel range: each periodic edge at least 2h so that a
- * particle meets at most one image of another. Raises a bad-input error otherwise. */
-PetscErrorCode SpamBoxValidate(const SpamBox *b, double h);
+ * particle meets at most one image of another. Raises a bad-input error naming `what`,
+ * the option that set the box, otherwise. */
+PetscErrorCode SpamBoxValidate(const SpamBox *b, double h, const char *what);
 double         SpamBoxVolume(const SpamBox *b);
 #endif

@@ -2,16 +2,17 @@
 #include <spam/box.h>
 #include <spam/errors.h>
 
-PetscErrorCode SpamBoxValidate(const SpamBox *b, double h)
+PetscErrorCode SpamBoxValidate(const SpamBox *b, double h, const char *what)
 {
-  static const char *names[3] = {"-box_len[0]", "-box_len[1]", "-box_len[2]"};
-  char               val[64];
+  static const char *axes[3] = {"x", "y", "z"};
+  char               val[64], name[128];
 
   PetscFunctionBeginUser;
   for (int d = 0; d < b->dim; d++) {
-    PetscCall(PetscSNPrintf(val, sizeof val, "%g", b->len[d]));
-    if (!(b->len[d] > 0.0) || !isfinite(b->len[d])) SPAM_BAD_INPUT(names[d], val, "box edges must be positive and finite");
-    if (b->periodic[d] && b->len[d] < 2.0 * h) SPAM_BAD_INPUT(names[d], val, "a periodic box edge must be at least 2h = %g so that a particle meets one image of another", 2.0 * h);
+    (void)snprintf(val, sizeof val, "%g", b->len[d]);
+    (void)snprintf(name, sizeof name, "box edge %s (%s)", axes[d], what);
+    if (!(b->len[d] > 0.0) || !isfinite(b->len[d])) SPAM_BAD_INPUT(name, val, "box edges must be positive and finite");
+    if (b->periodic[d] && b->len[d] < 2.0 * h) SPAM_BAD_INPUT(name, val, "a periodic box edge must be at least 2h = %g (h = %g) so that a particle meets one image of another", 2.0 * h, h);
   }
   PetscFunctionReturn(0);
 }

@@ -2,6 +2,26 @@
 #include <spam/errors.h>
 #include <arkode/arkode_erkstep.h>
 
+/* PETSc reports a malformed number as "Input string VALUE has no numeric value" without
+ * the option's name: find the option that carries VALUE so the line can name it. */
+static void NameMalformedOption(const char *mess, char *out, size_t len)
+{
+  const char *p = strstr(mess, "Input string "), *q = strstr(mess, "Unknown logical value: ");
+  const char *want = q ? "must be true or false" : "must be a number";
+  char        value[256], *all = NULL;
+
+  snprintf(out, len, "%s", mess);
+  if (!(p && sscanf(p, "Input string %255s", value) == 1) && !(q && sscanf(q, "Unknown logical value: %255s", value) == 1)) return;
+  if (PetscOptionsGetAll(NULL, &all) || !all) return;
+  for (char *tok = strtok(all, " "), *prev = NULL; tok; prev = tok, tok = strtok(NULL, " ")) {
+    if (prev && prev[0] == '-' && !strcmp(tok, value)) {
+      snprintf(out, len, "%s = '%s': %s", prev, value, want);
+      break;
+    }
+  }
+  PetscFree(all);
+}
+
 /* The first report of a PETSC_ERR_USER_INPUT error is the user's message: print it alone
  * and stay silent while the error travels up the call stack. */
 static PetscErrorCode SpamErrorHandler(MPI_Comm comm, int line, const char *fun, const char *file, PetscErrorCode n, PetscErrorType p, const char *mess, void *ctx)
@@ -14,7 +34,9 @@ static PetscErrorCode SpamErrorHandler(MPI_Comm comm, int line, const char *fun,
     if (p == PETSC_ERROR_INITIAL) {
       PetscMPIInt rank = 0;
       MPI_Comm_rank(comm, &rank);
-      if (!rank) fprintf(stderr, "spam-ark: error: %s\n", mess);
+      char line[512];
+      NameMalformedOption(mess, line, sizeof line);
+      if (!rank) fprintf(stderr, "spam-ark: error: %s\n", line);
     }
     return n;
   }

@@ -16,6 +16,7 @@ typedef struct {
   SpamWeightsCtx w;
   SpamSim       *sim;
   PetscInt       bad;     /* particle with a non-finite position, or -1            */
+  double         tbad;    /* stage time at which it was seen                        */
   PetscErrorCode perr;    /* a PETSc failure inside the RHS                         */
   char           msg[256];/* ARKODE's last error message                            */
 } ArkCtx;
@@ -25,13 +26,13 @@ static int Rhs(realtype t, N_Vector y, N_Vector ydot, void *data)
   ArkCtx            *c = (ArkCtx *)data;
   const PetscScalar *ya;
   PetscScalar       *fa;
-  (void)t;
   if ((c->perr = VecGetArrayRead(N_VGetVector_Petsc(y), &ya))) return -1;
   if ((c->perr = VecGetArrayWrite(N_VGetVector_Petsc(ydot), &fa))) return -1;
   c->perr = SpamRhsIsentrope(c->sim, ya, fa, &c->bad);
   VecRestoreArrayWrite(N_VGetVector_Petsc(ydot), &fa);
   VecRestoreArrayRead(N_VGetVector_Petsc(y), &ya);
   if (c->perr) return -1;
+  if (c->bad >= 0) c->tbad = t;
   return c->bad >= 0 ? 1 : 0;
 }
 
@@ -196,7 +197,7 @@ PetscErrorCode SpamRunArkode(SpamSim *sim, const SpamRunOptions *o, SpamOutput *
     PetscCall(ctx.perr);
     if (flag < 0) {
       char why[256], *name = ERKStepGetReturnFlagName(flag);
-      if (ctx.bad >= 0) PetscCall(PetscSNPrintf(why, sizeof why, "non-finite position of particle %" PetscInt_FMT " near t = %.6g (%s)", ctx.bad, t, name));
+      if (ctx.bad >= 0) PetscCall(PetscSNPrintf(why, sizeof why, "non-finite position of particle %" PetscInt_FMT " at stage time t = %.6g, step %ld (%s)", ctx.bad, ctx.tbad, p.steps + 1, name));
       else PetscCall(PetscSNPrintf(why, sizeof why, "ERKStepEvolve returned %s at t = %.6g: %s", name, t, ctx.msg));
       free(name);
       PetscCall(Unstable(sim, out, &ctx, Xgood, t, r, why));

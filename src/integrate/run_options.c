@@ -27,7 +27,7 @@ static PetscErrorCode CheckRange(const char *opt, double v, double lo, PetscBool
   char val[64];
 
   PetscFunctionBeginUser;
-  PetscCall(PetscSNPrintf(val, sizeof val, "%g", v));
+  (void)snprintf(val, sizeof val, "%g", v);
   if (!isfinite(v) || v < lo || (lo_open && v == lo)) SPAM_BAD_INPUT(opt, val, "%s", what);
   PetscFunctionReturn(0);
 }

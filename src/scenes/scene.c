@@ -28,7 +28,7 @@ static PetscErrorCode CheckPositive(const char *opt, double v)
 {
   char val[64];
   PetscFunctionBeginUser;
-  PetscCall(PetscSNPrintf(val, sizeof val, "%g", v));
+  (void)snprintf(val, sizeof val, "%g", v);
   if (!(v > 0.0) || !isfinite(v)) SPAM_BAD_INPUT(opt, val, "must be a positive number");
   PetscFunctionReturn(0);
 }
@@ -69,9 +69,9 @@ static PetscErrorCode CommonOptions(SpamCommonParams *c)
   PetscCall(CheckPositive("-eos_kappa", c->kappa));
   {
     char val[64];
-    PetscCall(PetscSNPrintf(val, sizeof val, "%g", c->skin));
+    (void)snprintf(val, sizeof val, "%g", c->skin);
     if (!(c->skin >= 0.0) || !isfinite(c->skin)) SPAM_BAD_INPUT("-neighbour_skin", val, "must be zero or positive");
-    PetscCall(PetscSNPrintf(val, sizeof val, "%g", c->gamma));
+    (void)snprintf(val, sizeof val, "%g", c->gamma);
     if (!(c->gamma > 1.0) || !isfinite(c->gamma)) SPAM_BAD_INPUT("-eos_gamma", val, "must be greater than 1");
   }
   PetscFunctionReturn(0);
@@ -118,7 +118,7 @@ PetscErrorCode SpamSceneCreateSim(MPI_Comm comm, SpamSim *sim)
   if (scene == 0) PetscCall(SpamExpansionBuild(&c, &ep, &p));
   else PetscCall(SpamFileBuild(&c, &fp, &p));
   Translate(c.translate, &p);
-  PetscCall(SpamBoxValidate(&p.box, c.h));
+  PetscCall(SpamBoxValidate(&p.box, c.h, scene == 0 ? "2 x -expansion_n" : "-box_len"));
   PetscCall(SpamModelIsentropeSetUp(c.dim, c.h, p.mass, c.gamma, c.kappa, &model));
   PetscCall(SpamSimCreate(comm, &model, &p.box, p.n, c.skin, sim));
   sim->scene = p.info;
