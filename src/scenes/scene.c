@@ -44,19 +44,19 @@ static PetscErrorCode CommonOptions(SpamCommonParams *c)
   c->h    = 3.0;
   c->mass = 1.0;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Particles, kernel and gas", "spam-ark");
-  PetscCall(PetscOptionsInt("-dim", "Space dimension (1, 2 or 3)", "", dim, &dim, NULL));
-  PetscCall(PetscOptionsReal("-h", "Kernel range h (Lucy's kernel vanishes at r = h)", "", c->h, &c->h, NULL));
-  PetscCall(PetscOptionsReal("-mass", "Particle mass m", "", c->mass, &c->mass, NULL));
+  PetscCall(PetscOptionsInt("-dim", "Space dimension (1, 2 or 3)", "README", dim, &dim, NULL));
+  PetscCall(PetscOptionsReal("-h", "Kernel range h (Lucy's kernel vanishes at r = h)", "README", c->h, &c->h, NULL));
+  PetscCall(PetscOptionsReal("-mass", "Particle mass m", "README", c->mass, &c->mass, NULL));
   c->skin = 0.1 * c->h;
-  PetscCall(PetscOptionsReal("-neighbour_skin", "Verlet-list skin (default 0.1 h)", "", c->skin, &c->skin, NULL));
+  PetscCall(PetscOptionsReal("-neighbour_skin", "Verlet-list skin (default 0.1 h)", "README", c->skin, &c->skin, NULL));
   c->gamma = 1.0 + 2.0 / (double)PetscClipInterval(dim, 1, 3);
-  PetscCall(PetscOptionsReal("-eos_gamma", "Isentrope exponent gamma in P = kappa rho^gamma (default 1 + 2/D)", "", c->gamma, &c->gamma, NULL));
+  PetscCall(PetscOptionsReal("-eos_gamma", "Isentrope exponent gamma in P = kappa rho^gamma (default 1 + 2/D)", "README", c->gamma, &c->gamma, NULL));
   c->kappa = 1.0 / c->gamma;
-  PetscCall(PetscOptionsReal("-eos_kappa", "Isentrope constant kappa (default 1/gamma: sound speed 1 at rho = 1)", "", c->kappa, &c->kappa, NULL));
-  PetscCall(PetscOptionsRealArray("-box_lo", "Lower corner of the box (file scene; default 0)", "", c->box_lo, &nd, NULL));
-  PetscCall(PetscOptionsRealArray("-box_len", "Box edge lengths (file scene: required)", "", c->box_len, &nl, &c->box_len_set));
-  PetscCall(PetscOptionsBoolArray("-periodic", "Periodic in each direction (default true)", "", c->periodic, &np, NULL));
-  PetscCall(PetscOptionsRealArray("-scene_translate", "Shift particles and box by this vector (a test of translation invariance)", "", c->translate, &nt, &set));
+  PetscCall(PetscOptionsReal("-eos_kappa", "Isentrope constant kappa (default 1/gamma: sound speed 1 at rho = 1)", "README", c->kappa, &c->kappa, NULL));
+  PetscCall(PetscOptionsRealArray("-box_lo", "Lower corner of the box (file scene; default 0)", "README", c->box_lo, &nd, NULL));
+  PetscCall(PetscOptionsRealArray("-box_len", "Box edge lengths (file scene: required)", "README", c->box_len, &nl, &c->box_len_set));
+  PetscCall(PetscOptionsBoolArray("-periodic", "Periodic in each direction (default true)", "README", c->periodic, &np, NULL));
+  PetscCall(PetscOptionsRealArray("-scene_translate", "Shift particles and box by this vector (a test of translation invariance)", "README", c->translate, &nt, &set));
   PetscOptionsEnd();
   c->dim = (int)dim;
   {
@@ -104,7 +104,7 @@ PetscErrorCode SpamSceneCreateSim(MPI_Comm comm, SpamSim *sim)
   {
     char name[64] = "expansion";
     PetscOptionsBegin(comm, NULL, "Scene", "spam-ark");
-    PetscCall(PetscOptionsString("-scene", "Scene that builds the particles: expansion or file", "", name, name, sizeof name, NULL));
+    PetscCall(PetscOptionsString("-scene", "Scene that builds the particles: expansion or file", "README", name, name, sizeof name, NULL));
     PetscOptionsEnd();
     scene = -1;
     for (int s = 0; s < NSCENES; s++)

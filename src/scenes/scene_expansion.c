@@ -27,10 +27,10 @@ PetscErrorCode SpamExpansionOptions(const SpamCommonParams *c, SpamExpansionPara
   p->seed       = 1;
   p->velocities = PETSC_FALSE;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene expansion (Hoover & Hoover 2001)", "spam-ark");
-  PetscCall(PetscOptionsInt("-expansion_n", "Lattice points per direction of the initial gas (N = n^D)", "", p->n, &p->n, NULL));
-  PetscCall(PetscOptionsReal("-expansion_amplitude", "Size of the uniform random offsets (lattice units) or velocities", "", p->amplitude, &p->amplitude, NULL));
-  PetscCall(PetscOptionsInt("-expansion_seed", "Seed of the random perturbation", "", p->seed, &p->seed, NULL));
-  PetscCall(PetscOptionsBool("-expansion_perturb_velocities", "Perturb velocities instead of positions", "", p->velocities, &p->velocities, NULL));
+  PetscCall(PetscOptionsInt("-expansion_n", "Lattice points per direction of the initial gas (N = n^D)", "README", p->n, &p->n, NULL));
+  PetscCall(PetscOptionsReal("-expansion_amplitude", "Size of the uniform random offsets (lattice units) or velocities", "README", p->amplitude, &p->amplitude, NULL));
+  PetscCall(PetscOptionsInt("-expansion_seed", "Seed of the random perturbation", "README", p->seed, &p->seed, NULL));
+  PetscCall(PetscOptionsBool("-expansion_perturb_velocities", "Perturb velocities instead of positions", "README", p->velocities, &p->velocities, NULL));
   PetscOptionsEnd();
   PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->n));
   if (p->n < 1) SPAM_BAD_INPUT("-expansion_n", val, "must be a positive number of lattice points");

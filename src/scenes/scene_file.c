@@ -9,7 +9,7 @@ PetscErrorCode SpamFileOptions(SpamFileParams *p)
   PetscFunctionBeginUser;
   p->path[0] = 0;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene file", "spam-ark");
-  PetscCall(PetscOptionsString("-file_path", "CSV file of particles: header x,y[,z],vx,vy[,vz][,m]", "", p->path, p->path, sizeof p->path, NULL));
+  PetscCall(PetscOptionsString("-file_path", "CSV file of particles: header x,y[,z],vx,vy[,vz][,m]", "README", p->path, p->path, sizeof p->path, NULL));
   PetscOptionsEnd();
   PetscFunctionReturn(0);
 }
@@ -104,8 +104,8 @@ PetscErrorCode SpamFileBuild(const SpamCommonParams *c, const SpamFileParams *p,
   int   nf;
 
   PetscFunctionBeginUser;
-  if (!p->path[0]) SPAM_BAD_INPUT("-file_path", "", "the file scene needs a CSV file of particles");
-  if (!c->box_len_set) SPAM_BAD_INPUT("-box_len", "", "the file scene needs the box edge lengths, e.g. -box_len 64,64");
+  if (!p->path[0]) SPAM_BAD_INPUT("-file_path", "README", "the file scene needs a CSV file of particles");
+  if (!c->box_len_set) SPAM_BAD_INPUT("-box_len", "README", "the file scene needs the box edge lengths, e.g. -box_len 64,64");
   f = fopen(p->path, "r");
   if (!f) SPAM_BAD_INPUT("-file_path", p->path, "cannot open the file (%s)", strerror(errno));
   Header(c->dim, PETSC_TRUE, with_m, sizeof with_m);

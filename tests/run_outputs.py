@@ -1,0 +1,70 @@
+"""What a user reads: -help lists every option with its default; timeseries.csv,
+steps.csv and summary.json carry the documented fields; HDF5 + XDMF snapshots are
+well formed (each XDMF grid points at HDF5 datasets of the right shape); -monitor
+prints a line per step; the expansion chart script draws the run."""
+import os
+import re
+import shutil
+import subprocess
+import sys
+import xml.etree.ElementTree as ET
+from spamrun import Checks, arguments, run, summary, table
+
+a = arguments()
+c = Checks()
+root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+
+# -help: every option, each with its default in <>, and no run, no files.
+code, out, err = run(a.spam_ark, ["-help"], os.path.join(a.workdir, "help"))
+options = ["-dim", "-h", "-mass", "-neighbour_skin", "-eos_gamma", "-eos_kappa", "-box_lo", "-box_len", "-periodic",
+           "-scene_translate", "-scene", "-expansion_n", "-expansion_amplitude", "-expansion_seed",
+           "-expansion_perturb_velocities", "-file_path", "-ts_max_time", "-ts_max_steps", "-ts_dt", "-ts_rtol",
+           "-ts_atol", "-arkode_table", "-arkode_adapt", "-arkode_fixed_step", "-arkode_safety", "-arkode_max_growth",
+           "-arkode_classic_weights", "-output_dir", "-output_interval", "-snapshot_interval", "-snapshot_hdf5",
+           "-snapshot_csv", "-monitor", "-diag_entropy", "-diag_grid_spacing", "-initial_csv", "-final_csv"]
+missing = [o for o in options if not re.search(r"^\s*" + re.escape(o) + r":? <[^>]*>", out, re.M)]
+c.check(code == 0 and not missing, f"-help exits 0 and lists {len(options)} options with defaults (missing: {missing})")
+c.check(not os.path.exists(os.path.join(a.workdir, "help")), "-help writes no files")
+
+# A small run with every output.
+run_dir = os.path.join(a.workdir, "run")
+code, out, err = run(a.spam_ark, ["-expansion_n", 12, "-h", 3, "-ts_max_time", 12, "-output_interval", 1,
+                                  "-snapshot_interval", 4, "-monitor"], run_dir)
+c.check(code == 0, f"run exits 0 {err.strip()}")
+s = summary(run_dir)
+for key in ("status", "method", "rtol", "atol", "steps", "rejected_steps", "rhs_evals", "wall_time_s",
+            "pair_interactions_per_s", "energy_initial", "energy_final", "energy_rel_drift_max", "momentum_initial",
+            "momentum_final", "momentum_rel_drift_max", "angular_momentum_initial", "angular_momentum_final",
+            "angular_momentum_rel_drift_max", "dS_sum_ratio_final", "dS_grid_ratio_final", "sound_traversal_time"):
+    c.check(key in s, f"summary.json has {key} = {s.get(key)}")
+c.check(s["status"] == "ok" and s["steps"] > 0 and s["rhs_evals"] >= 6 * s["steps"], f"DP costs at least 6 RHS per step ({s['rhs_evals']} for {s['steps']} steps)")
+steplines = [l for l in out.splitlines() if l.startswith("step ")]
+c.check(len(steplines) == s["steps"], f"-monitor printed {len(steplines)} step lines for {s['steps']} steps")
+ts = table(os.path.join(run_dir, "timeseries.csv"))
+c.check(len(ts["t"]) == 13 and abs(ts["t"][-1] - 12) < 1e-9, f"timeseries.csv has a row per output time ({len(ts['t'])} rows)")
+c.check(abs(ts["mass"][0] - 144) < 1e-9 and max(ts["mass"]) == min(ts["mass"]), "mass is N m at every row")
+st = table(os.path.join(run_dir, "steps.csv"))
+c.check(len(st["dt"]) == s["steps"] and abs(sum(st["dt"]) - 12) < 1e-9, "steps.csv: one row per step, steps add up to the end time")
+
+# XDMF index and HDF5 datasets.
+xmf = os.path.join(run_dir, "snapshots.xmf")
+grids = ET.parse(xmf).getroot().findall(".//Grid[@GridType='Uniform']")
+times = [float(g.find("Time").get("Value")) for g in grids]
+c.check(times == [0.0, 4.0, 8.0, 12.0], f"XDMF lists the snapshots at {times}")
+items = [d.text.strip() for g in grids for d in g.iter("DataItem")]
+c.check(all(os.path.exists(os.path.join(run_dir, i.split(":")[0])) for i in items), f"every XDMF DataItem names an existing HDF5 file ({len(items)} items)")
+if shutil.which("h5ls"):
+    listing = subprocess.run(["h5ls", os.path.join(run_dir, "snap_00003.h5")], capture_output=True, text=True).stdout
+    c.check(re.search(r"positions\s+Dataset \{144, 3\}", listing) and re.search(r"density\s+Dataset \{144\}", listing),
+            f"HDF5 datasets have the shapes XDMF declares: {listing.split()}")
+else:
+    c.check(False, "h5ls (hdf5-tools) is installed")
+
+# The chart of the run.
+png = os.path.join(run_dir, "expansion.png")
+p = subprocess.run([sys.executable, os.path.join(root, "examples", "plot_expansion.py"), run_dir, "-o", png],
+                   capture_output=True, text=True)
+with open(png, "rb") as f:
+    magic = f.read(8)
+c.check(p.returncode == 0 and magic == b"\x89PNG\r\n\x1a\n", f"plot_expansion.py draws the run: {p.stdout.strip()} {p.stderr.strip()}")
+c.finish()
