@@ -31,6 +31,30 @@ static inline double SpamBoxMinImage(double dx, double len, double half, int per
   return dx;
 }
 
+/* What the pair loops need of the box, unpacked once per pass: edge, half edge and
+ * periodicity per direction (zero edges in directions the box does not have). */
+typedef struct {
+  double len[3], half[3];
+  int    periodic[3];
+} SpamImage;
+
+static inline SpamImage SpamBoxImage(const SpamBox *b)
+{
+  SpamImage im = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+  for (int d = 0; d < b->dim; d++) {
+    im.len[d]      = b->len[d];
+    im.half[d]     = 0.5 * b->len[d];
+    im.periodic[d] = b->periodic[d] ? 1 : 0;
+  }
+  return im;
+}
+
+/* Minimum image of the separation u_i - u_j of two box-local coordinates along d. */
+static inline double SpamImageDelta(const SpamImage *im, int d, double du)
+{
+  return SpamBoxMinImage(du, im->len[d], im->half[d], im->periodic[d]);
+}
+
 /* Checks the box against the kernel range: each periodic edge at least 2h so that a
  * particle meets at most one image of another. Raises a bad-input error naming `what`,
  * the option that set the box, otherwise. */

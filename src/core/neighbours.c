@@ -119,16 +119,10 @@ static PetscErrorCode AppendPair(SpamNeighbours *nl, int j)
 
 static PetscErrorCode BuildList(SpamNeighbours *nl, const SpamBox *box)
 {
-  int    adj[27];
-  double len[3] = {0, 0, 0}, half[3] = {0, 0, 0};
-  int    per[3] = {0, 0, 0};
+  int             adj[27];
+  const SpamImage im = SpamBoxImage(box);
 
   PetscFunctionBeginUser;
-  for (int d = 0; d < box->dim; d++) {
-    len[d]  = box->len[d];
-    half[d] = 0.5 * box->len[d];
-    per[d]  = box->periodic[d] ? 1 : 0;
-  }
   BinParticles(nl, box);
   nl->npairs   = 0;
   nl->start[0] = 0;
@@ -140,7 +134,7 @@ static PetscErrorCode BuildList(SpamNeighbours *nl, const SpamBox *box)
         double    r2 = 0.0;
         if (j <= i) continue;
         for (int d = 0; d < box->dim; d++) {
-          const double dx = SpamBoxMinImage(nl->u[d][i] - nl->u[d][j], len[d], half[d], per[d]);
+          const double dx = SpamImageDelta(&im, d, nl->u[d][i] - nl->u[d][j]);
           r2 += dx * dx;
         }
         if (r2 < nl->rc2) PetscCall(AppendPair(nl, j));

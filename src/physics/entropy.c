@@ -22,6 +22,7 @@ PetscErrorCode SpamEntropySum(SpamSim *sim, const double *y, double *S)
   const SpamNeighbours *nl = &sim->nl;
   const int             dim = m->dim, nv = l->nvar;
   const double          w0 = m->mass * m->kernel.wnorm;
+  const SpamImage       im = SpamBoxImage(&sim->box);
   double               *acc, sum = 0.0; /* per particle: sum m w v (dim), sum m w v^2 */
 
   PetscFunctionBeginUser;
@@ -41,7 +42,7 @@ PetscErrorCode SpamEntropySum(SpamSim *sim, const double *y, double *S)
       const double *vi = y + (size_t)i * nv + l->v, *vj = y + (size_t)j * nv + l->v;
       double        r2 = 0.0, vi2 = 0.0, vj2 = 0.0;
       for (int d = 0; d < dim; d++) {
-        const double dx = SpamBoxMinImage(nl->u[d][i] - nl->u[d][j], sim->box.len[d], 0.5 * sim->box.len[d], sim->box.periodic[d]);
+        const double dx = SpamImageDelta(&im, d, nl->u[d][i] - nl->u[d][j]);
         r2 += dx * dx;
       }
       const double w = m->mass * SpamKernelW(&m->kernel, r2);
@@ -72,6 +73,7 @@ static double SampleAt(SpamSim *sim, const double *y, const double *u, double *v
   const SpamModel      *m  = &sim->model;
   const SpamNeighbours *nl = &sim->nl;
   const int             dim = m->dim;
+  const SpamImage       im = SpamBoxImage(&sim->box);
   int                   adj[27];
   double                rho = 0.0, v2 = 0.0;
   const int             na  = SpamNeighboursAdjacentCells(nl, &sim->box, SpamNeighboursCellOf(nl, &sim->box, u), adj);
@@ -83,7 +85,7 @@ static double SampleAt(SpamSim *sim, const double *y, const double *u, double *v
       const double *vj = y + (size_t)j * m->layout.nvar + m->layout.v;
       double        r2 = 0.0, vj2 = 0.0;
       for (int d = 0; d < dim; d++) {
-        const double dx = SpamBoxMinImage(u[d] - nl->u[d][j], sim->box.len[d], 0.5 * sim->box.len[d], sim->box.periodic[d]);
+        const double dx = SpamImageDelta(&im, d, u[d] - nl->u[d][j]);
         r2 += dx * dx;
         vj2 += vj[d] * vj[d];
       }

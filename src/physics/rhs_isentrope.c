@@ -9,13 +9,7 @@
 /* Forced inline with a literal dim so that the compiler emits one loop per dimension. */
 static inline __attribute__((always_inline)) void DensityPass(const int dim, const SpamNeighbours *nl, const SpamBox *box, const SpamKernel *k, double mass, double *rho)
 {
-  double len[3] = {0, 0, 0}, half[3] = {0, 0, 0};
-  int    per[3] = {0, 0, 0};
-  for (int d = 0; d < dim; d++) {
-    len[d]  = box->len[d];
-    half[d] = 0.5 * len[d];
-    per[d]  = box->periodic[d];
-  }
+  const SpamImage im = SpamBoxImage(box);
   const double self = mass * k->wnorm; /* w(0) */
   for (int i = 0; i < nl->n; i++) rho[i] = self;
   for (int i = 0; i < nl->n; i++) {
@@ -24,7 +18,7 @@ static inline __attribute__((always_inline)) void DensityPass(const int dim, con
       const int j  = nl->nbr[p];
       double    r2 = 0.0;
       for (int d = 0; d < dim; d++) {
-        const double dx = SpamBoxMinImage(nl->u[d][i] - nl->u[d][j], len[d], half[d], per[d]);
+        const double dx = SpamImageDelta(&im, d, nl->u[d][i] - nl->u[d][j]);
         r2 += dx * dx;
       }
       const double s = sqrt(r2) * k->hinv;
@@ -40,13 +34,7 @@ static inline __attribute__((always_inline)) void DensityPass(const int dim, con
 
 static inline __attribute__((always_inline)) void ForcePass(const int dim, const SpamNeighbours *nl, const SpamBox *box, const SpamKernel *k, double mass, const double *q, double **acc)
 {
-  double len[3] = {0, 0, 0}, half[3] = {0, 0, 0};
-  int    per[3] = {0, 0, 0};
-  for (int d = 0; d < dim; d++) {
-    len[d]  = box->len[d];
-    half[d] = 0.5 * len[d];
-    per[d]  = box->periodic[d];
-  }
+  const SpamImage im = SpamBoxImage(box);
   const double coef = -mass * k->gnorm; /* -m (w'/r) / (1-s)^2 > 0 */
   for (int d = 0; d < dim; d++)
     for (int i = 0; i < nl->n; i++) acc[d][i] = 0.0;
@@ -58,7 +46,7 @@ static inline __attribute__((always_inline)) void ForcePass(const int dim, const
       const int j = nl->nbr[p];
       double    dx[3], r2 = 0.0;
       for (int d = 0; d < dim; d++) {
-        dx[d] = SpamBoxMinImage(ui[d] - nl->u[d][j], len[d], half[d], per[d]);
+        dx[d] = SpamImageDelta(&im, d, ui[d] - nl->u[d][j]);
         r2 += dx[d] * dx[d];
       }
       double t = 1.0 - sqrt(r2) * k->hinv;
