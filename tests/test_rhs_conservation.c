@@ -44,7 +44,7 @@ static PetscErrorCode Case(TestCount *c, int dim, double gamma, PetscBool period
   PetscCall(PetscMalloc1((size_t)n * 2 * dim, &ydot));
   PetscCall(VecGetArrayRead(sim.X, &y));
   PetscCall(SpamDensitySummation(&sim, y, &bad));
-  PetscCall(SpamRhsIsentrope(&sim, y, ydot, &bad));
+  PetscCall(SpamRhs(&sim, y, ydot, &bad));
   if (sim.model.density_free) PetscCall(SpamDensitySummation(&sim, y, &bad));
   for (int i = 0; i < n; i++) {
     const double dedrho = sim.model.eos.kappa * pow(sim.rho[i], gamma - 2.0); /* P/rho^2 */

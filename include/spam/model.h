@@ -6,7 +6,19 @@
 #include <spam/layout.h>
 #include <spam/eos.h>
 
+struct SpamSim;
+
+/* The right-hand side of a model: ydot = f(y) on raw arrays of n*nvar reals. Sets *bad to
+ * the first particle with a non-finite or unphysical state (else -1) and returns 0. */
+typedef PetscErrorCode (*SpamRhsFn)(struct SpamSim *sim, const double *y, double *ydot, PetscInt *bad);
+/* Accelerations from positions alone, into sim->acc (models whose state is r and v only:
+ * the force half of a symplectic split). x has stride 'stride' between particles. */
+typedef PetscErrorCode (*SpamAccelFn)(struct SpamSim *sim, const double *x, int stride, PetscInt *bad);
+
 typedef struct {
+  char             name[32];     /* e.g. "isentrope"                                  */
+  SpamRhsFn        rhs;
+  SpamAccelFn      accel;        /* NULL unless the state is exactly [x, v]            */
   int              dim;
   double           mass;
   SpamKernel       kernel;

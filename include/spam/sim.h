@@ -46,9 +46,16 @@ PetscErrorCode SpamSimFill(SpamSim *sim, const double *x, const double *v);
 PetscErrorCode SpamSimSetUp(SpamSim *sim);
 PetscErrorCode SpamSimDestroy(SpamSim *sim);
 
-/* The right-hand side ydot = f(t, y) on raw arrays of length n*nvar. Returns
- * PETSC_ERR_FP (and the particle in *bad) on a non-finite position. */
+/* The right-hand side ydot = f(y) of the sim's model on raw arrays of length n*nvar,
+ * timed and counted in sim->stats. *bad is the first particle with a non-finite (or
+ * unphysical) state, or -1. Every integrator calls this one function. */
+PetscErrorCode SpamRhs(SpamSim *sim, const double *y, double *ydot, PetscInt *bad);
+/* Accelerations of positions x (stride between particles) into sim->acc, timed and counted
+ * as one RHS evaluation; only for models with an accel function (state [x, v]). */
+PetscErrorCode SpamAccel(SpamSim *sim, const double *x, int stride, PetscInt *bad);
+/* The isentropic gas (Hoover & Hoover 2001). */
 PetscErrorCode SpamRhsIsentrope(SpamSim *sim, const double *y, double *ydot, PetscInt *bad);
+PetscErrorCode SpamAccelIsentrope(SpamSim *sim, const double *x, int stride, PetscInt *bad);
 /* Summation density of state y into sim->rho (diagnostics, or the density pass). */
 PetscErrorCode SpamDensitySummation(SpamSim *sim, const double *y, PetscInt *bad);
 #endif

@@ -28,7 +28,7 @@ static int Rhs(realtype t, N_Vector y, N_Vector ydot, void *data)
   PetscScalar       *fa;
   if ((c->perr = VecGetArrayRead(N_VGetVector_Petsc(y), &ya))) return -1;
   if ((c->perr = VecGetArrayWrite(N_VGetVector_Petsc(ydot), &fa))) return -1;
-  c->perr = SpamRhsIsentrope(c->sim, ya, fa, &c->bad);
+  c->perr = SpamRhs(c->sim, ya, fa, &c->bad);
   VecRestoreArrayWrite(N_VGetVector_Petsc(ydot), &fa);
   VecRestoreArrayRead(N_VGetVector_Petsc(y), &ya);
   if (c->perr) return -1;

@@ -1,5 +1,5 @@
 /* The isentropic ideal-gas model: state [x, v], pressure P = kappa rho^gamma. */
-#include <spam/model.h>
+#include <spam/sim.h>
 
 PetscBool SpamEosDensityFree(const SpamEosIsentrope *q)
 {
@@ -17,5 +17,8 @@ PetscErrorCode SpamModelIsentropeSetUp(int dim, double h, double mass, double ga
   PetscCall(SpamKernelLucyInit(dim, h, &m->kernel));
   PetscCall(SpamLayoutPositionsVelocities(dim, &m->layout));
   m->density_free = SpamEosDensityFree(&m->eos);
+  m->rhs          = SpamRhsIsentrope;
+  m->accel        = SpamAccelIsentrope;
+  PetscCall(PetscStrncpy(m->name, "isentrope", sizeof m->name));
   PetscFunctionReturn(0);
 }
