@@ -53,10 +53,16 @@ def summary(outdir):
 
 
 def table(path):
-    """A CSV file as a dict of column name -> list of floats."""
+    """A CSV file as a dict of column name -> list of floats (or strings for text columns)."""
     with open(path) as f:
         rows = list(csv.DictReader(f))
-    return {k: [float(r[k]) for r in rows] for k in rows[0]}
+
+    def value(v):
+        try:
+            return float(v)
+        except ValueError:
+            return v
+    return {k: [value(r[k]) for r in rows] for k in rows[0]}
 
 
 def final_state(path):

@@ -19,4 +19,6 @@ PetscErrorCode SpamInstallErrorHandler(void);
 /* SUNDIALS return codes: a negative flag becomes a PETSc error carrying the flag name. */
 PetscErrorCode SpamCheckArkode(int flag, const char *call);
 #define PetscCallARK(call) PetscCall(SpamCheckArkode((call), #call))
+PetscErrorCode SpamCheckCvode(int flag, const char *call);
+#define PetscCallCV(call) PetscCall(SpamCheckCvode((call), #call))
 #endif

@@ -15,10 +15,14 @@ typedef PetscErrorCode (*SpamRhsFn)(struct SpamSim *sim, const double *y, double
  * the force half of a symplectic split). x has stride 'stride' between particles. */
 typedef PetscErrorCode (*SpamAccelFn)(struct SpamSim *sim, const double *x, int stride, PetscInt *bad);
 
+/* Largest sound speed of state y (for the CFL step bound and the error weights). */
+typedef PetscErrorCode (*SpamSoundSpeedFn)(struct SpamSim *sim, const double *y, double *cmax);
+
 typedef struct {
   char             name[32];     /* e.g. "isentrope"                                  */
   SpamRhsFn        rhs;
   SpamAccelFn      accel;        /* NULL unless the state is exactly [x, v]            */
+  SpamSoundSpeedFn max_sound_speed;
   int              dim;
   double           mass;
   SpamKernel       kernel;

@@ -22,9 +22,11 @@ PetscErrorCode SpamFileBegin(const char *path, FILE **f);
 PetscErrorCode SpamFileCommit(const char *path, FILE *f);
 
 typedef struct {
-  double t;
-  long   steps, rejected, rhs_evals;
-  double dt, wall;
+  double      t;
+  long        steps, rejected, rhs_evals;
+  long        limited;   /* steps set by the physical (CFL or force) bound            */
+  const char *limit;     /* what set the last step: accuracy, fixed, output, cfl, force */
+  double      dt, wall, rhs_time;
 } SpamProgress;
 
 PetscErrorCode SpamTimeseriesAppend(SpamOutput *o, const SpamSim *sim, const SpamProgress *pr, const SpamDiagnostics *d, const SpamDiagnostics *d0);

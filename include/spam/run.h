@@ -9,10 +9,18 @@ typedef struct {
   /* time */
   double   t_end, dt_first, fixed_step;
   PetscInt max_steps;
-  /* error control */
-  double   rtol, atol, safety, max_growth;
+  /* error control (ARKODE and CVODE; TS methods take -ts_adapt_* from PETSc itself) */
+  double   rtol, atol, safety, max_growth, max_first_growth, max_efail_growth;
   char     table[64], adapt[16];
+  double   adapt_params[3];  /* controller gains k1, k2, k3 (0: ARKODE's defaults)   */
+  PetscInt n_adapt_params;
   PetscBool classic_weights; /* ARKODE's own rtol|y| + atol weights (for comparison)   */
+  PetscInt cvode_max_order;
+  /* physical step bound (off when 0): dt <= cfl h / c_max and dt <= force sqrt(h / |a|max) */
+  double   cfl, force;
+  /* failure detection */
+  double   dt_min;           /* a step below this is a failure (0: t_end * 1e-12)      */
+  double   energy_growth;    /* KE above this many times the initial |E| is a blow-up  */
   /* output */
   char     output_dir[PETSC_MAX_PATH_LEN];
   char     initial_csv[PETSC_MAX_PATH_LEN], final_csv[PETSC_MAX_PATH_LEN];
@@ -25,7 +33,9 @@ typedef struct {
   SpamStatus status;
   char       reason[256];
   double     t;
-  long       steps, attempts, rejected, rhs_evals;
+  long       steps, attempts, rejected, rhs_evals, limited;
+  char       method[96], adapt[32];  /* e.g. "rk 5dp", "basic"; fixed steps: "none"   */
+  double     fixed_dt;               /* the fixed step, or 0 when adaptive            */
   double     wall;
   SpamDiagnostics first, last;
   double     energy_drift_max, momentum_drift_max, angmom_drift_max;
@@ -34,8 +44,9 @@ typedef struct {
 
 /* Reads and validates every run option; sim gives scene defaults (end time). */
 PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o);
-/* Integrates with ARKODE ERKStep to t_end, writing outputs as it goes. */
-PetscErrorCode SpamRunArkode(SpamSim *sim, const SpamRunOptions *o, SpamOutput *out, SpamRunResult *r);
+/* Integrates to t_end with the -ts_type chosen (arkode, cvode or a PETSc TS method),
+ * writing outputs as it goes; an unstable run ends with r->status = UNSTABLE. */
+PetscErrorCode SpamRun(SpamSim *sim, const SpamRunOptions *o, SpamOutput *out, SpamRunResult *r);
 /* Per-step monitor line and the progress line with ETA. */
 PetscErrorCode SpamMonitorStep(const SpamSim *sim, const SpamProgress *p);
 PetscErrorCode SpamMonitorProgress(const SpamSim *sim, const SpamRunOptions *o, const SpamProgress *p, const SpamRunResult *r);

@@ -56,6 +56,7 @@ PetscErrorCode SpamAccel(SpamSim *sim, const double *x, int stride, PetscInt *ba
 /* The isentropic gas (Hoover & Hoover 2001). */
 PetscErrorCode SpamRhsIsentrope(SpamSim *sim, const double *y, double *ydot, PetscInt *bad);
 PetscErrorCode SpamAccelIsentrope(SpamSim *sim, const double *x, int stride, PetscInt *bad);
+PetscErrorCode SpamMaxSoundSpeedIsentrope(SpamSim *sim, const double *y, double *cmax);
 /* Summation density of state y into sim->rho (diagnostics, or the density pass). */
 PetscErrorCode SpamDensitySummation(SpamSim *sim, const double *y, PetscInt *bad);
 #endif

@@ -1,6 +1,6 @@
 /* spam-ark: smooth-particle applied mechanics on SUNDIALS ARKODE and PETSc. */
 #include <spam/scene.h>
-#include <spam/run.h>
+#include <spam/integrator.h>
 #include <spam/errors.h>
 #include <spam/version.h>
 
@@ -33,8 +33,7 @@ static PetscErrorCode Run(int *exit_code)
     PetscCall(SpamParticlesCsvWrite(o.initial_csv, &sim, y));
     PetscCall(VecRestoreArrayRead(sim.X, &y));
   }
-  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "spam-ark: scene %s, %" PetscInt_FMT " particles in %dD, h %g, %s %s rtol %g atol %g, to t = %g\n", sim.scene.name, sim.nglobal, sim.model.dim, sim.model.kernel.h, o.table, o.fixed_step > 0 ? "fixed step" : o.adapt, o.rtol, o.atol, o.t_end));
-  PetscCall(SpamRunArkode(&sim, &o, &out, &r));
+  PetscCall(SpamRun(&sim, &o, &out, &r));
   if (o.final_csv[0] && r.status != SPAM_STATUS_UNSTABLE) {
     const PetscScalar *y;
     PetscCall(VecGetArrayRead(sim.X, &y));
@@ -56,6 +55,7 @@ int main(int argc, char **argv)
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, help));
   PetscCall(SpamInstallErrorHandler());
+  PetscCall(SpamIntegratorsRegister());
   ierr = Run(&code);
   if (ierr) code = ierr == PETSC_ERR_USER_INPUT ? SPAM_EXIT_BAD_INPUT : SPAM_EXIT_ERROR;
   /* Finalize quietly after an error: the message has been printed already. */

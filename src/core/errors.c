@@ -1,6 +1,7 @@
 /* Error reporting: bad input prints one line; other errors keep PETSc's traceback. */
 #include <spam/errors.h>
 #include <arkode/arkode_erkstep.h>
+#include <cvode/cvode.h>
 
 /* PETSc reports a malformed number as "Input string VALUE has no numeric value" without
  * the option's name: find the option that carries VALUE so the line can name it. */
@@ -56,6 +57,19 @@ PetscErrorCode SpamCheckArkode(int flag, const char *call)
   if (flag < 0) {
     char  name[64];
     char *s = ERKStepGetReturnFlagName(flag); /* allocated by SUNDIALS */
+    PetscCall(PetscStrncpy(name, s ? s : "unknown", sizeof name));
+    free(s);
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "SUNDIALS call %s returned %d (%s)", call, flag, name);
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamCheckCvode(int flag, const char *call)
+{
+  PetscFunctionBeginUser;
+  if (flag < 0) {
+    char  name[64];
+    char *s = CVodeGetReturnFlagName(flag); /* allocated by SUNDIALS */
     PetscCall(PetscStrncpy(name, s ? s : "unknown", sizeof name));
     free(s);
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "SUNDIALS call %s returned %d (%s)", call, flag, name);

@@ -50,6 +50,8 @@ PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o)
   o->atol              = 1e-9;
   o->safety            = 0.0; /* 0: ARKODE's default */
   o->max_growth        = 0.0;
+  o->cvode_max_order   = 12;
+  o->energy_growth     = 10.0;
   o->hdf5              = PETSC_TRUE;
   o->csv               = PETSC_TRUE;
   o->diag.entropy      = PETSC_TRUE;
@@ -57,17 +59,26 @@ PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o)
   PetscCall(PetscStrncpy(o->table, "ARKODE_DORMAND_PRINCE_7_4_5", sizeof o->table));
   PetscCall(PetscStrncpy(o->adapt, "pid", sizeof o->adapt));
   PetscCall(PetscStrncpy(o->output_dir, "./out", sizeof o->output_dir));
-  PetscOptionsBegin(sim->comm, NULL, "Time integration (ARKODE ERKStep)", "spam-ark");
+  PetscOptionsBegin(sim->comm, NULL, "Time integration: -ts_type arkode (default), cvode, rk, ssp, euler, basicsymplectic; PETSc's own -ts_* options are listed under TS", "spam-ark");
   PetscCall(PetscOptionsReal("-ts_max_time", "End time (default: the scene's, 2 sound traversal times for expansion)", "README", o->t_end, &o->t_end, NULL));
   PetscCall(PetscOptionsInt("-ts_max_steps", "Stop after this many steps", "README", o->max_steps, &o->max_steps, NULL));
-  PetscCall(PetscOptionsReal("-ts_dt", "First step (adaptive; 0: ARKODE estimates it)", "README", o->dt_first, &o->dt_first, NULL));
+  PetscCall(PetscOptionsReal("-ts_dt", "First step of adaptive methods, the step of fixed-step TS methods (0: arkode/cvode estimate it, TS methods take 0.05 h/c0)", "README", o->dt_first, &o->dt_first, NULL));
   PetscCall(PetscOptionsReal("-ts_rtol", "Relative tolerance (positions are weighed against h)", "README", o->rtol, &o->rtol, NULL));
   PetscCall(PetscOptionsReal("-ts_atol", "Absolute tolerance", "README", o->atol, &o->atol, NULL));
+  PetscCall(PetscOptionsInt("-cvode_max_order", "Largest Adams order of CVODE (1..12)", "README", o->cvode_max_order, &o->cvode_max_order, NULL));
+  PetscCall(PetscOptionsReal("-step_cfl", "CFL bound dt <= C h / c_max on adaptive steps (0: off)", "README", o->cfl, &o->cfl, NULL));
+  PetscCall(PetscOptionsReal("-step_force", "Force bound dt <= C' sqrt(h / |a|max) on adaptive steps (0: off)", "README", o->force, &o->force, NULL));
+  PetscCall(PetscOptionsReal("-unstable_dt_min", "A step below this is a failure (0: 1e-12 t_end)", "README", o->dt_min, &o->dt_min, NULL));
+  PetscCall(PetscOptionsReal("-unstable_energy_growth", "Kinetic energy above this many times the initial energy is a failure (0: off)", "README", o->energy_growth, &o->energy_growth, NULL));
   PetscCall(PetscOptionsString("-arkode_table", "Explicit Butcher table of ERKStep", "README", o->table, o->table, sizeof o->table, NULL));
   PetscCall(PetscOptionsString("-arkode_adapt", "Step controller: pid, pi, i, expgus, impgus", "README", o->adapt, o->adapt, sizeof o->adapt, NULL));
   PetscCall(PetscOptionsReal("-arkode_fixed_step", "Fixed step size (0: adaptive)", "README", o->fixed_step, &o->fixed_step, NULL));
   PetscCall(PetscOptionsReal("-arkode_safety", "Step safety factor (0: ARKODE default)", "README", o->safety, &o->safety, NULL));
   PetscCall(PetscOptionsReal("-arkode_max_growth", "Largest step growth factor (0: ARKODE default)", "README", o->max_growth, &o->max_growth, NULL));
+  PetscCall(PetscOptionsReal("-arkode_max_first_growth", "Largest growth after the first step (0: ARKODE default)", "README", o->max_first_growth, &o->max_first_growth, NULL));
+  PetscCall(PetscOptionsReal("-arkode_max_efail_growth", "Step factor after an error-test failure (0: ARKODE default)", "README", o->max_efail_growth, &o->max_efail_growth, NULL));
+  o->n_adapt_params = 3;
+  PetscCall(PetscOptionsRealArray("-arkode_adapt_params", "Controller gains k1,k2,k3 (default: ARKODE's for the controller)", "README", o->adapt_params, &o->n_adapt_params, NULL));
   PetscCall(PetscOptionsBool("-arkode_classic_weights", "Use ARKODE's rtol|y|+atol weights (not translation invariant; for comparison)", "README", o->classic_weights, &o->classic_weights, NULL));
   PetscCall(PetscOptionsString("-output_dir", "Directory for timeseries.csv, steps.csv, summary.json and snapshots", "README", o->output_dir, o->output_dir, sizeof o->output_dir, NULL));
   o->output_interval   = o->t_end / 100.0;
@@ -91,11 +102,14 @@ PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o)
   PetscCall(CheckRange("-arkode_fixed_step", o->fixed_step, 0.0, PETSC_FALSE, "must be zero (adaptive) or positive"));
   PetscCall(CheckRange("-output_interval", o->output_interval, 0.0, PETSC_FALSE, "must be zero or positive"));
   PetscCall(CheckRange("-snapshot_interval", o->snapshot_interval, 0.0, PETSC_FALSE, "must be zero or positive"));
-  /* With a fixed step, outputs fall on step boundaries: an output time between two steps
-   * would shorten a step and change the method being studied. */
-  if (o->fixed_step > 0) {
-    if (o->output_interval > 0) o->output_interval = o->fixed_step * PetscMax(1.0, ceil(o->output_interval / o->fixed_step - 1e-9));
-    if (o->snapshot_interval > 0) o->snapshot_interval = o->fixed_step * PetscMax(1.0, ceil(o->snapshot_interval / o->fixed_step - 1e-9));
+  PetscCall(CheckRange("-step_cfl", o->cfl, 0.0, PETSC_FALSE, "must be zero (off) or positive"));
+  PetscCall(CheckRange("-step_force", o->force, 0.0, PETSC_FALSE, "must be zero (off) or positive"));
+  PetscCall(CheckRange("-unstable_dt_min", o->dt_min, 0.0, PETSC_FALSE, "must be zero (default) or positive"));
+  PetscCall(CheckRange("-unstable_energy_growth", o->energy_growth, 0.0, PETSC_FALSE, "must be zero (off) or positive"));
+  {
+    char val[32];
+    PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, o->cvode_max_order));
+    if (o->cvode_max_order < 1 || o->cvode_max_order > 12) SPAM_BAD_INPUT("-cvode_max_order", val, "Adams orders are 1 to 12");
   }
   {
     char val[32];

@@ -1,7 +1,8 @@
 /* Error weights for ERKStep. A relative tolerance applied to |x| would make the step
  * depend on where the origin is, so positions are weighed against the kernel range h:
  * 1/(rtol h + atol), the same for every particle and every translation. Velocities are
- * weighed against the particle's speed |v_i| (rotation invariant): 1/(rtol |v_i| + atol). */
+ * weighed against the particle's speed |v_i| (rotation invariant), floored at the sound
+ * speed: 1/(rtol max(|v_i|, c0) + atol). Other fields: ARKODE's 1/(rtol |y| + atol). */
 #include <spam/weights.h>
 #include <nvector/nvector_petsc.h>
 
@@ -20,6 +21,8 @@ int SpamErrorWeights(N_Vector y, N_Vector ewt, void *ctx)
     const PetscScalar *p = ya + (size_t)i * l->nvar;
     PetscScalar       *q = wa + (size_t)i * l->nvar;
     double             v2 = 0.0;
+    /* Fields other than x and v (energy, density, stress) against their own size. */
+    for (int k = 0; k < l->nvar; k++) q[k] = 1.0 / (w->rtol * PetscAbsReal(p[k]) + w->atol);
     for (int d = 0; d < m->dim; d++) v2 += p[l->v + d] * p[l->v + d];
     for (int d = 0; d < m->dim; d++) {
       q[l->x + d] = wx;

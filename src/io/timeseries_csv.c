@@ -11,7 +11,7 @@ PetscErrorCode SpamTimeseriesAppend(SpamOutput *o, const SpamSim *sim, const Spa
     rs = (d->entropy_sum - d0->entropy_sum) / norm;
     rg = (d->entropy_grid - d0->entropy_grid) / norm;
   }
-  fprintf(o->timeseries, "%.10g,%ld,%ld,%ld,%.6e,%.10g,%.10e,%.10e,%.10e,%.10e,%.10e,%.10e,%.12e,%.12e,%.12e,%.10e,%.10e,%.8f,%.8f,%.4f\n", d->t, pr->steps, pr->rejected, pr->rhs_evals, pr->dt, d->mass, d->p[0], d->p[1], d->p[2], d->l[0], d->l[1], d->l[2], d->kinetic, d->internal, d->total, d->entropy_sum, d->entropy_grid, rs, rg, pr->wall);
+  fprintf(o->timeseries, "%.10g,%ld,%ld,%ld,%.6e,%.10g,%.10e,%.10e,%.10e,%.10e,%.10e,%.10e,%.12e,%.12e,%.12e,%.10e,%.10e,%.8f,%.8f,%ld,%.4f,%.4f\n", d->t, pr->steps, pr->rejected, pr->rhs_evals, pr->dt, d->mass, d->p[0], d->p[1], d->p[2], d->l[0], d->l[1], d->l[2], d->kinetic, d->internal, d->total, d->entropy_sum, d->entropy_grid, rs, rg, pr->limited, pr->rhs_time, pr->wall);
   fflush(o->timeseries);
   PetscFunctionReturn(0);
 }
@@ -19,6 +19,6 @@ PetscErrorCode SpamTimeseriesAppend(SpamOutput *o, const SpamSim *sim, const Spa
 PetscErrorCode SpamStepsAppend(SpamOutput *o, const SpamProgress *pr)
 {
   PetscFunctionBeginUser;
-  fprintf(o->steps, "%ld,%.17g,%.17g,%ld,%ld\n", pr->steps, pr->t, pr->dt, pr->rejected, pr->rhs_evals);
+  fprintf(o->steps, "%ld,%.17g,%.17g,%ld,%ld,%s\n", pr->steps, pr->t, pr->dt, pr->rejected, pr->rhs_evals, pr->limit ? pr->limit : "");
   PetscFunctionReturn(0);
 }

@@ -19,6 +19,23 @@ PetscErrorCode SpamModelIsentropeSetUp(int dim, double h, double mass, double ga
   m->density_free = SpamEosDensityFree(&m->eos);
   m->rhs          = SpamRhsIsentrope;
   m->accel        = SpamAccelIsentrope;
+  m->max_sound_speed = SpamMaxSoundSpeedIsentrope;
   PetscCall(PetscStrncpy(m->name, "isentrope", sizeof m->name));
+  PetscFunctionReturn(0);
+}
+
+/* c = sqrt(gamma P / rho) at the summed density; the density pass runs here only, since
+ * the force of the gamma = 2 gas does not need it. */
+PetscErrorCode SpamMaxSoundSpeedIsentrope(SpamSim *sim, const double *y, double *cmax)
+{
+  double   rmax = 0.0;
+  PetscInt bad;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamDensitySummation(sim, y, &bad));
+  for (PetscInt i = 0; i < sim->n && bad < 0; i++) rmax = PetscMax(rmax, sim->rho[i]);
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &rmax, 1, MPI_DOUBLE, MPI_MAX, sim->comm));
+  /* gamma > 1: the sound speed grows with density. */
+  *cmax = SpamEosSoundSpeed(&sim->model.eos, rmax);
   PetscFunctionReturn(0);
 }

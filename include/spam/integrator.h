@@ -1,0 +1,55 @@
+/* One integrator interface. Every method is a PETSc TS type, so one TSStep loop serves
+ * them all: ARKODE ERKStep ("arkode") and CVODE Adams ("cvode") are registered as TS types
+ * by spam-ark, and PETSc's explicit types (rk, ssp, euler, basicsymplectic) are used as
+ * they are, with a kick-drift-kick Verlet registered for basicsymplectic. */
+#ifndef SPAM_INTEGRATOR_H
+#define SPAM_INTEGRATOR_H
+#include <petscts.h>
+#include <spam/run.h>
+#include <spam/weights.h>
+
+#define SPAM_TSARKODE "arkode"
+#define SPAM_TSCVODE  "cvode"
+
+typedef enum { SPAM_LIMIT_ACCURACY, SPAM_LIMIT_FIXED, SPAM_LIMIT_OUTPUT, SPAM_LIMIT_CFL, SPAM_LIMIT_FORCE } SpamStepLimit;
+extern const char *const SpamStepLimitNames[];
+
+/* The application context of the TS. The weights come first: SUNDIALS hands one user-data
+ * pointer to the RHS and to the error-weight function, which reads a SpamWeightsCtx. */
+typedef struct {
+  SpamWeightsCtx        w;
+  SpamSim              *sim;
+  const SpamRunOptions *o;
+  PetscInt              bad;           /* particle with a non-finite position, or -1      */
+  double                tbad;          /* the stage time at which it was seen             */
+  PetscErrorCode        perr;          /* a PETSc error inside a SUNDIALS callback        */
+  double                bound;         /* physical step bound last computed (inf: none)   */
+  SpamStepLimit         bound_which;   /* which of cfl and force set it                   */
+  long                  bound_calls;
+  PetscBool             self_stepping; /* arkode and cvode pick steps and stop times      */
+  char                  fail[256];     /* SUNDIALS flag name and message of a failure     */
+  /* kick-drift-kick: the force at the end of a step is the force at the next start */
+  double               *xcache, *acache;
+  PetscBool             cache_valid;
+} SpamTsApp;
+
+/* Registers "arkode", "cvode" and the Verlet schemes "kdk" and "dkd"; call once. */
+PetscErrorCode SpamIntegratorsRegister(void);
+PetscErrorCode SpamTSCreate_ARKode(TS ts);
+PetscErrorCode SpamTSCreate_CVode(TS ts);
+PetscErrorCode SpamSymplecticRegister(void);
+
+/* Creates the TS on sim->X from the options (validated: an unknown type or scheme is bad
+ * input) with the RHS, tolerances and, for basicsymplectic, the position/momentum split. */
+PetscErrorCode SpamTSCreate(SpamSim *sim, const SpamRunOptions *o, SpamTsApp *app, TS *ts);
+PetscErrorCode SpamTSAppDestroy(SpamTsApp *app);
+/* Splits for basicsymplectic; refuses (bad input) a model whose state is more than r, v. */
+PetscErrorCode SpamSymplecticSetUp(TS ts, SpamTsApp *app);
+/* "rk 5dp", "arkode ARKODE_DORMAND_PRINCE_7_4_5", ...; the adaptor; the fixed step or 0. */
+PetscErrorCode SpamTSDescribe(TS ts, const SpamTsApp *app, char *method, size_t mlen, char *adapt, size_t alen, double *fixed_dt);
+
+/* Physical step bound of state y: min(cfl h / c_max, force sqrt(h / |a|max)), each term
+ * only when its coefficient is positive; +inf when both are off. |a| is taken from the
+ * last force evaluation (sim->acc). */
+PetscErrorCode SpamStepBound(SpamSim *sim, const SpamRunOptions *o, const double *y, double *dt, SpamStepLimit *which);
+#endif

@@ -1,0 +1,266 @@
+/* The one time loop. Every method is a TS (see integrator.h); the loop steps it with
+ * TSStep towards the next output time, so it can monitor each step, write outputs at
+ * exact times, apply the physical step bound, and stop cleanly when the state goes bad.
+ * Failure is a result: the reason, time and step go to the monitor and summary.json. */
+#include <spam/integrator.h>
+#include <spam/errors.h>
+
+typedef struct {
+  double out_interval, snap_interval, next_out, next_snap;
+} Schedule;
+
+static double NextMultiple(double t, double interval, double t_end)
+{
+  if (interval <= 0) return t_end;
+  double k = floor(t / interval + 1e-9) + 1.0;
+  return PetscMin(k * interval, t_end);
+}
+
+/* With a fixed step, outputs fall on step boundaries: an output time between two steps
+ * would shorten a step and change the method being studied. */
+static void ScheduleInit(const SpamRunOptions *o, double fixed_dt, Schedule *s)
+{
+  s->out_interval  = o->output_interval;
+  s->snap_interval = o->snapshot_interval;
+  if (fixed_dt > 0) {
+    if (s->out_interval > 0) s->out_interval = fixed_dt * PetscMax(1.0, ceil(s->out_interval / fixed_dt - 1e-9));
+    if (s->snap_interval > 0) s->snap_interval = fixed_dt * PetscMax(1.0, ceil(s->snap_interval / fixed_dt - 1e-9));
+  }
+  s->next_out  = NextMultiple(0.0, s->out_interval, o->t_end);
+  s->next_snap = NextMultiple(0.0, s->snap_interval, o->t_end);
+}
+
+/* Diagnostics row (and snapshot when due) at the current state. */
+static PetscErrorCode Output(SpamSim *sim, const SpamRunOptions *o, SpamOutput *out, const SpamProgress *p, PetscBool snapshot, SpamRunResult *r)
+{
+  const PetscScalar *y;
+  SpamDiagnostics    d;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArrayRead(sim->X, &y));
+  PetscCall(SpamDiagnosticsCompute(sim, &o->diag, p->t, y, &d));
+  if (p->steps == 0 && p->t == 0.0) r->first = d;
+  r->last = d;
+  SpamRunUpdateDrifts(&d, r);
+  PetscCall(SpamTimeseriesAppend(out, sim, p, &d, &r->first));
+  if (snapshot) PetscCall(SpamSnapshotWrite(out, sim, y, p->t, NULL));
+  PetscCall(VecRestoreArrayRead(sim->X, &y));
+  PetscCall(SpamMonitorProgress(sim, o, p, r));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode Unstable(SpamSim *sim, SpamOutput *out, Vec Xgood, double tgood, SpamRunResult *r, const char *why)
+{
+  const PetscScalar *g;
+  PetscInt           bad;
+
+  PetscFunctionBeginUser;
+  r->status = SPAM_STATUS_UNSTABLE;
+  PetscCall(PetscStrncpy(r->reason, why, sizeof r->reason));
+  /* Keep the last good state as a snapshot tagged last_good. */
+  PetscCall(VecGetArrayRead(Xgood, &g));
+  PetscCall(SpamDensitySummation(sim, g, &bad));
+  if (bad < 0) PetscCall(SpamSnapshotWrite(out, sim, g, tgood, "last_good"));
+  PetscCall(VecRestoreArrayRead(Xgood, &g));
+  PetscCall(PetscPrintf(sim->comm, "spam-ark: unstable: %s\n", r->reason));
+  PetscFunctionReturn(0);
+}
+
+/* Why the state after a step is unacceptable, or an empty string: a non-finite entry, a
+ * non-positive carried density, or kinetic energy grown past the bound. */
+static PetscErrorCode CheckState(const SpamSim *sim, const SpamRunOptions *o, const SpamRunResult *r, double t, long step, char *why, size_t len)
+{
+  const SpamLayout  *l  = &sim->model.layout;
+  const int          nv = l->nvar;
+  const PetscScalar *y;
+  double             ke = 0.0;
+  PetscInt           bad = -1, neg = -1;
+
+  PetscFunctionBeginUser;
+  why[0] = 0;
+  PetscCall(VecGetArrayRead(sim->X, &y));
+  for (PetscInt i = 0; i < sim->n; i++) {
+    const PetscScalar *s = y + (size_t)i * nv;
+    for (int k = 0; k < nv; k++)
+      if (!isfinite(s[k]) && bad < 0) bad = i;
+    if (l->rho >= 0 && !(s[l->rho] > 0) && neg < 0) neg = i;
+    for (int d = 0; d < sim->model.dim; d++) ke += 0.5 * sim->model.mass * s[l->v + d] * s[l->v + d];
+  }
+  PetscCall(VecRestoreArrayRead(sim->X, &y));
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &ke, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
+  {
+    const double e0 = PetscMax(PetscMax(fabs(r->first.total), r->first.kinetic), 1e-300);
+    if (bad >= 0) (void)snprintf(why, len, "non-finite state of particle %" PetscInt_FMT " at t = %.6g (step %ld)", bad, t, step);
+    else if (neg >= 0) (void)snprintf(why, len, "density of particle %" PetscInt_FMT " is not positive at t = %.6g (step %ld)", neg, t, step);
+    else if (o->energy_growth > 0 && ke > o->energy_growth * e0) (void)snprintf(why, len, "kinetic energy %.6g exceeds %g times the initial energy %.6g at t = %.6g (step %ld)", ke, o->energy_growth, e0, t, step);
+  }
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode Progress(TS ts, const SpamSim *sim, PetscLogDouble wall0, double dt, SpamProgress *p)
+{
+  PetscInt       steps, rejected;
+  PetscReal      t;
+  PetscLogDouble now;
+
+  PetscFunctionBeginUser;
+  PetscCall(TSGetStepNumber(ts, &steps));
+  PetscCall(TSGetStepRejections(ts, &rejected));
+  PetscCall(TSGetTime(ts, &t));
+  PetscCall(PetscTime(&now));
+  p->t         = t;
+  p->steps     = steps;
+  p->rejected  = rejected;
+  p->rhs_evals = sim->stats.rhs_evals;
+  p->rhs_time  = sim->stats.rhs_time;
+  p->dt        = dt;
+  p->wall      = now - wall0;
+  PetscFunctionReturn(0);
+}
+
+/* The step size for TS methods that take the step the TS holds: the fixed step, or the
+ * controller's proposal capped by the physical bound, and in both cases cut to end on
+ * the next output time. Returns what set it. */
+static PetscErrorCode ChooseStep(TS ts, SpamTsApp *app, double fixed_dt, double tstop, SpamStepLimit *limit)
+{
+  SpamSim           *sim = app->sim;
+  PetscReal          t, dt;
+  TSAdapt            adapt;
+  const PetscScalar *y;
+
+  PetscFunctionBeginUser;
+  PetscCall(TSGetTime(ts, &t));
+  PetscCall(TSGetTimeStep(ts, &dt));
+  *limit = fixed_dt > 0 ? SPAM_LIMIT_FIXED : SPAM_LIMIT_ACCURACY;
+  if (fixed_dt > 0) dt = fixed_dt;
+  else if (app->o->cfl > 0 || app->o->force > 0) {
+    PetscCall(VecGetArrayRead(sim->X, &y));
+    PetscCall(SpamStepBound(sim, app->o, y, &app->bound, &app->bound_which));
+    PetscCall(VecRestoreArrayRead(sim->X, &y));
+    PetscCall(TSGetAdapt(ts, &adapt));
+    PetscCall(TSAdaptSetStepLimits(adapt, PETSC_DEFAULT, app->bound));
+    if (dt > app->bound) {
+      dt     = app->bound;
+      *limit = app->bound_which;
+    }
+  }
+  if (t + dt > tstop - 1e-9 * dt) {
+    if (tstop - t < dt * (1.0 - 1e-9)) *limit = SPAM_LIMIT_OUTPUT;
+    dt = tstop - t;
+  }
+  PetscCall(TSSetTimeStep(ts, dt));
+  PetscFunctionReturn(0);
+}
+
+/* The physical bound for methods that choose their own steps: ARKODE calls it itself
+ * (stability function); CVODE gets it as its largest step. */
+static PetscErrorCode SelfSteppingBound(TS ts, SpamTsApp *app)
+{
+  TSType             type;
+  const PetscScalar *y;
+
+  PetscFunctionBeginUser;
+  PetscCall(TSGetType(ts, &type));
+  if (strcmp(type, SPAM_TSCVODE) || !(app->o->cfl > 0 || app->o->force > 0)) PetscFunctionReturn(0);
+  PetscCall(VecGetArrayRead(app->sim->X, &y));
+  PetscCall(SpamStepBound(app->sim, app->o, y, &app->bound, &app->bound_which));
+  PetscCall(VecRestoreArrayRead(app->sim->X, &y));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode FailureReason(TS ts, const SpamTsApp *app, long step, double t, char *why, size_t len)
+{
+  TSConvergedReason reason;
+
+  PetscFunctionBeginUser;
+  PetscCall(TSGetConvergedReason(ts, &reason));
+  why[0] = 0;
+  if (app->bad >= 0) (void)snprintf(why, len, "non-finite position of particle %" PetscInt_FMT " at stage time t = %.6g, step %ld", app->bad, app->tbad, step);
+  else if (reason < 0) (void)snprintf(why, len, "%.200s at t = %.6g, step %ld", app->fail[0] ? app->fail : TSConvergedReasons[reason], t, step);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamRun(SpamSim *sim, const SpamRunOptions *o, SpamOutput *out, SpamRunResult *r)
+{
+  SpamTsApp      app;
+  TS             ts;
+  Vec            Xgood;
+  PetscLogDouble wall0;
+  SpamProgress   p = {0};
+  Schedule       s;
+  double         t = 0.0, dt_prev = 0.0; /* no previous step: the first cannot shrink */
+  const double   dt_min = o->dt_min > 0 ? o->dt_min : 1e-12 * PetscMax(o->t_end, 1e-300);
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(r, sizeof *r));
+  PetscCall(PetscTime(&wall0));
+  PetscCall(SpamTSCreate(sim, o, &app, &ts));
+  PetscCall(SpamTSDescribe(ts, &app, r->method, sizeof r->method, r->adapt, sizeof r->adapt, &r->fixed_dt));
+  {
+    char line[512]; /* snprintf: PETSc's printf writes 3 as "3." */
+    (void)snprintf(line, sizeof line, "spam-ark: scene %s, %ld particles in %dD, h %g, %s, step %s, rtol %g atol %g, to t = %g\n", sim->scene.name, (long)sim->nglobal, sim->model.dim, sim->model.kernel.h, r->method, r->fixed_dt > 0 ? "fixed" : r->adapt, o->rtol, o->atol, o->t_end);
+    PetscCall(PetscPrintf(sim->comm, "%s", line));
+  }
+  ScheduleInit(o, r->fixed_dt, &s);
+  PetscCall(VecDuplicate(sim->X, &Xgood));
+  PetscCall(VecCopy(sim->X, Xgood));
+  p.limit = SpamStepLimitNames[SPAM_LIMIT_ACCURACY];
+  PetscCall(Output(sim, o, out, &p, o->snapshot_interval > 0, r));
+  while (t < o->t_end && p.steps < o->max_steps) {
+    const double  tstop = PetscMin(s.next_out, s.next_snap);
+    SpamStepLimit limit = r->fixed_dt > 0 ? SPAM_LIMIT_FIXED : SPAM_LIMIT_ACCURACY;
+    char          why[256];
+    PetscReal     tnew;
+
+    PetscCall(TSSetMaxTime(ts, tstop));
+    if (!app.self_stepping) PetscCall(ChooseStep(ts, &app, r->fixed_dt, tstop, &limit));
+    else PetscCall(SelfSteppingBound(ts, &app));
+    PetscCall(TSStep(ts));
+    PetscCall(FailureReason(ts, &app, p.steps + 1, t, why, sizeof why));
+    if (why[0]) {
+      PetscCall(Unstable(sim, out, Xgood, t, r, why));
+      break;
+    }
+    PetscCall(TSGetTime(ts, &tnew));
+    PetscCall(Progress(ts, sim, wall0, tnew - t, &p));
+    if (app.self_stepping && isfinite(app.bound) && p.dt >= app.bound * (1.0 - 1e-9)) limit = app.bound_which;
+    if (app.self_stepping && tnew >= tstop * (1.0 - 1e-14) && limit == SPAM_LIMIT_ACCURACY && r->fixed_dt <= 0) limit = SPAM_LIMIT_OUTPUT;
+    if (limit == SPAM_LIMIT_CFL || limit == SPAM_LIMIT_FORCE) r->limited++;
+    p.limited = r->limited;
+    p.limit   = SpamStepLimitNames[limit];
+    t         = tnew;
+    PetscCall(CheckState(sim, o, r, t, p.steps, why, sizeof why));
+    /* A collapse, not the cautious first steps of a start from rest: only a shrinking step
+     * below the floor fails. */
+    if (!why[0] && r->fixed_dt <= 0 && limit != SPAM_LIMIT_OUTPUT && p.dt < dt_min && p.dt < dt_prev) (void)snprintf(why, sizeof why, "step size %.3e fell below the floor %.3e at t = %.6g (step %ld)", p.dt, dt_min, t, p.steps);
+    if (why[0]) {
+      PetscCall(Unstable(sim, out, Xgood, r->t, r, why));
+      break;
+    }
+    PetscCall(VecCopy(sim->X, Xgood));
+    if (limit != SPAM_LIMIT_OUTPUT) dt_prev = p.dt;
+    r->t = t;
+    PetscCall(SpamStepsAppend(out, &p));
+    if (o->monitor) PetscCall(SpamMonitorStep(sim, &p));
+    if (t >= tstop * (1.0 - 1e-14) || t >= o->t_end || p.steps >= o->max_steps) {
+      const PetscBool snap = (PetscBool)(o->snapshot_interval > 0 && (t >= s.next_snap * (1.0 - 1e-14) || t >= o->t_end || p.steps >= o->max_steps));
+      PetscCall(Output(sim, o, out, &p, snap, r));
+      if (t >= s.next_out * (1.0 - 1e-14)) s.next_out = NextMultiple(t, s.out_interval, o->t_end);
+      if (t >= s.next_snap * (1.0 - 1e-14)) s.next_snap = NextMultiple(t, s.snap_interval, o->t_end);
+    }
+  }
+  if (r->status != SPAM_STATUS_UNSTABLE && t < o->t_end * (1.0 - 1e-14)) r->status = SPAM_STATUS_MAX_STEPS;
+  r->steps     = p.steps;
+  r->rejected  = p.rejected;
+  r->attempts  = p.steps + p.rejected;
+  r->rhs_evals = sim->stats.rhs_evals;
+  {
+    PetscLogDouble now;
+    PetscCall(PetscTime(&now));
+    r->wall = now - wall0;
+  }
+  PetscCall(VecDestroy(&Xgood));
+  PetscCall(TSDestroy(&ts));
+  PetscCall(SpamTSAppDestroy(&app));
+  PetscFunctionReturn(0);
+}

@@ -1,0 +1,191 @@
+/* ARKODE ERKStep as a PETSc TS type ("arkode"). ERKStep keeps its own step controller,
+ * error weights and stop time; TSStep takes one ERKStep step towards ts->max_time and
+ * reports the time, the step and the rejections back to the TS, so that the one TSStep
+ * loop of spam-ark drives it like any PETSc method. */
+#include <petsc/private/tsimpl.h>
+#include <spam/integrator.h>
+#include <spam/errors.h>
+#include <arkode/arkode_erkstep.h>
+#include <nvector/nvector_petsc.h>
+
+int SpamArkodeAdaptMethod(const char *name);
+
+typedef struct {
+  SUNContext sunctx;
+  N_Vector   y;
+  void      *mem;
+} TS_SpamARKode;
+
+static int ArkRhs(realtype t, N_Vector y, N_Vector ydot, void *data)
+{
+  SpamTsApp         *app = (SpamTsApp *)data;
+  const PetscScalar *ya;
+  PetscScalar       *fa;
+
+  if ((app->perr = VecGetArrayRead(N_VGetVector_Petsc(y), &ya))) return -1;
+  if ((app->perr = VecGetArrayWrite(N_VGetVector_Petsc(ydot), &fa))) return -1;
+  app->perr = SpamRhs(app->sim, ya, fa, &app->bad);
+  if (VecRestoreArrayWrite(N_VGetVector_Petsc(ydot), &fa) || VecRestoreArrayRead(N_VGetVector_Petsc(y), &ya)) return -1;
+  if (app->perr) return -1;
+  if (app->bad >= 0) app->tbad = t;
+  return app->bad >= 0 ? 1 : 0; /* ERKStep 6.4 stops on it: the loop reports the particle */
+}
+
+/* ERKStep's stability function: the physical (CFL, force) bound of the current state. */
+static int ArkStability(N_Vector y, realtype t, realtype *hstab, void *data)
+{
+  SpamTsApp         *app = (SpamTsApp *)data;
+  const PetscScalar *ya;
+  double             dt;
+
+  (void)t;
+  if ((app->perr = VecGetArrayRead(N_VGetVector_Petsc(y), &ya))) return -1;
+  app->perr = SpamStepBound(app->sim, app->o, ya, &dt, &app->bound_which);
+  if (VecRestoreArrayRead(N_VGetVector_Petsc(y), &ya) || app->perr) return -1;
+  app->bound = dt;
+  app->bound_calls++;
+  *hstab = isfinite(dt) ? dt : -1.0; /* non-positive: no bound */
+  return 0;
+}
+
+static void ArkErr(int code, const char *module, const char *function, char *msg, void *data)
+{
+  SpamTsApp *app = (SpamTsApp *)data;
+  (void)code;
+  (void)module;
+  (void)snprintf(app->fail, sizeof app->fail, "%s: %s", function, msg);
+}
+
+static PetscErrorCode ConfigureController(void *mem, const SpamRunOptions *o)
+{
+  PetscFunctionBeginUser;
+  if (o->fixed_step > 0) {
+    PetscCallARK(ERKStepSetFixedStep(mem, o->fixed_step));
+    PetscFunctionReturn(0);
+  }
+  {
+    realtype  k[3] = {o->adapt_params[0], o->adapt_params[1], o->adapt_params[2]};
+    const int use_default = o->n_adapt_params == 0;
+    PetscCallARK(ERKStepSetAdaptivityMethod(mem, SpamArkodeAdaptMethod(o->adapt), use_default, 0, k));
+  }
+  if (o->dt_first > 0) PetscCallARK(ERKStepSetInitStep(mem, o->dt_first));
+  if (o->safety > 0) PetscCallARK(ERKStepSetSafetyFactor(mem, o->safety));
+  if (o->max_growth > 0) PetscCallARK(ERKStepSetMaxGrowth(mem, o->max_growth));
+  if (o->max_first_growth > 0) PetscCallARK(ERKStepSetMaxFirstGrowth(mem, o->max_first_growth));
+  if (o->max_efail_growth > 0) PetscCallARK(ERKStepSetMaxEFailGrowth(mem, o->max_efail_growth));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSSetUp_SpamARKode(TS ts)
+{
+  TS_SpamARKode *ark = (TS_SpamARKode *)ts->data;
+  SpamTsApp     *app;
+
+  PetscFunctionBeginUser;
+  PetscCall(TSGetApplicationContext(ts, &app));
+  PetscCheck(app, PetscObjectComm((PetscObject)ts), PETSC_ERR_ORDER, "the arkode TS needs a SpamTsApp application context");
+  PetscCallARK(SUNContext_Create((void *)&app->sim->comm, &ark->sunctx));
+  ark->y = N_VMake_Petsc(ts->vec_sol, ark->sunctx);
+  PetscCheck(ark->y, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "N_VMake_Petsc failed");
+  ark->mem = ERKStepCreate(ArkRhs, ts->ptime, ark->y, ark->sunctx);
+  PetscCheck(ark->mem, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "ERKStepCreate failed");
+  PetscCallARK(ERKStepSetUserData(ark->mem, app));
+  PetscCallARK(ERKStepSetErrHandlerFn(ark->mem, ArkErr, app));
+  PetscCallARK(ERKStepSetTableName(ark->mem, app->o->table));
+  if (app->o->classic_weights) PetscCallARK(ERKStepSStolerances(ark->mem, app->o->rtol, app->o->atol));
+  else PetscCallARK(ERKStepWFtolerances(ark->mem, SpamErrorWeights));
+  PetscCallARK(ERKStepSetMaxNumSteps(ark->mem, -1)); /* the loop counts steps itself */
+  PetscCall(ConfigureController(ark->mem, app->o));
+  if (app->o->fixed_step <= 0 && (app->o->cfl > 0 || app->o->force > 0)) PetscCallARK(ERKStepSetStabilityFn(ark->mem, ArkStability, app));
+  app->self_stepping = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSStep_SpamARKode(TS ts)
+{
+  TS_SpamARKode *ark = (TS_SpamARKode *)ts->data;
+  SpamTsApp     *app;
+  realtype       tret, h;
+  long           netf;
+  int            flag;
+
+  PetscFunctionBeginUser;
+  PetscCall(TSGetApplicationContext(ts, &app));
+  PetscCallARK(ERKStepSetStopTime(ark->mem, ts->max_time)); /* set again after each stop */
+  flag = ERKStepEvolve(ark->mem, ts->max_time, ark->y, &tret, ARK_ONE_STEP);
+  PetscCall(app->perr);
+  if (flag < 0) {
+    char *name = ERKStepGetReturnFlagName(flag);
+    char  msg[160];
+    PetscCall(PetscStrncpy(msg, app->fail, sizeof msg));
+    (void)snprintf(app->fail, sizeof app->fail, "ERKStepEvolve returned %s (%.150s)", name ? name : "?", msg);
+    free(name);
+    ts->reason = TS_DIVERGED_STEP_REJECTED;
+    PetscFunctionReturn(0);
+  }
+  PetscCallARK(ERKStepGetLastStep(ark->mem, &h));
+  PetscCallARK(ERKStepGetNumErrTestFails(ark->mem, &netf));
+  ts->ptime     = tret;
+  ts->time_step = h;
+  ts->reject    = (PetscInt)netf;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSReset_SpamARKode(TS ts)
+{
+  TS_SpamARKode *ark = (TS_SpamARKode *)ts->data;
+
+  PetscFunctionBeginUser;
+  if (ark->mem) ERKStepFree(&ark->mem);
+  if (ark->y) N_VDestroy(ark->y);
+  ark->y = NULL;
+  if (ark->sunctx) PetscCallARK(SUNContext_Free(&ark->sunctx));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSDestroy_SpamARKode(TS ts)
+{
+  PetscFunctionBeginUser;
+  PetscCall(TSReset_SpamARKode(ts));
+  PetscCall(PetscFree(ts->data));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSView_SpamARKode(TS ts, PetscViewer viewer)
+{
+  SpamTsApp *app;
+
+  PetscFunctionBeginUser;
+  PetscCall(TSGetApplicationContext(ts, &app));
+  if (app) PetscCall(PetscViewerASCIIPrintf(viewer, "  ARKODE ERKStep, table %s, controller %s\n", app->o->table, app->o->fixed_step > 0 ? "fixed step" : app->o->adapt));
+  PetscFunctionReturn(0);
+}
+
+/* Statistics for the summary: step attempts of ERKStep. */
+PetscErrorCode SpamTSARKodeAttempts(TS ts, long *attempts);
+PetscErrorCode SpamTSARKodeAttempts(TS ts, long *attempts)
+{
+  TS_SpamARKode *ark = (TS_SpamARKode *)ts->data;
+  long           expsteps, accsteps, nfe, netf;
+
+  PetscFunctionBeginUser;
+  PetscCallARK(ERKStepGetTimestepperStats(ark->mem, &expsteps, &accsteps, attempts, &nfe, &netf));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamTSCreate_ARKode(TS ts)
+{
+  TS_SpamARKode *ark;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscNew(&ark));
+  ts->data                = (void *)ark;
+  ts->ops->setup          = TSSetUp_SpamARKode;
+  ts->ops->step           = TSStep_SpamARKode;
+  ts->ops->reset          = TSReset_SpamARKode;
+  ts->ops->destroy        = TSDestroy_SpamARKode;
+  ts->ops->view           = TSView_SpamARKode;
+  ts->default_adapt_type  = TSADAPTNONE; /* ERKStep adapts by itself */
+  ts->usessnes            = PETSC_FALSE;
+  PetscFunctionReturn(0);
+}

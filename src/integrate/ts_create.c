@@ -1,0 +1,208 @@
+/* Creating the TS of a run: the method from -ts_type (validated here, so an unknown name
+ * is one line of bad input, not a PETSc traceback), the one RHS, the translation-invariant
+ * tolerances, and the splits basicsymplectic needs. */
+#include <spam/integrator.h>
+#include <spam/errors.h>
+
+const char *const SpamStepLimitNames[] = {"accuracy", "fixed", "output", "cfl", "force"};
+
+static const char *const TsTypes[]     = {"arkode", "cvode", "rk", "ssp", "euler", "basicsymplectic"};
+static const char *const RkTypes[]     = {"1fe", "2a", "2b", "3", "3bs", "4", "5f", "5dp", "5bs", "6vr", "7vr", "8vr"};
+static const char *const SspTypes[]    = {"rks2", "rks3", "rk104"};
+static const char *const SympTypes[]   = {"kdk", "dkd", "1", "2", "3", "4"};
+static const char *const AdaptTypes[]  = {"none", "basic", "dsp"};
+
+PetscErrorCode SpamIntegratorsRegister(void)
+{
+  PetscFunctionBeginUser;
+  PetscCall(TSRegister(SPAM_TSARKODE, SpamTSCreate_ARKode));
+  PetscCall(TSRegister(SPAM_TSCVODE, SpamTSCreate_CVode));
+  PetscCall(SpamSymplecticRegister());
+  PetscFunctionReturn(0);
+}
+
+/* The value of option 'opt' checked against 'names'; 'def' when the option is absent. */
+static PetscErrorCode ChosenName(const char *opt, const char *def, const char *const *names, int n, char *val, size_t len)
+{
+  PetscBool set;
+  char      allowed[256] = "";
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscStrncpy(val, def, len));
+  PetscCall(PetscOptionsGetString(NULL, NULL, opt, val, len, &set));
+  for (int k = 0; k < n; k++)
+    if (!strcmp(val, names[k])) PetscFunctionReturn(0);
+  for (int k = 0; k < n; k++) {
+    PetscCall(PetscStrlcat(allowed, k ? ", " : "", sizeof allowed));
+    PetscCall(PetscStrlcat(allowed, names[k], sizeof allowed));
+  }
+  SPAM_BAD_INPUT(opt, val, "allowed: %s", allowed);
+}
+
+static PetscErrorCode TsRhs(TS ts, PetscReal t, Vec X, Vec F, void *ctx)
+{
+  SpamTsApp         *app = (SpamTsApp *)ctx;
+  const PetscScalar *x;
+  PetscScalar       *f;
+  PetscInt           bad;
+
+  PetscFunctionBeginUser;
+  (void)ts;
+  PetscCall(VecGetArrayRead(X, &x));
+  PetscCall(VecGetArrayWrite(F, &f));
+  PetscCall(SpamRhs(app->sim, x, f, &bad));
+  if (bad >= 0) {
+    /* PETSc's explicit methods have no recoverable RHS failure: finish the step on a zero
+     * derivative and let the loop report the particle. */
+    if (app->bad < 0) {
+      app->bad  = bad;
+      app->tbad = t;
+    }
+    PetscCall(PetscArrayzero(f, (size_t)app->sim->n * app->sim->model.layout.nvar));
+  }
+  PetscCall(VecRestoreArrayWrite(F, &f));
+  PetscCall(VecRestoreArrayRead(X, &x));
+  PetscFunctionReturn(0);
+}
+
+/* PETSc's weighted error norm uses tol_i = atol_i + rtol_i max(|y_i|, |yhat_i|). With
+ * vector tolerances, positions get atol_i = rtol h + atol, rtol_i = 0 (translation
+ * invariant, as for ARKODE) and velocities atol_i = rtol c0 + atol, rtol_i = rtol. */
+static PetscErrorCode Tolerances(TS ts, const SpamTsApp *app)
+{
+  const SpamSim    *sim = app->sim;
+  const SpamLayout *l   = &sim->model.layout;
+  const double      rtol = app->o->rtol, atol = app->o->atol;
+  Vec               va, vr;
+  PetscScalar      *a, *r;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecDuplicate(sim->X, &va));
+  PetscCall(VecDuplicate(sim->X, &vr));
+  PetscCall(VecSet(va, atol));
+  PetscCall(VecSet(vr, rtol));
+  if (!app->o->classic_weights) {
+    PetscCall(VecGetArray(va, &a));
+    PetscCall(VecGetArray(vr, &r));
+    for (PetscInt i = 0; i < sim->n; i++)
+      for (int d = 0; d < sim->model.dim; d++) {
+        a[(size_t)i * l->nvar + l->x + d] = rtol * sim->model.kernel.h + atol;
+        r[(size_t)i * l->nvar + l->x + d] = 0.0;
+        a[(size_t)i * l->nvar + l->v + d] = rtol * app->w.vscale + atol;
+      }
+    PetscCall(VecRestoreArray(vr, &r));
+    PetscCall(VecRestoreArray(va, &a));
+  }
+  PetscCall(TSSetTolerances(ts, atol, va, rtol, vr));
+  PetscCall(VecDestroy(&va));
+  PetscCall(VecDestroy(&vr));
+  PetscFunctionReturn(0);
+}
+
+/* Validates -ts_type and the sub-type option of the chosen type before PETSc sees them. */
+static PetscErrorCode ChooseType(TS ts, char *type, size_t len)
+{
+  char sub[64];
+
+  PetscFunctionBeginUser;
+  PetscCall(ChosenName("-ts_type", SPAM_TSARKODE, TsTypes, 6, type, len));
+  PetscCall(TSSetType(ts, type));
+  if (!strcmp(type, TSRK)) PetscCall(ChosenName("-ts_rk_type", TSRK3BS, RkTypes, 12, sub, sizeof sub));
+  if (!strcmp(type, TSSSP)) PetscCall(ChosenName("-ts_ssp_type", TSSSPRKS2, SspTypes, 3, sub, sizeof sub));
+  if (!strcmp(type, TSBASICSYMPLECTIC)) {
+    PetscCall(ChosenName("-ts_basicsymplectic_type", "kdk", SympTypes, 6, sub, sizeof sub));
+    PetscCall(TSBasicSymplecticSetType(ts, "kdk")); /* our default: velocity Verlet */
+  }
+  if (strcmp(type, SPAM_TSARKODE) && strcmp(type, SPAM_TSCVODE)) PetscCall(ChosenName("-ts_adapt_type", strcmp(type, TSRK) ? TSADAPTNONE : TSADAPTBASIC, AdaptTypes, 3, sub, sizeof sub));
+  PetscFunctionReturn(0);
+}
+
+/* The sound speed that scales the velocity weights, the default steps and the CFL bound. */
+static PetscErrorCode InitialSoundSpeed(SpamSim *sim, double *c0)
+{
+  const PetscScalar *y;
+
+  PetscFunctionBeginUser;
+  *c0 = 1.0;
+  if (sim->model.max_sound_speed) {
+    PetscCall(VecGetArrayRead(sim->X, &y));
+    PetscCall(sim->model.max_sound_speed(sim, y, c0));
+    PetscCall(VecRestoreArrayRead(sim->X, &y));
+  }
+  if (!(*c0 > 0)) *c0 = 1.0;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamTSCreate(SpamSim *sim, const SpamRunOptions *o, SpamTsApp *app, TS *ts)
+{
+  char    type[64];
+  TSAdapt adapt;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(app, sizeof *app));
+  app->sim    = sim;
+  app->o      = o;
+  app->bad    = -1;
+  app->bound  = PETSC_INFINITY;
+  app->w.sim  = sim;
+  app->w.rtol = o->rtol;
+  app->w.atol = o->atol;
+  PetscCall(InitialSoundSpeed(sim, &app->w.vscale));
+  PetscCall(TSCreate(sim->comm, ts));
+  PetscCall(TSSetProblemType(*ts, TS_NONLINEAR));
+  PetscCall(TSSetApplicationContext(*ts, app));
+  PetscCall(ChooseType(*ts, type, sizeof type));
+  PetscCall(TSSetRHSFunction(*ts, NULL, TsRhs, app));
+  if (!strcmp(type, TSBASICSYMPLECTIC)) PetscCall(SpamSymplecticSetUp(*ts, app));
+  PetscCall(TSSetSolution(*ts, sim->X));
+  PetscCall(TSSetTime(*ts, 0.0));
+  PetscCall(TSSetMaxTime(*ts, o->t_end));
+  PetscCall(TSSetMaxSteps(*ts, PETSC_MAX_INT - 1));
+  PetscCall(TSSetExactFinalTime(*ts, TS_EXACTFINALTIME_MATCHSTEP));
+  PetscCall(TSSetErrorIfStepFails(*ts, PETSC_FALSE)); /* failure is a result */
+  PetscCall(TSGetAdapt(*ts, &adapt));
+  PetscCall(TSSetFromOptions(*ts));
+  /* Our options win over PETSc's for the quantities both read. */
+  PetscCall(TSSetMaxTime(*ts, o->t_end));
+  PetscCall(TSSetTimeStep(*ts, o->dt_first > 0 ? o->dt_first : 0.05 * sim->model.kernel.h / app->w.vscale));
+  PetscCall(Tolerances(*ts, app));
+  PetscCall(TSSetUp(*ts));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamTSAppDestroy(SpamTsApp *app)
+{
+  PetscFunctionBeginUser;
+  if (app->xcache) PetscCall(PetscFree2(app->xcache, app->acache));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamTSDescribe(TS ts, const SpamTsApp *app, char *method, size_t mlen, char *adapt, size_t alen, double *fixed_dt)
+{
+  TSType      type;
+  const char *sub = "";
+  TSAdapt     a;
+  TSAdaptType atype;
+
+  PetscFunctionBeginUser;
+  PetscCall(TSGetType(ts, &type));
+  *fixed_dt = 0.0;
+  if (!strcmp(type, SPAM_TSARKODE)) {
+    sub = app->o->table;
+    PetscCall(PetscStrncpy(adapt, app->o->fixed_step > 0 ? "none" : app->o->adapt, alen));
+    *fixed_dt = app->o->fixed_step;
+  } else if (!strcmp(type, SPAM_TSCVODE)) {
+    sub = "adams";
+    PetscCall(PetscStrncpy(adapt, "cvode", alen));
+  } else {
+    if (!strcmp(type, TSRK)) PetscCall(TSRKGetType(ts, &sub));
+    if (!strcmp(type, TSSSP)) PetscCall(TSSSPGetType(ts, &sub));
+    if (!strcmp(type, TSBASICSYMPLECTIC)) PetscCall(TSBasicSymplecticGetType(ts, &sub));
+    PetscCall(TSGetAdapt(ts, &a));
+    PetscCall(TSAdaptGetType(a, &atype));
+    PetscCall(PetscStrncpy(adapt, atype, alen));
+    if (!strcmp(atype, TSADAPTNONE)) PetscCall(TSGetTimeStep(ts, fixed_dt));
+  }
+  (void)snprintf(method, mlen, "%s%s%s", type, sub[0] ? " " : "", sub);
+  PetscFunctionReturn(0);
+}

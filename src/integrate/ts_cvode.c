@@ -1,0 +1,138 @@
+/* CVODE as a PETSc TS type ("cvode"): variable-order Adams methods with a fixed-point
+ * nonlinear solver (no Jacobian: the SPAM equations are not stiff at the steps accuracy
+ * asks for). Like "arkode", TSStep takes one CVODE step towards ts->max_time. */
+#include <petsc/private/tsimpl.h>
+#include <spam/integrator.h>
+#include <spam/errors.h>
+#include <cvode/cvode.h>
+#include <nvector/nvector_petsc.h>
+#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
+
+typedef struct {
+  SUNContext         sunctx;
+  N_Vector           y;
+  SUNNonlinearSolver nls;
+  void              *mem;
+} TS_SpamCVode;
+
+static int CvRhs(realtype t, N_Vector y, N_Vector ydot, void *data)
+{
+  SpamTsApp         *app = (SpamTsApp *)data;
+  const PetscScalar *ya;
+  PetscScalar       *fa;
+
+  if ((app->perr = VecGetArrayRead(N_VGetVector_Petsc(y), &ya))) return -1;
+  if ((app->perr = VecGetArrayWrite(N_VGetVector_Petsc(ydot), &fa))) return -1;
+  app->perr = SpamRhs(app->sim, ya, fa, &app->bad);
+  if (VecRestoreArrayWrite(N_VGetVector_Petsc(ydot), &fa) || VecRestoreArrayRead(N_VGetVector_Petsc(y), &ya)) return -1;
+  if (app->perr) return -1;
+  if (app->bad >= 0) app->tbad = t;
+  return app->bad >= 0 ? -1 : 0; /* not recoverable: the run is reported unstable */
+}
+
+static void CvErr(int code, const char *module, const char *function, char *msg, void *data)
+{
+  SpamTsApp *app = (SpamTsApp *)data;
+  (void)code;
+  (void)module;
+  (void)snprintf(app->fail, sizeof app->fail, "%s: %s", function, msg);
+}
+
+static PetscErrorCode TSSetUp_SpamCVode(TS ts)
+{
+  TS_SpamCVode *cv = (TS_SpamCVode *)ts->data;
+  SpamTsApp    *app;
+
+  PetscFunctionBeginUser;
+  PetscCall(TSGetApplicationContext(ts, &app));
+  PetscCheck(app, PetscObjectComm((PetscObject)ts), PETSC_ERR_ORDER, "the cvode TS needs a SpamTsApp application context");
+  PetscCallCV(SUNContext_Create((void *)&app->sim->comm, &cv->sunctx));
+  cv->y = N_VMake_Petsc(ts->vec_sol, cv->sunctx);
+  PetscCheck(cv->y, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "N_VMake_Petsc failed");
+  cv->mem = CVodeCreate(CV_ADAMS, cv->sunctx);
+  PetscCheck(cv->mem, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "CVodeCreate failed");
+  PetscCallCV(CVodeInit(cv->mem, CvRhs, ts->ptime, cv->y));
+  PetscCallCV(CVodeSetUserData(cv->mem, app));
+  PetscCallCV(CVodeSetErrHandlerFn(cv->mem, CvErr, app));
+  if (app->o->classic_weights) PetscCallCV(CVodeSStolerances(cv->mem, app->o->rtol, app->o->atol));
+  else PetscCallCV(CVodeWFtolerances(cv->mem, SpamErrorWeights));
+  cv->nls = SUNNonlinSol_FixedPoint(cv->y, 0, cv->sunctx);
+  PetscCheck(cv->nls, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "SUNNonlinSol_FixedPoint failed");
+  PetscCallCV(CVodeSetNonlinearSolver(cv->mem, cv->nls));
+  PetscCallCV(CVodeSetMaxOrd(cv->mem, (int)app->o->cvode_max_order));
+  PetscCallCV(CVodeSetMaxNumSteps(cv->mem, -1)); /* the loop counts steps itself */
+  if (app->o->dt_first > 0) PetscCallCV(CVodeSetInitStep(cv->mem, app->o->dt_first));
+  app->self_stepping = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSStep_SpamCVode(TS ts)
+{
+  TS_SpamCVode *cv = (TS_SpamCVode *)ts->data;
+  SpamTsApp    *app;
+  realtype      tret, h;
+  long          netf, ncfn;
+  int           flag;
+
+  PetscFunctionBeginUser;
+  PetscCall(TSGetApplicationContext(ts, &app));
+  PetscCallCV(CVodeSetStopTime(cv->mem, ts->max_time));
+  /* CVODE has no stability function: the physical bound, computed by the loop, caps the step. */
+  PetscCallCV(CVodeSetMaxStep(cv->mem, isfinite(app->bound) ? app->bound : 0.0));
+  flag = CVode(cv->mem, ts->max_time, cv->y, &tret, CV_ONE_STEP);
+  PetscCall(app->perr);
+  if (flag < 0) {
+    char *name = CVodeGetReturnFlagName(flag);
+    char  msg[160];
+    PetscCall(PetscStrncpy(msg, app->fail, sizeof msg));
+    (void)snprintf(app->fail, sizeof app->fail, "CVode returned %s (%.150s)", name ? name : "?", msg);
+    free(name);
+    ts->reason = TS_DIVERGED_STEP_REJECTED;
+    PetscFunctionReturn(0);
+  }
+  PetscCallCV(CVodeGetLastStep(cv->mem, &h));
+  PetscCallCV(CVodeGetNumErrTestFails(cv->mem, &netf));
+  PetscCallCV(CVodeGetNumNonlinSolvConvFails(cv->mem, &ncfn));
+  ts->ptime     = tret;
+  ts->time_step = h;
+  ts->reject    = (PetscInt)(netf + ncfn);
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSReset_SpamCVode(TS ts)
+{
+  TS_SpamCVode *cv = (TS_SpamCVode *)ts->data;
+
+  PetscFunctionBeginUser;
+  if (cv->mem) CVodeFree(&cv->mem);
+  if (cv->nls) PetscCallCV(SUNNonlinSolFree(cv->nls));
+  cv->nls = NULL;
+  if (cv->y) N_VDestroy(cv->y);
+  cv->y = NULL;
+  if (cv->sunctx) PetscCallCV(SUNContext_Free(&cv->sunctx));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSDestroy_SpamCVode(TS ts)
+{
+  PetscFunctionBeginUser;
+  PetscCall(TSReset_SpamCVode(ts));
+  PetscCall(PetscFree(ts->data));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamTSCreate_CVode(TS ts)
+{
+  TS_SpamCVode *cv;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscNew(&cv));
+  ts->data               = (void *)cv;
+  ts->ops->setup         = TSSetUp_SpamCVode;
+  ts->ops->step          = TSStep_SpamCVode;
+  ts->ops->reset         = TSReset_SpamCVode;
+  ts->ops->destroy       = TSDestroy_SpamCVode;
+  ts->default_adapt_type = TSADAPTNONE; /* CVODE adapts step and order by itself */
+  ts->usessnes           = PETSC_FALSE;
+  PetscFunctionReturn(0);
+}
