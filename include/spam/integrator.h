@@ -48,6 +48,10 @@ PetscErrorCode SpamSymplecticSetUp(TS ts, SpamTsApp *app);
 /* "rk 5dp", "arkode ARKODE_DORMAND_PRINCE_7_4_5", ...; the adaptor; the fixed step or 0. */
 PetscErrorCode SpamTSDescribe(TS ts, const SpamTsApp *app, char *method, size_t mlen, char *adapt, size_t alen, double *fixed_dt);
 
+/* Integrates to t_end with the TS made by SpamTSCreate (any method), writing outputs as
+ * it goes; an unstable run ends with r->status = UNSTABLE, not an error. */
+PetscErrorCode SpamRun(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamOutput *out, SpamRunResult *r);
+
 /* Physical step bound of state y: min(cfl h / c_max, force sqrt(h / |a|max)), each term
  * only when its coefficient is positive; +inf when both are off. |a| is taken from the
  * last force evaluation (sim->acc). */

@@ -44,9 +44,7 @@ typedef struct {
 
 /* Reads and validates every run option; sim gives scene defaults (end time). */
 PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o);
-/* Integrates to t_end with the -ts_type chosen (arkode, cvode or a PETSc TS method),
- * writing outputs as it goes; an unstable run ends with r->status = UNSTABLE. */
-PetscErrorCode SpamRun(SpamSim *sim, const SpamRunOptions *o, SpamOutput *out, SpamRunResult *r);
+
 /* Per-step monitor line and the progress line with ETA. */
 PetscErrorCode SpamMonitorStep(const SpamSim *sim, const SpamProgress *p);
 PetscErrorCode SpamMonitorProgress(const SpamSim *sim, const SpamRunOptions *o, const SpamProgress *p, const SpamRunResult *r);

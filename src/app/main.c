@@ -15,13 +15,18 @@ static PetscErrorCode Run(int *exit_code)
   SpamRunOptions o;
   SpamRunResult  r;
   SpamOutput     out;
+  SpamTsApp      app;
+  TS             ts;
   PetscBool      help;
 
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsHasHelp(NULL, &help));
   PetscCall(SpamSceneCreateSim(PETSC_COMM_WORLD, &sim));
   PetscCall(SpamRunOptionsParse(&sim, &o));
+  PetscCall(SpamTSCreate(&sim, &o, &app, &ts)); /* validates the method; lists TS options */
   if (help) { /* every option has been listed with its default: nothing to run */
+    PetscCall(TSDestroy(&ts));
+    PetscCall(SpamTSAppDestroy(&app));
     PetscCall(SpamSimDestroy(&sim));
     PetscFunctionReturn(0);
   }
@@ -33,7 +38,9 @@ static PetscErrorCode Run(int *exit_code)
     PetscCall(SpamParticlesCsvWrite(o.initial_csv, &sim, y));
     PetscCall(VecRestoreArrayRead(sim.X, &y));
   }
-  PetscCall(SpamRun(&sim, &o, &out, &r));
+  PetscCall(SpamRun(&sim, &o, ts, &app, &out, &r));
+  PetscCall(TSDestroy(&ts));
+  PetscCall(SpamTSAppDestroy(&app));
   if (o.final_csv[0] && r.status != SPAM_STATUS_UNSTABLE) {
     const PetscScalar *y;
     PetscCall(VecGetArrayRead(sim.X, &y));

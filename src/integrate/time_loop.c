@@ -180,10 +180,8 @@ static PetscErrorCode FailureReason(TS ts, const SpamTsApp *app, long step, doub
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamRun(SpamSim *sim, const SpamRunOptions *o, SpamOutput *out, SpamRunResult *r)
+PetscErrorCode SpamRun(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamOutput *out, SpamRunResult *r)
 {
-  SpamTsApp      app;
-  TS             ts;
   Vec            Xgood;
   PetscLogDouble wall0;
   SpamProgress   p = {0};
@@ -194,8 +192,7 @@ PetscErrorCode SpamRun(SpamSim *sim, const SpamRunOptions *o, SpamOutput *out, S
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(r, sizeof *r));
   PetscCall(PetscTime(&wall0));
-  PetscCall(SpamTSCreate(sim, o, &app, &ts));
-  PetscCall(SpamTSDescribe(ts, &app, r->method, sizeof r->method, r->adapt, sizeof r->adapt, &r->fixed_dt));
+  PetscCall(SpamTSDescribe(ts, app, r->method, sizeof r->method, r->adapt, sizeof r->adapt, &r->fixed_dt));
   {
     char line[512]; /* snprintf: PETSc's printf writes 3 as "3." */
     (void)snprintf(line, sizeof line, "spam-ark: scene %s, %ld particles in %dD, h %g, %s, step %s, rtol %g atol %g, to t = %g\n", sim->scene.name, (long)sim->nglobal, sim->model.dim, sim->model.kernel.h, r->method, r->fixed_dt > 0 ? "fixed" : r->adapt, o->rtol, o->atol, o->t_end);
@@ -213,18 +210,18 @@ PetscErrorCode SpamRun(SpamSim *sim, const SpamRunOptions *o, SpamOutput *out, S
     PetscReal     tnew;
 
     PetscCall(TSSetMaxTime(ts, tstop));
-    if (!app.self_stepping) PetscCall(ChooseStep(ts, &app, r->fixed_dt, tstop, &limit));
-    else PetscCall(SelfSteppingBound(ts, &app));
+    if (!app->self_stepping) PetscCall(ChooseStep(ts, app, r->fixed_dt, tstop, &limit));
+    else PetscCall(SelfSteppingBound(ts, app));
     PetscCall(TSStep(ts));
-    PetscCall(FailureReason(ts, &app, p.steps + 1, t, why, sizeof why));
+    PetscCall(FailureReason(ts, app, p.steps + 1, t, why, sizeof why));
     if (why[0]) {
       PetscCall(Unstable(sim, out, Xgood, t, r, why));
       break;
     }
     PetscCall(TSGetTime(ts, &tnew));
     PetscCall(Progress(ts, sim, wall0, tnew - t, &p));
-    if (app.self_stepping && isfinite(app.bound) && p.dt >= app.bound * (1.0 - 1e-9)) limit = app.bound_which;
-    if (app.self_stepping && tnew >= tstop * (1.0 - 1e-14) && limit == SPAM_LIMIT_ACCURACY && r->fixed_dt <= 0) limit = SPAM_LIMIT_OUTPUT;
+    if (app->self_stepping && isfinite(app->bound) && p.dt >= app->bound * (1.0 - 1e-9)) limit = app->bound_which;
+    if (app->self_stepping && tnew >= tstop * (1.0 - 1e-14) && limit == SPAM_LIMIT_ACCURACY && r->fixed_dt <= 0) limit = SPAM_LIMIT_OUTPUT;
     if (limit == SPAM_LIMIT_CFL || limit == SPAM_LIMIT_FORCE) r->limited++;
     p.limited = r->limited;
     p.limit   = SpamStepLimitNames[limit];
@@ -260,7 +257,5 @@ PetscErrorCode SpamRun(SpamSim *sim, const SpamRunOptions *o, SpamOutput *out, S
     r->wall = now - wall0;
   }
   PetscCall(VecDestroy(&Xgood));
-  PetscCall(TSDestroy(&ts));
-  PetscCall(SpamTSAppDestroy(&app));
   PetscFunctionReturn(0);
 }

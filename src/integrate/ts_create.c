@@ -133,6 +133,27 @@ static PetscErrorCode InitialSoundSpeed(SpamSim *sim, double *c0)
   PetscFunctionReturn(0);
 }
 
+/* An RK scheme without an embedded method cannot control its error: PETSc picks no
+ * adaptor for it, but one asked for explicitly would fail in the middle of the first step. */
+static PetscErrorCode CheckRkEmbedded(TS ts)
+{
+  TSType           type;
+  TSRKType         rk;
+  TSAdapt          adapt;
+  TSAdaptType      atype;
+  const PetscReal *bembed;
+
+  PetscFunctionBeginUser;
+  PetscCall(TSGetType(ts, &type));
+  if (strcmp(type, TSRK)) PetscFunctionReturn(0);
+  PetscCall(TSGetAdapt(ts, &adapt));
+  PetscCall(TSAdaptGetType(adapt, &atype));
+  PetscCall(TSRKGetType(ts, &rk));
+  PetscCall(TSRKGetTableau(ts, NULL, NULL, NULL, NULL, &bembed, NULL, NULL, NULL));
+  if (!bembed && strcmp(atype, TSADAPTNONE)) SPAM_BAD_INPUT("-ts_rk_type", rk, "has no embedded error estimate, so -ts_adapt_type %s cannot control its error: use -ts_adapt_type none -ts_dt <step>", atype);
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamTSCreate(SpamSim *sim, const SpamRunOptions *o, SpamTsApp *app, TS *ts)
 {
   char    type[64];
@@ -167,6 +188,7 @@ PetscErrorCode SpamTSCreate(SpamSim *sim, const SpamRunOptions *o, SpamTsApp *ap
   PetscCall(TSSetTimeStep(*ts, o->dt_first > 0 ? o->dt_first : 0.05 * sim->model.kernel.h / app->w.vscale));
   PetscCall(Tolerances(*ts, app));
   PetscCall(TSSetUp(*ts));
+  PetscCall(CheckRkEmbedded(*ts));
   PetscFunctionReturn(0);
 }
 
