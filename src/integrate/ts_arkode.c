@@ -10,6 +10,8 @@
 
 int SpamArkodeAdaptMethod(const char *name);
 
+#define ARK_CFL_FRACTION 0.5
+
 typedef struct {
   SUNContext sunctx;
   N_Vector   y;
@@ -44,7 +46,9 @@ static int ArkStability(N_Vector y, realtype t, realtype *hstab, void *data)
   if (VecRestoreArrayRead(N_VGetVector_Petsc(y), &ya) || app->perr) return -1;
   app->bound = dt;
   app->bound_calls++;
-  *hstab = isfinite(dt) ? dt : -1.0; /* non-positive: no bound */
+  /* ERKStep takes ARK_CFL_FRACTION of hstab (a fraction of 1 is refused); -step_cfl and
+   * -step_force are the fractions already, so hand it the bound divided by that. */
+  *hstab = isfinite(dt) ? dt / ARK_CFL_FRACTION : -1.0; /* non-positive: no bound */
   return 0;
 }
 
@@ -124,7 +128,10 @@ static PetscErrorCode TSSetUp_SpamARKode(TS ts)
   else PetscCallARK(ERKStepWFtolerances(ark->mem, SpamErrorWeights));
   PetscCallARK(ERKStepSetMaxNumSteps(ark->mem, -1)); /* the loop counts steps itself */
   PetscCall(ConfigureController(ark->mem, app->o));
-  if (app->o->fixed_step <= 0 && (app->o->cfl > 0 || app->o->force > 0)) PetscCallARK(ERKStepSetStabilityFn(ark->mem, ArkStability, app));
+  if (app->o->fixed_step <= 0 && (app->o->cfl > 0 || app->o->force > 0)) {
+    PetscCallARK(ERKStepSetStabilityFn(ark->mem, ArkStability, app));
+    PetscCallARK(ERKStepSetCFLFraction(ark->mem, ARK_CFL_FRACTION));
+  }
   app->self_stepping = PETSC_TRUE;
   PetscFunctionReturn(0);
 }
