@@ -42,6 +42,14 @@ cases = [
     ("not a number", file_scene + ["-file_path", write("n.csv", "x,y,vx,vy\n1,2,0,0\n1,two,0,0\n")], ["n.csv:3", "'1,two,0,0'", "field 2"]),
     ("infinite value", file_scene + ["-file_path", write("i.csv", "x,y,vx,vy\n1,2,inf,0\n")], ["i.csv:2", "field 3", "finite"]),
     ("unequal masses", file_scene + ["-file_path", write("m.csv", "x,y,vx,vy,m\n1,2,0,0,1\n3,2,0,0,2\n")], ["m.csv:3", "same mass"]),
+    ("unknown -ts_type", ["-ts_type", "leapfrog"], ["-ts_type", "'leapfrog'", "arkode, cvode, rk, ssp, euler, basicsymplectic"]),
+    ("implicit -ts_type", ["-ts_type", "beuler"], ["-ts_type", "'beuler'", "allowed"]),
+    ("unknown RK scheme", ["-ts_type", "rk", "-ts_rk_type", "9x"], ["-ts_rk_type", "'9x'", "5dp"]),
+    ("unknown Verlet ordering", ["-ts_type", "basicsymplectic", "-ts_basicsymplectic_type", "vv"], ["-ts_basicsymplectic_type", "'vv'", "kdk, dkd"]),
+    ("RK without error estimate, adaptive", ["-ts_type", "rk", "-ts_rk_type", "4", "-ts_adapt_type", "basic"], ["-ts_rk_type", "'4'", "no embedded error estimate"]),
+    ("unknown TS adaptor", ["-ts_type", "rk", "-ts_adapt_type", "magic"], ["-ts_adapt_type", "'magic'", "none, basic, dsp"]),
+    ("CVODE order 13", ["-ts_type", "cvode", "-cvode_max_order", 13], ["-cvode_max_order", "'13'", "1 to 12"]),
+    ("negative CFL number", ["-step_cfl", -0.5], ["-step_cfl", "'-0.5'", "positive"]),
     ("no particles", file_scene + ["-file_path", write("e.csv", "x,y,vx,vy\n")], ["-file_path", "no particles"]),
 ]
 for k, (name, args, needles) in enumerate(cases):
