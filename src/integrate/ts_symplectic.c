@@ -62,6 +62,9 @@ static PetscErrorCode Kick(TS ts, PetscReal t, Vec X, Vec F, void *ctx)
   PetscFunctionReturn(0);
 }
 
+/* The entries offset..offset+dim-1 of every particle block. Both offsets of an [x, v]
+ * state are multiples of dim, so the split is a blocked IS (block size dim), which PETSc
+ * scatters block by block rather than entry by entry. */
 static PetscErrorCode SplitIS(const SpamSim *sim, int offset, IS *is)
 {
   const SpamLayout *l   = &sim->model.layout;
@@ -70,10 +73,9 @@ static PetscErrorCode SplitIS(const SpamSim *sim, int offset, IS *is)
 
   PetscFunctionBeginUser;
   PetscCall(VecGetOwnershipRange(sim->X, &lo, NULL));
-  PetscCall(PetscMalloc1((size_t)sim->n * dim + 1, &idx));
-  for (PetscInt i = 0; i < sim->n; i++)
-    for (int d = 0; d < dim; d++) idx[(size_t)i * dim + d] = lo + i * l->nvar + offset + d;
-  PetscCall(ISCreateGeneral(sim->comm, sim->n * dim, idx, PETSC_OWN_POINTER, is));
+  PetscCall(PetscMalloc1(sim->n + 1, &idx));
+  for (PetscInt i = 0; i < sim->n; i++) idx[i] = (lo + i * l->nvar + offset) / dim;
+  PetscCall(ISCreateBlock(sim->comm, dim, sim->n, idx, PETSC_OWN_POINTER, is));
   PetscFunctionReturn(0);
 }
 
