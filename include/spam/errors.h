@@ -15,6 +15,8 @@
   SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s = '%s': " fmt, what, value, ##__VA_ARGS__)
 
 PetscErrorCode SpamInstallErrorHandler(void);
+/* Bad input unless val is one of names[0..n-1]; the message lists them. */
+PetscErrorCode SpamCheckAllowed(const char *opt, const char *val, const char *const *names, int n);
 
 /* SUNDIALS return codes: a negative flag becomes a PETSc error carrying the flag name. */
 PetscErrorCode SpamCheckArkode(int flag, const char *call);

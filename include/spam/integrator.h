@@ -33,6 +33,12 @@ typedef struct {
   PetscBool             cache_valid;
 } SpamTsApp;
 
+/* SUNDIALS callbacks shared by the arkode and cvode types (user data: a SpamTsApp). */
+int  SpamSundialsRhs(realtype t, N_Vector y, N_Vector ydot, void *data);
+void SpamSundialsErrHandler(int code, const char *module, const char *function, char *msg, void *data);
+/* Writes "<call> returned <FLAG_NAME> (<last SUNDIALS message>)" into app->fail. */
+void SpamSundialsFailure(SpamTsApp *app, const char *call, char *(*namefn)(long), int flag);
+
 /* Registers "arkode", "cvode" and the Verlet schemes "kdk" and "dkd"; call once. */
 PetscErrorCode SpamIntegratorsRegister(void);
 PetscErrorCode SpamTSCreate_ARKode(TS ts);

@@ -51,28 +51,45 @@ PetscErrorCode SpamInstallErrorHandler(void)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamCheckArkode(int flag, const char *call)
+/* A SUNDIALS flag name, from the package's own (allocating) name function. */
+static void FlagName(char *(*namefn)(long), int flag, char *name, size_t len)
+{
+  char *s = namefn(flag);
+  (void)snprintf(name, len, "%s", s ? s : "unknown");
+  free(s);
+}
+
+static PetscErrorCode CheckSundials(char *(*namefn)(long), int flag, const char *call)
 {
   PetscFunctionBeginUser;
   if (flag < 0) {
-    char  name[64];
-    char *s = ERKStepGetReturnFlagName(flag); /* allocated by SUNDIALS */
-    PetscCall(PetscStrncpy(name, s ? s : "unknown", sizeof name));
-    free(s);
+    char name[64];
+    FlagName(namefn, flag, name, sizeof name);
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "SUNDIALS call %s returned %d (%s)", call, flag, name);
   }
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode SpamCheckArkode(int flag, const char *call)
+{
+  return CheckSundials(ERKStepGetReturnFlagName, flag, call);
+}
+
 PetscErrorCode SpamCheckCvode(int flag, const char *call)
 {
+  return CheckSundials(CVodeGetReturnFlagName, flag, call);
+}
+
+PetscErrorCode SpamCheckAllowed(const char *opt, const char *val, const char *const *names, int n)
+{
+  char allowed[1024] = "";
+
   PetscFunctionBeginUser;
-  if (flag < 0) {
-    char  name[64];
-    char *s = CVodeGetReturnFlagName(flag); /* allocated by SUNDIALS */
-    PetscCall(PetscStrncpy(name, s ? s : "unknown", sizeof name));
-    free(s);
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "SUNDIALS call %s returned %d (%s)", call, flag, name);
+  for (int k = 0; k < n; k++)
+    if (!strcmp(val, names[k])) PetscFunctionReturn(0);
+  for (int k = 0; k < n; k++) {
+    PetscCall(PetscStrlcat(allowed, k ? ", " : "", sizeof allowed));
+    PetscCall(PetscStrlcat(allowed, names[k], sizeof allowed));
   }
-  PetscFunctionReturn(0);
+  SPAM_BAD_INPUT(opt, val, "allowed: %s", allowed);
 }

@@ -8,20 +8,6 @@ static const char *const ArkodeTables[] = {
   "ARKODE_DORMAND_PRINCE_7_4_5", "ARKODE_ARK548L2SA_ERK_8_4_5", "ARKODE_VERNER_8_5_6", "ARKODE_FEHLBERG_13_7_8", "ARKODE_KNOTH_WOLKE_3_3", "ARKODE_ARK437L2SA_ERK_7_3_4", "ARKODE_ARK548L2SAb_ERK_8_4_5"};
 static const char *const ArkodeAdapt[] = {"pid", "pi", "i", "expgus", "impgus"};
 
-static PetscErrorCode CheckName(const char *opt, const char *val, const char *const *names, int n)
-{
-  char allowed[1024] = "";
-
-  PetscFunctionBeginUser;
-  for (int k = 0; k < n; k++)
-    if (!strcmp(val, names[k])) PetscFunctionReturn(0);
-  for (int k = 0; k < n; k++) {
-    PetscCall(PetscStrlcat(allowed, k ? ", " : "", sizeof allowed));
-    PetscCall(PetscStrlcat(allowed, names[k], sizeof allowed));
-  }
-  SPAM_BAD_INPUT(opt, val, "allowed: %s", allowed);
-}
-
 static PetscErrorCode CheckRange(const char *opt, double v, double lo, PetscBool lo_open, const char *what)
 {
   char val[64];
@@ -93,8 +79,8 @@ PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o)
   PetscCall(PetscOptionsString("-initial_csv", "Also write the initial particles to this CSV (file-scene format)", "README", o->initial_csv, o->initial_csv, sizeof o->initial_csv, NULL));
   PetscCall(PetscOptionsString("-final_csv", "Also write the final particles to this CSV (file-scene format)", "README", o->final_csv, o->final_csv, sizeof o->final_csv, NULL));
   PetscOptionsEnd();
-  PetscCall(CheckName("-arkode_table", o->table, ArkodeTables, 15));
-  PetscCall(CheckName("-arkode_adapt", o->adapt, ArkodeAdapt, 5));
+  PetscCall(SpamCheckAllowed("-arkode_table", o->table, ArkodeTables, 15));
+  PetscCall(SpamCheckAllowed("-arkode_adapt", o->adapt, ArkodeAdapt, 5));
   PetscCall(CheckRange("-ts_max_time", o->t_end, 0.0, PETSC_FALSE, "must be zero or positive"));
   PetscCall(CheckRange("-ts_rtol", o->rtol, 0.0, PETSC_TRUE, "a tolerance must be positive"));
   PetscCall(CheckRange("-ts_atol", o->atol, 0.0, PETSC_TRUE, "a tolerance must be positive"));

@@ -18,21 +18,6 @@ typedef struct {
   void      *mem;
 } TS_SpamARKode;
 
-static int ArkRhs(realtype t, N_Vector y, N_Vector ydot, void *data)
-{
-  SpamTsApp         *app = (SpamTsApp *)data;
-  const PetscScalar *ya;
-  PetscScalar       *fa;
-
-  if ((app->perr = VecGetArrayRead(N_VGetVector_Petsc(y), &ya))) return -1;
-  if ((app->perr = VecGetArrayWrite(N_VGetVector_Petsc(ydot), &fa))) return -1;
-  app->perr = SpamRhs(app->sim, ya, fa, &app->bad);
-  if (VecRestoreArrayWrite(N_VGetVector_Petsc(ydot), &fa) || VecRestoreArrayRead(N_VGetVector_Petsc(y), &ya)) return -1;
-  if (app->perr) return -1;
-  if (app->bad >= 0) app->tbad = t;
-  return app->bad >= 0 ? 1 : 0; /* ERKStep 6.4 stops on it: the loop reports the particle */
-}
-
 /* ERKStep's stability function: the physical (CFL, force) bound of the current state. */
 static int ArkStability(N_Vector y, realtype t, realtype *hstab, void *data)
 {
@@ -50,14 +35,6 @@ static int ArkStability(N_Vector y, realtype t, realtype *hstab, void *data)
    * -step_force are the fractions already, so hand it the bound divided by that. */
   *hstab = isfinite(dt) ? dt / ARK_CFL_FRACTION : -1.0; /* non-positive: no bound */
   return 0;
-}
-
-static void ArkErr(int code, const char *module, const char *function, char *msg, void *data)
-{
-  SpamTsApp *app = (SpamTsApp *)data;
-  (void)code;
-  (void)module;
-  (void)snprintf(app->fail, sizeof app->fail, "%s: %s", function, msg);
 }
 
 static PetscErrorCode ConfigureController(void *mem, const SpamRunOptions *o)
@@ -114,10 +91,10 @@ static PetscErrorCode TSSetUp_SpamARKode(TS ts)
   PetscCallARK(SUNContext_Create((void *)&app->sim->comm, &ark->sunctx));
   ark->y = N_VMake_Petsc(ts->vec_sol, ark->sunctx);
   PetscCheck(ark->y, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "N_VMake_Petsc failed");
-  ark->mem = ERKStepCreate(ArkRhs, ts->ptime, ark->y, ark->sunctx);
+  ark->mem = ERKStepCreate(SpamSundialsRhs, ts->ptime, ark->y, ark->sunctx);
   PetscCheck(ark->mem, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "ERKStepCreate failed");
   PetscCallARK(ERKStepSetUserData(ark->mem, app));
-  PetscCallARK(ERKStepSetErrHandlerFn(ark->mem, ArkErr, app));
+  PetscCallARK(ERKStepSetErrHandlerFn(ark->mem, SpamSundialsErrHandler, app));
   {
     ARKodeButcherTable B;
     PetscCall(LoadTable(app->o->table, &B));
@@ -150,11 +127,7 @@ static PetscErrorCode TSStep_SpamARKode(TS ts)
   flag = ERKStepEvolve(ark->mem, ts->max_time, ark->y, &tret, ARK_ONE_STEP);
   PetscCall(app->perr);
   if (flag < 0) {
-    char *name = ERKStepGetReturnFlagName(flag);
-    char  msg[160];
-    PetscCall(PetscStrncpy(msg, app->fail, sizeof msg));
-    (void)snprintf(app->fail, sizeof app->fail, "ERKStepEvolve returned %s (%.150s)", name ? name : "?", msg);
-    free(name);
+    SpamSundialsFailure(app, "ERKStepEvolve", ERKStepGetReturnFlagName, flag);
     ts->reason = TS_DIVERGED_STEP_REJECTED;
     PetscFunctionReturn(0);
   }

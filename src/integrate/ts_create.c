@@ -24,19 +24,11 @@ PetscErrorCode SpamIntegratorsRegister(void)
 /* The value of option 'opt' checked against 'names'; 'def' when the option is absent. */
 static PetscErrorCode ChosenName(const char *opt, const char *def, const char *const *names, int n, char *val, size_t len)
 {
-  PetscBool set;
-  char      allowed[256] = "";
-
   PetscFunctionBeginUser;
   PetscCall(PetscStrncpy(val, def, len));
-  PetscCall(PetscOptionsGetString(NULL, NULL, opt, val, len, &set));
-  for (int k = 0; k < n; k++)
-    if (!strcmp(val, names[k])) PetscFunctionReturn(0);
-  for (int k = 0; k < n; k++) {
-    PetscCall(PetscStrlcat(allowed, k ? ", " : "", sizeof allowed));
-    PetscCall(PetscStrlcat(allowed, names[k], sizeof allowed));
-  }
-  SPAM_BAD_INPUT(opt, val, "allowed: %s", allowed);
+  PetscCall(PetscOptionsGetString(NULL, NULL, opt, val, len, NULL));
+  PetscCall(SpamCheckAllowed(opt, val, names, n));
+  PetscFunctionReturn(0);
 }
 
 static PetscErrorCode TsRhs(TS ts, PetscReal t, Vec X, Vec F, void *ctx)

@@ -15,29 +15,6 @@ typedef struct {
   void              *mem;
 } TS_SpamCVode;
 
-static int CvRhs(realtype t, N_Vector y, N_Vector ydot, void *data)
-{
-  SpamTsApp         *app = (SpamTsApp *)data;
-  const PetscScalar *ya;
-  PetscScalar       *fa;
-
-  if ((app->perr = VecGetArrayRead(N_VGetVector_Petsc(y), &ya))) return -1;
-  if ((app->perr = VecGetArrayWrite(N_VGetVector_Petsc(ydot), &fa))) return -1;
-  app->perr = SpamRhs(app->sim, ya, fa, &app->bad);
-  if (VecRestoreArrayWrite(N_VGetVector_Petsc(ydot), &fa) || VecRestoreArrayRead(N_VGetVector_Petsc(y), &ya)) return -1;
-  if (app->perr) return -1;
-  if (app->bad >= 0) app->tbad = t;
-  return app->bad >= 0 ? -1 : 0; /* not recoverable: the run is reported unstable */
-}
-
-static void CvErr(int code, const char *module, const char *function, char *msg, void *data)
-{
-  SpamTsApp *app = (SpamTsApp *)data;
-  (void)code;
-  (void)module;
-  (void)snprintf(app->fail, sizeof app->fail, "%s: %s", function, msg);
-}
-
 static PetscErrorCode TSSetUp_SpamCVode(TS ts)
 {
   TS_SpamCVode *cv = (TS_SpamCVode *)ts->data;
@@ -51,9 +28,9 @@ static PetscErrorCode TSSetUp_SpamCVode(TS ts)
   PetscCheck(cv->y, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "N_VMake_Petsc failed");
   cv->mem = CVodeCreate(CV_ADAMS, cv->sunctx);
   PetscCheck(cv->mem, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "CVodeCreate failed");
-  PetscCallCV(CVodeInit(cv->mem, CvRhs, ts->ptime, cv->y));
+  PetscCallCV(CVodeInit(cv->mem, SpamSundialsRhs, ts->ptime, cv->y));
   PetscCallCV(CVodeSetUserData(cv->mem, app));
-  PetscCallCV(CVodeSetErrHandlerFn(cv->mem, CvErr, app));
+  PetscCallCV(CVodeSetErrHandlerFn(cv->mem, SpamSundialsErrHandler, app));
   if (app->o->classic_weights) PetscCallCV(CVodeSStolerances(cv->mem, app->o->rtol, app->o->atol));
   else PetscCallCV(CVodeWFtolerances(cv->mem, SpamErrorWeights));
   cv->nls = SUNNonlinSol_FixedPoint(cv->y, 0, cv->sunctx);
@@ -82,11 +59,7 @@ static PetscErrorCode TSStep_SpamCVode(TS ts)
   flag = CVode(cv->mem, ts->max_time, cv->y, &tret, CV_ONE_STEP);
   PetscCall(app->perr);
   if (flag < 0) {
-    char *name = CVodeGetReturnFlagName(flag);
-    char  msg[160];
-    PetscCall(PetscStrncpy(msg, app->fail, sizeof msg));
-    (void)snprintf(app->fail, sizeof app->fail, "CVode returned %s (%.150s)", name ? name : "?", msg);
-    free(name);
+    SpamSundialsFailure(app, "CVode", CVodeGetReturnFlagName, flag);
     ts->reason = TS_DIVERGED_STEP_REJECTED;
     PetscFunctionReturn(0);
   }
