@@ -41,7 +41,8 @@ PetscErrorCode SpamSnapshotCsvWrite(const char *path, const SpamSim *sim, const 
       x[d] = sim->box.lo[d] + SpamBoxLocal(&sim->box, d, p[l->x + d]);
       v[d] = p[l->v + d];
     }
-    fprintf(f, "%.9g,%.9g,%.9g,%.9g,%.9g,%.9g,%.9g\n", x[0], x[1], x[2], v[0], v[1], v[2], sim->rho[i]);
+    /* Full precision: studies measure integrator errors from these snapshots. */
+    fprintf(f, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.9g\n", x[0], x[1], x[2], v[0], v[1], v[2], sim->rho[i]);
   }
   PetscCall(SpamFileCommit(path, f));
   PetscFunctionReturn(0);
