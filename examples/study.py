@@ -14,8 +14,9 @@ precision: every method x tolerance (or x fixed step, for fixed-step methods) ru
     drifts of energy, momentum and angular momentum come from each summary.json, the
     entropy difference from the reference's. Writes DIR/precision.csv, PNG charts and
     DIR/study.md.
-stability: for each fixed-step method, the largest stable step by bisection on dt (a run is
-    unstable when spam-ark ends it with exit code 3), in units of h/c0; charted against the
+stability: for each fixed-step method, the largest stable step by bisection on dt (a trial
+    of --steps steps is unstable when spam-ark ends it with exit code 3, e.g. kinetic energy
+    above --growth times the initial energy), in units of h/c0; charted against the
     number of stages (force evaluations per unit time at the limit). Writes stability.csv.
 entropy: Delta S(t)/(N k ln 4) for several lattice sizes, sum and grid (CiSE 2001 Fig. 3).
 
@@ -281,17 +282,21 @@ def report(out, rows, charts, common):
 
 
 def stable(a, common, opts, dt, outdir):
-    code, _ = spam(a.spam_ark, common + opts + ["-ts_dt", "%.10g" % dt], outdir)
+    """A fixed number of steps (not a fixed time), so a large step cannot pass by taking few;
+    kinetic energy above 1.5 times the initial total energy counts as a blow-up."""
+    code, _ = spam(a.spam_ark, common + opts + ["-ts_dt", "%.10g" % dt, "-ts_max_steps", a.steps,
+                                                "-ts_max_time", "%.10g" % (dt * (a.steps + 0.5)),
+                                                "-unstable_energy_growth", a.growth], outdir)
     return code == 0
 
 
 def largest_stable_step(a, common, opts, label, lo, hi, rel=0.005):
     """Bisection on dt between a stable lo and an unstable hi, to a relative width rel."""
     k = 0
-    while not stable(a, common, opts, hi, os.path.join(a.out, "stability", f"{label}_{hi:.10g}")):
-        lo, hi = hi, hi * 2
-    while stable(a, common, opts, lo, os.path.join(a.out, "stability", f"{label}_{lo:.10g}")) is False:
-        hi, lo = lo, lo / 2
+    while stable(a, common, opts, hi, os.path.join(a.out, "stability", f"{label}_{hi:.10g}")):
+        lo, hi = hi, hi * 2  # grow until a step is unstable
+    while not stable(a, common, opts, lo, os.path.join(a.out, "stability", f"{label}_{lo:.10g}")):
+        hi, lo = lo, lo / 2  # shrink until a step is stable
     while (hi - lo) > rel * lo and k < 40:
         mid = 0.5 * (lo + hi)
         if stable(a, common, opts, mid, os.path.join(a.out, "stability", f"{label}_{mid:.10g}")):
@@ -373,6 +378,8 @@ def main(argv=None):
     p.add_argument("--tol", action="append", type=float)
     p.add_argument("--dt-guess", type=float, default=0.5, help="stability: first step tried")
     p.add_argument("--time-unit", type=float, default=3.0, help="stability: h/c0 of the scene")
+    p.add_argument("--steps", type=int, default=2000, help="stability: steps of each trial run")
+    p.add_argument("--growth", type=float, default=1.5, help="stability: KE / initial energy that counts as unstable")
     p.add_argument("--n", action="append", type=int, help="entropy: lattice sizes (default 32, 48, 64)")
     p.add_argument("--h", type=float, default=7.0, help="entropy: kernel range")
     a = p.parse_args(argv)
