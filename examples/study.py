@@ -3,8 +3,9 @@
 
     study.py precision  [--scene-opts ...] [--method LABEL=OPTIONS ...] [--tol T ...] --out DIR
     study.py stability  [--scene-opts ...] [--method LABEL=OPTIONS ...] --out DIR
+    study.py controller [--scene-opts ...] [--method LABEL=OPTIONS ...] [--loose-tol T] --out DIR
     study.py entropy    [--n N ...] --out DIR
-    study.py gallery    --out DIR        (the default study of README's gallery)
+    study.py gallery    --out DIR        (the default study of README's gallery: all of the above)
 
 precision: every method x tolerance (or x fixed step, for fixed-step methods) runs in its own
     directory DIR/runs/<label>_<tol>/ (a finished run, one with summary.json, is skipped: an
@@ -18,6 +19,9 @@ stability: for each fixed-step method, the largest stable step by bisection on d
     of --steps steps is unstable when spam-ark ends it with exit code 3, e.g. kinetic energy
     above --growth times the initial energy), in units of h/c0; charted against the
     number of stages (force evaluations per unit time at the limit). Writes stability.csv.
+controller: adaptive runs at a loose tolerance, where stability, not accuracy, limits the
+    step: dt(t) of each controller with its rejections, and the step oscillation (RMS of
+    log(dt_n+1/dt_n)). Writes controllers.csv and controllers.png.
 entropy: Delta S(t)/(N k ln 4) for several lattice sizes, sum and grid (CiSE 2001 Fig. 3).
 
 Needs numpy and matplotlib (/usr/bin/python3 on Debian); the spam-ark binary defaults to
@@ -338,6 +342,50 @@ def stability(a):
     return rows
 
 
+DEFAULT_CONTROLLERS = ["ARKODE I=-arkode_adapt i", "ARKODE PI=-arkode_adapt pi", "ARKODE PID=-arkode_adapt pid",
+                       "PETSc basic (rk 5dp)=-ts_type rk -ts_rk_type 5dp -ts_adapt_type basic",
+                       "PETSc dsp (rk 5dp)=-ts_type rk -ts_rk_type 5dp -ts_adapt_type dsp"]
+
+
+def controller(a):
+    """Adaptive steps near the stability limit: a loose tolerance lets accuracy allow steps
+    that stability does not, so the controller must find the limit by rejections. Charted:
+    dt(t) per controller, rejections marked; the oscillation is the RMS of log(dt_n+1/dt_n)."""
+    common = a.scene_opts.split() + ["-snapshot_interval", 0, "-output_interval", 0, "-diag_entropy", 0,
+                                     "-ts_rtol", a.loose_tol, "-ts_atol", a.loose_tol]
+    specs = a.method or DEFAULT_CONTROLLERS
+    prog, rows = Progress(len(specs)), []
+    fig, ax = plt.subplots(figsize=(7.2, 4.6))
+    for k, spec in enumerate(specs):
+        label, _, opts = spec.partition("=")
+        d = os.path.join(a.out, "controller", label.replace(" ", "_").replace("(", "").replace(")", ""))
+        code, skipped = spam(a.spam_ark, common + opts.split(), d)
+        prog.step(label, skipped)
+        with open(os.path.join(d, "steps.csv")) as f:
+            st = list(csv.DictReader(f))
+        t = np.array([float(r["t"]) for r in st])
+        dt = np.array([float(r["dt"]) for r in st])
+        rej = np.array([int(r["rejected"]) for r in st])
+        keep = np.array([r["limit"] != "output" for r in st])
+        ratio = np.diff(np.log(dt[keep])) if keep.sum() > 2 else np.array([0.0])
+        line, = ax.semilogy(t, dt, "-", lw=1, label=f"{label}: {rej[-1] if len(rej) else 0} rejected")
+        jumps = np.nonzero(np.diff(np.concatenate([[0], rej])) > 0)[0]
+        ax.semilogy(t[jumps], dt[jumps], "x", color=line.get_color())
+        rows.append({"controller": label, "options": opts, "exit_code": code, "steps": len(st),
+                     "rejected": int(rej[-1]) if len(rej) else 0, "dt_median": float(np.median(dt)) if len(dt) else 0.0,
+                     "oscillation_rms_log_ratio": float(np.sqrt(np.mean(ratio ** 2)))})
+    ax.set_xlabel("t")
+    ax.set_ylabel("accepted step dt (x: step after a rejection)")
+    ax.set_title(f"Controllers near the stability limit (rtol = atol = {a.loose_tol:g})")
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(a.out, "controllers.png"), dpi=110)
+    plt.close(fig)
+    write_csv(os.path.join(a.out, "controllers.csv"), rows)
+    return rows
+
+
 def entropy(a):
     rows, fig = [], plt.figure(figsize=(6.4, 4.6))
     ax = fig.gca()
@@ -367,9 +415,22 @@ def entropy(a):
     return rows
 
 
+def gallery(a):
+    """The default study behind README's gallery: each part on the scene that shows it."""
+    def part(fn, **kw):
+        b = argparse.Namespace(**vars(a))
+        for k, v in kw.items():
+            setattr(b, k, v)
+        return fn(b)
+    part(precision, scene_opts=DEFAULT_SCENE, t_end=16.0, method=None, tol=None)
+    part(stability, scene_opts="-expansion_n 16 -h 3", method=None, steps=1000)
+    part(controller, scene_opts="-expansion_n 24 -h 3 -ts_max_time 240", method=None)
+    part(entropy, n=[32, 48, 64], h=7.0)
+
+
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("what", choices=["precision", "stability", "entropy", "gallery"])
+    p.add_argument("what", choices=["precision", "stability", "controller", "entropy", "gallery"])
     p.add_argument("--out", required=True)
     p.add_argument("--spam-ark", default=os.path.join(REPO, "build", "spam-ark"))
     p.add_argument("--scene-opts", default=DEFAULT_SCENE, help=f"scene options (default '{DEFAULT_SCENE}')")
@@ -380,19 +441,18 @@ def main(argv=None):
     p.add_argument("--time-unit", type=float, default=3.0, help="stability: h/c0 of the scene")
     p.add_argument("--steps", type=int, default=2000, help="stability: steps of each trial run")
     p.add_argument("--growth", type=float, default=1.5, help="stability: KE / initial energy that counts as unstable")
+    p.add_argument("--loose-tol", type=float, default=1e-2, help="controller: the loose tolerance")
     p.add_argument("--n", action="append", type=int, help="entropy: lattice sizes (default 32, 48, 64)")
     p.add_argument("--h", type=float, default=7.0, help="entropy: kernel range")
     a = p.parse_args(argv)
     os.makedirs(a.out, exist_ok=True)
     if not os.access(a.spam_ark, os.X_OK):
         sys.exit(f"study.py: no spam-ark at {a.spam_ark} (build it, or pass --spam-ark)")
-    if a.what in ("precision", "gallery"):
-        precision(a)
-    if a.what in ("stability", "gallery"):
-        stability(a)
-    if a.what in ("entropy", "gallery"):
+    if a.what == "gallery":
+        gallery(a)
+    else:
         a.n = a.n or [32, 48, 64]
-        entropy(a)
+        {"precision": precision, "stability": stability, "controller": controller, "entropy": entropy}[a.what](a)
     print(f"study.py: results in {a.out}")
 
 
