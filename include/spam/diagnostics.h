@@ -10,6 +10,11 @@ typedef struct {
   double kinetic, internal, total;
   double gyration;                  /* radius of gyration about the centre of mass     */
   double entropy_sum, entropy_grid; /* S/k: particle sum and grid integration          */
+  /* Elastic solid and spring models (NaN or 0 where they do not apply):               */
+  double torque;                    /* spurious torque sum_{i<j} Ldot_ij, unscaled      */
+  int    nbody;                     /* connected bodies at set-up (0: not labelled)     */
+  double lbody[2];                  /* Lz of bodies 0 and 1 about their own centres     */
+  double gauss_singular;            /* RHS evaluations where Gauss's principle was singular */
 } SpamDiagnostics;
 
 typedef struct {
@@ -22,6 +27,9 @@ PetscErrorCode SpamDiagnosticsCompute(SpamSim *sim, const SpamDiagnosticsOptions
 
 /* Entropy of Hoover & Hoover (2001) Eq. 22 with its sign corrected:
  * s = k (rho/m) ln[(e + <(v - <v>)^2>/2)^(D/2) / rho]. Needs sim->rho filled. */
+/* Lz of every body about its own centre of mass (lbody[nbody]; bodies from sim->ps). */
+PetscErrorCode SpamBodyAngularMomentum(SpamSim *sim, const double *y, double *lbody);
+
 PetscErrorCode SpamEntropySum(SpamSim *sim, const double *y, double *S);
 PetscErrorCode SpamEntropyGrid(SpamSim *sim, const double *y, double spacing, double *S);
 #endif

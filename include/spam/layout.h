@@ -4,12 +4,25 @@
 #define SPAM_LAYOUT_H
 #include <petscsys.h>
 
+#define SPAM_MAX_NVAR 16
+
 typedef struct {
   int dim, nvar;
-  int x, v, e, rho; /* offsets of position, velocity, energy, density (or -1) */
+  int x, v, e, rho; /* offsets of position, velocity, energy, density (or -1)          */
+  int s;            /* offset of the stress, D(D+1)/2 components xx, xy, yy (or -1)     */
+  /* Error-weight scale of every component other than x and v: a component y is weighed
+   * 1/(rtol max(|y|, scale) + atol), so a field near zero (stress at rest) is measured
+   * against its natural size rather than against atol alone. */
+  double scale[SPAM_MAX_NVAR];
 } SpamLayout;
 
 /* Positions and velocities only: the isentropic gas. */
 PetscErrorCode SpamLayoutPositionsVelocities(int dim, SpamLayout *l);
+/* Tensor path in 2D: [x y vx vy e (rho) (sxx sxy syy)]; rho only when it is integrated
+ * (continuity density), the stress only for the elastic solid (a gas has P(rho, e)). rho_scale and stress_scale set the error weights of those fields
+ * (energy per mass is weighed against stress_scale / rho_scale). */
+PetscErrorCode SpamLayoutSolid(int dim, PetscBool with_rho, PetscBool with_stress, double rho_scale, double stress_scale, SpamLayout *l);
 PetscErrorCode SpamLayoutDescribe(const SpamLayout *l, char *buf, size_t len);
+/* Sets the error weights w of the fields other than x and v of one particle's block p. */
+void SpamLayoutFieldWeights(const SpamLayout *l, const double *p, double rtol, double atol, double *w);
 #endif

@@ -5,6 +5,7 @@
 #include <spam/kernel.h>
 #include <spam/layout.h>
 #include <spam/eos.h>
+#include <spam/solid.h>
 
 struct SpamSim;
 
@@ -17,6 +18,19 @@ typedef PetscErrorCode (*SpamAccelFn)(struct SpamSim *sim, const double *x, int 
 
 /* Largest sound speed of state y (for the CFL step bound and the error weights). */
 typedef PetscErrorCode (*SpamSoundSpeedFn)(struct SpamSim *sim, const double *y, double *cmax);
+/* Model-specific diagnostics of state y: the internal energy sum m e (or the potential
+ * energy of a molecular model) and the spurious torque sum_{i<j} Ldot_ij before any
+ * scaling (0 where the forces are central). */
+typedef struct {
+  double internal, torque;
+} SpamModelDiag;
+typedef PetscErrorCode (*SpamModelDiagFn)(struct SpamSim *sim, const double *y, SpamModelDiag *d);
+/* Set-up once the swarm is filled (scratch, bodies, bond lists, initial density). */
+typedef PetscErrorCode (*SpamModelSetUpFn)(struct SpamSim *sim);
+
+typedef struct {
+  double k, r0, range; /* spring constant, rest length, bonding range at set-up */
+} SpamSpringParams;
 
 typedef struct {
   char             name[32];     /* e.g. "isentrope"                                  */
@@ -29,7 +43,16 @@ typedef struct {
   SpamEosIsentrope eos;
   PetscBool        density_free; /* force pass only, no density pass */
   SpamLayout       layout;
+  SpamSolidParams  solid;        /* elastic solid: the tensor-path choices             */
+  SpamSpringParams springs;      /* molecular springs (rotor-md)                       */
+  SpamModelDiagFn  diag;         /* NULL: internal energy from the isentrope           */
+  SpamModelSetUpFn setup;        /* NULL: nothing beyond SpamSimSetUp                   */
 } SpamModel;
 
 PetscErrorCode SpamModelIsentropeSetUp(int dim, double h, double mass, double gamma, double kappa, SpamModel *m);
+/* Linear elastic solid in 2D (PRE Secs. I-II) with the choices in p. */
+PetscErrorCode SpamModelSolidSetUp(int dim, double h, double mass, const SpamSolidParams *p, SpamModel *m);
+/* Molecular dynamics with springs phi = k/2 (r0 - r)^2 between the particles closer than
+ * bond_range at set-up (the rotor-md of PRE Fig. 4a); state [x, v]. */
+PetscErrorCode SpamModelSpringsSetUp(int dim, double h, double mass, double kspring, double r0, double bond_range, SpamModel *m);
 #endif

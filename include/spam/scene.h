@@ -8,9 +8,12 @@ typedef struct {
   int           dim;
   PetscInt      n;
   double       *x, *v;   /* [n*dim] each                                         */
+  double       *e, *rho, *sigma; /* optional initial fields ([n], [n], [3n]) or NULL  */
   double        mass;
   SpamBox       box;
   SpamSceneInfo info;
+  PetscBool     model_set; /* the scene declared its model; else the isentropic gas */
+  SpamModel     model;
 } SpamParticles;
 
 /* Options shared by every scene. */
@@ -36,7 +39,56 @@ typedef struct {
 
 PetscErrorCode SpamExpansionOptions(const SpamCommonParams *c, SpamExpansionParams *p);
 PetscErrorCode SpamExpansionBuild(const SpamCommonParams *c, const SpamExpansionParams *p, SpamParticles *out);
+typedef struct {
+  PetscInt  nx, ny;     /* lattice columns and rows (ny even: periodic)            */
+  PetscBool longitudinal;
+  double    amplitude;
+  SpamSolidParams solid;
+} SpamPlanewaveParams;
+
+typedef struct {
+  PetscInt  n;          /* shells: N = 1 + 3n + 3n^2                                */
+  double    speed;      /* speed of the vertices                                    */
+  double    gap;        /* rotor-pair: gap between the two hexagons                 */
+  PetscBool pair;
+  SpamSolidParams solid;
+} SpamRotorParams;
+
+typedef struct {
+  PetscInt n;
+  double   speed, k, range;
+} SpamRotorMdParams;
+
+typedef struct {
+  PetscInt nx, ny;
+  double   stress, kick;
+  SpamSolidParams solid;
+} SpamTensileParams;
+
 PetscErrorCode SpamFileOptions(SpamFileParams *p);
+PetscErrorCode SpamPlanewaveOptions(const SpamCommonParams *c, SpamPlanewaveParams *p);
+PetscErrorCode SpamPlanewaveBuild(const SpamCommonParams *c, const SpamPlanewaveParams *p, SpamParticles *out);
+PetscErrorCode SpamRotorOptions(const SpamCommonParams *c, PetscBool pair, SpamRotorParams *p);
+PetscErrorCode SpamRotorBuild(const SpamCommonParams *c, const SpamRotorParams *p, SpamParticles *out);
+PetscErrorCode SpamRotorMdOptions(const SpamCommonParams *c, SpamRotorMdParams *p);
+PetscErrorCode SpamRotorMdBuild(const SpamCommonParams *c, const SpamRotorMdParams *p, SpamParticles *out);
+PetscErrorCode SpamTensileOptions(const SpamCommonParams *c, SpamTensileParams *p);
+PetscErrorCode SpamTensileBuild(const SpamCommonParams *c, const SpamTensileParams *p, SpamParticles *out);
+
+/* Triangular lattices of unit spacing a: nx x ny rows filling a periodic box
+ * (nx a) x (ny sqrt(3)/2 a); and the hexagon of n shells about the origin (vertices on
+ * the x axis at distance n a), 1 + 3n + 3n^2 points. x has room for the points. */
+void     SpamLatticeTriangular(PetscInt nx, PetscInt ny, double a, double *x);
+PetscInt SpamLatticeHexagon(PetscInt n, double a, double *x);
+/* The solid's defaults (PRE): lambda = eta = sqrt(3)/4, rho0 = sqrt(4/3), continuity
+ * density from the ideal value, R0, eps 1, no angular-momentum treatment. */
+void SpamSolidDefaults(SpamSolidParams *p);
+/* Allocates the optional fields e, rho, sigma of p. */
+PetscErrorCode SpamParticlesAllocateFields(SpamParticles *p);
+/* Open box around the particles with a margin (non-periodic). */
+void SpamParticlesOpenBox(SpamParticles *p, double margin);
+/* Copies the optional fields of p into the swarm where the layout has them. */
+PetscErrorCode SpamSimFillFields(SpamSim *sim, const SpamParticles *p);
 PetscErrorCode SpamFileBuild(const SpamCommonParams *c, const SpamFileParams *p, SpamParticles *out);
 PetscErrorCode SpamParticlesAllocate(int dim, PetscInt n, SpamParticles *p);
 PetscErrorCode SpamParticlesFree(SpamParticles *p);

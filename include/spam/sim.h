@@ -36,6 +36,7 @@ typedef struct SpamSim {
   double        *acc[3];   /* scratch: acceleration per direction                    */
   SpamRhsStats   stats;
   SpamSceneInfo  scene;
+  struct SpamPhysicsScratch *ps; /* scratch of the tensor path and bonds (NULL for the gas) */
 } SpamSim;
 
 /* Creates the swarm with n local particles and the model's layout; X is not yet made. */

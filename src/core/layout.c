@@ -4,18 +4,37 @@
 PetscErrorCode SpamLayoutPositionsVelocities(int dim, SpamLayout *l)
 {
   PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(l, sizeof *l));
   l->dim  = dim;
   l->x    = 0;
   l->v    = dim;
   l->e    = -1;
   l->rho  = -1;
+  l->s    = -1;
   l->nvar = 2 * dim;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamLayoutSolid(int dim, PetscBool with_rho, PetscBool with_stress, double rho_scale, double stress_scale, SpamLayout *l)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(dim == 2, PETSC_COMM_SELF, PETSC_ERR_SUP, "the elastic solid is two-dimensional (dim %d)", dim);
+  PetscCall(SpamLayoutPositionsVelocities(dim, l));
+  l->e = l->nvar++;
+  if (with_rho) l->rho = l->nvar++;
+  l->scale[l->e] = stress_scale / rho_scale;
+  if (with_rho) l->scale[l->rho] = rho_scale;
+  if (!with_stress) PetscFunctionReturn(0);
+  l->s = l->nvar;
+  l->nvar += dim * (dim + 1) / 2;
+  for (int k = 0; k < dim * (dim + 1) / 2; k++) l->scale[l->s + k] = stress_scale;
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SpamLayoutDescribe(const SpamLayout *l, char *buf, size_t len)
 {
   static const char *ax[3] = {"x", "y", "z"};
+  static const char *st[3] = {"sxx", "sxy", "syy"};
   size_t             used  = 0;
 
   PetscFunctionBeginUser;
@@ -23,6 +42,12 @@ PetscErrorCode SpamLayoutDescribe(const SpamLayout *l, char *buf, size_t len)
   for (int d = 0; d < l->dim; d++) used += (size_t)snprintf(buf + used, len - used, "%s%s", used ? " " : "", ax[d]);
   for (int d = 0; d < l->dim && l->v >= 0; d++) used += (size_t)snprintf(buf + used, len - used, " v%s", ax[d]);
   if (l->e >= 0) used += (size_t)snprintf(buf + used, len - used, " e");
-  if (l->rho >= 0) (void)snprintf(buf + used, len - used, " rho");
+  if (l->rho >= 0) used += (size_t)snprintf(buf + used, len - used, " rho");
+  for (int k = 0; l->s >= 0 && k < l->dim * (l->dim + 1) / 2; k++) used += (size_t)snprintf(buf + used, len - used, " %s", st[k]);
   PetscFunctionReturn(0);
+}
+
+void SpamLayoutFieldWeights(const SpamLayout *l, const double *p, double rtol, double atol, double *w)
+{
+  for (int k = 2 * l->dim; k < l->nvar; k++) w[k] = 1.0 / (rtol * PetscMax(fabs(p[k]), l->scale[k]) + atol);
 }

@@ -2,7 +2,7 @@
  * depend on where the origin is, so positions are weighed against the kernel range h:
  * 1/(rtol h + atol), the same for every particle and every translation. Velocities are
  * weighed against the particle's speed |v_i| (rotation invariant), floored at the sound
- * speed: 1/(rtol max(|v_i|, c0) + atol). Other fields: ARKODE's 1/(rtol |y| + atol). */
+ * speed: 1/(rtol max(|v_i|, c0) + atol). Other fields against their declared scales. */
 #include <spam/weights.h>
 #include <nvector/nvector_petsc.h>
 
@@ -21,13 +21,12 @@ int SpamErrorWeights(N_Vector y, N_Vector ewt, void *ctx)
     const PetscScalar *p = ya + (size_t)i * l->nvar;
     PetscScalar       *q = wa + (size_t)i * l->nvar;
     double             v2 = 0.0;
-    /* Fields other than x and v (energy, density, stress) against their own size. */
-    for (int k = 0; k < l->nvar; k++) q[k] = 1.0 / (w->rtol * PetscAbsReal(p[k]) + w->atol);
     for (int d = 0; d < m->dim; d++) v2 += p[l->v + d] * p[l->v + d];
     for (int d = 0; d < m->dim; d++) {
       q[l->x + d] = wx;
       q[l->v + d] = 1.0 / (w->rtol * PetscMax(sqrt(v2), w->vscale) + w->atol);
     }
+    SpamLayoutFieldWeights(l, p, w->rtol, w->atol, q); /* e, rho, stress: their own scales */
   }
   if (VecRestoreArrayWrite(N_VGetVector_Petsc(ewt), &wa)) return -1;
   if (VecRestoreArrayRead(N_VGetVector_Petsc(y), &ya)) return -1;

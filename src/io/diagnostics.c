@@ -1,5 +1,33 @@
 /* Conserved and monitored quantities of a state, reduced over all ranks. */
 #include <spam/diagnostics.h>
+#include <spam/physics.h>
+
+/* Internal energy and spurious torque from the model; angular momentum of each body. */
+static PetscErrorCode ModelDiagnostics(SpamSim *sim, const double *y, SpamDiagnostics *d)
+{
+  SpamModelDiag md;
+  double        lb[2] = {NAN, NAN};
+
+  PetscFunctionBeginUser;
+  d->torque         = NAN;
+  d->lbody[0]       = d->lbody[1] = NAN;
+  d->gauss_singular = 0.0;
+  if (!sim->model.diag) PetscFunctionReturn(0);
+  PetscCall(sim->model.diag(sim, y, &md));
+  d->internal += md.internal;
+  d->total    = d->kinetic + d->internal;
+  d->torque   = md.torque;
+  if (sim->ps && sim->model.dim == 2) {
+    d->nbody          = sim->ps->nbody;
+    d->gauss_singular = (double)sim->ps->gauss_singular;
+    if (sim->ps->nbody <= 2) {
+      PetscCall(SpamBodyAngularMomentum(sim, y, lb));
+      d->lbody[0] = lb[0];
+      if (sim->ps->nbody == 2) d->lbody[1] = lb[1];
+    }
+  }
+  PetscFunctionReturn(0);
+}
 
 /* Sums over particles of m, m v, m x and the energies; angular momentum needs the centre
  * of mass first, so it is a second pass. Positions are taken relative to the box corner
@@ -27,7 +55,7 @@ PetscErrorCode SpamDiagnosticsCompute(SpamSim *sim, const SpamDiagnosticsOptions
     }
     loc[0] += m->mass;
     loc[7] += 0.5 * m->mass * v2;
-    loc[8] += m->mass * SpamEosEnergy(&m->eos, sim->rho[i]);
+    if (!m->diag) loc[8] += m->mass * SpamEosEnergy(&m->eos, sim->rho[i]);
   }
   PetscCallMPI(MPIU_Allreduce(loc, glob, 11, MPI_DOUBLE, MPI_SUM, sim->comm));
   d->mass = glob[0];
@@ -55,9 +83,40 @@ PetscErrorCode SpamDiagnosticsCompute(SpamSim *sim, const SpamDiagnosticsOptions
   PetscCallMPI(MPIU_Allreduce(lloc, lglob, 4, MPI_DOUBLE, MPI_SUM, sim->comm));
   for (int k = 0; k < 3; k++) d->l[k] = lglob[k];
   d->gyration = sqrt(lglob[3] / d->mass);
-  if (o->entropy) {
+  PetscCall(ModelDiagnostics(sim, y, d));
+  if (o->entropy && !m->diag) { /* the entropy estimates are those of the isentropic gas */
     PetscCall(SpamEntropySum(sim, y, &d->entropy_sum));
     if (o->grid_spacing > 0) PetscCall(SpamEntropyGrid(sim, y, o->grid_spacing, &d->entropy_grid));
   }
+  PetscFunctionReturn(0);
+}
+
+/* Per body: sums of m, m r, m v, then Lz = sum m (r - r_b) x (v - v_b). */
+PetscErrorCode SpamBodyAngularMomentum(SpamSim *sim, const double *y, double *lbody)
+{
+  const SpamLayout *l  = &sim->model.layout;
+  const int         nb = sim->ps->nbody;
+  const double      m  = sim->model.mass;
+  double           *s, *lz;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscCalloc2(5 * nb, &s, nb, &lz));
+  for (PetscInt i = 0; i < sim->n; i++) {
+    const double *p = y + (size_t)i * l->nvar;
+    double       *b = s + 5 * sim->ps->body[i];
+    b[0] += m;
+    for (int d = 0; d < 2; d++) {
+      b[1 + d] += m * p[l->x + d];
+      b[3 + d] += m * p[l->v + d];
+    }
+  }
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, s, 5 * nb, MPI_DOUBLE, MPI_SUM, sim->comm));
+  for (PetscInt i = 0; i < sim->n; i++) {
+    const double *p = y + (size_t)i * l->nvar, *b = s + 5 * sim->ps->body[i];
+    const double  r[2] = {p[l->x] - b[1] / b[0], p[l->x + 1] - b[2] / b[0]}, v[2] = {p[l->v] - b[3] / b[0], p[l->v + 1] - b[4] / b[0]};
+    lz[sim->ps->body[i]] += m * (r[0] * v[1] - r[1] * v[0]);
+  }
+  PetscCallMPI(MPIU_Allreduce(lz, lbody, nb, MPI_DOUBLE, MPI_SUM, sim->comm));
+  PetscCall(PetscFree2(s, lz));
   PetscFunctionReturn(0);
 }

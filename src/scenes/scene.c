@@ -2,8 +2,8 @@
 #include <spam/scene.h>
 #include <spam/errors.h>
 
-static const char *const SceneNames[] = {"expansion", "file"};
-#define NSCENES 2
+static const char *const SceneNames[] = {"expansion", "file", "planewave", "rotor", "rotor-pair", "rotor-md", "tensile"};
+enum { SCENE_EXPANSION, SCENE_FILE, SCENE_PLANEWAVE, SCENE_ROTOR, SCENE_ROTOR_PAIR, SCENE_ROTOR_MD, SCENE_TENSILE, NSCENES };
 
 PetscErrorCode SpamParticlesAllocate(int dim, PetscInt n, SpamParticles *p)
 {
@@ -21,6 +21,7 @@ PetscErrorCode SpamParticlesFree(SpamParticles *p)
   PetscFunctionBeginUser;
   PetscCall(PetscFree(p->x));
   PetscCall(PetscFree(p->v));
+  if (p->e) PetscCall(PetscFree3(p->e, p->rho, p->sigma));
   PetscFunctionReturn(0);
 }
 
@@ -85,17 +86,45 @@ static void Translate(const double t[3], SpamParticles *p)
   }
 }
 
-PetscErrorCode SpamSceneCreateSim(MPI_Comm comm, SpamSim *sim)
+/* Reads the options of scene s (of every scene with -help) and builds its particles. */
+static PetscErrorCode BuildScene(const SpamCommonParams *c, int s, PetscBool help, SpamParticles *p)
 {
-  SpamCommonParams    c;
   SpamExpansionParams ep;
   SpamFileParams      fp;
-  SpamParticles       p;
-  SpamModel           model;
-  PetscInt            scene = 0;
-  PetscBool           help  = PETSC_FALSE;
-  PetscMPIInt         size;
-  char                val[64];
+  SpamPlanewaveParams pw;
+  SpamRotorParams     ro, rp;
+  SpamRotorMdParams   md;
+  SpamTensileParams   te;
+
+  PetscFunctionBeginUser;
+  if (help || s == SCENE_EXPANSION) PetscCall(SpamExpansionOptions(c, &ep));
+  if (help || s == SCENE_FILE) PetscCall(SpamFileOptions(&fp));
+  if (help || s == SCENE_PLANEWAVE) PetscCall(SpamPlanewaveOptions(c, &pw));
+  if (help || s == SCENE_ROTOR) PetscCall(SpamRotorOptions(c, PETSC_FALSE, &ro));
+  if (help || s == SCENE_ROTOR_PAIR) PetscCall(SpamRotorOptions(c, PETSC_TRUE, &rp));
+  if (help || s == SCENE_ROTOR_MD) PetscCall(SpamRotorMdOptions(c, &md));
+  if (help || s == SCENE_TENSILE) PetscCall(SpamTensileOptions(c, &te));
+  switch (s) {
+  case SCENE_EXPANSION: PetscCall(SpamExpansionBuild(c, &ep, p)); break;
+  case SCENE_FILE: PetscCall(SpamFileBuild(c, &fp, p)); break;
+  case SCENE_PLANEWAVE: PetscCall(SpamPlanewaveBuild(c, &pw, p)); break;
+  case SCENE_ROTOR: PetscCall(SpamRotorBuild(c, &ro, p)); break;
+  case SCENE_ROTOR_PAIR: PetscCall(SpamRotorBuild(c, &rp, p)); break;
+  case SCENE_ROTOR_MD: PetscCall(SpamRotorMdBuild(c, &md, p)); break;
+  default: PetscCall(SpamTensileBuild(c, &te, p)); break;
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamSceneCreateSim(MPI_Comm comm, SpamSim *sim)
+{
+  SpamCommonParams c;
+  SpamParticles    p;
+  SpamModel        model;
+  PetscInt         scene = 0;
+  PetscBool        help  = PETSC_FALSE;
+  PetscMPIInt      size;
+  char             val[64];
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_size(comm, &size));
@@ -104,26 +133,28 @@ PetscErrorCode SpamSceneCreateSim(MPI_Comm comm, SpamSim *sim)
   {
     char name[64] = "expansion";
     PetscOptionsBegin(comm, NULL, "Scene", "spam-ark");
-    PetscCall(PetscOptionsString("-scene", "Scene that builds the particles: expansion or file", "README", name, name, sizeof name, NULL));
+    PetscCall(PetscOptionsString("-scene", "Scene that builds the particles: expansion, file, planewave, rotor, rotor-pair, rotor-md or tensile", "README", name, name, sizeof name, NULL));
     PetscOptionsEnd();
     scene = -1;
     for (int s = 0; s < NSCENES; s++)
       if (!strcmp(name, SceneNames[s])) scene = s;
-    if (scene < 0) SPAM_BAD_INPUT("-scene", name, "allowed: expansion, file");
+    if (scene < 0) SPAM_BAD_INPUT("-scene", name, "allowed: expansion, file, planewave, rotor, rotor-pair, rotor-md, tensile");
   }
-  if (help || scene == 0) PetscCall(SpamExpansionOptions(&c, &ep));
-  if (help || scene == 1) PetscCall(SpamFileOptions(&fp));
+  PetscCall(PetscSNPrintf(val, sizeof val, "%d", c.dim));
+  if (scene >= SCENE_PLANEWAVE && c.dim != 2) SPAM_BAD_INPUT("-dim", val, "the elastic scenes (planewave, rotor, rotor-pair, rotor-md, tensile) are two-dimensional");
+  PetscCall(BuildScene(&c, (int)scene, help, &p));
   PetscCall(PetscSNPrintf(val, sizeof val, "%d", size));
   if (size > 1) SPAM_BAD_INPUT("mpiexec -n", val, "this version runs on one rank; multi-rank halo exchange is not written yet");
-  if (scene == 0) PetscCall(SpamExpansionBuild(&c, &ep, &p));
-  else PetscCall(SpamFileBuild(&c, &fp, &p));
   Translate(c.translate, &p);
-  PetscCall(SpamBoxValidate(&p.box, c.h, scene == 0 ? "2 x -expansion_n" : "-box_len"));
-  PetscCall(SpamModelIsentropeSetUp(c.dim, c.h, p.mass, c.gamma, c.kappa, &model));
+  PetscCall(SpamBoxValidate(&p.box, c.h, scene == SCENE_EXPANSION ? "2 x -expansion_n" : scene == SCENE_FILE ? "-box_len" : "the lattice size"));
+  if (p.model_set) model = p.model;
+  else PetscCall(SpamModelIsentropeSetUp(c.dim, c.h, p.mass, c.gamma, c.kappa, &model));
   PetscCall(SpamSimCreate(comm, &model, &p.box, p.n, c.skin, sim));
   sim->scene = p.info;
   PetscCall(SpamSimFill(sim, p.x, p.v));
+  PetscCall(SpamSimFillFields(sim, &p));
   PetscCall(SpamParticlesFree(&p));
   PetscCall(SpamSimSetUp(sim));
+  if (sim->model.setup) PetscCall(sim->model.setup(sim));
   PetscFunctionReturn(0);
 }

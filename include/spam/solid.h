@@ -1,0 +1,44 @@
+/* Choices of the general tensor path (Hoover, Hoover & Merritt, PRE 69, 016702 (2004);
+ * equations as corrected in shared/design/EQUATIONS.md). Every combination of the PRE
+ * study space is one value of this struct. */
+#ifndef SPAM_SOLID_H
+#define SPAM_SOLID_H
+#include <petscsys.h>
+
+typedef enum { SPAM_DENSITY_SUMMATION, SPAM_DENSITY_CONTINUITY, SPAM_DENSITY_CHAIN_RULE } SpamDensityMode;
+typedef enum { SPAM_DENSITY_INITIAL_IDEAL, SPAM_DENSITY_INITIAL_SUMMED } SpamDensityInitial;
+typedef enum { SPAM_COORDS_R0, SPAM_COORDS_R1, SPAM_COORDS_R2 } SpamCoordsMode;
+typedef enum { SPAM_MATERIAL_ELASTIC, SPAM_MATERIAL_GAS } SpamMaterial;
+typedef enum { SPAM_VISCOSITY_NONE, SPAM_VISCOSITY_MONAGHAN, SPAM_VISCOSITY_VON_NEUMANN } SpamViscosityMode;
+typedef enum { SPAM_ANGMOM_NONE, SPAM_ANGMOM_GAUSS, SPAM_ANGMOM_TI, SPAM_ANGMOM_TIJ } SpamAngmomMode;
+
+extern const char *const SpamDensityModeNames[];
+extern const char *const SpamDensityInitialNames[];
+extern const char *const SpamCoordsModeNames[];
+extern const char *const SpamAngmomModeNames[];
+extern const char *const SpamViscosityModeNames[];
+extern const char *const SpamMaterialNames[];
+
+typedef struct {
+  SpamMaterial       material;      /* elastic (stress in the state) or ideal gas      */
+  double             gamma, gas_e0; /* gas: P = (gamma - 1) rho e; initial e            */
+  double             shear_visc, bulk_visc; /* Newtonian viscosity (0: off)             */
+  double             conductivity;  /* Fourier heat conduction kappa (0: off)          */
+  double             lambda, eta;   /* Lame constants of Hooke's law                   */
+  double             rho0;          /* stress-free (ideal lattice) density             */
+  SpamDensityMode    density;
+  SpamDensityInitial density_initial;
+  PetscBool          rho_geometric; /* rho_ij = sqrt(rho_i rho_j), else the mean       */
+  SpamCoordsMode     coords;
+  double             xsph_eps;      /* epsilon of R2                                   */
+  SpamAngmomMode     angmom;
+  PetscBool          per_body;      /* torque scaling per connected body, else global  */
+  SpamViscosityMode  viscosity;     /* artificial viscosity                            */
+  double             visc_alpha, visc_beta; /* its linear and quadratic coefficients   */
+  double             sound_speed;   /* c of the linear term: c_L at rho0 (set-up)      */
+} SpamSolidParams;
+
+/* Reads the -solid_*, -density*, -coordinates, -xsph_eps and -angmom* options (with
+ * -help lists them with their defaults) into p, whose fields hold the defaults. */
+PetscErrorCode SpamSolidOptions(SpamSolidParams *p);
+#endif

@@ -1,0 +1,43 @@
+/* Scratch of the tensor path and the spring model, allocated once at set-up and freed
+ * with the swarm (a PetscContainer composed on it), so SpamSimDestroy needs no change. */
+#include <spam/physics.h>
+
+static PetscErrorCode ScratchDestroy(void *ctx)
+{
+  SpamPhysicsScratch *ps = (SpamPhysicsScratch *)ctx;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree4(ps->gradv, ps->xdot, ps->u, ps->qs));
+  PetscCall(PetscFree4(ps->edot, ps->rhodot, ps->ltorque, ps->tfac));
+  PetscCall(PetscFree(ps->body));
+  PetscCall(PetscFree(ps->heat));
+  PetscCall(PetscFree3(ps->bpos, ps->bneg, ps->bfac));
+  PetscCall(PetscFree(ps->bond_start));
+  PetscCall(PetscFree(ps->bond_nbr));
+  PetscCall(PetscFree(ps));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamPhysicsScratchCreate(SpamSim *sim)
+{
+  const PetscInt      n = sim->n + 1;
+  SpamPhysicsScratch *ps;
+  PetscContainer      c;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscNew(&ps));
+  ps->n = sim->n;
+  PetscCall(PetscCalloc4(4 * n, &ps->gradv, 2 * n, &ps->xdot, 2 * n, &ps->u, 3 * n, &ps->qs));
+  PetscCall(PetscCalloc4(n, &ps->edot, n, &ps->rhodot, n, &ps->ltorque, n, &ps->tfac));
+  PetscCall(PetscCalloc1(n, &ps->body));
+  PetscCall(PetscCalloc1(2 * n, &ps->heat));
+  ps->nbody = 1;
+  PetscCall(PetscCalloc3(1, &ps->bpos, 1, &ps->bneg, 1, &ps->bfac));
+  PetscCall(PetscContainerCreate(sim->comm, &c));
+  PetscCall(PetscContainerSetPointer(c, ps));
+  PetscCall(PetscContainerSetUserDestroy(c, ScratchDestroy));
+  PetscCall(PetscObjectCompose((PetscObject)sim->swarm, "spam_physics_scratch", (PetscObject)c));
+  PetscCall(PetscContainerDestroy(&c));
+  sim->ps = ps;
+  PetscFunctionReturn(0);
+}

@@ -1,0 +1,150 @@
+/* Molecular dynamics with harmonic springs phi(r) = k/2 (r0 - r)^2 between the pairs that
+ * are closer than a bonding range at set-up (PRE Fig. 4a: k = 1, r0 = 1, nearest
+ * neighbours of the triangular lattice). Central forces conserve the angular momentum
+ * exactly; the state is [x, v], so the symplectic splits can use the acceleration. */
+#include <spam/physics.h>
+
+/* Bonds: a CSR half list (j > i) of the pairs closer than range at the positions y. */
+static PetscErrorCode BuildBonds(SpamSim *sim, const double *y)
+{
+  SpamPhysicsScratch *ps = sim->ps;
+  const SpamImage     im = SpamBoxImage(&sim->box);
+  const double        r2max = sim->model.springs.range * sim->model.springs.range;
+  PetscInt            bad;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamNeighboursUpdate(&sim->nl, &sim->box, y + sim->model.layout.x, sim->model.layout.nvar, PETSC_TRUE, &bad));
+  PetscCheck(bad < 0, sim->comm, PETSC_ERR_FP, "non-finite position of particle %" PetscInt_FMT, bad);
+  PetscCall(PetscMalloc1(sim->n + 1, &ps->bond_start));
+  PetscCall(PetscMalloc1(sim->nl.npairs + 1, &ps->bond_nbr));
+  ps->nbonds        = 0;
+  ps->bond_start[0] = 0;
+  for (int i = 0; i < sim->nl.n; i++) {
+    for (int p = sim->nl.start[i]; p < sim->nl.start[i + 1]; p++) {
+      double dx[2];
+      if (SpamPairDelta2(&sim->nl, &im, i, sim->nl.nbr[p], dx) < r2max) ps->bond_nbr[ps->nbonds++] = sim->nl.nbr[p];
+    }
+    ps->bond_start[i + 1] = ps->nbonds;
+  }
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode SetUpSprings(SpamSim *sim)
+{
+  PetscScalar *y;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamPhysicsScratchCreate(sim));
+  PetscCall(VecGetArray(sim->X, &y));
+  PetscCall(SpamBodiesLabel(sim, y, sim->model.springs.range));
+  PetscCall(BuildBonds(sim, y));
+  PetscCall(VecRestoreArray(sim->X, &y));
+  PetscFunctionReturn(0);
+}
+
+/* Separation of particles i and j of positions x (stride), minimum image; returns r. */
+static double BondDelta(const SpamSim *sim, const SpamImage *im, const double *x, int stride, int i, int j, double dx[3])
+{
+  double r2 = 0.0;
+  for (int d = 0; d < sim->model.dim; d++) {
+    dx[d] = SpamImageDelta(im, d, SpamBoxLocal(&sim->box, d, x[(size_t)i * stride + d]) - SpamBoxLocal(&sim->box, d, x[(size_t)j * stride + d]));
+    r2 += dx[d] * dx[d];
+  }
+  return sqrt(r2);
+}
+
+static PetscErrorCode AccelSprings(SpamSim *sim, const double *x, int stride, PetscInt *bad)
+{
+  const SpamPhysicsScratch *ps = sim->ps;
+  const SpamSpringParams   *sp = &sim->model.springs;
+  const SpamImage           im = SpamBoxImage(&sim->box);
+  const int                 dim = sim->model.dim;
+
+  PetscFunctionBeginUser;
+  *bad = -1;
+  for (int d = 0; d < dim; d++)
+    for (PetscInt i = 0; i < sim->n; i++) sim->acc[d][i] = 0.0;
+  for (PetscInt i = 0; i < sim->n; i++) {
+    for (int b = ps->bond_start[i]; b < ps->bond_start[i + 1]; b++) {
+      const int    j = ps->bond_nbr[b];
+      double       dx[3];
+      const double r = BondDelta(sim, &im, x, stride, (int)i, j, dx);
+      if (!isfinite(r) || r == 0.0) {
+        *bad = i;
+        PetscFunctionReturn(0);
+      }
+      /* F_i = -phi'(r) r_ij / r = k (r0 - r) r_ij / r */
+      const double f = sp->k * (sp->r0 - r) / (r * sim->model.mass);
+      for (int d = 0; d < dim; d++) {
+        sim->acc[d][i] += f * dx[d];
+        sim->acc[d][j] -= f * dx[d];
+      }
+    }
+  }
+  sim->stats.pair_visits += (double)ps->nbonds;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode RhsSprings(SpamSim *sim, const double *y, double *ydot, PetscInt *bad)
+{
+  const SpamLayout *l = &sim->model.layout;
+
+  PetscFunctionBeginUser;
+  PetscCall(AccelSprings(sim, y + l->x, l->nvar, bad));
+  if (*bad >= 0) PetscFunctionReturn(0);
+  for (PetscInt i = 0; i < sim->n; i++)
+    for (int d = 0; d < sim->model.dim; d++) {
+      ydot[(size_t)i * l->nvar + l->x + d] = y[(size_t)i * l->nvar + l->v + d];
+      ydot[(size_t)i * l->nvar + l->v + d] = sim->acc[d][i];
+    }
+  PetscFunctionReturn(0);
+}
+
+/* Potential energy sum k/2 (r0 - r)^2; the forces are central, so no spurious torque. */
+static PetscErrorCode DiagSprings(SpamSim *sim, const double *y, SpamModelDiag *d)
+{
+  const SpamPhysicsScratch *ps = sim->ps;
+  const SpamImage           im = SpamBoxImage(&sim->box);
+  double                    pe = 0.0;
+
+  PetscFunctionBeginUser;
+  for (PetscInt i = 0; i < sim->n; i++)
+    for (int b = ps->bond_start[i]; b < ps->bond_start[i + 1]; b++) {
+      double       dx[3];
+      const double r = BondDelta(sim, &im, y + sim->model.layout.x, sim->model.layout.nvar, (int)i, ps->bond_nbr[b], dx);
+      pe += 0.5 * sim->model.springs.k * (sim->model.springs.r0 - r) * (sim->model.springs.r0 - r);
+    }
+  PetscCallMPI(MPIU_Allreduce(&pe, &d->internal, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
+  d->torque = 0.0;
+  PetscFunctionReturn(0);
+}
+
+/* The long-wave speed of a chain of springs, r0 sqrt(k/m): the signal-speed scale of the
+ * spring lattice (its lattice sums change it by a factor of order one). */
+static PetscErrorCode SpringsSoundSpeed(SpamSim *sim, const double *y, double *cmax)
+{
+  const SpamSpringParams *s = &sim->model.springs;
+
+  PetscFunctionBeginUser;
+  (void)y;
+  *cmax = s->r0 * sqrt(s->k / sim->model.mass);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamModelSpringsSetUp(int dim, double h, double mass, double kspring, double r0, double bond_range, SpamModel *m)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(m, sizeof *m));
+  m->dim     = dim;
+  m->mass    = mass;
+  m->springs = (SpamSpringParams){kspring, r0, bond_range};
+  PetscCall(SpamKernelLucyInit(dim, h, &m->kernel)); /* the neighbour search range at set-up */
+  PetscCall(SpamLayoutPositionsVelocities(dim, &m->layout));
+  m->rhs   = RhsSprings;
+  m->accel = AccelSprings;
+  m->max_sound_speed = SpringsSoundSpeed;
+  m->diag  = DiagSprings;
+  m->setup = SetUpSprings;
+  PetscCall(PetscStrncpy(m->name, "springs", sizeof m->name));
+  PetscFunctionReturn(0);
+}

@@ -1,0 +1,81 @@
+/* Standing elastic plane waves (PRE Sec. V, Fig. 3): a periodic triangular crystal of
+ * nx x ny particles (24 x 24, N = 576, density sqrt(4/3)) at rest, displaced by
+ * u = A sin(k y) along x (transverse) or y (longitudinal), k = 2 pi / (ny sqrt(3)/2), with
+ * the matching stress sigma_xy = eta k A cos(ky) (transverse) or sigma_yy = (lambda + 2 eta)
+ * k A cos(ky), sigma_xx = lambda k A cos(ky) (longitudinal). The elastic energy per unit
+ * mass W/rho0, W = sigma:epsilon/2, starts in e, so KE + IE is the total energy. The
+ * period predicted by the linearised SPAM equations (dispersion_lucy.c) is printed. */
+#include <spam/scene.h>
+#include <spam/physics.h>
+#include <spam/errors.h>
+
+PetscErrorCode SpamPlanewaveOptions(const SpamCommonParams *c, SpamPlanewaveParams *p)
+{
+  char val[64], mode[32] = "transverse";
+
+  PetscFunctionBeginUser;
+  p->nx        = 24;
+  p->ny        = 24;
+  p->amplitude = 0.25;
+  SpamSolidDefaults(&p->solid);
+  p->solid.rho0 = c->mass * sqrt(4.0 / 3.0); /* unit triangular lattice */
+  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene planewave (Hoover, Hoover & Merritt 2004, Sec. V)", "spam-ark");
+  PetscCall(PetscOptionsInt("-planewave_nx", "Particles per lattice row", "README", p->nx, &p->nx, NULL));
+  PetscCall(PetscOptionsInt("-planewave_ny", "Lattice rows (even; the wavelength is ny sqrt(3)/2)", "README", p->ny, &p->ny, NULL));
+  PetscCall(PetscOptionsString("-planewave_mode", "Polarisation: transverse (u_x) or longitudinal (u_y)", "README", mode, mode, sizeof mode, NULL));
+  PetscCall(PetscOptionsReal("-planewave_amplitude", "Displacement amplitude A (lattice units)", "README", p->amplitude, &p->amplitude, NULL));
+  PetscOptionsEnd();
+  PetscCall(SpamSolidOptions(&p->solid));
+  if (strcmp(mode, "transverse") && strcmp(mode, "longitudinal")) SPAM_BAD_INPUT("-planewave_mode", mode, "allowed: transverse, longitudinal");
+  p->longitudinal = (PetscBool)!strcmp(mode, "longitudinal");
+  PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->ny));
+  if (p->ny < 2 || p->ny % 2) SPAM_BAD_INPUT("-planewave_ny", val, "must be an even number of rows >= 2 (periodic triangular lattice)");
+  PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->nx));
+  if (p->nx < 1) SPAM_BAD_INPUT("-planewave_nx", val, "must be positive");
+  (void)snprintf(val, sizeof val, "%g", p->amplitude);
+  if (!isfinite(p->amplitude) || fabs(p->amplitude) >= 0.5) SPAM_BAD_INPUT("-planewave_amplitude", val, "allowed: |A| < 0.5 lattice spacings");
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamPlanewaveBuild(const SpamCommonParams *c, const SpamPlanewaveParams *p, SpamParticles *out)
+{
+  const SpamSolidParams *s  = &p->solid;
+  const PetscInt         n  = p->nx * p->ny;
+  const double           ly = 0.5 * sqrt(3.0) * (double)p->ny, k = 2.0 * PETSC_PI / ly;
+  const double           mod = p->longitudinal ? s->lambda + 2.0 * s->eta : s->eta;
+  const double           kvec[2] = {0.0, k};
+  double                 wt, wl;
+  char                   line[256];
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamParticlesAllocate(2, n, out));
+  PetscCall(SpamParticlesAllocateFields(out));
+  out->mass = c->mass;
+  SpamLatticeTriangular(p->nx, p->ny, 1.0, out->x);
+  for (PetscInt i = 0; i < n; i++) {
+    const double y0 = out->x[2 * i + 1], strain = k * p->amplitude * cos(k * y0);
+    out->x[2 * i + (p->longitudinal ? 1 : 0)] += p->amplitude * sin(k * y0);
+    if (p->longitudinal) {
+      out->sigma[3 * i]     = s->lambda * strain;
+      out->sigma[3 * i + 2] = (s->lambda + 2.0 * s->eta) * strain;
+      out->rho[i]           = s->rho0 / (1.0 + strain);
+    } else {
+      out->sigma[3 * i + 1] = s->eta * strain;
+      out->rho[i]           = s->rho0;
+    }
+    out->e[i] = 0.5 * mod * strain * strain / s->rho0;
+  }
+  out->box = (SpamBox){2, {0, 0, 0}, {(double)p->nx, ly, 0}, {PETSC_TRUE, PETSC_TRUE, PETSC_FALSE}};
+  SpamDispersionLucy(c->h, 1.0, c->mass, s->rho0, s->lambda, s->eta, kvec, &wt, &wl);
+  {
+    const double w = p->longitudinal ? wl : wt, cs = sqrt(mod / s->rho0);
+    (void)snprintf(line, sizeof line, "planewave: %s, wavelength %.6g, predicted period %.10g (linearised SPAM), continuum period %.10g\n", p->longitudinal ? "longitudinal" : "transverse", ly, 2.0 * PETSC_PI / w, ly / cs);
+    PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%s", line));
+    PetscCall(PetscStrncpy(out->info.name, "planewave", sizeof out->info.name));
+    out->info.sound_traversal_time = ly / cs;
+    out->info.t_end_default        = 2.0 * 2.0 * PETSC_PI / w;
+  }
+  out->model_set = PETSC_TRUE;
+  PetscCall(SpamModelSolidSetUp(2, c->h, c->mass, s, &out->model));
+  PetscFunctionReturn(0);
+}

@@ -1,0 +1,55 @@
+/* The rotating hexagon as molecular dynamics (PRE Fig. 4a): springs phi = k/2 (1 - r)^2
+ * between initial nearest neighbours of the unit triangular lattice (k = 1 gives the
+ * Lame constants lambda = eta = sqrt(3/16) of the SPAM solid), the same rigid rotation
+ * as the rotor scene. Central forces: E and L are conserved to integrator accuracy. */
+#include <spam/scene.h>
+#include <spam/errors.h>
+
+PetscErrorCode SpamRotorMdOptions(const SpamCommonParams *c, SpamRotorMdParams *p)
+{
+  char val[64];
+
+  PetscFunctionBeginUser;
+  (void)c;
+  p->n     = 8;
+  p->speed = 0.1;
+  p->k     = 1.0;
+  p->range = 1.1;
+  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene rotor-md (Hoover, Hoover & Merritt 2004, Fig. 4a)", "spam-ark");
+  PetscCall(PetscOptionsInt("-rotor_n", "Shells of the hexagon (N = 1 + 3n + 3n^2; 8 gives 217)", "README", p->n, &p->n, NULL));
+  PetscCall(PetscOptionsReal("-rotor_speed", "Speed of the vertices of the rigidly rotating hexagon", "README", p->speed, &p->speed, NULL));
+  PetscCall(PetscOptionsReal("-spring_k", "Spring constant k of phi = k/2 (1 - r)^2", "README", p->k, &p->k, NULL));
+  PetscCall(PetscOptionsReal("-spring_range", "Pairs closer than this at t = 0 are bonded (nearest neighbours: 1.1)", "README", p->range, &p->range, NULL));
+  PetscOptionsEnd();
+  PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->n));
+  if (p->n < 1 || p->n > 1000) SPAM_BAD_INPUT("-rotor_n", val, "allowed: 1 to 1000 shells");
+  (void)snprintf(val, sizeof val, "%g", p->speed);
+  if (!isfinite(p->speed) || p->speed <= 0.0) SPAM_BAD_INPUT("-rotor_speed", val, "must be a positive speed");
+  (void)snprintf(val, sizeof val, "%g", p->k);
+  if (!isfinite(p->k) || p->k <= 0.0) SPAM_BAD_INPUT("-spring_k", val, "must be positive");
+  (void)snprintf(val, sizeof val, "%g", p->range);
+  if (!isfinite(p->range) || p->range <= 0.0 || p->range >= c->h) SPAM_BAD_INPUT("-spring_range", val, "allowed: 0 < range < h");
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamRotorMdBuild(const SpamCommonParams *c, const SpamRotorMdParams *p, SpamParticles *out)
+{
+  const PetscInt n     = 1 + 3 * p->n + 3 * p->n * p->n;
+  const double   omega = p->speed / (double)p->n;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamParticlesAllocate(2, n, out));
+  out->mass = c->mass;
+  (void)SpamLatticeHexagon(p->n, 1.0, out->x);
+  for (PetscInt i = 0; i < n; i++) {
+    out->v[2 * i]     = -omega * out->x[2 * i + 1];
+    out->v[2 * i + 1] = omega * out->x[2 * i];
+  }
+  SpamParticlesOpenBox(out, c->h + 0.25 * (double)p->n + 1.0);
+  PetscCall(PetscStrncpy(out->info.name, "rotor-md", sizeof out->info.name));
+  out->info.sound_traversal_time = 2.0 * (double)p->n / sqrt(9.0 / 8.0);
+  out->info.t_end_default        = 2.0 * PETSC_PI / omega;
+  out->model_set                 = PETSC_TRUE;
+  PetscCall(SpamModelSpringsSetUp(2, c->h, c->mass, p->k, 1.0, p->range, &out->model));
+  PetscFunctionReturn(0);
+}

@@ -1,0 +1,107 @@
+/* Options of the elastic solid shared by planewave, rotor, rotor-pair and tensile: the
+ * Lame constants and every choice of the PRE study space. */
+#include <spam/scene.h>
+#include <spam/errors.h>
+
+const char *const SpamDensityModeNames[]    = {"summation", "continuity", "chain-rule"};
+const char *const SpamDensityInitialNames[] = {"ideal", "summed"};
+const char *const SpamCoordsModeNames[]     = {"R0", "R1", "R2"};
+const char *const SpamAngmomModeNames[]     = {"none", "gauss", "Ti", "Tij"};
+const char *const SpamViscosityModeNames[]  = {"none", "monaghan", "vonneumann"};
+const char *const SpamMaterialNames[]       = {"elastic", "gas"};
+
+/* Index of val in names, or a bad-input error listing them. */
+static PetscErrorCode Choice(const char *opt, const char *val, const char *const *names, int n, int *k)
+{
+  char allowed[256] = "";
+
+  PetscFunctionBeginUser;
+  for (*k = 0; *k < n; (*k)++)
+    if (!strcmp(val, names[*k])) PetscFunctionReturn(0);
+  for (int j = 0; j < n; j++) {
+    PetscCall(PetscStrlcat(allowed, j ? ", " : "", sizeof allowed));
+    PetscCall(PetscStrlcat(allowed, names[j], sizeof allowed));
+  }
+  SPAM_BAD_INPUT(opt, val, "allowed: %s", allowed);
+}
+
+static PetscErrorCode Positive(const char *opt, double v, PetscBool zero_ok)
+{
+  char val[64];
+
+  PetscFunctionBeginUser;
+  (void)snprintf(val, sizeof val, "%g", v);
+  if (!isfinite(v) || v < 0.0 || (!zero_ok && v == 0.0)) SPAM_BAD_INPUT(opt, val, "must be a %s number", zero_ok ? "non-negative" : "positive");
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamSolidOptions(SpamSolidParams *p)
+{
+  char      dens[32], init[32], mean[32] = "arithmetic", coords[32], angm[32], scope[32] = "global", visc[32], mat[32];
+  int       k;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscStrncpy(dens, SpamDensityModeNames[p->density], sizeof dens));
+  PetscCall(PetscStrncpy(init, SpamDensityInitialNames[p->density_initial], sizeof init));
+  PetscCall(PetscStrncpy(coords, SpamCoordsModeNames[p->coords], sizeof coords));
+  PetscCall(PetscStrncpy(angm, SpamAngmomModeNames[p->angmom], sizeof angm));
+  PetscCall(PetscStrncpy(visc, SpamViscosityModeNames[p->viscosity], sizeof visc));
+  PetscCall(PetscStrncpy(mat, SpamMaterialNames[p->material], sizeof mat));
+  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Elastic solid (Hoover, Hoover & Merritt 2004)", "spam-ark");
+  PetscCall(PetscOptionsString("-material", "Constitutive law: elastic (Hooke, stress in the state) or gas (P = (gamma-1) rho e)", "README", mat, mat, sizeof mat, NULL));
+  PetscCall(PetscOptionsReal("-gas_gamma", "Gas: gamma of P = (gamma - 1) rho e (2 in 2D); also sets T = (gamma - 1) e", "README", p->gamma, &p->gamma, NULL));
+  PetscCall(PetscOptionsReal("-gas_e0", "Gas: initial energy per unit mass of every particle", "README", p->gas_e0, &p->gas_e0, NULL));
+  PetscCall(PetscOptionsReal("-viscosity_shear", "Newtonian shear viscosity eta_s (0: off)", "README", p->shear_visc, &p->shear_visc, NULL));
+  PetscCall(PetscOptionsReal("-viscosity_bulk", "Newtonian bulk viscosity eta_b (0: off)", "README", p->bulk_visc, &p->bulk_visc, NULL));
+  PetscCall(PetscOptionsReal("-conductivity", "Fourier heat conductivity kappa, Q = -kappa grad T (0: off)", "README", p->conductivity, &p->conductivity, NULL));
+  PetscCall(PetscOptionsReal("-solid_lambda", "Lame constant lambda (default sqrt(3)/4: springs k = 1)", "README", p->lambda, &p->lambda, NULL));
+  PetscCall(PetscOptionsReal("-solid_eta", "Lame constant eta, the shear modulus (default sqrt(3)/4)", "README", p->eta, &p->eta, NULL));
+  PetscCall(PetscOptionsString("-density", "Density: summation, continuity or chain-rule (continuity with dr/dt)", "README", dens, dens, sizeof dens, NULL));
+  PetscCall(PetscOptionsString("-density_initial", "Initial continuity density: ideal (sqrt(4/3) on the unit lattice) or summed", "README", init, init, sizeof init, NULL));
+  PetscCall(PetscOptionsString("-density_mean", "Pair density rho_ij of gradients and R2: arithmetic or geometric", "README", mean, mean, sizeof mean, NULL));
+  PetscCall(PetscOptionsString("-coordinates", "Coordinate update: R0 (v), R1 (<v>) or R2 (Monaghan's XSPH)", "README", coords, coords, sizeof coords, NULL));
+  PetscCall(PetscOptionsReal("-xsph_eps", "Epsilon of R2 (PRE: 1; Monaghan: 0.5)", "README", p->xsph_eps, &p->xsph_eps, NULL));
+  PetscCall(PetscOptionsString("-angmom", "Angular momentum: none, gauss (Gauss's principle), Ti or Tij (torque scaling)", "README", angm, angm, sizeof angm, NULL));
+  PetscCall(PetscOptionsString("-angmom_scope", "Torque scaling over: global or body (each connected body)", "README", scope, scope, sizeof scope, NULL));
+  PetscCall(PetscOptionsString("-viscosity", "Artificial viscosity: none, monaghan (pair Pi_ij) or vonneumann (particle q_i)", "README", visc, visc, sizeof visc, NULL));
+  PetscCall(PetscOptionsReal("-viscosity_alpha", "Linear coefficient alpha (alpha c h)", "README", p->visc_alpha, &p->visc_alpha, NULL));
+  PetscCall(PetscOptionsReal("-viscosity_beta", "Quadratic coefficient beta (beta h^2)", "README", p->visc_beta, &p->visc_beta, NULL));
+  PetscOptionsEnd();
+  PetscCall(Choice("-material", mat, SpamMaterialNames, 2, &k));
+  p->material = (SpamMaterial)k;
+  PetscCall(Positive("-gas_e0", p->gas_e0, PETSC_TRUE));
+  PetscCall(Positive("-viscosity_shear", p->shear_visc, PETSC_TRUE));
+  PetscCall(Positive("-viscosity_bulk", p->bulk_visc, PETSC_TRUE));
+  PetscCall(Positive("-conductivity", p->conductivity, PETSC_TRUE));
+  {
+    char val[64];
+    (void)snprintf(val, sizeof val, "%g", p->gamma);
+    if (!(p->gamma > 1.0) || !isfinite(p->gamma)) SPAM_BAD_INPUT("-gas_gamma", val, "must be greater than 1");
+  }
+  PetscCall(Positive("-viscosity_alpha", p->visc_alpha, PETSC_TRUE));
+  PetscCall(Positive("-viscosity_beta", p->visc_beta, PETSC_TRUE));
+  PetscCall(Choice("-viscosity", visc, SpamViscosityModeNames, 3, &k));
+  p->viscosity = (SpamViscosityMode)k;
+  PetscCall(Positive("-solid_lambda", p->lambda, PETSC_TRUE));
+  PetscCall(Positive("-solid_eta", p->eta, PETSC_FALSE));
+  PetscCall(Positive("-xsph_eps", p->xsph_eps, PETSC_TRUE));
+  PetscCall(Choice("-density", dens, SpamDensityModeNames, 3, &k));
+  p->density = (SpamDensityMode)k;
+  PetscCall(Choice("-density_initial", init, SpamDensityInitialNames, 2, &k));
+  p->density_initial = (SpamDensityInitial)k;
+  {
+    static const char *const means[] = {"arithmetic", "geometric"};
+    PetscCall(Choice("-density_mean", mean, means, 2, &k));
+    p->rho_geometric = (PetscBool)(k == 1);
+  }
+  PetscCall(Choice("-coordinates", coords, SpamCoordsModeNames, 3, &k));
+  p->coords = (SpamCoordsMode)k;
+  PetscCall(Choice("-angmom", angm, SpamAngmomModeNames, 4, &k));
+  p->angmom = (SpamAngmomMode)k;
+  {
+    static const char *const scopes[] = {"global", "body"};
+    PetscCall(Choice("-angmom_scope", scope, scopes, 2, &k));
+    p->per_body = (PetscBool)(k == 1);
+  }
+  PetscFunctionReturn(0);
+}

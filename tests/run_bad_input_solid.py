@@ -1,0 +1,35 @@
+"""Bad input to the elastic scenes and the tensor-path options: one line on stderr naming
+the option, the value and what is allowed; exit code 2; no output directory."""
+import os
+
+from spamrun import Checks, arguments, run
+
+a = arguments()
+c = Checks()
+cases = [
+    ("unknown density", ["-scene", "rotor", "-density", "sum"], ["-density", "'sum'", "summation, continuity, chain-rule"]),
+    ("unknown coordinates", ["-scene", "rotor", "-coordinates", "R3"], ["-coordinates", "'R3'", "R0, R1, R2"]),
+    ("unknown angmom", ["-scene", "rotor", "-angmom", "Tk"], ["-angmom", "'Tk'", "none, gauss, Ti, Tij"]),
+    ("unknown scope", ["-scene", "rotor-pair", "-angmom_scope", "local"], ["-angmom_scope", "'local'", "global, body"]),
+    ("unknown viscosity", ["-scene", "tensile", "-viscosity", "lucy"], ["-viscosity", "'lucy'", "monaghan"]),
+    ("unknown material", ["-scene", "rotor", "-material", "steel"], ["-material", "'steel'", "elastic, gas"]),
+    ("gas gamma 1", ["-scene", "rotor", "-material", "gas", "-gas_gamma", 1], ["-gas_gamma", "'1'", "greater than 1"]),
+    ("negative conductivity", ["-scene", "rotor", "-conductivity", -1], ["-conductivity", "'-1'", "non-negative"]),
+    ("zero shear modulus", ["-scene", "planewave", "-solid_eta", 0], ["-solid_eta", "'0'", "positive"]),
+    ("odd rows", ["-scene", "planewave", "-planewave_ny", 23], ["-planewave_ny", "'23'", "even"]),
+    ("unknown polarisation", ["-scene", "planewave", "-planewave_mode", "shear"], ["-planewave_mode", "'shear'", "transverse, longitudinal"]),
+    ("amplitude too large", ["-scene", "planewave", "-planewave_amplitude", 0.6], ["-planewave_amplitude", "'0.6'", "< 0.5"]),
+    ("zero shells", ["-scene", "rotor", "-rotor_n", 0], ["-rotor_n", "'0'", "1 to 1000"]),
+    ("negative speed", ["-scene", "rotor", "-rotor_speed", -0.1], ["-rotor_speed", "'-0.1'", "positive"]),
+    ("spring range beyond h", ["-scene", "rotor-md", "-spring_range", 3.5], ["-spring_range", "'3.5'", "0 < range < h"]),
+    ("tensile crystal narrower than 2h", ["-scene", "tensile", "-tensile_nx", 4], ["box edge x", "at least 2h"]),
+    ("elastic scene in 3D", ["-scene", "rotor", "-dim", 3], ["-dim", "'3'", "two-dimensional"]),
+]
+for k, (name, args, needles) in enumerate(cases):
+    out = os.path.join(a.workdir, f"out{k}")
+    code, _, err = run(a.spam_ark, args, out)
+    lines = err.strip().splitlines()
+    ok = (code == 2 and len(lines) == 1 and lines[0].startswith("spam-ark: error: ")
+          and all(n in lines[0] for n in needles) and not os.path.exists(out))
+    c.check(ok, f"{name}: exit {code}, stderr {lines}")
+c.finish()
