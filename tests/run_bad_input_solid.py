@@ -23,6 +23,9 @@ cases = [
     ("negative speed", ["-scene", "rotor", "-rotor_speed", -0.1], ["-rotor_speed", "'-0.1'", "positive"]),
     ("spring range beyond h", ["-scene", "rotor-md", "-spring_range", 3.5], ["-spring_range", "'3.5'", "0 < range < h"]),
     ("tensile crystal narrower than 2h", ["-scene", "tensile", "-tensile_nx", 4], ["box edge x", "at least 2h"]),
+    ("symplectic split of a state with stress", ["-scene", "planewave", "-ts_type", "basicsymplectic"],
+     ["-ts_type", "'basicsymplectic'", "positions and velocities only", "sxx", "use rk"]),
+    ("negative closest approach", ["-scene", "tensile", "-closest_approach", -0.5], ["-closest_approach", "'-0.5'", "non-negative"]),
     ("elastic scene in 3D", ["-scene", "rotor", "-dim", 3], ["-dim", "'3'", "two-dimensional"]),
 ]
 for k, (name, args, needles) in enumerate(cases):

@@ -60,6 +60,22 @@ if shutil.which("h5ls"):
 else:
     c.check(False, "h5ls (hdf5-tools) is installed")
 
+# An elastic solid's snapshots also carry its energy and stress (Tensor6 for ParaView), and
+# the CSV and HDF5 copies of one snapshot hold the same numbers.
+solid_dir = os.path.join(a.workdir, "solid")
+code, _, err = run(a.spam_ark, ["-scene", "rotor", "-rotor_n", 2, "-ts_max_time", 1, "-snapshot_interval", 1,
+                                "-snapshot_csv", "-output_dir", solid_dir], solid_dir)
+attrs = {e.get("Name"): e.get("AttributeType") for e in ET.parse(os.path.join(solid_dir, "snapshots.xmf")).getroot().iter("Attribute")} if code == 0 else {}
+c.check(attrs == {"velocity": "Vector", "density": "Scalar", "energy": "Scalar", "stress": "Tensor6"}, f"solid XDMF attributes {attrs} {err.strip()}")
+if code == 0 and shutil.which("h5dump"):
+    dump = subprocess.run(["h5dump", "-m", "%.17g", "-d", "/stress", "-y", "-w", "0", os.path.join(solid_dir, "snap_00001.h5")], capture_output=True, text=True).stdout
+    h5 = [float(x) for x in re.findall(r"-?\d+\.?\d*(?:e[-+]?\d+)?", dump.split("DATA {")[1].split("}")[0])]
+    rows = open(os.path.join(solid_dir, "particles_00001.csv")).read().splitlines()[1:]
+    cols = rows[0].split(",")
+    csv6 = [float(r.split(",")[cols.index(k)]) for r in rows[1:] for k in ("sxx", "sxy", "sxz", "syy", "syz", "szz")]
+    c.check(len(h5) == len(csv6) == 6 * 19 and max(abs(u - w) for u, w in zip(h5, csv6)) < 1e-12 and max(map(abs, csv6)) > 0,
+            f"stress of {len(csv6) // 6} particles, HDF5 = CSV, max |sigma| {max(map(abs, csv6)) if csv6 else 0:.3g}")
+
 # The chart of the run.
 png = os.path.join(run_dir, "expansion.png")
 p = subprocess.run([sys.executable, os.path.join(root, "examples", "plot_expansion.py"), run_dir, "-o", png],

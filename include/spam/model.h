@@ -25,6 +25,10 @@ typedef struct {
   double internal, torque;
 } SpamModelDiag;
 typedef PetscErrorCode (*SpamModelDiagFn)(struct SpamSim *sim, const double *y, SpamModelDiag *d);
+/* A jump of state y between steps (closest-approach reflection): sets *changed to the
+ * number of particles or pairs it altered. The driver then restarts the integrator, whose
+ * history (FSAL stage, Adams differences) belongs to the state before the jump. */
+typedef PetscErrorCode (*SpamPostStepFn)(struct SpamSim *sim, double *y, PetscInt *changed);
 /* Set-up once the swarm is filled (scratch, bodies, bond lists, initial density). */
 typedef PetscErrorCode (*SpamModelSetUpFn)(struct SpamSim *sim);
 
@@ -47,6 +51,7 @@ typedef struct {
   SpamSpringParams springs;      /* molecular springs (rotor-md)                       */
   SpamModelDiagFn  diag;         /* NULL: internal energy from the isentrope           */
   SpamModelSetUpFn setup;        /* NULL: nothing beyond SpamSimSetUp                   */
+  SpamPostStepFn   post_step;    /* NULL: the state never jumps                          */
 } SpamModel;
 
 PetscErrorCode SpamModelIsentropeSetUp(int dim, double h, double mass, double gamma, double kappa, SpamModel *m);

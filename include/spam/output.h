@@ -32,7 +32,11 @@ typedef struct {
 PetscErrorCode SpamTimeseriesAppend(SpamOutput *o, const SpamSim *sim, const SpamProgress *pr, const SpamDiagnostics *d, const SpamDiagnostics *d0);
 PetscErrorCode SpamStepsAppend(SpamOutput *o, const SpamProgress *pr);
 
-/* Particle snapshot: HDF5 + XDMF (ParaView) and/or CSV. Needs sim->rho of state y. */
+/* Per-particle snapshot fields: the density the model uses, the stress in Tensor6 order. */
+double SpamSnapshotDensity(const SpamSim *sim, const double *y, PetscInt i);
+void   SpamSnapshotStress6(const SpamSim *sim, const double *y, PetscInt i, double t6[6]);
+/* Particle snapshot: HDF5 + XDMF (ParaView) and/or CSV (positions, velocities, density,
+ * and energy and stress where the state has them). Needs sim->rho of state y. */
 PetscErrorCode SpamSnapshotWrite(SpamOutput *o, SpamSim *sim, const double *y, double t, const char *tag);
 /* Particles as a file-scene CSV (x,y[,z],vx,vy[,vz],m) at full precision. */
 PetscErrorCode SpamParticlesCsvWrite(const char *path, const SpamSim *sim, const double *y);

@@ -115,7 +115,8 @@ PetscErrorCode SpamSetUpSolid(SpamSim *sim);
  * v_i -= (v_ij.e) e, v_j += (v_ij.e) e (equal masses: momentum and kinetic energy are
  * kept). It changes the state y in place and returns the number of reflections. This is
  * a jump between steps, not a right-hand side: the driver must call it after each
- * accepted step and restart the integrator when it reflected (not wired yet). */
+ * accepted step and restart the integrator when it reflected (the solid model's
+ * post_step with -closest_approach > 0). */
 PetscErrorCode SpamClosestApproachReflect(SpamSim *sim, double *y, double dmin, PetscInt *nreflected);
 /* The lattice sum G(k) = sum_l sin(k.l) (w'/r)(|l|) l of the linearised analyses. */
 void SpamLatticeGradientSum(double h, double a, const double k[2], double G[2]);

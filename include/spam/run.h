@@ -34,6 +34,7 @@ typedef struct {
   char       reason[256];
   double     t;
   long       steps, attempts, rejected, rhs_evals, limited;
+  long       jumps, jump_steps;      /* post-step jumps (reflections), steps with any */
   char       method[96], adapt[32];  /* e.g. "rk 5dp", "basic"; fixed steps: "none"   */
   double     fixed_dt;               /* the fixed step, or 0 when adaptive            */
   double     wall;

@@ -36,6 +36,7 @@ typedef struct {
   SpamViscosityMode  viscosity;     /* artificial viscosity                            */
   double             visc_alpha, visc_beta; /* its linear and quadratic coefficients   */
   double             sound_speed;   /* c of the linear term: c_L at rho0 (set-up)      */
+  double             closest_approach; /* reflect approaching pairs nearer (0: off)  */
 } SpamSolidParams;
 
 /* Reads the -solid_*, -density*, -coordinates, -xsph_eps and -angmom* options (with

@@ -168,6 +168,26 @@ static PetscErrorCode SelfSteppingBound(TS ts, SpamTsApp *app)
   PetscFunctionReturn(0);
 }
 
+/* The model's jump between steps (closest-approach reflection). A changed state restarts
+ * the method: an FSAL stage or Adams history computed before the jump is no longer valid. */
+static PetscErrorCode PostStep(TS ts, SpamSim *sim, SpamRunResult *r)
+{
+  PetscScalar *y;
+  PetscInt     changed = 0;
+
+  PetscFunctionBeginUser;
+  if (!sim->model.post_step) PetscFunctionReturn(0);
+  PetscCall(VecGetArray(sim->X, &y));
+  PetscCall(sim->model.post_step(sim, y, &changed));
+  PetscCall(VecRestoreArray(sim->X, &y));
+  if (changed > 0) {
+    r->jumps += changed;
+    r->jump_steps++;
+    PetscCall(TSRestartStep(ts));
+  }
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode FailureReason(TS ts, const SpamTsApp *app, long step, double t, char *why, size_t len)
 {
   TSConvergedReason reason;
@@ -234,6 +254,7 @@ PetscErrorCode SpamRun(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *
       PetscCall(Unstable(sim, out, Xgood, r->t, r, why));
       break;
     }
+    PetscCall(PostStep(ts, sim, r));
     PetscCall(VecCopy(sim->X, Xgood));
     if (limit != SPAM_LIMIT_OUTPUT) dt_prev = p.dt;
     r->t = t;

@@ -123,6 +123,9 @@ static PetscErrorCode TSStep_SpamARKode(TS ts)
 
   PetscFunctionBeginUser;
   PetscCall(TSGetApplicationContext(ts, &app));
+  /* The state jumped between steps (TSRestartStep): drop the FSAL stage and step history. */
+  if (ts->steprestart && ts->steps > 0) PetscCallARK(ERKStepReset(ark->mem, ts->ptime, ark->y));
+  ts->steprestart = PETSC_FALSE;
   PetscCallARK(ERKStepSetStopTime(ark->mem, ts->max_time)); /* set again after each stop */
   flag = ERKStepEvolve(ark->mem, ts->max_time, ark->y, &tret, ARK_ONE_STEP);
   PetscCall(app->perr);

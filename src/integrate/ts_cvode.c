@@ -53,6 +53,9 @@ static PetscErrorCode TSStep_SpamCVode(TS ts)
 
   PetscFunctionBeginUser;
   PetscCall(TSGetApplicationContext(ts, &app));
+  /* The state jumped between steps (TSRestartStep): the Adams history is void, start again. */
+  if (ts->steprestart && ts->steps > 0) PetscCallCV(CVodeReInit(cv->mem, ts->ptime, cv->y));
+  ts->steprestart = PETSC_FALSE;
   PetscCallCV(CVodeSetStopTime(cv->mem, ts->max_time));
   /* CVODE has no stability function: the physical bound, computed by the loop, caps the step. */
   PetscCallCV(CVodeSetMaxStep(cv->mem, isfinite(app->bound) ? app->bound : 0.0));

@@ -33,7 +33,7 @@ PetscErrorCode SpamSnapshotCsvWrite(const char *path, const SpamSim *sim, const 
 
   PetscFunctionBeginUser;
   PetscCall(SpamFileBegin(path, &f));
-  fprintf(f, "# t=%.10g\nx,y,z,vx,vy,vz,rho\n", t);
+  fprintf(f, "# t=%.10g\nx,y,z,vx,vy,vz,rho%s%s\n", t, l->e >= 0 ? ",e" : "", l->s >= 0 ? ",sxx,sxy,sxz,syy,syz,szz" : "");
   for (PetscInt i = 0; i < sim->n; i++) {
     const double *p = y + (size_t)i * l->nvar;
     double        x[3] = {0, 0, 0}, v[3] = {0, 0, 0};
@@ -42,7 +42,14 @@ PetscErrorCode SpamSnapshotCsvWrite(const char *path, const SpamSim *sim, const 
       v[d] = p[l->v + d];
     }
     /* Full precision: studies measure integrator errors from these snapshots. */
-    fprintf(f, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.9g\n", x[0], x[1], x[2], v[0], v[1], v[2], sim->rho[i]);
+    fprintf(f, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g", x[0], x[1], x[2], v[0], v[1], v[2], SpamSnapshotDensity(sim, y, i));
+    if (l->e >= 0) fprintf(f, ",%.17g", p[l->e]);
+    if (l->s >= 0) {
+      double t6[6];
+      SpamSnapshotStress6(sim, y, i, t6);
+      for (int k = 0; k < 6; k++) fprintf(f, ",%.17g", t6[k]);
+    }
+    fputc('\n', f);
   }
   PetscCall(SpamFileCommit(path, f));
   PetscFunctionReturn(0);

@@ -1,4 +1,5 @@
-/* Particle snapshots: one HDF5 file per snapshot (positions, velocities, density) and an
+/* Particle snapshots: one HDF5 file per snapshot (positions, velocities, density, and
+ * energy and stress where the model carries them) and an
  * XDMF index over all of them that ParaView opens as a time series of point clouds. */
 #include <spam/output.h>
 #include <hdf5.h>
@@ -30,13 +31,21 @@ static PetscErrorCode WriteHdf5(const char *path, const SpamSim *sim, const doub
 {
   const SpamLayout *l = &sim->model.layout;
   const PetscInt    n = sim->n;
-  double           *x, *v;
+  double           *x, *v, *rho, *e = NULL, *s6 = NULL;
   char              tmp[PETSC_MAX_PATH_LEN + 8];
   hid_t             file;
 
   PetscFunctionBeginUser;
   PetscCall(PetscCalloc1(3 * n + 1, &x));
   PetscCall(PetscCalloc1(3 * n + 1, &v));
+  PetscCall(PetscCalloc1(n + 1, &rho));
+  if (l->e >= 0) PetscCall(PetscCalloc1(n + 1, &e));
+  if (l->s >= 0) PetscCall(PetscCalloc1(6 * n + 1, &s6));
+  for (PetscInt i = 0; i < n; i++) {
+    rho[i] = SpamSnapshotDensity(sim, y, i);
+    if (e) e[i] = y[(size_t)i * l->nvar + l->e];
+    if (s6) SpamSnapshotStress6(sim, y, i, s6 + 6 * i);
+  }
   for (PetscInt i = 0; i < n; i++)
     for (int d = 0; d < sim->model.dim; d++) {
       x[3 * i + d] = sim->box.lo[d] + SpamBoxLocal(&sim->box, d, y[(size_t)i * l->nvar + l->x + d]);
@@ -47,11 +56,16 @@ static PetscErrorCode WriteHdf5(const char *path, const SpamSim *sim, const doub
   PetscCallH5(file);
   PetscCall(WriteDataset(file, "/positions", x, (hsize_t)n, 3));
   PetscCall(WriteDataset(file, "/velocities", v, (hsize_t)n, 3));
-  PetscCall(WriteDataset(file, "/density", sim->rho, (hsize_t)n, 1));
+  PetscCall(WriteDataset(file, "/density", rho, (hsize_t)n, 1));
+  if (e) PetscCall(WriteDataset(file, "/energy", e, (hsize_t)n, 1));
+  if (s6) PetscCall(WriteDataset(file, "/stress", s6, (hsize_t)n, 6));
   PetscCallH5(H5Fclose(file));
   PetscCheck(rename(tmp, path) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot rename %s", tmp);
   PetscCall(PetscFree(x));
   PetscCall(PetscFree(v));
+  PetscCall(PetscFree(rho));
+  PetscCall(PetscFree(e));
+  PetscCall(PetscFree(s6));
   PetscFunctionReturn(0);
 }
 
@@ -62,7 +76,14 @@ static void XdmfItem(FILE *f, PetscInt n, int ncomp, int snap, const char *set)
 }
 
 /* Rewrites the whole index so that it always lists exactly the snapshots on disk. */
-static PetscErrorCode WriteXdmfIndex(const SpamOutput *o, PetscInt n)
+static void XdmfAttribute(FILE *f, PetscInt n, int snap, const char *name, const char *type, int ncomp, const char *set)
+{
+  fprintf(f, "      <Attribute Name=\"%s\" AttributeType=\"%s\" Center=\"Node\">\n", name, type);
+  XdmfItem(f, n, ncomp, snap, set);
+  fprintf(f, "      </Attribute>\n");
+}
+
+static PetscErrorCode WriteXdmfIndex(const SpamOutput *o, const SpamLayout *l, PetscInt n)
 {
   char  path[PETSC_MAX_PATH_LEN];
   FILE *f;
@@ -75,11 +96,12 @@ static PetscErrorCode WriteXdmfIndex(const SpamOutput *o, PetscInt n)
     fprintf(f, "    <Grid Name=\"snap_%05d\" GridType=\"Uniform\">\n      <Time Value=\"%.10g\"/>\n", s, o->snap_times[s]);
     fprintf(f, "      <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"%" PetscInt_FMT "\" NodesPerElement=\"1\"/>\n      <Geometry GeometryType=\"XYZ\">\n", n);
     XdmfItem(f, n, 3, s, "/positions");
-    fprintf(f, "      </Geometry>\n      <Attribute Name=\"velocity\" AttributeType=\"Vector\" Center=\"Node\">\n");
-    XdmfItem(f, n, 3, s, "/velocities");
-    fprintf(f, "      </Attribute>\n      <Attribute Name=\"density\" AttributeType=\"Scalar\" Center=\"Node\">\n");
-    XdmfItem(f, n, 1, s, "/density");
-    fprintf(f, "      </Attribute>\n    </Grid>\n");
+    fprintf(f, "      </Geometry>\n");
+    XdmfAttribute(f, n, s, "velocity", "Vector", 3, "/velocities");
+    XdmfAttribute(f, n, s, "density", "Scalar", 1, "/density");
+    if (l->e >= 0) XdmfAttribute(f, n, s, "energy", "Scalar", 1, "/energy");
+    if (l->s >= 0) XdmfAttribute(f, n, s, "stress", "Tensor6", 6, "/stress");
+    fprintf(f, "    </Grid>\n");
   }
   fprintf(f, "    </Grid>\n  </Domain>\n</Xdmf>\n");
   PetscCall(SpamFileCommit(path, f));
@@ -109,7 +131,7 @@ PetscErrorCode SpamSnapshotWrite(SpamOutput *o, SpamSim *sim, const double *y, d
   }
   if (o->hdf5) {
     o->nsnap++;
-    PetscCall(WriteXdmfIndex(o, sim->n));
+    PetscCall(WriteXdmfIndex(o, &sim->model.layout, sim->n));
   } else o->nsnap++;
   PetscFunctionReturn(0);
 }

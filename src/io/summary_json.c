@@ -34,6 +34,41 @@ static void Str(FILE *f, const char *key, const char *v)
   fprintf(f, "\",\n");
 }
 
+/* The model and the settings that define it: a study script reads them to label runs. */
+static void ModelFields(FILE *f, const SpamModel *m)
+{
+  const SpamSolidParams *s = &m->solid;
+
+  Str(f, "model", m->name);
+  if (!strcmp(m->name, "isentrope")) {
+    Num(f, "eos_gamma", m->eos.gamma);
+    Num(f, "eos_kappa", m->eos.kappa);
+  } else if (!strcmp(m->name, "springs")) {
+    Num(f, "spring_k", m->springs.k);
+    Num(f, "spring_r0", m->springs.r0);
+  } else {
+    if (s->material == SPAM_MATERIAL_GAS) Num(f, "gas_gamma", s->gamma);
+    else {
+      Num(f, "solid_lambda", s->lambda);
+      Num(f, "solid_eta", s->eta);
+    }
+    Str(f, "density", SpamDensityModeNames[s->density]);
+    Str(f, "density_initial", SpamDensityInitialNames[s->density_initial]);
+    Str(f, "density_mean", s->rho_geometric ? "geometric" : "arithmetic");
+    Str(f, "coordinates", SpamCoordsModeNames[s->coords]);
+    Num(f, "xsph_eps", s->xsph_eps);
+    Str(f, "angmom", SpamAngmomModeNames[s->angmom]);
+    Str(f, "angmom_scope", s->per_body ? "body" : "global");
+    Str(f, "viscosity", SpamViscosityModeNames[s->viscosity]);
+    Num(f, "viscosity_alpha", s->visc_alpha);
+    Num(f, "viscosity_beta", s->visc_beta);
+    Num(f, "viscosity_shear", s->shear_visc);
+    Num(f, "viscosity_bulk", s->bulk_visc);
+    Num(f, "conductivity", s->conductivity);
+    Num(f, "closest_approach", s->closest_approach);
+  }
+}
+
 PetscErrorCode SpamSummaryWrite(const SpamOutput *out, const SpamSim *sim, const SpamRunOptions *o, const SpamRunResult *r)
 {
   const SpamDiagnostics *a = &r->first, *b = &r->last;
@@ -53,8 +88,7 @@ PetscErrorCode SpamSummaryWrite(const SpamOutput *out, const SpamSim *sim, const
   fprintf(f, "  \"dim\": %d,\n  \"n_particles\": %" PetscInt_FMT ",\n", sim->model.dim, sim->nglobal);
   Num(f, "h", sim->model.kernel.h);
   Num(f, "mass", sim->model.mass);
-  Num(f, "eos_gamma", sim->model.eos.gamma);
-  Num(f, "eos_kappa", sim->model.eos.kappa);
+  ModelFields(f, &sim->model);
   Vec3(f, "box_lo", sim->box.lo);
   Vec3(f, "box_len", sim->box.len);
   Str(f, "method", r->method);
@@ -67,6 +101,7 @@ PetscErrorCode SpamSummaryWrite(const SpamOutput *out, const SpamSim *sim, const
   Num(f, "t_end", o->t_end);
   Num(f, "t_final", r->t);
   fprintf(f, "  \"steps\": %ld,\n  \"rejected_steps\": %ld,\n  \"step_attempts\": %ld,\n  \"rhs_evals\": %ld,\n  \"bound_limited_steps\": %ld,\n", r->steps, r->rejected, r->attempts, r->rhs_evals, r->limited);
+  fprintf(f, "  \"post_step_jumps\": %ld,\n  \"steps_with_jumps\": %ld,\n", r->jumps, r->jump_steps);
   fprintf(f, "  \"neighbour_builds\": %ld,\n  \"neighbour_list_grows\": %ld,\n", sim->nl.builds, sim->nl.grows);
   Num(f, "wall_time_s", r->wall);
   Num(f, "rhs_time_s", sim->stats.rhs_time);

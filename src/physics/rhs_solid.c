@@ -154,6 +154,14 @@ static PetscErrorCode SolidSoundSpeed(SpamSim *sim, const double *y, double *cma
   PetscFunctionReturn(0);
 }
 
+/* Closest-approach reflection after each accepted step (PRE Sec. IV). */
+static PetscErrorCode SolidClosestApproach(SpamSim *sim, double *y, PetscInt *changed)
+{
+  PetscFunctionBeginUser;
+  PetscCall(SpamClosestApproachReflect(sim, y, sim->model.solid.closest_approach, changed));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamModelSolidSetUp(int dim, double h, double mass, const SpamSolidParams *p, SpamModel *m)
 {
   PetscFunctionBeginUser;
@@ -174,6 +182,7 @@ PetscErrorCode SpamModelSolidSetUp(int dim, double h, double mass, const SpamSol
   m->max_sound_speed = SolidSoundSpeed;
   m->diag  = SpamDiagSolid;
   m->setup = SpamSetUpSolid;
+  if (p->closest_approach > 0) m->post_step = SolidClosestApproach;
   PetscCall(PetscStrncpy(m->name, p->material == SPAM_MATERIAL_GAS ? "gas" : "elastic", sizeof m->name));
   PetscFunctionReturn(0);
 }

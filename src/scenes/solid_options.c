@@ -65,6 +65,7 @@ PetscErrorCode SpamSolidOptions(SpamSolidParams *p)
   PetscCall(PetscOptionsString("-angmom_scope", "Torque scaling over: global or body (each connected body)", "README", scope, scope, sizeof scope, NULL));
   PetscCall(PetscOptionsString("-viscosity", "Artificial viscosity: none, monaghan (pair Pi_ij) or vonneumann (particle q_i)", "README", visc, visc, sizeof visc, NULL));
   PetscCall(PetscOptionsReal("-viscosity_alpha", "Linear coefficient alpha (alpha c h)", "README", p->visc_alpha, &p->visc_alpha, NULL));
+  PetscCall(PetscOptionsReal("-closest_approach", "Reflect the radial relative velocity of approaching pairs nearer than this, after each step (0: off; PRE Sec. IV)", "README", p->closest_approach, &p->closest_approach, NULL));
   PetscCall(PetscOptionsReal("-viscosity_beta", "Quadratic coefficient beta (beta h^2)", "README", p->visc_beta, &p->visc_beta, NULL));
   PetscOptionsEnd();
   PetscCall(Choice("-material", mat, SpamMaterialNames, 2, &k));
@@ -80,6 +81,7 @@ PetscErrorCode SpamSolidOptions(SpamSolidParams *p)
   }
   PetscCall(Positive("-viscosity_alpha", p->visc_alpha, PETSC_TRUE));
   PetscCall(Positive("-viscosity_beta", p->visc_beta, PETSC_TRUE));
+  PetscCall(Positive("-closest_approach", p->closest_approach, PETSC_TRUE));
   PetscCall(Choice("-viscosity", visc, SpamViscosityModeNames, 3, &k));
   p->viscosity = (SpamViscosityMode)k;
   PetscCall(Positive("-solid_lambda", p->lambda, PETSC_TRUE));
