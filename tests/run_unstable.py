@@ -7,7 +7,10 @@
 2. With -step_cfl C (or -step_force C'), adaptive steps are capped by C h / c_max (or
    C' sqrt(h/|a|max)); steps.csv says which limit set each step and summary.json counts
    them. In the expansion the density only falls, so c_max <= c_max(0) and every CFL-limited
-   step is at least C h / c_max(0)."""
+   step is at least C h / c_max(0).
+3. Too many rejections: a first step of 5 (about 1.7 h/c0) at rtol 1e-10 is rejected by
+   every adaptive method; -ts_max_reject 1 makes that a failure (exit 3, the method's own
+   flag in the reason), while the default (10) lets the controller recover."""
 import glob
 import math
 import os
@@ -50,4 +53,13 @@ for method, extra in (("arkode", []), ("rk 5dp", ["-ts_type", "rk", "-ts_rk_type
                     f"{method}: CFL-limited steps >= C h / c_max(0) = {CFL * H / c0:.4f} (smallest {min(limited):.4f})")
 code, _, _ = run(a.spam_ark, common + ["-step_cfl", -1], os.path.join(a.workdir, "bad"))
 c.check(code == 2, f"-step_cfl -1 is bad input (exit {code})")
+for name, extra, flag in (("arkode", [], "ARK_ERR_FAILURE"), ("cvode", ["-ts_type", "cvode"], "CV_"),
+                          ("rk 5dp", ["-ts_type", "rk", "-ts_rk_type", "5dp"], "DIVERGED_STEP_REJECTED")):
+    for max_reject, want in ((1, 3), (None, 0)):
+        out = os.path.join(a.workdir, f"reject_{name.replace(' ', '')}_{max_reject}")
+        args = common + ["-ts_max_time", 5, "-output_interval", 0, "-snapshot_interval", 0, "-ts_rtol", 1e-10, "-ts_dt", 5] + extra
+        code, _, err = run(a.spam_ark, args + (["-ts_max_reject", max_reject] if max_reject else []), out)
+        s = summary(out)
+        ok = code == want and (flag in s["reason"] if want else s["status"] == "ok" and s["rejected_steps"] >= 1)
+        c.check(ok, f"{name}, -ts_max_reject {max_reject or 'default'}: exit {code}, {s['rejected_steps']} rejected, {s['reason'] or s['status']}")
 c.finish()

@@ -104,6 +104,8 @@ static PetscErrorCode TSSetUp_SpamARKode(TS ts)
   if (app->o->classic_weights) PetscCallARK(ERKStepSStolerances(ark->mem, app->o->rtol, app->o->atol));
   else PetscCallARK(ERKStepWFtolerances(ark->mem, SpamErrorWeights));
   PetscCallARK(ERKStepSetMaxNumSteps(ark->mem, -1)); /* the loop counts steps itself */
+  /* -ts_max_reject means the same for every method: rejections of one step before it fails. */
+  if (ts->max_reject > 0) PetscCallARK(ERKStepSetMaxErrTestFails(ark->mem, (int)ts->max_reject));
   PetscCall(ConfigureController(ark->mem, app->o));
   if (app->o->fixed_step <= 0 && (app->o->cfl > 0 || app->o->force > 0)) {
     PetscCallARK(ERKStepSetStabilityFn(ark->mem, ArkStability, app));

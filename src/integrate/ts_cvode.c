@@ -38,6 +38,11 @@ static PetscErrorCode TSSetUp_SpamCVode(TS ts)
   PetscCallCV(CVodeSetNonlinearSolver(cv->mem, cv->nls));
   PetscCallCV(CVodeSetMaxOrd(cv->mem, (int)app->o->cvode_max_order));
   PetscCallCV(CVodeSetMaxNumSteps(cv->mem, -1)); /* the loop counts steps itself */
+  /* -ts_max_reject means the same for every method: rejections of one step before it fails. */
+  if (ts->max_reject > 0) {
+    PetscCallCV(CVodeSetMaxErrTestFails(cv->mem, (int)ts->max_reject));
+    PetscCallCV(CVodeSetMaxConvFails(cv->mem, (int)ts->max_reject));
+  }
   if (app->o->dt_first > 0) PetscCallCV(CVodeSetInitStep(cv->mem, app->o->dt_first));
   app->self_stepping = PETSC_TRUE;
   PetscFunctionReturn(0);
