@@ -62,9 +62,12 @@ DEFAULT_METHODS = ["BS3=-arkode_table ARKODE_BOGACKI_SHAMPINE_4_2_3",
                    "CVODE=-ts_type cvode",
                    "rk5dp=-ts_type rk -ts_rk_type 5dp"]
 DEFAULT_TOLS = [1e-4, 1e-6, 1e-8, 1e-10]
-# Fixed-step methods for the stability study, with their force evaluations per step.
+# Fixed-step methods for the stability study, with their force evaluations per step (the
+# study measures them from the runs; the number here is used only if no trial was stable).
+# PETSc's SSP types take 5 stages (rks2) or 9 (rks3) unless told: SSP3 is the 4-stage
+# third-order SSP RK.
 DEFAULT_FIXED = ["euler=-ts_type euler:1", "Verlet=-ts_type basicsymplectic:1", "Heun=-ts_type rk -ts_rk_type 2a -ts_adapt_type none:2",
-                 "SSP3=-ts_type ssp -ts_ssp_type rks3:3", "RK4=-ts_type rk -ts_rk_type 4 -ts_adapt_type none:4",
+                 "SSP3=-ts_type ssp -ts_ssp_type rks3 -ts_ssp_nstages 4:4", "RK4=-ts_type rk -ts_rk_type 4 -ts_adapt_type none:4",
                  "DP5=-ts_type rk -ts_rk_type 5dp -ts_adapt_type none:6", "V6=-ts_type rk -ts_rk_type 6vr -ts_adapt_type none:9"]
 DEFAULT_SCENE = "-expansion_n 24 -h 3 -ts_max_time 16"
 
@@ -86,13 +89,16 @@ class Progress:
               f"  elapsed {el:.0f} s  eta {eta:.0f} s", flush=True)
 
 
-def spam(binary, args, outdir):
-    """Runs spam-ark unless outdir already holds a finished run; returns (code, skipped)."""
+def spam(binary, args, outdir, refused_ok=False):
+    """Runs spam-ark unless outdir already holds a finished run; returns (code, skipped).
+    Exit 2 (spam-ark refused the input) is returned rather than raised when refused_ok."""
     summ = os.path.join(outdir, "summary.json")
     if os.path.exists(summ):
         return json.load(open(summ)).get("exit_code", 0), True
     os.makedirs(os.path.dirname(outdir) or ".", exist_ok=True)
     p = subprocess.run([binary] + [str(a) for a in args] + ["-output_dir", outdir], capture_output=True, text=True)
+    if p.returncode == 2 and refused_ok:
+        return 2, False
     if p.returncode not in (0, 3):
         raise SystemExit(f"spam-ark failed (exit {p.returncode}): {' '.join(map(str, args))}\n{p.stderr.strip()}")
     if os.path.exists(summ):  # remember the exit code so a resumed study needs no rerun
@@ -285,25 +291,37 @@ def report(out, rows, charts, common):
         f.write("\n".join(lines) + "\n")
 
 
+class Refused(Exception):
+    """spam-ark refused a method for this scene (exit 2, e.g. Verlet on a state with more than x, v)."""
+
+
 def stable(a, common, opts, dt, outdir):
     """A fixed number of steps (not a fixed time), so a large step cannot pass by taking few;
-    kinetic energy above 1.5 times the initial total energy counts as a blow-up."""
+    kinetic energy above --growth times the initial energy counts as a blow-up."""
     code, _ = spam(a.spam_ark, common + opts + ["-ts_dt", "%.10g" % dt, "-ts_max_steps", a.steps,
                                                 "-ts_max_time", "%.10g" % (dt * (a.steps + 0.5)),
-                                                "-unstable_energy_growth", a.growth], outdir)
+                                                "-unstable_energy_growth", a.growth], outdir, refused_ok=True)
+    if code == 2:
+        raise Refused()
     return code == 0
 
 
-def largest_stable_step(a, common, opts, label, lo, hi, rel=0.005):
-    """Bisection on dt between a stable lo and an unstable hi, to a relative width rel."""
-    k = 0
-    while stable(a, common, opts, hi, os.path.join(a.out, "stability", f"{label}_{hi:.10g}")):
+def largest_stable_step(a, common, opts, label, lo, hi):
+    """Bisection on dt between a stable lo and an unstable hi, to a relative width --rel.
+    A method with no stable step at all (Euler or Heun on a purely oscillatory problem,
+    whose stability regions miss the imaginary axis, given enough steps) stops shrinking
+    after 20 halvings and reports 0."""
+    k, trial = 0, lambda dt: stable(a, common, opts, dt, os.path.join(a.out, "stability", f"{label}_{dt:.10g}"))
+    while trial(hi):
         lo, hi = hi, hi * 2  # grow until a step is unstable
-    while not stable(a, common, opts, lo, os.path.join(a.out, "stability", f"{label}_{lo:.10g}")):
-        hi, lo = lo, lo / 2  # shrink until a step is stable
-    while (hi - lo) > rel * lo and k < 40:
+    halvings = 0
+    while not trial(lo):
+        hi, lo, halvings = lo, lo / 2, halvings + 1  # shrink until a step is stable
+        if halvings == 20:
+            return 0.0, hi
+    while (hi - lo) > a.rel * lo and k < 40:
         mid = 0.5 * (lo + hi)
-        if stable(a, common, opts, mid, os.path.join(a.out, "stability", f"{label}_{mid:.10g}")):
+        if trial(mid):
             lo = mid
         else:
             hi = mid
@@ -311,35 +329,94 @@ def largest_stable_step(a, common, opts, label, lo, hi, rel=0.005):
     return lo, hi
 
 
+# Scenes of the stability study: options, the time unit of the chart and its name.
+# The expansion gas has c0 = 1 (gamma 2, kappa 1/2 at rho 1) and h = 3; the plane-wave
+# crystal's fastest sound is longitudinal, c_L = sqrt((lambda + 2 eta) / rho0) = sqrt(9/8);
+# the chain's unit is 1/w_max = sqrt(m/k)/2, so w_max dt is read off directly.
+STABILITY_SCENES = {
+    "expansion": ("-expansion_n 16 -h 3", 3.0, "h/c0"),
+    "planewave": (f"-options_file {os.path.join(REPO, 'options', 'planewave.opts')}", 3.0 / math.sqrt(9.0 / 8.0), "h/c_L"),
+    "chain": ("-scene chain -dim 1 -chain_n 64", 0.5, "1/w_max"),
+}
+# Where the stability region of each default method meets the imaginary axis (|R(iy)| <= 1
+# for |y| up to this): the closed-form limit w_max dt on a harmonic problem. Euler and
+# Heun (the truncated exponentials of degree 1 and 2) have |R(iy)| > 1 for every y > 0;
+# RK4's is that of degree 4, |R(iy)|^2 = 1 - y^6/72 + y^8/576 = 1 at y = 2 sqrt 2; the
+# 4-stage SSP RK3 has R = 1 + z + z^2/2 + z^3/6 + z^4/48, |R(iy)|^2 = 1 - y^4/24 + y^6/144
+# + y^8/2304, which is 1 at y^2 = 4 (sqrt 10 - 2); Verlet's step map has trace 2 - y^2,
+# stable while y <= 2.
+IMAGINARY_AXIS_LIMIT = {"euler": 0.0, "Heun": 0.0, "SSP3": 2.0 * math.sqrt(math.sqrt(10.0) - 2.0),
+                        "RK4": 2.0 * math.sqrt(2.0), "Verlet": 2.0}
+
+
+def measured_stages(trial_dir, declared):
+    """Force evaluations per step of a finished stable trial (Verlet's cached force: 1),
+    or the declared number when there is no such trial."""
+    summ = os.path.join(trial_dir, "summary.json")
+    if not os.path.exists(summ):
+        return int(declared or 0)
+    s = json.load(open(summ))
+    return int(round(s["rhs_evals"] / max(s["steps"], 1)))
+
+
+def stability_scenes(a):
+    """The scenes asked for by --scene (presets), or the one of --scene-opts, or all presets."""
+    if a.scene:
+        return [(name,) + STABILITY_SCENES[name] for name in a.scene]
+    if a.scene_opts is not None:
+        return [("scene", a.scene_opts, a.time_unit, "h/c0")]
+    return [(name,) + v for name, v in STABILITY_SCENES.items()]
+
+
 def stability(a):
-    common = a.scene_opts.split() + ["-snapshot_interval", 0, "-output_interval", 0, "-diag_entropy", 0]
     rows = []
     specs = a.method or DEFAULT_FIXED
-    prog = Progress(len(specs))
-    for spec in specs:
-        head, _, stages = spec.rpartition(":")
-        label, _, opts = head.partition("=")
-        lo, hi = largest_stable_step(a, common, opts.split(), label, a.dt_guess, 2 * a.dt_guess)
-        rows.append({"method": label, "options": opts, "force_evals_per_step": int(stages),
-                     "dt_stable": lo, "dt_unstable": hi, "dt_limit_h_over_c": lo / a.time_unit,
-                     "cost_per_unit_time": int(stages) / lo})
-        prog.step(f"{label}: stable up to dt {lo:.5g} ({lo / a.time_unit:.4f} h/c0)")
+    scenes = stability_scenes(a)
+    prog = Progress(len(specs) * len(scenes))
+    for scene, opts_scene, unit, unit_name in scenes:
+        common = opts_scene.split() + ["-snapshot_interval", 0, "-output_interval", 0, "-diag_entropy", 0]
+        b = argparse.Namespace(**vars(a))
+        b.out = os.path.join(a.out, scene) if len(scenes) > 1 or a.scene else a.out
+        for spec in specs:
+            head, _, stages = spec.rpartition(":")
+            label, _, opts = head.partition("=")
+            try:
+                lo, hi = largest_stable_step(b, common, opts.split(), label, a.dt_guess * unit, 2 * a.dt_guess * unit)
+            except Refused:
+                prog.step(f"{scene}, {label}: refused by spam-ark for this scene")
+                continue
+            exact = IMAGINARY_AXIS_LIMIT.get(label, float("nan")) if scene == "chain" else float("nan")
+            stages = measured_stages(os.path.join(b.out, "stability", f"{label}_{lo:.10g}"), stages)
+            rows.append({"scene": scene, "unit": unit_name, "method": label, "options": opts,
+                         "force_evals_per_step": int(stages), "dt_stable": lo, "dt_unstable": hi,
+                         "dt_limit": lo / unit, "closed_form": exact,
+                         "error": (lo / unit / exact - 1) if exact > 0 else float("nan"),
+                         "cost_per_unit_time": int(stages) / lo if lo > 0 else float("inf")})
+            prog.step(f"{scene}, {label}: stable up to dt {lo:.5g} ({lo / unit:.4f} {unit_name})")
     write_csv(os.path.join(a.out, "stability.csv"), rows)
-    fig, ax = plt.subplots(figsize=(6.4, 4.6))
-    for k, r in enumerate(rows):
-        ax.plot(r["force_evals_per_step"], r["dt_limit_h_over_c"], MARKERS[k % len(MARKERS)], label=r["method"], ms=8)
-    ax.set_xlabel("force evaluations per step (stages)")
-    ax.set_ylabel("largest stable step (units of h / c0)")
-    ax.set_title("Stability limit of fixed-step methods")
-    ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=8)
-    ax2 = ax.twinx()
-    ax2.plot([r["force_evals_per_step"] for r in rows], [r["cost_per_unit_time"] * a.time_unit for r in rows], "k:", alpha=0.5)
-    ax2.set_ylabel("force evaluations per h/c0 at the limit (dotted)")
-    fig.tight_layout()
-    fig.savefig(os.path.join(a.out, "stability.png"), dpi=110)
-    plt.close(fig)
+    stability_chart(rows, [s[0] for s in scenes], os.path.join(a.out, "stability.png"))
     return rows
+
+
+def stability_chart(rows, scenes, path):
+    """One panel per scene: the largest stable step against stages, closed forms hollow."""
+    fig, axes = plt.subplots(1, len(scenes), figsize=(4.2 * len(scenes), 4.4), squeeze=False)
+    for ax, scene in zip(axes[0], scenes):
+        rs = [r for r in rows if r["scene"] == scene]
+        for k, r in enumerate(rs):
+            m = MARKERS[k % len(MARKERS)]
+            ax.plot(r["force_evals_per_step"], r["dt_limit"], m, color=f"C{k}", ms=8, label=r["method"])
+            if r["closed_form"] == r["closed_form"]:
+                ax.plot(r["force_evals_per_step"], r["closed_form"], m, color=f"C{k}", ms=13, mfc="none")
+        ax.set_xlabel("force evaluations per step (stages)")
+        ax.set_ylabel(f"largest stable step (units of {rs[0]['unit'] if rs else '?'})")
+        ax.set_title(scene + (" (hollow: closed form)" if scene == "chain" else ""), fontsize=10)
+        ax.grid(True, alpha=0.3)
+        ax.legend(fontsize=7)
+    fig.suptitle("Stability limit of fixed-step methods")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
 
 
 DEFAULT_CONTROLLERS = ["ARKODE I=-arkode_adapt i", "ARKODE PI=-arkode_adapt pi", "ARKODE PID=-arkode_adapt pid",
@@ -423,7 +500,7 @@ def gallery(a):
             setattr(b, k, v)
         return fn(b)
     part(precision, scene_opts=DEFAULT_SCENE, t_end=16.0, method=None, tol=None)
-    part(stability, scene_opts="-expansion_n 16 -h 3", method=None, steps=1000)
+    part(stability, scene_opts=None, scene=None, method=None, steps=1000)
     part(controller, scene_opts="-expansion_n 24 -h 3 -ts_max_time 240", method=None)
     part(entropy, n=[32, 48, 64], h=7.0)
 
@@ -433,14 +510,17 @@ def main(argv=None):
     p.add_argument("what", choices=["precision", "stability", "controller", "entropy", "gallery"])
     p.add_argument("--out", required=True)
     p.add_argument("--spam-ark", default=os.path.join(REPO, "build", "spam-ark"))
-    p.add_argument("--scene-opts", default=DEFAULT_SCENE, help=f"scene options (default '{DEFAULT_SCENE}')")
+    p.add_argument("--scene-opts", help=f"scene options (default '{DEFAULT_SCENE}'; stability: the presets of --scene)")
+    p.add_argument("--scene", action="append", choices=list(STABILITY_SCENES),
+                   help="stability: preset scene (repeatable; default all: " + ", ".join(STABILITY_SCENES) + ")")
     p.add_argument("--t-end", type=float, default=16.0, help="end time (must match -ts_max_time in --scene-opts)")
     p.add_argument("--method", action="append", help="LABEL=OPTIONS (stability: LABEL=OPTIONS:FORCE_EVALS_PER_STEP)")
     p.add_argument("--tol", action="append", type=float)
-    p.add_argument("--dt-guess", type=float, default=0.5, help="stability: first step tried")
+    p.add_argument("--dt-guess", type=float, default=0.2, help="stability: first step tried, in the scene's time unit")
     p.add_argument("--time-unit", type=float, default=3.0, help="stability: h/c0 of the scene")
     p.add_argument("--steps", type=int, default=2000, help="stability: steps of each trial run")
     p.add_argument("--growth", type=float, default=1.5, help="stability: KE / initial energy that counts as unstable")
+    p.add_argument("--rel", type=float, default=0.005, help="stability: relative width at which the bisection stops")
     p.add_argument("--loose-tol", type=float, default=1e-2, help="controller: the loose tolerance")
     p.add_argument("--n", action="append", type=int, help="entropy: lattice sizes (default 32, 48, 64)")
     p.add_argument("--h", type=float, default=7.0, help="entropy: kernel range")
@@ -448,6 +528,8 @@ def main(argv=None):
     os.makedirs(a.out, exist_ok=True)
     if not os.access(a.spam_ark, os.X_OK):
         sys.exit(f"study.py: no spam-ark at {a.spam_ark} (build it, or pass --spam-ark)")
+    if a.what in ("precision", "controller"):
+        a.scene_opts = a.scene_opts or DEFAULT_SCENE
     if a.what == "gallery":
         gallery(a)
     else:
