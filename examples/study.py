@@ -5,6 +5,7 @@
     study.py stability  [--scene-opts ...] [--method LABEL=OPTIONS ...] --out DIR
     study.py controller [--scene-opts ...] [--method LABEL=OPTIONS ...] [--loose-tol T] --out DIR
     study.py entropy    [--n N ...] --out DIR
+    study.py tensile    [--sigma0 S ...] [--method LABEL=OPTIONS ...] --out DIR
     study.py gallery    --out DIR        (the default study of README's gallery: all of the above)
 
 precision: every method x tolerance (or x fixed step, for fixed-step methods) runs in its own
@@ -23,6 +24,10 @@ controller: adaptive runs at a loose tolerance, where stability, not accuracy, l
     step: dt(t) of each controller with its rejections, and the step oscillation (RMS of
     log(dt_n+1/dt_n)). Writes controllers.csv and controllers.png.
 entropy: Delta S(t)/(N k ln 4) for several lattice sizes, sum and grid (CiSE 2001 Fig. 3).
+tensile: the tensile instability (PRE 2004 Sec. IV, options/tensile.opts): the growth rate of
+    KE (a line through ln KE over the second half of each run) against the tension sigma0
+    for R0, R2 and R0 with Monaghan viscosity. Writes tensile.csv, tensile.png.
+Each study adds its section to DIR/study.md.
 
 Needs numpy and matplotlib (/usr/bin/python3 on Debian); the spam-ark binary defaults to
 build/spam-ark. Progress and an ETA are printed as runs finish.
@@ -252,7 +257,7 @@ def precision_charts(rows, out):
 
 def report(out, rows, charts, common):
     ok = [r for r in rows if r["status"] == "ok" and r["err_x_final"] == r["err_x_final"]]
-    lines = ["# spam-ark study", "", f"Scene: `spam-ark {' '.join(map(str, common))}`; "
+    lines = ["## Work-precision", "", f"Scene: `spam-ark {' '.join(map(str, common))}`; "
              f"reference ARKODE Dormand-Prince at rtol 1e-13. Table: [precision.csv](precision.csv).", ""]
     if ok:
         best = min(ok, key=lambda r: r["err_x_final"])  # the most accurate run
@@ -287,8 +292,23 @@ def report(out, rows, charts, common):
         rej = sum(r["rejected"] for r in ok)
         lines += [f"![steps]({charts['steps']})", "",
                   f"Reading: steps grow as rtol tightens; {rej} rejected steps in all {len(ok)} runs.", ""]
-    with open(os.path.join(out, "study.md"), "w") as f:
-        f.write("\n".join(lines) + "\n")
+    update_report(out, "precision", lines)
+
+
+def update_report(out, part, lines):
+    """Replaces (or appends) the section of one study in DIR/study.md, so the studies run
+    one at a time (and resumed) each keep their own lines."""
+    path = os.path.join(out, "study.md")
+    text = open(path).read() if os.path.exists(path) else "# spam-ark study\n"
+    begin, end = f"<!-- {part} -->\n", f"<!-- /{part} -->\n"
+    section = begin + "\n".join(lines) + "\n" + end
+    if begin in text and end in text:
+        text = text[:text.index(begin)] + section + text[text.index(end) + len(end):]
+    else:
+        text = text.rstrip("\n") + "\n\n" + section
+    with open(path + ".tmp", "w") as f:
+        f.write(text)
+    os.replace(path + ".tmp", path)
 
 
 class Refused(Exception):
@@ -492,6 +512,83 @@ def entropy(a):
     return rows
 
 
+# The tensile-instability variants (PRE Sec. IV): standard SPAM, Monaghan's velocity
+# averaging, and standard SPAM with Monaghan's artificial viscosity.
+TENSILE_VARIANTS = ["R0=-coordinates R0", "R2=-coordinates R2", "R0 + viscosity=-coordinates R0 -viscosity monaghan"]
+DEFAULT_SIGMA0 = [0.005, 0.01, 0.015, 0.02, 0.025, 0.03]
+
+
+def growth_rate(t, ke):
+    """Exponential rate of KE: slope of a least-squares line through ln KE over the second
+    half of the run, after the kick has spread into the growing modes (the first half
+    holds the transient of the single-particle kick)."""
+    t, ke = np.asarray(t), np.asarray(ke)
+    sel = (t >= 0.5 * t[-1]) & (ke > 0)
+    return float(np.polyfit(t[sel], np.log(ke[sel]), 1)[0]) if sel.sum() >= 3 else float("nan")
+
+
+def tensile(a):
+    """KE growth rate of the tensile crystal (options/tensile.opts: KE growth is the
+    measurement, the energy-growth failure bound is off) against the tension sigma0, for
+    each variant. Writes tensile.csv, tensile.png and its lines in study.md."""
+    base = ["-options_file", os.path.join(REPO, "options", "tensile.opts"), "-snapshot_interval", 0, "-output_interval", 1]
+    variants = parse_methods(a.method or TENSILE_VARIANTS)
+    sigmas = a.sigma0 or DEFAULT_SIGMA0
+    prog, rows, series = Progress(len(variants) * len(sigmas)), [], {}
+    for label, opts in variants:
+        for s0 in sigmas:
+            d = os.path.join(a.out, "tensile", f"{label.replace(' ', '').replace('+', '_')}_{s0:g}")
+            code, skipped = spam(a.spam_ark, base + opts + ["-tensile_stress", s0], d)
+            prog.step(f"tensile {label}, sigma0 {s0:g}", skipped)
+            with open(os.path.join(d, "timeseries.csv")) as f:
+                ts = list(csv.DictReader(f))
+            t, ke = [float(r["t"]) for r in ts], [float(r["kinetic"]) for r in ts]
+            series[(label, s0)] = (t, ke)
+            rows.append({"variant": label, "options": " ".join(opts), "sigma0": s0, "exit_code": code,
+                         "t_end": t[-1], "ke_initial": ke[0], "ke_final": ke[-1], "ke_max_ratio": max(ke) / ke[0],
+                         "rate": growth_rate(t, ke)})
+    write_csv(os.path.join(a.out, "tensile.csv"), rows)
+    tensile_chart(rows, series, os.path.join(a.out, "tensile.png"))
+    lines = ["## Tensile instability", "", "![tensile](tensile.png)", "",
+             "KE growth rate (per unit time, fitted to ln KE over the second half of each run; "
+             "[tensile.csv](tensile.csv)):", "", "| sigma0 | " + " | ".join(v for v, _ in variants) + " |",
+             "|---" * (1 + len(variants)) + "|"]
+    for s0 in sigmas:
+        lines.append(f"| {s0:g} | " + " | ".join(f"{r['rate']:.4f}" for r in rows if r["sigma0"] == s0) + " |")
+    grow = [r for r in rows if r["rate"] > 0.01]
+    lines += ["", f"Reading: {len(grow)} of {len(rows)} runs grow faster than 0.01 per unit time: "
+              + (", ".join(sorted({r['variant'] for r in grow})) or "none") + "."]
+    update_report(a.out, "tensile", lines)
+    return rows
+
+
+def tensile_chart(rows, series, path):
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.4))
+    variants = list(dict.fromkeys(r["variant"] for r in rows))
+    sigmas = sorted({r["sigma0"] for r in rows})
+    for k, v in enumerate(variants):
+        rs = [r for r in rows if r["variant"] == v]
+        ax2.plot([r["sigma0"] for r in rs], [r["rate"] for r in rs], marker=MARKERS[k], label=v)
+        for j, s0 in enumerate(sigmas):
+            t, ke = series[(v, s0)]
+            ax1.semilogy(t, ke, ["-", "--", ":"][k % 3], color=plt.cm.viridis(j / max(len(sigmas) - 1, 1)), lw=1,
+                         label=f"sigma0 {s0:g}" if k == 0 else None)
+    ax1.set_xlabel("t")
+    ax1.set_ylabel("kinetic energy")
+    ax1.set_title("KE(t): " + ", ".join(f"{v} {['solid', 'dashed', 'dotted'][k % 3]}" for k, v in enumerate(variants)), fontsize=8)
+    ax1.legend(fontsize=7)
+    ax1.grid(True, which="both", alpha=0.3)
+    ax2.axhline(0, color="k", lw=0.8)
+    ax2.set_xlabel("tension sigma0")
+    ax2.set_ylabel("fitted growth rate of KE (per unit time)")
+    ax2.set_title("Tensile instability: growth rate against tension", fontsize=10)
+    ax2.legend(fontsize=8)
+    ax2.grid(True, alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
 def gallery(a):
     """The default study behind README's gallery: each part on the scene that shows it."""
     def part(fn, **kw):
@@ -503,11 +600,12 @@ def gallery(a):
     part(stability, scene_opts=None, scene=None, method=None, steps=1000)
     part(controller, scene_opts="-expansion_n 24 -h 3 -ts_max_time 240", method=None)
     part(entropy, n=[32, 48, 64], h=7.0)
+    part(tensile, method=None, sigma0=None)
 
 
 def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("what", choices=["precision", "stability", "controller", "entropy", "gallery"])
+    p.add_argument("what", choices=["precision", "stability", "controller", "entropy", "tensile", "gallery"])
     p.add_argument("--out", required=True)
     p.add_argument("--spam-ark", default=os.path.join(REPO, "build", "spam-ark"))
     p.add_argument("--scene-opts", help=f"scene options (default '{DEFAULT_SCENE}'; stability: the presets of --scene)")
@@ -524,6 +622,7 @@ def main(argv=None):
     p.add_argument("--loose-tol", type=float, default=1e-2, help="controller: the loose tolerance")
     p.add_argument("--n", action="append", type=int, help="entropy: lattice sizes (default 32, 48, 64)")
     p.add_argument("--h", type=float, default=7.0, help="entropy: kernel range")
+    p.add_argument("--sigma0", action="append", type=float, help="tensile: tensions (default " + ", ".join(map(str, DEFAULT_SIGMA0)) + ")")
     a = p.parse_args(argv)
     os.makedirs(a.out, exist_ok=True)
     if not os.access(a.spam_ark, os.X_OK):
@@ -534,7 +633,8 @@ def main(argv=None):
         gallery(a)
     else:
         a.n = a.n or [32, 48, 64]
-        {"precision": precision, "stability": stability, "controller": controller, "entropy": entropy}[a.what](a)
+        {"precision": precision, "stability": stability, "controller": controller, "entropy": entropy,
+         "tensile": tensile}[a.what](a)
     print(f"study.py: results in {a.out}")
 
 
