@@ -1,4 +1,4 @@
-"""Bad input to the elastic scenes and the tensor-path options: one line on stderr naming
+"""Bad input to the elastic scenes, the harmonic chain and the tensor-path options: one line on stderr naming
 the option, the value and what is allowed; exit code 2; no output directory."""
 import os
 
@@ -24,6 +24,9 @@ cases = [
     ("spring range beyond h", ["-scene", "rotor-md", "-spring_range", 3.5], ["-spring_range", "'3.5'", "0 < range < h"]),
     ("tensile crystal narrower than 2h", ["-scene", "tensile", "-tensile_nx", 4], ["box edge x", "at least 2h"]),
     ("elastic scene in 3D", ["-scene", "rotor", "-dim", 3], ["-dim", "'3'", "two-dimensional"]),
+    ("chain in 2D", ["-scene", "chain"], ["-dim", "'2'", "one-dimensional"]),
+    ("odd chain", ["-scene", "chain", "-dim", 1, "-chain_n", 63], ["-chain_n", "'63'", "even"]),
+    ("chain amplitude too large", ["-scene", "chain", "-dim", 1, "-chain_amplitude", 0.3], ["-chain_amplitude", "'0.3'", "< 0.25"]),
 ]
 for k, (name, args, needles) in enumerate(cases):
     out = os.path.join(a.workdir, f"out{k}")
