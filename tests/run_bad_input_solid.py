@@ -1,4 +1,4 @@
-"""Bad input to the elastic scenes and the tensor-path options: one line on stderr naming
+"""Bad input to the elastic scenes, the harmonic chain and the tensor-path options: one line on stderr naming
 the option, the value and what is allowed; exit code 2; no output directory."""
 import os
 
@@ -27,6 +27,9 @@ cases = [
      ["-ts_type", "'basicsymplectic'", "positions and velocities only", "sxx", "use rk"]),
     ("negative closest approach", ["-scene", "tensile", "-closest_approach", -0.5], ["-closest_approach", "'-0.5'", "non-negative"]),
     ("elastic scene in 3D", ["-scene", "rotor", "-dim", 3], ["-dim", "'3'", "two-dimensional"]),
+    ("chain in 2D", ["-scene", "chain"], ["-dim", "'2'", "one-dimensional"]),
+    ("odd chain", ["-scene", "chain", "-dim", 1, "-chain_n", 63], ["-chain_n", "'63'", "even"]),
+    ("chain amplitude too large", ["-scene", "chain", "-dim", 1, "-chain_amplitude", 0.3], ["-chain_amplitude", "'0.3'", "< 0.25"]),
 ]
 for k, (name, args, needles) in enumerate(cases):
     out = os.path.join(a.workdir, f"out{k}")

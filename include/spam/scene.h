@@ -60,6 +60,11 @@ typedef struct {
 } SpamRotorMdParams;
 
 typedef struct {
+  PetscInt n;          /* particles of the ring (even)                               */
+  double   k, amplitude;
+} SpamChainParams;
+
+typedef struct {
   PetscInt nx, ny;
   double   stress, kick;
   SpamSolidParams solid;
@@ -72,6 +77,8 @@ PetscErrorCode SpamRotorOptions(const SpamCommonParams *c, PetscBool pair, SpamR
 PetscErrorCode SpamRotorBuild(const SpamCommonParams *c, const SpamRotorParams *p, SpamParticles *out);
 PetscErrorCode SpamRotorMdOptions(const SpamCommonParams *c, SpamRotorMdParams *p);
 PetscErrorCode SpamRotorMdBuild(const SpamCommonParams *c, const SpamRotorMdParams *p, SpamParticles *out);
+PetscErrorCode SpamChainOptions(const SpamCommonParams *c, SpamChainParams *p);
+PetscErrorCode SpamChainBuild(const SpamCommonParams *c, const SpamChainParams *p, SpamParticles *out);
 PetscErrorCode SpamTensileOptions(const SpamCommonParams *c, SpamTensileParams *p);
 PetscErrorCode SpamTensileBuild(const SpamCommonParams *c, const SpamTensileParams *p, SpamParticles *out);
 

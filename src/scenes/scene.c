@@ -2,8 +2,8 @@
 #include <spam/scene.h>
 #include <spam/errors.h>
 
-static const char *const SceneNames[] = {"expansion", "file", "planewave", "rotor", "rotor-pair", "rotor-md", "tensile"};
-enum { SCENE_EXPANSION, SCENE_FILE, SCENE_PLANEWAVE, SCENE_ROTOR, SCENE_ROTOR_PAIR, SCENE_ROTOR_MD, SCENE_TENSILE, NSCENES };
+static const char *const SceneNames[] = {"expansion", "file", "chain", "planewave", "rotor", "rotor-pair", "rotor-md", "tensile"};
+enum { SCENE_EXPANSION, SCENE_FILE, SCENE_CHAIN, SCENE_PLANEWAVE, SCENE_ROTOR, SCENE_ROTOR_PAIR, SCENE_ROTOR_MD, SCENE_TENSILE, NSCENES };
 
 PetscErrorCode SpamParticlesAllocate(int dim, PetscInt n, SpamParticles *p)
 {
@@ -95,10 +95,12 @@ static PetscErrorCode BuildScene(const SpamCommonParams *c, int s, PetscBool hel
   SpamRotorParams     ro, rp;
   SpamRotorMdParams   md;
   SpamTensileParams   te;
+  SpamChainParams     ch;
 
   PetscFunctionBeginUser;
   if (help || s == SCENE_EXPANSION) PetscCall(SpamExpansionOptions(c, &ep));
   if (help || s == SCENE_FILE) PetscCall(SpamFileOptions(&fp));
+  if (help || s == SCENE_CHAIN) PetscCall(SpamChainOptions(c, &ch));
   if (help || s == SCENE_PLANEWAVE) PetscCall(SpamPlanewaveOptions(c, &pw));
   if (help || s == SCENE_ROTOR) PetscCall(SpamRotorOptions(c, PETSC_FALSE, &ro));
   if (help || s == SCENE_ROTOR_PAIR) PetscCall(SpamRotorOptions(c, PETSC_TRUE, &rp));
@@ -107,6 +109,7 @@ static PetscErrorCode BuildScene(const SpamCommonParams *c, int s, PetscBool hel
   switch (s) {
   case SCENE_EXPANSION: PetscCall(SpamExpansionBuild(c, &ep, p)); break;
   case SCENE_FILE: PetscCall(SpamFileBuild(c, &fp, p)); break;
+  case SCENE_CHAIN: PetscCall(SpamChainBuild(c, &ch, p)); break;
   case SCENE_PLANEWAVE: PetscCall(SpamPlanewaveBuild(c, &pw, p)); break;
   case SCENE_ROTOR: PetscCall(SpamRotorBuild(c, &ro, p)); break;
   case SCENE_ROTOR_PAIR: PetscCall(SpamRotorBuild(c, &rp, p)); break;
@@ -133,14 +136,15 @@ PetscErrorCode SpamSceneCreateSim(MPI_Comm comm, SpamSim *sim)
   {
     char name[64] = "expansion";
     PetscOptionsBegin(comm, NULL, "Scene", "spam-ark");
-    PetscCall(PetscOptionsString("-scene", "Scene that builds the particles: expansion, file, planewave, rotor, rotor-pair, rotor-md or tensile", "README", name, name, sizeof name, NULL));
+    PetscCall(PetscOptionsString("-scene", "Scene that builds the particles: expansion, file, chain, planewave, rotor, rotor-pair, rotor-md or tensile", "README", name, name, sizeof name, NULL));
     PetscOptionsEnd();
     scene = -1;
     for (int s = 0; s < NSCENES; s++)
       if (!strcmp(name, SceneNames[s])) scene = s;
-    if (scene < 0) SPAM_BAD_INPUT("-scene", name, "allowed: expansion, file, planewave, rotor, rotor-pair, rotor-md, tensile");
+    if (scene < 0) SPAM_BAD_INPUT("-scene", name, "allowed: expansion, file, chain, planewave, rotor, rotor-pair, rotor-md, tensile");
   }
   PetscCall(PetscSNPrintf(val, sizeof val, "%d", c.dim));
+  if (scene == SCENE_CHAIN && c.dim != 1) SPAM_BAD_INPUT("-dim", val, "the chain scene is one-dimensional: add -dim 1");
   if (scene >= SCENE_PLANEWAVE && c.dim != 2) SPAM_BAD_INPUT("-dim", val, "the elastic scenes (planewave, rotor, rotor-pair, rotor-md, tensile) are two-dimensional");
   PetscCall(BuildScene(&c, (int)scene, help, &p));
   PetscCall(PetscSNPrintf(val, sizeof val, "%d", size));
