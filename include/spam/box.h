@@ -1,6 +1,7 @@
 /* The simulation box: lower corner, edge lengths and which directions are periodic. */
 #ifndef SPAM_BOX_H
 #define SPAM_BOX_H
+#include <math.h>
 #include <petscsys.h>
 
 typedef struct {
@@ -31,28 +32,34 @@ static inline double SpamBoxMinImage(double dx, double len, double half, int per
   return dx;
 }
 
-/* What the pair loops need of the box, unpacked once per pass: edge, half edge and
- * periodicity per direction (zero edges in directions the box does not have). */
+/* What the pair loops need of the box, unpacked once per pass: edge and half edge per
+ * direction. A direction that is not periodic (or that the box does not have) gets an
+ * infinite half edge, so the minimum image below is two selects without a branch on
+ * periodicity, which lets the compiler vectorise the pair loops. */
 typedef struct {
   double len[3], half[3];
-  int    periodic[3];
 } SpamImage;
 
 static inline SpamImage SpamBoxImage(const SpamBox *b)
 {
-  SpamImage im = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+  SpamImage im = {{0, 0, 0}, {INFINITY, INFINITY, INFINITY}};
   for (int d = 0; d < b->dim; d++) {
-    im.len[d]      = b->len[d];
-    im.half[d]     = 0.5 * b->len[d];
-    im.periodic[d] = b->periodic[d] ? 1 : 0;
+    if (!b->periodic[d]) continue;
+    im.len[d]  = b->len[d];
+    im.half[d] = 0.5 * b->len[d];
   }
   return im;
 }
 
-/* Minimum image of the separation u_i - u_j of two box-local coordinates along d. */
+/* Minimum image of the separation u_i - u_j of two box-local coordinates along d; the
+ * same value as SpamBoxMinImage. */
 static inline double SpamImageDelta(const SpamImage *im, int d, double du)
 {
-  return SpamBoxMinImage(du, im->len[d], im->half[d], im->periodic[d]);
+  /* The shift is selected, the subtraction always done (du - 0 is du), so that no
+   * floating-point operation is conditional: SSE2 has no masked arithmetic. */
+  du -= du > im->half[d] ? im->len[d] : 0.0;
+  du += du < -im->half[d] ? im->len[d] : 0.0;
+  return du;
 }
 
 /* Checks the box against the kernel range: each periodic edge at least 2h so that a

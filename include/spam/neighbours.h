@@ -19,6 +19,7 @@ typedef struct {
   double *xref;                  /* [dim*n] positions at the last build              */
   double *u[3];                  /* [n] per direction: box-local wrapped positions   */
   long    builds, grows;         /* statistics                                       */
+  PetscLogEvent ev_build;        /* -log_view event of a list build (0: none)         */
 } SpamNeighbours;
 
 PetscErrorCode SpamNeighboursCreate(int n, const SpamBox *box, double cutoff, double skin, SpamNeighbours *nl);

@@ -99,6 +99,9 @@ PetscErrorCode SpamSimFillFields(SpamSim *sim, const SpamParticles *p);
 PetscErrorCode SpamFileBuild(const SpamCommonParams *c, const SpamFileParams *p, SpamParticles *out);
 PetscErrorCode SpamParticlesAllocate(int dim, PetscInt n, SpamParticles *p);
 PetscErrorCode SpamParticlesFree(SpamParticles *p);
+/* Reorders the particles (and their optional fields) along a Morton curve of cells of
+ * the given width; row_of[i] ([n]) receives the input row of the particle now at i. */
+PetscErrorCode SpamParticlesSortByCell(SpamParticles *p, double width, PetscInt *row_of);
 
 /* Reads -scene and every option of the chosen scene, builds the particles and creates the
  * simulation with its state vector. With -help, lists the options of every scene. */

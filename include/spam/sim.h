@@ -15,6 +15,12 @@ typedef struct {
   double pair_visits;   /* pair-list entries visited in force passes                */
 } SpamRhsStats;
 
+/* PETSc log events (-log_view) of the right-hand side and its passes; registered per
+ * simulation (PETSc returns the existing event for a name already registered). */
+typedef struct {
+  PetscLogEvent rhs, density, force;
+} SpamLogEvents;
+
 typedef struct {
   char   name[64];
   double volume_ratio;          /* final / initial gas volume; 0 if not an expansion */
@@ -35,9 +41,23 @@ typedef struct SpamSim {
   double        *rho, *q;  /* scratch: density and P/rho^2 per particle             */
   double        *acc[3];   /* scratch: acceleration per direction                    */
   SpamRhsStats   stats;
+  SpamLogEvents  ev;
   SpamSceneInfo  scene;
   struct SpamPhysicsScratch *ps; /* scratch of the tensor path and bonds (NULL for the gas) */
+  PetscInt      *row_of;   /* input row of particle i when set-up reordered them, else NULL */
+  PetscInt      *at_row;   /* the inverse: particle at input row r                     */
 } SpamSim;
+
+/* Input row (file line, lattice site) of particle i: outputs and messages use it, so the
+ * spatial reordering at set-up is invisible to users. */
+static inline PetscInt SpamSimRowOf(const SpamSim *sim, PetscInt i)
+{
+  return sim->row_of ? sim->row_of[i] : i;
+}
+static inline PetscInt SpamSimAtRow(const SpamSim *sim, PetscInt r)
+{
+  return sim->at_row ? sim->at_row[r] : r;
+}
 
 /* Creates the swarm with n local particles and the model's layout; X is not yet made. */
 PetscErrorCode SpamSimCreate(MPI_Comm comm, const SpamModel *model, const SpamBox *box, PetscInt n, double skin, SpamSim *sim);

@@ -123,6 +123,7 @@ static PetscErrorCode BuildList(SpamNeighbours *nl, const SpamBox *box)
   const SpamImage im = SpamBoxImage(box);
 
   PetscFunctionBeginUser;
+  if (nl->ev_build) PetscCall(PetscLogEventBegin(nl->ev_build, 0, 0, 0, 0));
   BinParticles(nl, box);
   nl->npairs   = 0;
   nl->start[0] = 0;
@@ -143,6 +144,7 @@ static PetscErrorCode BuildList(SpamNeighbours *nl, const SpamBox *box)
     nl->start[i + 1] = (int)nl->npairs;
   }
   nl->builds++;
+  if (nl->ev_build) PetscCall(PetscLogEventEnd(nl->ev_build, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
 

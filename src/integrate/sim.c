@@ -41,6 +41,19 @@ PetscErrorCode SpamSimFill(SpamSim *sim, const double *x, const double *v)
   PetscFunctionReturn(0);
 }
 
+static PetscErrorCode RegisterEvents(SpamSim *sim)
+{
+  PetscClassId id;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscClassIdRegister("spam-ark", &id));
+  PetscCall(PetscLogEventRegister("SpamRHS", id, &sim->ev.rhs));
+  PetscCall(PetscLogEventRegister("SpamNbrBuild", id, &sim->nl.ev_build));
+  PetscCall(PetscLogEventRegister("SpamDensity", id, &sim->ev.density));
+  PetscCall(PetscLogEventRegister("SpamForce", id, &sim->ev.force));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamSimSetUp(SpamSim *sim)
 {
   const PetscInt n = sim->n;
@@ -53,6 +66,7 @@ PetscErrorCode SpamSimSetUp(SpamSim *sim)
   /* gamma = 2: P/rho^2 = kappa for every particle, set once. */
   for (PetscInt i = 0; i < n; i++) sim->q[i] = sim->model.eos.kappa;
   PetscCall(SpamNeighboursCreate((int)n, &sim->box, sim->model.kernel.h, sim->skin, &sim->nl));
+  PetscCall(RegisterEvents(sim));
   PetscFunctionReturn(0);
 }
 
@@ -65,6 +79,7 @@ PetscErrorCode SpamSimDestroy(SpamSim *sim)
     for (int d = 0; d < 3; d++) PetscCall(PetscFree(sim->acc[d]));
     PetscCall(SpamNeighboursDestroy(&sim->nl));
   }
+  PetscCall(PetscFree2(sim->row_of, sim->at_row));
   PetscCall(DMDestroy(&sim->swarm));
   PetscFunctionReturn(0);
 }

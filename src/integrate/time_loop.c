@@ -90,8 +90,8 @@ static PetscErrorCode CheckState(const SpamSim *sim, const SpamRunOptions *o, co
   PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &ke, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
   {
     const double e0 = PetscMax(PetscMax(fabs(r->first.total), r->first.kinetic), 1e-300);
-    if (bad >= 0) (void)snprintf(why, len, "non-finite state of particle %" PetscInt_FMT " at t = %.6g (step %ld)", bad, t, step);
-    else if (neg >= 0) (void)snprintf(why, len, "density of particle %" PetscInt_FMT " is not positive at t = %.6g (step %ld)", neg, t, step);
+    if (bad >= 0) (void)snprintf(why, len, "non-finite state of particle %" PetscInt_FMT " at t = %.6g (step %ld)", SpamSimRowOf(sim, bad), t, step);
+    else if (neg >= 0) (void)snprintf(why, len, "density of particle %" PetscInt_FMT " is not positive at t = %.6g (step %ld)", SpamSimRowOf(sim, neg), t, step);
     else if (o->energy_growth > 0 && ke > o->energy_growth * e0) (void)snprintf(why, len, "kinetic energy %.6g exceeds %g times the initial energy %.6g at t = %.6g (step %ld)", ke, o->energy_growth, e0, t, step);
   }
   PetscFunctionReturn(0);
@@ -195,7 +195,7 @@ static PetscErrorCode FailureReason(TS ts, const SpamTsApp *app, long step, doub
   PetscFunctionBeginUser;
   PetscCall(TSGetConvergedReason(ts, &reason));
   why[0] = 0;
-  if (app->bad >= 0) (void)snprintf(why, len, "non-finite position of particle %" PetscInt_FMT " at stage time t = %.6g, step %ld", app->bad, app->tbad, step);
+  if (app->bad >= 0) (void)snprintf(why, len, "non-finite position of particle %" PetscInt_FMT " at stage time t = %.6g, step %ld", SpamSimRowOf(app->sim, app->bad), app->tbad, step);
   else if (reason < 0) (void)snprintf(why, len, "%.200s at t = %.6g, step %ld", app->fail[0] ? app->fail : TSConvergedReasons[reason], t, step);
   PetscFunctionReturn(0);
 }

@@ -91,6 +91,9 @@ static PetscErrorCode TSSetUp_SpamARKode(TS ts)
   PetscCallARK(SUNContext_Create((void *)&app->sim->comm, &ark->sunctx));
   ark->y = N_VMake_Petsc(ts->vec_sol, ark->sunctx);
   PetscCheck(ark->y, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "N_VMake_Petsc failed");
+  /* Fused operations: a stage or history combination of k vectors is one VecMAXPY pass
+   * instead of k VecAXPY passes over memory (clones inherit the setting). */
+  PetscCheck(N_VEnableFusedOps_Petsc(ark->y, SUNTRUE) == 0, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "N_VEnableFusedOps_Petsc failed");
   ark->mem = ERKStepCreate(SpamSundialsRhs, ts->ptime, ark->y, ark->sunctx);
   PetscCheck(ark->mem, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "ERKStepCreate failed");
   PetscCallARK(ERKStepSetUserData(ark->mem, app));

@@ -13,8 +13,8 @@ PetscErrorCode SpamParticlesCsvWrite(const char *path, const SpamSim *sim, const
   for (int d = 0; d < dim; d++) fprintf(f, "%s%s", d ? "," : "", ax[d]);
   for (int d = 0; d < dim; d++) fprintf(f, ",v%s", ax[d]);
   fprintf(f, ",m\n");
-  for (PetscInt i = 0; i < sim->n; i++) {
-    const double *p = y + (size_t)i * l->nvar;
+  for (PetscInt r = 0; r < sim->n; r++) {
+    const double *p = y + (size_t)SpamSimAtRow(sim, r) * l->nvar;
     for (int d = 0; d < dim; d++) fprintf(f, "%s%.17g", d ? "," : "", p[l->x + d]);
     for (int d = 0; d < dim; d++) fprintf(f, ",%.17g", p[l->v + d]);
     fprintf(f, ",%.17g\n", sim->model.mass);
@@ -34,9 +34,10 @@ PetscErrorCode SpamSnapshotCsvWrite(const char *path, const SpamSim *sim, const 
   PetscFunctionBeginUser;
   PetscCall(SpamFileBegin(path, &f));
   fprintf(f, "# t=%.10g\nx,y,z,vx,vy,vz,rho%s%s\n", t, l->e >= 0 ? ",e" : "", l->s >= 0 ? ",sxx,sxy,sxz,syy,syz,szz" : "");
-  for (PetscInt i = 0; i < sim->n; i++) {
-    const double *p = y + (size_t)i * l->nvar;
-    double        x[3] = {0, 0, 0}, v[3] = {0, 0, 0};
+  for (PetscInt r = 0; r < sim->n; r++) {
+    const PetscInt i = SpamSimAtRow(sim, r);
+    const double  *p = y + (size_t)i * l->nvar;
+    double         x[3] = {0, 0, 0}, v[3] = {0, 0, 0};
     for (int d = 0; d < dim; d++) {
       x[d] = sim->box.lo[d] + SpamBoxLocal(&sim->box, d, p[l->x + d]);
       v[d] = p[l->v + d];

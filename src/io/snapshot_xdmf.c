@@ -41,16 +41,16 @@ static PetscErrorCode WriteHdf5(const char *path, const SpamSim *sim, const doub
   PetscCall(PetscCalloc1(n + 1, &rho));
   if (l->e >= 0) PetscCall(PetscCalloc1(n + 1, &e));
   if (l->s >= 0) PetscCall(PetscCalloc1(6 * n + 1, &s6));
-  for (PetscInt i = 0; i < n; i++) {
-    rho[i] = SpamSnapshotDensity(sim, y, i);
-    if (e) e[i] = y[(size_t)i * l->nvar + l->e];
-    if (s6) SpamSnapshotStress6(sim, y, i, s6 + 6 * i);
-  }
-  for (PetscInt i = 0; i < n; i++)
+  for (PetscInt r = 0; r < n; r++) { /* row r of every dataset: input row r */
+    const PetscInt i = SpamSimAtRow(sim, r);
+    rho[r]           = SpamSnapshotDensity(sim, y, i);
+    if (e) e[r] = y[(size_t)i * l->nvar + l->e];
+    if (s6) SpamSnapshotStress6(sim, y, i, s6 + 6 * r);
     for (int d = 0; d < sim->model.dim; d++) {
-      x[3 * i + d] = sim->box.lo[d] + SpamBoxLocal(&sim->box, d, y[(size_t)i * l->nvar + l->x + d]);
-      v[3 * i + d] = y[(size_t)i * l->nvar + l->v + d];
+      x[3 * r + d] = sim->box.lo[d] + SpamBoxLocal(&sim->box, d, y[(size_t)i * l->nvar + l->x + d]);
+      v[3 * r + d] = y[(size_t)i * l->nvar + l->v + d];
     }
+  }
   PetscCall(PetscSNPrintf(tmp, sizeof tmp, "%s.tmp", path));
   file = H5Fcreate(tmp, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
   PetscCallH5(file);

@@ -10,7 +10,7 @@
 static double EntropyPerMass(const SpamModel *m, double rho, double v2mean, const double *vmean)
 {
   double dv2 = v2mean;
-  for (int d = 0; d < m->dim; d++) dv2 -= vmean[d] * vmean[d];
+  for (int d = 0; d < m->dim && d < 3; d++) dv2 -= vmean[d] * vmean[d]; /* d < 3: vmean[3] */
   dv2 = dv2 > 0.0 ? dv2 : 0.0; /* a variance; round-off can make it slightly negative */
   return 0.5 * m->dim * log(SpamEosEnergy(&m->eos, rho) + 0.5 * dv2) - log(rho);
 }
@@ -58,7 +58,7 @@ PetscErrorCode SpamEntropySum(SpamSim *sim, const double *y, double *S)
     }
   }
   for (PetscInt i = 0; i < sim->n; i++) {
-    double vmean[3];
+    double vmean[3] = {0, 0, 0};
     for (int d = 0; d < dim; d++) vmean[d] = acc[i * (dim + 1) + d] / sim->rho[i];
     sum += EntropyPerMass(m, sim->rho[i], acc[i * (dim + 1) + dim] / sim->rho[i], vmean);
   }
@@ -119,7 +119,7 @@ PetscErrorCode SpamEntropyGrid(SpamSim *sim, const double *y, double spacing, do
     total *= ng[d];
   }
   for (PetscInt k = 0; k < total; k++) {
-    double u[3] = {0, 0, 0}, vmean[3], v2mean = 0.0;
+    double u[3] = {0, 0, 0}, vmean[3] = {0, 0, 0}, v2mean = 0.0;
     for (int d = 0, rem = (int)k; d < dim; d++) {
       u[d] = (rem % ng[d] + 0.5) * g[d];
       rem /= (int)ng[d];

@@ -7,9 +7,11 @@ PetscErrorCode SpamRhs(SpamSim *sim, const double *y, double *ydot, PetscInt *ba
   PetscLogDouble t0, t1;
 
   PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(sim->ev.rhs, 0, 0, 0, 0));
   PetscCall(PetscTime(&t0));
   PetscCall(sim->model.rhs(sim, y, ydot, bad));
   PetscCall(PetscTime(&t1));
+  PetscCall(PetscLogEventEnd(sim->ev.rhs, 0, 0, 0, 0));
   sim->stats.rhs_evals++;
   sim->stats.rhs_time += t1 - t0;
   PetscFunctionReturn(0);
@@ -21,9 +23,11 @@ PetscErrorCode SpamAccel(SpamSim *sim, const double *x, int stride, PetscInt *ba
 
   PetscFunctionBeginUser;
   PetscCheck(sim->model.accel, sim->comm, PETSC_ERR_SUP, "model %s has no acceleration function", sim->model.name);
+  PetscCall(PetscLogEventBegin(sim->ev.rhs, 0, 0, 0, 0));
   PetscCall(PetscTime(&t0));
   PetscCall(sim->model.accel(sim, x, stride, bad));
   PetscCall(PetscTime(&t1));
+  PetscCall(PetscLogEventEnd(sim->ev.rhs, 0, 0, 0, 0));
   sim->stats.rhs_evals++;
   sim->stats.rhs_time += t1 - t0;
   PetscFunctionReturn(0);

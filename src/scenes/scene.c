@@ -119,13 +119,25 @@ static PetscErrorCode BuildScene(const SpamCommonParams *c, int s, PetscBool hel
   PetscFunctionReturn(0);
 }
 
+/* The file scene's rows come in any order, so it is sorted by default; the lattice scenes
+ * are built row by row, which is already local. */
+static PetscErrorCode SortOption(MPI_Comm comm, PetscBool file, PetscBool *sort)
+{
+  PetscFunctionBeginUser;
+  *sort = file;
+  PetscOptionsBegin(comm, NULL, "Particle order", "spam-ark");
+  PetscCall(PetscOptionsBool("-sort_particles", "Reorder particles along a Morton curve of cells of width h at set-up (default: true for -scene file, false for the lattice scenes); outputs keep the input order", "README", *sort, sort, NULL));
+  PetscOptionsEnd();
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamSceneCreateSim(MPI_Comm comm, SpamSim *sim)
 {
   SpamCommonParams c;
   SpamParticles    p;
   SpamModel        model;
   PetscInt         scene = 0;
-  PetscBool        help  = PETSC_FALSE;
+  PetscBool        help  = PETSC_FALSE, sort;
   PetscMPIInt      size;
   char             val[64];
 
@@ -155,6 +167,12 @@ PetscErrorCode SpamSceneCreateSim(MPI_Comm comm, SpamSim *sim)
   else PetscCall(SpamModelIsentropeSetUp(c.dim, c.h, p.mass, c.gamma, c.kappa, &model));
   PetscCall(SpamSimCreate(comm, &model, &p.box, p.n, c.skin, sim));
   sim->scene = p.info;
+  PetscCall(SortOption(comm, scene == SCENE_FILE, &sort));
+  if (sort) {
+    PetscCall(PetscMalloc2(p.n + 1, &sim->row_of, p.n + 1, &sim->at_row));
+    PetscCall(SpamParticlesSortByCell(&p, c.h, sim->row_of));
+    for (PetscInt i = 0; i < p.n; i++) sim->at_row[sim->row_of[i]] = i;
+  }
   PetscCall(SpamSimFill(sim, p.x, p.v));
   PetscCall(SpamSimFillFields(sim, &p));
   PetscCall(SpamParticlesFree(&p));
