@@ -73,7 +73,7 @@ static PetscErrorCode RandomCase(TestCount *c, const char *name, const SpamBox *
   TestCheck(c, nl.builds == builds, "%s: moves below skin/2 keep the list (builds %ld -> %ld)", name, builds, nl.builds);
   PetscCall(Compare(c, name, b, &nl, x, h * h, PETSC_FALSE));
   /* One particle past skin/2: the list is rebuilt and exact again. */
-  x[0] = nl.xref[0] + 0.51 * skin;
+  x[0] = nl.xref[0][0] + 0.51 * skin;
   PetscCall(SpamNeighboursUpdate(&nl, b, x, b->dim, PETSC_FALSE, &bad));
   TestCheck(c, nl.builds == builds + 1, "%s: a move past skin/2 rebuilds the list", name);
   PetscCall(Compare(c, name, b, &nl, x, rc * rc, PETSC_TRUE));

@@ -15,9 +15,13 @@ typedef struct {
   int    *cell_of;               /* [n] cell index of each particle at the build     */
   int    *cell_start, *cell_list;/* CSR: particles of each cell                      */
   int    *start, *nbr;           /* CSR half list: j > i of particle i               */
+  unsigned char *image;          /* [n] 1: particle i's pairs may cross a periodic   */
+                                 /* face (needs the minimum image); 0: they cannot   */
   size_t  npairs, cap;
-  double *xref;                  /* [dim*n] positions at the last build              */
-  double *u[3];                  /* [n] per direction: box-local wrapped positions   */
+  double *xref[3];               /* [n] per direction: positions at the last build   */
+  double *off[3];                /* [n] x - u, the periodic shift fixed at the build */
+  double *u[3];                  /* [n] box-local positions x - off (wrapped at the  */
+                                 /* build, within skin/2 of the box since)           */
   long    builds, grows;         /* statistics                                       */
   PetscLogEvent ev_build;        /* -log_view event of a list build (0: none)         */
 } SpamNeighbours;

@@ -1,11 +1,14 @@
 /* Cell binning and the half Verlet list with a skin. */
 #include <spam/neighbours.h>
+#include <float.h>
 
 PetscErrorCode SpamNeighboursCreate(int n, const SpamBox *box, double cutoff, double skin, SpamNeighbours *nl)
 {
   const double rc = cutoff + skin;
 
   PetscFunctionBeginUser;
+  for (int d = 0; d < box->dim; d++)
+    PetscCheck(!box->periodic[d] || skin < 0.5 * box->len[d], PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "the neighbour skin %g must be below half the periodic edge %g", skin, box->len[d]);
   PetscCall(PetscMemzero(nl, sizeof *nl));
   nl->dim    = box->dim;
   nl->n      = n;
@@ -25,8 +28,12 @@ PetscErrorCode SpamNeighboursCreate(int n, const SpamBox *box, double cutoff, do
   nl->cap = (size_t)PetscMax(n, 1) * 16;
   PetscCall(PetscMalloc4(n, &nl->cell_of, nl->ncells + 1, &nl->cell_start, n, &nl->cell_list, n + 1, &nl->start));
   PetscCall(PetscMalloc1(nl->cap, &nl->nbr));
-  PetscCall(PetscCalloc1((size_t)box->dim * n + 1, &nl->xref));
-  for (int d = 0; d < 3; d++) PetscCall(PetscMalloc1(n + 1, &nl->u[d]));
+  PetscCall(PetscCalloc1(n + 1, &nl->image));
+  for (int d = 0; d < 3; d++) {
+    PetscCall(PetscCalloc1(n + 1, &nl->u[d]));
+    PetscCall(PetscCalloc1(n + 1, &nl->xref[d]));
+    PetscCall(PetscCalloc1(n + 1, &nl->off[d]));
+  }
   PetscFunctionReturn(0);
 }
 
@@ -35,8 +42,12 @@ PetscErrorCode SpamNeighboursDestroy(SpamNeighbours *nl)
   PetscFunctionBeginUser;
   PetscCall(PetscFree4(nl->cell_of, nl->cell_start, nl->cell_list, nl->start));
   PetscCall(PetscFree(nl->nbr));
-  PetscCall(PetscFree(nl->xref));
-  for (int d = 0; d < 3; d++) PetscCall(PetscFree(nl->u[d]));
+  PetscCall(PetscFree(nl->image));
+  for (int d = 0; d < 3; d++) {
+    PetscCall(PetscFree(nl->u[d]));
+    PetscCall(PetscFree(nl->xref[d]));
+    PetscCall(PetscFree(nl->off[d]));
+  }
   PetscFunctionReturn(0);
 }
 
@@ -90,6 +101,20 @@ int SpamNeighboursAdjacentCells(const SpamNeighbours *nl, const SpamBox *box, in
   return k;
 }
 
+/* Whether a particle in this cell can have a neighbour across a periodic face: its cell
+ * touches that face (or the direction has fewer than three cells). The others' listed
+ * separations u_i - u_j need no minimum image until the next build. */
+static unsigned char CellSeesImage(const SpamNeighbours *nl, const SpamBox *box, int cell)
+{
+  int rem = cell;
+  for (int d = 0; d < box->dim; d++) {
+    const int nc = nl->ncell[d], c = rem % nc;
+    rem /= nc;
+    if (box->periodic[d] && (nc < 3 || c == 0 || c == nc - 1)) return 1;
+  }
+  return 0;
+}
+
 /* Counting sort of the particles by cell; within a cell, by index (deterministic). */
 static void BinParticles(SpamNeighbours *nl, const SpamBox *box)
 {
@@ -97,6 +122,7 @@ static void BinParticles(SpamNeighbours *nl, const SpamBox *box)
   for (int i = 0; i < nl->n; i++) {
     double u[3] = {nl->u[0][i], nl->u[1][i], nl->u[2][i]};
     nl->cell_of[i] = SpamNeighboursCellOf(nl, box, u);
+    nl->image[i]   = CellSeesImage(nl, box, nl->cell_of[i]);
     nl->cell_start[nl->cell_of[i] + 1]++;
   }
   for (int c = 0; c < nl->ncells; c++) nl->cell_start[c + 1] += nl->cell_start[c];
@@ -148,35 +174,60 @@ static PetscErrorCode BuildList(SpamNeighbours *nl, const SpamBox *box)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamNeighboursUpdate(SpamNeighbours *nl, const SpamBox *box, const double *x, int stride, PetscBool force, PetscInt *bad)
+/* Largest squared displacement since the last build, and u = x - off: the positions in
+ * the box frame of the last build. One loop without exits, so that it vectorises; a
+ * non-finite position only raises a flag here. */
+static double Displace(SpamNeighbours *nl, int dim, const double *x, int stride, int *nonfinite)
 {
-  const int dim     = box->dim;
-  double    maxd2   = 0.0;
-  PetscBool rebuild = (PetscBool)(force || nl->builds == 0);
-
-  PetscFunctionBeginUser;
-  *bad = -1;
+  double maxd2 = 0.0;
+  int    bad   = 0;
   for (int i = 0; i < nl->n; i++) {
     double d2 = 0.0;
     for (int d = 0; d < dim; d++) {
-      const double xi = x[(size_t)i * stride + d];
-      if (!isfinite(xi)) {
-        *bad = i;
-        PetscFunctionReturn(0);
-      }
-      const double dx = xi - nl->xref[(size_t)i * dim + d];
+      const double xi = x[(size_t)i * stride + d], dx = xi - nl->xref[d][i];
+      bad |= !(fabs(xi) <= DBL_MAX);
       d2 += dx * dx;
-      nl->u[d][i] = SpamBoxLocal(box, d, xi);
+      nl->u[d][i] = xi - nl->off[d][i];
     }
-    maxd2 = PetscMax(maxd2, d2);
+    maxd2 = maxd2 > d2 ? maxd2 : d2;
   }
-  for (int d = dim; d < 3; d++)
-    for (int i = 0; i < nl->n; i++) nl->u[d][i] = 0.0;
+  *nonfinite = bad;
+  return maxd2;
+}
+
+/* At a build: wraps every position into the box and keeps the shift off = x - u, so that
+ * until the next build u = x - off needs no floor and no division. Between builds u may
+ * leave [0, len) by up to skin/2; every use takes a minimum image of a difference, which
+ * stays correct while the skin is below half an edge. */
+static void Wrap(SpamNeighbours *nl, const SpamBox *box, const double *x, int stride)
+{
+  for (int d = 0; d < box->dim; d++)
+    for (int i = 0; i < nl->n; i++) {
+      const double xi = x[(size_t)i * stride + d];
+      nl->xref[d][i]  = xi;
+      nl->off[d][i]   = xi - SpamBoxLocal(box, d, xi);
+      nl->u[d][i]     = xi - nl->off[d][i];
+    }
+}
+
+PetscErrorCode SpamNeighboursUpdate(SpamNeighbours *nl, const SpamBox *box, const double *x, int stride, PetscBool force, PetscInt *bad)
+{
+  const int dim = box->dim;
+  int       nonfinite;
+  double    maxd2;
+
+  PetscFunctionBeginUser;
+  *bad  = -1;
+  maxd2 = Displace(nl, dim, x, stride, &nonfinite);
+  if (nonfinite) {
+    for (PetscInt i = 0; i < nl->n && *bad < 0; i++)
+      for (int d = 0; d < dim; d++)
+        if (!isfinite(x[(size_t)i * stride + d])) *bad = i;
+    PetscFunctionReturn(0);
+  }
   /* Two particles each moving skin/2 towards each other stay inside the list range. */
-  if (maxd2 > 0.25 * nl->skin * nl->skin) rebuild = PETSC_TRUE;
-  if (rebuild) {
-    for (int i = 0; i < nl->n; i++)
-      for (int d = 0; d < dim; d++) nl->xref[(size_t)i * dim + d] = x[(size_t)i * stride + d];
+  if (force || nl->builds == 0 || maxd2 > 0.25 * nl->skin * nl->skin) {
+    Wrap(nl, box, x, stride);
     PetscCall(BuildList(nl, box));
   }
   PetscFunctionReturn(0);

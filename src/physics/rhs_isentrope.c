@@ -15,10 +15,37 @@
 
 #define SPAM_PAIR_CHUNK 64
 
-static inline __attribute__((always_inline)) void DensityPass(const int dim, const SpamNeighbours *nl, const SpamBox *box, const SpamKernel *k, double mass, double *rho)
+/* The parameters named const int below are literals at every call, so that each
+ * combination is its own loop without branches: dim, uniform P/rho^2 (gamma = 2: q[j] is
+ * not read) and img (the row's pairs may cross a periodic face: minimum image). */
+#define SPAM_INLINE static inline __attribute__((always_inline))
+
+/* Separation u_i - u_j of pair (i, j) along d (zero for d >= dim). Written without a
+ * loop over d: gcc 12 keeps a local dx[3] indexed in a loop as memory and then does not
+ * vectorise the pair loop. */
+SPAM_INLINE double Delta(const int dim, const int img, const SpamImage *im, const SpamNeighbours *nl, const double *ui, int j, int d)
+{
+  if (d >= dim) return 0.0;
+  const double dx = ui[d] - nl->u[d][j];
+  return img ? SpamImageDelta(im, d, dx) : dx;
+}
+
+/* m w_ij of np listed neighbours nb of a particle at ui, into wj. */
+SPAM_INLINE void DensityChunk(const int dim, const int img, const SpamImage *im, const SpamNeighbours *nl, const SpamKernel *k, double wm, const double *ui, const int *nb, int np, double *wj)
+{
+  for (int c = 0; c < np; c++) {
+    const double x = Delta(dim, img, im, nl, ui, nb[c], 0), y = Delta(dim, img, im, nl, ui, nb[c], 1), z = Delta(dim, img, im, nl, ui, nb[c], 2);
+    const double s = sqrt(x * x + y * y + z * z) * k->hinv;
+    double       t = 1.0 - s;
+    t              = t > 0.0 ? t : 0.0;
+    wj[c]          = wm * (1.0 + 3.0 * s) * t * t * t;
+  }
+}
+
+SPAM_INLINE void DensityPass(const int dim, const SpamNeighbours *nl, const SpamBox *box, const SpamKernel *k, double mass, double *rho)
 {
   const SpamImage im = SpamBoxImage(box);
-  const double    wm = mass * k->wnorm, hinv = k->hinv; /* m w(0) */
+  const double    wm = mass * k->wnorm; /* m w(0) */
   for (int i = 0; i < nl->n; i++) rho[i] = wm;
   for (int i = 0; i < nl->n; i++) {
     double ri = 0.0, ui[3] = {0, 0, 0};
@@ -26,17 +53,8 @@ static inline __attribute__((always_inline)) void DensityPass(const int dim, con
     for (int p0 = nl->start[i]; p0 < nl->start[i + 1]; p0 += SPAM_PAIR_CHUNK) {
       const int *nb = nl->nbr + p0, np = PetscMin(SPAM_PAIR_CHUNK, nl->start[i + 1] - p0);
       double     wj[SPAM_PAIR_CHUNK];
-      for (int c = 0; c < np; c++) {
-        double r2 = 0.0;
-        for (int d = 0; d < dim; d++) {
-          const double dx = SpamImageDelta(&im, d, ui[d] - nl->u[d][nb[c]]);
-          r2 += dx * dx;
-        }
-        const double s = sqrt(r2) * hinv;
-        double       t = 1.0 - s;
-        t              = t > 0.0 ? t : 0.0;
-        wj[c]          = wm * (1.0 + 3.0 * s) * t * t * t;
-      }
+      if (nl->image[i]) DensityChunk(dim, 1, &im, nl, k, wm, ui, nb, np, wj);
+      else DensityChunk(dim, 0, &im, nl, k, wm, ui, nb, np, wj);
       for (int c = 0; c < np; c++) {
         ri += wj[c];
         rho[nb[c]] += wj[c];
@@ -46,46 +64,48 @@ static inline __attribute__((always_inline)) void DensityPass(const int dim, con
   }
 }
 
-/* uniform: every particle has the same P/rho^2 (gamma = 2), so q[j] is not read. */
-static inline __attribute__((always_inline)) void ForcePass(const int dim, const int uniform, const SpamNeighbours *nl, const SpamBox *box, const SpamKernel *k, double mass, const double *q, double **acc)
+/* Pair terms f_ij r_ij of np listed neighbours nb of particle i (at ui, q_i = qi) into
+ * fd, their sum into ai. f > 0 pushes i away from j for positive pressure. */
+SPAM_INLINE void ForceChunk(const int dim, const int uniform, const int img, const SpamImage *im, const SpamNeighbours *nl, const SpamKernel *k, double coef, const double *q, double qi, const double *ui, const int *nb, int np, double fd[3][SPAM_PAIR_CHUNK], double *ai)
+{
+  const double cq = coef * (qi + qi);
+  double       a0 = 0.0, a1 = 0.0, a2 = 0.0;
+#pragma omp simd reduction(+ : a0, a1, a2)
+  for (int c = 0; c < np; c++) {
+    const double x = Delta(dim, img, im, nl, ui, nb[c], 0), y = Delta(dim, img, im, nl, ui, nb[c], 1), z = Delta(dim, img, im, nl, ui, nb[c], 2);
+    double       t = 1.0 - sqrt(x * x + y * y + z * z) * k->hinv;
+    t              = t > 0.0 ? t : 0.0;
+    const double f = (uniform ? cq : coef * (qi + q[nb[c]])) * t * t;
+    fd[0][c]       = f * x;
+    a0 += fd[0][c];
+    if (dim > 1) {
+      fd[1][c] = f * y;
+      a1 += fd[1][c];
+    }
+    if (dim > 2) {
+      fd[2][c] = f * z;
+      a2 += fd[2][c];
+    }
+  }
+  ai[0] += a0;
+  ai[1] += a1;
+  ai[2] += a2;
+}
+
+SPAM_INLINE void ForcePass(const int dim, const int uniform, const SpamNeighbours *nl, const SpamBox *box, const SpamKernel *k, double mass, const double *q, double **acc)
 {
   const SpamImage im   = SpamBoxImage(box);
-  const double    coef = -mass * k->gnorm, hinv = k->hinv; /* -m (w'/r) / (1-s)^2 > 0 */
+  const double    coef = -mass * k->gnorm; /* -m (w'/r) / (1-s)^2 > 0 */
   for (int d = 0; d < dim; d++)
     for (int i = 0; i < nl->n; i++) acc[d][i] = 0.0;
   for (int i = 0; i < nl->n; i++) {
-    double       ai[3] = {0, 0, 0}, ui[3] = {0, 0, 0};
-    const double qi = q[i], cq = coef * (qi + qi);
+    double ai[3] = {0, 0, 0}, ui[3] = {0, 0, 0};
     for (int d = 0; d < dim; d++) ui[d] = nl->u[d][i];
     for (int p0 = nl->start[i]; p0 < nl->start[i + 1]; p0 += SPAM_PAIR_CHUNK) {
       const int *nb = nl->nbr + p0, np = PetscMin(SPAM_PAIR_CHUNK, nl->start[i + 1] - p0);
-      double     fd[3][SPAM_PAIR_CHUNK], a0 = 0.0, a1 = 0.0, a2 = 0.0;
-#pragma omp simd reduction(+ : a0, a1, a2)
-      for (int c = 0; c < np; c++) {
-        const int j = nb[c];
-        double    dx[3] = {0, 0, 0}, r2 = 0.0;
-        for (int d = 0; d < dim; d++) {
-          dx[d] = SpamImageDelta(&im, d, ui[d] - nl->u[d][j]);
-          r2 += dx[d] * dx[d];
-        }
-        double t = 1.0 - sqrt(r2) * hinv;
-        t        = t > 0.0 ? t : 0.0;
-        /* f > 0 pushes i away from j for positive pressure. */
-        const double f = (uniform ? cq : coef * (qi + q[j])) * t * t;
-        fd[0][c]       = f * dx[0];
-        a0 += fd[0][c];
-        if (dim > 1) {
-          fd[1][c] = f * dx[1];
-          a1 += fd[1][c];
-        }
-        if (dim > 2) {
-          fd[2][c] = f * dx[2];
-          a2 += fd[2][c];
-        }
-      }
-      ai[0] += a0;
-      ai[1] += a1;
-      ai[2] += a2;
+      double     fd[3][SPAM_PAIR_CHUNK];
+      if (nl->image[i]) ForceChunk(dim, uniform, 1, &im, nl, k, coef, q, q[i], ui, nb, np, fd, ai);
+      else ForceChunk(dim, uniform, 0, &im, nl, k, coef, q, q[i], ui, nb, np, fd, ai);
       for (int c = 0; c < np; c++)
         for (int d = 0; d < dim; d++) acc[d][nb[c]] -= fd[d][c];
     }
@@ -94,7 +114,7 @@ static inline __attribute__((always_inline)) void ForcePass(const int dim, const
 }
 
 /* One loop for each of uniform and per-particle P/rho^2. */
-static inline __attribute__((always_inline)) void ForcePassQ(const int dim, PetscBool uniform, const SpamNeighbours *nl, const SpamBox *box, const SpamKernel *k, double mass, const double *q, double **acc)
+SPAM_INLINE void ForcePassQ(const int dim, PetscBool uniform, const SpamNeighbours *nl, const SpamBox *box, const SpamKernel *k, double mass, const double *q, double **acc)
 {
   if (uniform) ForcePass(dim, 1, nl, box, k, mass, q, acc);
   else ForcePass(dim, 0, nl, box, k, mass, q, acc);
