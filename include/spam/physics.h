@@ -22,6 +22,8 @@ typedef struct SpamPhysicsScratch {
   /* Gauss's principle: evaluations found singular, and whether that was reported.     */
   long     gauss_singular;
   PetscBool gauss_reported;
+  double   gauss_accel_max; /* largest |constraint acceleration| of any particle so far:  */
+                            /* the scale of the round-off its sum adds to the momentum   */
 } SpamPhysicsScratch;
 
 /* Separation r_i - r_j (minimum image) of a listed pair in 2D from the neighbour list's

@@ -1,5 +1,6 @@
 /* summary.json: one JSON object with the run's settings, statistics and conservation. */
 #include <spam/run.h>
+#include <spam/physics.h>
 #include <sys/resource.h>
 #include <spam/version.h>
 
@@ -102,6 +103,8 @@ PetscErrorCode SpamSummaryWrite(const SpamOutput *out, const SpamSim *sim, const
   Num(f, "t_final", r->t);
   fprintf(f, "  \"steps\": %ld,\n  \"rejected_steps\": %ld,\n  \"step_attempts\": %ld,\n  \"rhs_evals\": %ld,\n  \"bound_limited_steps\": %ld,\n", r->steps, r->rejected, r->attempts, r->rhs_evals, r->limited);
   fprintf(f, "  \"post_step_jumps\": %ld,\n  \"steps_with_jumps\": %ld,\n", r->jumps, r->jump_steps);
+  /* Gauss's constraint: the largest acceleration it added (0 without it). */
+  fprintf(f, "  \"gauss_accel_max\": %.10g,\n", sim->ps ? sim->ps->gauss_accel_max : 0.0);
   fprintf(f, "  \"neighbour_builds\": %ld,\n  \"neighbour_list_grows\": %ld,\n", sim->nl.builds, sim->nl.grows);
   Num(f, "wall_time_s", r->wall);
   Num(f, "rhs_time_s", sim->stats.rhs_time);

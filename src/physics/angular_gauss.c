@@ -75,12 +75,16 @@ PetscErrorCode SpamGaussConstraint(SpamSim *sim, const double *y)
       PetscFunctionReturn(0);
     }
     const double beta = -Ldot / den, alpha = beta * L / (2.0 * K);
+    double       amax = 0.0;
     for (PetscInt i = 0; i < sim->n; i++) {
       const double *p = y + (size_t)i * l->nvar;
       const double  r[2] = {p[l->x] - rc[0], p[l->x + 1] - rc[1]};
-      sim->acc[0][i] += -alpha * (p[l->v] - vc[0]) - beta * r[1];
-      sim->acc[1][i] += -alpha * (p[l->v + 1] - vc[1]) + beta * r[0];
+      const double  a[2] = {-alpha * (p[l->v] - vc[0]) - beta * r[1], -alpha * (p[l->v + 1] - vc[1]) + beta * r[0]};
+      sim->acc[0][i] += a[0];
+      sim->acc[1][i] += a[1];
+      amax = PetscMax(amax, PetscMax(fabs(a[0]), fabs(a[1])));
     }
+    sim->ps->gauss_accel_max = PetscMax(sim->ps->gauss_accel_max, amax);
   }
   PetscFunctionReturn(0);
 }
