@@ -20,6 +20,7 @@ typedef struct {
   size_t  npairs, cap;
   double *xref[3];               /* [n] per direction: positions at the last build   */
   double *off[3];                /* [n] x - u, the periodic shift fixed at the build */
+  double *ucell[3];              /* [n] u at the build in cell order (build scratch) */
   double *u[3];                  /* [n] box-local positions x - off (wrapped at the  */
                                  /* build, within skin/2 of the box since)           */
   long    builds, grows;         /* statistics                                       */
