@@ -152,14 +152,16 @@ static PetscErrorCode Reserve(SpamNeighbours *nl, size_t need)
 #define SPAM_BUILD_CHUNK 256
 
 /* Appends the candidates j > i of cells adj within the list range of particle i. A
- * first loop marks the hits of up to SPAM_BUILD_CHUNK candidates read contiguously in
- * cell order, and vectorises; a second appends them without a branch (every candidate
- * is written, the count advances only for a hit: a branch would be a coin flip). dim is
- * a literal at each call, so each dimension gets its own loops. */
+ * first loop marks the hits of up to SPAM_BUILD_CHUNK candidates, read contiguously in
+ * cell order; a second appends them without a branch (every candidate is written, the
+ * count advances only for a hit: a branch would be a coin flip). gcc 12 keeps the first
+ * loop scalar; with it and the reuse of adjacent cells in BuildList, a build of 16384
+ * particles went from 6.05 to 4.4 ms. dim is a literal at each call: one loop per
+ * dimension. */
 static inline __attribute__((always_inline)) size_t AppendRow(const int dim, SpamNeighbours *nl, const SpamImage *im, int i, const int *adj, int na, size_t np)
 {
   int         *nbr = nl->nbr;
-  long long    hit[SPAM_BUILD_CHUNK]; /* 64-bit like the doubles compared: gcc 12 then vectorises */
+  int          hit[SPAM_BUILD_CHUNK];
   const double rc2 = nl->rc2;
   double       ui[3] = {0, 0, 0};
   for (int d = 0; d < dim; d++) ui[d] = nl->u[d][i];
@@ -169,12 +171,11 @@ static inline __attribute__((always_inline)) size_t AppendRow(const int dim, Spa
       const int    *js = nl->cell_list + k0;
       const double *u0 = nl->ucell[0] + k0, *u1 = dim > 1 ? nl->ucell[1] + k0 : u0, *u2 = dim > 2 ? nl->ucell[2] + k0 : u0;
       for (int c = 0; c < m; c++) {
-        /* Unrolled by hand: gcc 12 does not vectorise an inner loop over d here. */
         const double dx = SpamImageDelta(im, 0, ui[0] - u0[c]);
         const double dy = dim > 1 ? SpamImageDelta(im, 1, ui[1] - u1[c]) : 0.0;
         const double dz = dim > 2 ? SpamImageDelta(im, 2, ui[2] - u2[c]) : 0.0;
         const double r2 = dx * dx + dy * dy + dz * dz;
-        hit[c]          = (long long)(js[c] > i) & (long long)(r2 < rc2);
+        hit[c]          = (js[c] > i) & (r2 < rc2);
       }
       for (int c = 0; c < m; c++) {
         nbr[np] = js[c];

@@ -8,9 +8,9 @@
  * The pair loops run over each particle's neighbours in chunks of SPAM_PAIR_CHUNK: a first
  * loop, which has no stores but to a small stack buffer, computes the pair terms and is
  * vectorised by the compiler (gathers of u[j] and q[j], a vector sqrt); a second, scalar
- * loop adds them to particle i and subtracts them from particle j in list order. The
- * order of the additions is the order of the plain loop, so the result is bitwise that
- * of a single loop. */
+ * loop subtracts them from particle j in list order. Particle i's own sum is a vector
+ * reduction in the first loop, so its rounding depends on the vector width of the build
+ * (deterministic for a given binary; test_pair_reference bounds it against a plain loop). */
 #include <spam/sim.h>
 
 #define SPAM_PAIR_CHUNK 64
