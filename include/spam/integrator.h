@@ -51,6 +51,9 @@ PetscErrorCode SpamTSCreate(SpamSim *sim, const SpamRunOptions *o, SpamTsApp *ap
 PetscErrorCode SpamTSAppDestroy(SpamTsApp *app);
 /* Splits for basicsymplectic; refuses (bad input) a model whose state is more than r, v. */
 PetscErrorCode SpamSymplecticSetUp(TS ts, SpamTsApp *app);
+/* Makes VecGetSubVector on X (and on vectors duplicated from it later) reuse one
+ * sub-vector and scatter per index set instead of creating them on every call. */
+PetscErrorCode SpamVecCacheSubVectors(Vec X);
 /* "rk 5dp", "arkode ARKODE_DORMAND_PRINCE_7_4_5", ...; the adaptor; the fixed step or 0. */
 PetscErrorCode SpamTSDescribe(TS ts, const SpamTsApp *app, char *method, size_t mlen, char *adapt, size_t alen, double *fixed_dt);
 

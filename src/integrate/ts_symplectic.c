@@ -91,6 +91,7 @@ PetscErrorCode SpamSymplecticSetUp(TS ts, SpamTsApp *app)
     PetscCall(SpamLayoutDescribe(l, fields, sizeof fields));
     SPAM_BAD_INPUT("-ts_type", "basicsymplectic", "a symplectic split needs a state of positions and velocities only; model %s carries [%s]: use rk, ssp, euler, arkode or cvode", sim->model.name, fields);
   }
+  PetscCall(SpamVecCacheSubVectors(sim->X)); /* before TSSetUp duplicates it */
   PetscCall(SplitIS(sim, l->x, &isx));
   PetscCall(SplitIS(sim, l->v, &isv));
   PetscCall(TSRHSSplitSetIS(ts, "position", isx));
