@@ -54,6 +54,23 @@ static PetscErrorCode RegisterEvents(SpamSim *sim)
   PetscFunctionReturn(0);
 }
 
+/* The first neighbour list is built with the particles, not in the first right-hand
+ * side: its allocation (the list's reserve grows to fit) stays out of the RHS, and the
+ * RHS timings, like LAMMPS's loop time, leave the set-up out. */
+static PetscErrorCode FirstBuild(SpamSim *sim)
+{
+  const SpamLayout  *l = &sim->model.layout;
+  const PetscScalar *y;
+  PetscInt           bad;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArrayRead(sim->X, &y));
+  PetscCall(SpamNeighboursUpdate(&sim->nl, &sim->box, y + l->x, l->nvar, PETSC_TRUE, &bad));
+  PetscCall(VecRestoreArrayRead(sim->X, &y));
+  PetscCheck(bad < 0, sim->comm, PETSC_ERR_FP, "non-finite position of particle %" PetscInt_FMT " at set-up", SpamSimRowOf(sim, bad));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamSimSetUp(SpamSim *sim)
 {
   const PetscInt n = sim->n;
@@ -67,6 +84,7 @@ PetscErrorCode SpamSimSetUp(SpamSim *sim)
   for (PetscInt i = 0; i < n; i++) sim->q[i] = sim->model.eos.kappa;
   PetscCall(SpamNeighboursCreate((int)n, &sim->box, sim->model.kernel.h, sim->skin, &sim->nl));
   PetscCall(RegisterEvents(sim));
+  PetscCall(FirstBuild(sim));
   PetscFunctionReturn(0);
 }
 
