@@ -220,7 +220,7 @@ static PetscErrorCode GasCompare(TestCount *c, const Spoil *spoil, SpamSim *sim,
     for (int i = 0; i < n; i++) {
       double d2 = 0.0;
       for (int d = 0; d < dim; d++) {
-        const double e = sim->acc[d][i] - a[i * dim + d];
+        const double e = sim->acc[(size_t)i * dim + d] - a[i * dim + d];
         d2 += e * e;
       }
       Track(&wacc, sqrt(d2), S[i], i);

@@ -39,7 +39,8 @@ typedef struct SpamSim {
   SpamNeighbours nl;
   double         skin;
   double        *rho, *q;  /* scratch: density and P/rho^2 per particle             */
-  double        *acc[3];   /* scratch: acceleration per direction                    */
+  double        *acc;      /* scratch: accelerations, a[i*dim + d] (interleaved: the  */
+                           /* two updates of a pair touch one cache line each)      */
   SpamRhsStats   stats;
   SpamLogEvents  ev;
   SpamSceneInfo  scene;

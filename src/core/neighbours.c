@@ -151,54 +151,79 @@ static PetscErrorCode Reserve(SpamNeighbours *nl, size_t need)
 
 #define SPAM_BUILD_CHUNK 256
 
-/* Appends the candidates j > i of cells adj within the list range of particle i. A
- * first loop marks the hits of up to SPAM_BUILD_CHUNK candidates, read contiguously in
- * cell order; a second appends them without a branch (every candidate is written, the
- * count advances only for a hit: a branch would be a coin flip). gcc 12 keeps the first
- * loop scalar; with it and the reuse of adjacent cells in BuildList, a build of 16384
- * particles went from 6.05 to 4.4 ms. dim is a literal at each call: one loop per
- * dimension. */
-static inline __attribute__((always_inline)) size_t AppendRow(const int dim, SpamNeighbours *nl, const SpamImage *im, int i, const int *adj, int na, size_t np)
+/* First position in cell_list[k0, k1) holding a particle above i: a cell lists its
+ * particles in increasing index, so the candidates j > i of a cell are a suffix. */
+static int FirstAbove(const int *list, int k0, int k1, int i)
+{
+  while (k0 < k1) {
+    const int mid = k0 + (k1 - k0) / 2;
+    if (list[mid] > i) k1 = mid;
+    else k0 = mid + 1;
+  }
+  return k0;
+}
+
+/* Appends the candidates j > i of the adjacent cells within the list range of particle
+ * i; from[a] is where cell adj[a]'s candidates above i begin. A first loop computes the
+ * squared distances of up to SPAM_BUILD_CHUNK candidates, read contiguously in cell
+ * order (it vectorises); a second appends them without a branch (every candidate is
+ * written, the count advances only for a hit: a branch would be a coin flip). dim and
+ * img (the minimum image) are literals at each call: one loop per combination. Starting
+ * each cell past its j <= i prefix halves the candidates: a build of N = 65536 went from
+ * 24.9 to 19.2 ms in alternating runs. */
+static inline __attribute__((always_inline)) size_t AppendRow(const int dim, const int img, SpamNeighbours *nl, const SpamImage *im, int i, const int *adj, const int *from, int na, size_t np)
 {
   int         *nbr = nl->nbr;
-  int          hit[SPAM_BUILD_CHUNK];
+  double       r2[SPAM_BUILD_CHUNK];
   const double rc2 = nl->rc2;
   double       ui[3] = {0, 0, 0};
   for (int d = 0; d < dim; d++) ui[d] = nl->u[d][i];
   for (int a = 0; a < na; a++) {
-    for (int k0 = nl->cell_start[adj[a]]; k0 < nl->cell_start[adj[a] + 1]; k0 += SPAM_BUILD_CHUNK) {
-      const int  m  = PetscMin(SPAM_BUILD_CHUNK, nl->cell_start[adj[a] + 1] - k0);
+    for (int k0 = from[a]; k0 < nl->cell_start[adj[a] + 1]; k0 += SPAM_BUILD_CHUNK) {
+      const int     m  = PetscMin(SPAM_BUILD_CHUNK, nl->cell_start[adj[a] + 1] - k0);
       const int    *js = nl->cell_list + k0;
       const double *u0 = nl->ucell[0] + k0, *u1 = dim > 1 ? nl->ucell[1] + k0 : u0, *u2 = dim > 2 ? nl->ucell[2] + k0 : u0;
       for (int c = 0; c < m; c++) {
-        const double dx = SpamImageDelta(im, 0, ui[0] - u0[c]);
-        const double dy = dim > 1 ? SpamImageDelta(im, 1, ui[1] - u1[c]) : 0.0;
-        const double dz = dim > 2 ? SpamImageDelta(im, 2, ui[2] - u2[c]) : 0.0;
-        const double r2 = dx * dx + dy * dy + dz * dz;
-        hit[c]          = (js[c] > i) & (r2 < rc2);
+        const double dx = img ? SpamImageDelta(im, 0, ui[0] - u0[c]) : ui[0] - u0[c];
+        const double dy = dim < 2 ? 0.0 : img ? SpamImageDelta(im, 1, ui[1] - u1[c]) : ui[1] - u1[c];
+        const double dz = dim < 3 ? 0.0 : img ? SpamImageDelta(im, 2, ui[2] - u2[c]) : ui[2] - u2[c];
+        r2[c]           = dx * dx + dy * dy + dz * dz;
       }
       for (int c = 0; c < m; c++) {
         nbr[np] = js[c];
-        np += (size_t)hit[c];
+        np += (size_t)(r2[c] < rc2);
       }
     }
   }
   return np;
 }
 
-static size_t AppendRowDim(int dim, SpamNeighbours *nl, const SpamImage *im, int i, const int *adj, int na, size_t np)
+static size_t AppendRowDim(int dim, SpamNeighbours *nl, const SpamImage *im, int i, const int *adj, const int *from, int na, size_t np)
 {
+  const int img = nl->image[i];
   switch (dim) {
-  case 1: return AppendRow(1, nl, im, i, adj, na, np);
-  case 2: return AppendRow(2, nl, im, i, adj, na, np);
-  default: return AppendRow(3, nl, im, i, adj, na, np);
+  case 1: return img ? AppendRow(1, 1, nl, im, i, adj, from, na, np) : AppendRow(1, 0, nl, im, i, adj, from, na, np);
+  case 2: return img ? AppendRow(2, 1, nl, im, i, adj, from, na, np) : AppendRow(2, 0, nl, im, i, adj, from, na, np);
+  default: return img ? AppendRow(3, 1, nl, im, i, adj, from, na, np) : AppendRow(3, 0, nl, im, i, adj, from, na, np);
+  }
+}
+
+/* Moves each adjacent cell's start of candidates past the particles up to i. Along a
+ * run of particles in one cell i only grows, so the starts only move forward; a new
+ * cell finds them by bisection. */
+static void CandidatesAbove(const SpamNeighbours *nl, int i, const int *adj, int na, PetscBool fresh, int *from)
+{
+  for (int a = 0; a < na; a++) {
+    const int k1 = nl->cell_start[adj[a] + 1];
+    if (fresh) from[a] = FirstAbove(nl->cell_list, nl->cell_start[adj[a]], k1, i);
+    else
+      while (from[a] < k1 && nl->cell_list[from[a]] <= i) from[a]++;
   }
 }
 
 static PetscErrorCode BuildList(SpamNeighbours *nl, const SpamBox *box)
 {
-  int             adj[27], na = 0, cell = -1;
-  size_t          cand = 0;
+  int             adj[27], from[27], na = 0, cell = -1;
   const SpamImage im = SpamBoxImage(box);
 
   PetscFunctionBeginUser;
@@ -208,15 +233,17 @@ static PetscErrorCode BuildList(SpamNeighbours *nl, const SpamBox *box)
   nl->start[0] = 0;
   for (int i = 0; i < nl->n; i++) {
     /* Particles in spatial order share their cell with the previous one most of the
-     * time: its adjacent cells and candidate count are then reused. */
-    if (nl->cell_of[i] != cell) {
+     * time: its adjacent cells are then reused. */
+    const PetscBool fresh = nl->cell_of[i] != cell;
+    size_t          cand  = 0;
+    if (fresh) {
       cell = nl->cell_of[i];
       na   = SpamNeighboursAdjacentCells(nl, box, cell, adj);
-      cand = 0;
-      for (int a = 0; a < na; a++) cand += (size_t)(nl->cell_start[adj[a] + 1] - nl->cell_start[adj[a]]);
     }
+    CandidatesAbove(nl, i, adj, na, fresh, from);
+    for (int a = 0; a < na; a++) cand += (size_t)(nl->cell_start[adj[a] + 1] - from[a]);
     PetscCall(Reserve(nl, nl->npairs + cand));
-    nl->npairs       = AppendRowDim(box->dim, nl, &im, i, adj, na, nl->npairs);
+    nl->npairs       = AppendRowDim(box->dim, nl, &im, i, adj, from, na, nl->npairs);
     nl->start[i + 1] = (int)nl->npairs;
   }
   nl->builds++;

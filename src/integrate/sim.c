@@ -79,7 +79,7 @@ PetscErrorCode SpamSimSetUp(SpamSim *sim)
   PetscCall(DMSwarmGetSize(sim->swarm, &sim->nglobal));
   PetscCall(DMSwarmCreateGlobalVectorFromField(sim->swarm, SPAM_STATE_FIELD, &sim->X));
   PetscCall(PetscMalloc2(n + 1, &sim->rho, n + 1, &sim->q));
-  for (int d = 0; d < 3; d++) PetscCall(PetscCalloc1(n + 1, &sim->acc[d]));
+  PetscCall(PetscCalloc1(3 * (size_t)n + 3, &sim->acc));
   /* gamma = 2: P/rho^2 = kappa for every particle, set once. */
   for (PetscInt i = 0; i < n; i++) sim->q[i] = sim->model.eos.kappa;
   PetscCall(SpamNeighboursCreate((int)n, &sim->box, sim->model.kernel.h, sim->skin, &sim->nl));
@@ -94,7 +94,7 @@ PetscErrorCode SpamSimDestroy(SpamSim *sim)
   if (sim->X) PetscCall(DMSwarmDestroyGlobalVectorFromField(sim->swarm, SPAM_STATE_FIELD, &sim->X));
   if (sim->rho) {
     PetscCall(PetscFree2(sim->rho, sim->q));
-    for (int d = 0; d < 3; d++) PetscCall(PetscFree(sim->acc[d]));
+    PetscCall(PetscFree(sim->acc));
     PetscCall(SpamNeighboursDestroy(&sim->nl));
   }
   PetscCall(PetscFree2(sim->row_of, sim->at_row));

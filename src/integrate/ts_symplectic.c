@@ -51,8 +51,8 @@ static PetscErrorCode Kick(TS ts, PetscReal t, Vec X, Vec F, void *ctx)
       app->bad  = bad;
       app->tbad = t;
     }
-    for (PetscInt i = 0; i < sim->n; i++)
-      for (int d = 0; d < dim; d++) app->acache[(size_t)i * dim + d] = bad >= 0 ? 0.0 : sim->acc[d][i];
+    if (bad >= 0) PetscCall(PetscArrayzero(app->acache, len));
+    else PetscCall(PetscArraycpy(app->acache, sim->acc, len)); /* same layout, a[i*dim + d] */
     PetscCall(PetscArraycpy(app->xcache, x, len));
     app->cache_valid = (PetscBool)(bad < 0);
   }

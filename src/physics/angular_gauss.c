@@ -41,7 +41,7 @@ static PetscErrorCode Moments(SpamSim *sim, const double *y, double c[4], double
     c[0] += m * (r[0] * v[1] - r[1] * v[0]);
     c[1] += 0.5 * m * (v[0] * v[0] + v[1] * v[1]);
     c[2] += m * (r[0] * r[0] + r[1] * r[1]);
-    c[3] += m * (rd[0] * v[1] - rd[1] * v[0] + r[0] * sim->acc[1][i] - r[1] * sim->acc[0][i]);
+    c[3] += m * (rd[0] * v[1] - rd[1] * v[0] + r[0] * sim->acc[2 * i + 1] - r[1] * sim->acc[2 * i]);
   }
   PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, c, 4, MPI_DOUBLE, MPI_SUM, sim->comm));
   PetscFunctionReturn(0);
@@ -80,8 +80,8 @@ PetscErrorCode SpamGaussConstraint(SpamSim *sim, const double *y)
       const double *p = y + (size_t)i * l->nvar;
       const double  r[2] = {p[l->x] - rc[0], p[l->x + 1] - rc[1]};
       const double  a[2] = {-alpha * (p[l->v] - vc[0]) - beta * r[1], -alpha * (p[l->v + 1] - vc[1]) + beta * r[0]};
-      sim->acc[0][i] += a[0];
-      sim->acc[1][i] += a[1];
+      sim->acc[2 * i] += a[0];
+      sim->acc[2 * i + 1] += a[1];
       amax = PetscMax(amax, PetscMax(fabs(a[0]), fabs(a[1])));
     }
     sim->ps->gauss_accel_max = PetscMax(sim->ps->gauss_accel_max, amax);

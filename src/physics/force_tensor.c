@@ -43,7 +43,7 @@ void SpamForceTensor(SpamSim *sim, const double *y, const double *qs)
   const PetscBool       monaghan = (PetscBool)(m->solid.viscosity == SPAM_VISCOSITY_MONAGHAN);
 
   for (PetscInt i = 0; i < sim->n; i++) {
-    sim->acc[0][i] = sim->acc[1][i] = 0.0;
+    sim->acc[2 * i] = sim->acc[2 * i + 1] = 0.0;
     ps->edot[i] = ps->rhodot[i] = 0.0;
   }
   for (int i = 0; i < nl->n; i++) {
@@ -66,8 +66,8 @@ void SpamForceTensor(SpamSim *sim, const double *y, const double *qs)
       const double work = 0.5 * minv * ((vj[0] - vi[0]) * F[0] + (vj[1] - vi[1]) * F[1]);
       const double rhod = m->mass * g * ((ps->u[2 * i] - ps->u[2 * j]) * dx[0] + (ps->u[2 * i + 1] - ps->u[2 * j + 1]) * dx[1]);
       for (int d = 0; d < 2; d++) {
-        sim->acc[d][i] += minv * F[d];
-        sim->acc[d][j] -= minv * F[d];
+        sim->acc[2 * i + d] += minv * F[d];
+        sim->acc[2 * j + d] -= minv * F[d];
       }
       ps->edot[i] += work;
       ps->edot[j] += work;

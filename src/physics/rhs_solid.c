@@ -64,7 +64,7 @@ static void Assemble(const SpamSim *sim, double *ydot)
     double *r = ydot + (size_t)i * l->nvar;
     for (int d = 0; d < 2; d++) {
       r[l->x + d] = ps->xdot[2 * i + d];
-      r[l->v + d] = sim->acc[d][i];
+      r[l->v + d] = sim->acc[2 * i + d];
     }
     r[l->e] = ps->edot[i];
     if (l->rho >= 0) r[l->rho] = ps->rhodot[i];
