@@ -1,4 +1,4 @@
-/* Neighbour search: cell binning plus a half Verlet list (each pair once, i < j) with a
+/* Neighbour search: cell binning plus a half Verlet list (each pair once) with a
  * skin. The list is kept while no particle has moved more than half the skin since the
  * last build, so it serves many RK stages and steps. Positions are read from a strided
  * array (the packed state) and copied, wrapped into the box, into SoA scratch arrays so
@@ -14,7 +14,9 @@ typedef struct {
   double  cellw[3];
   int    *cell_of;               /* [n] cell index of each particle at the build     */
   int    *cell_start, *cell_list;/* CSR: particles of each cell                      */
-  int    *start, *nbr;           /* CSR half list: j > i of particle i               */
+  int    *slot;                  /* [n] position of particle i in cell_list          */
+  int    *start, *nbr;           /* CSR half list: each pair once, in the row of one */
+                                 /* of its two particles                             */
   unsigned char *image;          /* [n] 1: particle i's pairs may cross a periodic   */
                                  /* face (needs the minimum image); 0: they cannot   */
   size_t  npairs, cap;

@@ -26,7 +26,7 @@ PetscErrorCode SpamNeighboursCreate(int n, const SpamBox *box, double cutoff, do
     nl->ncells *= nl->ncell[d];
   }
   nl->cap = (size_t)PetscMax(n, 1) * 16;
-  PetscCall(PetscMalloc4(n, &nl->cell_of, nl->ncells + 1, &nl->cell_start, n, &nl->cell_list, n + 1, &nl->start));
+  PetscCall(PetscMalloc5(n, &nl->cell_of, nl->ncells + 1, &nl->cell_start, n, &nl->cell_list, n + 1, &nl->start, n + 1, &nl->slot));
   PetscCall(PetscMalloc1(nl->cap, &nl->nbr));
   PetscCall(PetscCalloc1(n + 1, &nl->image));
   for (int d = 0; d < 3; d++) nl->ucell[d] = NULL;
@@ -42,7 +42,7 @@ PetscErrorCode SpamNeighboursCreate(int n, const SpamBox *box, double cutoff, do
 PetscErrorCode SpamNeighboursDestroy(SpamNeighbours *nl)
 {
   PetscFunctionBeginUser;
-  PetscCall(PetscFree4(nl->cell_of, nl->cell_start, nl->cell_list, nl->start));
+  PetscCall(PetscFree5(nl->cell_of, nl->cell_start, nl->cell_list, nl->start, nl->slot));
   PetscCall(PetscFree(nl->nbr));
   PetscCall(PetscFree(nl->image));
   for (int d = 0; d < 3; d++) PetscCall(PetscFree(nl->ucell[d]));
@@ -129,7 +129,11 @@ static void BinParticles(SpamNeighbours *nl, const SpamBox *box)
     nl->cell_start[nl->cell_of[i] + 1]++;
   }
   for (int c = 0; c < nl->ncells; c++) nl->cell_start[c + 1] += nl->cell_start[c];
-  for (int i = 0; i < nl->n; i++) nl->cell_list[nl->cell_start[nl->cell_of[i]]++] = i;
+  for (int i = 0; i < nl->n; i++) {
+    const int k   = nl->cell_start[nl->cell_of[i]]++;
+    nl->cell_list[k] = i;
+    nl->slot[i]      = k;
+  }
   for (int c = nl->ncells; c > 0; c--) nl->cell_start[c] = nl->cell_start[c - 1];
   nl->cell_start[0] = 0;
   /* Positions in cell order, so that a cell's candidates are read contiguously. */
@@ -151,36 +155,22 @@ static PetscErrorCode Reserve(SpamNeighbours *nl, size_t need)
 
 #define SPAM_BUILD_CHUNK 256
 
-/* First position in cell_list[k0, k1) holding a particle above i: a cell lists its
- * particles in increasing index, so the candidates j > i of a cell are a suffix. */
-static int FirstAbove(const int *list, int k0, int k1, int i)
-{
-  while (k0 < k1) {
-    const int mid = k0 + (k1 - k0) / 2;
-    if (list[mid] > i) k1 = mid;
-    else k0 = mid + 1;
-  }
-  return k0;
-}
-
-/* Appends the candidates j > i of the adjacent cells within the list range of particle
- * i; from[a] is where cell adj[a]'s candidates above i begin. A first loop computes the
- * squared distances of up to SPAM_BUILD_CHUNK candidates, read contiguously in cell
- * order (it vectorises); a second appends them without a branch (every candidate is
- * written, the count advances only for a hit: a branch would be a coin flip). dim and
- * img (the minimum image) are literals at each call: one loop per combination. Starting
- * each cell past its j <= i prefix halves the candidates: a build of N = 65536 went from
- * 24.9 to 19.2 ms in alternating runs. */
-static inline __attribute__((always_inline)) size_t AppendRow(const int dim, const int img, SpamNeighbours *nl, const SpamImage *im, int i, const int *adj, const int *from, int na, size_t np)
+/* Appends the candidates in the cell_list ranges [r0[a], r1[a]) that lie within the list
+ * range of particle i. A first loop computes the squared distances of up to
+ * SPAM_BUILD_CHUNK candidates, read contiguously in cell order (it vectorises); a second
+ * appends them without a branch (every candidate is written, the count advances only
+ * for a hit: a branch would be a coin flip). dim and img (the minimum image) are
+ * literals at each call: one loop per combination. */
+static inline __attribute__((always_inline)) size_t AppendRow(const int dim, const int img, SpamNeighbours *nl, const SpamImage *im, int i, const int *r0, const int *r1, int nr, size_t np)
 {
   int         *nbr = nl->nbr;
   double       r2[SPAM_BUILD_CHUNK];
   const double rc2 = nl->rc2;
   double       ui[3] = {0, 0, 0};
   for (int d = 0; d < dim; d++) ui[d] = nl->u[d][i];
-  for (int a = 0; a < na; a++) {
-    for (int k0 = from[a]; k0 < nl->cell_start[adj[a] + 1]; k0 += SPAM_BUILD_CHUNK) {
-      const int     m  = PetscMin(SPAM_BUILD_CHUNK, nl->cell_start[adj[a] + 1] - k0);
+  for (int a = 0; a < nr; a++) {
+    for (int k0 = r0[a]; k0 < r1[a]; k0 += SPAM_BUILD_CHUNK) {
+      const int     m  = PetscMin(SPAM_BUILD_CHUNK, r1[a] - k0);
       const int    *js = nl->cell_list + k0;
       const double *u0 = nl->ucell[0] + k0, *u1 = dim > 1 ? nl->ucell[1] + k0 : u0, *u2 = dim > 2 ? nl->ucell[2] + k0 : u0;
       for (int c = 0; c < m; c++) {
@@ -198,32 +188,129 @@ static inline __attribute__((always_inline)) size_t AppendRow(const int dim, con
   return np;
 }
 
-static size_t AppendRowDim(int dim, SpamNeighbours *nl, const SpamImage *im, int i, const int *adj, const int *from, int na, size_t np)
+static size_t AppendRowDim(int dim, SpamNeighbours *nl, const SpamImage *im, int i, const int *r0, const int *r1, int nr, size_t np)
 {
   const int img = nl->image[i];
   switch (dim) {
-  case 1: return img ? AppendRow(1, 1, nl, im, i, adj, from, na, np) : AppendRow(1, 0, nl, im, i, adj, from, na, np);
-  case 2: return img ? AppendRow(2, 1, nl, im, i, adj, from, na, np) : AppendRow(2, 0, nl, im, i, adj, from, na, np);
-  default: return img ? AppendRow(3, 1, nl, im, i, adj, from, na, np) : AppendRow(3, 0, nl, im, i, adj, from, na, np);
+  case 1: return img ? AppendRow(1, 1, nl, im, i, r0, r1, nr, np) : AppendRow(1, 0, nl, im, i, r0, r1, nr, np);
+  case 2: return img ? AppendRow(2, 1, nl, im, i, r0, r1, nr, np) : AppendRow(2, 0, nl, im, i, r0, r1, nr, np);
+  default: return img ? AppendRow(3, 1, nl, im, i, r0, r1, nr, np) : AppendRow(3, 0, nl, im, i, r0, r1, nr, np);
   }
 }
 
-/* Moves each adjacent cell's start of candidates past the particles up to i. Along a
- * run of particles in one cell i only grows, so the starts only move forward; a new
- * cell finds them by bisection. */
-static void CandidatesAbove(const SpamNeighbours *nl, int i, const int *adj, int na, PetscBool fresh, int *from)
+/* Whether the half stencil below visits every adjacent pair of cells once: a periodic
+ * direction needs three cells or more, or its neighbours -1 and +1 would coincide. */
+static PetscBool HalfStencilValid(const SpamNeighbours *nl, const SpamBox *box)
 {
-  for (int a = 0; a < na; a++) {
-    const int k1 = nl->cell_start[adj[a] + 1];
-    if (fresh) from[a] = FirstAbove(nl->cell_list, nl->cell_start[adj[a]], k1, i);
-    else
-      while (from[a] < k1 && nl->cell_list[from[a]] <= i) from[a]++;
+  for (int d = 0; d < box->dim; d++)
+    if (box->periodic[d] && nl->ncell[d] < 3) return PETSC_FALSE;
+  return PETSC_TRUE;
+}
+
+/* The half stencil of a cell: the cell itself, then the adjacent cells at offsets
+ * (dz, dy, dx) after (0, 0, 0) in lexicographic order (one of each pair of opposite
+ * offsets: 1 + 4 in 2D, 1 + 13 in 3D), as ranges of cell_list positions. Cells with
+ * consecutive indices are contiguous in cell_list and merge into one range: in 2D the
+ * stencil is two ranges away from periodic faces (the cell with its +x neighbour, and
+ * the three cells of the row above), in 3D five. Range 0 starts with the cell itself. */
+static int HalfStencilRanges(const SpamNeighbours *nl, const SpamBox *box, int cell, int *r0, int *r1)
+{
+  int c[3], nr = 0, last = -2;
+  c[0] = cell % nl->ncell[0];
+  c[1] = (cell / nl->ncell[0]) % nl->ncell[1];
+  c[2] = cell / (nl->ncell[0] * nl->ncell[1]);
+  for (int dz = 0; dz <= (box->dim > 2); dz++)
+    for (int dy = box->dim > 1 && dz > 0 ? -1 : 0; dy <= (box->dim > 1); dy++)
+      for (int dx = dy > 0 || dz > 0 ? -1 : 0; dx <= 1; dx++) {
+        const int o[3] = {dx, dy, dz};
+        int       idx = 0, inside = 1;
+        for (int d = 2; d >= 0; d--) {
+          int a = c[d] + o[d];
+          if (d < box->dim && box->periodic[d]) a = (a + nl->ncell[d]) % nl->ncell[d];
+          inside &= a >= 0 && a < nl->ncell[d];
+          idx = idx * nl->ncell[d] + a;
+        }
+        if (!inside) continue;
+        if (idx == last + 1 && nr > 0) r1[nr - 1] = nl->cell_start[idx + 1];
+        else {
+          r0[nr]   = nl->cell_start[idx];
+          r1[nr++] = nl->cell_start[idx + 1];
+        }
+        last = idx;
+      }
+  return nr;
+}
+
+/* The list from the half stencil: particle i takes the rest of its own cell after it
+ * and the forward cells, so each pair is found once, in the row of either particle.
+ * Against the full stencil with the j > i suffixes below, a build of N = 65536 took
+ * 0.61 of the time (11.5 against 18.4 ms, five alternating runs). */
+static PetscErrorCode BuildHalfStencil(SpamNeighbours *nl, const SpamBox *box, const SpamImage *im)
+{
+  int r0[14], r1[14], nr = 0, cell = -1;
+
+  PetscFunctionBeginUser;
+  for (int i = 0; i < nl->n; i++) {
+    size_t cand = 0;
+    if (nl->cell_of[i] != cell) {
+      cell = nl->cell_of[i];
+      nr   = HalfStencilRanges(nl, box, cell, r0, r1);
+    }
+    const int own = r0[0];
+    r0[0]         = nl->slot[i] + 1;
+    for (int a = 0; a < nr; a++) cand += (size_t)(r1[a] - r0[a]);
+    PetscCall(Reserve(nl, nl->npairs + cand));
+    nl->npairs       = AppendRowDim(box->dim, nl, im, i, r0, r1, nr, nl->npairs);
+    nl->start[i + 1] = (int)nl->npairs;
+    r0[0]            = own;
   }
+  PetscFunctionReturn(0);
+}
+
+/* First position in cell_list[k0, k1) holding a particle above i: a cell lists its
+ * particles in increasing index, so the candidates j > i of a cell are a suffix. */
+static int FirstAbove(const int *list, int k0, int k1, int i)
+{
+  while (k0 < k1) {
+    const int mid = k0 + (k1 - k0) / 2;
+    if (list[mid] > i) k1 = mid;
+    else k0 = mid + 1;
+  }
+  return k0;
+}
+
+/* The list from all adjacent cells, for boxes with fewer than three cells along a
+ * periodic direction: particle i takes the candidates j > i, which are a suffix of each
+ * cell. Along a run of particles in one cell i only grows, so the suffixes only move
+ * forward; a new cell finds them by bisection. */
+static PetscErrorCode BuildFullStencil(SpamNeighbours *nl, const SpamBox *box, const SpamImage *im)
+{
+  int adj[27], r0[27], r1[27], na = 0, cell = -1;
+
+  PetscFunctionBeginUser;
+  for (int i = 0; i < nl->n; i++) {
+    const PetscBool fresh = nl->cell_of[i] != cell;
+    size_t          cand  = 0;
+    if (fresh) {
+      cell = nl->cell_of[i];
+      na   = SpamNeighboursAdjacentCells(nl, box, cell, adj);
+      for (int a = 0; a < na; a++) r1[a] = nl->cell_start[adj[a] + 1];
+    }
+    for (int a = 0; a < na; a++) {
+      if (fresh) r0[a] = FirstAbove(nl->cell_list, nl->cell_start[adj[a]], r1[a], i);
+      else
+        while (r0[a] < r1[a] && nl->cell_list[r0[a]] <= i) r0[a]++;
+      cand += (size_t)(r1[a] - r0[a]);
+    }
+    PetscCall(Reserve(nl, nl->npairs + cand));
+    nl->npairs       = AppendRowDim(box->dim, nl, im, i, r0, r1, na, nl->npairs);
+    nl->start[i + 1] = (int)nl->npairs;
+  }
+  PetscFunctionReturn(0);
 }
 
 static PetscErrorCode BuildList(SpamNeighbours *nl, const SpamBox *box)
 {
-  int             adj[27], from[27], na = 0, cell = -1;
   const SpamImage im = SpamBoxImage(box);
 
   PetscFunctionBeginUser;
@@ -231,21 +318,8 @@ static PetscErrorCode BuildList(SpamNeighbours *nl, const SpamBox *box)
   BinParticles(nl, box);
   nl->npairs   = 0;
   nl->start[0] = 0;
-  for (int i = 0; i < nl->n; i++) {
-    /* Particles in spatial order share their cell with the previous one most of the
-     * time: its adjacent cells are then reused. */
-    const PetscBool fresh = nl->cell_of[i] != cell;
-    size_t          cand  = 0;
-    if (fresh) {
-      cell = nl->cell_of[i];
-      na   = SpamNeighboursAdjacentCells(nl, box, cell, adj);
-    }
-    CandidatesAbove(nl, i, adj, na, fresh, from);
-    for (int a = 0; a < na; a++) cand += (size_t)(nl->cell_start[adj[a] + 1] - from[a]);
-    PetscCall(Reserve(nl, nl->npairs + cand));
-    nl->npairs       = AppendRowDim(box->dim, nl, &im, i, adj, from, na, nl->npairs);
-    nl->start[i + 1] = (int)nl->npairs;
-  }
+  if (HalfStencilValid(nl, box)) PetscCall(BuildHalfStencil(nl, box, &im));
+  else PetscCall(BuildFullStencil(nl, box, &im));
   nl->builds++;
   if (nl->ev_build) PetscCall(PetscLogEventEnd(nl->ev_build, 0, 0, 0, 0));
   PetscFunctionReturn(0);
