@@ -32,6 +32,7 @@ cases = [
     ("box narrower than 2h (expansion)", ["-expansion_n", 2, "-h", 3], ["expansion_n", "'4'", "at least 2h"]),
     ("box narrower than 2h (file)", file_scene[:-1] + ["5,8", "-file_path", good], ["-box_len", "'5'", "at least 2h"]),
     ("skin of half the box", ["-expansion_n", 8, "-neighbour_skin", 9], ["-neighbour_skin", "'9.'", "below half the periodic box edge"]),
+    ("zero threads", ["-threads", 0], ["-threads", "'0'", "from 1 to 256"]),
     ("zero rtol", ["-ts_rtol", 0], ["-ts_rtol", "'0'", "positive"]),
     ("negative atol", ["-ts_atol", -1e-9], ["-ts_atol", "'-1e-09'", "positive"]),
     ("negative fixed step", ["-arkode_fixed_step", -0.1], ["-arkode_fixed_step", "'-0.1'"]),

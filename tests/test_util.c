@@ -35,6 +35,11 @@ PetscErrorCode TestMakeSim(const SpamBox *box, double h, double gamma, PetscInt 
   PetscFunctionBeginUser;
   PetscCall(SpamModelIsentropeSetUp(box->dim, h, 1.0, gamma, 1.0 / gamma, &model));
   PetscCall(SpamSimCreate(PETSC_COMM_SELF, &model, box, n, 0.1 * h, sim));
+  { /* -threads T runs the pair passes and list builds with T OpenMP threads */
+    PetscInt threads = 1;
+    PetscCall(PetscOptionsGetInt(NULL, NULL, "-threads", &threads, NULL));
+    sim->threads = (int)threads;
+  }
   PetscCall(SpamSimFill(sim, x, v));
   PetscCall(SpamSimSetUp(sim));
   PetscFunctionReturn(0);

@@ -7,6 +7,14 @@
 #define SPAM_NEIGHBOURS_H
 #include <spam/box.h>
 
+#define SPAM_MAX_THREADS 256
+
+/* Pair entries being appended: the list itself, or one thread's part of it. */
+typedef struct {
+  int   *nbr;
+  size_t cap, n;
+} SpamPairBuffer;
+
 typedef struct {
   int     dim, n;
   double  cutoff, skin, rc2;     /* rc = cutoff + skin                             */
@@ -25,16 +33,24 @@ typedef struct {
   double *ucell[3];              /* [n] u at the build in cell order (build scratch) */
   double *u[3];                  /* [n] box-local positions x - off (wrapped at the  */
                                  /* build, within skin/2 of the box since)           */
+  int     threads;               /* threads of a build (SpamNeighboursSetThreads)     */
+  SpamPairBuffer *tbuf;          /* [threads] each thread's rows of a threaded build */
   long    builds, grows;         /* statistics                                       */
   PetscLogEvent ev_build;        /* -log_view event of a list build (0: none)         */
 } SpamNeighbours;
 
 PetscErrorCode SpamNeighboursCreate(int n, const SpamBox *box, double cutoff, double skin, SpamNeighbours *nl);
+/* Builds with this many OpenMP threads (default 1); before the first build. The list is
+ * the same for every count. */
+PetscErrorCode SpamNeighboursSetThreads(SpamNeighbours *nl, int threads);
 PetscErrorCode SpamNeighboursDestroy(SpamNeighbours *nl);
 /* Copies positions (x[i*stride + d]) into nl->u, rebuilding the list when needed or when
  * force is set. Returns PETSC_ERR_FP with the particle index in *bad if a position is not
  * finite (bad is -1 otherwise). */
 PetscErrorCode SpamNeighboursUpdate(SpamNeighbours *nl, const SpamBox *box, const double *x, int stride, PetscBool force, PetscInt *bad);
+/* Rows [rows[0], rows[1]) of block t when the list is split into T blocks of consecutive
+ * rows with about equal pair counts (the blocks of a threaded pass). */
+void SpamNeighboursSplitRows(const SpamNeighbours *nl, int T, int t, int rows[2]);
 /* Cell of a box-local point, and the distinct cells adjacent to it (itself included). */
 int SpamNeighboursCellOf(const SpamNeighbours *nl, const SpamBox *box, const double *u);
 int SpamNeighboursAdjacentCells(const SpamNeighbours *nl, const SpamBox *box, int cell, int *adj);

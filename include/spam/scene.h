@@ -24,6 +24,7 @@ typedef struct {
   PetscBool box_len_set;
   PetscBool periodic[3];
   double    translate[3];
+  PetscInt  threads;     /* OpenMP threads of the pair passes                        */
 } SpamCommonParams;
 
 typedef struct {

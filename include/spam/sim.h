@@ -39,6 +39,8 @@ typedef struct SpamSim {
   SpamNeighbours nl;
   double         skin;
   double        *rho, *q;  /* scratch: density and P/rho^2 per particle             */
+  int            threads;  /* OpenMP threads of the pair passes (-threads; 1: none)   */
+  double        *tacc, *trho; /* per-thread sums of threads 1..T-1 (NULL for T = 1)  */
   double        *acc;      /* scratch: accelerations, a[i*dim + d] (interleaved: the  */
                            /* two updates of a pair touch one cache line each)      */
   SpamRhsStats   stats;

@@ -10,6 +10,7 @@ PetscErrorCode SpamSimCreate(MPI_Comm comm, const SpamModel *model, const SpamBo
   sim->box   = *box;
   sim->n     = n;
   sim->skin  = skin;
+  sim->threads = 1;
   PetscCall(DMCreate(comm, &sim->swarm));
   PetscCall(DMSetType(sim->swarm, DMSWARM));
   PetscCall(DMSetDimension(sim->swarm, model->dim));
@@ -80,9 +81,11 @@ PetscErrorCode SpamSimSetUp(SpamSim *sim)
   PetscCall(DMSwarmCreateGlobalVectorFromField(sim->swarm, SPAM_STATE_FIELD, &sim->X));
   PetscCall(PetscMalloc2(n + 1, &sim->rho, n + 1, &sim->q));
   PetscCall(PetscCalloc1(3 * (size_t)n + 3, &sim->acc));
+  if (sim->threads > 1) PetscCall(PetscMalloc2((size_t)(sim->threads - 1) * 3 * n + 1, &sim->tacc, (size_t)(sim->threads - 1) * n + 1, &sim->trho));
   /* gamma = 2: P/rho^2 = kappa for every particle, set once. */
   for (PetscInt i = 0; i < n; i++) sim->q[i] = sim->model.eos.kappa;
   PetscCall(SpamNeighboursCreate((int)n, &sim->box, sim->model.kernel.h, sim->skin, &sim->nl));
+  PetscCall(SpamNeighboursSetThreads(&sim->nl, sim->threads));
   PetscCall(RegisterEvents(sim));
   PetscCall(FirstBuild(sim));
   PetscFunctionReturn(0);
@@ -95,6 +98,7 @@ PetscErrorCode SpamSimDestroy(SpamSim *sim)
   if (sim->rho) {
     PetscCall(PetscFree2(sim->rho, sim->q));
     PetscCall(PetscFree(sim->acc));
+    PetscCall(PetscFree2(sim->tacc, sim->trho));
     PetscCall(SpamNeighboursDestroy(&sim->nl));
   }
   PetscCall(PetscFree2(sim->row_of, sim->at_row));

@@ -15,6 +15,7 @@
  * on the vector width of the clone that runs (SPAM_CLONES below): deterministic for a
  * given binary and processor; test_pair_reference bounds it against a plain loop. */
 #include <spam/sim.h>
+#include <omp.h>
 
 #define SPAM_PAIR_CHUNK 64
 
@@ -45,19 +46,17 @@ SPAM_INLINE void DensityChunk(const int dim, const int img, const SpamImage *im,
   }
 }
 
-SPAM_INLINE void DensityPass(const int dim, const SpamNeighbours *nl, const SpamBox *box, const SpamKernel *k, double mass, double *rho)
+/* Rows [i0, i1) of the density pass, added to rho. */
+SPAM_INLINE void DensityRows(const int dim, const SpamNeighbours *nl, const SpamImage *im, const SpamKernel *k, double wm, double *rho, int i0, int i1)
 {
-  const SpamImage im = SpamBoxImage(box);
-  const double    wm = mass * k->wnorm; /* m w(0) */
-  for (int i = 0; i < nl->n; i++) rho[i] = wm;
-  for (int i = 0; i < nl->n; i++) {
+  for (int i = i0; i < i1; i++) {
     double ri = 0.0, ui[3] = {0, 0, 0};
     for (int d = 0; d < dim; d++) ui[d] = nl->u[d][i];
     for (int p0 = nl->start[i]; p0 < nl->start[i + 1]; p0 += SPAM_PAIR_CHUNK) {
       const int *nb = nl->nbr + p0, np = PetscMin(SPAM_PAIR_CHUNK, nl->start[i + 1] - p0);
       double     wj[SPAM_PAIR_CHUNK];
-      if (nl->image[i]) DensityChunk(dim, 1, &im, nl, k, wm, ui, nb, np, wj);
-      else DensityChunk(dim, 0, &im, nl, k, wm, ui, nb, np, wj);
+      if (nl->image[i]) DensityChunk(dim, 1, im, nl, k, wm, ui, nb, np, wj);
+      else DensityChunk(dim, 0, im, nl, k, wm, ui, nb, np, wj);
       for (int c = 0; c < np; c++) {
         ri += wj[c];
         rho[nb[c]] += wj[c];
@@ -95,19 +94,17 @@ SPAM_INLINE void ForceChunk(const int dim, const int uniform, const int img, con
   ai[2] += a2;
 }
 
-SPAM_INLINE void ForcePass(const int dim, const int uniform, const SpamNeighbours *nl, const SpamBox *box, const SpamKernel *k, double mass, const double *q, double *acc)
+/* Rows [i0, i1) of the force pass, added to acc. */
+SPAM_INLINE void ForceRows(const int dim, const int uniform, const SpamNeighbours *nl, const SpamImage *im, const SpamKernel *k, double coef, const double *q, double *acc, int i0, int i1)
 {
-  const SpamImage im   = SpamBoxImage(box);
-  const double    coef = -mass * k->gnorm; /* -m (w'/r) / (1-s)^2 > 0 */
-  for (size_t k = 0; k < (size_t)nl->n * dim; k++) acc[k] = 0.0;
-  for (int i = 0; i < nl->n; i++) {
+  for (int i = i0; i < i1; i++) {
     double ai[3] = {0, 0, 0}, ui[3] = {0, 0, 0};
     for (int d = 0; d < dim; d++) ui[d] = nl->u[d][i];
     for (int p0 = nl->start[i]; p0 < nl->start[i + 1]; p0 += SPAM_PAIR_CHUNK) {
       const int *nb = nl->nbr + p0, np = PetscMin(SPAM_PAIR_CHUNK, nl->start[i + 1] - p0);
       double     fd[3][SPAM_PAIR_CHUNK];
-      if (nl->image[i]) ForceChunk(dim, uniform, 1, &im, nl, k, coef, q, q[i], ui, nb, np, fd, ai);
-      else ForceChunk(dim, uniform, 0, &im, nl, k, coef, q, q[i], ui, nb, np, fd, ai);
+      if (nl->image[i]) ForceChunk(dim, uniform, 1, im, nl, k, coef, q, q[i], ui, nb, np, fd, ai);
+      else ForceChunk(dim, uniform, 0, im, nl, k, coef, q, q[i], ui, nb, np, fd, ai);
       for (int c = 0; c < np; c++) {
         double *aj = acc + (size_t)nb[c] * dim;
         aj[0] -= fd[0][c];
@@ -119,11 +116,36 @@ SPAM_INLINE void ForcePass(const int dim, const int uniform, const SpamNeighbour
   }
 }
 
-/* One loop for each of uniform and per-particle P/rho^2. */
-SPAM_INLINE void ForcePassQ(const int dim, PetscBool uniform, const SpamNeighbours *nl, const SpamBox *box, const SpamKernel *k, double mass, const double *q, double *acc)
+/* One block of rows of a pass: thread t of the pass's T sums rows [i0, i1) into its own
+ * buffer, which it zeroes first (thread 0's is the output itself). One loop for each
+ * dimension and, in the force pass, for uniform and per-particle P/rho^2. */
+SPAM_INLINE void DensityBlock(const SpamSim *sim, double *rho, int i0, int i1, int t)
 {
-  if (uniform) ForcePass(dim, 1, nl, box, k, mass, q, acc);
-  else ForcePass(dim, 0, nl, box, k, mass, q, acc);
+  const SpamModel *m  = &sim->model;
+  const SpamImage  im = SpamBoxImage(&sim->box);
+  const double     wm = m->mass * m->kernel.wnorm; /* m w(0) */
+  for (PetscInt i = 0; i < sim->n; i++) rho[i] = t == 0 ? wm : 0.0;
+  switch (m->dim) {
+  case 1: DensityRows(1, &sim->nl, &im, &m->kernel, wm, rho, i0, i1); break;
+  case 2: DensityRows(2, &sim->nl, &im, &m->kernel, wm, rho, i0, i1); break;
+  default: DensityRows(3, &sim->nl, &im, &m->kernel, wm, rho, i0, i1); break;
+  }
+}
+
+SPAM_INLINE void ForceBlock(const SpamSim *sim, double *acc, int i0, int i1)
+{
+  const SpamModel *m    = &sim->model;
+  const SpamImage  im   = SpamBoxImage(&sim->box);
+  const double     coef = -m->mass * m->kernel.gnorm; /* -m (w'/r) / (1-s)^2 > 0 */
+  const int        u    = m->density_free;
+  for (size_t k = 0; k < (size_t)sim->n * m->dim; k++) acc[k] = 0.0;
+#define SPAM_FORCE_ROWS(D, U) ForceRows(D, U, &sim->nl, &im, &m->kernel, coef, sim->q, acc, i0, i1)
+  switch (m->dim) {
+  case 1: u ? SPAM_FORCE_ROWS(1, 1) : SPAM_FORCE_ROWS(1, 0); break;
+  case 2: u ? SPAM_FORCE_ROWS(2, 1) : SPAM_FORCE_ROWS(2, 0); break;
+  default: u ? SPAM_FORCE_ROWS(3, 1) : SPAM_FORCE_ROWS(3, 0); break;
+  }
+#undef SPAM_FORCE_ROWS
 }
 
 /* The two passes below are compiled twice, for the x86-64 baseline (SSE2) and for AVX2,
@@ -131,20 +153,43 @@ SPAM_INLINE void ForcePassQ(const int dim, PetscBool uniform, const SpamNeighbou
  * portable, and on the benchmark machine the AVX2 force pass took 0.87 of the SSE2
  * one's time. AVX-512 was no faster (rows hold ~13 pairs, so 8-wide loops are mostly
  * remainder) and FMA is not enabled: contracted products would round differently on
- * different machines. */
+ * different machines.
+ *
+ * With -threads T > 1 the rows are split into T blocks of about equal pair counts, and
+ * each thread sums its block into its own buffer (thread 0 into the output, the others
+ * into sim->tacc or sim->trho); the buffers are then added in thread order. No two
+ * threads write one address, and every sum is taken in an order fixed by the list and
+ * T alone, so the results are the same run to run (and differ from T = 1 only by the
+ * order of the additions). */
 #define SPAM_CLONES __attribute__((target_clones("avx2", "default")))
 
-/* Summation density of the current list into sim->rho (one loop per dimension). */
+/* Adds the T - 1 scratch buffers of len values to out, in thread order (inside a parallel
+ * region: the values are shared out among the threads). */
+static inline void AddThreadBuffers(double *out, const double *scratch, size_t len, int T)
+{
+#pragma omp for schedule(static)
+  for (size_t k = 0; k < len; k++)
+    for (int s = 1; s < T; s++) out[k] += scratch[(size_t)(s - 1) * len + k];
+}
+
+/* Summation density of the current list into sim->rho. */
 SPAM_CLONES static PetscErrorCode Density(SpamSim *sim)
 {
-  const SpamModel *m = &sim->model;
+  const int T = sim->threads;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(sim->ev.density, 0, 0, 0, 0));
-  switch (m->dim) {
-  case 1: DensityPass(1, &sim->nl, &sim->box, &m->kernel, m->mass, sim->rho); break;
-  case 2: DensityPass(2, &sim->nl, &sim->box, &m->kernel, m->mass, sim->rho); break;
-  default: DensityPass(3, &sim->nl, &sim->box, &m->kernel, m->mass, sim->rho); break;
+  if (T == 1) DensityBlock(sim, sim->rho, 0, sim->nl.n, 0);
+  else {
+#pragma omp parallel num_threads(T)
+    {
+      const int t = omp_get_thread_num();
+      int       rows[2];
+      SpamNeighboursSplitRows(&sim->nl, T, t, rows);
+      DensityBlock(sim, t == 0 ? sim->rho : sim->trho + (size_t)(t - 1) * sim->n, rows[0], rows[1], t);
+#pragma omp barrier
+      AddThreadBuffers(sim->rho, sim->trho, (size_t)sim->n, T);
+    }
   }
   PetscCall(PetscLogEventEnd(sim->ev.density, 0, 0, 0, 0));
   PetscFunctionReturn(0);
@@ -153,14 +198,22 @@ SPAM_CLONES static PetscErrorCode Density(SpamSim *sim)
 /* Accelerations from sim->q = P/rho^2 into sim->acc. */
 SPAM_CLONES static PetscErrorCode Force(SpamSim *sim)
 {
-  const SpamModel *m = &sim->model;
+  const int    T   = sim->threads;
+  const size_t len = (size_t)sim->n * sim->model.dim;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(sim->ev.force, 0, 0, 0, 0));
-  switch (m->dim) {
-  case 1: ForcePassQ(1, m->density_free, &sim->nl, &sim->box, &m->kernel, m->mass, sim->q, sim->acc); break;
-  case 2: ForcePassQ(2, m->density_free, &sim->nl, &sim->box, &m->kernel, m->mass, sim->q, sim->acc); break;
-  default: ForcePassQ(3, m->density_free, &sim->nl, &sim->box, &m->kernel, m->mass, sim->q, sim->acc); break;
+  if (T == 1) ForceBlock(sim, sim->acc, 0, sim->nl.n);
+  else {
+#pragma omp parallel num_threads(T)
+    {
+      const int t = omp_get_thread_num();
+      int       rows[2];
+      SpamNeighboursSplitRows(&sim->nl, T, t, rows);
+      ForceBlock(sim, t == 0 ? sim->acc : sim->tacc + (size_t)(t - 1) * len, rows[0], rows[1]);
+#pragma omp barrier
+      AddThreadBuffers(sim->acc, sim->tacc, len, T);
+    }
   }
   PetscCall(PetscLogEventEnd(sim->ev.force, 0, 0, 0, 0));
   PetscFunctionReturn(0);
@@ -201,6 +254,7 @@ PetscErrorCode SpamRhsIsentrope(SpamSim *sim, const double *y, double *ydot, Pet
   PetscFunctionBeginUser;
   PetscCall(SpamAccelIsentrope(sim, y + l->x, nv, bad));
   if (*bad >= 0) PetscFunctionReturn(0);
+#pragma omp parallel for if (sim->threads > 1) num_threads(sim->threads) schedule(static)
   for (PetscInt i = 0; i < sim->n; i++) {
     for (int d = 0; d < dim; d++) {
       ydot[(size_t)i * nv + l->x + d] = y[(size_t)i * nv + l->v + d];

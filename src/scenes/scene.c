@@ -57,6 +57,8 @@ static PetscErrorCode CommonOptions(SpamCommonParams *c)
   PetscCall(PetscOptionsRealArray("-box_lo", "Lower corner of the box (file scene; default 0)", "README", c->box_lo, &nd, NULL));
   PetscCall(PetscOptionsRealArray("-box_len", "Box edge lengths (file scene: required)", "README", c->box_len, &nl, &c->box_len_set));
   PetscCall(PetscOptionsBoolArray("-periodic", "Periodic in each direction (default true)", "README", c->periodic, &np, NULL));
+  c->threads = 1;
+  PetscCall(PetscOptionsInt("-threads", "OpenMP threads of the pair passes (1: none; results are the same run to run for a given count)", "README", c->threads, &c->threads, NULL));
   PetscCall(PetscOptionsRealArray("-scene_translate", "Shift particles and box by this vector (a test of translation invariance)", "README", c->translate, &nt, &set));
   PetscOptionsEnd();
   c->dim = (int)dim;
@@ -64,6 +66,11 @@ static PetscErrorCode CommonOptions(SpamCommonParams *c)
     char val[32];
     PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, dim));
     if (dim < 1 || dim > 3) SPAM_BAD_INPUT("-dim", val, "allowed: 1, 2 or 3");
+  }
+  {
+    char val[32];
+    PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, c->threads));
+    if (c->threads < 1 || c->threads > SPAM_MAX_THREADS) SPAM_BAD_INPUT("-threads", val, "must be from 1 to %d", SPAM_MAX_THREADS);
   }
   PetscCall(CheckPositive("-h", c->h));
   PetscCall(CheckPositive("-mass", c->mass));
@@ -170,7 +177,8 @@ PetscErrorCode SpamSceneCreateSim(MPI_Comm comm, SpamSim *sim)
   if (p.model_set) model = p.model;
   else PetscCall(SpamModelIsentropeSetUp(c.dim, c.h, p.mass, c.gamma, c.kappa, &model));
   PetscCall(SpamSimCreate(comm, &model, &p.box, p.n, c.skin, sim));
-  sim->scene = p.info;
+  sim->scene   = p.info;
+  sim->threads = (int)c.threads;
   PetscCall(SortOption(comm, scene == SCENE_FILE, &sort));
   if (sort) {
     PetscCall(PetscMalloc2(p.n + 1, &sim->row_of, p.n + 1, &sim->at_row));
