@@ -17,7 +17,7 @@ typedef struct SpamPhysicsScratch {
   double  *tfac;           /* [n] T_i scaling factor of each particle                 */
   int     *body, nbody;    /* connected body of each particle at set-up              */
   double  *bpos, *bneg, *bfac; /* [nbody] positive / negative torque sums, factor     */
-  int     *bond_start, *bond_nbr; /* CSR half list of spring bonds (j > i)           */
+  int     *bond_start, *bond_nbr; /* CSR half list of spring bonds (each pair once)  */
   int      nbonds;
   /* Gauss's principle: evaluations found singular, and whether that was reported.     */
   long     gauss_singular;

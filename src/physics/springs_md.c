@@ -4,7 +4,8 @@
  * exactly; the state is [x, v], so the symplectic splits can use the acceleration. */
 #include <spam/physics.h>
 
-/* Bonds: a CSR half list (j > i) of the pairs closer than range at the positions y. */
+/* Bonds: a CSR half list (each pair once, in the neighbour list's row) of the pairs closer
+ * than range at the positions y. */
 static PetscErrorCode BuildBonds(SpamSim *sim, const double *y)
 {
   SpamPhysicsScratch *ps = sim->ps;
