@@ -133,7 +133,7 @@ static PetscErrorCode SortOption(MPI_Comm comm, PetscBool file, PetscBool *sort)
   PetscFunctionBeginUser;
   *sort = file;
   PetscOptionsBegin(comm, NULL, "Particle order", "spam-ark");
-  PetscCall(PetscOptionsBool("-sort_particles", "Reorder particles along a Morton curve of cells of width h at set-up (default: true for -scene file, false for the lattice scenes); outputs keep the input order", "README", *sort, sort, NULL));
+  PetscCall(PetscOptionsBool("-sort_particles", "Reorder particles by cells of width h at set-up (row by row in 2D, Morton curve in 3D) (default: true for -scene file, false for the lattice scenes); outputs keep the input order", "README", *sort, sort, NULL));
   PetscOptionsEnd();
   PetscFunctionReturn(0);
 }
