@@ -101,7 +101,8 @@ PetscErrorCode SpamFileBuild(const SpamCommonParams *c, const SpamFileParams *p,
 PetscErrorCode SpamParticlesAllocate(int dim, PetscInt n, SpamParticles *p);
 PetscErrorCode SpamParticlesFree(SpamParticles *p);
 /* Reorders the particles (and their optional fields) by cells of the given width, row by
- * row in 1D and 2D and along a Morton curve in 3D; row_of[i] ([n]) receives the input row of the particle now at i. */
+ * row in 1D and 2D and along a Morton curve in 3D; row_of[i] ([n]) receives the input
+ * row of the particle now at i. */
 PetscErrorCode SpamParticlesSortByCell(SpamParticles *p, double width, PetscInt *row_of);
 
 /* Reads -scene and every option of the chosen scene, builds the particles and creates the

@@ -110,12 +110,18 @@ static int AdjacentAlong(const SpamNeighbours *nl, const SpamBox *box, int d, in
   return k;
 }
 
-int SpamNeighboursAdjacentCells(const SpamNeighbours *nl, const SpamBox *box, int cell, int *adj)
+/* The cell coordinates of a cell index (x fastest). */
+static void CellCoordinates(const SpamNeighbours *nl, int cell, int c[3])
 {
-  int c[3], a[3][3], na[3], k = 0;
   c[0] = cell % nl->ncell[0];
   c[1] = (cell / nl->ncell[0]) % nl->ncell[1];
   c[2] = cell / (nl->ncell[0] * nl->ncell[1]);
+}
+
+int SpamNeighboursAdjacentCells(const SpamNeighbours *nl, const SpamBox *box, int cell, int *adj)
+{
+  int c[3], a[3][3], na[3], k = 0;
+  CellCoordinates(nl, cell, c);
   for (int d = 0; d < 3; d++) na[d] = AdjacentAlong(nl, box, d, c[d], a[d]);
   for (int z = 0; z < na[2]; z++)
     for (int y = 0; y < na[1]; y++)
@@ -238,9 +244,7 @@ static PetscBool HalfStencilValid(const SpamNeighbours *nl, const SpamBox *box)
 static int HalfStencilRanges(const SpamNeighbours *nl, const SpamBox *box, int cell, int *r0, int *r1)
 {
   int c[3], nr = 0, last = -2;
-  c[0] = cell % nl->ncell[0];
-  c[1] = (cell / nl->ncell[0]) % nl->ncell[1];
-  c[2] = cell / (nl->ncell[0] * nl->ncell[1]);
+  CellCoordinates(nl, cell, c);
   for (int dz = 0; dz <= (box->dim > 2); dz++)
     for (int dy = box->dim > 1 && dz > 0 ? -1 : 0; dy <= (box->dim > 1); dy++)
       for (int dx = dy > 0 || dz > 0 ? -1 : 0; dx <= 1; dx++) {
@@ -367,6 +371,13 @@ static PetscErrorCode BuildRows(SpamNeighbours *nl, const SpamBox *box, const Sp
   PetscFunctionReturn(0);
 }
 
+/* First row of build block t of T: n/T consecutive particles each (the pair counts are
+ * not known before the build). */
+static int BlockStart(const SpamNeighbours *nl, int T, int t)
+{
+  return (int)((size_t)nl->n * (size_t)t / (size_t)T);
+}
+
 /* T threads: thread t appends the rows of block t (n/T consecutive particles) to its own
  * buffer; a buffer that fills up is grown between parallel passes and its block
  * continued. The buffers are then copied into the list in block order and the row
@@ -379,18 +390,18 @@ static PetscErrorCode BuildRowsThreaded(SpamNeighbours *nl, const SpamBox *box, 
 
   PetscFunctionBeginUser;
   for (int t = 0; t < T; t++) {
-    at[t]           = (int)((size_t)nl->n * t / T);
-    nl->tbuf[t].n   = 0;
+    at[t]         = BlockStart(nl, T, t);
+    nl->tbuf[t].n = 0;
   }
   do {
 #pragma omp parallel for num_threads(T) schedule(static, 1)
     for (int t = 0; t < T; t++) {
-      const int end = (int)((size_t)nl->n * (t + 1) / T);
+      const int end = BlockStart(nl, T, t + 1);
       if (at[t] < end) at[t] = AppendRows(nl, box, im, at[t], end, &nl->tbuf[t], &need[t]);
     }
     done = 1;
     for (int t = 0; t < T; t++)
-      if (at[t] < (int)((size_t)nl->n * (t + 1) / T)) {
+      if (at[t] < BlockStart(nl, T, t + 1)) {
         PetscCall(Reserve(&nl->tbuf[t], need[t], &nl->grows));
         done = 0;
       }
@@ -405,7 +416,7 @@ static PetscErrorCode BuildRowsThreaded(SpamNeighbours *nl, const SpamBox *box, 
   }
 #pragma omp parallel for num_threads(T) schedule(static, 1)
   for (int t = 0; t < T; t++) {
-    const int i0 = (int)((size_t)nl->n * t / T), i1 = (int)((size_t)nl->n * (t + 1) / T);
+    const int i0 = BlockStart(nl, T, t), i1 = BlockStart(nl, T, t + 1);
     memcpy(nl->nbr + off[t], nl->tbuf[t].nbr, nl->tbuf[t].n * sizeof(int));
     for (int i = i0; i < i1; i++) nl->start[i + 1] += (int)off[t];
   }

@@ -81,7 +81,7 @@ PetscErrorCode SpamSimSetUp(SpamSim *sim)
   PetscCall(DMSwarmCreateGlobalVectorFromField(sim->swarm, SPAM_STATE_FIELD, &sim->X));
   PetscCall(PetscMalloc2(n + 1, &sim->rho, n + 1, &sim->q));
   PetscCall(PetscCalloc1(3 * (size_t)n + 3, &sim->acc));
-  if (sim->threads > 1) PetscCall(PetscMalloc2((size_t)(sim->threads - 1) * 3 * n + 1, &sim->tacc, (size_t)(sim->threads - 1) * n + 1, &sim->trho));
+  if (sim->threads > 1) PetscCall(PetscMalloc2((size_t)(sim->threads - 1) * sim->model.dim * n + 1, &sim->tacc, (size_t)(sim->threads - 1) * n + 1, &sim->trho));
   /* gamma = 2: P/rho^2 = kappa for every particle, set once. */
   for (PetscInt i = 0; i < n; i++) sim->q[i] = sim->model.eos.kappa;
   PetscCall(SpamNeighboursCreate((int)n, &sim->box, sim->model.kernel.h, sim->skin, &sim->nl));
