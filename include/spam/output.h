@@ -1,25 +1,94 @@
-/* Output files. Every file is written to a temporary name and renamed when complete, so
- * a reader never sees a half-written file. */
+/* Output files. The run owns its directory (a lock file held with flock) and lists every
+ * file it writes in manifest.json. Every file is written to a new temporary name (created
+ * with O_EXCL | O_NOFOLLOW, never through a name someone left there) and renamed when
+ * complete, so a reader never sees a half-written file. Every write is checked: the first
+ * failure is an error naming the file (PETSC_ERR_FILE_WRITE) and its temporary is removed. */
 #ifndef SPAM_OUTPUT_H
 #define SPAM_OUTPUT_H
 #include <spam/diagnostics.h>
 
+/* A file being written: stdio on a temporary that SpamFileCommit renames to path. */
 typedef struct {
-  char  dir[PETSC_MAX_PATH_LEN];
-  FILE *timeseries, *steps;   /* appended during the run, renamed at the end          */
-  int   nsnap;                /* snapshots written so far                             */
-  double *snap_times;         /* [capacity] times of the snapshots, for the XDMF index */
-  int   snap_cap;
+  FILE *f;
+  char  path[PETSC_MAX_PATH_LEN];     /* the final name                                   */
+  char  tmp[PETSC_MAX_PATH_LEN + 32]; /* the temporary: path.PID.tmp                      */
+  int   err;                          /* errno of the first failed write (0: none yet)    */
+  long  writes;                       /* write calls so far                               */
+  long  fail_at;                      /* test only: this write fails (0: none), see below */
+} SpamFile;
+
+/* Test only: SPAM_TEST_FAIL_WRITE=NAME:N makes the N-th write call (1: the first) to the
+ * output file whose base name is NAME fail as if the disk were full (ENOSPC); for an HDF5
+ * snapshot the N-th dataset write. It exists so the tests can prove that a failed write
+ * stops the run; it is an environment variable, not an option, so users never see it. */
+long SpamTestFailWriteAt(const char *path);
+
+/* Creates path.PID.tmp new (O_CREAT | O_EXCL | O_NOFOLLOW); tmp receives its name. */
+PetscErrorCode SpamTempCreate(const char *path, char *tmp, size_t len, int *fd);
+PetscErrorCode SpamFileBegin(const char *path, SpamFile *f);
+/* Writes unless an earlier write of f failed; a failure is recorded in f->err and
+ * reported by the next SpamFileCheck or SpamFileCommit. */
+void SpamFilePrintf(SpamFile *f, const char *fmt, ...) PETSC_ATTRIBUTE_FORMAT(2, 3);
+/* Flushes; after a failed write removes the temporary and raises the error. */
+PetscErrorCode SpamFileCheck(SpamFile *f);
+/* Flushes, closes and renames the temporary to path (removing it on any failure). */
+PetscErrorCode SpamFileCommit(SpamFile *f);
+/* Closes and removes the temporary without reporting (after another failure). */
+void SpamFileDiscard(SpamFile *f);
+
+/* Options of the output directory (read by SpamOutputOptionsParse, see run.h). */
+typedef struct {
+  PetscBool overwrite;     /* -output_overwrite: remove an earlier run's files first  */
+  PetscInt  snapshot_max;  /* -snapshot_max: no run writes more snapshots than this   */
+} SpamOutputOptions;
+
+/* One file of the run, as manifest.json lists it. */
+typedef struct {
+  char   name[512];               /* in the directory, or the path as given (outside) */
+  char   kind[24];
+  double t;                        /* snapshot time (NaN: not a snapshot)               */
+  PetscBool outside;               /* -initial_csv / -final_csv: a path, not a name      */
+} SpamOutputEntry;
+
+typedef struct {
+  char      dir[PETSC_MAX_PATH_LEN];
+  SpamFile  timeseries, steps; /* appended during the run, renamed at the end       */
+  int       nsnap;             /* snapshots written so far                          */
+  double   *snap_times;        /* [capacity] times of the snapshots, for the XDMF index */
+  int       snap_cap;
   PetscBool hdf5, csv;
+  SpamOutputOptions opt;
+  int       lock_fd;           /* the lock file, held with flock (-1: none)         */
+  char      lock_info[160];    /* pid, host and start time, as written in the lock */
+  char      status[16];        /* manifest status: running, ok, ..., failed        */
+  PetscBool owned;             /* the directory was accepted: the manifest is ours  */
+  SpamOutputEntry *files;      /* manifest entries                                  */
+  int       nfiles, files_cap;
 } SpamOutput;
 
-/* Creates the directory (and parents). Call only after every input is validated. */
-PetscErrorCode SpamOutputOpen(const char *dir, PetscBool hdf5, PetscBool csv, SpamOutput *o);
-PetscErrorCode SpamOutputClose(SpamOutput *o);
+/* Takes the directory (creating it and its parents): locks it (exit 2 naming the holder if
+ * another run has it), refuses an earlier run's files unless opt->overwrite (then removes
+ * them), removes stale temporaries, writes manifest.json (status running) and opens the
+ * timeseries and steps files. Call only after every input is validated. */
+PetscErrorCode SpamOutputOpen(const char *dir, PetscBool hdf5, PetscBool csv, const SpamOutputOptions *opt, SpamOutput *o);
+/* Commits timeseries and steps, writes the manifest with the final status, releases the lock. */
+PetscErrorCode SpamOutputClose(SpamOutput *o, const char *status);
+/* After a failure: removes the open temporaries, writes the manifest with status failed
+ * when possible and releases the lock; reports nothing (the failure has been reported). */
+void SpamOutputAbandon(SpamOutput *o);
 PetscErrorCode SpamOutputPath(const SpamOutput *o, const char *name, char *path, size_t len);
-/* Opens path.tmp for writing; SpamFileCommit closes it and renames it to path. */
-PetscErrorCode SpamFileBegin(const char *path, FILE **f);
-PetscErrorCode SpamFileCommit(const char *path, FILE *f);
+
+/* The lock (output_lock.c). */
+PetscErrorCode SpamOutputLock(SpamOutput *o, PetscBool *created);
+PetscErrorCode SpamOutputLockWrite(SpamOutput *o); /* the holder's pid, host and start */
+void           SpamOutputUnlock(SpamOutput *o);   /* removes the lock file, drops the lock */
+/* The manifest (manifest.json): record (or update) an entry; rewrite the file. */
+PetscErrorCode SpamManifestAdd(SpamOutput *o, const char *name, const char *kind, double t, PetscBool outside);
+PetscErrorCode SpamManifestWrite(SpamOutput *o);
+/* Files of an earlier run (output_clean.c): the first one found, or "" if none. */
+PetscErrorCode SpamOutputFindEarlier(const SpamOutput *o, char *name, size_t len);
+/* Removes an earlier run's files (all = true) or only stale temporaries. */
+PetscErrorCode SpamOutputRemoveEarlier(const SpamOutput *o, PetscBool all);
 
 typedef struct {
   double      t;
@@ -38,6 +107,8 @@ void   SpamSnapshotStress6(const SpamSim *sim, const double *y, PetscInt i, doub
 /* Particle snapshot: HDF5 + XDMF (ParaView) and/or CSV (positions, velocities, density,
  * and energy and stress where the state has them). Needs sim->rho of state y. */
 PetscErrorCode SpamSnapshotWrite(SpamOutput *o, SpamSim *sim, const double *y, double t, const char *tag);
+PetscErrorCode SpamSnapshotCsvWrite(const char *path, const SpamSim *sim, const double *y, double t);
+PetscErrorCode SpamSnapshotHdf5Write(const char *path, const SpamSim *sim, const double *y);
 /* Particles as a file-scene CSV (x,y[,z],vx,vy[,vz],m) at full precision. */
 PetscErrorCode SpamParticlesCsvWrite(const char *path, const SpamSim *sim, const double *y);
 #endif

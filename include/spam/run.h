@@ -3,7 +3,9 @@
 #define SPAM_RUN_H
 #include <spam/output.h>
 
-typedef enum { SPAM_STATUS_OK, SPAM_STATUS_MAX_STEPS, SPAM_STATUS_UNSTABLE } SpamStatus;
+/* How a run ended: done (ok or at the step limit), blown up, stopped by SIGINT/SIGTERM
+ * (outputs complete at the time reached), or failed (a write or library failure). */
+typedef enum { SPAM_STATUS_OK, SPAM_STATUS_MAX_STEPS, SPAM_STATUS_UNSTABLE, SPAM_STATUS_INTERRUPTED, SPAM_STATUS_FAILED } SpamStatus;
 
 typedef struct {
   /* time */
@@ -20,7 +22,7 @@ typedef struct {
   double   cfl, force;
   /* failure detection */
   double   dt_min;           /* a step below this is a failure (0: t_end * 1e-12)      */
-  double   energy_growth;    /* KE above this many times the initial |E| is a blow-up  */
+  double   energy_growth;    /* KE above this many times the energy scale is a blow-up */
   /* output */
   char     output_dir[PETSC_MAX_PATH_LEN];
   char     initial_csv[PETSC_MAX_PATH_LEN], final_csv[PETSC_MAX_PATH_LEN];
@@ -32,6 +34,7 @@ typedef struct {
 typedef struct {
   SpamStatus status;
   char       reason[256];
+  int        signal;                 /* SIGINT or SIGTERM when interrupted, else 0     */
   double     t;
   long       steps, attempts, rejected, rhs_evals, limited;
   long       jumps, jump_steps;      /* post-step jumps (reflections), steps with any */
@@ -41,15 +44,22 @@ typedef struct {
   SpamDiagnostics first, last;
   double     energy_drift_max, momentum_drift_max, angmom_drift_max;
   double     momentum_scale, angmom_scale;
+  double     energy_scale;           /* the blow-up bound's unit: see time_loop.c       */
 } SpamRunResult;
 
 /* Reads and validates every run option; sim gives scene defaults (end time). */
 PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o);
+/* Reads -output_overwrite and -snapshot_max; refuses a snapshot interval that would write
+ * more than -snapshot_max snapshots. Call before the set-up ends (see main.c). */
+PetscErrorCode SpamOutputOptionsParse(const SpamRunOptions *ro, SpamOutputOptions *o);
 
 /* Per-step monitor line and the progress line with ETA. */
 PetscErrorCode SpamMonitorStep(const SpamSim *sim, const SpamProgress *p);
 PetscErrorCode SpamMonitorProgress(const SpamSim *sim, const SpamRunOptions *o, const SpamProgress *p, const SpamRunResult *r);
 /* Drifts of the conserved quantities between two diagnostics. */
 void SpamRunUpdateDrifts(const SpamDiagnostics *d, SpamRunResult *r);
-PetscErrorCode SpamSummaryWrite(const SpamOutput *out, const SpamSim *sim, const SpamRunOptions *o, const SpamRunResult *r);
+PetscErrorCode SpamSummaryWrite(SpamOutput *out, const SpamSim *sim, const SpamRunOptions *o, const SpamRunResult *r);
+/* The exit code of a run that ended with result r (see errors.h; 128 + signal when
+ * interrupted, as a shell reports a process a signal ended). */
+int SpamRunExitCode(const SpamRunResult *r);
 #endif

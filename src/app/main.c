@@ -1,6 +1,6 @@
 /* spam-ark: smooth-particle applied mechanics on SUNDIALS ARKODE and PETSc. */
 #include <spam/scene.h>
-#include <spam/integrator.h>
+#include <spam/session.h>
 #include <spam/errors.h>
 #include <spam/version.h>
 
@@ -13,8 +13,7 @@ static PetscErrorCode Run(int *exit_code)
 {
   SpamSim        sim;
   SpamRunOptions o;
-  SpamRunResult  r;
-  SpamOutput     out;
+  SpamOutputOptions oo;
   SpamTsApp      app;
   TS             ts;
   PetscBool      help;
@@ -23,6 +22,7 @@ static PetscErrorCode Run(int *exit_code)
   PetscCall(PetscOptionsHasHelp(NULL, &help));
   PetscCall(SpamSceneCreateSim(PETSC_COMM_WORLD, &sim));
   PetscCall(SpamRunOptionsParse(&sim, &o));
+  PetscCall(SpamOutputOptionsParse(&o, &oo));
   PetscCall(SpamTSCreate(&sim, &o, &app, &ts)); /* validates the method; lists TS options */
   if (help) { /* every option has been listed with its default: nothing to run */
     PetscCall(TSDestroy(&ts));
@@ -31,26 +31,9 @@ static PetscErrorCode Run(int *exit_code)
     PetscFunctionReturn(0);
   }
   /* Every input is valid from here on: only now touch the file system. */
-  PetscCall(SpamOutputOpen(o.output_dir, o.hdf5, o.csv, &out));
-  if (o.initial_csv[0]) {
-    const PetscScalar *y;
-    PetscCall(VecGetArrayRead(sim.X, &y));
-    PetscCall(SpamParticlesCsvWrite(o.initial_csv, &sim, y));
-    PetscCall(VecRestoreArrayRead(sim.X, &y));
-  }
-  PetscCall(SpamRun(&sim, &o, ts, &app, &out, &r));
+  PetscCall(SpamRunSession(&sim, &o, &oo, ts, &app, exit_code));
   PetscCall(TSDestroy(&ts));
   PetscCall(SpamTSAppDestroy(&app));
-  if (o.final_csv[0] && r.status != SPAM_STATUS_UNSTABLE) {
-    const PetscScalar *y;
-    PetscCall(VecGetArrayRead(sim.X, &y));
-    PetscCall(SpamParticlesCsvWrite(o.final_csv, &sim, y));
-    PetscCall(VecRestoreArrayRead(sim.X, &y));
-  }
-  PetscCall(SpamSummaryWrite(&out, &sim, &o, &r));
-  PetscCall(SpamOutputClose(&out));
-  PetscCall(PetscPrintf(PETSC_COMM_WORLD, "spam-ark: %s after %ld steps (%ld rejected), %ld RHS evaluations, %.2f s; energy drift %.3e; results in %s\n", r.status == SPAM_STATUS_UNSTABLE ? "unstable" : "done", r.steps, r.rejected, r.rhs_evals, r.wall, r.energy_drift_max, o.output_dir));
-  *exit_code = r.status == SPAM_STATUS_UNSTABLE ? SPAM_EXIT_UNSTABLE : SPAM_EXIT_OK;
   PetscCall(SpamSimDestroy(&sim));
   PetscFunctionReturn(0);
 }

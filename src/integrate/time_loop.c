@@ -4,6 +4,7 @@
  * Failure is a result: the reason, time and step go to the monitor and summary.json. */
 #include <spam/integrator.h>
 #include <spam/errors.h>
+#include <spam/interrupt.h>
 
 typedef struct {
   double out_interval, snap_interval, next_out, next_snap;
@@ -66,6 +67,48 @@ static PetscErrorCode Unstable(SpamSim *sim, SpamOutput *out, Vec Xgood, double 
   PetscFunctionReturn(0);
 }
 
+/* The unit of the blow-up bound: the largest of |E0|, the initial kinetic energy and
+ * M c0^2 (the whole mass M moving at the largest initial sound speed c0, for models that
+ * have one). |E0| alone fails for a body at rest with no strain: it is zero, and round-off
+ * kinetic energy (1e-48) then exceeds any multiple of the 1e-300 floor. M c0^2 is the
+ * energy scale of the material itself, so a blow-up is kinetic energy beyond what the
+ * material's own waves could carry. */
+static PetscErrorCode EnergyScale(SpamSim *sim, SpamRunResult *r)
+{
+  double c = 0.0;
+
+  PetscFunctionBeginUser;
+  if (sim->model.max_sound_speed) {
+    const PetscScalar *y;
+    PetscCall(VecGetArrayRead(sim->X, &y));
+    PetscCall(sim->model.max_sound_speed(sim, y, &c));
+    PetscCall(VecRestoreArrayRead(sim->X, &y));
+  }
+  r->energy_scale = PetscMax(fabs(r->first.total), r->first.kinetic);
+  if (isfinite(r->first.mass * c * c)) r->energy_scale = PetscMax(r->energy_scale, r->first.mass * c * c);
+  PetscFunctionReturn(0);
+}
+
+/* SIGINT or SIGTERM came: the step in progress has been completed and accepted; write the
+ * row and snapshot of the time reached (unless this very state was just written) and end. */
+static PetscErrorCode Interrupted(SpamSim *sim, const SpamRunOptions *o, SpamOutput *out, const SpamProgress *p, PetscBool row_done, PetscBool snap_done, SpamRunResult *r)
+{
+  const PetscBool snap = (PetscBool)(o->snapshot_interval > 0 && !snap_done);
+
+  PetscFunctionBeginUser;
+  r->status = SPAM_STATUS_INTERRUPTED;
+  r->signal = SpamInterruptSignal();
+  (void)snprintf(r->reason, sizeof r->reason, "interrupted by %s at t = %.6g (step %ld)", r->signal == SIGINT ? "SIGINT" : "SIGTERM", p->t, p->steps);
+  if (!row_done) PetscCall(Output(sim, o, out, p, snap, r));
+  else if (snap) {
+    const PetscScalar *y;
+    PetscCall(VecGetArrayRead(sim->X, &y));
+    PetscCall(SpamSnapshotWrite(out, sim, y, p->t, NULL));
+    PetscCall(VecRestoreArrayRead(sim->X, &y));
+  }
+  PetscFunctionReturn(0);
+}
+
 /* Why the state after a step is unacceptable, or an empty string: a non-finite entry, a
  * non-positive carried density, or kinetic energy grown past the bound. */
 static PetscErrorCode CheckState(const SpamSim *sim, const SpamRunOptions *o, const SpamRunResult *r, double t, long step, char *why, size_t len)
@@ -89,10 +132,10 @@ static PetscErrorCode CheckState(const SpamSim *sim, const SpamRunOptions *o, co
   PetscCall(VecRestoreArrayRead(sim->X, &y));
   PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &ke, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
   {
-    const double e0 = PetscMax(PetscMax(fabs(r->first.total), r->first.kinetic), 1e-300);
+    const double e0 = PetscMax(r->energy_scale, 1e-300);
     if (bad >= 0) (void)snprintf(why, len, "non-finite state of particle %" PetscInt_FMT " at t = %.6g (step %ld)", SpamSimRowOf(sim, bad), t, step);
     else if (neg >= 0) (void)snprintf(why, len, "density of particle %" PetscInt_FMT " is not positive at t = %.6g (step %ld)", SpamSimRowOf(sim, neg), t, step);
-    else if (o->energy_growth > 0 && ke > o->energy_growth * e0) (void)snprintf(why, len, "kinetic energy %.6g exceeds %g times the initial energy %.6g at t = %.6g (step %ld)", ke, o->energy_growth, e0, t, step);
+    else if (o->energy_growth > 0 && ke > o->energy_growth * e0) (void)snprintf(why, len, "kinetic energy %.6g exceeds %g times the energy scale %.6g at t = %.6g (step %ld)", ke, o->energy_growth, e0, t, step);
   }
   PetscFunctionReturn(0);
 }
@@ -207,6 +250,7 @@ PetscErrorCode SpamRun(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *
   SpamProgress   p = {0};
   Schedule       s;
   double         t = 0.0, dt_prev = 0.0; /* no previous step: the first cannot shrink */
+  double         t_row = 0.0, t_snap;    /* times of the last row and snapshot written */
   const double   dt_min = o->dt_min > 0 ? o->dt_min : 1e-12 * PetscMax(o->t_end, 1e-300);
 
   PetscFunctionBeginUser;
@@ -223,12 +267,18 @@ PetscErrorCode SpamRun(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *
   PetscCall(VecCopy(sim->X, Xgood));
   p.limit = SpamStepLimitNames[SPAM_LIMIT_ACCURACY];
   PetscCall(Output(sim, o, out, &p, o->snapshot_interval > 0, r));
+  t_snap = o->snapshot_interval > 0 ? 0.0 : -1.0;
+  PetscCall(EnergyScale(sim, r));
   while (t < o->t_end && p.steps < o->max_steps) {
     const double  tstop = PetscMin(s.next_out, s.next_snap);
     SpamStepLimit limit = r->fixed_dt > 0 ? SPAM_LIMIT_FIXED : SPAM_LIMIT_ACCURACY;
     char          why[256];
     PetscReal     tnew;
 
+    if (SpamInterruptSignal()) {
+      PetscCall(Interrupted(sim, o, out, &p, (PetscBool)(t_row == t), (PetscBool)(t_snap == t), r));
+      break;
+    }
     PetscCall(TSSetMaxTime(ts, tstop));
     if (!app->self_stepping) PetscCall(ChooseStep(ts, app, r->fixed_dt, tstop, &limit));
     else PetscCall(SelfSteppingBound(ts, app));
@@ -263,11 +313,13 @@ PetscErrorCode SpamRun(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *
     if (t >= tstop * (1.0 - 1e-14) || t >= o->t_end || p.steps >= o->max_steps) {
       const PetscBool snap = (PetscBool)(o->snapshot_interval > 0 && (t >= s.next_snap * (1.0 - 1e-14) || t >= o->t_end || p.steps >= o->max_steps));
       PetscCall(Output(sim, o, out, &p, snap, r));
+      t_row = t;
+      if (snap) t_snap = t;
       if (t >= s.next_out * (1.0 - 1e-14)) s.next_out = NextMultiple(t, s.out_interval, o->t_end);
       if (t >= s.next_snap * (1.0 - 1e-14)) s.next_snap = NextMultiple(t, s.snap_interval, o->t_end);
     }
   }
-  if (r->status != SPAM_STATUS_UNSTABLE && t < o->t_end * (1.0 - 1e-14)) r->status = SPAM_STATUS_MAX_STEPS;
+  if (r->status == SPAM_STATUS_OK && t < o->t_end * (1.0 - 1e-14)) r->status = SPAM_STATUS_MAX_STEPS;
   r->steps     = p.steps;
   r->rejected  = p.rejected;
   r->attempts  = p.steps + p.rejected;

@@ -1,7 +1,9 @@
-/* The output directory and atomic file writes. */
+/* The output directory: taken at the start of a run, released at its end. */
 #include <spam/output.h>
+#include <spam/errors.h>
 #include <errno.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 static PetscErrorCode MakeDirs(const char *dir)
 {
@@ -26,62 +28,98 @@ PetscErrorCode SpamOutputPath(const SpamOutput *o, const char *name, char *path,
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamFileBegin(const char *path, FILE **f)
+/* Locked, then checked for an earlier run: refused (bad input, nothing left behind: a
+ * lock file this run created goes again) or cleared. */
+static PetscErrorCode TakeDirectory(SpamOutput *o)
 {
-  char tmp[PETSC_MAX_PATH_LEN + 8];
+  PetscBool      created;
+  char           earlier[256];
+  PetscErrorCode ierr;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscSNPrintf(tmp, sizeof tmp, "%s.tmp", path));
-  *f = fopen(tmp, "w");
-  PetscCheck(*f, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write %s: %s", tmp, strerror(errno));
+  PetscCall(SpamOutputLock(o, &created));
+  ierr = SpamOutputFindEarlier(o, earlier, sizeof earlier);
+  if (!ierr && earlier[0] && !o->opt.overwrite) {
+    if (created) SpamOutputUnlock(o);
+    else {
+      (void)close(o->lock_fd);
+      o->lock_fd = -1;
+    }
+    SPAM_BAD_INPUT("-output_dir", o->dir, "holds %s of an earlier run; pass -output_overwrite to replace that run's files, or choose another -output_dir", earlier);
+  }
+  PetscCall(ierr);
+  PetscCall(SpamOutputRemoveEarlier(o, o->opt.overwrite));
+  o->owned = PETSC_TRUE;
+  PetscCall(SpamOutputLockWrite(o));
+  PetscCall(SpamManifestWrite(o));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamFileCommit(const char *path, FILE *f)
-{
-  char tmp[PETSC_MAX_PATH_LEN + 8];
-
-  PetscFunctionBeginUser;
-  PetscCall(PetscSNPrintf(tmp, sizeof tmp, "%s.tmp", path));
-  PetscCheck(fclose(f) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot finish %s: %s", tmp, strerror(errno));
-  PetscCheck(rename(tmp, path) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot rename %s: %s", tmp, strerror(errno));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode SpamOutputOpen(const char *dir, PetscBool hdf5, PetscBool csv, SpamOutput *o)
+PetscErrorCode SpamOutputOpen(const char *dir, PetscBool hdf5, PetscBool csv, const SpamOutputOptions *opt, SpamOutput *o)
 {
   char path[PETSC_MAX_PATH_LEN];
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(o, sizeof *o));
+  o->lock_fd = -1;
   PetscCall(PetscStrncpy(o->dir, dir, sizeof o->dir));
+  PetscCall(PetscStrncpy(o->status, "running", sizeof o->status));
   o->hdf5 = hdf5;
   o->csv  = csv;
+  o->opt  = *opt;
   PetscCall(MakeDirs(dir));
+  PetscCall(TakeDirectory(o));
   PetscCall(SpamOutputPath(o, "timeseries.csv", path, sizeof path));
   PetscCall(SpamFileBegin(path, &o->timeseries));
-  fprintf(o->timeseries, "t,step,rejected,rhs_evals,dt,mass,px,py,pz,lx,ly,lz,kinetic,internal,total,entropy_sum,entropy_grid,dS_sum_ratio,dS_grid_ratio,bound_limited,rhs_s,wall_s,torque_sum,bodies,l_body0,l_body1,gauss_singular\n");
+  SpamFilePrintf(&o->timeseries, "t,step,rejected,rhs_evals,dt,mass,px,py,pz,lx,ly,lz,kinetic,internal,total,entropy_sum,entropy_grid,dS_sum_ratio,dS_grid_ratio,bound_limited,rhs_s,wall_s,torque_sum,bodies,l_body0,l_body1,gauss_singular\n");
+  PetscCall(SpamFileCheck(&o->timeseries));
   PetscCall(SpamOutputPath(o, "steps.csv", path, sizeof path));
   PetscCall(SpamFileBegin(path, &o->steps));
-  fprintf(o->steps, "step,t,dt,rejected,rhs_evals,limit\n");
+  SpamFilePrintf(&o->steps, "step,t,dt,rejected,rhs_evals,limit\n");
+  PetscCall(SpamFileCheck(&o->steps));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamOutputClose(SpamOutput *o)
+static PetscErrorCode CommitListed(SpamOutput *o, SpamFile *f, const char *name, const char *kind)
 {
-  char path[PETSC_MAX_PATH_LEN];
-
   PetscFunctionBeginUser;
-  if (o->timeseries) {
-    PetscCall(SpamOutputPath(o, "timeseries.csv", path, sizeof path));
-    PetscCall(SpamFileCommit(path, o->timeseries));
-    o->timeseries = NULL;
-  }
-  if (o->steps) {
-    PetscCall(SpamOutputPath(o, "steps.csv", path, sizeof path));
-    PetscCall(SpamFileCommit(path, o->steps));
-    o->steps = NULL;
-  }
-  PetscCall(PetscFree(o->snap_times));
+  if (!f->f) PetscFunctionReturn(0);
+  PetscCall(SpamFileCommit(f));
+  PetscCall(SpamManifestAdd(o, name, kind, NAN, PETSC_FALSE));
   PetscFunctionReturn(0);
+}
+
+static void FreeLists(SpamOutput *o)
+{
+  (void)PetscFree(o->snap_times);
+  (void)PetscFree(o->files);
+  o->nfiles = o->files_cap = o->snap_cap = 0;
+}
+
+PetscErrorCode SpamOutputClose(SpamOutput *o, const char *status)
+{
+  PetscFunctionBeginUser;
+  PetscCall(CommitListed(o, &o->timeseries, "timeseries.csv", "timeseries"));
+  PetscCall(CommitListed(o, &o->steps, "steps.csv", "steps"));
+  PetscCall(PetscStrncpy(o->status, status, sizeof o->status));
+  PetscCall(SpamManifestWrite(o));
+  SpamOutputUnlock(o);
+  FreeLists(o);
+  PetscFunctionReturn(0);
+}
+
+/* Quiet: the failure that led here has been reported, and a second one (the disk is still
+ * full, say) must not add lines. */
+void SpamOutputAbandon(SpamOutput *o)
+{
+  if (PetscPushErrorHandler(PetscIgnoreErrorHandler, NULL)) return;
+  SpamFileDiscard(&o->timeseries);
+  SpamFileDiscard(&o->steps);
+  if (o->owned) {
+    (void)PetscStrncpy(o->status, "failed", sizeof o->status);
+    (void)SpamManifestWrite(o);
+  }
+  SpamOutputUnlock(o);
+  FreeLists(o);
+  (void)PetscPopErrorHandler();
 }

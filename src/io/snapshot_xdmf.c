@@ -1,118 +1,197 @@
 /* Particle snapshots: one HDF5 file per snapshot (positions, velocities, density, and
  * energy and stress where the model carries them) and an
  * XDMF index over all of them that ParaView opens as a time series of point clouds. */
+#define _DEFAULT_SOURCE /* open flags, flock, lstat, gethostname: POSIX, not C11 */
 #include <spam/output.h>
 #include <hdf5.h>
 
-PetscErrorCode SpamSnapshotCsvWrite(const char *path, const SpamSim *sim, const double *y, double t);
+#include <errno.h>
+#include <sys/stat.h>
+#include <unistd.h>
 
-#define PetscCallH5(call) \
+/* An HDF5 file being written; every failure becomes one line naming the file. */
+typedef struct {
+  hid_t       file;
+  const char *path;
+  long        writes, fail_at; /* test-only injected failure, see output.h */
+} H5Out;
+
+static PetscErrorCode H5Failed(const H5Out *h)
+{
+  const int e = errno ? errno : EIO; /* HDF5 keeps the system call's errno */
+
+  PetscFunctionBeginUser;
+  SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write %s: %s", h->path, strerror(e));
+}
+
+#define PetscCallH5(h, call) \
   do { \
-    if ((call) < 0) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_LIB, "HDF5 call failed: %s", #call); \
+    errno = 0; \
+    if ((call) < 0) PetscCall(H5Failed(h)); \
   } while (0)
 
-static PetscErrorCode WriteDataset(hid_t file, const char *name, const double *data, hsize_t n, hsize_t ncomp)
+static PetscErrorCode WriteDataset(H5Out *h, const char *name, const double *data, hsize_t n, hsize_t ncomp)
 {
   hsize_t dims[2] = {n, ncomp};
   hid_t   space, set;
+  herr_t  w;
 
   PetscFunctionBeginUser;
-  space = H5Screate_simple(ncomp > 1 ? 2 : 1, dims, NULL);
-  PetscCallH5(space);
-  set = H5Dcreate2(file, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
-  PetscCallH5(set);
-  PetscCallH5(H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data));
-  PetscCallH5(H5Dclose(set));
-  PetscCallH5(H5Sclose(space));
+  PetscCallH5(h, space = H5Screate_simple(ncomp > 1 ? 2 : 1, dims, NULL));
+  set = H5Dcreate2(h->file, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  if (set < 0) {
+    (void)H5Sclose(space);
+    PetscCall(H5Failed(h));
+  }
+  errno = 0;
+  w = ++h->writes == h->fail_at ? (errno = ENOSPC, -1) : H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data);
+  if (w < 0) {
+    const int e = errno;
+    (void)H5Dclose(set);
+    (void)H5Sclose(space);
+    errno = e;
+    PetscCall(H5Failed(h));
+  }
+  PetscCallH5(h, H5Dclose(set));
+  PetscCallH5(h, H5Sclose(space));
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode WriteHdf5(const char *path, const SpamSim *sim, const double *y)
+/* The fields of one snapshot, row r being input row r. */
+typedef struct {
+  double *x, *v, *rho, *e, *s6;
+} Fields;
+
+static PetscErrorCode FieldsGather(const SpamSim *sim, const double *y, Fields *f)
 {
   const SpamLayout *l = &sim->model.layout;
   const PetscInt    n = sim->n;
-  double           *x, *v, *rho, *e = NULL, *s6 = NULL;
-  char              tmp[PETSC_MAX_PATH_LEN + 8];
-  hid_t             file;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscCalloc1(3 * n + 1, &x));
-  PetscCall(PetscCalloc1(3 * n + 1, &v));
-  PetscCall(PetscCalloc1(n + 1, &rho));
-  if (l->e >= 0) PetscCall(PetscCalloc1(n + 1, &e));
-  if (l->s >= 0) PetscCall(PetscCalloc1(6 * n + 1, &s6));
-  for (PetscInt r = 0; r < n; r++) { /* row r of every dataset: input row r */
+  PetscCall(PetscMemzero(f, sizeof *f));
+  PetscCall(PetscCalloc1(3 * n + 1, &f->x));
+  PetscCall(PetscCalloc1(3 * n + 1, &f->v));
+  PetscCall(PetscCalloc1(n + 1, &f->rho));
+  if (l->e >= 0) PetscCall(PetscCalloc1(n + 1, &f->e));
+  if (l->s >= 0) PetscCall(PetscCalloc1(6 * n + 1, &f->s6));
+  for (PetscInt r = 0; r < n; r++) {
     const PetscInt i = SpamSimAtRow(sim, r);
-    rho[r]           = SpamSnapshotDensity(sim, y, i);
-    if (e) e[r] = y[(size_t)i * l->nvar + l->e];
-    if (s6) SpamSnapshotStress6(sim, y, i, s6 + 6 * r);
+    f->rho[r]        = SpamSnapshotDensity(sim, y, i);
+    if (f->e) f->e[r] = y[(size_t)i * l->nvar + l->e];
+    if (f->s6) SpamSnapshotStress6(sim, y, i, f->s6 + 6 * r);
     for (int d = 0; d < sim->model.dim; d++) {
-      x[3 * r + d] = sim->box.lo[d] + SpamBoxLocal(&sim->box, d, y[(size_t)i * l->nvar + l->x + d]);
-      v[3 * r + d] = y[(size_t)i * l->nvar + l->v + d];
+      f->x[3 * r + d] = sim->box.lo[d] + SpamBoxLocal(&sim->box, d, y[(size_t)i * l->nvar + l->x + d]);
+      f->v[3 * r + d] = y[(size_t)i * l->nvar + l->v + d];
     }
   }
-  PetscCall(PetscSNPrintf(tmp, sizeof tmp, "%s.tmp", path));
-  file = H5Fcreate(tmp, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  PetscCallH5(file);
-  PetscCall(WriteDataset(file, "/positions", x, (hsize_t)n, 3));
-  PetscCall(WriteDataset(file, "/velocities", v, (hsize_t)n, 3));
-  PetscCall(WriteDataset(file, "/density", rho, (hsize_t)n, 1));
-  if (e) PetscCall(WriteDataset(file, "/energy", e, (hsize_t)n, 1));
-  if (s6) PetscCall(WriteDataset(file, "/stress", s6, (hsize_t)n, 6));
-  PetscCallH5(H5Fclose(file));
-  PetscCheck(rename(tmp, path) == 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot rename %s", tmp);
-  PetscCall(PetscFree(x));
-  PetscCall(PetscFree(v));
-  PetscCall(PetscFree(rho));
-  PetscCall(PetscFree(e));
-  PetscCall(PetscFree(s6));
   PetscFunctionReturn(0);
 }
 
-static void XdmfItem(FILE *f, PetscInt n, int ncomp, int snap, const char *set)
+static PetscErrorCode FieldsWrite(H5Out *h, const Fields *f, hsize_t n)
 {
-  if (ncomp > 1) fprintf(f, "        <DataItem Dimensions=\"%" PetscInt_FMT " %d\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">snap_%05d.h5:%s</DataItem>\n", n, ncomp, snap, set);
-  else fprintf(f, "        <DataItem Dimensions=\"%" PetscInt_FMT "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">snap_%05d.h5:%s</DataItem>\n", n, snap, set);
+  PetscFunctionBeginUser;
+  PetscCall(WriteDataset(h, "/positions", f->x, n, 3));
+  PetscCall(WriteDataset(h, "/velocities", f->v, n, 3));
+  PetscCall(WriteDataset(h, "/density", f->rho, n, 1));
+  if (f->e) PetscCall(WriteDataset(h, "/energy", f->e, n, 1));
+  if (f->s6) PetscCall(WriteDataset(h, "/stress", f->s6, n, 6));
+  PetscFunctionReturn(0);
+}
+
+/* The temporary is created new by us (O_EXCL | O_NOFOLLOW) before HDF5 opens it by name;
+ * before the rename it must still be the regular file we created, not something put in
+ * its place. */
+static PetscErrorCode WriteFile(const char *path, const char *tmp, const struct stat *made, const Fields *f, hsize_t n)
+{
+  H5Out          h = {-1, path, 0, SpamTestFailWriteAt(path)};
+  struct stat    now;
+  PetscErrorCode ierr;
+
+  PetscFunctionBeginUser;
+  (void)H5Eset_auto2(H5E_DEFAULT, NULL, NULL); /* no error-stack dump: one line instead */
+  PetscCallH5(&h, h.file = H5Fcreate(tmp, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT));
+  ierr = FieldsWrite(&h, f, n);
+  errno = 0;
+  if (H5Fclose(h.file) < 0 && !ierr) ierr = H5Failed(&h);
+  PetscCall(ierr);
+  PetscCheck(!lstat(tmp, &now) && S_ISREG(now.st_mode) && now.st_ino == made->st_ino && now.st_dev == made->st_dev, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write %s: its temporary %s was replaced during the write", path, tmp);
+  PetscCheck(!rename(tmp, path), PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot rename %s to %s: %s", tmp, path, strerror(errno));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamSnapshotHdf5Write(const char *path, const SpamSim *sim, const double *y)
+{
+  char           tmp[PETSC_MAX_PATH_LEN + 32];
+  Fields         f = {0};
+  struct stat    made;
+  int            fd;
+  PetscErrorCode ierr;
+
+  PetscFunctionBeginUser;
+  PetscCall(FieldsGather(sim, y, &f));
+  PetscCall(SpamTempCreate(path, tmp, sizeof tmp, &fd));
+  ierr = fstat(fd, &made) ? PETSC_ERR_FILE_OPEN : 0;
+  (void)close(fd);
+  if (!ierr) ierr = WriteFile(path, tmp, &made, &f, (hsize_t)sim->n);
+  if (ierr) (void)unlink(tmp);
+  PetscCall(PetscFree(f.x));
+  PetscCall(PetscFree(f.v));
+  PetscCall(PetscFree(f.rho));
+  PetscCall(PetscFree(f.e));
+  PetscCall(PetscFree(f.s6));
+  PetscCheck(ierr != PETSC_ERR_FILE_OPEN, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write %s: %s", tmp, strerror(errno));
+  PetscCall(ierr);
+  PetscFunctionReturn(0);
+}
+
+static void XdmfItem(SpamFile *f, PetscInt n, int ncomp, int snap, const char *set)
+{
+  if (ncomp > 1) SpamFilePrintf(f, "        <DataItem Dimensions=\"%" PetscInt_FMT " %d\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">snap_%05d.h5:%s</DataItem>\n", n, ncomp, snap, set);
+  else SpamFilePrintf(f, "        <DataItem Dimensions=\"%" PetscInt_FMT "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">snap_%05d.h5:%s</DataItem>\n", n, snap, set);
 }
 
 /* Rewrites the whole index so that it always lists exactly the snapshots on disk. */
-static void XdmfAttribute(FILE *f, PetscInt n, int snap, const char *name, const char *type, int ncomp, const char *set)
+static void XdmfAttribute(SpamFile *f, PetscInt n, int snap, const char *name, const char *type, int ncomp, const char *set)
 {
-  fprintf(f, "      <Attribute Name=\"%s\" AttributeType=\"%s\" Center=\"Node\">\n", name, type);
+  SpamFilePrintf(f, "      <Attribute Name=\"%s\" AttributeType=\"%s\" Center=\"Node\">\n", name, type);
   XdmfItem(f, n, ncomp, snap, set);
-  fprintf(f, "      </Attribute>\n");
+  SpamFilePrintf(f, "      </Attribute>\n");
 }
 
-static PetscErrorCode WriteXdmfIndex(const SpamOutput *o, const SpamLayout *l, PetscInt n)
+static PetscErrorCode WriteXdmfIndex(SpamOutput *o, const SpamLayout *l, PetscInt n)
 {
-  char  path[PETSC_MAX_PATH_LEN];
-  FILE *f;
+  char     path[PETSC_MAX_PATH_LEN];
+  SpamFile file, *f = &file;
 
   PetscFunctionBeginUser;
   PetscCall(SpamOutputPath(o, "snapshots.xmf", path, sizeof path));
-  PetscCall(SpamFileBegin(path, &f));
-  fprintf(f, "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n    <Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
+  PetscCall(SpamFileBegin(path, f));
+  SpamFilePrintf(f, "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n    <Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
   for (int s = 0; s < o->nsnap; s++) {
-    fprintf(f, "    <Grid Name=\"snap_%05d\" GridType=\"Uniform\">\n      <Time Value=\"%.10g\"/>\n", s, o->snap_times[s]);
-    fprintf(f, "      <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"%" PetscInt_FMT "\" NodesPerElement=\"1\"/>\n      <Geometry GeometryType=\"XYZ\">\n", n);
+    SpamFilePrintf(f, "    <Grid Name=\"snap_%05d\" GridType=\"Uniform\">\n      <Time Value=\"%.10g\"/>\n", s, o->snap_times[s]);
+    SpamFilePrintf(f, "      <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"%" PetscInt_FMT "\" NodesPerElement=\"1\"/>\n      <Geometry GeometryType=\"XYZ\">\n", n);
     XdmfItem(f, n, 3, s, "/positions");
-    fprintf(f, "      </Geometry>\n");
+    SpamFilePrintf(f, "      </Geometry>\n");
     XdmfAttribute(f, n, s, "velocity", "Vector", 3, "/velocities");
     XdmfAttribute(f, n, s, "density", "Scalar", 1, "/density");
     if (l->e >= 0) XdmfAttribute(f, n, s, "energy", "Scalar", 1, "/energy");
     if (l->s >= 0) XdmfAttribute(f, n, s, "stress", "Tensor6", 6, "/stress");
-    fprintf(f, "    </Grid>\n");
+    SpamFilePrintf(f, "    </Grid>\n");
   }
-  fprintf(f, "    </Grid>\n  </Domain>\n</Xdmf>\n");
-  PetscCall(SpamFileCommit(path, f));
+  SpamFilePrintf(f, "    </Grid>\n  </Domain>\n</Xdmf>\n");
+  PetscCall(SpamFileCommit(f));
   PetscFunctionReturn(0);
 }
 
+/* A run writes no more than -snapshot_max snapshots: a tiny -snapshot_interval must not
+ * fill the disk with files. Parsing refuses an interval that would pass the cap; this is
+ * the writer's own guard. */
 PetscErrorCode SpamSnapshotWrite(SpamOutput *o, SpamSim *sim, const double *y, double t, const char *tag)
 {
   char name[64], path[PETSC_MAX_PATH_LEN];
 
   PetscFunctionBeginUser;
+  PetscCheck(o->opt.snapshot_max <= 0 || o->nsnap < o->opt.snapshot_max, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write another snapshot into %s: -snapshot_max = %" PetscInt_FMT " reached", o->dir, o->opt.snapshot_max);
   if (o->hdf5) {
     if (o->nsnap == o->snap_cap) {
       o->snap_cap = 2 * o->snap_cap + 16;
@@ -120,7 +199,8 @@ PetscErrorCode SpamSnapshotWrite(SpamOutput *o, SpamSim *sim, const double *y, d
     }
     PetscCall(PetscSNPrintf(name, sizeof name, "snap_%05d.h5", o->nsnap));
     PetscCall(SpamOutputPath(o, name, path, sizeof path));
-    PetscCall(WriteHdf5(path, sim, y));
+    PetscCall(SpamSnapshotHdf5Write(path, sim, y));
+    PetscCall(SpamManifestAdd(o, name, "snapshot_h5", t, PETSC_FALSE));
     o->snap_times[o->nsnap] = t;
   }
   if (o->csv) {
@@ -128,10 +208,13 @@ PetscErrorCode SpamSnapshotWrite(SpamOutput *o, SpamSim *sim, const double *y, d
     else PetscCall(PetscSNPrintf(name, sizeof name, "particles_%05d.csv", o->nsnap));
     PetscCall(SpamOutputPath(o, name, path, sizeof path));
     PetscCall(SpamSnapshotCsvWrite(path, sim, y, t));
+    PetscCall(SpamManifestAdd(o, name, tag ? "snapshot_csv_last_good" : "snapshot_csv", t, PETSC_FALSE));
   }
+  o->nsnap++;
   if (o->hdf5) {
-    o->nsnap++;
     PetscCall(WriteXdmfIndex(o, &sim->model.layout, sim->n));
-  } else o->nsnap++;
+    PetscCall(SpamManifestAdd(o, "snapshots.xmf", "xdmf_index", NAN, PETSC_FALSE));
+  }
+  PetscCall(SpamManifestWrite(o));
   PetscFunctionReturn(0);
 }

@@ -9,34 +9,74 @@ static const char *StatusName(SpamStatus s)
   switch (s) {
   case SPAM_STATUS_OK: return "ok";
   case SPAM_STATUS_MAX_STEPS: return "max_steps";
-  default: return "unstable";
+  case SPAM_STATUS_UNSTABLE: return "unstable";
+  case SPAM_STATUS_INTERRUPTED: return "interrupted";
+  default: return "failed";
   }
 }
 
-/* JSON has no NaN or infinity: write null. */
-static void Num(FILE *f, const char *key, double v)
+/* The summary being written, and the keys written as null (listed at the end). */
+typedef struct {
+  SpamFile f;
+  char     nulls[2048];
+} Summary;
+
+static void NoteNull(Summary *s, const char *key)
 {
-  if (isfinite(v)) fprintf(f, "  \"%s\": %.10g,\n", key, v);
-  else fprintf(f, "  \"%s\": null,\n", key);
+  size_t n = strlen(s->nulls);
+  (void)snprintf(s->nulls + n, sizeof s->nulls - n, "%s\"%s\"", n ? ", " : "", key);
 }
 
-static void Vec3(FILE *f, const char *key, const double *v)
+/* Every number goes through here: JSON has no NaN or infinity, so those are null. */
+static void Value(Summary *s, const char *key, double v)
 {
-  fprintf(f, "  \"%s\": [%.10g, %.10g, %.10g],\n", key, v[0], v[1], v[2]);
+  if (isfinite(v)) SpamFilePrintf(&s->f, "%.10g", v);
+  else {
+    SpamFilePrintf(&s->f, "null");
+    NoteNull(s, key);
+  }
 }
 
-static void Str(FILE *f, const char *key, const char *v)
+static void Num(Summary *s, const char *key, double v)
 {
-  fprintf(f, "  \"%s\": \"", key);
+  SpamFilePrintf(&s->f, "  \"%s\": ", key);
+  Value(s, key, v);
+  SpamFilePrintf(&s->f, ",\n");
+}
+
+static void Vec3(Summary *s, const char *key, const double *v)
+{
+  PetscBool noted = PETSC_FALSE;
+
+  SpamFilePrintf(&s->f, "  \"%s\": [", key);
+  for (int k = 0; k < 3; k++) {
+    if (!isfinite(v[k]) && !noted) {
+      NoteNull(s, key);
+      noted = PETSC_TRUE;
+    }
+    if (isfinite(v[k])) SpamFilePrintf(&s->f, "%s%.10g", k ? ", " : "", v[k]);
+    else SpamFilePrintf(&s->f, "%snull", k ? ", " : "");
+  }
+  SpamFilePrintf(&s->f, "],\n");
+}
+
+static void Int(Summary *s, const char *key, long v)
+{
+  SpamFilePrintf(&s->f, "  \"%s\": %ld,\n", key, v);
+}
+
+static void Str(Summary *s, const char *key, const char *v)
+{
+  SpamFilePrintf(&s->f, "  \"%s\": \"", key);
   for (const char *c = v; *c; c++) {
-    if (*c == '"' || *c == '\\') fputc('\\', f);
-    if ((unsigned char)*c >= 0x20) fputc(*c, f);
+    if (*c == '"' || *c == '\\') SpamFilePrintf(&s->f, "\\%c", *c);
+    else if ((unsigned char)*c >= 0x20 && *c != 0x7f) SpamFilePrintf(&s->f, "%c", *c);
   }
-  fprintf(f, "\",\n");
+  SpamFilePrintf(&s->f, "\",\n");
 }
 
 /* The model and the settings that define it: a study script reads them to label runs. */
-static void ModelFields(FILE *f, const SpamModel *m)
+static void ModelFields(Summary *f, const SpamModel *m)
 {
   const SpamSolidParams *s = &m->solid;
 
@@ -70,48 +110,49 @@ static void ModelFields(FILE *f, const SpamModel *m)
   }
 }
 
-PetscErrorCode SpamSummaryWrite(const SpamOutput *out, const SpamSim *sim, const SpamRunOptions *o, const SpamRunResult *r)
+/* Where the run stopped and why; the time reached and, after a signal, which one. */
+static void Outcome(Summary *f, const SpamRunOptions *o, const SpamRunResult *r)
 {
-  const SpamDiagnostics *a = &r->first, *b = &r->last;
-  const double           norm = (double)sim->nglobal * log(sim->scene.volume_ratio > 0 ? sim->scene.volume_ratio : 1.0);
-  char                   path[PETSC_MAX_PATH_LEN];
-  struct rusage          ru;
-  FILE                  *f;
-
-  PetscFunctionBeginUser;
-  getrusage(RUSAGE_SELF, &ru);
-  PetscCall(SpamOutputPath(out, "summary.json", path, sizeof path));
-  PetscCall(SpamFileBegin(path, &f));
-  fprintf(f, "{\n");
   Str(f, "status", StatusName(r->status));
   Str(f, "reason", r->reason);
-  Str(f, "scene", sim->scene.name);
-  fprintf(f, "  \"dim\": %d,\n  \"n_particles\": %" PetscInt_FMT ",\n", sim->model.dim, sim->nglobal);
-  Num(f, "h", sim->model.kernel.h);
-  Num(f, "mass", sim->model.mass);
-  ModelFields(f, &sim->model);
-  Vec3(f, "box_lo", sim->box.lo);
-  Vec3(f, "box_len", sim->box.len);
-  Str(f, "method", r->method);
-  Str(f, "adapt", r->adapt);
-  Num(f, "fixed_step", r->fixed_dt);
-  Num(f, "step_cfl", o->cfl);
-  Num(f, "step_force", o->force);
-  Num(f, "rtol", o->rtol);
-  Num(f, "atol", o->atol);
   Num(f, "t_end", o->t_end);
   Num(f, "t_final", r->t);
-  fprintf(f, "  \"steps\": %ld,\n  \"rejected_steps\": %ld,\n  \"step_attempts\": %ld,\n  \"rhs_evals\": %ld,\n  \"bound_limited_steps\": %ld,\n", r->steps, r->rejected, r->attempts, r->rhs_evals, r->limited);
-  fprintf(f, "  \"post_step_jumps\": %ld,\n  \"steps_with_jumps\": %ld,\n", r->jumps, r->jump_steps);
+  if (r->status == SPAM_STATUS_INTERRUPTED) Int(f, "signal", r->signal);
+}
+
+static void Counts(Summary *f, const SpamSim *sim, const SpamRunResult *r)
+{
+  Int(f, "steps", r->steps);
+  Int(f, "rejected_steps", r->rejected);
+  Int(f, "step_attempts", r->attempts);
+  Int(f, "rhs_evals", r->rhs_evals);
+  Int(f, "bound_limited_steps", r->limited);
+  Int(f, "post_step_jumps", r->jumps);
+  Int(f, "steps_with_jumps", r->jump_steps);
   /* Gauss's constraint: the largest acceleration it added (0 without it). */
-  fprintf(f, "  \"gauss_accel_max\": %.10g,\n", sim->ps ? sim->ps->gauss_accel_max : 0.0);
-  fprintf(f, "  \"neighbour_builds\": %ld,\n  \"neighbour_list_grows\": %ld,\n", sim->nl.builds, sim->nl.grows);
+  Num(f, "gauss_accel_max", sim->ps ? sim->ps->gauss_accel_max : 0.0);
+  Int(f, "neighbour_builds", sim->nl.builds);
+  Int(f, "neighbour_list_grows", sim->nl.grows);
+}
+
+static void Performance(Summary *f, const SpamSim *sim, const SpamRunResult *r)
+{
+  struct rusage ru;
+
+  getrusage(RUSAGE_SELF, &ru);
   Num(f, "wall_time_s", r->wall);
   Num(f, "rhs_time_s", sim->stats.rhs_time);
   Num(f, "rhs_time_share", r->wall > 0 ? sim->stats.rhs_time / r->wall : 0.0);
   Num(f, "pair_interactions_per_s", sim->stats.rhs_time > 0 ? sim->stats.pair_visits / sim->stats.rhs_time : 0.0);
   Num(f, "ns_per_pair", sim->stats.pair_visits > 0 ? 1e9 * sim->stats.rhs_time / sim->stats.pair_visits : 0.0);
-  fprintf(f, "  \"peak_rss_bytes\": %ld,\n", (long)ru.ru_maxrss * 1024L);
+  Int(f, "peak_rss_bytes", (long)ru.ru_maxrss * 1024L);
+}
+
+static void Conservation(Summary *f, const SpamSim *sim, const SpamRunOptions *o, const SpamRunResult *r)
+{
+  const SpamDiagnostics *a = &r->first, *b = &r->last;
+  const double           norm = (double)sim->nglobal * log(sim->scene.volume_ratio > 0 ? sim->scene.volume_ratio : 1.0);
+
   Num(f, "volume_ratio", sim->scene.volume_ratio);
   Num(f, "sound_traversal_time", sim->scene.sound_traversal_time);
   Num(f, "energy_initial", a->total);
@@ -120,6 +161,7 @@ PetscErrorCode SpamSummaryWrite(const SpamOutput *out, const SpamSim *sim, const
   Num(f, "energy_rel_drift_max", r->energy_drift_max);
   Num(f, "kinetic_final", b->kinetic);
   Num(f, "internal_final", b->internal);
+  Num(f, "energy_scale", r->energy_scale);
   Vec3(f, "momentum_initial", a->p);
   Vec3(f, "momentum_final", b->p);
   Num(f, "momentum_scale", r->momentum_scale);
@@ -134,8 +176,44 @@ PetscErrorCode SpamSummaryWrite(const SpamOutput *out, const SpamSim *sim, const
   Num(f, "entropy_grid_final", b->entropy_grid);
   Num(f, "dS_sum_ratio_final", norm > 0 ? (b->entropy_sum - a->entropy_sum) / norm : NAN);
   Num(f, "dS_grid_ratio_final", norm > 0 && o->diag.grid_spacing > 0 ? (b->entropy_grid - a->entropy_grid) / norm : NAN);
-  Str(f, "output_dir", out->dir);
-  fprintf(f, "  \"spam_ark_version\": \"%s\"\n}\n", SPAM_VERSION);
-  PetscCall(SpamFileCommit(path, f));
+}
+
+/* summary.json is listed in the manifest; the caller rewrites the manifest. */
+PetscErrorCode SpamSummaryWrite(SpamOutput *out, const SpamSim *sim, const SpamRunOptions *o, const SpamRunResult *r)
+{
+  char    path[PETSC_MAX_PATH_LEN];
+  Summary f;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamOutputPath(out, "summary.json", path, sizeof path));
+  PetscCall(PetscMemzero(&f, sizeof f));
+  PetscCall(SpamFileBegin(path, &f.f));
+  SpamFilePrintf(&f.f, "{\n");
+  Outcome(&f, o, r);
+  Str(&f, "scene", sim->scene.name);
+  Int(&f, "dim", sim->model.dim);
+  Int(&f, "n_particles", (long)sim->nglobal);
+  Num(&f, "h", sim->model.kernel.h);
+  Num(&f, "mass", sim->model.mass);
+  ModelFields(&f, &sim->model);
+  Vec3(&f, "box_lo", sim->box.lo);
+  Vec3(&f, "box_len", sim->box.len);
+  Str(&f, "method", r->method);
+  Str(&f, "adapt", r->adapt);
+  Num(&f, "fixed_step", r->fixed_dt);
+  Num(&f, "step_cfl", o->cfl);
+  Num(&f, "step_force", o->force);
+  Num(&f, "rtol", o->rtol);
+  Num(&f, "atol", o->atol);
+  Counts(&f, sim, r);
+  Performance(&f, sim, r);
+  Conservation(&f, sim, o, r);
+  Str(&f, "output_dir", out->dir);
+  /* Say why a number is missing rather than leave the reader to guess. */
+  SpamFilePrintf(&f.f, "  \"null_fields\": [%s],\n", f.nulls);
+  if (f.nulls[0]) Str(&f, "nulls", "null: not defined for this run (no entropy estimate, no volume change, no such quantity in this model) or not finite (the state blew up); JSON has no NaN or infinity");
+  SpamFilePrintf(&f.f, "  \"spam_ark_version\": \"%s\"\n}\n", SPAM_VERSION);
+  PetscCall(SpamFileCommit(&f.f));
+  PetscCall(SpamManifestAdd(out, "summary.json", "summary", NAN, PETSC_FALSE));
   PetscFunctionReturn(0);
 }

@@ -1,0 +1,97 @@
+/* A run from its first file to its exit code. */
+#include <spam/session.h>
+#include <spam/interrupt.h>
+#include <spam/errors.h>
+
+int SpamRunExitCode(const SpamRunResult *r)
+{
+  switch (r->status) {
+  case SPAM_STATUS_OK:
+  case SPAM_STATUS_MAX_STEPS: return SPAM_EXIT_OK;
+  case SPAM_STATUS_UNSTABLE: return SPAM_EXIT_UNSTABLE;
+  case SPAM_STATUS_INTERRUPTED: return 128 + r->signal; /* 130 SIGINT, 143 SIGTERM */
+  default: return SPAM_EXIT_ERROR;
+  }
+}
+
+static const char *ManifestStatus(SpamStatus s)
+{
+  static const char *names[] = {"ok", "max_steps", "unstable", "interrupted", "failed"};
+  return names[s];
+}
+
+static PetscErrorCode WriteParticles(const char *path, SpamSim *sim, SpamOutput *out, const char *kind)
+{
+  const PetscScalar *y;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArrayRead(sim->X, &y));
+  PetscCall(SpamParticlesCsvWrite(path, sim, y));
+  PetscCall(VecRestoreArrayRead(sim->X, &y));
+  PetscCall(SpamManifestAdd(out, path, kind, NAN, PETSC_TRUE));
+  PetscCall(SpamManifestWrite(out));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode Report(const SpamSim *sim, const SpamRunOptions *o, const SpamRunResult *r)
+{
+  PetscFunctionBeginUser;
+  if (r->status == SPAM_STATUS_INTERRUPTED) {
+    char line[512]; /* snprintf: PETSc's printf writes 3 as "3." */
+    (void)snprintf(line, sizeof line, "spam-ark: %s; outputs complete at t = %g of %g after %ld steps", r->reason, r->t, o->t_end, r->steps);
+    PetscCall(PetscPrintf(sim->comm, "%s; results in %s\n", line, o->output_dir));
+  } else PetscCall(PetscPrintf(sim->comm, "spam-ark: %s after %ld steps (%ld rejected), %ld RHS evaluations, %.2f s; energy drift %.3e; results in %s\n", r->status == SPAM_STATUS_UNSTABLE ? "unstable" : "done", r->steps, r->rejected, r->rhs_evals, r->wall, r->energy_drift_max, o->output_dir));
+  PetscFunctionReturn(0);
+}
+
+/* Everything that writes, in order; any error returns at once to SpamRunSession. */
+static PetscErrorCode Session(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamOutput *out, SpamRunResult *r)
+{
+  PetscFunctionBeginUser;
+  if (o->initial_csv[0]) PetscCall(WriteParticles(o->initial_csv, sim, out, "initial_particles"));
+  PetscCall(SpamRun(sim, o, ts, app, out, r));
+  if (o->final_csv[0] && r->status != SPAM_STATUS_UNSTABLE) PetscCall(WriteParticles(o->final_csv, sim, out, "final_particles"));
+  PetscCall(SpamSummaryWrite(out, sim, o, r));
+  PetscCall(SpamOutputClose(out, ManifestStatus(r->status)));
+  PetscFunctionReturn(0);
+}
+
+/* The failure has been reported (one line); what is left is to leave the directory
+ * honest: summary.json with "status": "failed" and the reason if the disk still takes it
+ * (a second failure is ignored, silently), no temporaries, the lock released. */
+static void Failed(SpamSim *sim, const SpamRunOptions *o, SpamOutput *out, SpamRunResult *r, PetscErrorCode ierr)
+{
+  char *msg = NULL;
+
+  if (out->owned && !PetscPushErrorHandler(PetscIgnoreErrorHandler, NULL)) {
+    (void)PetscErrorMessage(ierr, NULL, &msg);
+    r->status = SPAM_STATUS_FAILED;
+    (void)snprintf(r->reason, sizeof r->reason, "%s", msg && msg[0] ? msg : "a library or system failure");
+    SpamFileDiscard(&out->timeseries); /* partial files go, and free some room */
+    SpamFileDiscard(&out->steps);
+    (void)SpamSummaryWrite(out, sim, o, r);
+    (void)PetscPopErrorHandler();
+  }
+  SpamOutputAbandon(out);
+}
+
+PetscErrorCode SpamRunSession(SpamSim *sim, const SpamRunOptions *o, const SpamOutputOptions *oo, TS ts, SpamTsApp *app, int *exit_code)
+{
+  SpamOutput     out;
+  SpamRunResult  r;
+  SpamInterrupt *sig = NULL;
+  PetscErrorCode ierr;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(&r, sizeof r));
+  ierr = SpamOutputOpen(o->output_dir, o->hdf5, o->csv, oo, &out);
+  /* From the first file to the last, a signal asks for a clean end instead of killing. */
+  if (!ierr) ierr = SpamInterruptInstall(&sig);
+  if (!ierr) ierr = Session(sim, o, ts, app, &out, &r);
+  if (ierr) Failed(sim, o, &out, &r, ierr);
+  PetscCall(SpamInterruptRestore(&sig));
+  PetscCall(ierr);
+  PetscCall(Report(sim, o, &r));
+  *exit_code = SpamRunExitCode(&r);
+  PetscFunctionReturn(0);
+}

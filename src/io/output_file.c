@@ -1,0 +1,113 @@
+/* Checked, atomic file writes: a new temporary, every write checked, rename when complete. */
+#define _DEFAULT_SOURCE /* open flags, flock, lstat, gethostname: POSIX, not C11 */
+#include <spam/output.h>
+#include <errno.h>
+#include <fcntl.h>
+#include <stdarg.h>
+#include <unistd.h>
+
+long SpamTestFailWriteAt(const char *path)
+{
+  const char *env = getenv("SPAM_TEST_FAIL_WRITE"), *base = strrchr(path, '/'), *colon;
+  char       *end;
+  long        n;
+
+  if (!env || !(colon = strrchr(env, ':'))) return 0;
+  base = base ? base + 1 : path;
+  if ((size_t)(colon - env) != strlen(base) || strncmp(env, base, (size_t)(colon - env))) return 0;
+  n = strtol(colon + 1, &end, 10);
+  return *end || n < 1 ? 0 : n;
+}
+
+/* The temporary's name carries the pid, so a name left by someone else (a symlink, say)
+ * is never opened; O_EXCL | O_NOFOLLOW refuses it even if the pid repeats. */
+PetscErrorCode SpamTempCreate(const char *path, char *tmp, size_t len, int *fd)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscSNPrintf(tmp, len, "%s.%ld.tmp", path, (long)getpid()));
+  *fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+  PetscCheck(*fd >= 0, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot create %s: %s", tmp, strerror(errno));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamFileBegin(const char *path, SpamFile *f)
+{
+  int fd;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(f, sizeof *f));
+  PetscCall(PetscStrncpy(f->path, path, sizeof f->path));
+  PetscCall(SpamTempCreate(path, f->tmp, sizeof f->tmp, &fd));
+  f->f = fdopen(fd, "w");
+  if (!f->f) {
+    const int e = errno;
+    close(fd);
+    unlink(f->tmp);
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write %s: %s", path, strerror(e));
+  }
+  f->fail_at = SpamTestFailWriteAt(path);
+  PetscFunctionReturn(0);
+}
+
+void SpamFilePrintf(SpamFile *f, const char *fmt, ...)
+{
+  va_list ap;
+
+  if (!f->f || f->err) return;
+  if (++f->writes == f->fail_at) {
+    f->err = ENOSPC;
+    return;
+  }
+  va_start(ap, fmt);
+  errno = 0;
+  if (vfprintf(f->f, fmt, ap) < 0) f->err = errno ? errno : EIO;
+  va_end(ap);
+}
+
+void SpamFileDiscard(SpamFile *f)
+{
+  if (!f->f) return;
+  (void)fclose(f->f); /* already failing: its result adds nothing */
+  (void)unlink(f->tmp);
+  f->f = NULL;
+}
+
+/* The error names the final file, as the user knows it. */
+static PetscErrorCode Fail(SpamFile *f, const char *what)
+{
+  const int e = f->err ? f->err : EIO;
+
+  PetscFunctionBeginUser;
+  SpamFileDiscard(f);
+  SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot %s %s: %s", what, f->path, strerror(e));
+}
+
+PetscErrorCode SpamFileCheck(SpamFile *f)
+{
+  PetscFunctionBeginUser;
+  if (!f->f) PetscFunctionReturn(0);
+  if (!f->err && fflush(f->f)) f->err = errno ? errno : EIO;
+  if (f->err) PetscCall(Fail(f, "write"));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamFileCommit(SpamFile *f)
+{
+  int e;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamFileCheck(f));
+  e = fclose(f->f);
+  f->f = NULL;
+  if (e) {
+    f->err = errno ? errno : EIO;
+    (void)unlink(f->tmp);
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write %s: %s", f->path, strerror(f->err));
+  }
+  if (rename(f->tmp, f->path)) {
+    f->err = errno;
+    (void)unlink(f->tmp);
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot rename %s to %s: %s", f->tmp, f->path, strerror(f->err));
+  }
+  PetscFunctionReturn(0);
+}

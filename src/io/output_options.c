@@ -1,0 +1,37 @@
+/* Options of the output directory: whether an earlier run's files may be replaced, and
+ * how many snapshots a run may write. */
+#include <spam/run.h>
+#include <spam/errors.h>
+
+/* Snapshots at t = 0, at every interval up to t_end, and one more at the end (a last good
+ * state, an interrupted run's state). A tiny interval would otherwise fill the disk with
+ * files (issue 13: 2710 in 40 s); refuse it before anything is written. */
+static PetscErrorCode CheckSnapshotCount(const SpamRunOptions *ro, const SpamOutputOptions *o)
+{
+  char         val[64];
+  const double n = ro->snapshot_interval > 0 ? ceil(ro->t_end / ro->snapshot_interval) + 2.0 : 0.0;
+
+  PetscFunctionBeginUser;
+  if (n <= (double)o->snapshot_max) PetscFunctionReturn(0);
+  (void)snprintf(val, sizeof val, "%g", ro->snapshot_interval);
+  SPAM_BAD_INPUT("-snapshot_interval", val, "would write %.3g snapshots up to t = %g, more than -snapshot_max = %" PetscInt_FMT "; raise -snapshot_interval (or -snapshot_max)", n, ro->t_end, o->snapshot_max);
+}
+
+PetscErrorCode SpamOutputOptionsParse(const SpamRunOptions *ro, SpamOutputOptions *o)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(o, sizeof *o));
+  o->overwrite    = PETSC_FALSE;
+  o->snapshot_max = 10000;
+  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Output directory", "spam-ark");
+  PetscCall(PetscOptionsBool("-output_overwrite", "Remove the files of an earlier run in -output_dir before starting (default: refuse a directory that holds them)", "README", o->overwrite, &o->overwrite, NULL));
+  PetscCall(PetscOptionsInt("-snapshot_max", "Most snapshot files a run may write", "README", o->snapshot_max, &o->snapshot_max, NULL));
+  PetscOptionsEnd();
+  if (o->snapshot_max < 1) {
+    char val[32];
+    (void)snprintf(val, sizeof val, "%" PetscInt_FMT, o->snapshot_max);
+    SPAM_BAD_INPUT("-snapshot_max", val, "must be a positive integer");
+  }
+  PetscCall(CheckSnapshotCount(ro, o));
+  PetscFunctionReturn(0);
+}
