@@ -453,7 +453,7 @@ def spam_make_initial(binary, nx, h, workdir):
         scene = ["-scene", "expansion", "-dim", 2]
     cmd = [binary] + scene + [
            "-expansion_n", nx, "-h", h, "-initial_csv", csv,
-           "-ts_max_steps", 0, "-output_dir", outdir]
+           "-ts_max_steps", 0, "-output_dir", outdir, "-output_overwrite"]
     log = workdir / ("init_%s.log" % tag)
     rc, _, _ = run_measured(cmd, REPO_ROOT, log)
     if rc != 0 or not csv.exists():
@@ -958,7 +958,7 @@ def bench_solid(n, case, args, workdir, pin, base):
     csv0 = workdir / ("initial_%s.csv" % tag)
     cmd = ([args.spam_ark] + SOLID_PHYSICS
            + ["-planewave_nx", nx, "-planewave_ny", ny, "-h", h,
-              "-initial_csv", csv0, "-ts_max_steps", 0, "-output_dir", init_dir])
+              "-initial_csv", csv0, "-ts_max_steps", 0, "-output_dir", init_dir, "-output_overwrite"])
     log = workdir / ("init_%s.log" % tag)
     rc, _, _ = run_measured(cmd, REPO_ROOT, log)
     if rc != 0 or not csv0.exists() or not (init_dir / "summary.json").exists():

@@ -80,7 +80,7 @@ def main():
                      "-ts_type", "basicsymplectic", "-ts_basicsymplectic_type", "kdk", "-ts_dt", a.dt,
                      "-ts_max_steps", a.steps, "-ts_max_time", "%.17g" % ((a.steps + 0.5) * a.dt),
                      "-snapshot_interval", 0, "-output_interval", 0, "-diag_entropy", 0,
-                     "-final_csv", final, "-output_dir", out]
+                     "-final_csv", final, "-output_dir", out, "-output_overwrite"]
         rc, wall, rss = rb.run_measured(cmd, rb.REPO_ROOT, work / ("spam_%d.log" % k))
         if rc != 0:
             sys.exit("spam-ark failed:\n" + rb.tail(work / ("spam_%d.log" % k)))

@@ -6,7 +6,10 @@ Usage:
 
 DIR is the output directory of
     spam-ark -options_file options/expansion.opts -output_dir DIR
-and must hold summary.json, timeseries.csv and particles_NNNNN.csv snapshots.
+and must hold manifest.json, summary.json, timeseries.csv and CSV snapshots. The
+files are those the manifest lists, never a glob of the directory: a file left by
+another run is not drawn. A run whose status is "failed" is refused; one that is
+"running", "interrupted" or "unstable" is drawn with a warning on stderr.
 
 The figure (default DIR/expansion.png) has
   * top row:      up to four particle snapshots, evenly spaced in time (first and
@@ -42,7 +45,6 @@ EXIT_RUNTIME = 3    # missing dependencies, cannot write the PNG
 SYSTEM_PYTHON = "/usr/bin/python3"
 REEXEC_GUARD = "SPAM_ARK_PLOT_REEXEC"
 
-SNAPSHOT_RE = re.compile(r"^particles_(\d{5})\.csv$")
 MAX_SNAPSHOT_PANELS = 4
 
 TIMESERIES_COLUMNS = ("t", "kinetic", "internal", "total",
@@ -172,14 +174,15 @@ def read_timeseries(path, np):
 
 
 def list_snapshots(run_dir):
-    """[(index, path)] of particles_NNNNN.csv files, ordered by index."""
-    found = []
-    for name in os.listdir(run_dir):
-        m = SNAPSHOT_RE.match(name)
-        if m:
-            found.append((int(m.group(1)), os.path.join(run_dir, name)))
-    found.sort()
-    return found
+    """[(index, path)] of the CSV snapshots the manifest lists, in the order written."""
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import spam_manifest
+    try:
+        man = spam_manifest.read(run_dir)
+        spam_manifest.check(man, run_dir, "plot_expansion")
+    except spam_manifest.ManifestError as exc:
+        raise InputError(str(exc))
+    return list(enumerate(p for _, p in spam_manifest.files(man, run_dir, "snapshot_csv")))
 
 
 def parse_time_line(line, path):
@@ -253,9 +256,9 @@ def load_run(run_dir, np):
         raise InputError("run directory %s does not exist" % run_dir)
     if not os.path.isdir(run_dir):
         raise InputError("%s is not a directory" % run_dir)
+    snaps = list_snapshots(run_dir)
     summary = read_summary(os.path.join(run_dir, "summary.json"))
     series = read_timeseries(os.path.join(run_dir, "timeseries.csv"), np)
-    snaps = list_snapshots(run_dir)
     if not snaps:
         raise InputError("no particle snapshots (particles_NNNNN.csv) in %s" % run_dir)
     times = [read_snapshot_time(p) for _, p in snaps]

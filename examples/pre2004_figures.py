@@ -17,6 +17,7 @@ Runs take about a minute on two cores; the PNGs go to examples/.
 import argparse
 import csv
 import glob
+import sys
 import math
 import os
 import subprocess
@@ -29,12 +30,15 @@ import numpy as np  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 ROOT = os.path.dirname(HERE)
+sys.path.insert(0, HERE)
+import spam_manifest  # noqa: E402
 REV = 160 * math.pi  # one nominal revolution of the n = 8 rotor: 20 n pi
 
 
 def run(binary, outroot, name, args):
     out = os.path.join(outroot, name)
-    cmd = [binary] + [str(a) for a in args] + ["-output_dir", out, "-snapshot_hdf5", "false"]
+    # Each figure is made afresh: the run replaces the files of an earlier one.
+    cmd = [binary] + [str(a) for a in args] + ["-output_dir", out, "-output_overwrite", "-snapshot_hdf5", "false"]
     p = subprocess.run(cmd, capture_output=True, text=True)
     if p.returncode not in (0, 3):
         raise SystemExit(f"{' '.join(cmd)} failed ({p.returncode}): {p.stderr}")
@@ -48,11 +52,11 @@ def series(out):
 
 
 def snapshot(out, t):
-    """Positions of the CSV snapshot nearest time t."""
+    """Positions of the CSV snapshot nearest time t, of those the run's manifest lists."""
+    man = spam_manifest.read(out)
+    spam_manifest.check(man, out, "pre2004_figures")
     best, bt = None, None
-    for path in sorted(glob.glob(os.path.join(out, "particles_*.csv"))):
-        with open(path) as f:
-            ts = float(f.readline().split("=")[1])
+    for ts, path in spam_manifest.files(man, out, "snapshot_csv"):
         if best is None or abs(ts - t) < abs(bt - t):
             best, bt = path, ts
     d = np.genfromtxt(best, delimiter=",", skip_header=1, names=True)

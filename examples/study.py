@@ -9,8 +9,9 @@
     study.py gallery    --out DIR        (the default study of README's gallery: all of the above)
 
 precision: every method x tolerance (or x fixed step, for fixed-step methods) runs in its own
-    directory DIR/runs/<label>_<tol>/ (a finished run, one with summary.json, is skipped: an
-    interrupted study resumes). A reference (ARKODE Dormand-Prince 5(4) at rtol 1e-13) is run once
+    directory DIR/runs/<label>_<tol>/ (a finished run, one whose manifest.json says ok, max_steps
+    or unstable, is skipped: an interrupted study resumes, rerunning with -output_overwrite any
+    run that was interrupted or failed). A reference (ARKODE Dormand-Prince 5(4) at rtol 1e-13) is run once
     per scene and cached in DIR/reference_<hash>/. Errors are RMS position and velocity
     differences from it at every snapshot time (minimum image across periodic faces);
     drifts of energy, momentum and angular momentum come from each summary.json, the
@@ -37,7 +38,6 @@ build/spam-ark. Progress and an ETA are printed as runs finish.
 """
 import argparse
 import csv
-import glob
 import hashlib
 import json
 import math
@@ -57,6 +57,8 @@ except ImportError:
     if os.path.realpath(sys.executable) != "/usr/bin/python3" and os.path.exists("/usr/bin/python3"):
         os.execv("/usr/bin/python3", ["/usr/bin/python3"] + sys.argv)
     sys.exit("study.py needs numpy and matplotlib (Debian: python3-numpy python3-matplotlib)")
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import spam_manifest  # noqa: E402
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 # The reference: Dormand-Prince at rtol 1e-13. Lucy's force is only C^1 where a pair crosses
@@ -103,10 +105,12 @@ def spam(binary, args, outdir, refused_ok=False):
     """Runs spam-ark unless outdir already holds a finished run; returns (code, skipped).
     Exit 2 (spam-ark refused the input) is returned rather than raised when refused_ok."""
     summ = os.path.join(outdir, "summary.json")
-    if os.path.exists(summ):
+    if spam_manifest.status(outdir) in spam_manifest.FINISHED and os.path.exists(summ):
         return json.load(open(summ)).get("exit_code", 0), True
     os.makedirs(os.path.dirname(outdir) or ".", exist_ok=True)
-    p = subprocess.run([binary] + [str(a) for a in args] + ["-output_dir", outdir], capture_output=True, text=True)
+    # Not finished (absent, interrupted, failed): run it afresh over whatever is left.
+    p = subprocess.run([binary] + [str(a) for a in args] + ["-output_dir", outdir, "-output_overwrite"],
+                       capture_output=True, text=True)
     if p.returncode == 2 and refused_ok:
         return 2, False
     if p.returncode not in (0, 3):
@@ -121,11 +125,9 @@ def spam(binary, args, outdir, refused_ok=False):
 
 
 def snapshots(outdir):
-    """{time: array (n, 6) of x,y,z,vx,vy,vz} from particles_NNNNN.csv."""
+    """{time: array (n, 6) of x,y,z,vx,vy,vz} from the CSV snapshots the manifest lists."""
     snaps = {}
-    for path in sorted(glob.glob(os.path.join(outdir, "particles_[0-9]*.csv"))):
-        with open(path) as f:
-            t = float(f.readline().split("=")[1])
+    for t, path in spam_manifest.files(spam_manifest.read(outdir), outdir, "snapshot_csv"):
         snaps[round(t, 9)] = np.loadtxt(path, delimiter=",", skiprows=2, ndmin=2)[:, :6]
     return snaps
 
@@ -209,7 +211,7 @@ def planewave_probe(binary, common, outdir):
     """The planewave scene prints the periods of its linearised SPAM equations and of the
     continuum; a run of zero steps reads them. Returns (SPAM period, continuum period), or
     None for any other scene."""
-    p = subprocess.run([binary] + [str(x) for x in common] + ["-ts_max_steps", "0", "-output_dir", outdir],
+    p = subprocess.run([binary] + [str(x) for x in common] + ["-ts_max_steps", "0", "-output_dir", outdir, "-output_overwrite"],
                        capture_output=True, text=True)
     shutil.rmtree(outdir, ignore_errors=True)
     if p.returncode != 0:

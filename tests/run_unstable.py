@@ -11,10 +11,9 @@
 3. Too many rejections: a first step of 5 (about 1.7 h/c0) at rtol 1e-10 is rejected by
    every adaptive method; -ts_max_reject 1 makes that a failure (exit 3, the method's own
    flag in the reason), while the default (10) lets the controller recover."""
-import glob
 import math
 import os
-from spamrun import Checks, arguments, run, summary, table
+from spamrun import Checks, arguments, manifest, manifest_files, run, summary, table
 
 a = arguments()
 c = Checks()
@@ -29,14 +28,14 @@ for name, extra in (("arkode", ["-arkode_fixed_step", 9]),
     s = summary(out)
     c.check(code == 3 and s["status"] == "unstable" and " at t = " in s["reason"] and "step" in s["reason"],
             f"{name} at 10x the CFL step: exit {code}, status {s['status']}: {s['reason']}")
-    c.check("unstable:" in stdout and glob.glob(os.path.join(out, "*last_good*")),
-            f"{name}: the monitor reports it and the last good state is kept")
+    c.check("unstable:" in stdout and manifest_files(out, "snapshot_csv_last_good") and manifest(out)["status"] == "unstable",
+            f"{name}: the monitor reports it, the last good state is kept (manifest status unstable)")
 
 # The CFL bound at t = 0: c = sqrt(rho) for gamma = 2, kappa = 1/2, at the largest summed density.
 CFL, FORCE, H = 0.05, 0.02, 3.0
 out0 = os.path.join(a.workdir, "probe")
 run(a.spam_ark, common + ["-ts_max_steps", 0, "-snapshot_interval", 1], out0)
-with open(os.path.join(out0, "particles_00000.csv")) as f:
+with open(manifest_files(out0, "snapshot_csv")[0]) as f:
     rows = [line.split(",") for line in f if not line.startswith(("#", "x"))]
 c0 = math.sqrt(max(float(r[6]) for r in rows))
 for method, extra in (("arkode", []), ("rk 5dp", ["-ts_type", "rk", "-ts_rk_type", "5dp"])):

@@ -70,3 +70,15 @@ def final_state(path):
     with open(path) as f:
         next(f)
         return [[float(v) for v in line.split(",")] for line in f if line.strip()]
+
+
+def manifest(outdir):
+    """The run's manifest.json (status and the files it wrote)."""
+    with open(os.path.join(outdir, "manifest.json")) as f:
+        return json.load(f)
+
+
+def manifest_files(outdir, kind):
+    """Paths of the files of one kind the manifest lists (snapshot_csv, snapshot_h5,
+    snapshot_csv_last_good, summary, ...): what the run wrote, never a glob."""
+    return [os.path.join(outdir, e["name"]) for e in manifest(outdir)["files"] if e.get("kind") == kind and "name" in e]

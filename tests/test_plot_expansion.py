@@ -57,8 +57,18 @@ def smoothstep(u):
     return u * u * (3 - 2 * u)
 
 
+def write_manifest(run_dir, snapshots, status="ok"):
+    """manifest.json as spam-ark writes it: the run's status and its files."""
+    files = [{"name": name, "kind": "snapshot_csv", "t": t} for name, t in snapshots]
+    files += [{"name": "summary.json", "kind": "summary"},
+              {"name": "timeseries.csv", "kind": "timeseries"}]
+    with open(os.path.join(run_dir, "manifest.json"), "w") as fh:
+        json.dump({"program": "spam-ark", "version": "test", "status": status,
+                   "options": "", "files": files}, fh, indent=2)
+
+
 def write_run(run_dir, dim, nx, volume_ratio, n_snapshots=3, n_rows=41, seed=1):
-    """Write summary.json, timeseries.csv and particle snapshots.
+    """Write summary.json, timeseries.csv, particle snapshots and manifest.json.
 
     Returns the expected (final dS_sum_ratio, final dS_grid_ratio, max drift),
     computed from the exact values written to the CSV.
@@ -105,6 +115,7 @@ def write_run(run_dir, dim, nx, volume_ratio, n_snapshots=3, n_rows=41, seed=1):
 
     # snapshots: lattice in the lower-left part of the box spreading out
     box = nx * volume_ratio ** (1.0 / dim)
+    listed = []
     for j in range(n_snapshots):
         t = t_end * j / (n_snapshots - 1)
         grow = 1.0 + (box / nx - 1.0) * smoothstep(t / tau)
@@ -122,6 +133,8 @@ def write_run(run_dir, dim, nx, volume_ratio, n_snapshots=3, n_rows=41, seed=1):
             lines.append("%r,%r,%r,%r,%r,0,%r" % (x, y, z, vx, vy, rho))
         with open(os.path.join(run_dir, "particles_%05d.csv" % j), "w") as fh:
             fh.write("\n".join(lines) + "\n")
+        listed.append(("particles_%05d.csv" % j, t))
+    write_manifest(run_dir, listed)
     return FINAL_SUM, FINAL_GRID, max_drift
 
 
@@ -272,7 +285,39 @@ def main():
         for name in os.listdir(bad_n):
             if name.startswith("particles_"):
                 os.remove(os.path.join(bad_n, name))
+        write_manifest(bad_n, [])
         check_error("no snapshots", [bad_n], "particles_NNNNN.csv")
+
+        # no manifest: refused, not globbed
+        bad_m = os.path.join(tmp, "no_manifest")
+        shutil.copytree(run2, bad_m)
+        os.remove(os.path.join(bad_m, "manifest.json"))
+        check_error("missing manifest.json", [bad_m], "manifest.json")
+
+        # a failed run is refused
+        bad_f = os.path.join(tmp, "failed_run")
+        shutil.copytree(run2, bad_f)
+        with open(os.path.join(bad_f, "manifest.json")) as fh:
+            man = json.load(fh)
+        man["status"] = "failed"
+        with open(os.path.join(bad_f, "manifest.json"), "w") as fh:
+            json.dump(man, fh)
+        check_error("status failed", [bad_f], "failed")
+
+        # a stale snapshot of another run (not in the manifest, malformed) is not read;
+        # an interrupted run is drawn with one warning line
+        stale = os.path.join(tmp, "stale")
+        shutil.copytree(run2, stale)
+        os.remove(os.path.join(stale, "expansion.png"))
+        with open(os.path.join(stale, "particles_00007.csv"), "w") as fh:
+            fh.write("# t=9999\nx,y,z,vx,vy,vz,rho\nnot,a,number,at,all,0,0\n")
+        man["status"] = "interrupted"
+        with open(os.path.join(stale, "manifest.json"), "w") as fh:
+            json.dump(man, fh)
+        rc, out, err = run_plot(stale)
+        check("stale snapshot not in the manifest: ignored, exit 0", rc == 0, err)
+        check("interrupted run: one warning line naming the status",
+              len(err.strip().splitlines()) == 1 and "interrupted" in err, repr(err))
     finally:
         shutil.rmtree(tmp, ignore_errors=True)
 

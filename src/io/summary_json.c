@@ -148,6 +148,33 @@ static void Performance(Summary *f, const SpamSim *sim, const SpamRunResult *r)
   Int(f, "peak_rss_bytes", (long)ru.ru_maxrss * 1024L);
 }
 
+/* Drifts relative to the initial energy (and the momentum scales built on it) mean
+ * nothing when that energy is zero, a body at rest and unstrained: null then, and the
+ * drift over the energy scale (time_loop.c) says what happened instead. */
+static PetscBool ZeroEnergy(const SpamRunResult *r)
+{
+  return (PetscBool)(!(fabs(r->first.total) > 1e-12 * r->energy_scale));
+}
+
+static void Drifts(Summary *f, const SpamRunResult *r)
+{
+  const SpamDiagnostics *a = &r->first, *b = &r->last;
+  const double           zero = ZeroEnergy(r) ? NAN : 1.0; /* NaN: written as null */
+
+  Num(f, "energy_rel_drift_final", zero * fabs(b->total - a->total) / PetscMax(fabs(a->total), 1e-300));
+  Num(f, "energy_rel_drift_max", zero * r->energy_drift_max);
+  Num(f, "energy_scale", r->energy_scale);
+  Num(f, "energy_drift_over_scale_final", r->energy_scale > 0 ? fabs(b->total - a->total) / r->energy_scale : NAN);
+  Vec3(f, "momentum_initial", a->p);
+  Vec3(f, "momentum_final", b->p);
+  Num(f, "momentum_scale", zero * r->momentum_scale);
+  Num(f, "momentum_rel_drift_max", zero * r->momentum_drift_max);
+  Vec3(f, "angular_momentum_initial", a->l);
+  Vec3(f, "angular_momentum_final", b->l);
+  Num(f, "angular_momentum_scale", zero * r->angmom_scale);
+  Num(f, "angular_momentum_rel_drift_max", zero * r->angmom_drift_max);
+}
+
 static void Conservation(Summary *f, const SpamSim *sim, const SpamRunOptions *o, const SpamRunResult *r)
 {
   const SpamDiagnostics *a = &r->first, *b = &r->last;
@@ -157,25 +184,27 @@ static void Conservation(Summary *f, const SpamSim *sim, const SpamRunOptions *o
   Num(f, "sound_traversal_time", sim->scene.sound_traversal_time);
   Num(f, "energy_initial", a->total);
   Num(f, "energy_final", b->total);
-  Num(f, "energy_rel_drift_final", fabs(b->total - a->total) / PetscMax(fabs(a->total), 1e-300));
-  Num(f, "energy_rel_drift_max", r->energy_drift_max);
   Num(f, "kinetic_final", b->kinetic);
   Num(f, "internal_final", b->internal);
-  Num(f, "energy_scale", r->energy_scale);
-  Vec3(f, "momentum_initial", a->p);
-  Vec3(f, "momentum_final", b->p);
-  Num(f, "momentum_scale", r->momentum_scale);
-  Num(f, "momentum_rel_drift_max", r->momentum_drift_max);
-  Vec3(f, "angular_momentum_initial", a->l);
-  Vec3(f, "angular_momentum_final", b->l);
-  Num(f, "angular_momentum_scale", r->angmom_scale);
-  Num(f, "angular_momentum_rel_drift_max", r->angmom_drift_max);
+  Drifts(f, r);
   Num(f, "entropy_sum_initial", a->entropy_sum);
   Num(f, "entropy_sum_final", b->entropy_sum);
   Num(f, "entropy_grid_initial", a->entropy_grid);
   Num(f, "entropy_grid_final", b->entropy_grid);
   Num(f, "dS_sum_ratio_final", norm > 0 ? (b->entropy_sum - a->entropy_sum) / norm : NAN);
   Num(f, "dS_grid_ratio_final", norm > 0 && o->diag.grid_spacing > 0 ? (b->entropy_grid - a->entropy_grid) / norm : NAN);
+}
+
+/* Why numbers are null, in words, for the reader who meets one. */
+static void NullNote(Summary *f, const SpamRunResult *r)
+{
+  char note[512];
+
+  SpamFilePrintf(&f->f, "  \"null_fields\": [%s],\n", f->nulls);
+  if (!f->nulls[0]) return;
+  (void)snprintf(note, sizeof note, "JSON has no NaN or infinity: null means not defined for this run (no entropy estimate or volume change, a quantity this model lacks%s) or not finite (the state blew up)",
+                 ZeroEnergy(r) ? "; drifts relative to an initial energy of zero, see energy_drift_over_scale_final" : "");
+  Str(f, "nulls", note);
 }
 
 /* summary.json is listed in the manifest; the caller rewrites the manifest. */
@@ -209,9 +238,7 @@ PetscErrorCode SpamSummaryWrite(SpamOutput *out, const SpamSim *sim, const SpamR
   Performance(&f, sim, r);
   Conservation(&f, sim, o, r);
   Str(&f, "output_dir", out->dir);
-  /* Say why a number is missing rather than leave the reader to guess. */
-  SpamFilePrintf(&f.f, "  \"null_fields\": [%s],\n", f.nulls);
-  if (f.nulls[0]) Str(&f, "nulls", "null: not defined for this run (no entropy estimate, no volume change, no such quantity in this model) or not finite (the state blew up); JSON has no NaN or infinity");
+  NullNote(&f, r);
   SpamFilePrintf(&f.f, "  \"spam_ark_version\": \"%s\"\n}\n", SPAM_VERSION);
   PetscCall(SpamFileCommit(&f.f));
   PetscCall(SpamManifestAdd(out, "summary.json", "summary", NAN, PETSC_FALSE));

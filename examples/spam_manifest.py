@@ -1,0 +1,67 @@
+"""Reading a spam-ark output directory through its manifest.json.
+
+spam-ark lists every file a run wrote in DIR/manifest.json (name, kind, and t for
+snapshots) with the run's status: running, ok, max_steps, unstable, interrupted or
+failed. Scripts read that list instead of globbing the directory, so a file left by
+another run is never picked up.
+"""
+import json
+import os
+import sys
+
+DONE = ("ok", "max_steps")          # the run reached its end (or its step limit)
+FINISHED = DONE + ("unstable",)     # ended by itself; its files are complete
+
+
+class ManifestError(Exception):
+    """No usable manifest: a missing, unreadable or malformed manifest.json."""
+
+
+def read(run_dir):
+    """The manifest of run_dir as a dict (raises ManifestError)."""
+    path = os.path.join(run_dir, "manifest.json")
+    try:
+        with open(path, encoding="utf-8") as fh:
+            man = json.load(fh)
+    except FileNotFoundError:
+        raise ManifestError("%s: no manifest.json (not a spam-ark output directory, "
+                            "or one written before spam-ark listed its files)" % run_dir)
+    except (OSError, UnicodeDecodeError, ValueError) as exc:
+        raise ManifestError("cannot read %s: %s" % (path, exc))
+    if (not isinstance(man, dict) or man.get("program") != "spam-ark"
+            or not isinstance(man.get("files"), list)):
+        raise ManifestError("%s is not a spam-ark manifest" % path)
+    return man
+
+
+def status(run_dir):
+    """The run's status, or None when there is no usable manifest."""
+    try:
+        return read(run_dir).get("status")
+    except ManifestError:
+        return None
+
+
+def files(man, run_dir, kind):
+    """[(t, path)] of the files of one kind ("snapshot_csv", "snapshot_h5", "summary",
+    "timeseries", ...) in the order written; t is None for files that are not snapshots."""
+    out = []
+    for e in man["files"]:
+        if isinstance(e, dict) and e.get("kind") == kind and isinstance(e.get("name"), str):
+            out.append((e.get("t"), os.path.join(run_dir, e["name"])))
+    return out
+
+
+def check(man, run_dir, prog, refuse=("failed",)):
+    """Raises ManifestError for a status in refuse; warns (stderr, one line) when the run
+    did not reach its end: running (still going, or killed), interrupted, unstable."""
+    st = man.get("status")
+    if st in refuse:
+        raise ManifestError("%s: the run's status is %r (%s)" % (run_dir, st, "see summary.json"))
+    if st not in DONE:
+        why = {"running": "still running, or killed before it could finish",
+               "interrupted": "stopped by a signal before its end",
+               "unstable": "stopped when it went unstable"}.get(st, "status unknown")
+        sys.stderr.write("%s: warning: %s: the run's status is %r (%s); its files are drawn as "
+                         "they are\n" % (prog, run_dir, st, why))
+    return st
