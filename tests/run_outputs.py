@@ -8,7 +8,7 @@ import shutil
 import subprocess
 import sys
 import xml.etree.ElementTree as ET
-from spamrun import Checks, arguments, run, summary, table
+from spamrun import Checks, arguments, manifest, run, summary, table
 
 a = arguments()
 c = Checks()
@@ -21,7 +21,8 @@ options = ["-dim", "-h", "-mass", "-neighbour_skin", "-eos_gamma", "-eos_kappa",
            "-expansion_perturb_velocities", "-file_path", "-ts_max_time", "-ts_max_steps", "-ts_dt", "-ts_rtol",
            "-ts_atol", "-arkode_table", "-arkode_adapt", "-arkode_fixed_step", "-arkode_safety", "-arkode_max_growth",
            "-arkode_classic_weights", "-output_dir", "-output_interval", "-snapshot_interval", "-snapshot_hdf5",
-           "-snapshot_csv", "-monitor", "-diag_entropy", "-diag_grid_spacing", "-initial_csv", "-final_csv"]
+           "-snapshot_csv", "-monitor", "-diag_entropy", "-diag_grid_spacing", "-initial_csv", "-final_csv",
+           "-output_overwrite", "-snapshot_max"]
 missing = [o for o in options if not re.search(r"^\s*" + re.escape(o) + r":? <[^>]*>", out, re.M)]
 c.check(code == 0 and not missing, f"-help exits 0 and lists {len(options)} options with defaults (missing: {missing})")
 c.check(not os.path.exists(os.path.join(a.workdir, "help")), "-help writes no files")
@@ -43,6 +44,14 @@ c.check(len(steplines) == s["steps"], f"-monitor printed {len(steplines)} step l
 ts = table(os.path.join(run_dir, "timeseries.csv"))
 c.check(len(ts["t"]) == 13 and abs(ts["t"][-1] - 12) < 1e-9, f"timeseries.csv has a row per output time ({len(ts['t'])} rows)")
 c.check(abs(ts["mass"][0] - 144) < 1e-9 and max(ts["mass"]) == min(ts["mass"]), "mass is N m at every row")
+m = manifest(run_dir)
+names = sorted(e["name"] for e in m["files"])
+present = sorted(n for n in os.listdir(run_dir) if n != "manifest.json")
+kinds = {e["kind"] for e in m["files"]}
+c.check(m["program"] == "spam-ark" and m["status"] == "ok" and names == present and "-expansion_n 12" in m["options"]
+        and [e["t"] for e in m["files"] if e["kind"] == "snapshot_h5"] == [0, 4, 8, 12]
+        and kinds == {"snapshot_h5", "snapshot_csv", "xdmf_index", "summary", "timeseries", "steps"},
+        f"manifest.json: status {m['status']}, lists every file of the run ({len(names)}) with its kind and snapshot times")
 st = table(os.path.join(run_dir, "steps.csv"))
 c.check(len(st["dt"]) == s["steps"] and abs(sum(st["dt"]) - 12) < 1e-9, "steps.csv: one row per step, steps add up to the end time")
 

@@ -67,15 +67,16 @@ static PetscErrorCode Unstable(SpamSim *sim, SpamOutput *out, Vec Xgood, double 
   PetscFunctionReturn(0);
 }
 
-/* The unit of the blow-up bound: the largest of |E0|, the initial kinetic energy and
- * M c0^2 (the whole mass M moving at the largest initial sound speed c0, for models that
- * have one). |E0| alone fails for a body at rest with no strain: it is zero, and round-off
- * kinetic energy (1e-48) then exceeds any multiple of the 1e-300 floor. M c0^2 is the
- * energy scale of the material itself, so a blow-up is kinetic energy beyond what the
- * material's own waves could carry. */
+/* The unit of the blow-up bound: E_ref = max(|E0|, KE0, M (c0/1000)^2 / 2), the initial
+ * total or kinetic energy or, should both be (nearly) zero, the kinetic energy of the
+ * whole mass M moving at a thousandth of the largest initial sound speed c0 (models with a
+ * sound speed). |E0| alone fails for a body at rest with no strain: it is zero, and
+ * round-off kinetic energy (1e-48) then exceeds any multiple of a 1e-300 floor. The third
+ * term is far below the energy of any real motion of the material (a strain of 1e-3 holds
+ * about as much), so it never hides a blow-up of a run that has energy to start with. */
 static PetscErrorCode EnergyScale(SpamSim *sim, SpamRunResult *r)
 {
-  double c = 0.0;
+  double c = 0.0, floor_ke;
 
   PetscFunctionBeginUser;
   if (sim->model.max_sound_speed) {
@@ -84,8 +85,9 @@ static PetscErrorCode EnergyScale(SpamSim *sim, SpamRunResult *r)
     PetscCall(sim->model.max_sound_speed(sim, y, &c));
     PetscCall(VecRestoreArrayRead(sim->X, &y));
   }
+  floor_ke        = 0.5 * r->first.mass * (1e-3 * c) * (1e-3 * c);
   r->energy_scale = PetscMax(fabs(r->first.total), r->first.kinetic);
-  if (isfinite(r->first.mass * c * c)) r->energy_scale = PetscMax(r->energy_scale, r->first.mass * c * c);
+  if (isfinite(floor_ke)) r->energy_scale = PetscMax(r->energy_scale, floor_ke);
   PetscFunctionReturn(0);
 }
 
