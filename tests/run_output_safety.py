@@ -4,7 +4,7 @@
    (exit 2, one line naming a file of that run and -output_overwrite, nothing touched);
    with -output_overwrite every file of the earlier run goes first, so no snapshot of it
    survives and manifest.json lists exactly the files present. Files spam-ark never
-   writes are left alone.
+   writes are left alone. A snapshot interval that would pass -snapshot_max is refused.
 2. Two runs into one directory: the second is refused (exit 2, one line naming the
    holder's pid) while the first completes intact.
 3. A symlink left at a temporary's name (timeseries.csv.tmp -> a victim file, or
@@ -89,6 +89,14 @@ open(os.path.join(d, "particles_00042.csv"), "w").close()
 code, _, err = run(a.spam_ark, SMALL + ["-ts_max_time", 4], d)
 c.check(code == 2 and one_line(err) and "particles_00042.csv" in err and listing(d) == ["particles_00042.csv"],
         f"a lone snapshot of an earlier run (no manifest) is refused too: exit {code}, {brief(err)}")
+
+d = os.path.join(w, "capped")
+code, _, err = run(a.spam_ark, SMALL + ["-ts_max_time", 16, "-snapshot_max", 5], d)
+line = one_line(err)
+c.check(code == 2 and line and "-snapshot_interval" in line and "-snapshot_max = 5" in line and not os.path.exists(d),
+        f"more snapshots than -snapshot_max (6 > 5): exit {code}, {brief(err)}, nothing written")
+code, _, err = run(a.spam_ark, SMALL + ["-ts_max_time", 16, "-snapshot_max", 6], d)
+c.check(code == 0 and len(manifest(d)["files"]) == 2 * 5 + 4, f"6 allowed, 5 written: exit {code} {brief(err)}")
 
 # 2. Two runs into one directory.
 d = os.path.join(w, "shared")

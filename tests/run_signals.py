@@ -45,12 +45,12 @@ for sig, name, want in ((signal.SIGINT, "SIGINT", 130), (signal.SIGTERM, "SIGTER
             f"{name}: timeseries.csv has {len(t)} whole rows of {widths}, increasing t, the last at the time reached ({t[-1] if t else None})")
     with open(os.path.join(d, "steps.csv")) as f:
         steps = list(csv.DictReader(f))
-    c.check(len(steps) == s["steps"] and abs(float(steps[-1]["t"]) - s["t_final"]) <= 1e-12 * s["t_final"],
+    c.check(len(steps) == s["steps"] and abs(float(steps[-1]["t"]) - s["t_final"]) <= 1e-9 * s["t_final"],
             f"{name}: steps.csv has a row per step ({len(steps)} for {s['steps']}), the last at the time reached")
     m = manifest(d)
     snaps = [e for e in m["files"] if e["kind"] == "snapshot_csv"]
     left = os.listdir(d)
-    c.check(m["status"] == "interrupted" and snaps and abs(snaps[-1]["t"] - s["t_final"]) <= 1e-12 * s["t_final"]
+    c.check(m["status"] == "interrupted" and snaps and abs(snaps[-1]["t"] - s["t_final"]) <= 1e-9 * s["t_final"]
             and all(e["name"] in left for e in m["files"] if "name" in e),
             f"{name}: manifest status {m['status']}, {len(snaps)} snapshots, the last at the time reached, every listed file present")
     c.check(not [n for n in left if n.endswith(".tmp")] and "spam-ark.lock" not in left, f"{name}: no temporary, no lock left")

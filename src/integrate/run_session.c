@@ -84,9 +84,10 @@ PetscErrorCode SpamRunSession(SpamSim *sim, const SpamRunOptions *o, const SpamO
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(&r, sizeof r));
+  /* From the first file to the last, a signal asks for a clean end instead of killing
+   * (one during the opening is seen before the first step: outputs at t = 0). */
+  PetscCall(SpamInterruptInstall(&sig));
   ierr = SpamOutputOpen(o->output_dir, o->hdf5, o->csv, oo, &out);
-  /* From the first file to the last, a signal asks for a clean end instead of killing. */
-  if (!ierr) ierr = SpamInterruptInstall(&sig);
   if (!ierr) ierr = Session(sim, o, ts, app, &out, &r);
   if (ierr) Failed(sim, o, &out, &r, ierr);
   PetscCall(SpamInterruptRestore(&sig));

@@ -96,6 +96,7 @@ PetscErrorCode SpamFileCommit(SpamFile *f)
   int e;
 
   PetscFunctionBeginUser;
+  PetscCheck(f->f, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONGSTATE, "%s is not open", f->path);
   PetscCall(SpamFileCheck(f));
   e = fclose(f->f);
   f->f = NULL;
