@@ -11,31 +11,30 @@ static const char help[] = "spam-ark " SPAM_VERSION ": smooth-particle applied m
 
 static PetscErrorCode Run(int *exit_code)
 {
-  SpamSim        sim;
-  SpamRunOptions o;
+  SpamSim           sim;
+  SpamRunOptions    o;
   SpamOutputOptions oo;
-  SpamTsApp      app;
-  TS             ts;
-  PetscBool      help;
+  SpamTsApp         app;
+  TS                ts = NULL;
+  PetscBool         help;
+  PetscErrorCode    ierr;
 
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsHasHelp(NULL, &help));
   PetscCall(SpamSceneCreateSim(PETSC_COMM_WORLD, &sim));
-  PetscCall(SpamRunOptionsParse(&sim, &o));
-  PetscCall(SpamOutputOptionsParse(&o, &oo));
-  PetscCall(SpamTSCreate(&sim, &o, &app, &ts)); /* validates the method; lists TS options */
-  if (help) { /* every option has been listed with its default: nothing to run */
-    PetscCall(TSDestroy(&ts));
-    PetscCall(SpamTSAppDestroy(&app));
-    PetscCall(SpamSimDestroy(&sim));
-    PetscFunctionReturn(0);
-  }
-  /* Every input is valid from here on: only now touch the file system. */
-  PetscCall(SpamRunSession(&sim, &o, &oo, ts, &app, exit_code));
+  PetscCall(PetscMemzero(&app, sizeof app));
+  /* From here on every path frees what it made: a refused option or directory and a
+   * failed run (each reported already) leak nothing (the sanitizer build checks). */
+  ierr = SpamRunOptionsParse(&sim, &o);
+  if (!ierr) ierr = SpamOutputOptionsParse(&o, &oo);
+  if (!ierr) ierr = SpamTSCreate(&sim, &o, &app, &ts); /* validates the method; lists TS options */
+  /* With -help every option has been listed with its default: nothing to run. Otherwise
+   * every input is valid from here on: only now touch the file system. */
+  if (!ierr && !help) ierr = SpamRunSession(&sim, &o, &oo, ts, &app, exit_code);
   PetscCall(TSDestroy(&ts));
   PetscCall(SpamTSAppDestroy(&app));
   PetscCall(SpamSimDestroy(&sim));
-  PetscFunctionReturn(0);
+  PetscFunctionReturn(ierr);
 }
 
 int main(int argc, char **argv)

@@ -245,9 +245,9 @@ static PetscErrorCode FailureReason(TS ts, const SpamTsApp *app, long step, doub
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamRun(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamOutput *out, SpamRunResult *r)
+/* The loop proper; Xgood holds the last accepted state. */
+static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamOutput *out, SpamRunResult *r, Vec Xgood)
 {
-  Vec            Xgood;
   PetscLogDouble wall0;
   SpamProgress   p = {0};
   Schedule       s;
@@ -265,7 +265,6 @@ PetscErrorCode SpamRun(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *
     PetscCall(PetscPrintf(sim->comm, "%s", line));
   }
   ScheduleInit(o, r->fixed_dt, &s);
-  PetscCall(VecDuplicate(sim->X, &Xgood));
   PetscCall(VecCopy(sim->X, Xgood));
   p.limit = SpamStepLimitNames[SPAM_LIMIT_ACCURACY];
   PetscCall(Output(sim, o, out, &p, o->snapshot_interval > 0, r));
@@ -331,6 +330,19 @@ PetscErrorCode SpamRun(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *
     PetscCall(PetscTime(&now));
     r->wall = now - wall0;
   }
+  PetscFunctionReturn(0);
+}
+
+/* Xgood is freed on every path: a failed write ends the run with an error, not a leak. */
+PetscErrorCode SpamRun(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamOutput *out, SpamRunResult *r)
+{
+  Vec            Xgood;
+  PetscErrorCode ierr;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecDuplicate(sim->X, &Xgood));
+  ierr = Loop(sim, o, ts, app, out, r, Xgood);
   PetscCall(VecDestroy(&Xgood));
+  PetscCall(ierr);
   PetscFunctionReturn(0);
 }

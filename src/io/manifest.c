@@ -33,10 +33,10 @@ PetscErrorCode SpamManifestWrite(SpamOutput *o)
   SpamFile f;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscOptionsGetAll(NULL, &all));
-  for (size_t n = all ? strlen(all) : 0; n > 0 && all[n - 1] == ' '; n--) all[n - 1] = 0;
   PetscCall(SpamOutputPath(o, "manifest.json", path, sizeof path));
   PetscCall(SpamFileBegin(path, &f));
+  PetscCall(PetscOptionsGetAll(NULL, &all));
+  for (size_t n = all ? strlen(all) : 0; n > 0 && all[n - 1] == ' '; n--) all[n - 1] = 0;
   SpamFilePrintf(&f, "{\n  \"program\": \"spam-ark\",\n  \"version\": \"%s\",\n  \"status\": \"%s\",\n  \"run\": ", SPAM_VERSION, o->status);
   JsonString(&f, o->lock_info);
   SpamFilePrintf(&f, ",\n  \"options\": ");

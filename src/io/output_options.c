@@ -8,13 +8,15 @@
  * files (issue 13: 2710 in 40 s); refuse it before anything is written. */
 static PetscErrorCode CheckSnapshotCount(const SpamRunOptions *ro, const SpamOutputOptions *o)
 {
-  char         val[64];
+  char         val[64], why[160];
   const double n = ro->snapshot_interval > 0 ? ceil(ro->t_end / ro->snapshot_interval) + 2.0 : 0.0;
 
   PetscFunctionBeginUser;
   if (n <= (double)o->snapshot_max) PetscFunctionReturn(0);
+  /* snprintf: PETSc's printf writes 16 as "16." */
   (void)snprintf(val, sizeof val, "%g", ro->snapshot_interval);
-  SPAM_BAD_INPUT("-snapshot_interval", val, "would write %.3g snapshots up to t = %g, more than -snapshot_max = %" PetscInt_FMT "; raise -snapshot_interval (or -snapshot_max)", n, ro->t_end, o->snapshot_max);
+  (void)snprintf(why, sizeof why, "would write %.3g snapshots up to t = %g, more than -snapshot_max = %ld", n, ro->t_end, (long)o->snapshot_max);
+  SPAM_BAD_INPUT("-snapshot_interval", val, "%s; raise -snapshot_interval (or -snapshot_max)", why);
 }
 
 PetscErrorCode SpamOutputOptionsParse(const SpamRunOptions *ro, SpamOutputOptions *o)
