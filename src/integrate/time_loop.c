@@ -1,7 +1,9 @@
 /* The one time loop. Every method is a TS (see integrator.h); the loop steps it with
  * TSStep towards the next output time, so it can monitor each step, write outputs at
  * exact times, apply the physical step bound, and stop cleanly when the state goes bad.
- * Failure is a result: the reason, time and step go to the monitor and summary.json. */
+ * Failure is a result: the reason, time and step go to the monitor and summary.json; so is
+ * an interruption (SIGINT, SIGTERM), seen between steps, after which the outputs of the
+ * time reached are written and the loop ends. */
 #include <spam/integrator.h>
 #include <spam/errors.h>
 #include <spam/interrupt.h>
