@@ -119,6 +119,17 @@ static PetscErrorCode WriteFile(const char *path, const char *tmp, const struct 
   PetscFunctionReturn(0);
 }
 
+static PetscErrorCode FieldsFree(Fields *f)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree(f->x));
+  PetscCall(PetscFree(f->v));
+  PetscCall(PetscFree(f->rho));
+  PetscCall(PetscFree(f->e));
+  PetscCall(PetscFree(f->s6));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamSnapshotHdf5Write(const char *path, const SpamSim *sim, const double *y)
 {
   char           tmp[PETSC_MAX_PATH_LEN + 32];
@@ -128,18 +139,18 @@ PetscErrorCode SpamSnapshotHdf5Write(const char *path, const SpamSim *sim, const
   PetscErrorCode ierr;
 
   PetscFunctionBeginUser;
-  PetscCall(FieldsGather(sim, y, &f));
   PetscCall(SpamTempCreate(path, tmp, sizeof tmp, &fd));
-  ierr = fstat(fd, &made) ? PETSC_ERR_FILE_OPEN : 0;
-  (void)close(fd);
+  if (fstat(fd, &made)) {
+    const int e = errno;
+    (void)close(fd);
+    (void)unlink(tmp);
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write %s: %s", path, strerror(e));
+  }
+  (void)close(fd); /* HDF5 opens it by name; WriteFile checks it is still this file */
+  ierr = FieldsGather(sim, y, &f);
   if (!ierr) ierr = WriteFile(path, tmp, &made, &f, (hsize_t)sim->n);
   if (ierr) (void)unlink(tmp);
-  PetscCall(PetscFree(f.x));
-  PetscCall(PetscFree(f.v));
-  PetscCall(PetscFree(f.rho));
-  PetscCall(PetscFree(f.e));
-  PetscCall(PetscFree(f.s6));
-  PetscCheck(ierr != PETSC_ERR_FILE_OPEN, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write %s: %s", tmp, strerror(errno));
+  PetscCall(FieldsFree(&f));
   PetscCall(ierr);
   PetscFunctionReturn(0);
 }
@@ -150,7 +161,6 @@ static void XdmfItem(SpamFile *f, PetscInt n, int ncomp, int snap, const char *s
   else SpamFilePrintf(f, "        <DataItem Dimensions=\"%" PetscInt_FMT "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">snap_%05d.h5:%s</DataItem>\n", n, snap, set);
 }
 
-/* Rewrites the whole index so that it always lists exactly the snapshots on disk. */
 static void XdmfAttribute(SpamFile *f, PetscInt n, int snap, const char *name, const char *type, int ncomp, const char *set)
 {
   SpamFilePrintf(f, "      <Attribute Name=\"%s\" AttributeType=\"%s\" Center=\"Node\">\n", name, type);
@@ -158,6 +168,7 @@ static void XdmfAttribute(SpamFile *f, PetscInt n, int snap, const char *name, c
   SpamFilePrintf(f, "      </Attribute>\n");
 }
 
+/* Rewrites the whole index so that it always lists exactly the snapshots on disk. */
 static PetscErrorCode WriteXdmfIndex(SpamOutput *o, const SpamLayout *l, PetscInt n)
 {
   char     path[PETSC_MAX_PATH_LEN];
