@@ -100,7 +100,8 @@ c.check(code == 0 and len(manifest(d)["files"]) == 2 * 5 + 4, f"6 allowed, 5 wri
 
 # 2. Two runs into one directory.
 d = os.path.join(w, "shared")
-long_run = ["-expansion_n", 48, "-h", 3, "-ts_max_time", 96, "-output_interval", 1, "-snapshot_interval", 32, "-diag_entropy", 0]
+# About 3 s of work, so the second run (a start of about 0.5 s) meets it running.
+long_run = ["-expansion_n", 48, "-h", 3, "-ts_max_time", 384, "-output_interval", 4, "-snapshot_interval", 128, "-diag_entropy", 0]
 first = subprocess.Popen([a.spam_ark] + [str(x) for x in long_run] + ["-output_dir", d], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
 deadline = time.time() + 30
 while time.time() < deadline and not any(n.startswith("timeseries.csv.") for n in listing(d)) and first.poll() is None:
@@ -109,7 +110,7 @@ code, _, err = run(a.spam_ark, SMALL + ["-ts_max_time", 4], d)
 second_running = first.poll() is None
 out1, err1 = first.communicate(timeout=120)
 line = one_line(err)
-c.check(second_running, "the first run was still running when the second started")
+c.check(second_running, "the first run was still running when the second one was refused")
 c.check(code == 2 and line and "in use by another run" in line and f"pid {first.pid} " in line,
         f"second run into the same directory: exit {code}, {brief(err)}")
 s = summary(d)
