@@ -29,10 +29,12 @@ PetscErrorCode SpamRotorOptions(const SpamCommonParams *c, PetscBool pair, SpamR
   PetscCall(SpamSolidOptions(&p->solid));
   PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->n));
   if (p->n < 1 || p->n > 1000) SPAM_BAD_INPUT("-rotor_n", val, "allowed: 1 to 1000 shells");
+  PetscCall(SpamCheckParticleCount("-rotor_n", val, (pair ? 2.0 : 1.0) * (1.0 + 3.0 * (double)p->n * (double)(p->n + 1))));
   (void)snprintf(val, sizeof val, "%g", p->speed);
   if (!isfinite(p->speed) || p->speed <= 0.0) SPAM_BAD_INPUT("-rotor_speed", val, "must be a positive speed");
   (void)snprintf(val, sizeof val, "%g", p->gap);
-  if (!isfinite(p->gap) || p->gap < 0.0) SPAM_BAD_INPUT("-rotor_gap", val, "must be zero or positive");
+  /* The gap is the distance between the facing vertices: at 0 two particles coincide. */
+  if (!isfinite(p->gap) || p->gap <= 0.0) SPAM_BAD_INPUT("-rotor_gap", val, "must be a positive finite distance (at 0 the facing vertices of the two hexagons coincide)");
   PetscFunctionReturn(0);
 }
 

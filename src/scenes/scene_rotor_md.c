@@ -23,6 +23,7 @@ PetscErrorCode SpamRotorMdOptions(const SpamCommonParams *c, SpamRotorMdParams *
   PetscOptionsEnd();
   PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->n));
   if (p->n < 1 || p->n > 1000) SPAM_BAD_INPUT("-rotor_n", val, "allowed: 1 to 1000 shells");
+  PetscCall(SpamCheckParticleCount("-rotor_n", val, 1.0 + 3.0 * (double)p->n * (double)(p->n + 1)));
   (void)snprintf(val, sizeof val, "%g", p->speed);
   if (!isfinite(p->speed) || p->speed <= 0.0) SPAM_BAD_INPUT("-rotor_speed", val, "must be a positive speed");
   (void)snprintf(val, sizeof val, "%g", p->k);
