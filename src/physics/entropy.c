@@ -5,6 +5,7 @@
  * the free expansion produce N k ln(V2/V1). Two estimates: a sum over particles (volume
  * m/rho_i each) and an integral of s over a regular grid. Results are S/k. */
 #include <spam/diagnostics.h>
+#include <spam/errors.h>
 
 /* ln[(e + dv2/2)^(D/2) / rho] for one point. */
 static double EntropyPerMass(const SpamModel *m, double rho, double v2mean, const double *vmean)
@@ -102,21 +103,57 @@ static double SampleAt(SpamSim *sim, const double *y, const double *u, double *v
   return rho;
 }
 
+/* Most points of the grid: 64 per particle or 2^24, the larger, and at most 2^30 (the
+ * index is an int). A point costs about what a particle of the sum costs, so the
+ * integral stays within some 64 entropy sums per diagnostics row. */
+static double GridMax(PetscInt n)
+{
+  return PetscMin(PetscMax(16777216.0, 64.0 * (double)n), 1073741824.0);
+}
+
+/* Points per direction at this spacing, and their product, all in double: a tiny
+ * spacing gives a count that no integer holds. */
+static double GridPoints(const SpamBox *box, double spacing, double ng[3])
+{
+  double total = 1.0;
+  for (int d = 0; d < 3; d++) {
+    ng[d] = d < box->dim ? PetscMax(1.0, ceil(box->len[d] / spacing)) : 1.0;
+    total *= ng[d];
+  }
+  return total;
+}
+
+PetscErrorCode SpamEntropyGridCheck(const SpamSim *sim, double spacing)
+{
+  double ng[3], points;
+  char   val[64];
+
+  PetscFunctionBeginUser;
+  (void)snprintf(val, sizeof val, "%g", spacing);
+  if (!(spacing > 0.0) || !isfinite(spacing)) SPAM_BAD_INPUT("-diag_grid_spacing", val, "must be a positive finite spacing (0: no grid integral)");
+  points = GridPoints(&sim->box, spacing, ng);
+  if (!(points <= GridMax(sim->n))) SPAM_BAD_INPUT("-diag_grid_spacing", val, "the entropy grid would have %.3g points; at most %.4g (64 per particle or 2^24, the larger, within 2^30)", points, GridMax(sim->n));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamEntropyGrid(SpamSim *sim, const double *y, double spacing, double *S)
 {
   const SpamModel *m   = &sim->model;
   const int        dim = m->dim;
-  PetscInt         ng[3] = {1, 1, 1}, total = 1;
-  double           g[3]  = {1, 1, 1}, cellvol = 1.0, sum = 0.0;
+  PetscInt         ng[3] = {1, 1, 1}, total;
+  double           g[3]  = {1, 1, 1}, nd[3], cellvol = 1.0, sum = 0.0;
   /* Below this density the point is empty space: s -> 0 as rho -> 0. */
   const double rho_min = 1e-12 * m->mass * m->kernel.wnorm;
+  const double points  = GridPoints(&sim->box, spacing, nd);
 
   PetscFunctionBeginUser;
+  /* Checked at set-up (SpamEntropyGridCheck); here so that no count overflows. */
+  PetscCheck(spacing > 0.0 && isfinite(spacing) && points <= GridMax(sim->n), PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "entropy grid spacing %g gives %g points; at most %g", spacing, points, GridMax(sim->n));
+  total = (PetscInt)points;
   for (int d = 0; d < dim; d++) {
-    ng[d] = PetscMax(1, (PetscInt)ceil(sim->box.len[d] / spacing));
+    ng[d] = (PetscInt)nd[d];
     g[d]  = sim->box.len[d] / ng[d];
     cellvol *= g[d];
-    total *= ng[d];
   }
   for (PetscInt k = 0; k < total; k++) {
     double u[3] = {0, 0, 0}, vmean[3] = {0, 0, 0}, v2mean = 0.0;
