@@ -183,7 +183,7 @@ static PetscErrorCode CheckInBox(const CsvReader *r, const SpamCommonParams *c, 
     const double lo = c->box_lo[d], hi = c->box_lo[d] + c->box_len[d];
     char         why[160]; /* formatted here: PETSc's %g writes 8 as "8." */
     if (x[d] >= lo && x[d] <= hi) continue;
-    (void)snprintf(why, sizeof why, "%s = %g lies outside the box, %g <= %s <= %g", ax[d], x[d], lo, ax[d], hi);
+    (void)snprintf(why, sizeof why, "%s = %.10g lies outside the box, %.10g <= %s <= %.10g", ax[d], x[d], lo, ax[d], hi);
     SPAM_BAD_INPUT(r->where, r->echo, "%s (-box_lo, -box_len; %s direction)", why, c->periodic[d] ? "periodic" : "open");
   }
   PetscFunctionReturn(0);
@@ -268,10 +268,13 @@ static PetscErrorCode ReadHeader(CsvReader *r, int dim, int *nf)
 }
 
 /* The box must be finite before any particle is compared with it (the options are
- * checked where they are read; this keeps the reader safe on its own). */
+ * checked where they are read; this keeps the reader safe on its own), and valid for
+ * the kernel, so that a box too small is named as such rather than by a particle
+ * outside it. */
 static PetscErrorCode CheckBox(const SpamCommonParams *c)
 {
-  char val[64];
+  SpamBox box = {c->dim, {0, 0, 0}, {0, 0, 0}, {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE}};
+  char    val[64];
 
   PetscFunctionBeginUser;
   for (int d = 0; d < c->dim; d++) {
@@ -281,7 +284,11 @@ static PetscErrorCode CheckBox(const SpamCommonParams *c)
     if (!isfinite(c->box_len[d]) || !(c->box_len[d] > 0.0)) SPAM_BAD_INPUT("-box_len", val, "box edges must be positive and finite");
     (void)snprintf(val, sizeof val, "%g", c->box_lo[d] + c->box_len[d]);
     if (!isfinite(c->box_lo[d] + c->box_len[d])) SPAM_BAD_INPUT("-box_lo + -box_len", val, "the upper corner must be finite");
+    box.lo[d]       = c->box_lo[d];
+    box.len[d]      = c->box_len[d];
+    box.periodic[d] = c->periodic[d];
   }
+  PetscCall(SpamBoxValidate(&box, c->h, "-box_lo/-box_len"));
   PetscFunctionReturn(0);
 }
 
