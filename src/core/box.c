@@ -5,7 +5,7 @@
 PetscErrorCode SpamBoxValidate(const SpamBox *b, double h, const char *what)
 {
   static const char *axes[3] = {"x", "y", "z"};
-  char               val[64], name[128], far[32];
+  char               val[64], name[128], far[32], hs[32];
 
   PetscFunctionBeginUser;
   for (int d = 0; d < b->dim; d++) {
@@ -18,8 +18,9 @@ PetscErrorCode SpamBoxValidate(const SpamBox *b, double h, const char *what)
     (void)snprintf(val, sizeof val, "%g", PetscMax(fabs(b->lo[d]), fabs(b->lo[d] + b->len[d])));
     (void)snprintf(name, sizeof name, "box corner %s (%s)", axes[d], what);
     if (!(PetscMax(fabs(b->lo[d]), fabs(b->lo[d] + b->len[d])) <= 1e9 * h)) {
-      (void)snprintf(far, sizeof far, "%g", 1e9 * h); /* PETSc's %g would print 3e9 as "3e9" but 8 as "8." */
-      SPAM_BAD_INPUT(name, val, "the box, shifted by any -scene_translate, must lie within 1e9 h = %s of the origin, so that positions resolve the kernel range", far);
+      (void)snprintf(far, sizeof far, "%g", 1e9 * h); /* PETSc's %g would print 8 as "8." */
+      (void)snprintf(hs, sizeof hs, "%g", h);
+      SPAM_BAD_INPUT(name, val, "the box, shifted by any -scene_translate, must lie within 1e9 h = %s of the origin (h = %s), so that positions resolve the kernel range", far, hs);
     }
   }
   PetscFunctionReturn(0);

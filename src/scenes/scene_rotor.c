@@ -33,8 +33,10 @@ PetscErrorCode SpamRotorOptions(const SpamCommonParams *c, PetscBool pair, SpamR
   (void)snprintf(val, sizeof val, "%g", p->speed);
   if (!isfinite(p->speed) || p->speed <= 0.0) SPAM_BAD_INPUT("-rotor_speed", val, "must be a positive speed");
   (void)snprintf(val, sizeof val, "%g", p->gap);
-  /* The gap is the distance between the facing vertices: at 0 two particles coincide. */
-  if (!isfinite(p->gap) || p->gap <= 0.0) SPAM_BAD_INPUT("-rotor_gap", val, "must be a positive finite distance (at 0 the facing vertices of the two hexagons coincide)");
+  /* The gap is the distance between the facing vertices: at 0 two particles coincide,
+   * and below about 1e-15 n they coincide in floating point (1e-300 ran as unstable).
+   * 1e-6 is the smallest gap tried that ran (rotor_n 4). */
+  if (!isfinite(p->gap) || !(p->gap >= 1e-6)) SPAM_BAD_INPUT("-rotor_gap", val, "allowed: a finite gap of at least 1e-6 lattice spacings (at 0 the facing vertices of the two hexagons coincide)");
   PetscFunctionReturn(0);
 }
 
