@@ -67,8 +67,8 @@ with open(os.path.join(w, "nul.csv"), "wb") as f:
 cases += [
     ("blank field", file_scene + ["-file_path", write("ws.csv", hdr + "1, ,0,0\n")], ["ws.csv:3", "'1, ,0,0'", "field 2 is empty"]),
     ("tab-only last field", file_scene + ["-file_path", write("tab.csv", hdr + "1,2,0,\t\n")], ["tab.csv:3", "field 4 is empty"]),
-    ("5000-byte line", file_scene + ["-file_path", write("long.csv", hdr + "1." + "0" * 5000 + ",2,0,0\n")], ["long.csv:3", "5008 bytes", "limited to 4095", "..."]),
-    ("long comment", file_scene + ["-file_path", write("comm.csv", "x,y,vx,vy\n#" + "c" * 4200 + "1,2,0,0\n1,2,0,0\n")], ["comm.csv:2", "limited to 4095"]),
+    ("5000-byte line", file_scene + ["-file_path", write("long.csv", hdr + "1." + "0" * 5000 + ",2,0,0\n")], ["long.csv:3", "longer than 4095 bytes", "..."]),
+    ("long comment", file_scene + ["-file_path", write("comm.csv", "x,y,vx,vy\n#" + "c" * 4200 + "1,2,0,0\n1,2,0,0\n")], ["comm.csv:2", "longer than 4095 bytes"]),
     ("NUL byte", file_scene + ["-file_path", os.path.join(w, "nul.csv")], ["nul.csv:3", "NUL byte"]),
     ("outside the periodic box", file_scene + ["-file_path", write("out.csv", hdr + "9.5,2,0,0\n")], ["out.csv:3", "x = 9.5", "outside the box", "periodic"]),
     ("outside the open box", file_scene + ["-periodic", "0,0", "-file_path", write("open.csv", hdr + "2,-0.5,0,0\n")], ["open.csv:3", "y = -0.5", "outside the box", "open"]),

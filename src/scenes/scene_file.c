@@ -23,7 +23,7 @@ typedef struct {
   const char *path;
   PetscInt    lineno;
   char        line[CSV_MAX_LINE + 1]; /* the line without its end, NUL-terminated  */
-  size_t      len;                    /* its full length, which may exceed the kept part */
+  size_t      len;                    /* its length, CSV_MAX_LINE + 1 if longer          */
   size_t      nul;                    /* 1-based column of its first NUL byte, or 0 */
   char        where[PETSC_MAX_PATH_LEN + 32], echo[CSV_ECHO + 4];
 } CsvReader;
@@ -95,8 +95,9 @@ static PetscErrorCode OpenRegular(const char *path, FILE **f)
   PetscFunctionReturn(0);
 }
 
-/* Reads the next line whole (to its '\n' or the end of the file), keeping at most
- * CSV_MAX_LINE bytes of it; *more is false at the end of the file. */
+/* Reads the next line (to its '\n' or the end of the file); *more is false at the end
+ * of the file. Reading stops one byte past CSV_MAX_LINE: such a line is refused, and a
+ * file of gigabytes without a line end is not read to its end first. */
 static PetscErrorCode ReadLine(CsvReader *r, PetscBool *more)
 {
   int ch = EOF;
@@ -104,7 +105,7 @@ static PetscErrorCode ReadLine(CsvReader *r, PetscBool *more)
   PetscFunctionBeginUser;
   r->len = 0;
   r->nul = 0;
-  while ((ch = getc_unlocked(r->f)) != EOF && ch != '\n') {
+  while (r->len <= CSV_MAX_LINE && (ch = getc_unlocked(r->f)) != EOF && ch != '\n') {
     if (r->len < CSV_MAX_LINE) r->line[r->len] = (char)ch;
     r->len++;
     if (!ch && !r->nul) r->nul = r->len;
@@ -125,16 +126,22 @@ static PetscErrorCode Describe(CsvReader *r)
   PetscFunctionReturn(0);
 }
 
+/* Bad input naming the current line: file:line and the quoted line are formatted only
+ * when a line is refused, not for every line read. */
+#define CSV_BAD_LINE(r, ...) \
+  do { \
+    PetscCall(Describe(r)); \
+    SPAM_BAD_INPUT((r)->where, (r)->echo, __VA_ARGS__); \
+  } while (0)
+
 /* A line too long or holding a NUL byte (which would cut it short as a C string) is
  * refused; otherwise its end is trimmed. */
 static PetscErrorCode CheckLine(CsvReader *r)
 {
   PetscFunctionBeginUser;
-  PetscCall(Describe(r));
-  if (r->len > CSV_MAX_LINE) SPAM_BAD_INPUT(r->where, r->echo, "the line is %zu bytes long; lines (comments included) are limited to %d bytes", r->len, CSV_MAX_LINE);
-  if (r->nul) SPAM_BAD_INPUT(r->where, r->echo, "the line contains a NUL byte (column %zu); the file must be text", r->nul);
+  if (r->len > CSV_MAX_LINE) CSV_BAD_LINE(r, "the line is longer than %d bytes, the limit for every line (comments included)", CSV_MAX_LINE);
+  if (r->nul) CSV_BAD_LINE(r, "the line contains a NUL byte (column %zu); the file must be text", r->nul);
   Chomp(r->line);
-  PetscCall(Describe(r));
   PetscFunctionReturn(0);
 }
 
@@ -174,7 +181,7 @@ static int ParseLine(const char *line, double *vals, int max, int *badfield, con
 /* Every coordinate must lie in the box (closed at both ends): a particle outside a
  * periodic box is not wrapped silently, and one outside an open box would be binned
  * with the edge cells as if near them. */
-static PetscErrorCode CheckInBox(const CsvReader *r, const SpamCommonParams *c, const double *x)
+static PetscErrorCode CheckInBox(CsvReader *r, const SpamCommonParams *c, const double *x)
 {
   static const char *ax[3] = {"x", "y", "z"};
 
@@ -184,13 +191,13 @@ static PetscErrorCode CheckInBox(const CsvReader *r, const SpamCommonParams *c, 
     char         why[160]; /* formatted here: PETSc's %g writes 8 as "8." */
     if (x[d] >= lo && x[d] <= hi) continue;
     (void)snprintf(why, sizeof why, "%s = %.10g lies outside the box, %.10g <= %s <= %.10g", ax[d], x[d], lo, ax[d], hi);
-    SPAM_BAD_INPUT(r->where, r->echo, "%s (-box_lo, -box_len; %s direction)", why, c->periodic[d] ? "periodic" : "open");
+    CSV_BAD_LINE(r, "%s (-box_lo, -box_len; %s direction)", why, c->periodic[d] ? "periodic" : "open");
   }
   PetscFunctionReturn(0);
 }
 
 /* Checks one data line (nf fields) and returns its values in vals. */
-static PetscErrorCode ParseParticle(const CsvReader *r, const SpamCommonParams *c, int nf, double *vals, double *mass)
+static PetscErrorCode ParseParticle(CsvReader *r, const SpamCommonParams *c, int nf, double *vals, double *mass)
 {
   const int   dim = c->dim;
   const char *why;
@@ -199,14 +206,14 @@ static PetscErrorCode ParseParticle(const CsvReader *r, const SpamCommonParams *
 
   PetscFunctionBeginUser;
   k = ParseLine(r->line, vals, 8, &bad, &why);
-  if (k < 0) SPAM_BAD_INPUT(r->where, r->echo, "field %d %s; each of the %d fields must be a finite number", bad, why, nf);
-  if (k != nf) SPAM_BAD_INPUT(r->where, r->echo, "expected %d comma-separated numbers, found %d", nf, k);
+  if (k < 0) CSV_BAD_LINE(r, "field %d %s; each of the %d fields must be a finite number", bad, why, nf);
+  if (k != nf) CSV_BAD_LINE(r, "expected %d comma-separated numbers, found %d", nf, k);
   PetscCall(CheckInBox(r, c, vals));
   if (nf == 2 * dim + 1) {
-    if (!(vals[2 * dim] > 0.0)) SPAM_BAD_INPUT(r->where, r->echo, "mass must be positive");
+    if (!(vals[2 * dim] > 0.0)) CSV_BAD_LINE(r, "mass must be positive");
     if (*mass < 0.0) *mass = vals[2 * dim];
     (void)snprintf(first, sizeof first, "%g", *mass);
-    if (vals[2 * dim] != *mass) SPAM_BAD_INPUT(r->where, r->echo, "every particle must have the same mass (%s on the first line); unequal masses are not supported yet", first);
+    if (vals[2 * dim] != *mass) CSV_BAD_LINE(r, "every particle must have the same mass (%s on the first line); unequal masses are not supported yet", first);
   }
   PetscFunctionReturn(0);
 }
@@ -229,7 +236,7 @@ static PetscErrorCode ReadBody(CsvReader *r, const SpamCommonParams *c, int nf, 
     if (!more) break;
     PetscCall(CheckLine(r));
     if (!r->line[0] || r->line[0] == '#') continue;
-    if ((double)n >= maxn) SPAM_BAD_INPUT(r->where, r->echo, "the file holds more than %.4g particles, the most that 32-bit state indices and this machine's physical memory allow", maxn);
+    if ((double)n >= maxn) CSV_BAD_LINE(r, "the file holds more than %.4g particles, the most that 32-bit state indices and this machine's physical memory allow", maxn);
     PetscCall(ParseParticle(r, c, nf, vals, &mass));
     if (n == cap) {
       cap *= 2;
@@ -263,7 +270,7 @@ static PetscErrorCode ReadHeader(CsvReader *r, int dim, int *nf)
   PetscCall(CheckLine(r));
   if (!strcmp(r->line, with_m)) *nf = 2 * dim + 1;
   else if (!strcmp(r->line, without_m)) *nf = 2 * dim;
-  else SPAM_BAD_INPUT(r->where, r->echo, "header must be '%s' or '%s' for -dim %d", without_m, with_m, dim);
+  else CSV_BAD_LINE(r, "header must be '%s' or '%s' for -dim %d", without_m, with_m, dim);
   PetscFunctionReturn(0);
 }
 
