@@ -77,8 +77,8 @@ cases += [
     ("directory as -file_path", file_scene + ["-file_path", os.path.join(w, "dir.csv")], ["-file_path", "directory"]),
     ("device as -file_path", file_scene + ["-file_path", "/dev/null"], ["-file_path", "/dev/null", "character device"]),
     ("box far from the origin", file_scene + ["-box_lo", "1e11,0", "-file_path", good], ["box corner x", "1e+11", "within 1e9 h"]),
-    ("-box_lo nan (file scene)", file_scene + ["-box_lo", "nan", "-file_path", good], ["-box_lo", "nan"]),
-    ("-box_len 8,nan (file scene)", file_scene[:-1] + ["8,nan", "-file_path", good], ["-box_len", "nan"]),
+    ("-box_lo nan (file scene)", file_scene + ["-box_lo", "nan", "-file_path", good], ["-box_lo", "finite"]),
+    ("-box_len 8,nan (file scene)", file_scene[:-1] + ["8,nan", "-file_path", good], ["-box_len", "finite"]),
     # Sizes whose products overflow a 32-bit int (issue 13, point 1).
     ("expansion_n 100570", ["-expansion_n", 100570], ["-expansion_n", "'100570'", "1.01e+10 particles", "at most"]),
     ("3D expansion_n 600", ["-dim", 3, "-expansion_n", 600], ["-expansion_n", "'600'", "2.16e+08 particles"]),

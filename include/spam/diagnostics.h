@@ -32,7 +32,4 @@ PetscErrorCode SpamBodyAngularMomentum(SpamSim *sim, const double *y, double *lb
 
 PetscErrorCode SpamEntropySum(SpamSim *sim, const double *y, double *S);
 PetscErrorCode SpamEntropyGrid(SpamSim *sim, const double *y, double spacing, double *S);
-/* Bad input (-diag_grid_spacing) unless spacing is positive, finite and gives a grid of
- * at most 64 points per particle or 2^24 (the larger, within 2^30): for the set-up. */
-PetscErrorCode SpamEntropyGridCheck(const SpamSim *sim, double spacing);
 #endif

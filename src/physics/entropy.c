@@ -5,7 +5,6 @@
  * the free expansion produce N k ln(V2/V1). Two estimates: a sum over particles (volume
  * m/rho_i each) and an integral of s over a regular grid. Results are S/k. */
 #include <spam/diagnostics.h>
-#include <spam/errors.h>
 
 /* ln[(e + dv2/2)^(D/2) / rho] for one point. */
 static double EntropyPerMass(const SpamModel *m, double rho, double v2mean, const double *vmean)
@@ -103,13 +102,9 @@ static double SampleAt(SpamSim *sim, const double *y, const double *u, double *v
   return rho;
 }
 
-/* Most points of the grid: 64 per particle or 2^24, the larger, and at most 2^30 (the
- * index is an int). A point costs about what a particle of the sum costs, so the
- * integral stays within some 64 entropy sums per diagnostics row. */
-static double GridMax(PetscInt n)
-{
-  return PetscMin(PetscMax(16777216.0, 64.0 * (double)n), 1073741824.0);
-}
+/* Most points of the grid: the index is an int. The set-up refuses far fewer
+ * (-diag_grid_spacing, run_options.c); this bound only keeps the count in range. */
+#define SPAM_GRID_MAX 1073741824.0
 
 /* Points per direction at this spacing, and their product, all in double: a tiny
  * spacing gives a count that no integer holds. */
@@ -123,19 +118,6 @@ static double GridPoints(const SpamBox *box, double spacing, double ng[3])
   return total;
 }
 
-PetscErrorCode SpamEntropyGridCheck(const SpamSim *sim, double spacing)
-{
-  double ng[3], points;
-  char   val[64];
-
-  PetscFunctionBeginUser;
-  (void)snprintf(val, sizeof val, "%g", spacing);
-  if (!(spacing > 0.0) || !isfinite(spacing)) SPAM_BAD_INPUT("-diag_grid_spacing", val, "must be a positive finite spacing (0: no grid integral)");
-  points = GridPoints(&sim->box, spacing, ng);
-  if (!(points <= GridMax(sim->n))) SPAM_BAD_INPUT("-diag_grid_spacing", val, "the entropy grid would have %.3g points; at most %.4g (64 per particle or 2^24, the larger, within 2^30)", points, GridMax(sim->n));
-  PetscFunctionReturn(0);
-}
-
 PetscErrorCode SpamEntropyGrid(SpamSim *sim, const double *y, double spacing, double *S)
 {
   const SpamModel *m   = &sim->model;
@@ -147,8 +129,7 @@ PetscErrorCode SpamEntropyGrid(SpamSim *sim, const double *y, double spacing, do
   const double points  = GridPoints(&sim->box, spacing, nd);
 
   PetscFunctionBeginUser;
-  /* Checked at set-up (SpamEntropyGridCheck); here so that no count overflows. */
-  PetscCheck(spacing > 0.0 && isfinite(spacing) && points <= GridMax(sim->n), PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "entropy grid spacing %g gives %g points; at most %g", spacing, points, GridMax(sim->n));
+  PetscCheck(spacing > 0.0 && isfinite(spacing) && points <= SPAM_GRID_MAX, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "entropy grid spacing %g gives %g points; at most 2^30", spacing, points);
   total = (PetscInt)points;
   for (int d = 0; d < dim; d++) {
     ng[d] = (PetscInt)nd[d];
