@@ -35,8 +35,9 @@ PetscErrorCode SpamRotorOptions(const SpamCommonParams *c, PetscBool pair, SpamR
   (void)snprintf(val, sizeof val, "%g", p->gap);
   /* The gap is the distance between the facing vertices: at 0 two particles coincide,
    * and below about 1e-15 n they coincide in floating point (1e-300 ran as unstable).
-   * 1e-6 is the smallest gap tried that ran (rotor_n 4). */
-  if (!isfinite(p->gap) || !(p->gap >= 1e-6)) SPAM_BAD_INPUT("-rotor_gap", val, "allowed: a finite gap of at least 1e-6 lattice spacings (at 0 the facing vertices of the two hexagons coincide)");
+   * 1e-6 is the smallest gap tried that ran (rotor_n 4). Beyond h the hexagons never
+   * meet, and a wider gap only widens the box: 1e4 keeps its cells countable. */
+  if (!(p->gap >= 1e-6 && p->gap <= 1e4)) SPAM_BAD_INPUT("-rotor_gap", val, "allowed: 1e-6 to 1e4 lattice spacings (at 0 the facing vertices of the two hexagons coincide; beyond h they never meet)");
   PetscFunctionReturn(0);
 }
 
