@@ -85,6 +85,7 @@ cases += [
     ("tensile_nx 2147483647", ["-scene", "tensile", "-tensile_nx", 2147483647], ["-tensile_nx", "2147483647", "particles", "at most"]),
     ("planewave 100000 x 100000", ["-scene", "planewave", "-planewave_nx", 100000, "-planewave_ny", 100000], ["-planewave_nx", "1e+10 particles"]),
     ("chain_n 2000000000", ["-dim", 1, "-scene", "chain", "-chain_n", 2000000000], ["-chain_n", "'2000000000'", "particles"]),
+    ("rotor_speed 4.9e-324", ["-scene", "rotor", "-rotor_speed", "4.9e-324"], ["-rotor_speed", "'4.9", "1e-6 to 10"]),
     ("rotor_gap 0", ["-scene", "rotor-pair", "-rotor_gap", 0], ["-rotor_gap", "'0'", "1e-6 to 1e4"]),
     ("rotor_gap 1e-300", ["-scene", "rotor-pair", "-rotor_gap", 1e-300], ["-rotor_gap", "'1e-300'", "1e-6 to 1e4"]),
     ("rotor_gap 1e300", ["-scene", "rotor-pair", "-rotor_gap", 1e300], ["-rotor_gap", "'1e+300'", "1e-6 to 1e4"]),
