@@ -212,8 +212,10 @@ static PetscErrorCode ParseParticle(CsvReader *r, const SpamCommonParams *c, int
   if (nf == 2 * dim + 1) {
     if (!(vals[2 * dim] > 0.0)) CSV_BAD_LINE(r, "mass must be positive");
     if (*mass < 0.0) *mass = vals[2 * dim];
-    (void)snprintf(first, sizeof first, "%g", *mass);
-    if (vals[2 * dim] != *mass) CSV_BAD_LINE(r, "every particle must have the same mass (%s on the first line); unequal masses are not supported yet", first);
+    if (vals[2 * dim] != *mass) {
+      (void)snprintf(first, sizeof first, "%g", *mass); /* PETSc's %g writes 1 as "1." */
+      CSV_BAD_LINE(r, "every particle must have the same mass (%s on the first line); unequal masses are not supported yet", first);
+    }
   }
   PetscFunctionReturn(0);
 }
