@@ -33,7 +33,7 @@ PetscErrorCode SpamRotorOptions(const SpamCommonParams *c, PetscBool pair, SpamR
   (void)snprintf(val, sizeof val, "%g", p->speed);
   /* The default run lasts one revolution, 2 pi n / speed: 1e-300 made it 6e300 long (and
    * 4.9e-324 infinite); 1e300 stopped as unstable at once. Both ends ran at 1e-6 and 10. */
-  if (!(p->speed >= 1e-6 && p->speed <= 10.0)) SPAM_BAD_INPUT("-rotor_speed", val, "allowed: 1e-6 to 10 (the vertex speed; the longitudinal sound speed of the default solid is about 1.06)");
+  if (!(p->speed >= 1e-6 && p->speed <= 10.0)) SPAM_BAD_INPUT("-rotor_speed", val, "must be a positive speed from 1e-6 to 10 (the vertex speed; the longitudinal sound speed of the default solid is about 1.06)");
   (void)snprintf(val, sizeof val, "%g", p->gap);
   /* The gap is the distance between the facing vertices: at 0 two particles coincide,
    * and below about 1e-15 n they coincide in floating point (1e-300 ran as unstable).

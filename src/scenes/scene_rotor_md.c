@@ -27,7 +27,7 @@ PetscErrorCode SpamRotorMdOptions(const SpamCommonParams *c, SpamRotorMdParams *
   (void)snprintf(val, sizeof val, "%g", p->speed);
   /* The default run lasts one revolution, 2 pi n / speed: 1e-300 made it 6e300 long (and
    * 4.9e-324 infinite); 1e300 stopped as unstable at once. Both ends ran at 1e-6 and 10. */
-  if (!(p->speed >= 1e-6 && p->speed <= 10.0)) SPAM_BAD_INPUT("-rotor_speed", val, "allowed: 1e-6 to 10 (the vertex speed; the longitudinal sound speed of the default solid is about 1.06)");
+  if (!(p->speed >= 1e-6 && p->speed <= 10.0)) SPAM_BAD_INPUT("-rotor_speed", val, "must be a positive speed from 1e-6 to 10 (the vertex speed; the longitudinal sound speed of the default solid is about 1.06)");
   (void)snprintf(val, sizeof val, "%g", p->k);
   if (!isfinite(p->k) || p->k <= 0.0) SPAM_BAD_INPUT("-spring_k", val, "must be positive");
   (void)snprintf(val, sizeof val, "%g", p->range);
