@@ -3,6 +3,7 @@ allowed; exit code 2; no output directory, no crash. A run that blows up is a re
 status "unstable", exit code 3, the particle and time named, the last good state kept."""
 import json
 import os
+import subprocess
 from spamrun import Checks, arguments, run
 
 a = arguments()
@@ -54,13 +55,59 @@ cases = [
     ("negative CFL number", ["-step_cfl", -0.5], ["-step_cfl", "'-0.5'", "positive"]),
     ("no particles", file_scene + ["-file_path", write("e.csv", "x,y,vx,vy\n")], ["-file_path", "no particles"]),
 ]
+
+# Hostile particle files (issue 13, point 5): every malformed or out-of-range line is
+# refused naming file:line; anything but a regular file is refused at once.
+hdr = "x,y,vx,vy\n1,2,0,0\n"
+fifo = os.path.join(w, "fifo.csv")
+os.mkfifo(fifo)
+os.mkdir(os.path.join(w, "dir.csv"))
+with open(os.path.join(w, "nul.csv"), "wb") as f:
+    f.write(b"x,y,vx,vy\n1,2,0,0\n1,2\0,0,0\n")
+cases += [
+    ("blank field", file_scene + ["-file_path", write("ws.csv", hdr + "1, ,0,0\n")], ["ws.csv:3", "'1, ,0,0'", "field 2 is empty"]),
+    ("tab-only last field", file_scene + ["-file_path", write("tab.csv", hdr + "1,2,0,\t\n")], ["tab.csv:3", "field 4 is empty"]),
+    ("5000-byte line", file_scene + ["-file_path", write("long.csv", hdr + "1." + "0" * 5000 + ",2,0,0\n")], ["long.csv:3", "longer than 4095 bytes", "..."]),
+    ("long comment", file_scene + ["-file_path", write("comm.csv", "x,y,vx,vy\n#" + "c" * 4200 + "1,2,0,0\n1,2,0,0\n")], ["comm.csv:2", "longer than 4095 bytes"]),
+    ("NUL byte", file_scene + ["-file_path", os.path.join(w, "nul.csv")], ["nul.csv:3", "NUL byte"]),
+    ("outside the periodic box", file_scene + ["-file_path", write("out.csv", hdr + "9.5,2,0,0\n")], ["out.csv:3", "x = 9.5", "outside the box", "periodic"]),
+    ("outside the open box", file_scene + ["-periodic", "0,0", "-file_path", write("open.csv", hdr + "2,-0.5,0,0\n")], ["open.csv:3", "y = -0.5", "outside the box", "open"]),
+    ("coordinate 1e15", file_scene + ["-file_path", write("far.csv", hdr + "1e15,2,0,0\n")], ["far.csv:3", "x = 1e+15", "outside the box"]),
+    ("FIFO as -file_path", file_scene + ["-file_path", fifo], ["-file_path", "fifo.csv", "FIFO"]),
+    ("directory as -file_path", file_scene + ["-file_path", os.path.join(w, "dir.csv")], ["-file_path", "directory"]),
+    ("device as -file_path", file_scene + ["-file_path", "/dev/null"], ["-file_path", "/dev/null", "character device"]),
+    ("box far from the origin", file_scene + ["-box_lo", "1e11,0", "-file_path", good], ["box corner x", "1e+11", "within 1e9 h"]),
+    ("-box_lo nan (file scene)", file_scene + ["-box_lo", "nan", "-file_path", good], ["-box_lo", "finite"]),
+    ("-box_len 8,nan (file scene)", file_scene[:-1] + ["8,nan", "-file_path", good], ["-box_len", "finite"]),
+    # Sizes whose products overflow a 32-bit int (issue 13, point 1).
+    ("expansion_n 100570", ["-expansion_n", 100570], ["-expansion_n", "'100570'", "1.01e+10 particles", "at most"]),
+    ("3D expansion_n 600", ["-dim", 3, "-expansion_n", 600], ["-expansion_n", "'600'", "2.16e+08 particles"]),
+    ("tensile_nx 2147483647", ["-scene", "tensile", "-tensile_nx", 2147483647], ["-tensile_nx", "2147483647", "particles", "at most"]),
+    ("planewave 100000 x 100000", ["-scene", "planewave", "-planewave_nx", 100000, "-planewave_ny", 100000], ["-planewave_nx", "1e+10 particles"]),
+    ("chain_n 2000000000", ["-dim", 1, "-scene", "chain", "-chain_n", 2000000000], ["-chain_n", "'2000000000'", "particles"]),
+    ("rotor_speed 4.9e-324", ["-scene", "rotor", "-rotor_speed", "4.9e-324"], ["-rotor_speed", "'4.9", "1e-6 to 10"]),
+    ("rotor_gap 0", ["-scene", "rotor-pair", "-rotor_gap", 0], ["-rotor_gap", "'0'", "1e-6 to 1e4"]),
+    ("rotor_gap 1e-300", ["-scene", "rotor-pair", "-rotor_gap", 1e-300], ["-rotor_gap", "'1e-300'", "1e-6 to 1e4"]),
+    ("rotor_gap 1e300", ["-scene", "rotor-pair", "-rotor_gap", 1e300], ["-rotor_gap", "'1e+300'", "1e-6 to 1e4"]),
+]
 for k, (name, args, needles) in enumerate(cases):
     out = os.path.join(w, f"out{k}")
-    code, stdout, err = run(a.spam_ark, args, out)
+    try:  # a FIFO must not block: well under the test's own timeout
+        code, stdout, err = run(a.spam_ark, args, out, timeout=20)
+    except subprocess.TimeoutExpired:
+        code, stdout, err = "timeout after 20 s", "", ""
     lines = err.strip().splitlines()
-    ok = (code == 2 and len(lines) == 1 and lines[0].startswith("spam-ark: error: ")
+    # At most ~80 bytes of a user's line are echoed: no message runs to kilobytes.
+    ok = (code == 2 and len(lines) == 1 and lines[0].startswith("spam-ark: error: ") and len(lines[0]) < 600
           and all(n in lines[0] for n in needles) and not os.path.exists(out))
-    c.check(ok, f"{name}: exit {code}, stderr {lines}, output dir {'absent' if not os.path.exists(out) else 'PRESENT'}")
+    c.check(ok, f"{name}: exit {code}, stderr {[ln[:300] for ln in lines]}, output dir {'absent' if not os.path.exists(out) else 'PRESENT'}")
+
+# What the reader must still accept: CRLF line ends, a header with trailing spaces, a
+# comment, a blank line, no end on the last line, a value that underflows to zero.
+ok_file = write("crlf.csv", "x,y,vx,vy   \r\n# comment\r\n\r\n" + "".join(f"{i + 0.5},{j + 0.5},{1e-400 if i == 0 else 0},0\r\n" for j in range(8) for i in range(8)).rstrip("\r\n"))
+out = os.path.join(w, "crlf_out")
+code, stdout, err = run(a.spam_ark, file_scene + ["-file_path", ok_file, "-ts_max_time", 0.1], out, timeout=120)
+c.check(code == 0 and "64 particles" in stdout, f"CRLF, trailing header spaces, comment, blank line, no final newline, underflow: accepted (exit {code}, {err.strip()[:200]})")
 
 # A particle with v = 1e308 and a step of 2 overflows its position at the DP stage
 # c = 0.8 of step 1 (t = 1.6): a clean stop.

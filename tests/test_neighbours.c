@@ -133,6 +133,55 @@ static PetscErrorCode FaceCase(TestCount *c, int dim, double h, double skin)
   PetscFunctionReturn(0);
 }
 
+/* Hostile boxes and positions (issue 13): a box of 1e300 or a sparse one gets a capped
+ * cell count and the exact list; a non-finite box is an error, not an index out of
+ * range; a cell is in range for every coordinate, NaN and infinities included. */
+static PetscErrorCode HostileCase(TestCount *c, double h, double skin)
+{
+  SpamBox        huge = {2, {0, 0, 0}, {1e300, 1e300, 0}, {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE}};
+  SpamBox        sparse = {2, {-5e5, -5e5, 0}, {1e6, 1e6, 0}, {PETSC_TRUE, PETSC_TRUE, PETSC_FALSE}};
+  SpamBox        nanbox = {2, {NAN, 0, 0}, {64, 64, 0}, {PETSC_TRUE, PETSC_TRUE, PETSC_FALSE}};
+  SpamNeighbours nl;
+  const int      n = 200;
+  double         x[2 * 200];
+  const double   probe[6] = {NAN, INFINITY, -INFINITY, 1e300, -1e300, 5e-324};
+  uint64_t       seed = 7;
+  PetscInt       bad;
+  PetscErrorCode ierr;
+  int            inrange = 1;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamNeighboursCreate(n, &huge, h, skin, &nl));
+  TestCheck(c, nl.ncells > 0 && (double)nl.ncells <= 1048576.0, "box edge 1e300: %d cells (%d x %d), capped at 2^20", nl.ncells, nl.ncell[0], nl.ncell[1]);
+  for (int k = 0; k < 6; k++)
+    for (int l = 0; l < 6; l++) {
+      const double u[3] = {probe[k], probe[l], 0.0};
+      const int    cell = SpamNeighboursCellOf(&nl, &huge, u);
+      inrange &= cell >= 0 && cell < nl.ncells;
+    }
+  TestCheck(c, inrange, "cells of NaN, +-inf, +-1e300 and subnormal coordinates are in range");
+  PetscCall(SpamNeighboursDestroy(&nl));
+  /* 200 particles in a 40 x 40 patch of a periodic 1e6 x 1e6 box, some across its faces. */
+  for (int i = 0; i < n; i++)
+    for (int d = 0; d < 2; d++) x[2 * i + d] = (i % 2 ? 5e5 - 20.0 : -20.0) + 40.0 * TestUniform(&seed);
+  PetscCall(SpamNeighboursCreate(n, &sparse, h, skin, &nl));
+  PetscCall(SpamNeighboursUpdate(&nl, &sparse, x, 2, PETSC_FALSE, &bad));
+  TestCheck(c, bad < 0 && (double)nl.ncells <= 1048576.0, "sparse 1e6 x 1e6 box: %d cells, capped at 2^20", nl.ncells);
+  PetscCall(Compare(c, "sparse periodic 1e6 box", &sparse, &nl, x, (h + skin) * (h + skin), PETSC_TRUE));
+  /* The same list object against a box whose corner has become NaN: an error. */
+  sparse.lo[0] = NAN;
+  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
+  ierr = SpamNeighboursUpdate(&nl, &sparse, x, 2, PETSC_TRUE, &bad);
+  PetscCall(PetscPopErrorHandler());
+  TestCheck(c, ierr == PETSC_ERR_FP, "a NaN box corner at a build is PETSC_ERR_FP (got %d)", (int)ierr);
+  PetscCall(SpamNeighboursDestroy(&nl));
+  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
+  ierr = SpamNeighboursCreate(n, &nanbox, h, skin, &nl);
+  PetscCall(PetscPopErrorHandler());
+  TestCheck(c, ierr != 0, "a list for a NaN box is refused (error %d)", (int)ierr);
+  PetscFunctionReturn(0);
+}
+
 int main(int argc, char **argv)
 {
   TestCount    c = {0, 0};
@@ -161,6 +210,7 @@ int main(int argc, char **argv)
     }
     PetscCall(FaceCase(&c, dim, h, skin));
   }
+  PetscCall(HostileCase(&c, h, skin));
   PetscCall(PetscFinalize());
   return TestFinish(&c);
 }

@@ -99,6 +99,11 @@ void SpamParticlesOpenBox(SpamParticles *p, double margin);
 PetscErrorCode SpamSimFillFields(SpamSim *sim, const SpamParticles *p);
 PetscErrorCode SpamFileBuild(const SpamCommonParams *c, const SpamFileParams *p, SpamParticles *out);
 PetscErrorCode SpamParticlesAllocate(int dim, PetscInt n, SpamParticles *p);
+/* The largest particle count a run can hold here: state indices within PetscInt and a
+ * lower bound of the bytes per particle within the physical memory (scene_size.c). A
+ * count asked for by option opt = val (computed in double) above it is bad input. */
+double         SpamMaxParticles(void);
+PetscErrorCode SpamCheckParticleCount(const char *opt, const char *val, double count);
 PetscErrorCode SpamParticlesFree(SpamParticles *p);
 /* Reorders the particles (and their optional fields) by cells of the given width, row by
  * row in 1D and 2D and along a Morton curve in 3D; row_of[i] ([n]) receives the input

@@ -1,13 +1,46 @@
 /* Cell binning and the half Verlet list with a skin. */
 #include <spam/neighbours.h>
 #include <float.h>
+#include <limits.h>
 #include <string.h>
+
+/* Most cells of a list: cell_start is indexed by int, and a cell array far larger than
+ * the particle count only costs memory and a longer counting sort. Above the larger of
+ * these the cells are made wider (never narrower than the list range, so the stencil
+ * still finds every pair). */
+#define SPAM_CELLS_MIN_CAP  1048576.0 /* 2^20 cells: 4 MB of cell_start */
+#define SPAM_CELLS_PER_PART 64.0
+
+/* Cells per direction: the edge over the list range rc, at least one, computed in
+ * double; while their product exceeds the cap, the largest count is halved. */
+static PetscErrorCode CellCounts(int n, const SpamBox *box, double rc, int ncell[3])
+{
+  const double cap = PetscMin(PetscMax(SPAM_CELLS_MIN_CAP, SPAM_CELLS_PER_PART * n), (double)(INT_MAX / 2));
+  double       nc[3] = {1, 1, 1};
+
+  PetscFunctionBeginUser;
+  PetscCheck(rc > 0.0 && isfinite(rc), PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "the list range %g must be positive and finite", rc);
+  for (int d = 0; d < box->dim; d++) {
+    PetscCheck(box->len[d] > 0.0 && isfinite(box->len[d]) && isfinite(box->lo[d]), PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "box edge %d (corner %g, length %g) must be finite and positive", d, box->lo[d], box->len[d]);
+    nc[d] = PetscMin(PetscMax(1.0, floor(box->len[d] / rc)), cap);
+  }
+  for (;;) {
+    int big = 0;
+    if (nc[0] * nc[1] * nc[2] <= cap) break;
+    for (int d = 1; d < 3; d++)
+      if (nc[d] > nc[big]) big = d;
+    nc[big] = floor(0.5 * nc[big]);
+  }
+  for (int d = 0; d < 3; d++) ncell[d] = (int)nc[d];
+  PetscFunctionReturn(0);
+}
 
 PetscErrorCode SpamNeighboursCreate(int n, const SpamBox *box, double cutoff, double skin, SpamNeighbours *nl)
 {
   const double rc = cutoff + skin;
 
   PetscFunctionBeginUser;
+  PetscCheck(n >= 0 && (double)n * 16.0 < (double)SIZE_MAX / sizeof(int), PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "%d particles is out of range", n);
   for (int d = 0; d < box->dim; d++)
     PetscCheck(!box->periodic[d] || skin < 0.5 * box->len[d], PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "the neighbour skin %g must be below half the periodic edge %g", skin, box->len[d]);
   PetscCall(PetscMemzero(nl, sizeof *nl));
@@ -18,13 +51,9 @@ PetscErrorCode SpamNeighboursCreate(int n, const SpamBox *box, double cutoff, do
   nl->skin   = skin;
   nl->rc2    = rc * rc;
   nl->ncells = 1;
+  PetscCall(CellCounts(n, box, rc, nl->ncell));
   for (int d = 0; d < 3; d++) {
-    nl->ncell[d] = 1;
-    nl->cellw[d] = 1.0;
-    if (d < box->dim) {
-      nl->ncell[d] = PetscMax(1, (int)floor(box->len[d] / rc));
-      nl->cellw[d] = box->len[d] / nl->ncell[d];
-    }
+    nl->cellw[d] = d < box->dim ? box->len[d] / nl->ncell[d] : 1.0;
     nl->ncells *= nl->ncell[d];
   }
   nl->cap = (size_t)PetscMax(n, 1) * 16;
@@ -74,12 +103,15 @@ PetscErrorCode SpamNeighboursDestroy(SpamNeighbours *nl)
 }
 
 /* Cell coordinate along d; points outside an open box fall into the edge cells, which
- * keeps nearby points in adjacent cells. */
+ * keeps nearby points in adjacent cells. Clamped in floating point before the
+ * conversion, which is undefined for NaN and out-of-range values: NaN fails the first
+ * test and lands in cell 0 (positions are checked finite before a build; this keeps a
+ * direct caller in range too). */
 static int CellCoordinate(const SpamNeighbours *nl, int d, double u)
 {
-  double c = floor(u / nl->cellw[d]);
-  if (c < 0.0) c = 0.0;
-  if (c > nl->ncell[d] - 1) c = nl->ncell[d] - 1;
+  const double c = floor(u / nl->cellw[d]);
+  if (!(c >= 0.0)) return 0;
+  if (c >= (double)(nl->ncell[d] - 1)) return nl->ncell[d] - 1;
   return (int)c;
 }
 
@@ -176,7 +208,9 @@ static PetscErrorCode Reserve(SpamPairBuffer *b, size_t need, long *grows)
 {
   PetscFunctionBeginUser;
   if (need <= b->cap) PetscFunctionReturn(0);
-  b->cap = PetscMax(need, b->cap + b->cap / 2 + 16);
+  /* Row starts are int: a list of more pairs could not be indexed. */
+  PetscCheck(need <= (size_t)INT_MAX, PETSC_COMM_SELF, PETSC_ERR_MEM, "the neighbour list would hold more than %d pairs (%zu needed): the particles are too many or too densely packed for the kernel range", INT_MAX, need);
+  b->cap = PetscMin(PetscMax(need, b->cap + b->cap / 2 + 16), (size_t)INT_MAX);
   PetscCall(PetscRealloc(b->cap * sizeof(int), &b->nbr));
   (*grows)++;
   PetscFunctionReturn(0);
@@ -465,15 +499,23 @@ static double Displace(SpamNeighbours *nl, int dim, const double *x, int stride,
  * until the next build u = x - off needs no floor and no division. Between builds u may
  * leave [0, len) by up to skin/2; every use takes a minimum image of a difference, which
  * stays correct while the skin is below half an edge. */
-static void Wrap(SpamNeighbours *nl, const SpamBox *box, const double *x, int stride)
+static PetscErrorCode Wrap(SpamNeighbours *nl, const SpamBox *box, const double *x, int stride)
 {
-  for (int d = 0; d < box->dim; d++)
+  PetscFunctionBeginUser;
+  for (int d = 0; d < box->dim; d++) {
+    int bad = -1;
     for (int i = 0; i < nl->n; i++) {
       const double xi = x[(size_t)i * stride + d];
       nl->xref[d][i]  = xi;
       nl->off[d][i]   = xi - SpamBoxLocal(box, d, xi);
       nl->u[d][i]     = xi - nl->off[d][i];
+      if (bad < 0 && !isfinite(nl->u[d][i] + nl->off[d][i])) bad = i;
     }
+    /* x is finite here; a non-finite u or shift means a non-finite box or an overflow of
+     * x - lo, which no cell can hold. */
+    PetscCheck(bad < 0, PETSC_COMM_SELF, PETSC_ERR_FP, "particle %d at %g has no finite position in the box (corner %g, edge %g) along direction %d", bad, x[(size_t)bad * stride + d], box->lo[d], box->len[d], d);
+  }
+  PetscFunctionReturn(0);
 }
 
 PetscErrorCode SpamNeighboursUpdate(SpamNeighbours *nl, const SpamBox *box, const double *x, int stride, PetscBool force, PetscInt *bad)
@@ -493,7 +535,7 @@ PetscErrorCode SpamNeighboursUpdate(SpamNeighbours *nl, const SpamBox *box, cons
   }
   /* Two particles each moving skin/2 towards each other stay inside the list range. */
   if (force || nl->builds == 0 || maxd2 > 0.25 * nl->skin * nl->skin) {
-    Wrap(nl, box, x, stride);
+    PetscCall(Wrap(nl, box, x, stride));
     PetscCall(BuildList(nl, box));
   }
   PetscFunctionReturn(0);

@@ -102,21 +102,39 @@ static double SampleAt(SpamSim *sim, const double *y, const double *u, double *v
   return rho;
 }
 
+/* Most points of the grid: the index is an int. The set-up refuses far fewer
+ * (-diag_grid_spacing, run_options.c); this bound only keeps the count in range. */
+#define SPAM_GRID_MAX 1073741824.0
+
+/* Points per direction at this spacing, and their product, all in double: a tiny
+ * spacing gives a count that no integer holds. */
+static double GridPoints(const SpamBox *box, double spacing, double ng[3])
+{
+  double total = 1.0;
+  for (int d = 0; d < 3; d++) {
+    ng[d] = d < box->dim ? PetscMax(1.0, ceil(box->len[d] / spacing)) : 1.0;
+    total *= ng[d];
+  }
+  return total;
+}
+
 PetscErrorCode SpamEntropyGrid(SpamSim *sim, const double *y, double spacing, double *S)
 {
   const SpamModel *m   = &sim->model;
   const int        dim = m->dim;
-  PetscInt         ng[3] = {1, 1, 1}, total = 1;
-  double           g[3]  = {1, 1, 1}, cellvol = 1.0, sum = 0.0;
+  PetscInt         ng[3] = {1, 1, 1}, total;
+  double           g[3]  = {1, 1, 1}, nd[3], cellvol = 1.0, sum = 0.0;
   /* Below this density the point is empty space: s -> 0 as rho -> 0. */
   const double rho_min = 1e-12 * m->mass * m->kernel.wnorm;
+  const double points  = GridPoints(&sim->box, spacing, nd);
 
   PetscFunctionBeginUser;
+  PetscCheck(spacing > 0.0 && isfinite(spacing) && points <= SPAM_GRID_MAX, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "entropy grid spacing %g gives %g points; at most 2^30", spacing, points);
+  total = (PetscInt)points;
   for (int d = 0; d < dim; d++) {
-    ng[d] = PetscMax(1, (PetscInt)ceil(sim->box.len[d] / spacing));
+    ng[d] = (PetscInt)nd[d];
     g[d]  = sim->box.len[d] / ng[d];
     cellvol *= g[d];
-    total *= ng[d];
   }
   for (PetscInt k = 0; k < total; k++) {
     double u[3] = {0, 0, 0}, vmean[3] = {0, 0, 0}, v2mean = 0.0;

@@ -34,9 +34,13 @@ static uint64_t CellKey(const SpamBox *b, double width, const double *x)
 {
   uint64_t key = 0, rowmajor = 0;
   for (int d = b->dim - 1; d >= 0; d--) {
-    const double ncell = PetscMax(1.0, floor(b->len[d] / width));
+    /* At most 2^21 cells per direction (the Morton key's bits; 2^42 row-major keys fit
+     * too), and c clamped in floating point before the conversion, which is undefined
+     * for NaN and out-of-range values: NaN fails the first test. */
+    const double ncell = PetscMin(PetscMax(1.0, floor(b->len[d] / width)), 2097152.0);
     double       c     = floor(SpamBoxLocal(b, d, x[d]) / b->len[d] * ncell);
-    c                  = PetscMin(PetscMax(c, 0.0), ncell - 1.0);
+    if (!(c >= 0.0)) c = 0.0;
+    if (c > ncell - 1.0) c = ncell - 1.0;
     key |= Spread3((uint64_t)c) << d;
     rowmajor = rowmajor * (uint64_t)ncell + (uint64_t)c;
   }

@@ -26,6 +26,7 @@ PetscErrorCode SpamChainOptions(const SpamCommonParams *c, SpamChainParams *p)
   PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->n));
   /* The box (n unit spacings) must hold two kernel ranges and the skin. */
   if (p->n % 2 || (double)p->n < 2.0 * c->h + c->skin) SPAM_BAD_INPUT("-chain_n", val, "must be even and at least 2 h + skin");
+  PetscCall(SpamCheckParticleCount("-chain_n", val, (double)p->n));
   (void)snprintf(val, sizeof val, "%g", p->k);
   if (!isfinite(p->k) || p->k <= 0.0) SPAM_BAD_INPUT("-spring_k", val, "must be positive");
   (void)snprintf(val, sizeof val, "%g", p->amplitude);

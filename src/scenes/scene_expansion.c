@@ -21,7 +21,6 @@ PetscErrorCode SpamExpansionOptions(const SpamCommonParams *c, SpamExpansionPara
   char val[64];
 
   PetscFunctionBeginUser;
-  (void)c;
   p->n          = 32;
   p->amplitude  = 0.01;
   p->seed       = 1;
@@ -34,6 +33,7 @@ PetscErrorCode SpamExpansionOptions(const SpamCommonParams *c, SpamExpansionPara
   PetscOptionsEnd();
   PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->n));
   if (p->n < 1) SPAM_BAD_INPUT("-expansion_n", val, "must be a positive number of lattice points");
+  PetscCall(SpamCheckParticleCount("-expansion_n", val, pow((double)p->n, c->dim))); /* n^D in double: no overflow */
   (void)snprintf(val, sizeof val, "%g", p->amplitude);
   if (!(p->amplitude >= 0.0 && p->amplitude < 0.5)) SPAM_BAD_INPUT("-expansion_amplitude", val, "allowed: 0 <= amplitude < 0.5 lattice spacings");
   PetscFunctionReturn(0);

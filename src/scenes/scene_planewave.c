@@ -32,6 +32,8 @@ PetscErrorCode SpamPlanewaveOptions(const SpamCommonParams *c, SpamPlanewavePara
   if (p->ny < 2 || p->ny % 2) SPAM_BAD_INPUT("-planewave_ny", val, "must be an even number of rows >= 2 (periodic triangular lattice)");
   PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->nx));
   if (p->nx < 1) SPAM_BAD_INPUT("-planewave_nx", val, "must be positive");
+  PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT " x %" PetscInt_FMT, p->nx, p->ny));
+  PetscCall(SpamCheckParticleCount("-planewave_nx x -planewave_ny", val, (double)p->nx * (double)p->ny));
   (void)snprintf(val, sizeof val, "%g", p->amplitude);
   if (!isfinite(p->amplitude) || fabs(p->amplitude) >= 0.5) SPAM_BAD_INPUT("-planewave_amplitude", val, "allowed: |A| < 0.5 lattice spacings");
   PetscFunctionReturn(0);

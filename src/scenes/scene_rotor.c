@@ -29,10 +29,17 @@ PetscErrorCode SpamRotorOptions(const SpamCommonParams *c, PetscBool pair, SpamR
   PetscCall(SpamSolidOptions(&p->solid));
   PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->n));
   if (p->n < 1 || p->n > 1000) SPAM_BAD_INPUT("-rotor_n", val, "allowed: 1 to 1000 shells");
+  PetscCall(SpamCheckParticleCount("-rotor_n", val, (pair ? 2.0 : 1.0) * (1.0 + 3.0 * (double)p->n * (double)(p->n + 1))));
   (void)snprintf(val, sizeof val, "%g", p->speed);
-  if (!isfinite(p->speed) || p->speed <= 0.0) SPAM_BAD_INPUT("-rotor_speed", val, "must be a positive speed");
+  /* The default run lasts one revolution, 2 pi n / speed: 1e-300 made it 6e300 long (and
+   * 4.9e-324 infinite); 1e300 stopped as unstable at once. Both ends ran at 1e-6 and 10. */
+  if (!(p->speed >= 1e-6 && p->speed <= 10.0)) SPAM_BAD_INPUT("-rotor_speed", val, "must be a positive speed from 1e-6 to 10 (the vertex speed; the longitudinal sound speed of the default solid is about 1.06)");
   (void)snprintf(val, sizeof val, "%g", p->gap);
-  if (!isfinite(p->gap) || p->gap < 0.0) SPAM_BAD_INPUT("-rotor_gap", val, "must be zero or positive");
+  /* The gap is the distance between the facing vertices: at 0 two particles coincide,
+   * and below about 1e-15 n they coincide in floating point (1e-300 ran as unstable).
+   * 1e-6 is the smallest gap tried that ran (rotor_n 4). Beyond h the hexagons never
+   * meet, and a wider gap only widens the box: 1e4 keeps its cells countable. */
+  if (!(p->gap >= 1e-6 && p->gap <= 1e4)) SPAM_BAD_INPUT("-rotor_gap", val, "allowed: 1e-6 to 1e4 lattice spacings (at 0 the facing vertices of the two hexagons coincide; beyond h they never meet)");
   PetscFunctionReturn(0);
 }
 

@@ -23,8 +23,11 @@ PetscErrorCode SpamRotorMdOptions(const SpamCommonParams *c, SpamRotorMdParams *
   PetscOptionsEnd();
   PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->n));
   if (p->n < 1 || p->n > 1000) SPAM_BAD_INPUT("-rotor_n", val, "allowed: 1 to 1000 shells");
+  PetscCall(SpamCheckParticleCount("-rotor_n", val, 1.0 + 3.0 * (double)p->n * (double)(p->n + 1)));
   (void)snprintf(val, sizeof val, "%g", p->speed);
-  if (!isfinite(p->speed) || p->speed <= 0.0) SPAM_BAD_INPUT("-rotor_speed", val, "must be a positive speed");
+  /* The default run lasts one revolution, 2 pi n / speed: 1e-300 made it 6e300 long (and
+   * 4.9e-324 infinite); 1e300 stopped as unstable at once. Both ends ran at 1e-6 and 10. */
+  if (!(p->speed >= 1e-6 && p->speed <= 10.0)) SPAM_BAD_INPUT("-rotor_speed", val, "must be a positive speed from 1e-6 to 10 (the vertex speed; the longitudinal sound speed of the default solid is about 1.06)");
   (void)snprintf(val, sizeof val, "%g", p->k);
   if (!isfinite(p->k) || p->k <= 0.0) SPAM_BAD_INPUT("-spring_k", val, "must be positive");
   (void)snprintf(val, sizeof val, "%g", p->range);

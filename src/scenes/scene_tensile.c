@@ -28,6 +28,8 @@ PetscErrorCode SpamTensileOptions(const SpamCommonParams *c, SpamTensileParams *
   if (p->ny < 2 || p->ny % 2) SPAM_BAD_INPUT("-tensile_ny", val, "must be an even number of rows >= 2 (periodic triangular lattice)");
   PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->nx));
   if (p->nx < 1) SPAM_BAD_INPUT("-tensile_nx", val, "must be positive");
+  PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT " x %" PetscInt_FMT, p->nx, p->ny));
+  PetscCall(SpamCheckParticleCount("-tensile_nx x -tensile_ny", val, (double)p->nx * (double)p->ny));
   (void)snprintf(val, sizeof val, "%g", p->stress);
   if (!isfinite(p->stress)) SPAM_BAD_INPUT("-tensile_stress", val, "must be a finite number");
   (void)snprintf(val, sizeof val, "%g", p->kick);
