@@ -3,6 +3,7 @@
 #include <spam/integrator.h>
 #include <spam/errors.h>
 #include <spam/version.h>
+#include <spam/options.h>
 
 static const char help[] = "spam-ark " SPAM_VERSION ": smooth-particle applied mechanics (Lucy-Monaghan SPAM/SPH)\n"
                            "on SUNDIALS ARKODE and PETSc. Example:\n"
@@ -24,6 +25,7 @@ static PetscErrorCode Run(int *exit_code)
   PetscCall(SpamSceneCreateSim(PETSC_COMM_WORLD, &sim));
   PetscCall(SpamRunOptionsParse(&sim, &o));
   PetscCall(SpamTSCreate(&sim, &o, &app, &ts)); /* validates the method; lists TS options */
+  if (!help) PetscCall(SpamOptionsCheckUse(&sim, &o, ts)); /* no option given in vain */
   if (help) { /* every option has been listed with its default: nothing to run */
     PetscCall(TSDestroy(&ts));
     PetscCall(SpamTSAppDestroy(&app));
@@ -58,12 +60,16 @@ static PetscErrorCode Run(int *exit_code)
 int main(int argc, char **argv)
 {
   PetscErrorCode ierr;
-  int            code = SPAM_EXIT_OK;
+  int            code = SpamArgvCheck(argc, argv); /* -version, --help, options files */
 
+  if (code >= 0) return code;
+  code = SPAM_EXIT_OK;
   PetscCall(PetscInitialize(&argc, &argv, NULL, help));
   PetscCall(SpamInstallErrorHandler());
   PetscCall(SpamIntegratorsRegister());
-  ierr = Run(&code);
+  ierr = SpamOptionsCheckValues();
+  if (!ierr) ierr = Run(&code);
+  /* Bad input exits 2; file-system failures (one line) and every other failure exit 1. */
   if (ierr) code = ierr == PETSC_ERR_USER_INPUT ? SPAM_EXIT_BAD_INPUT : SPAM_EXIT_ERROR;
   /* Finalize quietly after an error: the message has been printed already. */
   PetscFinalize();
