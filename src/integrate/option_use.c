@@ -386,22 +386,54 @@ static PetscBool Unused(const char *name, PetscInt n, char **left)
   return PETSC_FALSE;
 }
 
+/* Whether -name was given on the command line (else it came from an options file, the
+ * PETSC_OPTIONS variable or a .petscrc). */
+static PetscErrorCode OnCommandLine(const char *name, PetscBool *yes)
+{
+  int    argc;
+  char **args;
+
+  PetscFunctionBeginUser;
+  *yes = PETSC_FALSE;
+  PetscCall(PetscGetArgs(&argc, &args));
+  for (int i = 1; i < argc; i++)
+    if (args[i][0] == '-' && !strcmp(args[i] + 1, name)) *yes = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
+/* An option this run does not use: refused when the user typed it; a note when it came
+ * from an options file, whose presets (say -ts_rtol in planewave.opts) are meant for the
+ * file's own method or choices and may be overridden on the command line. */
+static PetscErrorCode NotUsed(const char *name, const char *value, const char *why)
+{
+  char      v[100], raw[600], text[700];
+  PetscBool typed;
+
+  PetscFunctionBeginUser;
+  SpamClip(value ? value : "true", v, sizeof v);
+  PetscCall(OnCommandLine(name, &typed));
+  if (typed) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "-%s = '%s': not used: %s", name, v, why);
+  (void)snprintf(raw, sizeof raw, "-%s = '%s' (from an options file): not used: %s", name, v, why);
+  SpamEscape(raw, text, sizeof text);
+  PetscCall(PetscFPrintf(PETSC_COMM_WORLD, stderr, "spam-ark: note: %s\n", text));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode CheckOne(const char *name, const char *value, const Run *r, PetscInt nleft, char **left)
 {
   const Known *k = Find(name);
-  char         why[320], v[100];
+  char         why[320];
 
   PetscFunctionBeginUser;
-  SpamClip(value ? value : "", v, sizeof v);
   if (k) {
-    if (!Relevant(k->group, r, why, sizeof why)) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "-%s = '%s': not used: %s", name, value ? v : "true", why);
-    if (Unused(name, nleft, left)) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "-%s = '%s': not used by this scene, model or method", name, value ? v : "true");
+    if (!Relevant(k->group, r, why, sizeof why)) PetscCall(NotUsed(name, value, why));
+    else if (Unused(name, nleft, left)) PetscCall(NotUsed(name, value, "not read by this scene, model or method"));
     PetscFunctionReturn(0);
   }
   if (IsPetscRuntime(name)) PetscFunctionReturn(0);
   /* PETSc's step adaptor reads -ts_adapt_* for every method, used or not. */
-  if (!strncmp(name, "ts_adapt_", 9) && !Relevant(G_TS_ADAPT, r, why, sizeof why)) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "-%s = '%s': not used: %s", name, value ? v : "true", why);
-  if (Unused(name, nleft, left)) PetscCall(RefuseUnknown(name, value));
+  if (!strncmp(name, "ts_adapt_", 9) && !Relevant(G_TS_ADAPT, r, why, sizeof why)) PetscCall(NotUsed(name, value, why));
+  else if (Unused(name, nleft, left)) PetscCall(RefuseUnknown(name, value));
   PetscFunctionReturn(0);
 }
 
