@@ -150,7 +150,8 @@ for name in sorted(os.listdir(os.path.join(REPO, "options"))):
     c.check(code == 0 and os.path.exists(os.path.join(out, "summary.json")) and "error" not in err,
             f"options/{name} runs: exit {code}, stderr {err.strip().splitlines()[-1:]}")
 for extra in (["-monitor"], ["-log_view"], ["-malloc_debug"], ["-options_left"], ["-ts_monitor"],
-              ["-ts_type", "rk", "-ts_adapt_dt_max", 2], ["-scene", "rotor", "-coordinates", "R2", "-xsph_eps", 0.5]):
+              ["-ts_type", "rk", "-ts_adapt_dt_max", 2], ["-scene", "rotor", "-coordinates", "R2", "-xsph_eps", 0.5],
+              ["-scene_translate", "-5,-5"], ["-scene_translate", -7]):
     out = os.path.join(W, "ok_" + "_".join(str(x).strip("-") for x in extra))
     code, _, err = run(a.spam_ark, extra + ["-ts_max_steps", 2], out)
     c.check(code == 0 and "error" not in err, f"{' '.join(map(str, extra))} runs: exit {code}, stderr {err.strip().splitlines()[-1:]}")

@@ -4,11 +4,13 @@
 #include <spam/errors.h>
 #include <spam/version.h>
 #include <spam/options.h>
+#include <signal.h>
 
 static const char help[] = "spam-ark " SPAM_VERSION ": smooth-particle applied mechanics (Lucy-Monaghan SPAM/SPH)\n"
                            "on SUNDIALS ARKODE and PETSc. Example:\n"
                            "  spam-ark -options_file options/expansion.opts -output_dir out\n"
-                           "Exit codes: 0 done, 1 failure, 2 bad input, 3 the run went unstable.\n\n";
+                           "Exit codes: 0 done, 1 failure, 2 bad input, 3 the run went unstable.\n"
+                           "An option this run does not use, or an unknown one, is refused (-version: the version).\n\n";
 
 static PetscErrorCode Run(int *exit_code)
 {
@@ -65,6 +67,10 @@ int main(int argc, char **argv)
   if (code >= 0) return code;
   code = SPAM_EXIT_OK;
   PetscCall(PetscInitialize(&argc, &argv, NULL, help));
+  /* A reader that closes the pipe early (spam-ark -monitor | head) ends our output, not the
+   * program with PETSc's signal trace: writes to it then fail quietly. (PETSc's own help
+   * text, printed inside PetscInitialize under its handler, is not covered.) */
+  (void)signal(SIGPIPE, SIG_IGN);
   PetscCall(SpamInstallErrorHandler());
   PetscCall(SpamIntegratorsRegister());
   ierr = SpamOptionsCheckValues();

@@ -78,14 +78,6 @@ static PetscBool IsPetscRuntime(const char *name)
   return PETSC_FALSE;
 }
 
-/* A token of the database listing that is a number (a value such as -3), not a name. */
-static PetscBool IsNumber(const char *s)
-{
-  char *end;
-  (void)strtod(s, &end);
-  return (PetscBool)(end != s && !*end);
-}
-
 /* The options given, from PetscOptionsGetAll ("-name [value] ..."), which, unlike every
  * query, leaves the used marks alone. names[i] has no '-'; values[i] is NULL for none. */
 typedef struct {
@@ -104,7 +96,9 @@ static PetscErrorCode GivenGet(Given *g)
   for (const char *p = g->all; *p; p++) ntok += *p == ' ';
   PetscCall(PetscCalloc2(ntok + 2, &g->names, ntok + 2, &g->values));
   for (char *save = NULL, *tok = strtok_r(g->all, " ", &save); tok; tok = strtok_r(NULL, " ", &save)) {
-    if (tok[0] == '-' && tok[1] && !IsNumber(tok)) g->names[g->n++] = tok + 1;
+    PetscBool key; /* PETSc's own rule: -name, not a negative number such as -5,-5 or -inf */
+    PetscCall(PetscOptionsValidKey(tok, &key));
+    if (key) g->names[g->n++] = tok + 1;
     else if (g->n && !g->values[g->n - 1]) g->values[g->n - 1] = tok;
   }
   PetscFunctionReturn(0);
@@ -397,7 +391,7 @@ static PetscErrorCode OnCommandLine(const char *name, PetscBool *yes)
   *yes = PETSC_FALSE;
   PetscCall(PetscGetArgs(&argc, &args));
   for (int i = 1; i < argc; i++)
-    if (args[i][0] == '-' && !strcmp(args[i] + 1, name)) *yes = PETSC_TRUE;
+    if (args[i][0] == '-' && (!strcmp(args[i] + 1, name) || (args[i][1] == '-' && !strcmp(args[i] + 2, name)))) *yes = PETSC_TRUE;
   PetscFunctionReturn(0);
 }
 
