@@ -75,6 +75,8 @@ cases = [
     ("subnormal tolerance: too small", ["-ts_rtol", "1e-310"], ["-ts_rtol", "'1e-310'", "too small"]),
     ("dimension not an integer", ["-dim", "2.5"], ["-dim", "'2.5'", "integer"]),
     ("boolean not a boolean", ["-monitor", "maybe"], ["-monitor", "'maybe'", "true or false"]),
+    ("value with a space", ["-h", "3 4"], ["-h", "'3 4'", "must be a number"]),
+    ("integer with a space", ["-expansion_n", "8 9"], ["-expansion_n", "'8 9'", "integer"]),
     # point 6: options present without a value
     ("-h without a value", ["-h"], ["-h", "missing value"]),
     ("-ts_rtol without a value", ["-ts_rtol", "-monitor"], ["-ts_rtol", "missing"]),
@@ -173,4 +175,10 @@ for flag in ("-help", "--help"):
             "-viscosity_alpha", "-angmom_scope", "-density_initial", "-diag_grid_spacing"]
     missing = [w for w in want if not re.search(r"^\s+" + re.escape(w) + r" <", out, re.M)]
     c.check(code == 0 and not missing and not os.path.exists("out_help_should_not_exist"), f"{flag}: exit {code}, missing {missing}")
+# Every option of spam-ark in -help is known to the check of unused options (src/integrate/
+# option_use.c), which decides where it applies and whether it takes a value.
+code, out, _ = run(a.spam_ark, ["-help"])
+listed = set(re.findall(r"^\s+-([a-z0-9_]+) <.*\(README\)$", out, re.M))
+known = set(re.findall(r'\{"([a-z0-9_]+)", PETSC_(?:TRUE|FALSE), G_', open(os.path.join(REPO, "src", "integrate", "option_use.c")).read()))
+c.check(len(listed) > 60 and not listed - known, f"{len(listed)} options in -help, all in the table of option_use.c (missing: {sorted(listed - known)})")
 c.finish()

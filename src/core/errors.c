@@ -80,7 +80,7 @@ static PetscBool HoldsValue(const char *tok, const char *value)
  * VALUE (alone or as an element of an array) so the line can name it. */
 static void NameMalformedOption(const char *mess, char *out, size_t len)
 {
-  char        value[256], *all = NULL;
+  char        value[256], first[256], *all = NULL;
   const char *want = "must be a number";
 
   (void)snprintf(out, len, "%s", mess);
@@ -88,10 +88,11 @@ static void NameMalformedOption(const char *mess, char *out, size_t len)
   else if (Between(mess, "Input string ", " has no integer value", value, sizeof value) && strstr(mess, "has no integer value")) want = "must be an integer";
   else if (!Between(mess, "Input string ", " has no numeric value", value, sizeof value)) return;
   if (PetscOptionsGetAll(NULL, &all) || !all) return;
+  (void)snprintf(first, sizeof first, "%.*s", (int)strcspn(value, " "), value); /* the listing splits at spaces */
   for (char *tok = strtok(all, " "), *prev = NULL; tok; prev = tok, tok = strtok(NULL, " ")) {
-    if (prev && prev[0] == '-' && HoldsValue(tok, value)) {
+    if (prev && prev[0] == '-' && HoldsValue(tok, first)) {
       char shown[100];
-      SpamClip(tok, shown, sizeof shown);
+      SpamClip(strchr(value, ' ') ? value : tok, shown, sizeof shown);
       (void)snprintf(out, len, "%s = '%s': %s", prev, shown, want);
       break;
     }
