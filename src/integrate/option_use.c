@@ -30,6 +30,7 @@ static const Known KnownOptions[] = {
   {"unstable_dt_min", PETSC_TRUE, G_ALL}, {"unstable_energy_growth", PETSC_TRUE, G_ALL}, {"output_dir", PETSC_TRUE, G_ALL},
   {"output_interval", PETSC_TRUE, G_ALL}, {"snapshot_interval", PETSC_TRUE, G_ALL}, {"snapshot_hdf5", PETSC_FALSE, G_ALL},
   {"snapshot_csv", PETSC_FALSE, G_ALL}, {"monitor", PETSC_FALSE, G_ALL}, {"diag_entropy", PETSC_FALSE, G_ALL},
+  {"output_overwrite", PETSC_FALSE, G_ALL}, /* issue 13 point 3: replace the files of an earlier run */
   {"initial_csv", PETSC_TRUE, G_ALL}, {"final_csv", PETSC_TRUE, G_ALL}, {"diag_grid_spacing", PETSC_TRUE, G_ENTROPY},
   {"ts_dt", PETSC_TRUE, G_DT}, {"ts_rtol", PETSC_TRUE, G_ADAPTIVE}, {"ts_atol", PETSC_TRUE, G_ADAPTIVE},
   {"arkode_classic_weights", PETSC_FALSE, G_ADAPTIVE}, {"step_cfl", PETSC_TRUE, G_ADAPTIVE}, {"step_force", PETSC_TRUE, G_ADAPTIVE},
