@@ -6,6 +6,7 @@
  * TSSetFromOptions reads generic -ts_* options (-ts_rtol, -ts_adapt_*) for every method. */
 #define _POSIX_C_SOURCE 200809L /* strtok_r */
 #include <spam/options.h>
+#include <strings.h>
 #include <spam/errors.h>
 #include <spam/integrator.h>
 
@@ -68,7 +69,7 @@ static const char *const PetscRuntime[] = {"log", "info", "malloc", "memory_view
 static const Known *Find(const char *name)
 {
   for (int k = 0; k < NKNOWN; k++)
-    if (!strcmp(name, KnownOptions[k].name)) return &KnownOptions[k];
+    if (!strcasecmp(name, KnownOptions[k].name)) return &KnownOptions[k]; /* PETSc ignores case */
   return NULL;
 }
 
@@ -348,7 +349,8 @@ static const char *Nearest(const char *name)
       best  = KnownOptions[k].name;
     }
   }
-  return dbest <= PetscMax(2, (int)strlen(name) / 4) ? best : NULL;
+  /* Near: at most 2 edits (a quarter of a long name), and fewer than half the name. */
+  return dbest <= PetscMax(2, (int)strlen(name) / 4) && dbest < (int)strlen(name) / 2 + 1 ? best : NULL;
 }
 
 static PetscErrorCode RefuseUnknown(const char *name, const char *value)
@@ -377,7 +379,7 @@ static PetscErrorCode RefuseUnknown(const char *name, const char *value)
 static PetscBool Unused(const char *name, PetscInt n, char **left)
 {
   for (PetscInt i = 0; i < n; i++)
-    if (!strcmp(name, left[i])) return PETSC_TRUE;
+    if (!strcasecmp(name, left[i])) return PETSC_TRUE;
   return PETSC_FALSE;
 }
 
@@ -392,7 +394,7 @@ static PetscErrorCode OnCommandLine(const char *name, PetscBool *yes)
   *yes = PETSC_FALSE;
   PetscCall(PetscGetArgs(&argc, &args));
   for (int i = 1; i < argc; i++)
-    if (args[i][0] == '-' && (!strcmp(args[i] + 1, name) || (args[i][1] == '-' && !strcmp(args[i] + 2, name)))) *yes = PETSC_TRUE;
+    if (args[i][0] == '-' && (!strcasecmp(args[i] + 1, name) || (args[i][1] == '-' && !strcasecmp(args[i] + 2, name)))) *yes = PETSC_TRUE;
   PetscFunctionReturn(0);
 }
 
