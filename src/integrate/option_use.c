@@ -175,13 +175,13 @@ static PetscBool SceneIs(const Run *r, const char *a, const char *b, const char 
   return (PetscBool)(!strcmp(r->scene, a) || (b && !strcmp(r->scene, b)) || (c && !strcmp(r->scene, c)));
 }
 
-/* Whether group g applies to run r; if not, why[] says what it applies to. */
-static PetscBool Relevant(Group g, const Run *r, char *why, size_t len)
+/* The groups of the method and the outputs: whether g applies to run r (*known: g is one
+ * of them); if not, why[] says what it applies to. */
+static PetscBool RelevantMethod(Group g, const Run *r, char *why, size_t len, PetscBool *known)
 {
-  const SpamSolidParams *s      = r->solid;
-  const PetscBool        arkode = (PetscBool)!strcmp(r->type, SPAM_TSARKODE), cvode = (PetscBool)!strcmp(r->type, SPAM_TSCVODE);
-  const char            *sc     = r->scene;
+  const PetscBool arkode = (PetscBool)!strcmp(r->type, SPAM_TSARKODE), cvode = (PetscBool)!strcmp(r->type, SPAM_TSCVODE);
 
+  *known = PETSC_TRUE;
   switch (g) {
   case G_ALL: return PETSC_TRUE;
   case G_ENTROPY:
@@ -231,7 +231,16 @@ static PetscBool Relevant(Group g, const Run *r, char *why, size_t len)
     return PETSC_FALSE;
   default: break;
   }
-  /* Scenes and models. */
+  *known = PETSC_FALSE;
+  return PETSC_TRUE;
+}
+
+/* The groups of the scenes and the isentrope, as RelevantMethod. */
+static PetscBool RelevantScene(Group g, const Run *r, char *why, size_t len, PetscBool *known)
+{
+  const char *sc = r->scene;
+
+  *known = PETSC_TRUE;
   switch (g) {
   case G_FILE:
     if (SceneIs(r, "file", NULL, NULL)) return PETSC_TRUE;
@@ -279,8 +288,17 @@ static PetscBool Relevant(Group g, const Run *r, char *why, size_t len)
     return PETSC_FALSE;
   default: break;
   }
+  *known = PETSC_FALSE;
+  return PETSC_TRUE;
+}
+
+/* The groups of the tensor-path solid (planewave, rotor, rotor-pair, tensile). */
+static PetscBool RelevantSolid(Group g, const Run *r, char *why, size_t len)
+{
+  const SpamSolidParams *s = r->solid;
+
   if (!s) {
-    (void)snprintf(why, len, "applies to the solids of -scene planewave, rotor, rotor-pair and tensile (this run: -scene %s, model %s)", sc, r->model);
+    (void)snprintf(why, len, "applies to the solids of -scene planewave, rotor, rotor-pair and tensile (this run: -scene %s, model %s)", r->scene, r->model);
     return PETSC_FALSE;
   }
   switch (g) {
@@ -315,6 +333,17 @@ static PetscBool Relevant(Group g, const Run *r, char *why, size_t len)
     return PETSC_FALSE;
   default: return PETSC_TRUE;
   }
+}
+
+/* Whether group g applies to run r; if not, why[] says what it applies to. */
+static PetscBool Relevant(Group g, const Run *r, char *why, size_t len)
+{
+  PetscBool known, yes = RelevantMethod(g, r, why, len, &known);
+
+  if (known) return yes;
+  yes = RelevantScene(g, r, why, len, &known);
+  if (known) return yes;
+  return RelevantSolid(g, r, why, len);
 }
 
 /* Levenshtein distance of two short names (longer names are cut at 63 bytes). */
