@@ -94,6 +94,8 @@ cases = [
     ("rtol under a fixed ERKStep step", ["-arkode_fixed_step", 0.1, "-ts_rtol", "1e-6"], ["-ts_rtol", "adaptive", "-arkode_fixed_step"]),
     ("controller under a fixed ERKStep step", ["-arkode_fixed_step", 0.1, "-arkode_adapt", "pi"], ["-arkode_adapt", "'pi'", "adaptive"]),
     ("ts_dt beside a fixed ERKStep step", ["-arkode_fixed_step", 0.1, "-ts_dt", 0.2], ["-ts_dt", "'0.2'", "-arkode_fixed_step"]),
+    ("PETSc adaptor type unknown under arkode", ["-ts_adapt_type", "3"], ["-ts_adapt_type", "'3'", "none, basic, dsp"]),
+    ("PETSc adaptor bound out of range", ["-ts_type", "rk", "-ts_adapt_dt_max", "1e-310"], ["-ts_* option", "1e-310"]),
     ("PETSc adaptor option under arkode", ["-ts_adapt_dt_max", 3], ["-ts_adapt_dt_max", "'3'", "adaptor"]),
     ("rk scheme under ssp", ["-ts_type", "ssp", "-ts_rk_type", "5dp"], ["-ts_rk_type", "'5dp'", "-ts_type rk"]),
     ("box of the file scene under expansion", ["-periodic", 0, "-box_len", "100,100"], ["-box_len", "'100,100'", "-scene file", "expansion"]),

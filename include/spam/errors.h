@@ -19,6 +19,9 @@
  * "spam-ark: error: <message>", bytes outside printable ASCII escaped as \xNN; main exits
  * 2 for the first, 1 for the others. Other errors keep PETSc's traceback. */
 PetscErrorCode SpamInstallErrorHandler(void);
+/* Until PetscPopErrorHandler: an argument error while PETSc reads its options (prefix
+ * "ts_*" names them in the message) is bad input, as one line. */
+PetscErrorCode SpamPushPetscOptionsErrorHandler(const char *prefix);
 /* in copied to out with every byte outside 0x20..0x7e written as \xNN (truncated to fit). */
 void SpamEscape(const char *in, char *out, size_t len);
 /* in copied to out, cut to 80 bytes with "..." when longer (a user's value in a message). */

@@ -128,6 +128,25 @@ static PetscErrorCode SpamErrorHandler(MPI_Comm comm, int line, const char *fun,
   return PetscTraceBackErrorHandler(comm, line, fun, file, n, p, mess, NULL);
 }
 
+/* While PETSc reads its own options (TSSetFromOptions), a wrong argument is a bad value of
+ * one of them (say -ts_adapt_dt_max 1e-310 below the smallest step): bad input, one line. */
+static PetscErrorCode SpamPetscOptionsErrorHandler(MPI_Comm comm, int line, const char *fun, const char *file, PetscErrorCode n, PetscErrorType p, const char *mess, void *ctx)
+{
+  if (p == PETSC_ERROR_INITIAL && (n == PETSC_ERR_ARG_OUTOFRANGE || n == PETSC_ERR_ARG_WRONG || n == PETSC_ERR_ARG_UNKNOWN_TYPE || n == PETSC_ERR_ARG_INCOMP)) {
+    char raw[1024];
+    (void)snprintf(raw, sizeof raw, "a -%s option of PETSc's: %s", (const char *)ctx, mess ? mess : "bad value");
+    return SpamErrorHandler(comm, line, fun, file, PETSC_ERR_USER_INPUT, p, raw, NULL);
+  }
+  return SpamErrorHandler(comm, line, fun, file, n, p, mess, NULL);
+}
+
+PetscErrorCode SpamPushPetscOptionsErrorHandler(const char *prefix)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscPushErrorHandler(SpamPetscOptionsErrorHandler, (void *)prefix));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamInstallErrorHandler(void)
 {
   PetscFunctionBeginUser;

@@ -164,8 +164,8 @@ static PetscErrorCode RunDescribe(const SpamSim *sim, const SpamRunOptions *o, T
   if (!strcmp(type, TSRK)) PetscCall(TSRKGetType(ts, &sub));
   if (!strcmp(type, TSSSP)) PetscCall(TSSSPGetType(ts, &sub));
   if (!strcmp(type, TSBASICSYMPLECTIC)) PetscCall(TSBasicSymplecticGetType(ts, &sub));
-  (void)snprintf(r->method, sizeof r->method, "-ts_type %s%s%s%s", type, sub ? " -ts_" : "", sub ? type : "", "");
-  if (sub) (void)snprintf(r->method + strlen(r->method), sizeof r->method - strlen(r->method), "_type %s", sub);
+  if (sub) (void)snprintf(r->method, sizeof r->method, "-ts_type %s -ts_%s_type %s", type, type, sub);
+  else (void)snprintf(r->method, sizeof r->method, "-ts_type %s", type);
   if (!strcmp(type, SPAM_TSARKODE) && o->fixed_step > 0) (void)snprintf(r->method + strlen(r->method), sizeof r->method - strlen(r->method), " -arkode_fixed_step %.17g", o->fixed_step);
   PetscFunctionReturn(0);
 }
