@@ -1,5 +1,6 @@
-"""Bad input to the elastic scenes, the harmonic chain and the tensor-path options: one line on stderr naming
-the option, the value and what is allowed; exit code 2; no output directory."""
+"""Bad input to the elastic scenes, the harmonic chain and the tensor-path options (including an option of a
+choice not made, e.g. -solid_lambda with -material gas): one line on stderr naming the option, the value and
+what is allowed; exit code 2; no output directory."""
 import os
 
 from spamrun import Checks, arguments, run
@@ -29,6 +30,12 @@ cases = [
     ("elastic scene in 3D", ["-scene", "rotor", "-dim", 3], ["-dim", "'3'", "two-dimensional"]),
     ("chain in 2D", ["-scene", "chain"], ["-dim", "'2'", "one-dimensional"]),
     ("odd chain", ["-scene", "chain", "-dim", 1, "-chain_n", 63], ["-chain_n", "'63'", "even"]),
+    ("subnormal shear modulus: too small", ["-scene", "planewave", "-solid_eta", "1e-310"], ["-solid_eta", "'1e-310'", "too small"]),
+    ("NaN viscosity coefficient", ["-scene", "tensile", "-viscosity", "monaghan", "-viscosity_alpha", "nan"],
+     ["-viscosity_alpha", "'nan'", "finite"]),
+    ("gas gamma NaN with conduction", ["-scene", "rotor", "-conductivity", 0.1, "-gas_gamma", "nan"], ["-gas_gamma", "'nan'", "greater than 1"]),
+    ("Lame constant of a gas", ["-scene", "rotor", "-material", "gas", "-solid_lambda", 1], ["-solid_lambda", "'1'", "-material elastic"]),
+    ("gas energy of an elastic solid", ["-scene", "tensile", "-gas_e0", 2], ["-gas_e0", "'2'", "-material gas"]),
     ("chain amplitude too large", ["-scene", "chain", "-dim", 1, "-chain_amplitude", 0.3], ["-chain_amplitude", "'0.3'", "< 0.25"]),
 ]
 for k, (name, args, needles) in enumerate(cases):

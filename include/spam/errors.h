@@ -14,7 +14,21 @@
 #define SPAM_BAD_INPUT(what, value, fmt, ...) \
   SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s = '%s': " fmt, what, value, ##__VA_ARGS__)
 
+/* Installs the handler that prints bad input (PETSC_ERR_USER_INPUT) and file-system
+ * failures (PETSC_ERR_FILE_OPEN, _WRITE, _READ, _UNEXPECTED) as one line
+ * "spam-ark: error: <message>", bytes outside printable ASCII escaped as \xNN; main exits
+ * 2 for the first, 1 for the others. Other errors keep PETSc's traceback. */
 PetscErrorCode SpamInstallErrorHandler(void);
+/* Until PetscPopErrorHandler: an argument error while PETSc reads its options (prefix
+ * "ts_*" names them in the message) is bad input, as one line. */
+PetscErrorCode SpamPushPetscOptionsErrorHandler(const char *prefix);
+/* in copied to out with every byte outside 0x20..0x7e written as \xNN (truncated to fit). */
+void SpamEscape(const char *in, char *out, size_t len);
+/* in copied to out, cut to 80 bytes with "..." when longer (a user's value in a message). */
+void SpamClip(const char *in, char *out, size_t len);
+/* The text of option opt as the user typed it (clipped), or v printed with %.17g when the
+ * option is absent: bad-input messages show what the user wrote. */
+PetscErrorCode SpamOptionText(const char *opt, double v, char *buf, size_t len);
 /* Bad input unless val is one of names[0..n-1]; the message lists them. */
 PetscErrorCode SpamCheckAllowed(const char *opt, const char *val, const char *const *names, int n);
 

@@ -3,11 +3,15 @@
 #include <spam/session.h>
 #include <spam/errors.h>
 #include <spam/version.h>
+#include <spam/options.h>
+#include <signal.h>
 
 static const char help[] = "spam-ark " SPAM_VERSION ": smooth-particle applied mechanics (Lucy-Monaghan SPAM/SPH)\n"
                            "on SUNDIALS ARKODE and PETSc. Example:\n"
                            "  spam-ark -options_file options/expansion.opts -output_dir out\n"
-                           "Exit codes: 0 done, 1 failure, 2 bad input, 3 the run went unstable.\n\n";
+                           "Exit codes: 0 done, 1 failure, 2 bad input, 3 the run went unstable, 130/143 interrupted\n"
+                           "(SIGINT/SIGTERM: the outputs are completed first).\n"
+                           "An option this run does not use, or an unknown one, is refused (-version: the version).\n\n";
 
 static PetscErrorCode Run(int *exit_code)
 {
@@ -30,6 +34,7 @@ static PetscErrorCode Run(int *exit_code)
   if (!ierr) ierr = SpamTSCreate(&sim, &o, &app, &ts); /* validates the method; lists TS options */
   /* With -help every option has been listed with its default: nothing to run. Otherwise
    * every input is valid from here on: only now touch the file system. */
+  if (!ierr && !help) ierr = SpamOptionsCheckUse(&sim, &o, ts); /* no option given in vain */
   if (!ierr && !help) ierr = SpamRunSession(&sim, &o, &oo, ts, &app, exit_code);
   PetscCall(TSDestroy(&ts));
   PetscCall(SpamTSAppDestroy(&app));
@@ -40,12 +45,20 @@ static PetscErrorCode Run(int *exit_code)
 int main(int argc, char **argv)
 {
   PetscErrorCode ierr;
-  int            code = SPAM_EXIT_OK;
+  int            code = SpamArgvCheck(argc, argv); /* -version, --help, options files */
 
+  if (code >= 0) return code;
+  code = SPAM_EXIT_OK;
   PetscCall(PetscInitialize(&argc, &argv, NULL, help));
+  /* A reader that closes the pipe early (spam-ark -monitor | head) ends our output, not the
+   * program with PETSc's signal trace: writes to it then fail quietly. (PETSc's own help
+   * text, printed inside PetscInitialize under its handler, is not covered.) */
+  (void)signal(SIGPIPE, SIG_IGN);
   PetscCall(SpamInstallErrorHandler());
   PetscCall(SpamIntegratorsRegister());
-  ierr = Run(&code);
+  ierr = SpamOptionsCheckValues();
+  if (!ierr) ierr = Run(&code);
+  /* Bad input exits 2; file-system failures (one line) and every other failure exit 1. */
   if (ierr) code = ierr == PETSC_ERR_USER_INPUT ? SPAM_EXIT_BAD_INPUT : SPAM_EXIT_ERROR;
   /* Finalize quietly after an error: the message has been printed already. */
   PetscFinalize();

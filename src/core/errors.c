@@ -1,47 +1,150 @@
-/* Error reporting: bad input prints one line; other errors keep PETSc's traceback. */
+/* Error reporting: bad input and file-system failures print one line each; other errors
+ * keep PETSc's traceback. Every printed byte outside printable ASCII is escaped as \xNN, so
+ * a hostile file name or value can neither break the line nor reach the terminal raw. */
 #include <spam/errors.h>
 #include <arkode/arkode_erkstep.h>
 #include <cvode/cvode.h>
 
-/* PETSc reports a malformed number as "Input string VALUE has no numeric value" without
- * the option's name: find the option that carries VALUE so the line can name it. */
+void SpamEscape(const char *in, char *out, size_t len)
+{
+  static const char hex[] = "0123456789abcdef";
+  size_t            k     = 0;
+
+  if (!len) return;
+  for (const unsigned char *p = (const unsigned char *)in; p && *p; p++) {
+    if (*p >= 0x20 && *p < 0x7f) {
+      if (k + 1 >= len) break;
+      out[k++] = (char)*p;
+    } else {
+      if (k + 4 >= len) break;
+      out[k++] = '\\';
+      out[k++] = 'x';
+      out[k++] = hex[*p >> 4];
+      out[k++] = hex[*p & 15];
+    }
+  }
+  out[k] = 0;
+}
+
+void SpamClip(const char *in, char *out, size_t len)
+{
+  const size_t keep = len > 84 ? 80 : (len > 4 ? len - 4 : 0);
+
+  if (!len) return;
+  if (strlen(in) < len && strlen(in) <= 80) {
+    (void)snprintf(out, len, "%s", in);
+    return;
+  }
+  (void)snprintf(out, len, "%.*s...", (int)keep, in);
+}
+
+PetscErrorCode SpamOptionText(const char *opt, double v, char *buf, size_t len)
+{
+  char      raw[256] = "";
+  PetscBool set      = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsGetString(NULL, NULL, opt, raw, sizeof raw, &set));
+  if (set && raw[0]) SpamClip(raw, buf, len);
+  else (void)snprintf(buf, len, "%.17g", v);
+  PetscFunctionReturn(0);
+}
+
+/* The text between 'start' and 'stop' in mess (PETSc's "Input string X has no numeric
+ * value"), or the rest of the message after 'start'. */
+static PetscBool Between(const char *mess, const char *start, const char *stop, char *out, size_t len)
+{
+  const char *p = strstr(mess, start), *q;
+
+  if (!p) return PETSC_FALSE;
+  p += strlen(start);
+  q = stop ? strstr(p, stop) : NULL;
+  if (!q) q = p + strlen(p);
+  (void)snprintf(out, len, "%.*s", (int)(q - p), p);
+  return PETSC_TRUE;
+}
+
+/* True when value is the whole of tok or one of its comma-separated elements. */
+static PetscBool HoldsValue(const char *tok, const char *value)
+{
+  const size_t n = strlen(value);
+
+  if (!n) return PETSC_FALSE;
+  for (const char *p = tok; p; p = strchr(p, ',') ? strchr(p, ',') + 1 : NULL)
+    if (!strncmp(p, value, n) && (p[n] == 0 || p[n] == ',')) return PETSC_TRUE;
+  return PETSC_FALSE;
+}
+
+/* PETSc reports a malformed value as "Input string VALUE has no numeric value" or
+ * "Unknown logical value: VALUE" without the option's name: find the option that carries
+ * VALUE (alone or as an element of an array) so the line can name it. */
 static void NameMalformedOption(const char *mess, char *out, size_t len)
 {
-  const char *p = strstr(mess, "Input string "), *q = strstr(mess, "Unknown logical value: ");
-  const char *want = q ? "must be true or false" : "must be a number";
-  char        value[256], *all = NULL;
+  char        value[256], first[256], *all = NULL;
+  const char *want = "must be a number";
 
-  snprintf(out, len, "%s", mess);
-  if (!(p && sscanf(p, "Input string %255s", value) == 1) && !(q && sscanf(q, "Unknown logical value: %255s", value) == 1)) return;
+  (void)snprintf(out, len, "%s", mess);
+  if (Between(mess, "Unknown logical value: ", NULL, value, sizeof value)) want = "must be true or false (or 1, 0, yes, no)";
+  else if (Between(mess, "Input string ", " has no integer value", value, sizeof value) && strstr(mess, "has no integer value")) want = "must be an integer";
+  else if (!Between(mess, "Input string ", " has no numeric value", value, sizeof value)) return;
   if (PetscOptionsGetAll(NULL, &all) || !all) return;
+  (void)snprintf(first, sizeof first, "%.*s", (int)strcspn(value, " "), value); /* the listing splits at spaces */
   for (char *tok = strtok(all, " "), *prev = NULL; tok; prev = tok, tok = strtok(NULL, " ")) {
-    if (prev && prev[0] == '-' && !strcmp(tok, value)) {
-      snprintf(out, len, "%s = '%s': %s", prev, value, want);
+    if (prev && prev[0] == '-' && HoldsValue(tok, first)) {
+      char shown[100];
+      SpamClip(strchr(value, ' ') ? value : tok, shown, sizeof shown);
+      (void)snprintf(out, len, "%s = '%s': %s", prev, shown, want);
       break;
     }
   }
-  PetscFree(all);
+  (void)PetscFree(all);
 }
 
-/* The first report of a PETSC_ERR_USER_INPUT error is the user's message: print it alone
- * and stay silent while the error travels up the call stack. */
+static PetscBool IsFileError(PetscErrorCode n)
+{
+  return (PetscBool)(n == PETSC_ERR_FILE_OPEN || n == PETSC_ERR_FILE_WRITE || n == PETSC_ERR_FILE_READ || n == PETSC_ERR_FILE_UNEXPECTED);
+}
+
+/* The first report of a bad-input or file error is the user's message: print it alone, as
+ * one escaped line, and stay silent while the error travels up the call stack. */
 static PetscErrorCode SpamErrorHandler(MPI_Comm comm, int line, const char *fun, const char *file, PetscErrorCode n, PetscErrorType p, const char *mess, void *ctx)
 {
   (void)ctx;
   /* A malformed option value (say -h abc) is detected inside PetscOptions*: report it as
    * bad input too, and pass the bad-input code up from here on. */
   if (p == PETSC_ERROR_INITIAL && fun && !strncmp(fun, "PetscOptions", 12)) n = PETSC_ERR_USER_INPUT;
-  if (n == PETSC_ERR_USER_INPUT) {
+  if (n == PETSC_ERR_USER_INPUT || IsFileError(n)) {
     if (p == PETSC_ERROR_INITIAL) {
       PetscMPIInt rank = 0;
+      char        raw[1024], text[1024];
       MPI_Comm_rank(comm, &rank);
-      char line[512];
-      NameMalformedOption(mess, line, sizeof line);
-      if (!rank) fprintf(stderr, "spam-ark: error: %s\n", line);
+      if (n == PETSC_ERR_USER_INPUT) NameMalformedOption(mess ? mess : "", raw, sizeof raw);
+      else (void)snprintf(raw, sizeof raw, "%s", mess ? mess : "file error");
+      SpamEscape(raw, text, sizeof text);
+      if (!rank) fprintf(stderr, "spam-ark: error: %s\n", text);
     }
     return n;
   }
   return PetscTraceBackErrorHandler(comm, line, fun, file, n, p, mess, NULL);
+}
+
+/* While PETSc reads its own options (TSSetFromOptions), a wrong argument is a bad value of
+ * one of them (say -ts_adapt_dt_max 1e-310 below the smallest step): bad input, one line. */
+static PetscErrorCode SpamPetscOptionsErrorHandler(MPI_Comm comm, int line, const char *fun, const char *file, PetscErrorCode n, PetscErrorType p, const char *mess, void *ctx)
+{
+  if (p == PETSC_ERROR_INITIAL && (n == PETSC_ERR_ARG_OUTOFRANGE || n == PETSC_ERR_ARG_WRONG || n == PETSC_ERR_ARG_UNKNOWN_TYPE || n == PETSC_ERR_ARG_INCOMP)) {
+    char raw[1024];
+    (void)snprintf(raw, sizeof raw, "a -%s option of PETSc's: %s", (const char *)ctx, mess ? mess : "bad value");
+    return SpamErrorHandler(comm, line, fun, file, PETSC_ERR_USER_INPUT, p, raw, NULL);
+  }
+  return SpamErrorHandler(comm, line, fun, file, n, p, mess, NULL);
+}
+
+PetscErrorCode SpamPushPetscOptionsErrorHandler(const char *prefix)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscPushErrorHandler(SpamPetscOptionsErrorHandler, (void *)prefix));
+  PetscFunctionReturn(0);
 }
 
 PetscErrorCode SpamInstallErrorHandler(void)
@@ -82,7 +185,7 @@ PetscErrorCode SpamCheckCvode(int flag, const char *call)
 
 PetscErrorCode SpamCheckAllowed(const char *opt, const char *val, const char *const *names, int n)
 {
-  char allowed[1024] = "";
+  char allowed[1024] = "", shown[100];
 
   PetscFunctionBeginUser;
   for (int k = 0; k < n; k++)
@@ -91,5 +194,6 @@ PetscErrorCode SpamCheckAllowed(const char *opt, const char *val, const char *co
     PetscCall(PetscStrlcat(allowed, k ? ", " : "", sizeof allowed));
     PetscCall(PetscStrlcat(allowed, names[k], sizeof allowed));
   }
-  SPAM_BAD_INPUT(opt, val, "allowed: %s", allowed);
+  SpamClip(val, shown, sizeof shown);
+  SPAM_BAD_INPUT(opt, shown, "allowed: %s", allowed);
 }

@@ -105,7 +105,9 @@ static PetscErrorCode ChooseType(TS ts, char *type, size_t len)
     PetscCall(ChosenName("-ts_basicsymplectic_type", "kdk", SympTypes, 6, sub, sizeof sub));
     PetscCall(TSBasicSymplecticSetType(ts, "kdk")); /* our default: velocity Verlet */
   }
-  if (strcmp(type, SPAM_TSARKODE) && strcmp(type, SPAM_TSCVODE)) PetscCall(ChosenName("-ts_adapt_type", strcmp(type, TSRK) ? TSADAPTNONE : TSADAPTBASIC, AdaptTypes, 3, sub, sizeof sub));
+  /* Checked for every method: PETSc reads it for all (arkode and cvode then refuse it as
+   * not used, at the end of set-up). */
+  PetscCall(ChosenName("-ts_adapt_type", strcmp(type, TSRK) ? TSADAPTNONE : TSADAPTBASIC, AdaptTypes, 3, sub, sizeof sub));
   PetscFunctionReturn(0);
 }
 
@@ -174,7 +176,13 @@ PetscErrorCode SpamTSCreate(SpamSim *sim, const SpamRunOptions *o, SpamTsApp *ap
   PetscCall(TSSetExactFinalTime(*ts, TS_EXACTFINALTIME_MATCHSTEP));
   PetscCall(TSSetErrorIfStepFails(*ts, PETSC_FALSE)); /* failure is a result */
   PetscCall(TSGetAdapt(*ts, &adapt));
-  PetscCall(TSSetFromOptions(*ts));
+  {
+    PetscErrorCode ierr;
+    PetscCall(SpamPushPetscOptionsErrorHandler("ts_*"));
+    ierr = TSSetFromOptions(*ts);
+    PetscCall(PetscPopErrorHandler());
+    PetscCall(ierr); /* reported once already */
+  }
   /* Our options win over PETSc's for the quantities both read. */
   PetscCall(TSSetMaxTime(*ts, o->t_end));
   PetscCall(TSSetTimeStep(*ts, o->dt_first > 0 ? o->dt_first : 0.05 * sim->model.kernel.h / app->w.vscale));

@@ -1,6 +1,7 @@
 /* Scene registry: common options, the choice of scene, and filling the swarm. */
 #include <spam/scene.h>
 #include <spam/errors.h>
+#include <float.h>
 
 static const char *const SceneNames[] = {"expansion", "file", "chain", "planewave", "rotor", "rotor-pair", "rotor-md", "tensile"};
 enum { SCENE_EXPANSION, SCENE_FILE, SCENE_CHAIN, SCENE_PLANEWAVE, SCENE_ROTOR, SCENE_ROTOR_PAIR, SCENE_ROTOR_MD, SCENE_TENSILE, NSCENES };
@@ -25,63 +26,143 @@ PetscErrorCode SpamParticlesFree(SpamParticles *p)
   PetscFunctionReturn(0);
 }
 
+/* The neighbour grid's cells of width h + skin in the box, counted in double, at most this. */
+#define MAX_NEIGHBOUR_CELLS 1e8
+/* Box corners and translated coordinates stay below this size (as the particle file's). */
+#define MAX_COORDINATE 1e15
+
 static PetscErrorCode CheckPositive(const char *opt, double v)
 {
-  char val[64];
+  char val[128];
   PetscFunctionBeginUser;
-  (void)snprintf(val, sizeof val, "%g", v);
-  if (!(v > 0.0) || !isfinite(v)) SPAM_BAD_INPUT(opt, val, "must be a positive number");
+  PetscCall(SpamOptionText(opt, v, val, sizeof val));
+  if (!(v > 0.0) || !isfinite(v)) SPAM_BAD_INPUT(opt, val, "must be a positive finite number");
+  if (v < DBL_MIN) SPAM_BAD_INPUT(opt, val, "too small (subnormal): must be at least %g", DBL_MIN);
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode CommonOptions(SpamCommonParams *c)
+/* An array option of the box: 1 value (the same in every direction) or dim values. n is
+ * the count read with room for 16, so a longer list is seen. */
+static PetscErrorCode Broadcast(const char *opt, PetscInt n, int dim, PetscBool set, double *v)
 {
-  PetscInt  nd = 3, nl = 3, np = 3, nt = 3, dim = 2;
-  PetscBool set;
+  char val[128];
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMemzero(c, sizeof *c));
-  for (int d = 0; d < 3; d++) c->periodic[d] = PETSC_TRUE;
-  c->h    = 3.0;
-  c->mass = 1.0;
+  if (!set) PetscFunctionReturn(0);
+  PetscCall(SpamOptionText(opt, v[0], val, sizeof val));
+  if (n != 1 && n != dim) SPAM_BAD_INPUT(opt, val, "takes 1 value (the same in every direction) or %d (one per direction, -dim %d); %" PetscInt_FMT " given", dim, dim, n);
+  for (int d = 0; d < n; d++)
+    if (!isfinite(v[d]) || fabs(v[d]) >= MAX_COORDINATE) SPAM_BAD_INPUT(opt, val, "every value must be a finite number below %g in size", MAX_COORDINATE);
+  for (int d = n; d < 3; d++) v[d] = v[0];
+  PetscFunctionReturn(0);
+}
+
+/* Lucy's kernel at this h: its normalisation C_D h^-D and that of its derivatives,
+ * C_D h^-(D+2), must be normal finite numbers, or every density and force is 0 or inf. */
+static PetscErrorCode CheckKernelRange(int dim, double h)
+{
+  SpamKernel k;
+  char       val[128], w[32], g[32];
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamOptionText("-h", h, val, sizeof val));
+  PetscCall(SpamKernelLucyInit(dim, h, &k));
+  (void)snprintf(w, sizeof w, "%.3g", k.wnorm);
+  (void)snprintf(g, sizeof g, "%.3g", fabs(k.gnorm));
+  if (!(isnormal(k.wnorm) && isnormal(k.gnorm))) SPAM_BAD_INPUT("-h", val, "out of range: the kernel's normalisations C_D h^-%d = %s and C_D h^-%d = %s must be normal finite numbers", dim, w, dim + 2, g);
+  PetscFunctionReturn(0);
+}
+
+/* -dim, -h, -mass, -neighbour_skin, -threads and the gas's -eos_gamma; gamma is checked
+ * before kappa's default (1/gamma) is made from it. */
+static PetscErrorCode KernelOptions(SpamCommonParams *c)
+{
+  PetscInt dim = 2;
+  char     val[128];
+
+  PetscFunctionBeginUser;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Particles, kernel and gas", "spam-ark");
   PetscCall(PetscOptionsInt("-dim", "Space dimension (1, 2 or 3)", "README", dim, &dim, NULL));
   PetscCall(PetscOptionsReal("-h", "Kernel range h (Lucy's kernel vanishes at r = h)", "README", c->h, &c->h, NULL));
   PetscCall(PetscOptionsReal("-mass", "Particle mass m", "README", c->mass, &c->mass, NULL));
   c->skin = 0.1 * c->h;
   PetscCall(PetscOptionsReal("-neighbour_skin", "Verlet-list skin (default 0.1 h)", "README", c->skin, &c->skin, NULL));
-  c->gamma = 1.0 + 2.0 / (double)PetscClipInterval(dim, 1, 3);
-  PetscCall(PetscOptionsReal("-eos_gamma", "Isentrope exponent gamma in P = kappa rho^gamma (default 1 + 2/D)", "README", c->gamma, &c->gamma, NULL));
-  c->kappa = 1.0 / c->gamma;
-  PetscCall(PetscOptionsReal("-eos_kappa", "Isentrope constant kappa (default 1/gamma: sound speed 1 at rho = 1)", "README", c->kappa, &c->kappa, NULL));
-  PetscCall(PetscOptionsRealArray("-box_lo", "Lower corner of the box (file scene; default 0)", "README", c->box_lo, &nd, NULL));
-  PetscCall(PetscOptionsRealArray("-box_len", "Box edge lengths (file scene: required)", "README", c->box_len, &nl, &c->box_len_set));
-  PetscCall(PetscOptionsBoolArray("-periodic", "Periodic in each direction (default true)", "README", c->periodic, &np, NULL));
   c->threads = 1;
   PetscCall(PetscOptionsInt("-threads", "OpenMP threads of the pair passes (1: none; results are the same run to run for a given count)", "README", c->threads, &c->threads, NULL));
-  PetscCall(PetscOptionsRealArray("-scene_translate", "Shift particles and box by this vector (a test of translation invariance)", "README", c->translate, &nt, &set));
+  c->gamma = 1.0 + 2.0 / (double)PetscClipInterval(dim, 1, 3);
+  PetscCall(PetscOptionsReal("-eos_gamma", "Isentrope exponent gamma in P = kappa rho^gamma (default 1 + 2/D; -scene expansion and file)", "README", c->gamma, &c->gamma, NULL));
   PetscOptionsEnd();
   c->dim = (int)dim;
-  {
-    char val[32];
-    PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, dim));
-    if (dim < 1 || dim > 3) SPAM_BAD_INPUT("-dim", val, "allowed: 1, 2 or 3");
-  }
-  {
-    char val[32];
-    PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, c->threads));
-    if (c->threads < 1 || c->threads > SPAM_MAX_THREADS) SPAM_BAD_INPUT("-threads", val, "must be from 1 to %d", SPAM_MAX_THREADS);
-  }
+  PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, dim));
+  if (dim < 1 || dim > 3) SPAM_BAD_INPUT("-dim", val, "allowed: 1, 2 or 3");
+  PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, c->threads));
+  if (c->threads < 1 || c->threads > SPAM_MAX_THREADS) SPAM_BAD_INPUT("-threads", val, "must be from 1 to %d", SPAM_MAX_THREADS);
   PetscCall(CheckPositive("-h", c->h));
+  PetscCall(CheckKernelRange(c->dim, c->h));
   PetscCall(CheckPositive("-mass", c->mass));
+  PetscCall(SpamOptionText("-neighbour_skin", c->skin, val, sizeof val));
+  if (!(c->skin >= 0.0) || !isfinite(c->skin)) SPAM_BAD_INPUT("-neighbour_skin", val, "must be zero or positive");
+  PetscCall(SpamOptionText("-eos_gamma", c->gamma, val, sizeof val));
+  if (!(c->gamma > 1.0) || !isfinite(c->gamma)) SPAM_BAD_INPUT("-eos_gamma", val, "must be a finite number greater than 1");
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode CommonOptions(SpamCommonParams *c)
+{
+  PetscInt  nd = 16, nl = 16, np = 16, nt = 16;
+  PetscReal lo[16] = {0}, len[16] = {0}, tr[16] = {0};
+  PetscBool per[16], set_lo, set_tr, set_per;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(c, sizeof *c));
+  for (int d = 0; d < 16; d++) per[d] = PETSC_TRUE;
+  c->h    = 3.0;
+  c->mass = 1.0;
+  PetscCall(KernelOptions(c));
+  c->kappa = 1.0 / c->gamma;
+  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Gas and box", "spam-ark");
+  PetscCall(PetscOptionsReal("-eos_kappa", "Isentrope constant kappa (default 1/gamma: sound speed 1 at rho = 1)", "README", c->kappa, &c->kappa, NULL));
+  PetscCall(PetscOptionsRealArray("-box_lo", "Lower corner of the box (file scene; 1 value or -dim values; default 0)", "README", lo, &nd, &set_lo));
+  PetscCall(PetscOptionsRealArray("-box_len", "Box edge lengths (file scene: required; 1 value or -dim values)", "README", len, &nl, &c->box_len_set));
+  PetscCall(PetscOptionsBoolArray("-periodic", "Periodic in each direction (expansion and file scenes; 1 value or -dim values; default true)", "README", per, &np, &set_per));
+  PetscCall(PetscOptionsRealArray("-scene_translate", "Shift particles and box by this vector (1 value or -dim values; a test of translation invariance)", "README", tr, &nt, &set_tr));
+  PetscOptionsEnd();
   PetscCall(CheckPositive("-eos_kappa", c->kappa));
-  {
-    char val[64];
-    (void)snprintf(val, sizeof val, "%g", c->skin);
-    if (!(c->skin >= 0.0) || !isfinite(c->skin)) SPAM_BAD_INPUT("-neighbour_skin", val, "must be zero or positive");
-    (void)snprintf(val, sizeof val, "%g", c->gamma);
-    if (!(c->gamma > 1.0) || !isfinite(c->gamma)) SPAM_BAD_INPUT("-eos_gamma", val, "must be greater than 1");
+  PetscCall(Broadcast("-box_lo", nd, c->dim, set_lo, lo));
+  PetscCall(Broadcast("-box_len", nl, c->dim, c->box_len_set, len));
+  PetscCall(Broadcast("-scene_translate", nt, c->dim, set_tr, tr));
+  if (set_per) {
+    char val[128];
+    PetscCall(SpamOptionText("-periodic", 0.0, val, sizeof val));
+    if (np != 1 && np != c->dim) SPAM_BAD_INPUT("-periodic", val, "takes 1 value (the same in every direction) or %d (one per direction, -dim %d); %" PetscInt_FMT " given", c->dim, c->dim, np);
+    for (int d = (int)np; d < 3; d++) per[d] = per[0];
   }
+  for (int d = 0; d < 3; d++) {
+    c->box_lo[d]    = lo[d];
+    c->box_len[d]   = len[d];
+    c->translate[d] = tr[d];
+    c->periodic[d]  = per[d];
+  }
+  PetscFunctionReturn(0);
+}
+
+/* The translated box stays within the coordinate range, and the neighbour grid of cells
+ * of width h + skin stays countable. */
+static PetscErrorCode CheckBoxScale(const SpamCommonParams *c, const SpamBox *b)
+{
+  double cells = 1.0;
+  char   val[128];
+
+  PetscFunctionBeginUser;
+  for (int d = 0; d < b->dim; d++) {
+    if (!(fabs(b->lo[d]) < MAX_COORDINATE && fabs(b->lo[d] + b->len[d]) < MAX_COORDINATE)) {
+      PetscCall(SpamOptionText("-scene_translate", c->translate[d], val, sizeof val));
+      SPAM_BAD_INPUT("-scene_translate", val, "the translated box [%g, %g] leaves the coordinate range (below %g in size)", b->lo[d], b->lo[d] + b->len[d], MAX_COORDINATE);
+    }
+    cells *= PetscMax(1.0, floor(b->len[d] / (c->h + c->skin)));
+  }
+  PetscCall(SpamOptionText("-h", c->h, val, sizeof val));
+  if (!(cells <= MAX_NEIGHBOUR_CELLS)) SPAM_BAD_INPUT("-h", val, "too small for the box: its neighbour grid would hold %.3g cells of width h + skin, at most %.0e", cells, MAX_NEIGHBOUR_CELLS);
   PetscFunctionReturn(0);
 }
 
@@ -170,8 +251,9 @@ PetscErrorCode SpamSceneCreateSim(MPI_Comm comm, SpamSim *sim)
   if (size > 1) SPAM_BAD_INPUT("mpiexec -n", val, "this version runs on one rank; multi-rank halo exchange is not written yet");
   Translate(c.translate, &p);
   PetscCall(SpamBoxValidate(&p.box, c.h, scene == SCENE_EXPANSION ? "2 x -expansion_n" : scene == SCENE_FILE ? "-box_len" : "the lattice size"));
+  PetscCall(CheckBoxScale(&c, &p.box));
   for (int d = 0; d < p.box.dim; d++) { /* the list's minimum image corrects by one edge at most */
-    PetscCall(PetscSNPrintf(val, sizeof val, "%g", c.skin));
+    PetscCall(PetscSNPrintf(val, sizeof val, "%g", c.skin)); /* tests/run_bad_input.py expects PETSc's '9.' */
     if (p.box.periodic[d] && !(c.skin < 0.5 * p.box.len[d])) SPAM_BAD_INPUT("-neighbour_skin", val, "must be below half the periodic box edge (%g)", p.box.len[d]);
   }
   if (p.model_set) model = p.model;

@@ -2,6 +2,7 @@
  * Lame constants and every choice of the PRE study space. */
 #include <spam/scene.h>
 #include <spam/errors.h>
+#include <float.h>
 
 const char *const SpamDensityModeNames[]    = {"summation", "continuity", "chain-rule"};
 const char *const SpamDensityInitialNames[] = {"ideal", "summed"};
@@ -13,7 +14,7 @@ const char *const SpamMaterialNames[]       = {"elastic", "gas"};
 /* Index of val in names, or a bad-input error listing them. */
 static PetscErrorCode Choice(const char *opt, const char *val, const char *const *names, int n, int *k)
 {
-  char allowed[256] = "";
+  char allowed[256] = "", shown[100];
 
   PetscFunctionBeginUser;
   for (*k = 0; *k < n; (*k)++)
@@ -22,16 +23,18 @@ static PetscErrorCode Choice(const char *opt, const char *val, const char *const
     PetscCall(PetscStrlcat(allowed, j ? ", " : "", sizeof allowed));
     PetscCall(PetscStrlcat(allowed, names[j], sizeof allowed));
   }
-  SPAM_BAD_INPUT(opt, val, "allowed: %s", allowed);
+  SpamClip(val, shown, sizeof shown);
+  SPAM_BAD_INPUT(opt, shown, "allowed: %s", allowed);
 }
 
 static PetscErrorCode Positive(const char *opt, double v, PetscBool zero_ok)
 {
-  char val[64];
+  char val[128];
 
   PetscFunctionBeginUser;
-  (void)snprintf(val, sizeof val, "%g", v);
-  if (!isfinite(v) || v < 0.0 || (!zero_ok && v == 0.0)) SPAM_BAD_INPUT(opt, val, "must be a %s number", zero_ok ? "non-negative" : "positive");
+  PetscCall(SpamOptionText(opt, v, val, sizeof val));
+  if (!isfinite(v) || v < 0.0 || (!zero_ok && v == 0.0)) SPAM_BAD_INPUT(opt, val, "must be a finite %s number", zero_ok ? "non-negative" : "positive");
+  if (v != 0.0 && v < DBL_MIN) SPAM_BAD_INPUT(opt, val, "too small (subnormal): must be 0 or at least %g", DBL_MIN);
   PetscFunctionReturn(0);
 }
 
@@ -39,6 +42,7 @@ PetscErrorCode SpamSolidOptions(SpamSolidParams *p)
 {
   char      dens[32], init[32], mean[32] = "arithmetic", coords[32], angm[32], scope[32] = "global", visc[32], mat[32];
   int       k;
+  PetscBool help;
 
   PetscFunctionBeginUser;
   PetscCall(PetscStrncpy(dens, SpamDensityModeNames[p->density], sizeof dens));
@@ -47,26 +51,33 @@ PetscErrorCode SpamSolidOptions(SpamSolidParams *p)
   PetscCall(PetscStrncpy(angm, SpamAngmomModeNames[p->angmom], sizeof angm));
   PetscCall(PetscStrncpy(visc, SpamViscosityModeNames[p->viscosity], sizeof visc));
   PetscCall(PetscStrncpy(mat, SpamMaterialNames[p->material], sizeof mat));
+  /* The options of one choice are read only when it is made (all of them with -help), so
+   * that the end of set-up refuses, say, -xsph_eps without -coordinates R2. */
+  PetscCall(PetscOptionsHasHelp(NULL, &help));
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Elastic solid (Hoover, Hoover & Merritt 2004)", "spam-ark");
   PetscCall(PetscOptionsString("-material", "Constitutive law: elastic (Hooke, stress in the state) or gas (P = (gamma-1) rho e)", "README", mat, mat, sizeof mat, NULL));
-  PetscCall(PetscOptionsReal("-gas_gamma", "Gas: gamma of P = (gamma - 1) rho e (2 in 2D); also sets T = (gamma - 1) e", "README", p->gamma, &p->gamma, NULL));
-  PetscCall(PetscOptionsReal("-gas_e0", "Gas: initial energy per unit mass of every particle", "README", p->gas_e0, &p->gas_e0, NULL));
+  if (help || !strcmp(mat, "gas")) PetscCall(PetscOptionsReal("-gas_e0", "Gas: initial energy per unit mass of every particle", "README", p->gas_e0, &p->gas_e0, NULL));
   PetscCall(PetscOptionsReal("-viscosity_shear", "Newtonian shear viscosity eta_s (0: off)", "README", p->shear_visc, &p->shear_visc, NULL));
   PetscCall(PetscOptionsReal("-viscosity_bulk", "Newtonian bulk viscosity eta_b (0: off)", "README", p->bulk_visc, &p->bulk_visc, NULL));
   PetscCall(PetscOptionsReal("-conductivity", "Fourier heat conductivity kappa, Q = -kappa grad T (0: off)", "README", p->conductivity, &p->conductivity, NULL));
-  PetscCall(PetscOptionsReal("-solid_lambda", "Lame constant lambda (default sqrt(3)/4: springs k = 1)", "README", p->lambda, &p->lambda, NULL));
-  PetscCall(PetscOptionsReal("-solid_eta", "Lame constant eta, the shear modulus (default sqrt(3)/4)", "README", p->eta, &p->eta, NULL));
+  if (help || !strcmp(mat, "gas") || p->conductivity != 0.0) PetscCall(PetscOptionsReal("-gas_gamma", "Gas: gamma of P = (gamma - 1) rho e (2 in 2D); also sets T = (gamma - 1) e (-material gas or -conductivity)", "README", p->gamma, &p->gamma, NULL));
+  if (help || strcmp(mat, "gas")) {
+    PetscCall(PetscOptionsReal("-solid_lambda", "Lame constant lambda (default sqrt(3)/4: springs k = 1; -material elastic)", "README", p->lambda, &p->lambda, NULL));
+    PetscCall(PetscOptionsReal("-solid_eta", "Lame constant eta, the shear modulus (default sqrt(3)/4; -material elastic)", "README", p->eta, &p->eta, NULL));
+  }
   PetscCall(PetscOptionsString("-density", "Density: summation, continuity or chain-rule (continuity with dr/dt)", "README", dens, dens, sizeof dens, NULL));
-  PetscCall(PetscOptionsString("-density_initial", "Initial continuity density: ideal (sqrt(4/3) on the unit lattice) or summed", "README", init, init, sizeof init, NULL));
+  if (help || strcmp(dens, "summation")) PetscCall(PetscOptionsString("-density_initial", "Initial continuity density: ideal (sqrt(4/3) on the unit lattice) or summed", "README", init, init, sizeof init, NULL));
   PetscCall(PetscOptionsString("-density_mean", "Pair density rho_ij of gradients and R2: arithmetic or geometric", "README", mean, mean, sizeof mean, NULL));
   PetscCall(PetscOptionsString("-coordinates", "Coordinate update: R0 (v), R1 (<v>) or R2 (Monaghan's XSPH)", "README", coords, coords, sizeof coords, NULL));
-  PetscCall(PetscOptionsReal("-xsph_eps", "Epsilon of R2 (PRE: 1; Monaghan: 0.5)", "README", p->xsph_eps, &p->xsph_eps, NULL));
+  if (help || !strcmp(coords, "R2")) PetscCall(PetscOptionsReal("-xsph_eps", "Epsilon of R2 (PRE: 1; Monaghan: 0.5)", "README", p->xsph_eps, &p->xsph_eps, NULL));
   PetscCall(PetscOptionsString("-angmom", "Angular momentum: none, gauss (Gauss's principle), Ti or Tij (torque scaling)", "README", angm, angm, sizeof angm, NULL));
-  PetscCall(PetscOptionsString("-angmom_scope", "Torque scaling over: global or body (each connected body)", "README", scope, scope, sizeof scope, NULL));
+  if (help || !strcmp(angm, "Ti") || !strcmp(angm, "Tij")) PetscCall(PetscOptionsString("-angmom_scope", "Torque scaling (Ti, Tij) over: global or body (each connected body)", "README", scope, scope, sizeof scope, NULL));
   PetscCall(PetscOptionsString("-viscosity", "Artificial viscosity: none, monaghan (pair Pi_ij) or vonneumann (particle q_i)", "README", visc, visc, sizeof visc, NULL));
-  PetscCall(PetscOptionsReal("-viscosity_alpha", "Linear coefficient alpha (alpha c h)", "README", p->visc_alpha, &p->visc_alpha, NULL));
+  if (help || strcmp(visc, "none")) {
+    PetscCall(PetscOptionsReal("-viscosity_alpha", "Linear coefficient alpha (alpha c h)", "README", p->visc_alpha, &p->visc_alpha, NULL));
+    PetscCall(PetscOptionsReal("-viscosity_beta", "Quadratic coefficient beta (beta h^2)", "README", p->visc_beta, &p->visc_beta, NULL));
+  }
   PetscCall(PetscOptionsReal("-closest_approach", "Reflect the radial relative velocity of approaching pairs nearer than this, after each step (0: off; PRE Sec. IV)", "README", p->closest_approach, &p->closest_approach, NULL));
-  PetscCall(PetscOptionsReal("-viscosity_beta", "Quadratic coefficient beta (beta h^2)", "README", p->visc_beta, &p->visc_beta, NULL));
   PetscOptionsEnd();
   PetscCall(Choice("-material", mat, SpamMaterialNames, 2, &k));
   p->material = (SpamMaterial)k;
@@ -75,8 +86,8 @@ PetscErrorCode SpamSolidOptions(SpamSolidParams *p)
   PetscCall(Positive("-viscosity_bulk", p->bulk_visc, PETSC_TRUE));
   PetscCall(Positive("-conductivity", p->conductivity, PETSC_TRUE));
   {
-    char val[64];
-    (void)snprintf(val, sizeof val, "%g", p->gamma);
+    char val[128];
+    PetscCall(SpamOptionText("-gas_gamma", p->gamma, val, sizeof val));
     if (!(p->gamma > 1.0) || !isfinite(p->gamma)) SPAM_BAD_INPUT("-gas_gamma", val, "must be greater than 1");
   }
   PetscCall(Positive("-viscosity_alpha", p->visc_alpha, PETSC_TRUE));

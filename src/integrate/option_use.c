@@ -1,0 +1,483 @@
+/* No option silently ignored. PETSc keeps every option given, used or not; at the end of
+ * set-up each one given must be used by this run: an option of spam-ark that applies to
+ * another method, scene or model is refused naming what it applies to, an unknown one
+ * with the nearest known name. Relevance is decided from the run itself (the method, the
+ * scene, the model's choices), not from whether a query happened, because PETSc's
+ * TSSetFromOptions reads generic -ts_* options (-ts_rtol, -ts_adapt_*) for every method. */
+#define _POSIX_C_SOURCE 200809L /* strtok_r */
+#include <spam/options.h>
+#include <strings.h>
+#include <spam/errors.h>
+#include <spam/integrator.h>
+
+/* What an option of spam-ark applies to. */
+typedef enum {
+  G_ALL, G_DT, G_ADAPTIVE, G_ARKODE, G_ARKODE_ADAPT, G_CVODE, G_TS, G_TS_ADAPT, G_RK, G_SSP, G_SYMP,
+  G_FILE, G_PERIODIC, G_ISENTROPE, G_EXPANSION, G_CHAIN, G_SPRING, G_ROTOR_MD, G_PLANEWAVE, G_ROTOR, G_ROTOR_PAIR, G_TENSILE,
+  G_SOLID, G_SOLID_GAS, G_SOLID_GAMMA, G_SOLID_ELASTIC, G_SOLID_VISC, G_SOLID_R2, G_SOLID_TORQUE, G_SOLID_CONT, G_ENTROPY
+} Group;
+
+typedef struct {
+  const char *name;  /* without the leading '-' */
+  PetscBool   value; /* takes a value (PETSC_FALSE: a boolean, alone means true) */
+  Group       group;
+} Known;
+
+/* Every option spam-ark reads, and the PETSc TS options it documents. */
+static const Known KnownOptions[] = {
+  {"dim", PETSC_TRUE, G_ALL}, {"h", PETSC_TRUE, G_ALL}, {"mass", PETSC_TRUE, G_ALL}, {"neighbour_skin", PETSC_TRUE, G_ALL},
+  {"threads", PETSC_TRUE, G_ALL}, {"scene", PETSC_TRUE, G_ALL}, {"scene_translate", PETSC_TRUE, G_ALL}, {"sort_particles", PETSC_FALSE, G_ALL},
+  {"ts_type", PETSC_TRUE, G_ALL}, {"ts_max_time", PETSC_TRUE, G_ALL}, {"ts_max_steps", PETSC_TRUE, G_ALL}, {"ts_max_reject", PETSC_TRUE, G_ALL},
+  {"unstable_dt_min", PETSC_TRUE, G_ALL}, {"unstable_energy_growth", PETSC_TRUE, G_ALL}, {"output_dir", PETSC_TRUE, G_ALL},
+  {"output_interval", PETSC_TRUE, G_ALL}, {"snapshot_interval", PETSC_TRUE, G_ALL}, {"snapshot_hdf5", PETSC_FALSE, G_ALL},
+  {"snapshot_csv", PETSC_FALSE, G_ALL}, {"monitor", PETSC_FALSE, G_ALL}, {"diag_entropy", PETSC_FALSE, G_ALL},
+  {"output_overwrite", PETSC_FALSE, G_ALL}, {"snapshot_max", PETSC_TRUE, G_ALL}, /* the run's own directory (output_options.c) */
+  {"initial_csv", PETSC_TRUE, G_ALL}, {"final_csv", PETSC_TRUE, G_ALL}, {"diag_grid_spacing", PETSC_TRUE, G_ENTROPY},
+  {"ts_dt", PETSC_TRUE, G_DT}, {"ts_rtol", PETSC_TRUE, G_ADAPTIVE}, {"ts_atol", PETSC_TRUE, G_ADAPTIVE},
+  {"arkode_classic_weights", PETSC_FALSE, G_ADAPTIVE}, {"step_cfl", PETSC_TRUE, G_ADAPTIVE}, {"step_force", PETSC_TRUE, G_ADAPTIVE},
+  {"arkode_table", PETSC_TRUE, G_ARKODE}, {"arkode_fixed_step", PETSC_TRUE, G_ARKODE}, {"arkode_adapt", PETSC_TRUE, G_ARKODE_ADAPT},
+  {"arkode_adapt_params", PETSC_TRUE, G_ARKODE_ADAPT}, {"arkode_safety", PETSC_TRUE, G_ARKODE_ADAPT},
+  {"arkode_max_growth", PETSC_TRUE, G_ARKODE_ADAPT}, {"arkode_max_first_growth", PETSC_TRUE, G_ARKODE_ADAPT},
+  {"arkode_max_efail_growth", PETSC_TRUE, G_ARKODE_ADAPT}, {"cvode_max_order", PETSC_TRUE, G_CVODE},
+  {"ts_adapt_type", PETSC_TRUE, G_TS}, {"ts_rk_type", PETSC_TRUE, G_RK}, {"ts_ssp_type", PETSC_TRUE, G_SSP},
+  {"ts_ssp_nstages", PETSC_TRUE, G_SSP}, {"ts_basicsymplectic_type", PETSC_TRUE, G_SYMP},
+  {"file_path", PETSC_TRUE, G_FILE}, {"box_lo", PETSC_TRUE, G_FILE}, {"box_len", PETSC_TRUE, G_FILE}, {"periodic", PETSC_TRUE, G_PERIODIC},
+  {"eos_gamma", PETSC_TRUE, G_ISENTROPE}, {"eos_kappa", PETSC_TRUE, G_ISENTROPE},
+  {"expansion_n", PETSC_TRUE, G_EXPANSION}, {"expansion_amplitude", PETSC_TRUE, G_EXPANSION}, {"expansion_seed", PETSC_TRUE, G_EXPANSION},
+  {"expansion_perturb_velocities", PETSC_FALSE, G_EXPANSION}, {"chain_n", PETSC_TRUE, G_CHAIN}, {"chain_amplitude", PETSC_TRUE, G_CHAIN},
+  {"spring_k", PETSC_TRUE, G_SPRING}, {"spring_range", PETSC_TRUE, G_ROTOR_MD}, {"planewave_nx", PETSC_TRUE, G_PLANEWAVE},
+  {"planewave_ny", PETSC_TRUE, G_PLANEWAVE}, {"planewave_mode", PETSC_TRUE, G_PLANEWAVE}, {"planewave_amplitude", PETSC_TRUE, G_PLANEWAVE},
+  {"rotor_n", PETSC_TRUE, G_ROTOR}, {"rotor_speed", PETSC_TRUE, G_ROTOR}, {"rotor_gap", PETSC_TRUE, G_ROTOR_PAIR},
+  {"tensile_nx", PETSC_TRUE, G_TENSILE}, {"tensile_ny", PETSC_TRUE, G_TENSILE}, {"tensile_stress", PETSC_TRUE, G_TENSILE}, {"tensile_kick", PETSC_TRUE, G_TENSILE},
+  {"material", PETSC_TRUE, G_SOLID}, {"density", PETSC_TRUE, G_SOLID}, {"density_mean", PETSC_TRUE, G_SOLID}, {"coordinates", PETSC_TRUE, G_SOLID},
+  {"angmom", PETSC_TRUE, G_SOLID}, {"viscosity", PETSC_TRUE, G_SOLID}, {"viscosity_shear", PETSC_TRUE, G_SOLID}, {"viscosity_bulk", PETSC_TRUE, G_SOLID},
+  {"conductivity", PETSC_TRUE, G_SOLID}, {"closest_approach", PETSC_TRUE, G_SOLID}, {"gas_e0", PETSC_TRUE, G_SOLID_GAS},
+  {"gas_gamma", PETSC_TRUE, G_SOLID_GAMMA}, {"solid_lambda", PETSC_TRUE, G_SOLID_ELASTIC}, {"solid_eta", PETSC_TRUE, G_SOLID_ELASTIC},
+  {"viscosity_alpha", PETSC_TRUE, G_SOLID_VISC}, {"viscosity_beta", PETSC_TRUE, G_SOLID_VISC}, {"xsph_eps", PETSC_TRUE, G_SOLID_R2},
+  {"angmom_scope", PETSC_TRUE, G_SOLID_TORQUE}, {"density_initial", PETSC_TRUE, G_SOLID_CONT},
+};
+#define NKNOWN ((int)(sizeof KnownOptions / sizeof KnownOptions[0]))
+
+/* PETSc's own run-time options, read by PetscInitialize or PetscFinalize rather than during
+ * set-up (so possibly not yet marked used), pass unchecked: logging and profiling (-log_*,
+ * -info), memory checks (-malloc*, -memory_view, -objects_dump, -checkstack), error and
+ * debugger handling (-on_error_*, -fp_trap, -no_signal_handler, -*debugger*), the options
+ * machinery itself (-options_*, -help, -skip_petscrc), MPI and viewers. */
+static const char *const PetscRuntime[] = {"log", "info", "malloc", "memory_view", "objects_dump", "checkstack", "on_error_", "fp_trap", "no_signal_handler", "debugger",
+                                           "start_in_debugger", "stop_for_debugger", "attach_debugger", "options_", "help", "skip_petscrc", "mpi", "viewer_", "error_output_", "history", "nox", "display", "saws", "check_pointer_intensity", "get_total_flops"};
+
+static const Known *Find(const char *name)
+{
+  for (int k = 0; k < NKNOWN; k++)
+    if (!strcasecmp(name, KnownOptions[k].name)) return &KnownOptions[k]; /* PETSc ignores case */
+  return NULL;
+}
+
+static PetscBool IsPetscRuntime(const char *name)
+{
+  for (size_t k = 0; k < sizeof PetscRuntime / sizeof PetscRuntime[0]; k++)
+    if (!strncmp(name, PetscRuntime[k], strlen(PetscRuntime[k]))) return PETSC_TRUE;
+  return PETSC_FALSE;
+}
+
+/* The options given, from PetscOptionsGetAll ("-name [value] ..."), which, unlike every
+ * query, leaves the used marks alone. names[i] has no '-'; values[i] is NULL for none. */
+typedef struct {
+  char  *all;
+  int    n;
+  char **names, **values;
+} Given;
+
+static PetscErrorCode GivenGet(Given *g)
+{
+  int ntok = 0;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(g, sizeof *g));
+  PetscCall(PetscOptionsGetAll(NULL, &g->all));
+  for (const char *p = g->all; *p; p++) ntok += *p == ' ';
+  PetscCall(PetscCalloc2(ntok + 2, &g->names, ntok + 2, &g->values));
+  for (char *save = NULL, *tok = strtok_r(g->all, " ", &save); tok; tok = strtok_r(NULL, " ", &save)) {
+    PetscBool key; /* PETSc's own rule: -name, not a negative number such as -5,-5 or -inf */
+    PetscCall(PetscOptionsValidKey(tok, &key));
+    if (key) g->names[g->n++] = tok + 1;
+    else if (g->n && !g->values[g->n - 1]) g->values[g->n - 1] = tok;
+  }
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode GivenFree(Given *g)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree2(g->names, g->values));
+  PetscCall(PetscFree(g->all));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamOptionsCheckValues(void)
+{
+  Given g;
+
+  PetscFunctionBeginUser;
+  PetscCall(GivenGet(&g));
+  for (int i = 0; i < g.n; i++) {
+    const Known *k = Find(g.names[i]);
+    if (!k || !k->value || g.values[i]) continue;
+    PetscCall(GivenFree(&g));
+    if (!strcmp(k->name, "h")) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "-h: missing value: -h is the kernel range, a number (e.g. -h 3); for the list of options use -help");
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "-%s: missing or empty value: give it after a space (-%s VALUE); spam-ark -help shows its default", k->name, k->name);
+  }
+  PetscCall(GivenFree(&g));
+  PetscFunctionReturn(0);
+}
+
+/* The run, as far as relevance goes. */
+typedef struct {
+  const char            *scene, *model;
+  const SpamSolidParams *solid; /* NULL unless the model is the tensor-path solid */
+  const SpamRunOptions  *o;
+  char                   type[32], adapt[32], method[160];
+  PetscBool              adaptive;
+} Run;
+
+static PetscErrorCode RunDescribe(const SpamSim *sim, const SpamRunOptions *o, TS ts, Run *r)
+{
+  TSType      type;
+  TSAdapt     adapt;
+  TSAdaptType atype;
+  const char *sub = NULL;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(r, sizeof *r));
+  r->scene = sim->scene.name;
+  r->model = sim->model.name;
+  r->o     = o;
+  if (!strcmp(r->model, "elastic") || !strcmp(r->model, "gas")) r->solid = &sim->model.solid;
+  PetscCall(TSGetType(ts, &type));
+  PetscCall(PetscStrncpy(r->type, type, sizeof r->type));
+  PetscCall(TSGetAdapt(ts, &adapt));
+  PetscCall(TSAdaptGetType(adapt, &atype));
+  PetscCall(PetscStrncpy(r->adapt, atype, sizeof r->adapt));
+  if (!strcmp(type, SPAM_TSARKODE)) r->adaptive = (PetscBool)!(o->fixed_step > 0);
+  else if (!strcmp(type, SPAM_TSCVODE)) r->adaptive = PETSC_TRUE;
+  else r->adaptive = (PetscBool)strcmp(atype, TSADAPTNONE);
+  if (!strcmp(type, TSRK)) PetscCall(TSRKGetType(ts, &sub));
+  if (!strcmp(type, TSSSP)) PetscCall(TSSSPGetType(ts, &sub));
+  if (!strcmp(type, TSBASICSYMPLECTIC)) PetscCall(TSBasicSymplecticGetType(ts, &sub));
+  if (sub) (void)snprintf(r->method, sizeof r->method, "-ts_type %s -ts_%s_type %s", type, type, sub);
+  else (void)snprintf(r->method, sizeof r->method, "-ts_type %s", type);
+  if (!strcmp(type, SPAM_TSARKODE) && o->fixed_step > 0) (void)snprintf(r->method + strlen(r->method), sizeof r->method - strlen(r->method), " -arkode_fixed_step %.17g", o->fixed_step);
+  PetscFunctionReturn(0);
+}
+
+static PetscBool SceneIs(const Run *r, const char *a, const char *b, const char *c)
+{
+  return (PetscBool)(!strcmp(r->scene, a) || (b && !strcmp(r->scene, b)) || (c && !strcmp(r->scene, c)));
+}
+
+/* The groups of the method and the outputs: whether g applies to run r (*known: g is one
+ * of them); if not, why[] says what it applies to. */
+static PetscBool RelevantMethod(Group g, const Run *r, char *why, size_t len, PetscBool *known)
+{
+  const PetscBool arkode = (PetscBool)!strcmp(r->type, SPAM_TSARKODE), cvode = (PetscBool)!strcmp(r->type, SPAM_TSCVODE);
+
+  *known = PETSC_TRUE;
+  switch (g) {
+  case G_ALL: return PETSC_TRUE;
+  case G_ENTROPY:
+    if (r->o->diag.entropy) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to the entropy estimates (this run: -diag_entropy false)");
+    return PETSC_FALSE;
+  case G_DT:
+    if (!(arkode && r->o->fixed_step > 0)) return PETSC_TRUE;
+    (void)snprintf(why, len, "the step of this run is -arkode_fixed_step %.17g", r->o->fixed_step);
+    return PETSC_FALSE;
+  case G_ADAPTIVE:
+    if (r->adaptive) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to adaptive steps (this run: %s%s takes fixed steps)", r->method, arkode || cvode ? "" : strcmp(r->adapt, TSADAPTNONE) ? "" : " -ts_adapt_type none");
+    return PETSC_FALSE;
+  case G_ARKODE:
+    if (arkode) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to -ts_type arkode (this run: %s)", r->method);
+    return PETSC_FALSE;
+  case G_ARKODE_ADAPT:
+    if (arkode && r->adaptive) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to -ts_type arkode with adaptive steps (this run: %s)", r->method);
+    return PETSC_FALSE;
+  case G_CVODE:
+    if (cvode) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to -ts_type cvode (this run: %s)", r->method);
+    return PETSC_FALSE;
+  case G_TS:
+    if (!arkode && !cvode) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to PETSc's methods rk, ssp, euler and basicsymplectic (this run: %s, which controls its own steps: see -%s)", r->method, arkode ? "arkode_adapt" : "ts_rtol");
+    return PETSC_FALSE;
+  case G_TS_ADAPT:
+    if (!arkode && !cvode && strcmp(r->adapt, TSADAPTNONE)) return PETSC_TRUE;
+    if (arkode || cvode) (void)snprintf(why, len, "PETSc's step adaptor applies to rk, ssp, euler and basicsymplectic (this run: %s, which controls its own steps)", r->method);
+    else (void)snprintf(why, len, "applies to an active step adaptor (this run: %s -ts_adapt_type none)", r->method);
+    return PETSC_FALSE;
+  case G_RK:
+    if (!strcmp(r->type, TSRK)) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to -ts_type rk (this run: %s)", r->method);
+    return PETSC_FALSE;
+  case G_SSP:
+    if (!strcmp(r->type, TSSSP)) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to -ts_type ssp (this run: %s)", r->method);
+    return PETSC_FALSE;
+  case G_SYMP:
+    if (!strcmp(r->type, TSBASICSYMPLECTIC)) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to -ts_type basicsymplectic (this run: %s)", r->method);
+    return PETSC_FALSE;
+  default: break;
+  }
+  *known = PETSC_FALSE;
+  return PETSC_TRUE;
+}
+
+/* The groups of the scenes and the isentrope, as RelevantMethod. */
+static PetscBool RelevantScene(Group g, const Run *r, char *why, size_t len, PetscBool *known)
+{
+  const char *sc = r->scene;
+
+  *known = PETSC_TRUE;
+  switch (g) {
+  case G_FILE:
+    if (SceneIs(r, "file", NULL, NULL)) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to -scene file (this run: -scene %s, which builds its own box)", sc);
+    return PETSC_FALSE;
+  case G_PERIODIC:
+    if (SceneIs(r, "file", "expansion", NULL)) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to -scene expansion and file (this run: -scene %s, which builds its own box)", sc);
+    return PETSC_FALSE;
+  case G_ISENTROPE:
+    if (!strcmp(r->model, "isentrope")) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to the isentropic gas of -scene expansion and file (this run: -scene %s, model %s)", sc, r->model);
+    return PETSC_FALSE;
+  case G_EXPANSION:
+    if (SceneIs(r, "expansion", NULL, NULL)) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to -scene expansion (this run: -scene %s)", sc);
+    return PETSC_FALSE;
+  case G_CHAIN:
+    if (SceneIs(r, "chain", NULL, NULL)) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to -scene chain (this run: -scene %s)", sc);
+    return PETSC_FALSE;
+  case G_SPRING:
+    if (SceneIs(r, "chain", "rotor-md", NULL)) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to -scene chain and rotor-md (this run: -scene %s)", sc);
+    return PETSC_FALSE;
+  case G_ROTOR_MD:
+    if (SceneIs(r, "rotor-md", NULL, NULL)) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to -scene rotor-md (this run: -scene %s)", sc);
+    return PETSC_FALSE;
+  case G_PLANEWAVE:
+    if (SceneIs(r, "planewave", NULL, NULL)) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to -scene planewave (this run: -scene %s)", sc);
+    return PETSC_FALSE;
+  case G_ROTOR:
+    if (SceneIs(r, "rotor", "rotor-pair", "rotor-md")) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to -scene rotor, rotor-pair and rotor-md (this run: -scene %s)", sc);
+    return PETSC_FALSE;
+  case G_ROTOR_PAIR:
+    if (SceneIs(r, "rotor-pair", NULL, NULL)) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to -scene rotor-pair (this run: -scene %s)", sc);
+    return PETSC_FALSE;
+  case G_TENSILE:
+    if (SceneIs(r, "tensile", NULL, NULL)) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to -scene tensile (this run: -scene %s)", sc);
+    return PETSC_FALSE;
+  default: break;
+  }
+  *known = PETSC_FALSE;
+  return PETSC_TRUE;
+}
+
+/* The groups of the tensor-path solid (planewave, rotor, rotor-pair, tensile). */
+static PetscBool RelevantSolid(Group g, const Run *r, char *why, size_t len)
+{
+  const SpamSolidParams *s = r->solid;
+
+  if (!s) {
+    (void)snprintf(why, len, "applies to the solids of -scene planewave, rotor, rotor-pair and tensile (this run: -scene %s, model %s)", r->scene, r->model);
+    return PETSC_FALSE;
+  }
+  switch (g) {
+  case G_SOLID: return PETSC_TRUE;
+  case G_SOLID_GAS:
+    if (s->material == SPAM_MATERIAL_GAS) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to -material gas (this run: -material %s)", SpamMaterialNames[s->material]);
+    return PETSC_FALSE;
+  case G_SOLID_GAMMA:
+    if (s->material == SPAM_MATERIAL_GAS || s->conductivity > 0) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to -material gas and to the temperature of -conductivity (this run: -material %s, -conductivity 0)", SpamMaterialNames[s->material]);
+    return PETSC_FALSE;
+  case G_SOLID_ELASTIC:
+    if (s->material == SPAM_MATERIAL_ELASTIC) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to -material elastic (this run: -material %s)", SpamMaterialNames[s->material]);
+    return PETSC_FALSE;
+  case G_SOLID_VISC:
+    if (s->viscosity != SPAM_VISCOSITY_NONE) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to -viscosity monaghan and vonneumann (this run: -viscosity none)");
+    return PETSC_FALSE;
+  case G_SOLID_R2:
+    if (s->coords == SPAM_COORDS_R2) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to -coordinates R2 (this run: -coordinates %s)", SpamCoordsModeNames[s->coords]);
+    return PETSC_FALSE;
+  case G_SOLID_TORQUE:
+    if (s->angmom == SPAM_ANGMOM_TI || s->angmom == SPAM_ANGMOM_TIJ) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to -angmom Ti and Tij (this run: -angmom %s)", SpamAngmomModeNames[s->angmom]);
+    return PETSC_FALSE;
+  case G_SOLID_CONT:
+    if (s->density != SPAM_DENSITY_SUMMATION) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to -density continuity and chain-rule (this run: -density summation)");
+    return PETSC_FALSE;
+  default: return PETSC_TRUE;
+  }
+}
+
+/* Whether group g applies to run r; if not, why[] says what it applies to. */
+static PetscBool Relevant(Group g, const Run *r, char *why, size_t len)
+{
+  PetscBool known, yes = RelevantMethod(g, r, why, len, &known);
+
+  if (known) return yes;
+  yes = RelevantScene(g, r, why, len, &known);
+  if (known) return yes;
+  return RelevantSolid(g, r, why, len);
+}
+
+/* Levenshtein distance of two short names (longer names are cut at 63 bytes). */
+static int Distance(const char *a, const char *b)
+{
+  int       row[64];
+  const int la = (int)PetscMin(strlen(a), 63), lb = (int)PetscMin(strlen(b), 63);
+
+  for (int j = 0; j <= lb; j++) row[j] = j;
+  for (int i = 1; i <= la; i++) {
+    int diag = row[0];
+    row[0]   = i;
+    for (int j = 1; j <= lb; j++) {
+      const int up = row[j], best = PetscMin(PetscMin(row[j] + 1, row[j - 1] + 1), diag + (a[i - 1] != b[j - 1]));
+      diag   = up;
+      row[j] = best;
+    }
+  }
+  return row[lb];
+}
+
+/* The known name nearest to name, if near enough to be a misspelling of it. */
+static const char *Nearest(const char *name)
+{
+  const char *best = NULL;
+  int         dbest = 1 << 30;
+
+  for (int k = 0; k < NKNOWN; k++) {
+    const int d = Distance(name, KnownOptions[k].name);
+    if (d < dbest) {
+      dbest = d;
+      best  = KnownOptions[k].name;
+    }
+  }
+  /* Near: at most 2 edits (a quarter of a long name), and fewer than half the name. */
+  return dbest <= PetscMax(2, (int)strlen(name) / 4) && dbest < (int)strlen(name) / 2 + 1 ? best : NULL;
+}
+
+static PetscErrorCode RefuseUnknown(const char *name, const char *value)
+{
+  char        shown[100], hint[200] = "", base[128];
+  const char *eq = strchr(name, '='), *near;
+
+  PetscFunctionBeginUser;
+  SpamClip(name, shown, sizeof shown);
+  if (eq) {
+    (void)snprintf(base, sizeof base, "%.*s", (int)PetscMin(eq - name, 100), name);
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "-%s: unknown option: PETSc options take their value after a space, not '=': write -%s %s", shown, base, eq + 1);
+  }
+  near = Nearest(name);
+  if (near) (void)snprintf(hint, sizeof hint, " (did you mean -%s?)", near);
+  else (void)snprintf(hint, sizeof hint, " (spam-ark -help lists every option)");
+  if (value) {
+    char v[100];
+    SpamClip(value, v, sizeof v);
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "unknown option -%s = '%s'%s", shown, v, hint);
+  }
+  SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "unknown option -%s%s", shown, hint);
+}
+
+/* Whether name is among the options PETSc left unused. */
+static PetscBool Unused(const char *name, PetscInt n, char **left)
+{
+  for (PetscInt i = 0; i < n; i++)
+    if (!strcasecmp(name, left[i])) return PETSC_TRUE;
+  return PETSC_FALSE;
+}
+
+/* Whether -name was given on the command line (else it came from an options file, the
+ * PETSC_OPTIONS variable or a .petscrc). */
+static PetscErrorCode OnCommandLine(const char *name, PetscBool *yes)
+{
+  int    argc;
+  char **args;
+
+  PetscFunctionBeginUser;
+  *yes = PETSC_FALSE;
+  PetscCall(PetscGetArgs(&argc, &args));
+  for (int i = 1; i < argc; i++)
+    if (args[i][0] == '-' && (!strcasecmp(args[i] + 1, name) || (args[i][1] == '-' && !strcasecmp(args[i] + 2, name)))) *yes = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
+/* An option this run does not use: refused when the user typed it; a note when it came
+ * from an options file, whose presets (say -ts_rtol in planewave.opts) are meant for the
+ * file's own method or choices and may be overridden on the command line. */
+static PetscErrorCode NotUsed(const char *name, const char *value, const char *why)
+{
+  char      v[100], raw[600], text[700];
+  PetscBool typed;
+
+  PetscFunctionBeginUser;
+  SpamClip(value ? value : "true", v, sizeof v);
+  PetscCall(OnCommandLine(name, &typed));
+  if (typed) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "-%s = '%s': not used: %s", name, v, why);
+  (void)snprintf(raw, sizeof raw, "-%s = '%s' (from an options file): not used: %s", name, v, why);
+  SpamEscape(raw, text, sizeof text);
+  PetscCall(PetscFPrintf(PETSC_COMM_WORLD, stderr, "spam-ark: note: %s\n", text));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode CheckOne(const char *name, const char *value, const Run *r, PetscInt nleft, char **left)
+{
+  const Known *k = Find(name);
+  char         why[320];
+
+  PetscFunctionBeginUser;
+  if (k) {
+    if (!Relevant(k->group, r, why, sizeof why)) PetscCall(NotUsed(name, value, why));
+    else if (Unused(name, nleft, left)) PetscCall(NotUsed(name, value, "not read by this scene, model or method"));
+    PetscFunctionReturn(0);
+  }
+  if (IsPetscRuntime(name)) PetscFunctionReturn(0);
+  /* PETSc's step adaptor reads -ts_adapt_* for every method, used or not. */
+  if (!strncmp(name, "ts_adapt_", 9) && !Relevant(G_TS_ADAPT, r, why, sizeof why)) PetscCall(NotUsed(name, value, why));
+  else if (Unused(name, nleft, left)) PetscCall(RefuseUnknown(name, value));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamOptionsCheckUse(const SpamSim *sim, const SpamRunOptions *o, TS ts)
+{
+  Given          g;
+  Run            r;
+  PetscInt       nleft;
+  PetscErrorCode ierr = 0;
+  char   **left, **lvalues;
+
+  PetscFunctionBeginUser;
+  PetscCall(RunDescribe(sim, o, ts, &r));
+  PetscCall(PetscOptionsLeftGet(NULL, &nleft, &left, &lvalues));
+  PetscCall(GivenGet(&g));
+  for (int i = 0; i < g.n && !ierr; i++) ierr = CheckOne(g.names[i], g.values[i], &r, nleft, left);
+  PetscCall(GivenFree(&g));
+  PetscCall(PetscOptionsLeftRestore(NULL, &nleft, &left, &lvalues));
+  PetscCall(ierr); /* the refusal, reported once already, after the clean-up */
+  PetscFunctionReturn(0);
+}
