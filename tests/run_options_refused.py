@@ -66,7 +66,7 @@ cases = [
     ("end time 1e-300", ["-ts_max_time", "1e-300"], ["-ts_max_time", "'1e-300'", "too small"]),
     ("output interval 1e-300", ["-output_interval", "1e-300"], ["-output_interval", "'1e-300'", "rows", "at most 1000000"]),
     ("output interval past 10^6 rows", ["-output_interval", "1e-5"], ["-output_interval", "'1e-5'", "rows"]),
-    ("snapshot interval past 10000", ["-snapshot_interval", "0.001"], ["-snapshot_interval", "'0.001'", "snapshots", "at most 10000"]),
+    ("snapshot interval past -snapshot_max", ["-snapshot_interval", "0.001"], ["-snapshot_interval", "'0.001'", "snapshots", "-snapshot_max = 10000"]),
     ("CFL fraction 1e-300", ["-step_cfl", "1e-300"], ["-step_cfl", "'1e-300'", "too small"]),
     ("fixed step below the floor", ["-arkode_fixed_step", "1e-20"], ["-arkode_fixed_step", "'1e-20'", "step floor"]),
     ("TS fixed step below the floor", ["-ts_type", "euler", "-ts_dt", "1e-20"], ["-ts_dt", "'1e-20'", "step floor"]),

@@ -9,10 +9,10 @@ static const char *const ArkodeTables[] = {
   "ARKODE_DORMAND_PRINCE_7_4_5", "ARKODE_ARK548L2SA_ERK_8_4_5", "ARKODE_VERNER_8_5_6", "ARKODE_FEHLBERG_13_7_8", "ARKODE_KNOTH_WOLKE_3_3", "ARKODE_ARK437L2SA_ERK_7_3_4", "ARKODE_ARK548L2SAb_ERK_8_4_5"};
 static const char *const ArkodeAdapt[] = {"pid", "pi", "i", "expgus", "impgus"};
 
-/* Caps on what one run may write: the count of rows and snapshots follows from the end time
- * and the intervals, so a tiny interval is refused before anything is written. */
+/* Cap on what one run may write: the count of rows follows from the end time and the
+ * interval, so a tiny interval is refused before anything is written. (The snapshot count
+ * is capped by -snapshot_max, in output_options.c.) */
 #define MAX_OUTPUT_ROWS 1000000.0
-#define MAX_SNAPSHOTS   10000.0
 /* The entropy grid integral samples every cell at every output row. */
 #define MAX_GRID_CELLS 1e8
 /* A step bound below this fraction of its time scale would need over a million steps per
@@ -86,7 +86,6 @@ static PetscErrorCode CheckTimes(const SpamRunOptions *o)
   PetscCall(CheckRange("-output_interval", o->output_interval, 0.0, PETSC_FALSE, "must be zero or positive"));
   PetscCall(CheckRange("-snapshot_interval", o->snapshot_interval, 0.0, PETSC_FALSE, "must be zero or positive"));
   PetscCall(CheckCount("-output_interval", o->output_interval, o->t_end, MAX_OUTPUT_ROWS, "diagnostics rows"));
-  PetscCall(CheckCount("-snapshot_interval", o->snapshot_interval, o->t_end, MAX_SNAPSHOTS, "snapshots"));
   PetscFunctionReturn(0);
 }
 
