@@ -17,7 +17,12 @@ The corpus (see tests/fuzz/cases.txt for the curated part):
   options  every option printed by `spam-ark -help` (lines ending "(README)") with each value of
            HOSTILE and with no value, in a tiny run of a scene that reads it. Expected: 2, except
            the values listed as valid in OPTION_TABLE (0, or a set where the outcome is not
-           determined by the input alone: a physical run may also go unstable, exit 3);
+           determined by the input alone: a physical run may also go unstable, exit 3). The
+           rule: nan, inf, -inf, text, 7 values, 5000 digits, control bytes and an empty or
+           missing value are bad input for every number; a count (int) refuses also -1 and 0
+           where it must be positive, and fractions, 1e300 and 2147483648 (beyond PetscInt);
+           a flag accepts 0, an empty and a missing value (true); a path accepts any name but
+           the empty one (5000 bytes: exit 1 or 2); "0 means off/default" values run;
   files    mutations of a good 8x8 CSV (fixed seed): hostile fields, structure, bytes; the
            expected code comes from a strict reference reader (reference_expect); cases it
            cannot decide accept 0 or 2 and are counted as "open".
@@ -243,7 +248,7 @@ OPTION_TABLE = {
     "-step_force": ("E", real(zero=O0, big=O02, i31=O02)),
     "-unstable_dt_min": ("E", real(zero=O0, tiny=O0, big=O023, i31=O023)),
     "-unstable_energy_growth": ("E", real(zero=O0, tiny=O23, big=O0, i31=O0)),
-    "-arkode_fixed_step": ("E", real(zero=O0, big=O023, i31=O023)),
+    "-arkode_fixed_step": ("E", real(zero=O0, tiny=O02, big=O023, i31=O023)),
     "-arkode_safety": ("E", real(zero=O0, tiny=O023, big=O023, i31=O023)),
     "-arkode_max_growth": ("E", real(zero=O0, tiny=O023, big=O023, i31=O023)),
     "-arkode_max_first_growth": ("E", real(zero=O0, tiny=O023, big=O023, i31=O023)),
