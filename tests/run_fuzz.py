@@ -10,7 +10,8 @@ hold these invariants:
   - exit 2: exactly one line on stderr, starting "spam-ark: error: " (for an option case it
     names the option), and nothing written: the case directory is still empty;
   - exit 1: exactly one line on stderr;
-  - exit 0 of a run: out/summary.json is strict JSON (no NaN/Infinity) with status "ok";
+  - exit 0 of a run: out/summary.json is strict JSON (no NaN/Infinity) with status "ok" (or
+    "max_steps": exit 0 covers a run stopped by -ts_max_steps);
     exit 0 of -help/-version: nothing written; exit 3: summary.json strict, status "unstable".
 The corpus (see tests/fuzz/cases.txt for the curated part):
   curated  the inputs named in issue 13 (points 1, 5, 6, 7, 8) with their codes;
@@ -26,7 +27,7 @@ The corpus (see tests/fuzz/cases.txt for the curated part):
   files    mutations of a good 8x8 CSV (fixed seed): hostile fields, structure, bytes; the
            expected code comes from a strict reference reader (reference_expect); cases it
            cannot decide accept 0 or 2 and are counted as "open".
-SPAM_FUZZ_STRIDE=k (tools/sanitize.sh: 2) runs every curated case and every k-th generated one.
+SPAM_FUZZ_STRIDE=k (tools/sanitize.sh: 4) runs every curated case and every k-th generated one.
 """
 import concurrent.futures
 import json

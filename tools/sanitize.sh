@@ -4,7 +4,8 @@
 # the run: reports are fatal (halt_on_error, no UB recovery) and change the exit code to 86,
 # which no test expects; the fuzz test also scans stderr. Leaks inside OpenMPI's initialisation
 # are suppressed by tests/lsan.supp (by library), leak checking stays on for everything else.
-# Run after the normal build and tests (README's test command); about 12 minutes on 2 cores.
+# Run after the normal build and tests (README's test command); about 7 minutes on 2 cores
+# (build 0.5 min, fast tests 2.5 min, fuzz corpus 4 min).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 root=$PWD
