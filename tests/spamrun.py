@@ -44,6 +44,10 @@ def run(binary, args, outdir=None, timeout=600):
     if outdir is not None:
         cmd += ["-output_dir", outdir]
     p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
+    # Under tools/sanitize.sh a report also sets exit code 86; this catches it where a test
+    # accepts any code.
+    if any(s in p.stderr for s in ("ERROR: AddressSanitizer", "LeakSanitizer", "runtime error:")):
+        sys.exit(f"sanitizer report from {' '.join(cmd)}:\n{p.stderr}")
     return p.returncode, p.stdout, p.stderr
 
 

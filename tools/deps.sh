@@ -4,6 +4,8 @@ set -euo pipefail
 export DEBIAN_FRONTEND=noninteractive
 packages=(build-essential cmake pkg-config libsundials-dev petsc-dev libhdf5-openmpi-dev hdf5-tools
           python3 python3-matplotlib python3-numpy)
+# gcc's sanitizer runtimes for tools/sanitize.sh (libasan8, libubsan1) come with gcc-12
+# (libgcc-12-dev depends on them): nothing more to install.
 # The benchmark's peer; only with --bench (it is large and no test needs it).
 if [[ "${1:-}" == "--bench" ]]; then packages+=(lammps time); fi
 missing=()

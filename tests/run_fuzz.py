@@ -1,0 +1,591 @@
+"""Fuzz corpus: hostile option values and particle files, each with its expected exit code.
+
+Every case runs spam-ark in an empty directory of its own (-output_dir out, relative) and must
+hold these invariants:
+  - no crash: no signal, no exit code outside 0, 1, 2, 3, no sanitizer report on stderr
+    ("runtime error:", "ERROR: AddressSanitizer", "LeakSanitizer"; tools/sanitize.sh also makes
+    every report exit 86);
+  - no hang: done within TIMEOUT seconds;
+  - the exit code is one of the case's expected codes;
+  - exit 2: exactly one line on stderr, starting "spam-ark: error: " (for an option case it
+    names the option), and nothing written: the case directory is still empty;
+  - exit 1: exactly one line on stderr;
+  - exit 0 of a run: out/summary.json is strict JSON (no NaN/Infinity) with status "ok" (or
+    "max_steps": exit 0 covers a run stopped by -ts_max_steps);
+    exit 0 of -help/-version: nothing written; exit 3: summary.json strict, status "unstable".
+The corpus (see tests/fuzz/cases.txt for the curated part):
+  curated  the inputs named in issue 13 (points 1, 5, 6, 7, 8) with their codes;
+  options  every option printed by `spam-ark -help` (lines ending "(README)") with each value of
+           HOSTILE and with no value, in a tiny run of a scene that reads it. Expected: 2, except
+           the values listed as valid in OPTION_TABLE (0, or a set where the outcome is not
+           determined by the input alone: a physical run may also go unstable, exit 3). The
+           rule: nan, inf, -inf, text, 7 values, 5000 digits, control bytes and an empty or
+           missing value are bad input for every number; a count (int) refuses also -1 and 0
+           where it must be positive, and fractions, 1e300 and 2147483648 (beyond PetscInt);
+           a flag accepts 0, an empty and a missing value (true); a path accepts any name but
+           the empty one (5000 bytes: exit 1 or 2); "0 means off/default" values run;
+  files    mutations of a good 8x8 CSV (fixed seed): hostile fields, structure, bytes; the
+           expected code comes from a strict reference reader (reference_expect); cases it
+           cannot decide accept 0 or 2 and are counted as "open".
+SPAM_FUZZ_STRIDE=k (tools/sanitize.sh: 4) runs every curated case and every k-th generated one.
+"""
+import concurrent.futures
+import json
+import os
+import random
+import re
+import shutil
+import subprocess
+import sys
+import time
+from spamrun import Checks, arguments
+
+a = arguments()
+c = Checks()
+w = os.path.abspath(a.workdir)
+SPAM = os.path.abspath(a.spam_ark)
+HERE = os.path.dirname(os.path.abspath(__file__))
+TIMEOUT = 20
+JOBS = 2
+STRIDE = max(1, int(os.environ.get("SPAM_FUZZ_STRIDE", "1")))
+ENV = dict(os.environ)
+# OpenMPI's singleton start without its PMIx server: 0.1 s instead of 0.3-0.6 s per start.
+ENV.setdefault("OMPI_MCA_ess_singleton_isolated", "1")
+# Address space of one case (normal build): a reader that grows a buffer without bound on
+# /dev/zero fails instead of taking the machine's memory. Not under ASan (its shadow memory
+# is terabytes of address space).
+LIMIT = [] if "ASAN_OPTIONS" in os.environ else [b"/bin/sh", b"-c", b'ulimit -v 4194304 && exec "$0" "$@"']
+SANITIZER = ("runtime error:", "ERROR: AddressSanitizer", "LeakSanitizer", "ERROR: UndefinedBehaviorSanitizer")
+FILES = os.path.join(w, "files")
+os.makedirs(FILES)
+
+# ---------------------------------------------------------------- tiny runs (contexts) ----
+TINY = [("-ts_max_time", "0.5"), ("-ts_max_steps", "200"), ("-snapshot_interval", "0"), ("-output_interval", "0.25")]
+GOOD_ROWS = [(i + 0.5, j + 0.5, 0.0, 0.0) for j in range(8) for i in range(8)]
+
+
+def fpath(name, data):
+    """Writes bytes to a file of the corpus (outside every case directory); returns its path."""
+    p = os.path.join(FILES, name)
+    with open(p, "wb") as f:
+        f.write(data)
+    return p
+
+
+def csv_bytes(rows, header="x,y,vx,vy"):
+    return (header + "\n" + "".join(",".join(repr(float(v)) if isinstance(v, float) else str(v) for v in r) + "\n" for r in rows)).encode()
+
+
+GOOD = csv_bytes(GOOD_ROWS)
+GOOD_PATH = fpath("good.csv", GOOD)
+CONTEXTS = {
+    "E": [("-expansion_n", "4"), ("-h", "1.5")] + TINY,
+    "F": [("-scene", "file"), ("-file_path", GOOD_PATH), ("-box_len", "8,8"), ("-h", "1.5")] + TINY,
+    "C": [("-scene", "chain"), ("-dim", "1"), ("-chain_n", "8")] + TINY,
+    "P": [("-scene", "planewave"), ("-planewave_nx", "6"), ("-planewave_ny", "8")] + TINY,
+    "PG": [("-scene", "planewave"), ("-planewave_nx", "6"), ("-planewave_ny", "8"), ("-material", "gas")] + TINY,
+    "PR2": [("-scene", "planewave"), ("-planewave_nx", "6"), ("-planewave_ny", "8"), ("-coordinates", "R2")] + TINY,
+    "PAV": [("-scene", "planewave"), ("-planewave_nx", "6"), ("-planewave_ny", "8"), ("-viscosity", "monaghan")] + TINY,
+    "PTI": [("-scene", "planewave"), ("-planewave_nx", "6"), ("-planewave_ny", "8"), ("-angmom", "Ti")] + TINY,
+    "R": [("-scene", "rotor"), ("-rotor_n", "1")] + TINY,
+    "RP": [("-scene", "rotor-pair"), ("-rotor_n", "1")] + TINY,
+    "RM": [("-scene", "rotor-md"), ("-rotor_n", "1")] + TINY,
+    "T": [("-scene", "tensile"), ("-tensile_nx", "6"), ("-tensile_ny", "8")] + TINY,
+    "CV": [("-expansion_n", "4"), ("-h", "1.5"), ("-ts_type", "cvode")] + TINY,
+    "RK": [("-expansion_n", "4"), ("-h", "1.5"), ("-ts_type", "rk")] + TINY,
+    "BS": [("-expansion_n", "4"), ("-h", "1.5"), ("-ts_type", "basicsymplectic")] + TINY,
+}
+
+
+def argv(context, extra):
+    """The context's options, those named in extra replaced; extra = [(option, value or None)];
+    a None value (the option given without a value) goes last so that nothing follows it."""
+    named = {o for o, _ in extra}
+    out = [x for o, v in CONTEXTS[context] if o not in named for x in (o, v)]
+    out += [x for o, v in extra if v is not None for x in (o, v)]
+    out += [o for o, v in extra if v is None]
+    return out
+
+
+class Case:
+    def __init__(self, category, name, args, expect, option=None, outdir="out", run=True):
+        self.category, self.name, self.args = category, name, args
+        self.expect = set(expect)
+        self.option = option      # an option case: its refusal must name the option
+        self.outdir = outdir      # where summary.json is expected (relative to the case directory)
+        self.run = run            # False: -help/-version, exit 0 writes nothing
+
+
+cases = []
+
+# ----------------------------------------------------------------------- curated (i) ------
+# tests/fuzz/cases.txt: "<expected codes> | <context> | <arguments>"; @name stands for a corpus
+# file built below (CURATED_FILES), @good for the good 8x8 CSV.
+LONG_LINE = b"x,y,vx,vy\n" + b"0.5" + b"0" * 5000 + b",0.5,0,0\n" + GOOD.split(b"\n", 1)[1]
+CURATED_FILES = {
+    "good": GOOD,
+    "bad_number": b"x,y,vx,vy\n1,2,0,0\n1,two,0,0\n",
+    "space_field": b"x,y,vx,vy\n0.5,0.5,0,0\n1.5, ,0,0\n",
+    "tab_field": b"x,y,vx,vy\n0.5,0.5,0,0\n1.5,\t,0,0\n",
+    "empty_field": b"x,y,vx,vy\n0.5,0.5,0,0\n1.5,,0,0\n",
+    "long_line": LONG_LINE,
+    "long_line_4096": b"x,y,vx,vy\n" + b"0.5" + b"0" * 4093 + b",0.5,0,0\n",
+    "long_comment": b"x,y,vx,vy\n# " + b"c" * 4100 + b"1.5,2.5,0,0\n" + GOOD.split(b"\n", 1)[1],
+    "nul_in_field": b"x,y,vx,vy\n0.5,0.5,0,0\n1.\x005,2.5,0,0\n",
+    "nul_line_start": b"x,y,vx,vy\n0.5,0.5,0,0\n\x001.5,2.5,0,0\n",
+    "nul_after_row": b"x,y,vx,vy\n0.5,0.5,0,0\x00\n1.5,2.5,0,0\n",
+    "outside_high": csv_bytes(GOOD_ROWS[:-1] + [(9.5, 7.5, 0.0, 0.0)]),
+    "outside_low": csv_bytes([(-0.5, 0.5, 0.0, 0.0)] + GOOD_ROWS[1:]),
+    "outside_64": csv_bytes([(70.0, 0.5, 0.0, 0.0)] + GOOD_ROWS[1:]),
+    "coord_1e15": csv_bytes([(1e15, 0.5, 0.0, 0.0)] + GOOD_ROWS[1:]),
+    "coord_m1e15": csv_bytes([(-1e15, 0.5, 0.0, 0.0)] + GOOD_ROWS[1:]),
+    "binary_field": b"x,y,vx,vy\n0.5,0.5,0,0\n\x01\xff,2.5,0,0\n",
+    "unequal_mass": b"x,y,vx,vy,m\n1,2,0,0,1\n3,2,0,0,2\n",
+    "header_only": b"x,y,vx,vy\n",
+    "empty": b"",
+    "options_garbage": b"garbage here\n",
+    "options_binary": b"\xff\xfe-\x01h\n",
+    "subnormal_position": csv_bytes([(4.9e-324, 0.5, 0.0, 0.0)] + GOOD_ROWS[1:]),
+}
+CURATED_PATHS = {k: fpath("curated_" + k, v) for k, v in CURATED_FILES.items()}
+FIFO = os.path.join(FILES, "fifo.csv")
+os.mkfifo(FIFO)
+CURATED_PATHS.update(fifo=FIFO, dir=FILES, missing=os.path.join(FILES, "missing.csv"), devnull="/dev/null", devzero="/dev/zero")
+
+
+def curated():
+    path = os.path.join(HERE, "fuzz", "cases.txt")
+    for n, line in enumerate(open(path, encoding="utf-8")):
+        line = line.strip()
+        if not line or line.startswith("#"):
+            continue
+        parts = [s.strip() for s in line.split("|")]
+        codes, context, rest = parts[:3]
+        needle = parts[3] if len(parts) > 3 else None
+        words = [CURATED_PATHS[x[1:]] if x.startswith("@") else x for x in rest.split()]
+        run = not any(x in ("-help", "--help", "-version", "--version") for x in words)
+        pairs, k = [], 0
+        while k < len(words):
+            if k + 1 < len(words) and not re.match(r"^-+[A-Za-z]", words[k + 1]):
+                pairs.append((words[k], words[k + 1]))
+                k += 2
+            else:
+                pairs.append((words[k], None))
+                k += 1
+        if context == "-":
+            args = [x for o, v in pairs for x in ((o,) if v is None else (o, v))]
+        else:
+            args = argv(context, pairs)
+        outdir = next((v for o, v in pairs if o == "-output_dir"), "out")
+        if run and not any(o == "-output_dir" for o, _ in pairs):
+            args += ["-output_dir", "out"]
+        cases.append(Case("curated", f"cases.txt:{n + 1} [{context}] {rest}", args,
+                          {int(x) for x in codes.split(",")}, needle, outdir, run))
+
+
+curated()
+
+# ---------------------------------------------------------------------- options (ii) ------
+HOSTILE = ["nan", "inf", "-inf", "-1", "0", "1e-300", "4.9e-324", "1e300", "2147483648", "", "abc",
+           "1,2,3,4,5,6,7", "9" * 5000, b"\x01\xff"]
+HNAME = {"9" * 5000: "9x5000", b"\x01\xff": "\\x01\\xff", "": "''"}
+BOOL = {"0": {0}, "": {0}, None: {0}}          # a flag without a value is true
+PATH = {v: {0} for v in HOSTILE if v not in ("", "9" * 5000)}    # "-inf" is a name too
+PATH.update({"9" * 5000: {1, 2}})               # a 5000-byte name: ENAMETOOLONG
+O023, O02, O0, O03, O23 = {0, 2, 3}, {0, 2}, {0}, {0, 3}, {2, 3}
+
+
+def real(m1=None, zero=None, tiny=None, big=None, i31=None):
+    """Valid codes of a real option's numeric values (None: refused, exit 2)."""
+    t = {"-1": m1, "0": zero, "1e-300": tiny, "4.9e-324": tiny, "1e300": big, "2147483648": i31}
+    return {k: v for k, v in t.items() if v is not None}
+
+
+# option -> (context, {value: expected codes}); values not listed: exit 2.
+OPTION_TABLE = {
+    "-dim": ("E", {}), "-threads": ("E", {}), "-expansion_n": ("E", {}), "-chain_n": ("C", {}),
+    "-planewave_nx": ("P", {}), "-planewave_ny": ("P", {}), "-tensile_nx": ("T", {}), "-tensile_ny": ("T", {}),
+    "-cvode_max_order": ("CV", {}), "-rotor_n": ("R", {"0": O02}),
+    "-expansion_seed": ("E", {"-1": O02, "0": O0}),
+    "-ts_max_steps": ("E", {"0": O02}),
+    "-h": ("E", {}),
+    "-mass": ("E", real(tiny=O02, big=O23, i31=O023)),
+    "-neighbour_skin": ("E", real(zero=O02, tiny=O02)),
+    "-eos_gamma": ("E", real(big=O23, i31=O023)),
+    "-eos_kappa": ("E", real(tiny=O02, big=O23, i31=O023)),
+    "-scene_translate": ("E", real(m1=O0, zero=O0, tiny=O0, i31=O02)),
+    "-expansion_amplitude": ("E", real(m1=O02, zero=O0, tiny=O0)),
+    "-box_lo": ("F", real(zero=O0, tiny=O0)),
+    "-box_len": ("F", real(i31=O02)),
+    "-periodic": ("F", {"0": O0}),
+    "-file_path": ("F", {}),
+    "-chain_amplitude": ("C", real(m1=O02, zero=O0, tiny=O0, big=O23, i31=O023)),
+    "-spring_k": ("C", real(zero=O02, tiny=O02, big=O23, i31=O023)),
+    "-planewave_amplitude": ("P", real(m1=O023, zero=O0, tiny=O0, big=O23, i31=O023)),
+    "-planewave_mode": ("P", {}), "-material": ("P", {}), "-density": ("P", {}), "-density_initial": ("P", {}),
+    "-density_mean": ("P", {}), "-coordinates": ("P", {}), "-angmom": ("P", {}), "-angmom_scope": ("PTI", {}),
+    "-viscosity": ("P", {}), "-scene": ("E", {}), "-arkode_table": ("E", {}), "-arkode_adapt": ("E", {}),
+    "-gas_gamma": ("PG", real(big=O23, i31=O023)),
+    "-gas_e0": ("PG", real(zero=O02, tiny=O02, big=O23, i31=O023)),
+    "-viscosity_shear": ("PG", real(zero=O0, tiny=O0, big=O23, i31=O023)),
+    "-viscosity_bulk": ("PG", real(zero=O0, tiny=O0, big=O23, i31=O023)),
+    "-conductivity": ("PG", real(zero=O0, tiny=O0, big=O23, i31=O023)),
+    "-solid_lambda": ("P", real(m1=O023, zero=O02, tiny=O02, big=O23, i31=O023)),
+    "-solid_eta": ("P", real(zero=O02, tiny=O02, big=O23, i31=O023)),
+    "-xsph_eps": ("PR2", real(zero=O0, tiny=O0, big=O23, i31=O023)),
+    "-viscosity_alpha": ("PAV", real(zero=O0, tiny=O0, big=O23, i31=O023)),
+    "-viscosity_beta": ("PAV", real(zero=O0, tiny=O0, big=O23, i31=O023)),
+    "-closest_approach": ("P", real(zero=O0, tiny=O0, big=O02, i31=O02)),
+    "-rotor_speed": ("R", real(m1=O02, zero=O02, tiny=O0, big=O23, i31=O023)),
+    "-rotor_gap": ("RP", real(big=O02, i31=O02)),
+    "-spring_range": ("RM", real(zero=O02, tiny=O02, big=O02, i31=O02)),
+    "-tensile_stress": ("T", real(m1=O03, zero=O0, tiny=O0, big=O23, i31=O023)),
+    "-tensile_kick": ("T", real(m1=O03, zero=O0, tiny=O0, big=O23, i31=O023)),
+    "-ts_max_time": ("E", real(big=O02, i31=O02)),
+    "-ts_dt": ("E", real(zero=O0, tiny=O023, big=O02, i31=O02)),
+    "-ts_rtol": ("E", real(tiny=O023, big=O02, i31=O02)),
+    "-ts_atol": ("E", real(zero=O02, tiny=O023, big=O02, i31=O02)),
+    "-step_cfl": ("E", real(zero=O0, big=O02, i31=O02)),
+    "-step_force": ("E", real(zero=O0, big=O02, i31=O02)),
+    "-unstable_dt_min": ("E", real(zero=O0, tiny=O0, big=O023, i31=O023)),
+    "-unstable_energy_growth": ("E", real(zero=O0, tiny=O23, big=O0, i31=O0)),
+    "-arkode_fixed_step": ("E", real(zero=O0, tiny=O02, big=O023, i31=O023)),
+    "-arkode_safety": ("E", real(zero=O0, tiny=O023, big=O023, i31=O023)),
+    "-arkode_max_growth": ("E", real(zero=O0, tiny=O023, big=O023, i31=O023)),
+    "-arkode_max_first_growth": ("E", real(zero=O0, tiny=O023, big=O023, i31=O023)),
+    "-arkode_max_efail_growth": ("E", real(zero=O0, tiny=O023, big=O023, i31=O023)),
+    "-arkode_adapt_params": ("E", {k: O023 for k in ("-1", "0", "1e-300", "4.9e-324", "1e300", "2147483648")}),
+    "-output_interval": ("E", real(zero=O0, big=O02, i31=O02)),
+    "-snapshot_interval": ("E", real(zero=O0, big=O02, i31=O02)),
+    "-diag_grid_spacing": ("E", real(zero=O0, big=O02, i31=O02)),
+    "-output_dir": ("E", PATH), "-initial_csv": ("E", PATH), "-final_csv": ("E", PATH),
+}
+for flag in ("-expansion_perturb_velocities", "-arkode_classic_weights", "-snapshot_hdf5", "-snapshot_csv",
+             "-monitor", "-diag_entropy", "-sort_particles"):
+    OPTION_TABLE[flag] = ("E", BOOL)
+
+
+def help_options():
+    p = subprocess.run([SPAM, "-help"], capture_output=True, text=True, env=ENV, timeout=60, cwd=w)
+    names = re.findall(r"^ +(-[a-z0-9_]+)[ :].*\(README\)$", p.stdout, re.M)
+    return list(dict.fromkeys(names))
+
+
+OPTIONS = help_options()
+c.check(len(OPTIONS) >= 80, f"-help lists {len(OPTIONS)} spam-ark options (lines ending '(README)')")
+# A new option missing from OPTION_TABLE is fuzzed in the expansion run, every value refused.
+unknown = [o for o in OPTIONS if o not in OPTION_TABLE]
+if unknown:
+    print(f"note: options not in OPTION_TABLE (expansion context, every value refused): {unknown}")
+generated = []
+for opt in OPTIONS:
+    context, valid = OPTION_TABLE.get(opt, ("E", {}))
+    for value in HOSTILE + [None]:
+        expect = valid.get(value, {2})
+        shown = HNAME.get(value, value) if value is not None else "(no value)"
+        args = argv(context, [(opt, value)])
+        outdir = "out"
+        if opt == "-output_dir" and value is not None:
+            outdir = os.fsdecode(value)
+        elif opt != "-output_dir":
+            args += ["-output_dir", "out"]
+        generated.append(Case("options", f"{opt} {shown} [{context}]", args, expect, opt, outdir))
+
+# ------------------------------------------------------------------------ files (iii) ------
+HEX = re.compile(r"^[+-]?0[xX][0-9a-fA-F]*\.?[0-9a-fA-F]*([pP][+-]?\d+)?$")
+NUM = re.compile(r"^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$")
+
+
+def reference_expect(data, box=8.0, header="x,y,vx,vy"):
+    """Expected codes of a 2D particle file in the box [0, 8)^2 by a strict reader: {2} for a
+    malformed or out-of-range line, {0} for a clean file, {0, 2} where the contract leaves it
+    open (blank lines, comments, surrounding spaces, an underflow to 0, a position on the edge)."""
+    lines = data.split(b"\n")
+    if lines and lines[-1] == b"":
+        lines.pop()
+    if not lines or lines[0].rstrip(b"\r") != header.encode():
+        return {2} if not lines or lines[0] != header.encode() else {0, 2}
+    open_ = lines[0] != header.encode()
+    rows, fast = 0, False
+    ncol = len(header.split(","))
+    for raw in lines[1:]:
+        if len(raw) > 4000 or b"\0" in raw:
+            return {2}
+        if raw.strip() == b"":
+            open_ = True
+            continue
+        if raw.startswith(b"#"):
+            open_ = True
+            continue
+        try:
+            line = raw.decode("ascii")
+        except UnicodeDecodeError:
+            return {2}
+        if line.endswith("\r"):
+            line, open_ = line[:-1], True
+        fields = line.split(",")
+        if len(fields) != ncol:
+            return {2}
+        values = []
+        for f in fields:
+            s = f.strip()
+            if not s:
+                return {2}
+            if not NUM.match(s):
+                if HEX.match(s):
+                    open_ = True  # strtod reads C99 hex floats; the contract does not say
+                    continue
+                if any(ch not in "0123456789+-.eE \t" for ch in f):
+                    return {2}
+                if s == f:
+                    return {2}
+                open_ = True
+                continue
+            if s != f:
+                open_ = True
+            v = float(s)
+            if v in (float("inf"), float("-inf")):
+                return {2}
+            if v == 0.0 and any(ch in "123456789" for ch in s.split("e")[0].split("E")[0]):
+                open_ = True  # a nonzero literal that underflows to 0
+            values.append(v)
+        if len(values) == ncol:
+            x, y = values[0], values[1]
+            if not (0.0 <= x <= box and 0.0 <= y <= box):
+                return {2}
+            if x == box or y == box:
+                open_ = True
+            if max(abs(values[2]), abs(values[3])) > 1e3:
+                fast = True   # a physical blow-up is a result (exit 3), not bad input
+        rows += 1
+    if rows == 0:
+        return {2}
+    return ({0, 2} if open_ else {0}) | ({3} if fast else set())
+
+
+rng = random.Random(13)
+file_cases = []
+
+
+def add_file(name, data, expect=None, extra=()):
+    expect = reference_expect(data) if expect is None else set(expect)
+    path = fpath(f"m{len(file_cases):04d}.csv", data)
+    file_cases.append(Case("files", name, argv("F", [("-file_path", path)] + list(extra)) + ["-output_dir", "out"], expect))
+
+
+good_lines = GOOD.split(b"\n")[:-1]
+
+
+def with_field(row, col, token):
+    lines = list(good_lines)
+    fields = lines[1 + row].split(b",")
+    fields[col] = token
+    lines[1 + row] = b",".join(fields)
+    return b"\n".join(lines) + b"\n"
+
+
+TOKENS = [b"", b" ", b"\t", b"  \t ", b"nan", b"NaN", b"-nan", b"inf", b"-inf", b"Infinity", b"1e400", b"-1e400",
+          b"1e15", b"-1e15", b"1e308", b"0x1p1", b"0x1.8p1", b"1e-400", b"4.9e-324", b"2.2e-308", b"abc", b"1..2",
+          b"--1", b"+", b"-", b".", b"1e", b"1e+", b"e5", b"1,5", b"1;5", b"\xd9\xa1", b"\xef\xbb\xbf1", b"1 2",
+          b" 1.5", b"1.5 ", b"+1.5", b"1.5e0", b"00001.5", b"\x01", b"\xff", b"1\x7f", b"'1'", b"\"1\"", b"1_0"]
+for tok in TOKENS:
+    for col in range(4):
+        row = rng.randrange(64)
+        add_file(f"field {col + 1} of row {row + 2} = {tok!r}", with_field(row, col, tok))
+# positions out of the box, on its edges, huge velocities
+for x in (8.0, 8.5, -0.5, -1e-300, 70.0, 1e15, -1e15, 1e300, 7.999999999999999, 0.0):
+    for col in (0, 1):
+        add_file(f"position {col + 1} = {x!r}", with_field(rng.randrange(64), col, repr(x).encode()))
+for v in (1e3, 1e10, 1e300, -1e300, 4.9e-324):
+    add_file(f"velocity = {v!r}", with_field(rng.randrange(64), 2, repr(v).encode()),
+             {0, 2, 3} if abs(v) > 1 else {0})
+# structure
+body = good_lines[1:]
+structural = [
+    ("no header", b"\n".join(body) + b"\n", {2}),
+    ("header y,x,vx,vy", b"y,x,vx,vy\n" + b"\n".join(body) + b"\n", {2}),
+    ("header X,Y,VX,VY", b"X,Y,VX,VY\n" + b"\n".join(body) + b"\n", {2}),
+    ("header with extra column", b"x,y,vx,vy,q\n" + b"\n".join(body) + b"\n", {2}),
+    ("header with spaces", b"x, y, vx, vy\n" + b"\n".join(body) + b"\n", {0, 2}),
+    ("3D header in 2D", b"x,y,z,vx,vy,vz\n" + b"\n".join(body) + b"\n", {2}),
+    ("header only", b"x,y,vx,vy\n", {2}),
+    ("empty file", b"", {2}),
+    ("only newlines", b"\n\n\n", {2}),
+    ("no final newline", GOOD[:-1], {0}),
+    ("CRLF", GOOD.replace(b"\n", b"\r\n"), {0, 2}),
+    ("CR only", GOOD.replace(b"\n", b"\r"), {2}),
+    ("BOM", b"\xef\xbb\xbf" + GOOD, {0, 2}),
+    ("UTF-16", GOOD.decode().encode("utf-16"), {2}),
+    ("blank line inside", b"\n".join(good_lines[:10] + [b""] + good_lines[10:]) + b"\n", {0, 2}),
+    ("comment line inside", b"\n".join(good_lines[:10] + [b"# note"] + good_lines[10:]) + b"\n", {0, 2}),
+    ("long comment 5000", b"\n".join(good_lines[:10] + [b"# " + b"c" * 5000] + good_lines[10:]) + b"\n", {2}),
+    ("long comment 4094 + row", b"\n".join(good_lines[:10] + [b"# " + b"c" * 4093 + b"0.5,0.5,0,0"] + good_lines[10:]) + b"\n", {2}),
+    ("line of 4095 bytes", b"\n".join(good_lines[:10] + [b"0.5" + b"0" * 4084 + b",0.5,0,0"] + good_lines[11:]) + b"\n", {0, 2}),
+    ("line of 4096 bytes", b"\n".join(good_lines[:10] + [b"0.5" + b"0" * 4085 + b",0.5,0,0"] + good_lines[11:]) + b"\n", {2}),
+    ("line of 5000 bytes", b"\n".join(good_lines[:10] + [b"0.5" + b"0" * 4989 + b",0.5,0,0"] + good_lines[11:]) + b"\n", {2}),
+    ("line of 100000 bytes", b"\n".join(good_lines[:10] + [b"0.5" + b"0" * 99989 + b",0.5,0,0"] + good_lines[11:]) + b"\n", {2}),
+    ("5000 spaces then a row", b"\n".join(good_lines[:10] + [b" " * 5000 + b"0.5,0.5,0,0"] + good_lines[11:]) + b"\n", {2}),
+    ("duplicate row", b"\n".join(good_lines + [good_lines[5]]) + b"\n", {0, 2}),
+    ("two particles at one place", with_field(0, 0, b"1.5"), {0, 2}),
+    ("all particles at one place", b"x,y,vx,vy\n" + b"4,4,0,0\n" * 64, {0, 2, 3}),
+    ("one particle", b"x,y,vx,vy\n4,4,0,0\n", {0, 2}),
+    ("trailing comma", b"\n".join(good_lines[:5] + [good_lines[5] + b","] + good_lines[6:]) + b"\n", {2}),
+    ("leading comma", b"\n".join(good_lines[:5] + [b"," + good_lines[5]] + good_lines[6:]) + b"\n", {2}),
+    ("semicolons", GOOD.replace(b",", b";"), {2}),
+    ("tabs as separators", b"x,y,vx,vy\n" + b"\n".join(l.replace(b",", b"\t") for l in body) + b"\n", {2}),
+    ("mass column, equal", b"x,y,vx,vy,m\n" + b"\n".join(l + b",1" for l in body) + b"\n", {0}),
+    ("mass column, zero", b"x,y,vx,vy,m\n" + b"\n".join(l + b",0" for l in body) + b"\n", {2}),
+    ("mass column, negative", b"x,y,vx,vy,m\n" + b"\n".join(l + b",-1" for l in body) + b"\n", {2}),
+    ("mass column, nan", b"x,y,vx,vy,m\n" + b"\n".join(l + b",nan" for l in body) + b"\n", {2}),
+    ("mass column, 1e-300", b"x,y,vx,vy,m\n" + b"\n".join(l + b",1e-300" for l in body) + b"\n", {0, 2}),
+    ("mass column, 1e300", b"x,y,vx,vy,m\n" + b"\n".join(l + b",1e300" for l in body) + b"\n", {2, 3}),
+    ("mass column, one missing", b"x,y,vx,vy,m\n" + b"\n".join(l + (b",1" if k else b"") for k, l in enumerate(body)) + b"\n", {2}),
+    ("NUL file", b"\0" * 100, {2}),
+    ("NUL after header", b"x,y,vx,vy\n\0\n" + b"\n".join(body) + b"\n", {2}),
+    ("NUL at end", GOOD + b"\0", {2}),
+    ("NUL in header", b"x,y\0,vx,vy\n" + b"\n".join(body) + b"\n", {2}),
+    ("truncated mid-row", GOOD[:-7], {2}),
+    ("truncated mid-number", GOOD[:-4], {2}),
+    ("row of 3 fields", b"\n".join(good_lines[:7] + [b"1.5,2.5,0"] + good_lines[8:]) + b"\n", {2}),
+    ("row of 5 fields", b"\n".join(good_lines[:7] + [b"1.5,2.5,0,0,0"] + good_lines[8:]) + b"\n", {2}),
+    ("row of 1 field", b"\n".join(good_lines[:7] + [b"1.5"] + good_lines[8:]) + b"\n", {2}),
+    ("row of 100 fields", b"\n".join(good_lines[:7] + [b",".join([b"1"] * 100)] + good_lines[8:]) + b"\n", {2}),
+    ("hex floats everywhere", b"x,y,vx,vy\n" + b"".join(f"{x.hex()},{y.hex()},0,0\n".encode() for x, y, _, _ in GOOD_ROWS), {0, 2}),
+]
+for name, data, expect in structural:
+    add_file(name, data, expect)
+# random byte flips, insertions, deletions (the reference reader decides)
+good_body_start = len(good_lines[0]) + 1
+for k in range(240):
+    data = bytearray(GOOD)
+    kind = k % 3
+    pos = rng.randrange(len(data))
+    if kind == 0:
+        data[pos] = rng.randrange(256)
+        name = f"byte {pos} set to {data[pos]:#04x}"
+    elif kind == 1:
+        b = rng.choice([0, 0x2c, 0x0a, 0x2e, 0x2d, 0x65, 0x20, rng.randrange(256)])
+        data.insert(pos, b)
+        name = f"byte {b:#04x} inserted at {pos}"
+    else:
+        del data[pos]
+        name = f"byte {pos} deleted"
+    add_file(name, bytes(data))
+# special files
+for name, path, expect in (("FIFO", FIFO, {2}), ("a directory", FILES, {2}), ("missing file", os.path.join(FILES, "nope.csv"), {2}),
+                           ("/dev/null", "/dev/null", {2}), ("/dev/zero", "/dev/zero", {2}), ("/proc/self/status", "/proc/self/status", {2})):
+    file_cases.append(Case("files", name, argv("F", [("-file_path", path)]) + ["-output_dir", "out"], expect))
+# the same 2D file in a 3D run and a 1D run
+file_cases.append(Case("files", "2D file under -dim 3", argv("F", [("-dim", "3"), ("-box_len", "8,8,8")]) + ["-output_dir", "out"], {2}))
+file_cases.append(Case("files", "2D file under -dim 1", argv("F", [("-dim", "1"), ("-box_len", "8")]) + ["-output_dir", "out"], {2}))
+
+generated += file_cases
+cases += generated[::STRIDE] if STRIDE > 1 else generated
+
+# ------------------------------------------------------------------------------ run ------
+
+
+def strict_json(path):
+    def bad(x):
+        raise ValueError(f"non-JSON constant {x}")
+    with open(path, "rb") as f:
+        return json.loads(f.read(), parse_constant=bad)
+
+
+def tree(path):
+    return sorted(os.path.relpath(os.path.join(d, f), path) for d, ds, fs in os.walk(path) for f in fs + ds)
+
+
+def execute(k, case):
+    cwd = os.path.join(w, "c", f"{k:05d}")
+    os.makedirs(cwd)
+    # OpenMPI's session directory goes under TMPDIR: one per case, outside the case directory
+    # (concurrent starts sharing /tmp/ompi.* now and then fail to create it, exit 1).
+    env = dict(ENV, TMPDIR=os.path.join(w, "t", f"{k:05d}"))
+    os.makedirs(env["TMPDIR"])
+    t0 = time.monotonic()
+    try:
+        p = subprocess.run(LIMIT + [os.fsencode(SPAM)] + [x if isinstance(x, bytes) else os.fsencode(x) for x in case.args],
+                           capture_output=True, env=env, cwd=cwd, timeout=TIMEOUT, stdin=subprocess.DEVNULL)
+        code, err = p.returncode, p.stderr.decode("utf-8", "replace")
+    except subprocess.TimeoutExpired as e:
+        code, err = "timeout", (e.stderr or b"").decode("utf-8", "replace")
+    return k, case, code, err, time.monotonic() - t0, cwd
+
+
+def verdict(case, code, err, cwd):
+    """Problems of one finished case (empty: as expected)."""
+    problems = []
+    lines = err.strip("\n").split("\n") if err.strip("\n") else []
+    if any(s in err for s in SANITIZER) or code == 86:
+        problems.append("sanitizer report: " + " | ".join(l for l in lines if any(s in l for s in SANITIZER) or " #" in l[:6])[:1500])
+    if code == "timeout":
+        return problems + [f"no exit within {TIMEOUT} s"]
+    if code < 0 or code not in (0, 1, 2, 3, 86):
+        problems.append(f"crash: exit {code}" + (f" (signal {-code})" if code < 0 else ""))
+    if code not in case.expect:
+        problems.append(f"exit {code}, expected {'/'.join(map(str, sorted(case.expect)))}")
+    written = tree(cwd)
+    if code == 2:
+        if len(lines) != 1 or not lines[0].startswith("spam-ark: error: "):
+            problems.append(f"{len(lines)} stderr lines, not one 'spam-ark: error: ' line")
+        elif case.option and case.option.lstrip("-").lower() not in lines[0].lower():
+            problems.append(f"the message does not name {case.option.lstrip('-')}")
+        if written:
+            problems.append(f"wrote {written[:5]}")
+    elif code == 1 and len(lines) != 1:
+        problems.append(f"exit 1 with {len(lines)} stderr lines")
+    elif code in (0, 3) and (case.run or code == 3):
+        path = os.path.join(cwd, case.outdir, "summary.json")
+        try:
+            s = strict_json(path)
+            want = ("ok", "max_steps") if code == 0 else ("unstable",)
+            if s.get("status") not in want:
+                problems.append(f"summary status {s.get('status')!r}, expected {want!r}")
+        except (OSError, ValueError) as e:
+            problems.append(f"summary.json: {e}")
+    elif code == 0 and written:
+        problems.append(f"-help/-version wrote {written[:5]}")
+    if problems:
+        problems.append("stderr: " + " | ".join(lines[:3])[:400])
+    return problems
+
+
+counts = {}
+by_category = {}
+slowest = []
+t_start = time.monotonic()
+with concurrent.futures.ThreadPoolExecutor(JOBS) as pool:
+    for k, case, code, err, dt, cwd in pool.map(lambda kc: execute(*kc), enumerate(cases)):
+        problems = verdict(case, code, err, cwd)
+        label = {0: "ran (0)", 1: "failed (1)", 2: "refused (2)", 3: "unstable (3)", "timeout": "timeouts"}.get(code, "crashes")
+        if any(p.startswith("sanitizer") for p in problems):
+            counts["sanitizer reports"] = counts.get("sanitizer reports", 0) + 1
+            if code in (86,):
+                label = "crashes"
+        counts[label] = counts.get(label, 0) + 1
+        cat = by_category.setdefault(case.category, {})
+        cat[label] = cat.get(label, 0) + 1
+        if len(case.expect) > 1:
+            cat["open (several codes allowed)"] = cat.get("open (several codes allowed)", 0) + 1
+        slowest.append((dt, case.name))
+        if problems:
+            c.check(False, f"[{case.category}] {case.name}: " + "; ".join(problems))
+        else:
+            c.passed += 1
+            shutil.rmtree(cwd, ignore_errors=True)
+        shutil.rmtree(os.path.join(w, "t", f"{k:05d}"), ignore_errors=True)
+
+elapsed = time.monotonic() - t_start
+print(f"\ninputs tried: {len(cases)} (stride {STRIDE} over {len(generated)} generated cases), {elapsed:.0f} s with {JOBS} at a time")
+for key in ("refused (2)", "ran (0)", "unstable (3)", "failed (1)", "crashes", "timeouts", "sanitizer reports"):
+    print(f"  {key:20s} {counts.get(key, 0)}")
+for cat, d in by_category.items():
+    n = sum(v for k, v in d.items() if not k.startswith("open"))
+    print(f"  {cat:9s} {n} inputs: " + ", ".join(f"{k} {v}" for k, v in sorted(d.items())))
+slowest.sort(reverse=True)
+print("slowest: " + "; ".join(f"{n} {t:.1f} s" for t, n in slowest[:5]))
+c.check(counts.get("crashes", 0) == 0, f"no crashes ({counts.get('crashes', 0)})")
+c.check(counts.get("timeouts", 0) == 0, f"no timeouts ({counts.get('timeouts', 0)})")
+c.check(counts.get("sanitizer reports", 0) == 0, f"no sanitizer reports ({counts.get('sanitizer reports', 0)})")
+c.finish()
