@@ -195,9 +195,14 @@ PATH.update({"9" * 5000: {1, 2}})               # a 5000-byte name: ENAMETOOLONG
 O023, O02, O0, O03, O23 = {0, 2, 3}, {0, 2}, {0}, {0, 3}, {2, 3}
 
 
-def real(m1=None, zero=None, tiny=None, big=None, i31=None):
-    """Valid codes of a real option's numeric values (None: refused, exit 2)."""
-    t = {"-1": m1, "0": zero, "1e-300": tiny, "4.9e-324": tiny, "1e300": big, "2147483648": i31}
+SAME = object()
+
+
+def real(m1=None, zero=None, tiny=None, big=None, i31=None, sub=SAME):
+    """Valid codes of a real option's numeric values (None: refused, exit 2). A subnormal
+    (4.9e-324) counts as tiny unless sub says otherwise: coefficients whose checks refuse
+    subnormals as "too small" (run_options.c, solid_options.c CheckRange) have sub=None."""
+    t = {"-1": m1, "0": zero, "1e-300": tiny, "4.9e-324": tiny if sub is SAME else sub, "1e300": big, "2147483648": i31}
     return {k: v for k, v in t.items() if v is not None}
 
 
@@ -227,27 +232,27 @@ OPTION_TABLE = {
     "-viscosity": ("P", {}), "-scene": ("E", {}), "-arkode_table": ("E", {}), "-arkode_adapt": ("E", {}),
     "-gas_gamma": ("PG", real(big=O23, i31=O023)),
     "-gas_e0": ("PG", real(zero=O02, tiny=O02, big=O23, i31=O023)),
-    "-viscosity_shear": ("PG", real(zero=O0, tiny=O0, big=O23, i31=O023)),
-    "-viscosity_bulk": ("PG", real(zero=O0, tiny=O0, big=O23, i31=O023)),
-    "-conductivity": ("PG", real(zero=O0, tiny=O0, big=O23, i31=O023)),
+    "-viscosity_shear": ("PG", real(zero=O0, tiny=O0, big=O23, i31=O023, sub=None)),
+    "-viscosity_bulk": ("PG", real(zero=O0, tiny=O0, big=O23, i31=O023, sub=None)),
+    "-conductivity": ("PG", real(zero=O0, tiny=O0, big=O23, i31=O023, sub=None)),
     "-solid_lambda": ("P", real(m1=O023, zero=O02, tiny=O02, big=O23, i31=O023)),
     "-solid_eta": ("P", real(zero=O02, tiny=O02, big=O23, i31=O023)),
-    "-xsph_eps": ("PR2", real(zero=O0, tiny=O0, big=O23, i31=O023)),
-    "-viscosity_alpha": ("PAV", real(zero=O0, tiny=O0, big=O23, i31=O023)),
-    "-viscosity_beta": ("PAV", real(zero=O0, tiny=O0, big=O23, i31=O023)),
-    "-closest_approach": ("P", real(zero=O0, tiny=O0, big=O02, i31=O02)),
-    "-rotor_speed": ("R", real(m1=O02, zero=O02, tiny=O0, big=O23, i31=O023)),
+    "-xsph_eps": ("PR2", real(zero=O0, tiny=O0, big=O23, i31=O023, sub=None)),
+    "-viscosity_alpha": ("PAV", real(zero=O0, tiny=O0, big=O23, i31=O023, sub=None)),
+    "-viscosity_beta": ("PAV", real(zero=O0, tiny=O0, big=O23, i31=O023, sub=None)),
+    "-closest_approach": ("P", real(zero=O0, tiny=O0, big=O02, i31=O02, sub=None)),
+    "-rotor_speed": ("R", real(m1=O02, zero=O02, big=O23, i31=O023)),  # from 1e-6 to 10
     "-rotor_gap": ("RP", real(big=O02, i31=O02)),
     "-spring_range": ("RM", real(zero=O02, tiny=O02, big=O02, i31=O02)),
     "-tensile_stress": ("T", real(m1=O03, zero=O0, tiny=O0, big=O23, i31=O023)),
     "-tensile_kick": ("T", real(m1=O03, zero=O0, tiny=O0, big=O23, i31=O023)),
-    "-ts_max_time": ("E", real(big=O02, i31=O02)),
+    "-ts_max_time": ("E", real(zero=O0, big=O02, i31=O02)),  # 0: the initial state only
     "-ts_dt": ("E", real(zero=O0, tiny=O023, big=O02, i31=O02)),
     "-ts_rtol": ("E", real(tiny=O023, big=O02, i31=O02)),
     "-ts_atol": ("E", real(zero=O02, tiny=O023, big=O02, i31=O02)),
     "-step_cfl": ("E", real(zero=O0, big=O02, i31=O02)),
     "-step_force": ("E", real(zero=O0, big=O02, i31=O02)),
-    "-unstable_dt_min": ("E", real(zero=O0, tiny=O0, big=O023, i31=O023)),
+    "-unstable_dt_min": ("E", real(zero=O0, tiny=O0, big=O023, i31=O023, sub=None)),
     "-unstable_energy_growth": ("E", real(zero=O0, tiny=O23, big=O0, i31=O0)),
     "-arkode_fixed_step": ("E", real(zero=O0, tiny=O02, big=O023, i31=O023)),
     "-arkode_safety": ("E", real(zero=O0, tiny=O023, big=O023, i31=O023)),
@@ -258,10 +263,11 @@ OPTION_TABLE = {
     "-output_interval": ("E", real(zero=O0, big=O02, i31=O02)),
     "-snapshot_interval": ("E", real(zero=O0, big=O02, i31=O02)),
     "-diag_grid_spacing": ("E", real(zero=O0, big=O02, i31=O02)),
+    "-snapshot_max": ("E", {}),
     "-output_dir": ("E", PATH), "-initial_csv": ("E", PATH), "-final_csv": ("E", PATH),
 }
 for flag in ("-expansion_perturb_velocities", "-arkode_classic_weights", "-snapshot_hdf5", "-snapshot_csv",
-             "-monitor", "-diag_entropy", "-sort_particles"):
+             "-monitor", "-diag_entropy", "-sort_particles", "-output_overwrite"):
     OPTION_TABLE[flag] = ("E", BOOL)
 
 

@@ -29,6 +29,8 @@ PetscErrorCode SpamFileBegin(const char *path, SpamFile *f);
 /* Writes unless an earlier write of f failed; a failure is recorded in f->err and
  * reported by the next SpamFileCheck or SpamFileCommit. */
 void SpamFilePrintf(SpamFile *f, const char *fmt, ...) PETSC_ATTRIBUTE_FORMAT(2, 3);
+/* A JSON string (quoted): control bytes as \u00XX, bytes outside well-formed UTF-8 as U+FFFD. */
+void SpamFileJsonString(SpamFile *f, const char *s);
 /* Flushes; after a failed write removes the temporary and raises the error. */
 PetscErrorCode SpamFileCheck(SpamFile *f);
 /* Flushes, closes and renames the temporary to path (removing it on any failure). */

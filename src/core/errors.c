@@ -64,14 +64,17 @@ static PetscBool Between(const char *mess, const char *start, const char *stop, 
   return PETSC_TRUE;
 }
 
-/* True when value is the whole of tok or one of its comma-separated elements. */
-static PetscBool HoldsValue(const char *tok, const char *value)
+/* True when value is the whole of tok or one of its comma-separated elements. A value as
+ * long as the buffer it was copied into was cut (PETSc's message or ours): then its start
+ * must match. */
+static PetscBool HoldsValue(const char *tok, const char *value, size_t cap)
 {
-  const size_t n = strlen(value);
+  const size_t    n   = strlen(value);
+  const PetscBool cut = (PetscBool)(n + 1 >= cap);
 
   if (!n) return PETSC_FALSE;
   for (const char *p = tok; p; p = strchr(p, ',') ? strchr(p, ',') + 1 : NULL)
-    if (!strncmp(p, value, n) && (p[n] == 0 || p[n] == ',')) return PETSC_TRUE;
+    if (!strncmp(p, value, n) && (cut || p[n] == 0 || p[n] == ',')) return PETSC_TRUE;
   return PETSC_FALSE;
 }
 
@@ -90,7 +93,7 @@ static void NameMalformedOption(const char *mess, char *out, size_t len)
   if (PetscOptionsGetAll(NULL, &all) || !all) return;
   (void)snprintf(first, sizeof first, "%.*s", (int)strcspn(value, " "), value); /* the listing splits at spaces */
   for (char *tok = strtok(all, " "), *prev = NULL; tok; prev = tok, tok = strtok(NULL, " ")) {
-    if (prev && prev[0] == '-' && HoldsValue(tok, first)) {
+    if (prev && prev[0] == '-' && HoldsValue(tok, first, sizeof first)) {
       char shown[100];
       SpamClip(strchr(value, ' ') ? value : tok, shown, sizeof shown);
       (void)snprintf(out, len, "%s = '%s': %s", prev, shown, want);

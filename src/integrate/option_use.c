@@ -7,6 +7,7 @@
 #define _POSIX_C_SOURCE 200809L /* strtok_r */
 #include <spam/options.h>
 #include <strings.h>
+#include <errno.h>
 #include <spam/errors.h>
 #include <spam/integrator.h>
 
@@ -114,6 +115,33 @@ static PetscErrorCode GivenFree(Given *g)
   PetscFunctionReturn(0);
 }
 
+/* The options read as PetscInt. PETSc 3.18 converts their text with strtoll and casts to
+ * its 32-bit PetscInt without a range check, so 2147483648 arrives as -2147483648 and a
+ * longer number as whatever its low bits say: check the text itself first. */
+static const char *const IntegerOptions[] = {"dim", "threads", "ts_max_steps", "ts_max_reject", "ts_ssp_nstages", "cvode_max_order", "snapshot_max", "expansion_n",
+                                             "expansion_seed", "chain_n", "planewave_nx", "planewave_ny", "rotor_n", "tensile_nx", "tensile_ny"};
+
+static PetscErrorCode CheckIntegerRange(const char *name, const char *value)
+{
+  char     *end;
+  long long v;
+
+  PetscFunctionBeginUser;
+  for (size_t k = 0; k < sizeof IntegerOptions / sizeof IntegerOptions[0]; k++) {
+    if (strcasecmp(name, IntegerOptions[k])) continue;
+    errno = 0;
+    v     = strtoll(value, &end, 10);
+    if (end == value || *end) break; /* not an integer literal: PETSc's parser says so */
+    if (errno == ERANGE || v < PETSC_MIN_INT || v > PETSC_MAX_INT) {
+      char shown[100], opt[64];
+      SpamClip(value, shown, sizeof shown);
+      (void)snprintf(opt, sizeof opt, "-%s", IntegerOptions[k]);
+      SPAM_BAD_INPUT(opt, shown, "an integer from %d to %d (PetscInt is 32-bit here)", PETSC_MIN_INT, PETSC_MAX_INT);
+    }
+  }
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamOptionsCheckValues(void)
 {
   Given g;
@@ -122,6 +150,13 @@ PetscErrorCode SpamOptionsCheckValues(void)
   PetscCall(GivenGet(&g));
   for (int i = 0; i < g.n; i++) {
     const Known *k = Find(g.names[i]);
+    if (g.values[i]) {
+      PetscErrorCode ierr = CheckIntegerRange(g.names[i], g.values[i]);
+      if (ierr) {
+        PetscCall(GivenFree(&g));
+        return ierr; /* reported already, as one line */
+      }
+    }
     if (!k || !k->value || g.values[i]) continue;
     PetscCall(GivenFree(&g));
     if (!strcmp(k->name, "h")) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "-h: missing value: -h is the kernel range, a number (e.g. -h 3); for the list of options use -help");
@@ -170,10 +205,23 @@ static PetscErrorCode RunDescribe(const SpamSim *sim, const SpamRunOptions *o, T
   PetscFunctionReturn(0);
 }
 
-static PetscBool SceneIs(const Run *r, const char *a, const char *b, const char *c)
-{
-  return (PetscBool)(!strcmp(r->scene, a) || (b && !strcmp(r->scene, b)) || (c && !strcmp(r->scene, c)));
-}
+/* The scene-only groups: the scenes that read them, as the refusal names them. */
+static const struct {
+  Group       group;
+  const char *scenes[3];
+  const char *said, *note;
+} SceneGroups[] = {
+  {G_FILE, {"file"}, "file", ", which builds its own box"},
+  {G_PERIODIC, {"file", "expansion"}, "expansion and file", ", which builds its own box"},
+  {G_EXPANSION, {"expansion"}, "expansion", ""},
+  {G_CHAIN, {"chain"}, "chain", ""},
+  {G_SPRING, {"chain", "rotor-md"}, "chain and rotor-md", ""},
+  {G_ROTOR_MD, {"rotor-md"}, "rotor-md", ""},
+  {G_PLANEWAVE, {"planewave"}, "planewave", ""},
+  {G_ROTOR, {"rotor", "rotor-pair", "rotor-md"}, "rotor, rotor-pair and rotor-md", ""},
+  {G_ROTOR_PAIR, {"rotor-pair"}, "rotor-pair", ""},
+  {G_TENSILE, {"tensile"}, "tensile", ""},
+};
 
 /* The groups of the method and the outputs: whether g applies to run r (*known: g is one
  * of them); if not, why[] says what it applies to. */
@@ -238,55 +286,18 @@ static PetscBool RelevantMethod(Group g, const Run *r, char *why, size_t len, Pe
 /* The groups of the scenes and the isentrope, as RelevantMethod. */
 static PetscBool RelevantScene(Group g, const Run *r, char *why, size_t len, PetscBool *known)
 {
-  const char *sc = r->scene;
-
   *known = PETSC_TRUE;
-  switch (g) {
-  case G_FILE:
-    if (SceneIs(r, "file", NULL, NULL)) return PETSC_TRUE;
-    (void)snprintf(why, len, "applies to -scene file (this run: -scene %s, which builds its own box)", sc);
-    return PETSC_FALSE;
-  case G_PERIODIC:
-    if (SceneIs(r, "file", "expansion", NULL)) return PETSC_TRUE;
-    (void)snprintf(why, len, "applies to -scene expansion and file (this run: -scene %s, which builds its own box)", sc);
-    return PETSC_FALSE;
-  case G_ISENTROPE:
+  if (g == G_ISENTROPE) {
     if (!strcmp(r->model, "isentrope")) return PETSC_TRUE;
-    (void)snprintf(why, len, "applies to the isentropic gas of -scene expansion and file (this run: -scene %s, model %s)", sc, r->model);
+    (void)snprintf(why, len, "applies to the isentropic gas of -scene expansion and file (this run: -scene %s, model %s)", r->scene, r->model);
     return PETSC_FALSE;
-  case G_EXPANSION:
-    if (SceneIs(r, "expansion", NULL, NULL)) return PETSC_TRUE;
-    (void)snprintf(why, len, "applies to -scene expansion (this run: -scene %s)", sc);
+  }
+  for (size_t k = 0; k < sizeof SceneGroups / sizeof SceneGroups[0]; k++) {
+    if (SceneGroups[k].group != g) continue;
+    for (int j = 0; j < 3 && SceneGroups[k].scenes[j]; j++)
+      if (!strcmp(r->scene, SceneGroups[k].scenes[j])) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to -scene %s (this run: -scene %s%s)", SceneGroups[k].said, r->scene, SceneGroups[k].note);
     return PETSC_FALSE;
-  case G_CHAIN:
-    if (SceneIs(r, "chain", NULL, NULL)) return PETSC_TRUE;
-    (void)snprintf(why, len, "applies to -scene chain (this run: -scene %s)", sc);
-    return PETSC_FALSE;
-  case G_SPRING:
-    if (SceneIs(r, "chain", "rotor-md", NULL)) return PETSC_TRUE;
-    (void)snprintf(why, len, "applies to -scene chain and rotor-md (this run: -scene %s)", sc);
-    return PETSC_FALSE;
-  case G_ROTOR_MD:
-    if (SceneIs(r, "rotor-md", NULL, NULL)) return PETSC_TRUE;
-    (void)snprintf(why, len, "applies to -scene rotor-md (this run: -scene %s)", sc);
-    return PETSC_FALSE;
-  case G_PLANEWAVE:
-    if (SceneIs(r, "planewave", NULL, NULL)) return PETSC_TRUE;
-    (void)snprintf(why, len, "applies to -scene planewave (this run: -scene %s)", sc);
-    return PETSC_FALSE;
-  case G_ROTOR:
-    if (SceneIs(r, "rotor", "rotor-pair", "rotor-md")) return PETSC_TRUE;
-    (void)snprintf(why, len, "applies to -scene rotor, rotor-pair and rotor-md (this run: -scene %s)", sc);
-    return PETSC_FALSE;
-  case G_ROTOR_PAIR:
-    if (SceneIs(r, "rotor-pair", NULL, NULL)) return PETSC_TRUE;
-    (void)snprintf(why, len, "applies to -scene rotor-pair (this run: -scene %s)", sc);
-    return PETSC_FALSE;
-  case G_TENSILE:
-    if (SceneIs(r, "tensile", NULL, NULL)) return PETSC_TRUE;
-    (void)snprintf(why, len, "applies to -scene tensile (this run: -scene %s)", sc);
-    return PETSC_FALSE;
-  default: break;
   }
   *known = PETSC_FALSE;
   return PETSC_TRUE;

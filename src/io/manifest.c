@@ -5,23 +5,11 @@
 #include <spam/output.h>
 #include <spam/version.h>
 
-/* A JSON string; control bytes (which no name of ours holds) as \u00XX. */
-static void JsonString(SpamFile *f, const char *s)
-{
-  SpamFilePrintf(f, "\"");
-  for (const unsigned char *c = (const unsigned char *)s; *c; c++) {
-    if (*c == '"' || *c == '\\') SpamFilePrintf(f, "\\%c", *c);
-    else if (*c < 0x20 || *c == 0x7f) SpamFilePrintf(f, "\\u%04x", *c);
-    else SpamFilePrintf(f, "%c", *c);
-  }
-  SpamFilePrintf(f, "\"");
-}
-
 /* One entry a line: the earlier-run cleaner reads names back line by line. */
 static void Entry(SpamFile *f, const SpamOutputEntry *e, PetscBool last)
 {
   SpamFilePrintf(f, "    {%s: ", e->outside ? "\"path\"" : "\"name\"");
-  JsonString(f, e->name);
+  SpamFileJsonString(f, e->name);
   SpamFilePrintf(f, ", \"kind\": \"%s\"", e->kind);
   if (isfinite(e->t)) SpamFilePrintf(f, ", \"t\": %.17g", e->t);
   SpamFilePrintf(f, "}%s\n", last ? "" : ",");
@@ -38,9 +26,9 @@ PetscErrorCode SpamManifestWrite(SpamOutput *o)
   PetscCall(PetscOptionsGetAll(NULL, &all));
   for (size_t n = all ? strlen(all) : 0; n > 0 && all[n - 1] == ' '; n--) all[n - 1] = 0;
   SpamFilePrintf(&f, "{\n  \"program\": \"spam-ark\",\n  \"version\": \"%s\",\n  \"status\": \"%s\",\n  \"run\": ", SPAM_VERSION, o->status);
-  JsonString(&f, o->lock_info);
+  SpamFileJsonString(&f, o->lock_info);
   SpamFilePrintf(&f, ",\n  \"options\": ");
-  JsonString(&f, all ? all : "");
+  SpamFileJsonString(&f, all ? all : "");
   SpamFilePrintf(&f, ",\n  \"files\": [\n");
   for (int k = 0; k < o->nfiles; k++) Entry(&f, &o->files[k], (PetscBool)(k == o->nfiles - 1));
   SpamFilePrintf(&f, "  ]\n}\n");

@@ -67,12 +67,9 @@ static void Int(Summary *s, const char *key, long v)
 
 static void Str(Summary *s, const char *key, const char *v)
 {
-  SpamFilePrintf(&s->f, "  \"%s\": \"", key);
-  for (const char *c = v; *c; c++) {
-    if (*c == '"' || *c == '\\') SpamFilePrintf(&s->f, "\\%c", *c);
-    else if ((unsigned char)*c >= 0x20 && *c != 0x7f) SpamFilePrintf(&s->f, "%c", *c);
-  }
-  SpamFilePrintf(&s->f, "\",\n");
+  SpamFilePrintf(&s->f, "  \"%s\": ", key);
+  SpamFileJsonString(&s->f, v);
+  SpamFilePrintf(&s->f, ",\n");
 }
 
 /* The model and the settings that define it: a study script reads them to label runs. */

@@ -184,6 +184,7 @@ static PetscErrorCode BuildScene(const SpamCommonParams *c, int s, PetscBool hel
   SpamRotorMdParams   md;
   SpamTensileParams   te;
   SpamChainParams     ch;
+  PetscErrorCode      ierr;
 
   PetscFunctionBeginUser;
   if (help || s == SCENE_EXPANSION) PetscCall(SpamExpansionOptions(c, &ep));
@@ -194,16 +195,19 @@ static PetscErrorCode BuildScene(const SpamCommonParams *c, int s, PetscBool hel
   if (help || s == SCENE_ROTOR_PAIR) PetscCall(SpamRotorOptions(c, PETSC_TRUE, &rp));
   if (help || s == SCENE_ROTOR_MD) PetscCall(SpamRotorMdOptions(c, &md));
   if (help || s == SCENE_TENSILE) PetscCall(SpamTensileOptions(c, &te));
+  PetscCall(PetscMemzero(p, sizeof *p));
   switch (s) {
-  case SCENE_EXPANSION: PetscCall(SpamExpansionBuild(c, &ep, p)); break;
-  case SCENE_FILE: PetscCall(SpamFileBuild(c, &fp, p)); break;
-  case SCENE_CHAIN: PetscCall(SpamChainBuild(c, &ch, p)); break;
-  case SCENE_PLANEWAVE: PetscCall(SpamPlanewaveBuild(c, &pw, p)); break;
-  case SCENE_ROTOR: PetscCall(SpamRotorBuild(c, &ro, p)); break;
-  case SCENE_ROTOR_PAIR: PetscCall(SpamRotorBuild(c, &rp, p)); break;
-  case SCENE_ROTOR_MD: PetscCall(SpamRotorMdBuild(c, &md, p)); break;
-  default: PetscCall(SpamTensileBuild(c, &te, p)); break;
+  case SCENE_EXPANSION: ierr = SpamExpansionBuild(c, &ep, p); break;
+  case SCENE_FILE: ierr = SpamFileBuild(c, &fp, p); break;
+  case SCENE_CHAIN: ierr = SpamChainBuild(c, &ch, p); break;
+  case SCENE_PLANEWAVE: ierr = SpamPlanewaveBuild(c, &pw, p); break;
+  case SCENE_ROTOR: ierr = SpamRotorBuild(c, &ro, p); break;
+  case SCENE_ROTOR_PAIR: ierr = SpamRotorBuild(c, &rp, p); break;
+  case SCENE_ROTOR_MD: ierr = SpamRotorMdBuild(c, &md, p); break;
+  default: ierr = SpamTensileBuild(c, &te, p); break;
   }
+  if (ierr) PetscCall(SpamParticlesFree(p)); /* a scene refused after allocating: leak nothing */
+  PetscCall(ierr);
   PetscFunctionReturn(0);
 }
 
@@ -219,6 +223,28 @@ static PetscErrorCode SortOption(MPI_Comm comm, PetscBool file, PetscBool *sort)
   PetscFunctionReturn(0);
 }
 
+/* The checks of a built scene against the common options, and its model. */
+static PetscErrorCode CheckBuilt(MPI_Comm comm, const SpamCommonParams *c, int scene, SpamParticles *p, SpamModel *model)
+{
+  PetscMPIInt size;
+  char        val[64];
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  PetscCall(PetscSNPrintf(val, sizeof val, "%d", size));
+  if (size > 1) SPAM_BAD_INPUT("mpiexec -n", val, "this version runs on one rank; multi-rank halo exchange is not written yet");
+  Translate(c->translate, p);
+  PetscCall(SpamBoxValidate(&p->box, c->h, scene == SCENE_EXPANSION ? "2 x -expansion_n" : scene == SCENE_FILE ? "-box_len" : "the lattice size"));
+  PetscCall(CheckBoxScale(c, &p->box));
+  for (int d = 0; d < p->box.dim; d++) { /* the list's minimum image corrects by one edge at most */
+    PetscCall(PetscSNPrintf(val, sizeof val, "%g", c->skin)); /* tests/run_bad_input.py expects PETSc's '9.' */
+    if (p->box.periodic[d] && !(c->skin < 0.5 * p->box.len[d])) SPAM_BAD_INPUT("-neighbour_skin", val, "must be below half the periodic box edge (%g)", p->box.len[d]);
+  }
+  if (p->model_set) *model = p->model;
+  else PetscCall(SpamModelIsentropeSetUp(c->dim, c->h, p->mass, c->gamma, c->kappa, model));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamSceneCreateSim(MPI_Comm comm, SpamSim *sim)
 {
   SpamCommonParams c;
@@ -226,11 +252,9 @@ PetscErrorCode SpamSceneCreateSim(MPI_Comm comm, SpamSim *sim)
   SpamModel        model;
   PetscInt         scene = 0;
   PetscBool        help  = PETSC_FALSE, sort;
-  PetscMPIInt      size;
   char             val[64];
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_size(comm, &size));
   PetscCall(PetscOptionsHasHelp(NULL, &help));
   PetscCall(CommonOptions(&c));
   {
@@ -246,22 +270,16 @@ PetscErrorCode SpamSceneCreateSim(MPI_Comm comm, SpamSim *sim)
   PetscCall(PetscSNPrintf(val, sizeof val, "%d", c.dim));
   if (scene == SCENE_CHAIN && c.dim != 1) SPAM_BAD_INPUT("-dim", val, "the chain scene is one-dimensional: add -dim 1");
   if (scene >= SCENE_PLANEWAVE && c.dim != 2) SPAM_BAD_INPUT("-dim", val, "the elastic scenes (planewave, rotor, rotor-pair, rotor-md, tensile) are two-dimensional");
+  PetscCall(SortOption(comm, scene == SCENE_FILE, &sort));
   PetscCall(BuildScene(&c, (int)scene, help, &p));
-  PetscCall(PetscSNPrintf(val, sizeof val, "%d", size));
-  if (size > 1) SPAM_BAD_INPUT("mpiexec -n", val, "this version runs on one rank; multi-rank halo exchange is not written yet");
-  Translate(c.translate, &p);
-  PetscCall(SpamBoxValidate(&p.box, c.h, scene == SCENE_EXPANSION ? "2 x -expansion_n" : scene == SCENE_FILE ? "-box_len" : "the lattice size"));
-  PetscCall(CheckBoxScale(&c, &p.box));
-  for (int d = 0; d < p.box.dim; d++) { /* the list's minimum image corrects by one edge at most */
-    PetscCall(PetscSNPrintf(val, sizeof val, "%g", c.skin)); /* tests/run_bad_input.py expects PETSc's '9.' */
-    if (p.box.periodic[d] && !(c.skin < 0.5 * p.box.len[d])) SPAM_BAD_INPUT("-neighbour_skin", val, "must be below half the periodic box edge (%g)", p.box.len[d]);
+  {
+    PetscErrorCode ierr = CheckBuilt(comm, &c, (int)scene, &p, &model);
+    if (ierr) PetscCall(SpamParticlesFree(&p)); /* refused: leak nothing */
+    PetscCall(ierr);
   }
-  if (p.model_set) model = p.model;
-  else PetscCall(SpamModelIsentropeSetUp(c.dim, c.h, p.mass, c.gamma, c.kappa, &model));
   PetscCall(SpamSimCreate(comm, &model, &p.box, p.n, c.skin, sim));
   sim->scene   = p.info;
   sim->threads = (int)c.threads;
-  PetscCall(SortOption(comm, scene == SCENE_FILE, &sort));
   if (sort) {
     PetscCall(PetscMalloc2(p.n + 1, &sim->row_of, p.n + 1, &sim->at_row));
     PetscCall(SpamParticlesSortByCell(&p, c.h, sim->row_of));
