@@ -21,12 +21,15 @@ PetscErrorCode SpamMonitorProgress(const SpamSim *sim, const SpamRunOptions *o, 
   PetscFunctionReturn(0);
 }
 
-/* Drift scales: energy against |E0|; momentum against sqrt(2 M E0), the momentum the
- * system would have if all its energy were motion in one direction; angular momentum
- * against that momentum times the initial radius of gyration. */
+/* Drift scales: energy against |E0|, or against the run's energy scale (time_loop.c) when
+ * E0 is zero to round-off (a body at rest and unstrained, whose |E - E0| / 1e-300 printed
+ * as 1e+269); momentum against sqrt(2 M E0), the momentum the system would have if all its
+ * energy were motion in one direction; angular momentum against that momentum times the
+ * initial radius of gyration. */
 void SpamRunUpdateDrifts(const SpamDiagnostics *d, SpamRunResult *r)
 {
   const SpamDiagnostics *d0 = &r->first;
+  const double           e_ref = fabs(d0->total) > 1e-12 * r->energy_scale ? fabs(d0->total) : PetscMax(r->energy_scale, 1e-300);
   double                 dp = 0.0, dl = 0.0;
 
   r->momentum_scale = sqrt(2.0 * d0->mass * PetscMax(fabs(d0->total), 1e-300));
@@ -35,7 +38,7 @@ void SpamRunUpdateDrifts(const SpamDiagnostics *d, SpamRunResult *r)
     dp += (d->p[k] - d0->p[k]) * (d->p[k] - d0->p[k]);
     dl += (d->l[k] - d0->l[k]) * (d->l[k] - d0->l[k]);
   }
-  r->energy_drift_max   = PetscMax(r->energy_drift_max, fabs(d->total - d0->total) / PetscMax(fabs(d0->total), 1e-300));
+  r->energy_drift_max   = PetscMax(r->energy_drift_max, fabs(d->total - d0->total) / e_ref);
   r->momentum_drift_max = PetscMax(r->momentum_drift_max, sqrt(dp) / r->momentum_scale);
   r->angmom_drift_max   = PetscMax(r->angmom_drift_max, sqrt(dl) / r->angmom_scale);
 }
