@@ -146,21 +146,14 @@ static PetscErrorCode CommonOptions(SpamCommonParams *c)
   PetscFunctionReturn(0);
 }
 
-/* The translated box stays within the coordinate range, and the neighbour grid of cells
- * of width h + skin stays countable. */
-static PetscErrorCode CheckBoxScale(const SpamCommonParams *c, const SpamBox *b)
+/* The neighbour grid of cells of width h + skin stays countable. */
+static PetscErrorCode CheckNeighbourGrid(const SpamCommonParams *c, const SpamBox *b)
 {
   double cells = 1.0;
   char   val[128];
 
   PetscFunctionBeginUser;
-  for (int d = 0; d < b->dim; d++) {
-    if (!(fabs(b->lo[d]) < MAX_COORDINATE && fabs(b->lo[d] + b->len[d]) < MAX_COORDINATE)) {
-      PetscCall(SpamOptionText("-scene_translate", c->translate[d], val, sizeof val));
-      SPAM_BAD_INPUT("-scene_translate", val, "the translated box [%g, %g] leaves the coordinate range (below %g in size)", b->lo[d], b->lo[d] + b->len[d], MAX_COORDINATE);
-    }
-    cells *= PetscMax(1.0, floor(b->len[d] / (c->h + c->skin)));
-  }
+  for (int d = 0; d < b->dim; d++) cells *= PetscMax(1.0, floor(b->len[d] / (c->h + c->skin)));
   PetscCall(SpamOptionText("-h", c->h, val, sizeof val));
   if (!(cells <= MAX_NEIGHBOUR_CELLS)) SPAM_BAD_INPUT("-h", val, "too small for the box: its neighbour grid would hold %.3g cells of width h + skin, at most %.0e", cells, MAX_NEIGHBOUR_CELLS);
   PetscFunctionReturn(0);
@@ -235,7 +228,7 @@ static PetscErrorCode CheckBuilt(MPI_Comm comm, const SpamCommonParams *c, int s
   if (size > 1) SPAM_BAD_INPUT("mpiexec -n", val, "this version runs on one rank; multi-rank halo exchange is not written yet");
   Translate(c->translate, p);
   PetscCall(SpamBoxValidate(&p->box, c->h, scene == SCENE_EXPANSION ? "2 x -expansion_n" : scene == SCENE_FILE ? "-box_len" : "the lattice size"));
-  PetscCall(CheckBoxScale(c, &p->box));
+  PetscCall(CheckNeighbourGrid(c, &p->box)); /* the translated box's range: SpamBoxValidate */
   for (int d = 0; d < p->box.dim; d++) { /* the list's minimum image corrects by one edge at most */
     PetscCall(PetscSNPrintf(val, sizeof val, "%g", c->skin)); /* tests/run_bad_input.py expects PETSc's '9.' */
     if (p->box.periodic[d] && !(c->skin < 0.5 * p->box.len[d])) SPAM_BAD_INPUT("-neighbour_skin", val, "must be below half the periodic box edge (%g)", p->box.len[d]);

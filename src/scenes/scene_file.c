@@ -15,7 +15,8 @@
  * holds at most seven numbers; a longer line is refused whole rather than split into
  * two particles or cut short, and the limit bounds the memory a line takes. */
 #define CSV_MAX_LINE 4095
-/* Bytes of an offending line quoted in a message (the error handler escapes them). */
+/* Room for the quote of an offending line: SpamClip keeps 80 bytes and "..." (the error
+ * handler escapes them). */
 #define CSV_ECHO 80
 
 typedef struct {
@@ -117,12 +118,12 @@ static PetscErrorCode ReadLine(CsvReader *r, PetscBool *more)
   PetscFunctionReturn(0);
 }
 
-/* Names the line (file:line) and quotes at most CSV_ECHO bytes of it for a message. */
+/* Names the line (file:line) and quotes at most 80 bytes of it for a message (SpamClip). */
 static PetscErrorCode Describe(CsvReader *r)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscSNPrintf(r->where, sizeof r->where, "%s:%" PetscInt_FMT, r->path, r->lineno));
-  (void)snprintf(r->echo, sizeof r->echo, "%.*s%s", CSV_ECHO, r->line, strlen(r->line) > CSV_ECHO ? "..." : "");
+  SpamClip(r->line, r->echo, sizeof r->echo);
   PetscFunctionReturn(0);
 }
 
@@ -276,23 +277,15 @@ static PetscErrorCode ReadHeader(CsvReader *r, int dim, int *nf)
   PetscFunctionReturn(0);
 }
 
-/* The box must be finite before any particle is compared with it (the options are
- * checked where they are read; this keeps the reader safe on its own), and valid for
- * the kernel, so that a box too small is named as such rather than by a particle
- * outside it. */
+/* The box is checked before any particle is compared with it, so that a box too small or
+ * too far out (SpamBoxValidate: positive finite edges, corners within 1e9 h, NaN included)
+ * is named as such rather than by a particle outside it. */
 static PetscErrorCode CheckBox(const SpamCommonParams *c)
 {
   SpamBox box = {c->dim, {0, 0, 0}, {0, 0, 0}, {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE}};
-  char    val[64];
 
   PetscFunctionBeginUser;
   for (int d = 0; d < c->dim; d++) {
-    (void)snprintf(val, sizeof val, "%g", c->box_lo[d]);
-    if (!isfinite(c->box_lo[d])) SPAM_BAD_INPUT("-box_lo", val, "the lower corner must be finite");
-    (void)snprintf(val, sizeof val, "%g", c->box_len[d]);
-    if (!isfinite(c->box_len[d]) || !(c->box_len[d] > 0.0)) SPAM_BAD_INPUT("-box_len", val, "box edges must be positive and finite");
-    (void)snprintf(val, sizeof val, "%g", c->box_lo[d] + c->box_len[d]);
-    if (!isfinite(c->box_lo[d] + c->box_len[d])) SPAM_BAD_INPUT("-box_lo + -box_len", val, "the upper corner must be finite");
     box.lo[d]       = c->box_lo[d];
     box.len[d]      = c->box_len[d];
     box.periodic[d] = c->periodic[d];
