@@ -30,10 +30,10 @@ int main(int argc, char **argv)
   for (PetscInt i = 0; i < p.n; i++) p.rho[i] = sp.rho0;
   p.mass = 1.0;
   SpamParticlesOpenBox(&p, 4.0);
-  PetscCall(SpamModelSolidSetUp(2, 3.0, 1.0, &sp, &m));
+  PetscCall(SpamTestModelSolid(2, 3.0, &sp, &m));
   PetscCall(SpamKernelLucyInit(2, 1.0, &m.kernel)); /* neighbour range 1: only the pairs meet */
   PetscCall(SpamSimCreate(PETSC_COMM_WORLD, &m, &p.box, p.n, 0.1, &sim));
-  PetscCall(SpamSimFill(&sim, p.x, p.v));
+  PetscCall(SpamSimFill(&sim, p.x, p.v, NULL));
   PetscCall(SpamSimFillFields(&sim, &p));
   PetscCall(SpamSimSetUp(&sim));
   PetscCall(VecGetArray(sim.X, &y));

@@ -212,7 +212,7 @@ static PetscErrorCode GasCompare(TestCount *c, const Spoil *spoil, SpamSim *sim,
     Track(&wa, sqrt(d2), S[i], i);
   }
   PetscCall(SpamDensitySummation(sim, y, &bad2));
-  for (int i = 0; i < n; i++) Track(&wr, fabs(sim->rho[i] - rho[i]), rho[i], i);
+  for (int i = 0; i < n; i++) Track(&wr, fabs(sim->f.rho[i] - rho[i]), rho[i], i);
   if (stage == 3) { /* SpamAccel on a compact copy of the positions (stride dim) */
     for (int i = 0; i < n; i++)
       for (int d = 0; d < dim; d++) xc[i * dim + d] = y[(size_t)i * nv + m->layout.x + d];
@@ -220,7 +220,7 @@ static PetscErrorCode GasCompare(TestCount *c, const Spoil *spoil, SpamSim *sim,
     for (int i = 0; i < n; i++) {
       double d2 = 0.0;
       for (int d = 0; d < dim; d++) {
-        const double e = sim->acc[(size_t)i * dim + d] - a[i * dim + d];
+        const double e = sim->f.acc[(size_t)i * dim + d] - a[i * dim + d];
         d2 += e * e;
       }
       Track(&wacc, sqrt(d2), S[i], i);
@@ -409,7 +409,7 @@ static PetscErrorCode SolidCompare(TestCount *c, const Spoil *spoil, SpamSim *si
     Track(&we, fabs(f[l->e] - r[l->e]), s[l->e], i);
     if (l->rho >= 0) Track(&wrd, fabs(f[l->rho] - r[l->rho]), s[l->rho], i);
     for (int k = 0; k < 3; k++) Track(&ws, fabs(f[l->s + k] - r[l->s + k]), s[l->s + k], i);
-    if (m->solid.density == SPAM_DENSITY_SUMMATION) Track(&wr, fabs(sim->rho[i] - rho[i]), rho[i], i);
+    if (m->solid.density == SPAM_DENSITY_SUMMATION) Track(&wr, fabs(sim->f.rho[i] - rho[i]), rho[i], i);
   }
   PetscCall(VecRestoreArray(sim->X, &y));
   TestCheck(c, bad < 0 && wx.worst <= TOL, "%s %s: dr/dt (%s) max |diff| / scale = %.2e (< 1e-12)", label, stage, SpamCoordsModeNames[m->solid.coords], wx.worst);
@@ -455,9 +455,9 @@ static PetscErrorCode SolidCase(TestCount *c, const Spoil *spoil, SpamDensityMod
     p.e[i]   = 0.01 * (1.0 + TestUniform(&seed));
   }
   p.mass = 1.0;
-  PetscCall(SpamModelSolidSetUp(2, h, 1.0, &sp, &m));
+  PetscCall(SpamTestModelSolid(2, h, &sp, &m));
   PetscCall(SpamSimCreate(PETSC_COMM_SELF, &m, &p.box, n, skin, &sim));
-  PetscCall(SpamSimFill(&sim, p.x, p.v));
+  PetscCall(SpamSimFill(&sim, p.x, p.v, NULL));
   PetscCall(SpamSimFillFields(&sim, &p));
   PetscCall(SpamParticlesFree(&p));
   PetscCall(SpamSimSetUp(&sim));

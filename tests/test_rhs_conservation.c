@@ -47,7 +47,7 @@ static PetscErrorCode Case(TestCount *c, int dim, double gamma, PetscBool period
   PetscCall(SpamRhs(&sim, y, ydot, &bad));
   if (sim.model.density_free) PetscCall(SpamDensitySummation(&sim, y, &bad));
   for (int i = 0; i < n; i++) {
-    const double dedrho = sim.model.eos.kappa * pow(sim.rho[i], gamma - 2.0); /* P/rho^2 */
+    const double dedrho = sim.model.eos.kappa * pow(sim.f.rho[i], gamma - 2.0); /* P/rho^2 */
     const double rate   = dedrho * DensityRateBruteForce(&sim, y, i);
     for (int d = 0; d < dim; d++) {
       const double a = ydot[i * 2 * dim + dim + d];

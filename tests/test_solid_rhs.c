@@ -37,9 +37,9 @@ static PetscErrorCode MakeSolid(const SpamSolidParams *sp, uint64_t seed, double
   }
   p.mass = 1.0;
   SpamParticlesOpenBox(&p, 5.0);
-  PetscCall(SpamModelSolidSetUp(2, 3.0, 1.0, sp, &m));
+  PetscCall(SpamTestModelSolid(2, 3.0, sp, &m));
   PetscCall(SpamSimCreate(PETSC_COMM_WORLD, &m, &p.box, p.n, 0.3, sim));
-  PetscCall(SpamSimFill(sim, p.x, p.v));
+  PetscCall(SpamSimFill(sim, p.x, p.v, NULL));
   PetscCall(SpamSimFillFields(sim, &p));
   PetscCall(SpamParticlesFree(&p));
   PetscCall(SpamSimSetUp(sim));

@@ -27,9 +27,9 @@ static PetscErrorCode MakeGas(const SpamSolidParams *sp, double d, int field, Sp
   }
   p.mass = 1.0;
   p.box  = (SpamBox){2, {0, 0, 0}, {24.0, ly, 0}, {PETSC_TRUE, PETSC_TRUE, PETSC_FALSE}};
-  PetscCall(SpamModelSolidSetUp(2, 3.0, 1.0, sp, &m));
+  PetscCall(SpamTestModelSolid(2, 3.0, sp, &m));
   PetscCall(SpamSimCreate(PETSC_COMM_WORLD, &m, &p.box, p.n, 0.3, sim));
-  PetscCall(SpamSimFill(sim, p.x, p.v));
+  PetscCall(SpamSimFill(sim, p.x, p.v, NULL));
   PetscCall(SpamSimFillFields(sim, &p));
   PetscCall(SpamSimSetUp(sim));
   PetscCall(sim->model.setup(sim)); /* sets e = gas_e0 */

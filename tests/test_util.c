@@ -30,17 +30,29 @@ double TestUniform(uint64_t *state)
 
 PetscErrorCode TestMakeSim(const SpamBox *box, double h, double gamma, PetscInt n, const double *x, const double *v, SpamSim *sim)
 {
-  SpamModel model;
+  SpamModel  model;
+  SpamKernel kern;
 
   PetscFunctionBeginUser;
-  PetscCall(SpamModelIsentropeSetUp(box->dim, h, 1.0, gamma, 1.0 / gamma, &model));
+  PetscCall(SpamKernelLucyInit(box->dim, h, &kern));
+  PetscCall(SpamModelIsentropeSetUp(box->dim, &kern, 1.0, gamma, 1.0 / gamma, &model));
   PetscCall(SpamSimCreate(PETSC_COMM_SELF, &model, box, n, 0.1 * h, sim));
   { /* -threads T runs the pair passes and list builds with T OpenMP threads */
     PetscInt threads = 1;
     PetscCall(PetscOptionsGetInt(NULL, NULL, "-threads", &threads, NULL));
     sim->threads = (int)threads;
   }
-  PetscCall(SpamSimFill(sim, x, v));
+  PetscCall(SpamSimFill(sim, x, v, NULL));
   PetscCall(SpamSimSetUp(sim));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamTestModelSolid(int dim, double h, const SpamSolidParams *p, SpamModel *m)
+{
+  SpamKernel k;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamKernelLucyInit(dim, h, &k));
+  PetscCall(SpamModelSolidSetUp(dim, &k, 1.0, p, m));
   PetscFunctionReturn(0);
 }

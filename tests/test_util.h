@@ -16,5 +16,7 @@ int TestFinish(const TestCount *c);
 /* Uniform in [0, 1) from a splitmix64 stream. */
 double TestUniform(uint64_t *state);
 /* A simulation of the isentropic gas with the given particles. */
+/* The tensor-path model with Lucy's kernel of range h and unit mass. */
+PetscErrorCode SpamTestModelSolid(int dim, double h, const SpamSolidParams *p, SpamModel *m);
 PetscErrorCode TestMakeSim(const SpamBox *box, double h, double gamma, PetscInt n, const double *x, const double *v, SpamSim *sim);
 #endif

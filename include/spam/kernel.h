@@ -5,7 +5,12 @@
 #include <math.h>
 #include <petscsys.h>
 
+typedef enum { SPAM_KERNEL_LUCY = 0, SPAM_KERNEL_WENDLAND_C2, SPAM_KERNEL_WENDLAND_C4, SPAM_KERNEL_WENDLAND_C6, SPAM_KERNEL_CUBIC_SPLINE, SPAM_KERNEL_QUINTIC_SPLINE, SPAM_KERNEL_KINDS } SpamKernelKind;
+
 typedef struct {
+  SpamKernelKind kind;
+  const char    *name;
+  int            smooth;
   int    dim;
   double h, hinv, h2;
   double wnorm;  /* C_D h^-D: w = wnorm (1+3s)(1-s)^3                        */
@@ -13,6 +18,8 @@ typedef struct {
 } SpamKernel;
 
 PetscErrorCode SpamKernelLucyInit(int dim, double h, SpamKernel *k);
+/* TEMPORARY until the kernels branch: reads -kernel (lucy only). */
+PetscErrorCode SpamKernelOptions(int dim, double h, SpamKernel *k);
 
 /* w(r) from r^2; zero outside the support. */
 static inline double SpamKernelW(const SpamKernel *k, double r2)

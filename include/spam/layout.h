@@ -9,7 +9,8 @@
 typedef struct {
   int dim, nvar;
   int x, v, e, rho; /* offsets of position, velocity, energy, density (or -1)          */
-  int s;            /* offset of the stress, D(D+1)/2 components xx, xy, yy (or -1)     */
+  int s;            /* offset of the stress, D(D+1)/2 components: the upper triangle     */
+                    /* row by row (2D: xx xy yy; 3D: xx xy xz yy yz zz), or -1           */
   /* Error-weight scale of every component other than x and v: a component y is weighed
    * 1/(rtol max(|y|, scale) + atol), so a field near zero (stress at rest) is measured
    * against its natural size rather than against atol alone. */
@@ -18,7 +19,7 @@ typedef struct {
 
 /* Positions and velocities only: the isentropic gas. */
 PetscErrorCode SpamLayoutPositionsVelocities(int dim, SpamLayout *l);
-/* Tensor path in 2D: [x y vx vy e (rho) (sxx sxy syy)]; rho only when it is integrated
+/* Tensor path: [x v e (rho) (stress)]; rho only when it is integrated
  * (continuity density), the stress only for the elastic solid (a gas has P(rho, e)). rho_scale and stress_scale set the error weights of those fields
  * (energy per mass is weighed against stress_scale / rho_scale). */
 PetscErrorCode SpamLayoutSolid(int dim, PetscBool with_rho, PetscBool with_stress, double rho_scale, double stress_scale, SpamLayout *l);

@@ -42,10 +42,14 @@ typedef struct {
   SpamAccelFn      accel;        /* NULL unless the state is exactly [x, v]            */
   SpamSoundSpeedFn max_sound_speed;
   int              dim;
-  double           mass;
+  double           mass;         /* the particles' mass when they share one            */
+  double           gravity[3];   /* uniform acceleration g (-gravity)                   */
+  PetscBool        gravity_on;
   SpamKernel       kernel;
   SpamEosIsentrope eos;
   PetscBool        density_free; /* force pass only, no density pass */
+  PetscBool        tensor;       /* the tensor path (rhs_tensor.c) and its field arrays */
+  PetscBool        energy_given; /* the input set e per particle (else the gas's e0)    */
   SpamLayout       layout;
   SpamSolidParams  solid;        /* elastic solid: the tensor-path choices             */
   SpamSpringParams springs;      /* molecular springs (rotor-md)                       */
@@ -54,9 +58,10 @@ typedef struct {
   SpamPostStepFn   post_step;    /* NULL: the state never jumps                          */
 } SpamModel;
 
-PetscErrorCode SpamModelIsentropeSetUp(int dim, double h, double mass, double gamma, double kappa, SpamModel *m);
-/* Linear elastic solid in 2D (PRE Secs. I-II) with the choices in p. */
-PetscErrorCode SpamModelSolidSetUp(int dim, double h, double mass, const SpamSolidParams *p, SpamModel *m);
+PetscErrorCode SpamModelIsentropeSetUp(int dim, const SpamKernel *kernel, double mass, double gamma, double kappa, SpamModel *m);
+/* The tensor path (PRE Secs. I-II) with the choices in p: the linear elastic solid or the
+ * gas with the energy equation, in 1D to 3D. */
+PetscErrorCode SpamModelSolidSetUp(int dim, const SpamKernel *kernel, double mass, const SpamSolidParams *p, SpamModel *m);
 /* Molecular dynamics with springs phi = k/2 (r0 - r)^2 between the particles closer than
  * bond_range at set-up (the rotor-md of PRE Fig. 4a); state [x, v]. */
 PetscErrorCode SpamModelSpringsSetUp(int dim, double h, double mass, double kspring, double r0, double bond_range, SpamModel *m);

@@ -6,6 +6,7 @@
 #ifndef SPAM_NEIGHBOURS_H
 #define SPAM_NEIGHBOURS_H
 #include <spam/box.h>
+#include <spam/ghosts.h>
 
 #define SPAM_MAX_THREADS 256
 
@@ -33,6 +34,17 @@ typedef struct {
   double *ucell[3];              /* [n] u at the build in cell order (build scratch) */
   double *u[3];                  /* [n] box-local positions x - off (wrapped at the  */
                                  /* build, within skin/2 of the box since)           */
+  /* Ghost slots (ghosts.h): positions u[d][n + k] of ghost k, and a second CSR list of
+   * each local particle's ghost neighbours (every pair once: a periodic image's pair is
+   * listed in the row of the lower of its two particles). */
+  SpamGhosts ghosts;
+  int     ucap;                  /* room of u[d]: local + ghost slots                 */
+  int    *gstart, *gnbr;         /* [n+1], [gcap]: ghost rows, j = n + k              */
+  size_t  ngpairs, gcap;
+  int    *gcell_start, *gcell_list, gcell_cap; /* ghosts binned into the cells       */
+  SpamBox lbox;                  /* the box of the list: ghost-periodic directions    */
+                                 /* are open here (their images are ghosts)          */
+  SpamImage im;                  /* minimum image of the list's pairs (from lbox)     */
   int     threads;               /* threads of a build (SpamNeighboursSetThreads)     */
   SpamPairBuffer *tbuf;          /* [threads] each thread's rows of a threaded build */
   long    builds, grows;         /* statistics                                       */
@@ -48,6 +60,18 @@ PetscErrorCode SpamNeighboursDestroy(SpamNeighbours *nl);
  * force is set. Returns PETSC_ERR_FP with the particle index in *bad if a position is not
  * finite (bad is -1 otherwise). */
 PetscErrorCode SpamNeighboursUpdate(SpamNeighbours *nl, const SpamBox *box, const double *x, int stride, PetscBool force, PetscInt *bad);
+/* Periodic images as ghost slots instead of the minimum image along the directions set
+ * in per (before the first build; a study of the ghost path, and the way halos work). */
+PetscErrorCode SpamNeighboursSetPeriodicGhosts(SpamNeighbours *nl, const SpamBox *box, const PetscBool per[3]);
+/* After a build: picks the ghosts, places them and lists each local particle's ghost
+ * neighbours (neighbours_ghost.c). Between builds: moves the ghosts with their sources. */
+PetscErrorCode SpamNeighboursBuildGhosts(SpamNeighbours *nl, const SpamBox *box);
+void           SpamNeighboursMoveGhosts(SpamNeighbours *nl);
+/* Local plus ghost slots: the length every per-particle array of a pass needs. */
+static inline int SpamNeighboursSlots(const SpamNeighbours *nl)
+{
+  return nl->n + nl->ghosts.n;
+}
 /* Rows [rows[0], rows[1]) of block t when the list is split into T blocks of consecutive
  * rows with about equal pair counts (the blocks of a threaded pass). */
 void SpamNeighboursSplitRows(const SpamNeighbours *nl, int T, int t, int rows[2]);

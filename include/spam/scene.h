@@ -25,6 +25,9 @@ typedef struct {
   PetscBool periodic[3];
   double    translate[3];
   PetscInt  threads;     /* OpenMP threads of the pair passes                        */
+  SpamKernel kernel;     /* -kernel at -h in -dim                                    */
+  double    gravity[3];  /* -gravity                                                 */
+  PetscBool periodic_ghosts; /* -periodic_images ghost                               */
 } SpamCommonParams;
 
 typedef struct {
@@ -38,8 +41,6 @@ typedef struct {
   char path[PETSC_MAX_PATH_LEN];
 } SpamFileParams;
 
-PetscErrorCode SpamExpansionOptions(const SpamCommonParams *c, SpamExpansionParams *p);
-PetscErrorCode SpamExpansionBuild(const SpamCommonParams *c, const SpamExpansionParams *p, SpamParticles *out);
 typedef struct {
   PetscInt  nx, ny;     /* lattice columns and rows (ny even: periodic)            */
   PetscBool longitudinal;
@@ -71,17 +72,40 @@ typedef struct {
   SpamSolidParams solid;
 } SpamTensileParams;
 
-PetscErrorCode SpamFileOptions(SpamFileParams *p);
-PetscErrorCode SpamPlanewaveOptions(const SpamCommonParams *c, SpamPlanewaveParams *p);
-PetscErrorCode SpamPlanewaveBuild(const SpamCommonParams *c, const SpamPlanewaveParams *p, SpamParticles *out);
-PetscErrorCode SpamRotorOptions(const SpamCommonParams *c, PetscBool pair, SpamRotorParams *p);
-PetscErrorCode SpamRotorBuild(const SpamCommonParams *c, const SpamRotorParams *p, SpamParticles *out);
-PetscErrorCode SpamRotorMdOptions(const SpamCommonParams *c, SpamRotorMdParams *p);
-PetscErrorCode SpamRotorMdBuild(const SpamCommonParams *c, const SpamRotorMdParams *p, SpamParticles *out);
-PetscErrorCode SpamChainOptions(const SpamCommonParams *c, SpamChainParams *p);
-PetscErrorCode SpamChainBuild(const SpamCommonParams *c, const SpamChainParams *p, SpamParticles *out);
-PetscErrorCode SpamTensileOptions(const SpamCommonParams *c, SpamTensileParams *p);
-PetscErrorCode SpamTensileBuild(const SpamCommonParams *c, const SpamTensileParams *p, SpamParticles *out);
+/* Every scene's parameters (a new scene adds its struct here). */
+typedef union {
+  SpamExpansionParams expansion;
+  SpamFileParams      file;
+  SpamPlanewaveParams planewave;
+  SpamRotorParams     rotor;
+  SpamRotorMdParams   rotor_md;
+  SpamChainParams     chain;
+  SpamTensileParams   tensile;
+} SpamSceneParams;
+
+/* A scene, registered by name (scene_list.c): it reads its own options into p and the
+ * defaults of the model it is made for into solid (material, Lame constants, density
+ * choices); the model itself is then read from the options for every scene, and build
+ * makes the particles (geometry and initial state) with the model's parameters. */
+typedef struct {
+  const char  *name;
+  int          dims;      /* bit d set: the scene exists in d dimensions              */
+  PetscBool    own_model; /* the scene's particles carry their model (springs)        */
+  PetscErrorCode (*options)(const SpamCommonParams *c, SpamSceneParams *p, SpamSolidParams *solid);
+  PetscErrorCode (*build)(const SpamCommonParams *c, const SpamSceneParams *p, const SpamSolidParams *solid, SpamParticles *out);
+} SpamSceneOps;
+typedef PetscErrorCode (*SpamSceneOpsFn)(SpamSceneOps *ops);
+
+/* The registered scenes (one line each in scene_list.c). */
+PetscErrorCode SpamSceneRegisterAll(PetscFunctionList *list);
+PetscErrorCode SpamSceneExpansion(SpamSceneOps *ops);
+PetscErrorCode SpamSceneFile(SpamSceneOps *ops);
+PetscErrorCode SpamSceneChain(SpamSceneOps *ops);
+PetscErrorCode SpamScenePlanewave(SpamSceneOps *ops);
+PetscErrorCode SpamSceneRotor(SpamSceneOps *ops);
+PetscErrorCode SpamSceneRotorPair(SpamSceneOps *ops);
+PetscErrorCode SpamSceneRotorMd(SpamSceneOps *ops);
+PetscErrorCode SpamSceneTensile(SpamSceneOps *ops);
 
 /* Triangular lattices of unit spacing a: nx x ny rows filling a periodic box
  * (nx a) x (ny sqrt(3)/2 a); and the hexagon of n shells about the origin (vertices on
@@ -97,7 +121,6 @@ PetscErrorCode SpamParticlesAllocateFields(SpamParticles *p);
 void SpamParticlesOpenBox(SpamParticles *p, double margin);
 /* Copies the optional fields of p into the swarm where the layout has them. */
 PetscErrorCode SpamSimFillFields(SpamSim *sim, const SpamParticles *p);
-PetscErrorCode SpamFileBuild(const SpamCommonParams *c, const SpamFileParams *p, SpamParticles *out);
 PetscErrorCode SpamParticlesAllocate(int dim, PetscInt n, SpamParticles *p);
 /* The largest particle count a run can hold here: state indices within PetscInt and a
  * lower bound of the bytes per particle within the physical memory (scene_size.c). A

@@ -6,6 +6,7 @@
 #include <spam/box.h>
 #include <spam/model.h>
 #include <spam/neighbours.h>
+#include <spam/fields.h>
 
 #define SPAM_STATE_FIELD "spam_state"
 
@@ -38,11 +39,13 @@ typedef struct SpamSim {
   SpamModel      model;
   SpamNeighbours nl;
   double         skin;
-  double        *rho, *q;  /* scratch: density and P/rho^2 per particle             */
+  SpamFields     f;        /* per-particle fields of the passes, with ghost slots:    */
+                           /* masses, density, P/rho^2, accelerations a[i*dim + d]   */
+                           /* (interleaved: a pair's update touches one cache line)  */
+                           /* and the tensor path's arrays                           */
   int            threads;  /* OpenMP threads of the pair passes (-threads; 1: none)   */
   double        *tacc, *trho; /* per-thread sums of threads 1..T-1 (NULL for T = 1)  */
-  double        *acc;      /* scratch: accelerations, a[i*dim + d] (interleaved: the  */
-                           /* two updates of a pair touch one cache line each)      */
+  PetscBool      periodic_ghosts; /* periodic images as ghost slots (-periodic_images) */
   SpamRhsStats   stats;
   SpamLogEvents  ev;
   SpamSceneInfo  scene;
@@ -64,8 +67,9 @@ static inline PetscInt SpamSimAtRow(const SpamSim *sim, PetscInt r)
 
 /* Creates the swarm with n local particles and the model's layout; X is not yet made. */
 PetscErrorCode SpamSimCreate(MPI_Comm comm, const SpamModel *model, const SpamBox *box, PetscInt n, double skin, SpamSim *sim);
-/* Copies positions and velocities ([n*dim] each) into the swarm's packed field. */
-PetscErrorCode SpamSimFill(SpamSim *sim, const double *x, const double *v);
+/* Copies positions and velocities ([n*dim] each) into the swarm's packed field, and the
+ * masses ([n], or NULL: every particle has the model's mass). */
+PetscErrorCode SpamSimFill(SpamSim *sim, const double *x, const double *v, const double *m);
 /* Wraps the packed field in X (zero copy) and allocates scratch: call once the swarm is filled. */
 PetscErrorCode SpamSimSetUp(SpamSim *sim);
 PetscErrorCode SpamSimDestroy(SpamSim *sim);
@@ -81,6 +85,10 @@ PetscErrorCode SpamAccel(SpamSim *sim, const double *x, int stride, PetscInt *ba
 PetscErrorCode SpamRhsIsentrope(SpamSim *sim, const double *y, double *ydot, PetscInt *bad);
 PetscErrorCode SpamAccelIsentrope(SpamSim *sim, const double *x, int stride, PetscInt *bad);
 PetscErrorCode SpamMaxSoundSpeedIsentrope(SpamSim *sim, const double *y, double *cmax);
-/* Summation density of state y into sim->rho (diagnostics, or the density pass). */
+/* The isentropic gas's density and force passes through the pair driver (any kernel,
+ * unequal masses, ghost slots; pass_pressure.c). */
+void SpamPressureDensityWalk(SpamSim *sim);
+void SpamPressureForceWalk(SpamSim *sim);
+/* Summation density of state y into sim->f.rho (diagnostics, or the density pass). */
 PetscErrorCode SpamDensitySummation(SpamSim *sim, const double *y, PetscInt *bad);
 #endif

@@ -8,7 +8,7 @@
 typedef enum { SPAM_DENSITY_SUMMATION, SPAM_DENSITY_CONTINUITY, SPAM_DENSITY_CHAIN_RULE } SpamDensityMode;
 typedef enum { SPAM_DENSITY_INITIAL_IDEAL, SPAM_DENSITY_INITIAL_SUMMED } SpamDensityInitial;
 typedef enum { SPAM_COORDS_R0, SPAM_COORDS_R1, SPAM_COORDS_R2 } SpamCoordsMode;
-typedef enum { SPAM_MATERIAL_ELASTIC, SPAM_MATERIAL_GAS } SpamMaterial;
+typedef enum { SPAM_MATERIAL_ELASTIC, SPAM_MATERIAL_GAS, SPAM_MATERIAL_ISENTROPE } SpamMaterial;
 typedef enum { SPAM_VISCOSITY_NONE, SPAM_VISCOSITY_MONAGHAN, SPAM_VISCOSITY_VON_NEUMANN } SpamViscosityMode;
 typedef enum { SPAM_ANGMOM_NONE, SPAM_ANGMOM_GAUSS, SPAM_ANGMOM_TI, SPAM_ANGMOM_TIJ } SpamAngmomMode;
 
@@ -20,7 +20,8 @@ extern const char *const SpamViscosityModeNames[];
 extern const char *const SpamMaterialNames[];
 
 typedef struct {
-  SpamMaterial       material;      /* elastic (stress in the state) or ideal gas      */
+  SpamMaterial       material;      /* elastic (stress in the state), ideal gas with  */
+                                    /* the energy equation, or the isentropic gas     */
   double             gamma, gas_e0; /* gas: P = (gamma - 1) rho e; initial e            */
   double             shear_visc, bulk_visc; /* Newtonian viscosity (0: off)             */
   double             conductivity;  /* Fourier heat conduction kappa (0: off)          */

@@ -18,6 +18,9 @@ PetscErrorCode SpamKernelLucyInit(int dim, double h, SpamKernel *k)
   PetscFunctionBeginUser;
   PetscCheck(dim >= 1 && dim <= 3, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "kernel dimension %d not in 1..3", dim);
   PetscCheck(h > 0.0, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "kernel range h = %g must be positive", h);
+  k->kind  = SPAM_KERNEL_LUCY;
+  k->name  = "lucy";
+  k->smooth = 2;
   k->dim   = dim;
   k->h     = h;
   k->hinv  = 1.0 / h;
@@ -39,4 +42,15 @@ double SpamKernelD2W(const SpamKernel *k, double r)
   if (r >= k->h) return 0.0;
   const double s = r * k->hinv;
   return k->gnorm * (1.0 - s) * (1.0 - 3.0 * s);
+}
+
+PetscErrorCode SpamKernelOptions(int dim, double h, SpamKernel *k)
+{
+  char name[64] = "lucy";
+  PetscFunctionBeginUser;
+  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Kernel", "spam-ark");
+  PetscCall(PetscOptionsString("-kernel", "Smoothing kernel", "README", name, name, sizeof name, NULL));
+  PetscOptionsEnd();
+  PetscCall(SpamKernelLucyInit(dim, h, k));
+  PetscFunctionReturn(0);
 }

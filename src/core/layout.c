@@ -18,7 +18,6 @@ PetscErrorCode SpamLayoutPositionsVelocities(int dim, SpamLayout *l)
 PetscErrorCode SpamLayoutSolid(int dim, PetscBool with_rho, PetscBool with_stress, double rho_scale, double stress_scale, SpamLayout *l)
 {
   PetscFunctionBeginUser;
-  PetscCheck(dim == 2, PETSC_COMM_SELF, PETSC_ERR_SUP, "the elastic solid is two-dimensional (dim %d)", dim);
   PetscCall(SpamLayoutPositionsVelocities(dim, l));
   l->e = l->nvar++;
   if (with_rho) l->rho = l->nvar++;
@@ -34,7 +33,8 @@ PetscErrorCode SpamLayoutSolid(int dim, PetscBool with_rho, PetscBool with_stres
 PetscErrorCode SpamLayoutDescribe(const SpamLayout *l, char *buf, size_t len)
 {
   static const char *ax[3] = {"x", "y", "z"};
-  static const char *st[3] = {"sxx", "sxy", "syy"};
+  static const char *st1[1] = {"sxx"}, *st2[3] = {"sxx", "sxy", "syy"}, *st3[6] = {"sxx", "sxy", "sxz", "syy", "syz", "szz"};
+  const char *const *st = l->dim == 1 ? st1 : l->dim == 2 ? st2 : st3;
   size_t             used  = 0;
 
   PetscFunctionBeginUser;

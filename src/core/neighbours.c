@@ -60,6 +60,10 @@ PetscErrorCode SpamNeighboursCreate(int n, const SpamBox *box, double cutoff, do
   PetscCall(PetscMalloc5(n, &nl->cell_of, nl->ncells + 1, &nl->cell_start, n, &nl->cell_list, n + 1, &nl->start, n + 1, &nl->slot));
   PetscCall(PetscMalloc1(nl->cap, &nl->nbr));
   PetscCall(PetscCalloc1(n + 1, &nl->image));
+  PetscCall(PetscCalloc1(n + 1, &nl->gstart));
+  nl->lbox = *box;
+  nl->im   = SpamBoxImage(box);
+  nl->ucap = n + 1;
   for (int d = 0; d < 3; d++) nl->ucell[d] = NULL;
   for (int d = 0; d < box->dim; d++) PetscCall(PetscMalloc1(n + 1, &nl->ucell[d]));
   for (int d = 0; d < 3; d++) {
@@ -93,6 +97,10 @@ PetscErrorCode SpamNeighboursDestroy(SpamNeighbours *nl)
   PetscCall(PetscFree5(nl->cell_of, nl->cell_start, nl->cell_list, nl->start, nl->slot));
   PetscCall(PetscFree(nl->nbr));
   PetscCall(PetscFree(nl->image));
+  PetscCall(PetscFree(nl->gstart));
+  PetscCall(PetscFree(nl->gnbr));
+  PetscCall(PetscFree2(nl->gcell_start, nl->gcell_list));
+  PetscCall(SpamGhostsDestroy(&nl->ghosts));
   for (int d = 0; d < 3; d++) PetscCall(PetscFree(nl->ucell[d]));
   for (int d = 0; d < 3; d++) {
     PetscCall(PetscFree(nl->u[d]));
@@ -458,16 +466,20 @@ static PetscErrorCode BuildRowsThreaded(SpamNeighbours *nl, const SpamBox *box, 
   PetscFunctionReturn(0);
 }
 
+/* The local rows over the list's box (ghost-periodic directions open), then the ghosts
+ * of the true box and their rows. */
 static PetscErrorCode BuildList(SpamNeighbours *nl, const SpamBox *box)
 {
-  const SpamImage im = SpamBoxImage(box);
+  const SpamBox  *lbox = &nl->lbox;
+  const SpamImage im   = nl->im;
 
   PetscFunctionBeginUser;
   if (nl->ev_build) PetscCall(PetscLogEventBegin(nl->ev_build, 0, 0, 0, 0));
-  BinParticles(nl, box);
+  BinParticles(nl, lbox);
   nl->start[0] = 0;
-  if (nl->threads > 1) PetscCall(BuildRowsThreaded(nl, box, &im));
-  else PetscCall(BuildRows(nl, box, &im));
+  if (nl->threads > 1) PetscCall(BuildRowsThreaded(nl, lbox, &im));
+  else PetscCall(BuildRows(nl, lbox, &im));
+  PetscCall(SpamNeighboursBuildGhosts(nl, box));
   nl->builds++;
   if (nl->ev_build) PetscCall(PetscLogEventEnd(nl->ev_build, 0, 0, 0, 0));
   PetscFunctionReturn(0);
@@ -537,7 +549,7 @@ PetscErrorCode SpamNeighboursUpdate(SpamNeighbours *nl, const SpamBox *box, cons
   if (force || nl->builds == 0 || maxd2 > 0.25 * nl->skin * nl->skin) {
     PetscCall(Wrap(nl, box, x, stride));
     PetscCall(BuildList(nl, box));
-  }
+  } else SpamNeighboursMoveGhosts(nl);
   PetscFunctionReturn(0);
 }
 

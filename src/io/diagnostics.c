@@ -55,7 +55,7 @@ PetscErrorCode SpamDiagnosticsCompute(SpamSim *sim, const SpamDiagnosticsOptions
     }
     loc[0] += m->mass;
     loc[7] += 0.5 * m->mass * v2;
-    if (!m->diag) loc[8] += m->mass * SpamEosEnergy(&m->eos, sim->rho[i]);
+    if (!m->diag) loc[8] += m->mass * SpamEosEnergy(&m->eos, sim->f.rho[i]);
   }
   PetscCallMPI(MPIU_Allreduce(loc, glob, 11, MPI_DOUBLE, MPI_SUM, sim->comm));
   d->mass = glob[0];

@@ -6,7 +6,7 @@
 double SpamSnapshotDensity(const SpamSim *sim, const double *y, PetscInt i)
 {
   const SpamLayout *l = &sim->model.layout;
-  return l->rho >= 0 ? y[(size_t)i * l->nvar + l->rho] : sim->rho[i];
+  return l->rho >= 0 ? y[(size_t)i * l->nvar + l->rho] : sim->f.rho[i];
 }
 
 /* ParaView's Tensor6 order: xx, xy, xz, yy, yz, zz. The state holds the upper triangle

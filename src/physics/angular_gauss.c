@@ -14,17 +14,17 @@
 static PetscErrorCode Moments(SpamSim *sim, const double *y, double c[4], double rc[2], double vc[2])
 {
   const SpamLayout *l = &sim->model.layout;
-  const double      m = sim->model.mass;
+  const double     *mass = sim->f.m;
   double            s[7] = {0, 0, 0, 0, 0, 0, 0}, xc[2];
 
   PetscFunctionBeginUser;
   for (PetscInt i = 0; i < sim->n; i++) {
-    const double *p = y + (size_t)i * l->nvar;
+    const double *p = y + (size_t)i * l->nvar, m = mass[i];
     s[0] += m;
     for (int d = 0; d < 2; d++) {
       s[1 + d] += m * p[l->x + d];
       s[3 + d] += m * p[l->v + d];
-      s[5 + d] += m * sim->ps->xdot[2 * i + d];
+      s[5 + d] += m * sim->f.xdot[2 * i + d];
     }
   }
   PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, s, 7, MPI_DOUBLE, MPI_SUM, sim->comm));
@@ -35,13 +35,13 @@ static PetscErrorCode Moments(SpamSim *sim, const double *y, double c[4], double
   }
   c[0] = c[1] = c[2] = c[3] = 0.0;
   for (PetscInt i = 0; i < sim->n; i++) {
-    const double *p = y + (size_t)i * l->nvar;
+    const double *p = y + (size_t)i * l->nvar, m = mass[i];
     const double  r[2] = {p[l->x] - rc[0], p[l->x + 1] - rc[1]}, v[2] = {p[l->v] - vc[0], p[l->v + 1] - vc[1]};
-    const double  rd[2] = {sim->ps->xdot[2 * i] - xc[0], sim->ps->xdot[2 * i + 1] - xc[1]};
+    const double  rd[2] = {sim->f.xdot[2 * i] - xc[0], sim->f.xdot[2 * i + 1] - xc[1]};
     c[0] += m * (r[0] * v[1] - r[1] * v[0]);
     c[1] += 0.5 * m * (v[0] * v[0] + v[1] * v[1]);
     c[2] += m * (r[0] * r[0] + r[1] * r[1]);
-    c[3] += m * (rd[0] * v[1] - rd[1] * v[0] + r[0] * sim->acc[2 * i + 1] - r[1] * sim->acc[2 * i]);
+    c[3] += m * (rd[0] * v[1] - rd[1] * v[0] + r[0] * sim->f.acc[2 * i + 1] - r[1] * sim->f.acc[2 * i]);
   }
   PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, c, 4, MPI_DOUBLE, MPI_SUM, sim->comm));
   PetscFunctionReturn(0);
@@ -80,8 +80,8 @@ PetscErrorCode SpamGaussConstraint(SpamSim *sim, const double *y)
       const double *p = y + (size_t)i * l->nvar;
       const double  r[2] = {p[l->x] - rc[0], p[l->x + 1] - rc[1]};
       const double  a[2] = {-alpha * (p[l->v] - vc[0]) - beta * r[1], -alpha * (p[l->v + 1] - vc[1]) + beta * r[0]};
-      sim->acc[2 * i] += a[0];
-      sim->acc[2 * i + 1] += a[1];
+      sim->f.acc[2 * i] += a[0];
+      sim->f.acc[2 * i + 1] += a[1];
       amax = PetscMax(amax, PetscMax(fabs(a[0]), fabs(a[1])));
     }
     sim->ps->gauss_accel_max = PetscMax(sim->ps->gauss_accel_max, amax);

@@ -15,7 +15,7 @@ static int Find(int *parent, int i)
 PetscErrorCode SpamBodiesLabel(SpamSim *sim, const double *y, double range)
 {
   SpamPhysicsScratch *ps = sim->ps;
-  const SpamImage     im = SpamBoxImage(&sim->box);
+  const SpamImage     im = sim->nl.im;
   int                *parent, *label;
   PetscInt            bad;
 
@@ -24,11 +24,17 @@ PetscErrorCode SpamBodiesLabel(SpamSim *sim, const double *y, double range)
   PetscCheck(bad < 0, sim->comm, PETSC_ERR_FP, "non-finite position of particle %" PetscInt_FMT, bad);
   PetscCall(PetscMalloc2(sim->n + 1, &parent, sim->n + 1, &label));
   for (PetscInt i = 0; i < sim->n; i++) parent[i] = (int)i, label[i] = -1;
-  for (int i = 0; i < sim->nl.n; i++)
+  for (int i = 0; i < sim->nl.n; i++) {
     for (int p = sim->nl.start[i]; p < sim->nl.start[i + 1]; p++) {
       double dx[2];
       if (SpamPairDelta2(&sim->nl, &im, i, sim->nl.nbr[p], dx) < range * range) parent[Find(parent, i)] = Find(parent, sim->nl.nbr[p]);
     }
+    for (int p = sim->nl.gstart[i]; p < sim->nl.gstart[i + 1]; p++) { /* a periodic image joins its source */
+      const int j = sim->nl.gnbr[p], src = sim->nl.ghosts.src[j - sim->nl.n];
+      double    dx[2];
+      if (sim->nl.ghosts.kind[j - sim->nl.n] == SPAM_GHOST_PERIODIC && SpamPairDelta2(&sim->nl, &im, i, j, dx) < range * range) parent[Find(parent, i)] = Find(parent, src);
+    }
+  }
   ps->nbody = 0;
   for (PetscInt i = 0; i < sim->n; i++) {
     const int root = Find(parent, (int)i);

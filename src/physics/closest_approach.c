@@ -8,7 +8,7 @@ PetscErrorCode SpamClosestApproachReflect(SpamSim *sim, double *y, double dmin, 
 {
   const SpamLayout *l  = &sim->model.layout;
   const int         nv = l->nvar;
-  const SpamImage   im = SpamBoxImage(&sim->box);
+  const SpamImage   im = sim->nl.im;
   PetscInt          bad;
 
   PetscFunctionBeginUser;

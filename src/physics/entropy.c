@@ -59,8 +59,8 @@ PetscErrorCode SpamEntropySum(SpamSim *sim, const double *y, double *S)
   }
   for (PetscInt i = 0; i < sim->n; i++) {
     double vmean[3] = {0, 0, 0};
-    for (int d = 0; d < dim; d++) vmean[d] = acc[i * (dim + 1) + d] / sim->rho[i];
-    sum += EntropyPerMass(m, sim->rho[i], acc[i * (dim + 1) + dim] / sim->rho[i], vmean);
+    for (int d = 0; d < dim; d++) vmean[d] = acc[i * (dim + 1) + d] / sim->f.rho[i];
+    sum += EntropyPerMass(m, sim->f.rho[i], acc[i * (dim + 1) + dim] / sim->f.rho[i], vmean);
   }
   PetscCall(PetscFree(acc));
   PetscCallMPI(MPIU_Allreduce(&sum, S, 1, MPI_DOUBLE, MPI_SUM, sim->comm));

@@ -6,7 +6,7 @@ PetscBool SpamEosDensityFree(const SpamEosIsentrope *q)
   return (PetscBool)(q->gamma == 2.0);
 }
 
-PetscErrorCode SpamModelIsentropeSetUp(int dim, double h, double mass, double gamma, double kappa, SpamModel *m)
+PetscErrorCode SpamModelIsentropeSetUp(int dim, const SpamKernel *kernel, double mass, double gamma, double kappa, SpamModel *m)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(m, sizeof *m));
@@ -14,7 +14,7 @@ PetscErrorCode SpamModelIsentropeSetUp(int dim, double h, double mass, double ga
   m->mass      = mass;
   m->eos.gamma = gamma;
   m->eos.kappa = kappa;
-  PetscCall(SpamKernelLucyInit(dim, h, &m->kernel));
+  m->kernel    = *kernel;
   PetscCall(SpamLayoutPositionsVelocities(dim, &m->layout));
   m->density_free = SpamEosDensityFree(&m->eos);
   m->rhs          = SpamRhsIsentrope;
@@ -33,7 +33,7 @@ PetscErrorCode SpamMaxSoundSpeedIsentrope(SpamSim *sim, const double *y, double 
 
   PetscFunctionBeginUser;
   PetscCall(SpamDensitySummation(sim, y, &bad));
-  for (PetscInt i = 0; i < sim->n && bad < 0; i++) rmax = PetscMax(rmax, sim->rho[i]);
+  for (PetscInt i = 0; i < sim->n && bad < 0; i++) rmax = PetscMax(rmax, sim->f.rho[i]);
   PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &rmax, 1, MPI_DOUBLE, MPI_MAX, sim->comm));
   /* gamma > 1: the sound speed grows with density. */
   *cmax = SpamEosSoundSpeed(&sim->model.eos, rmax);

@@ -7,10 +7,7 @@ static PetscErrorCode ScratchDestroy(void *ctx)
   SpamPhysicsScratch *ps = (SpamPhysicsScratch *)ctx;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscFree4(ps->gradv, ps->xdot, ps->u, ps->qs));
-  PetscCall(PetscFree4(ps->edot, ps->rhodot, ps->ltorque, ps->tfac));
   PetscCall(PetscFree(ps->body));
-  PetscCall(PetscFree(ps->heat));
   PetscCall(PetscFree3(ps->bpos, ps->bneg, ps->bfac));
   PetscCall(PetscFree(ps->bond_start));
   PetscCall(PetscFree(ps->bond_nbr));
@@ -27,10 +24,7 @@ PetscErrorCode SpamPhysicsScratchCreate(SpamSim *sim)
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&ps));
   ps->n = sim->n;
-  PetscCall(PetscCalloc4(4 * n, &ps->gradv, 2 * n, &ps->xdot, 2 * n, &ps->u, 3 * n, &ps->qs));
-  PetscCall(PetscCalloc4(n, &ps->edot, n, &ps->rhodot, n, &ps->ltorque, n, &ps->tfac));
   PetscCall(PetscCalloc1(n, &ps->body));
-  PetscCall(PetscCalloc1(2 * n, &ps->heat));
   ps->nbody = 1;
   PetscCall(PetscCalloc3(1, &ps->bpos, 1, &ps->bneg, 1, &ps->bfac));
   PetscCall(PetscContainerCreate(sim->comm, &c));

@@ -13,7 +13,11 @@
  * alternating runs this made the force pass 0.96-0.98 of its time with SoA arrays.
  * Particle i's own sum is a vector reduction in the first loop, so its rounding depends
  * on the vector width of the clone that runs (SPAM_CLONES below): deterministic for a
- * given binary and processor; test_pair_reference bounds it against a plain loop. */
+ * given binary and processor; test_pair_reference bounds it against a plain loop.
+ *
+ * These loops are written for Lucy's kernel, equal masses and no ghost slots: the
+ * benchmark's case and every default run. Any other kernel, unequal masses or ghosts go
+ * through the pair driver instead (pass_pressure.c: the same pair terms, one loop). */
 #include <spam/sim.h>
 #include <omp.h>
 
@@ -122,7 +126,7 @@ SPAM_INLINE void ForceRows(const int dim, const int uniform, const SpamNeighbour
 SPAM_INLINE void DensityBlock(const SpamSim *sim, double *rho, int i0, int i1, int t)
 {
   const SpamModel *m  = &sim->model;
-  const SpamImage  im = SpamBoxImage(&sim->box);
+  const SpamImage  im = sim->nl.im;
   const double     wm = m->mass * m->kernel.wnorm; /* m w(0) */
   for (PetscInt i = 0; i < sim->n; i++) rho[i] = t == 0 ? wm : 0.0;
   switch (m->dim) {
@@ -135,11 +139,11 @@ SPAM_INLINE void DensityBlock(const SpamSim *sim, double *rho, int i0, int i1, i
 SPAM_INLINE void ForceBlock(const SpamSim *sim, double *acc, int i0, int i1)
 {
   const SpamModel *m    = &sim->model;
-  const SpamImage  im   = SpamBoxImage(&sim->box);
+  const SpamImage  im   = sim->nl.im;
   const double     coef = -m->mass * m->kernel.gnorm; /* -m (w'/r) / (1-s)^2 > 0 */
   const int        u    = m->density_free;
   for (size_t k = 0; k < (size_t)sim->n * m->dim; k++) acc[k] = 0.0;
-#define SPAM_FORCE_ROWS(D, U) ForceRows(D, U, &sim->nl, &im, &m->kernel, coef, sim->q, acc, i0, i1)
+#define SPAM_FORCE_ROWS(D, U) ForceRows(D, U, &sim->nl, &im, &m->kernel, coef, sim->f.q, acc, i0, i1)
   switch (m->dim) {
   case 1: u ? SPAM_FORCE_ROWS(1, 1) : SPAM_FORCE_ROWS(1, 0); break;
   case 2: u ? SPAM_FORCE_ROWS(2, 1) : SPAM_FORCE_ROWS(2, 0); break;
@@ -172,30 +176,47 @@ static inline void AddThreadBuffers(double *out, const double *scratch, size_t l
     for (int s = 1; s < T; s++) out[k] += scratch[(size_t)(s - 1) * len + k];
 }
 
-/* Summation density of the current list into sim->rho. */
+/* Whether the chunked loops apply (see the top of this file). */
+static PetscBool FastPath(const SpamSim *sim)
+{
+  return (PetscBool)(sim->model.kernel.kind == SPAM_KERNEL_LUCY && sim->f.uniform_mass && sim->nl.ghosts.n == 0);
+}
+
+/* Room for the ghost slots of the current list in the fields (grows only when a list
+ * build found more ghosts than ever before). */
+static PetscErrorCode ReserveSlots(SpamSim *sim)
+{
+  PetscFunctionBeginUser;
+  PetscCall(SpamFieldsReserve(&sim->f, SpamNeighboursSlots(&sim->nl)));
+  if (sim->nl.ghosts.n) SpamGhostsGather(&sim->nl.ghosts, sim->model.dim, (int)sim->n, 1, SPAM_GHOST_SCALAR, sim->f.m);
+  PetscFunctionReturn(0);
+}
+
+/* Summation density of the current list into sim->f.rho. */
 SPAM_CLONES static PetscErrorCode Density(SpamSim *sim)
 {
   const int T = sim->threads;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(sim->ev.density, 0, 0, 0, 0));
-  if (T == 1) DensityBlock(sim, sim->rho, 0, sim->nl.n, 0);
+  if (!FastPath(sim)) SpamPressureDensityWalk(sim);
+  else if (T == 1) DensityBlock(sim, sim->f.rho, 0, sim->nl.n, 0);
   else {
 #pragma omp parallel num_threads(T)
     {
       const int t = omp_get_thread_num();
       int       rows[2];
       SpamNeighboursSplitRows(&sim->nl, T, t, rows);
-      DensityBlock(sim, t == 0 ? sim->rho : sim->trho + (size_t)(t - 1) * sim->n, rows[0], rows[1], t);
+      DensityBlock(sim, t == 0 ? sim->f.rho : sim->trho + (size_t)(t - 1) * sim->n, rows[0], rows[1], t);
 #pragma omp barrier
-      AddThreadBuffers(sim->rho, sim->trho, (size_t)sim->n, T);
+      AddThreadBuffers(sim->f.rho, sim->trho, (size_t)sim->n, T);
     }
   }
   PetscCall(PetscLogEventEnd(sim->ev.density, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
 
-/* Accelerations from sim->q = P/rho^2 into sim->acc. */
+/* Accelerations from sim->f.q = P/rho^2 into sim->f.acc. */
 SPAM_CLONES static PetscErrorCode Force(SpamSim *sim)
 {
   const int    T   = sim->threads;
@@ -203,16 +224,17 @@ SPAM_CLONES static PetscErrorCode Force(SpamSim *sim)
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(sim->ev.force, 0, 0, 0, 0));
-  if (T == 1) ForceBlock(sim, sim->acc, 0, sim->nl.n);
+  if (!FastPath(sim)) SpamPressureForceWalk(sim);
+  else if (T == 1) ForceBlock(sim, sim->f.acc, 0, sim->nl.n);
   else {
 #pragma omp parallel num_threads(T)
     {
       const int t = omp_get_thread_num();
       int       rows[2];
       SpamNeighboursSplitRows(&sim->nl, T, t, rows);
-      ForceBlock(sim, t == 0 ? sim->acc : sim->tacc + (size_t)(t - 1) * len, rows[0], rows[1]);
+      ForceBlock(sim, t == 0 ? sim->f.acc : sim->tacc + (size_t)(t - 1) * len, rows[0], rows[1]);
 #pragma omp barrier
-      AddThreadBuffers(sim->acc, sim->tacc, len, T);
+      AddThreadBuffers(sim->f.acc, sim->tacc, len, T);
     }
   }
   PetscCall(PetscLogEventEnd(sim->ev.force, 0, 0, 0, 0));
@@ -226,6 +248,7 @@ PetscErrorCode SpamDensitySummation(SpamSim *sim, const double *y, PetscInt *bad
   PetscFunctionBeginUser;
   PetscCall(SpamNeighboursUpdate(&sim->nl, &sim->box, y + l->x, l->nvar, PETSC_FALSE, bad));
   if (*bad >= 0) PetscFunctionReturn(0);
+  PetscCall(ReserveSlots(sim));
   PetscCall(Density(sim));
   PetscFunctionReturn(0);
 }
@@ -237,12 +260,17 @@ PetscErrorCode SpamAccelIsentrope(SpamSim *sim, const double *x, int stride, Pet
   PetscFunctionBeginUser;
   PetscCall(SpamNeighboursUpdate(&sim->nl, &sim->box, x, stride, PETSC_FALSE, bad));
   if (*bad >= 0) PetscFunctionReturn(0);
+  PetscCall(ReserveSlots(sim));
   if (!m->density_free) {
     PetscCall(Density(sim));
-    for (PetscInt i = 0; i < sim->n; i++) sim->q[i] = SpamEosPOverRho2(&m->eos, sim->rho[i]);
+    for (PetscInt i = 0; i < sim->n; i++) sim->f.q[i] = SpamEosPOverRho2(&m->eos, sim->f.rho[i]);
   }
+  if (sim->nl.ghosts.n) SpamGhostsGather(&sim->nl.ghosts, m->dim, (int)sim->n, 1, SPAM_GHOST_SCALAR, sim->f.q);
   PetscCall(Force(sim));
-  sim->stats.pair_visits += (double)sim->nl.npairs;
+  if (m->gravity_on)
+    for (PetscInt i = 0; i < sim->n; i++)
+      for (int d = 0; d < m->dim; d++) sim->f.acc[(size_t)i * m->dim + d] += m->gravity[d];
+  sim->stats.pair_visits += (double)(sim->nl.npairs + sim->nl.ngpairs);
   PetscFunctionReturn(0);
 }
 
@@ -258,7 +286,7 @@ PetscErrorCode SpamRhsIsentrope(SpamSim *sim, const double *y, double *ydot, Pet
   for (PetscInt i = 0; i < sim->n; i++) {
     for (int d = 0; d < dim; d++) {
       ydot[(size_t)i * nv + l->x + d] = y[(size_t)i * nv + l->v + d];
-      ydot[(size_t)i * nv + l->v + d] = sim->acc[(size_t)i * dim + d];
+      ydot[(size_t)i * nv + l->v + d] = sim->f.acc[(size_t)i * dim + d];
     }
   }
   PetscFunctionReturn(0);

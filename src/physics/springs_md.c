@@ -63,7 +63,7 @@ static PetscErrorCode AccelSprings(SpamSim *sim, const double *x, int stride, Pe
 
   PetscFunctionBeginUser;
   *bad = -1;
-  for (PetscInt k = 0; k < sim->n * dim; k++) sim->acc[k] = 0.0;
+  for (PetscInt k = 0; k < sim->n * dim; k++) sim->f.acc[k] = 0.0;
   for (PetscInt i = 0; i < sim->n; i++) {
     for (int b = ps->bond_start[i]; b < ps->bond_start[i + 1]; b++) {
       const int    j = ps->bond_nbr[b];
@@ -76,8 +76,8 @@ static PetscErrorCode AccelSprings(SpamSim *sim, const double *x, int stride, Pe
       /* F_i = -phi'(r) r_ij / r = k (r0 - r) r_ij / r */
       const double f = sp->k * (sp->r0 - r) / (r * sim->model.mass);
       for (int d = 0; d < dim; d++) {
-        sim->acc[(size_t)i * dim + d] += f * dx[d];
-        sim->acc[(size_t)j * dim + d] -= f * dx[d];
+        sim->f.acc[(size_t)i * dim + d] += f * dx[d];
+        sim->f.acc[(size_t)j * dim + d] -= f * dx[d];
       }
     }
   }
@@ -95,7 +95,7 @@ static PetscErrorCode RhsSprings(SpamSim *sim, const double *y, double *ydot, Pe
   for (PetscInt i = 0; i < sim->n; i++)
     for (int d = 0; d < sim->model.dim; d++) {
       ydot[(size_t)i * l->nvar + l->x + d] = y[(size_t)i * l->nvar + l->v + d];
-      ydot[(size_t)i * l->nvar + l->v + d] = sim->acc[(size_t)i * sim->model.dim + d];
+      ydot[(size_t)i * l->nvar + l->v + d] = sim->f.acc[(size_t)i * sim->model.dim + d];
     }
   PetscFunctionReturn(0);
 }

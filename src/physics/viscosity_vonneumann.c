@@ -3,18 +3,14 @@
  *   q_i = rho_i [beta (h div v)^2 - alpha c h div v]  for div v < 0, else 0,
  * subtracted from the diagonal of sigma/rho^2, so that it resists the approach of
  * particles (the clumping of the tensile instability) and heats through de/dt. */
-#include <spam/physics.h>
+#include <spam/stress.h>
 
-void SpamViscosityVonNeumann(const SpamSim *sim, const double *gradv, double *qs)
+void SpamVonNeumannViscosity(int dim, double alpha, double beta, double c, double h, const double *g, double rho, double *q)
 {
-  const SpamSolidParams *s = &sim->model.solid;
-  const double           h = sim->model.kernel.h;
+  double div = 0.0;
 
-  for (PetscInt i = 0; i < sim->n; i++) {
-    const double div = gradv[4 * i] + gradv[4 * i + 3];
-    if (div >= 0.0) continue;
-    const double q = sim->rho[i] * (s->visc_beta * h * h * div * div - s->visc_alpha * s->sound_speed * h * div);
-    qs[3 * i] -= q / (sim->rho[i] * sim->rho[i]);
-    qs[3 * i + 2] -= q / (sim->rho[i] * sim->rho[i]);
-  }
+  for (int a = 0; a < dim; a++) div += g[a * dim + a];
+  if (div >= 0.0) return;
+  const double p = rho * (beta * h * h * div * div - alpha * c * h * div) / (rho * rho);
+  for (int a = 0; a < dim; a++) q[a * dim + a] -= p;
 }

@@ -3,8 +3,6 @@
 #include <spam/errors.h>
 #include <float.h>
 
-static const char *const SceneNames[] = {"expansion", "file", "chain", "planewave", "rotor", "rotor-pair", "rotor-md", "tensile"};
-enum { SCENE_EXPANSION, SCENE_FILE, SCENE_CHAIN, SCENE_PLANEWAVE, SCENE_ROTOR, SCENE_ROTOR_PAIR, SCENE_ROTOR_MD, SCENE_TENSILE, NSCENES };
 
 PetscErrorCode SpamParticlesAllocate(int dim, PetscInt n, SpamParticles *p)
 {
@@ -99,6 +97,7 @@ static PetscErrorCode KernelOptions(SpamCommonParams *c)
   if (c->threads < 1 || c->threads > SPAM_MAX_THREADS) SPAM_BAD_INPUT("-threads", val, "must be from 1 to %d", SPAM_MAX_THREADS);
   PetscCall(CheckPositive("-h", c->h));
   PetscCall(CheckKernelRange(c->dim, c->h));
+  PetscCall(SpamKernelOptions(c->dim, c->h, &c->kernel));
   PetscCall(CheckPositive("-mass", c->mass));
   PetscCall(SpamOptionText("-neighbour_skin", c->skin, val, sizeof val));
   if (!(c->skin >= 0.0) || !isfinite(c->skin)) SPAM_BAD_INPUT("-neighbour_skin", val, "must be zero or positive");
@@ -167,38 +166,59 @@ static void Translate(const double t[3], SpamParticles *p)
   }
 }
 
-/* Reads the options of scene s (of every scene with -help) and builds its particles. */
-static PetscErrorCode BuildScene(const SpamCommonParams *c, int s, PetscBool help, SpamParticles *p)
+/* -gravity g (1 value: along the last direction, -dim values: the vector) and
+ * -periodic_images: what every scene's model and list take. */
+static PetscErrorCode ModelCommonOptions(SpamCommonParams *c)
 {
-  SpamExpansionParams ep;
-  SpamFileParams      fp;
-  SpamPlanewaveParams pw;
-  SpamRotorParams     ro, rp;
-  SpamRotorMdParams   md;
-  SpamTensileParams   te;
-  SpamChainParams     ch;
-  PetscErrorCode      ierr;
+  PetscReal g[16] = {0};
+  PetscInt  ng    = 16;
+  PetscBool set;
+  char      images[32] = "minimum", val[128];
 
   PetscFunctionBeginUser;
-  if (help || s == SCENE_EXPANSION) PetscCall(SpamExpansionOptions(c, &ep));
-  if (help || s == SCENE_FILE) PetscCall(SpamFileOptions(&fp));
-  if (help || s == SCENE_CHAIN) PetscCall(SpamChainOptions(c, &ch));
-  if (help || s == SCENE_PLANEWAVE) PetscCall(SpamPlanewaveOptions(c, &pw));
-  if (help || s == SCENE_ROTOR) PetscCall(SpamRotorOptions(c, PETSC_FALSE, &ro));
-  if (help || s == SCENE_ROTOR_PAIR) PetscCall(SpamRotorOptions(c, PETSC_TRUE, &rp));
-  if (help || s == SCENE_ROTOR_MD) PetscCall(SpamRotorMdOptions(c, &md));
-  if (help || s == SCENE_TENSILE) PetscCall(SpamTensileOptions(c, &te));
-  PetscCall(PetscMemzero(p, sizeof *p));
-  switch (s) {
-  case SCENE_EXPANSION: ierr = SpamExpansionBuild(c, &ep, p); break;
-  case SCENE_FILE: ierr = SpamFileBuild(c, &fp, p); break;
-  case SCENE_CHAIN: ierr = SpamChainBuild(c, &ch, p); break;
-  case SCENE_PLANEWAVE: ierr = SpamPlanewaveBuild(c, &pw, p); break;
-  case SCENE_ROTOR: ierr = SpamRotorBuild(c, &ro, p); break;
-  case SCENE_ROTOR_PAIR: ierr = SpamRotorBuild(c, &rp, p); break;
-  case SCENE_ROTOR_MD: ierr = SpamRotorMdBuild(c, &md, p); break;
-  default: ierr = SpamTensileBuild(c, &te, p); break;
+  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Model and list", "spam-ark");
+  PetscCall(PetscOptionsRealArray("-gravity", "Uniform acceleration g: -dim values, or 1 value along the last direction (default 0)", "README", g, &ng, &set));
+  PetscCall(PetscOptionsString("-periodic_images", "Periodic neighbours by the minimum image (minimum) or as ghost slots (ghost: the path of walls and halos)", "README", images, images, sizeof images, NULL));
+  PetscOptionsEnd();
+  PetscCall(SpamOptionText("-gravity", set ? g[0] : 0.0, val, sizeof val));
+  if (set && ng != 1 && ng != c->dim) SPAM_BAD_INPUT("-gravity", val, "takes 1 value (along the last direction) or %d (-dim %d); %" PetscInt_FMT " given", c->dim, c->dim, ng);
+  for (int d = 0; d < 3; d++) c->gravity[d] = 0.0;
+  for (int d = 0; set && d < (int)ng; d++) {
+    if (!isfinite(g[d]) || fabs(g[d]) > 1e100) SPAM_BAD_INPUT("-gravity", val, "every value must be a finite number below 1e100 in size");
+    c->gravity[ng == 1 ? c->dim - 1 : d] = g[d];
   }
+  if (strcmp(images, "minimum") && strcmp(images, "ghost")) SPAM_BAD_INPUT("-periodic_images", images, "allowed: minimum, ghost");
+  c->periodic_ghosts = (PetscBool)!strcmp(images, "ghost");
+  PetscFunctionReturn(0);
+}
+
+/* Reads the options of the scene (of every scene with -help) and the model's, with the
+ * scene's defaults, and builds the particles. */
+static PetscErrorCode BuildScene(const SpamCommonParams *c, PetscFunctionList list, const SpamSceneOps *ops, PetscBool help, SpamSolidParams *solid, SpamParticles *p)
+{
+  SpamSceneParams sp;
+  PetscErrorCode  ierr;
+
+  PetscFunctionBeginUser;
+  if (help) { /* every scene's options, for the listing */
+    const char **names;
+    int          n;
+    PetscCall(PetscFunctionListGet(list, &names, &n));
+    for (int k = 0; k < n; k++) {
+      SpamSceneOps    other;
+      SpamSceneParams tmp;
+      SpamSolidParams ts;
+      SpamSceneOpsFn  fn;
+      PetscCall(PetscFunctionListFind(list, names[k], &fn));
+      PetscCall(fn(&other));
+      if (strcmp(other.name, ops->name)) PetscCall(other.options(c, &tmp, &ts));
+    }
+    PetscCall(PetscFree(names));
+  }
+  PetscCall(ops->options(c, &sp, solid));
+  if (!ops->own_model || help) PetscCall(SpamSolidOptions(solid));
+  PetscCall(PetscMemzero(p, sizeof *p));
+  ierr = ops->build(c, &sp, solid, p);
   if (ierr) PetscCall(SpamParticlesFree(p)); /* a scene refused after allocating: leak nothing */
   PetscCall(ierr);
   PetscFunctionReturn(0);
@@ -216,8 +236,34 @@ static PetscErrorCode SortOption(MPI_Comm comm, PetscBool file, PetscBool *sort)
   PetscFunctionReturn(0);
 }
 
+/* The model of the run: the scene's own (springs), or the one read from the options
+ * (-material and the rest) with the scene's defaults, in the scene's dimension. */
+static PetscErrorCode ModelOf(const SpamCommonParams *c, SpamParticles *p, SpamSolidParams *solid, SpamModel *model)
+{
+  char val[64];
+
+  PetscFunctionBeginUser;
+  if (p->model_set) *model = p->model;
+  else if (solid->material == SPAM_MATERIAL_ISENTROPE) PetscCall(SpamModelIsentropeSetUp(p->dim, &c->kernel, p->mass, c->gamma, c->kappa, model));
+  else {
+    PetscCall(PetscSNPrintf(val, sizeof val, "%s", SpamAngmomModeNames[solid->angmom]));
+    if (p->dim != 2 && solid->angmom != SPAM_ANGMOM_NONE) SPAM_BAD_INPUT("-angmom", val, "the angular-momentum treatments are two-dimensional (this run: -dim %d)", p->dim);
+    PetscCall(PetscSNPrintf(val, sizeof val, "%g", solid->closest_approach));
+    if (p->dim != 2 && solid->closest_approach > 0) SPAM_BAD_INPUT("-closest_approach", val, "is two-dimensional (this run: -dim %d)", p->dim);
+    if (solid->density != SPAM_DENSITY_SUMMATION && !p->rho) solid->density_initial = SPAM_DENSITY_INITIAL_SUMMED; /* no density given: sum it */
+    PetscCall(SpamModelSolidSetUp(p->dim, &c->kernel, p->mass, solid, model));
+  }
+  for (int d = 0; d < 3; d++) {
+    model->gravity[d] = d < p->dim ? c->gravity[d] : 0.0;
+    if (model->gravity[d] != 0.0) model->gravity_on = PETSC_TRUE;
+  }
+  PetscCall(PetscSNPrintf(val, sizeof val, "%g", c->gravity[p->dim - 1]));
+  if (model->gravity_on && !model->rhs) SPAM_BAD_INPUT("-gravity", val, "model %s takes no gravity", model->name);
+  PetscFunctionReturn(0);
+}
+
 /* The checks of a built scene against the common options, and its model. */
-static PetscErrorCode CheckBuilt(MPI_Comm comm, const SpamCommonParams *c, int scene, SpamParticles *p, SpamModel *model)
+static PetscErrorCode CheckBuilt(MPI_Comm comm, const SpamCommonParams *c, const char *scene, SpamParticles *p, SpamSolidParams *solid, SpamModel *model)
 {
   PetscMPIInt size;
   char        val[64];
@@ -227,59 +273,112 @@ static PetscErrorCode CheckBuilt(MPI_Comm comm, const SpamCommonParams *c, int s
   PetscCall(PetscSNPrintf(val, sizeof val, "%d", size));
   if (size > 1) SPAM_BAD_INPUT("mpiexec -n", val, "this version runs on one rank; multi-rank halo exchange is not written yet");
   Translate(c->translate, p);
-  PetscCall(SpamBoxValidate(&p->box, c->h, scene == SCENE_EXPANSION ? "2 x -expansion_n" : scene == SCENE_FILE ? "-box_len" : "the lattice size"));
+  PetscCall(SpamBoxValidate(&p->box, c->h, !strcmp(scene, "expansion") ? "2 x -expansion_n" : !strcmp(scene, "file") ? "-box_len" : "the lattice size"));
   PetscCall(CheckNeighbourGrid(c, &p->box)); /* the translated box's range: SpamBoxValidate */
   for (int d = 0; d < p->box.dim; d++) { /* the list's minimum image corrects by one edge at most */
     PetscCall(PetscSNPrintf(val, sizeof val, "%g", c->skin)); /* tests/run_bad_input.py expects PETSc's '9.' */
     if (p->box.periodic[d] && !(c->skin < 0.5 * p->box.len[d])) SPAM_BAD_INPUT("-neighbour_skin", val, "must be below half the periodic box edge (%g)", p->box.len[d]);
   }
-  if (p->model_set) *model = p->model;
-  else PetscCall(SpamModelIsentropeSetUp(c->dim, c->h, p->mass, c->gamma, c->kappa, model));
+  PetscCall(ModelOf(c, p, solid, model));
+  PetscFunctionReturn(0);
+}
+
+/* Scene names for messages: "a, b, c". */
+static PetscErrorCode SceneNames(PetscFunctionList list, char *buf, size_t len)
+{
+  const char **names;
+  int          n;
+
+  buf[0] = 0;
+  PetscFunctionBeginUser;
+  PetscCall(PetscFunctionListGet(list, &names, &n));
+  for (int k = 0; k < n; k++) {
+    PetscCall(PetscStrlcat(buf, k ? ", " : "", len));
+    PetscCall(PetscStrlcat(buf, names[k], len));
+  }
+  PetscCall(PetscFree(names));
+  PetscFunctionReturn(0);
+}
+
+/* The chosen scene's operations, or a bad-input error listing the scenes. */
+static PetscErrorCode ChooseScene(MPI_Comm comm, PetscFunctionList list, SpamSceneOps *ops)
+{
+  char           name[64] = "expansion", names[256], help[400];
+  SpamSceneOpsFn fn;
+
+  PetscFunctionBeginUser;
+  PetscCall(SceneNames(list, names, sizeof names));
+  PetscCall(PetscSNPrintf(help, sizeof help, "Scene that builds the particles: %s", names));
+  PetscOptionsBegin(comm, NULL, "Scene", "spam-ark");
+  PetscCall(PetscOptionsString("-scene", help, "README", name, name, sizeof name, NULL));
+  PetscOptionsEnd();
+  PetscCall(PetscFunctionListFind(list, name, &fn));
+  if (!fn) {
+    char shown[100];
+    SpamClip(name, shown, sizeof shown);
+    SPAM_BAD_INPUT("-scene", shown, "allowed: %s", names);
+  }
+  PetscCall(fn(ops));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode CheckDimension(const SpamCommonParams *c, const SpamSceneOps *ops)
+{
+  char val[64], dims[32] = "";
+
+  PetscFunctionBeginUser;
+  if (ops->dims & (1 << c->dim)) PetscFunctionReturn(0);
+  for (int d = 1; d <= 3; d++)
+    if (ops->dims & (1 << d)) (void)snprintf(dims + strlen(dims), sizeof dims - strlen(dims), "%s%d", dims[0] ? ", " : "", d);
+  PetscCall(PetscSNPrintf(val, sizeof val, "%d", c->dim));
+  SPAM_BAD_INPUT("-dim", val, "-scene %s exists in %s dimension%s", ops->name, dims, strchr(dims, ',') ? "s" : "");
+}
+
+/* Swarm, particle order, fields and set-up of the built particles p. */
+static PetscErrorCode CreateSim(MPI_Comm comm, const SpamCommonParams *c, PetscBool sort, const SpamModel *model, SpamParticles *p, SpamSim *sim)
+{
+  PetscFunctionBeginUser;
+  PetscCall(SpamSimCreate(comm, model, &p->box, p->n, c->skin, sim));
+  sim->scene           = p->info;
+  sim->threads         = (int)c->threads;
+  sim->periodic_ghosts = c->periodic_ghosts;
+  if (sort) {
+    PetscCall(PetscMalloc2(p->n + 1, &sim->row_of, p->n + 1, &sim->at_row));
+    PetscCall(SpamParticlesSortByCell(p, c->h, sim->row_of));
+    for (PetscInt i = 0; i < p->n; i++) sim->at_row[sim->row_of[i]] = i;
+  }
+  PetscCall(SpamSimFill(sim, p->x, p->v, NULL)); /* per-particle masses: the file scene's m column (h-files) */
+  PetscCall(SpamSimFillFields(sim, p));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SpamSceneCreateSim(MPI_Comm comm, SpamSim *sim)
 {
-  SpamCommonParams c;
-  SpamParticles    p;
-  SpamModel        model;
-  PetscInt         scene = 0;
-  PetscBool        help  = PETSC_FALSE, sort;
-  char             val[64];
+  SpamCommonParams  c;
+  SpamParticles     p;
+  SpamModel         model;
+  SpamSolidParams   solid;
+  SpamSceneOps      ops;
+  PetscFunctionList list = NULL;
+  PetscBool         help = PETSC_FALSE, sort;
+  PetscErrorCode    ierr;
 
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsHasHelp(NULL, &help));
   PetscCall(CommonOptions(&c));
-  {
-    char name[64] = "expansion";
-    PetscOptionsBegin(comm, NULL, "Scene", "spam-ark");
-    PetscCall(PetscOptionsString("-scene", "Scene that builds the particles: expansion, file, chain, planewave, rotor, rotor-pair, rotor-md or tensile", "README", name, name, sizeof name, NULL));
-    PetscOptionsEnd();
-    scene = -1;
-    for (int s = 0; s < NSCENES; s++)
-      if (!strcmp(name, SceneNames[s])) scene = s;
-    if (scene < 0) SPAM_BAD_INPUT("-scene", name, "allowed: expansion, file, chain, planewave, rotor, rotor-pair, rotor-md, tensile");
-  }
-  PetscCall(PetscSNPrintf(val, sizeof val, "%d", c.dim));
-  if (scene == SCENE_CHAIN && c.dim != 1) SPAM_BAD_INPUT("-dim", val, "the chain scene is one-dimensional: add -dim 1");
-  if (scene >= SCENE_PLANEWAVE && c.dim != 2) SPAM_BAD_INPUT("-dim", val, "the elastic scenes (planewave, rotor, rotor-pair, rotor-md, tensile) are two-dimensional");
-  PetscCall(SortOption(comm, scene == SCENE_FILE, &sort));
-  PetscCall(BuildScene(&c, (int)scene, help, &p));
-  {
-    PetscErrorCode ierr = CheckBuilt(comm, &c, (int)scene, &p, &model);
-    if (ierr) PetscCall(SpamParticlesFree(&p)); /* refused: leak nothing */
-    PetscCall(ierr);
-  }
-  PetscCall(SpamSimCreate(comm, &model, &p.box, p.n, c.skin, sim));
-  sim->scene   = p.info;
-  sim->threads = (int)c.threads;
-  if (sort) {
-    PetscCall(PetscMalloc2(p.n + 1, &sim->row_of, p.n + 1, &sim->at_row));
-    PetscCall(SpamParticlesSortByCell(&p, c.h, sim->row_of));
-    for (PetscInt i = 0; i < p.n; i++) sim->at_row[sim->row_of[i]] = i;
-  }
-  PetscCall(SpamSimFill(sim, p.x, p.v));
-  PetscCall(SpamSimFillFields(sim, &p));
+  PetscCall(ModelCommonOptions(&c));
+  PetscCall(SpamSceneRegisterAll(&list));
+  ierr = ChooseScene(comm, list, &ops);
+  if (!ierr) ierr = CheckDimension(&c, &ops);
+  if (!ierr) ierr = SortOption(comm, (PetscBool)!strcmp(ops.name, "file"), &sort);
+  if (!ierr) ierr = BuildScene(&c, list, &ops, help, &solid, &p);
+  PetscCall(PetscFunctionListDestroy(&list));
+  PetscCall(ierr);
+  ierr = CheckBuilt(comm, &c, ops.name, &p, &solid, &model);
+  if (ierr) PetscCall(SpamParticlesFree(&p)); /* refused: leak nothing */
+  PetscCall(ierr);
+  model.energy_given = (PetscBool)(p.e && !strcmp(ops.name, "file"));
+  PetscCall(CreateSim(comm, &c, sort, &model, &p, sim));
   PetscCall(SpamParticlesFree(&p));
   PetscCall(SpamSimSetUp(sim));
   if (sim->model.setup) PetscCall(sim->model.setup(sim));

@@ -10,7 +10,7 @@
 #include <spam/scene.h>
 #include <spam/errors.h>
 
-PetscErrorCode SpamChainOptions(const SpamCommonParams *c, SpamChainParams *p)
+static PetscErrorCode SpamChainOptions(const SpamCommonParams *c, SpamChainParams *p)
 {
   char val[64];
 
@@ -34,7 +34,7 @@ PetscErrorCode SpamChainOptions(const SpamCommonParams *c, SpamChainParams *p)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamChainBuild(const SpamCommonParams *c, const SpamChainParams *p, SpamParticles *out)
+static PetscErrorCode SpamChainBuild(const SpamCommonParams *c, const SpamChainParams *p, SpamParticles *out)
 {
   const double wmax = 2.0 * sqrt(p->k / c->mass);
 
@@ -51,5 +51,28 @@ PetscErrorCode SpamChainBuild(const SpamCommonParams *c, const SpamChainParams *
   out->info.t_end_default        = 100.0 * 2.0 * PETSC_PI / wmax;
   out->model_set                 = PETSC_TRUE;
   PetscCall(SpamModelSpringsSetUp(1, c->h, c->mass, p->k, 1.0, 1.1, &out->model));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, SpamSolidParams *solid)
+{
+  PetscFunctionBeginUser;
+  SpamSolidDefaults(solid);
+  PetscCall(SpamChainOptions(c, &p->chain));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p, const SpamSolidParams *solid, SpamParticles *out)
+{
+  PetscFunctionBeginUser;
+  (void)solid;
+  PetscCall(SpamChainBuild(c, &p->chain, out));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamSceneChain(SpamSceneOps *ops)
+{
+  PetscFunctionBeginUser;
+  *ops = (SpamSceneOps){"chain", 2, PETSC_TRUE, Options, Build};
   PetscFunctionReturn(0);
 }

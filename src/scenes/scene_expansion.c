@@ -16,7 +16,7 @@ static double Uniform(uint64_t *state)
   return 2.0 * ((double)(z >> 11) * 0x1.0p-53) - 1.0;
 }
 
-PetscErrorCode SpamExpansionOptions(const SpamCommonParams *c, SpamExpansionParams *p)
+static PetscErrorCode SpamExpansionOptions(const SpamCommonParams *c, SpamExpansionParams *p)
 {
   char val[64];
 
@@ -39,7 +39,7 @@ PetscErrorCode SpamExpansionOptions(const SpamCommonParams *c, SpamExpansionPara
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamExpansionBuild(const SpamCommonParams *c, const SpamExpansionParams *p, SpamParticles *out)
+static PetscErrorCode SpamExpansionBuild(const SpamCommonParams *c, const SpamExpansionParams *p, SpamParticles *out)
 {
   const int  dim = c->dim;
   PetscInt   n   = 1;
@@ -71,5 +71,32 @@ PetscErrorCode SpamExpansionBuild(const SpamCommonParams *c, const SpamExpansion
   /* Unit lattice: nominal density m; sound crosses the n-wide gas in n / c. */
   out->info.sound_traversal_time = (double)p->n / SpamEosSoundSpeed(&eos, c->mass);
   out->info.t_end_default        = 2.0 * out->info.sound_traversal_time;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, SpamSolidParams *solid)
+{
+  PetscFunctionBeginUser;
+  SpamSolidDefaults(solid);
+  solid->material        = SPAM_MATERIAL_ISENTROPE;
+  solid->density         = SPAM_DENSITY_SUMMATION;
+  solid->density_initial = SPAM_DENSITY_INITIAL_SUMMED;
+  solid->rho0            = c->mass;
+  PetscCall(SpamExpansionOptions(c, &p->expansion));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p, const SpamSolidParams *solid, SpamParticles *out)
+{
+  PetscFunctionBeginUser;
+  (void)solid;
+  PetscCall(SpamExpansionBuild(c, &p->expansion, out));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamSceneExpansion(SpamSceneOps *ops)
+{
+  PetscFunctionBeginUser;
+  *ops = (SpamSceneOps){"expansion", 2 | 4 | 8, PETSC_FALSE, Options, Build};
   PetscFunctionReturn(0);
 }

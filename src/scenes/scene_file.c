@@ -29,7 +29,7 @@ typedef struct {
   char        where[PETSC_MAX_PATH_LEN + 32], echo[CSV_ECHO + 4];
 } CsvReader;
 
-PetscErrorCode SpamFileOptions(SpamFileParams *p)
+static PetscErrorCode SpamFileOptions(SpamFileParams *p)
 {
   PetscFunctionBeginUser;
   p->path[0] = 0;
@@ -294,7 +294,7 @@ static PetscErrorCode CheckBox(const SpamCommonParams *c)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamFileBuild(const SpamCommonParams *c, const SpamFileParams *p, SpamParticles *out)
+static PetscErrorCode SpamFileBuild(const SpamCommonParams *c, const SpamFileParams *p, SpamParticles *out)
 {
   CsvReader     *r;
   int            nf = 0;
@@ -325,5 +325,32 @@ PetscErrorCode SpamFileBuild(const SpamCommonParams *c, const SpamFileParams *p,
   }
   PetscCall(PetscStrncpy(out->info.name, "file", sizeof out->info.name));
   out->info.t_end_default = 10.0;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, SpamSolidParams *solid)
+{
+  PetscFunctionBeginUser;
+  SpamSolidDefaults(solid);
+  solid->material        = SPAM_MATERIAL_ISENTROPE;
+  solid->density         = SPAM_DENSITY_SUMMATION;
+  solid->density_initial = SPAM_DENSITY_INITIAL_SUMMED;
+  solid->rho0            = c->mass;
+  PetscCall(SpamFileOptions(&p->file));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p, const SpamSolidParams *solid, SpamParticles *out)
+{
+  PetscFunctionBeginUser;
+  (void)solid;
+  PetscCall(SpamFileBuild(c, &p->file, out));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamSceneFile(SpamSceneOps *ops)
+{
+  PetscFunctionBeginUser;
+  *ops = (SpamSceneOps){"file", 2 | 4 | 8, PETSC_FALSE, Options, Build};
   PetscFunctionReturn(0);
 }

@@ -9,7 +9,7 @@
 #include <spam/physics.h>
 #include <spam/errors.h>
 
-PetscErrorCode SpamPlanewaveOptions(const SpamCommonParams *c, SpamPlanewaveParams *p)
+static PetscErrorCode SpamPlanewaveOptions(const SpamCommonParams *c, SpamPlanewaveParams *p)
 {
   char val[64], mode[32] = "transverse";
 
@@ -25,7 +25,6 @@ PetscErrorCode SpamPlanewaveOptions(const SpamCommonParams *c, SpamPlanewavePara
   PetscCall(PetscOptionsString("-planewave_mode", "Polarisation: transverse (u_x) or longitudinal (u_y)", "README", mode, mode, sizeof mode, NULL));
   PetscCall(PetscOptionsReal("-planewave_amplitude", "Displacement amplitude A (lattice units)", "README", p->amplitude, &p->amplitude, NULL));
   PetscOptionsEnd();
-  PetscCall(SpamSolidOptions(&p->solid));
   if (strcmp(mode, "transverse") && strcmp(mode, "longitudinal")) SPAM_BAD_INPUT("-planewave_mode", mode, "allowed: transverse, longitudinal");
   p->longitudinal = (PetscBool)!strcmp(mode, "longitudinal");
   PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->ny));
@@ -39,7 +38,7 @@ PetscErrorCode SpamPlanewaveOptions(const SpamCommonParams *c, SpamPlanewavePara
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamPlanewaveBuild(const SpamCommonParams *c, const SpamPlanewaveParams *p, SpamParticles *out)
+static PetscErrorCode SpamPlanewaveBuild(const SpamCommonParams *c, const SpamPlanewaveParams *p, SpamParticles *out)
 {
   const SpamSolidParams *s  = &p->solid;
   const PetscInt         n  = p->nx * p->ny;
@@ -77,7 +76,30 @@ PetscErrorCode SpamPlanewaveBuild(const SpamCommonParams *c, const SpamPlanewave
     out->info.sound_traversal_time = ly / cs;
     out->info.t_end_default        = 2.0 * 2.0 * PETSC_PI / w;
   }
-  out->model_set = PETSC_TRUE;
-  PetscCall(SpamModelSolidSetUp(2, c->h, c->mass, s, &out->model));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, SpamSolidParams *solid)
+{
+  PetscFunctionBeginUser;
+  PetscCall(SpamPlanewaveOptions(c, &p->planewave));
+  *solid = p->planewave.solid;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p, const SpamSolidParams *solid, SpamParticles *out)
+{
+  SpamPlanewaveParams q = p->planewave;
+
+  PetscFunctionBeginUser;
+  q.solid = *solid;
+  PetscCall(SpamPlanewaveBuild(c, &q, out));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamScenePlanewave(SpamSceneOps *ops)
+{
+  PetscFunctionBeginUser;
+  *ops = (SpamSceneOps){"planewave", 4, PETSC_FALSE, Options, Build};
   PetscFunctionReturn(0);
 }

@@ -6,7 +6,7 @@
 #include <spam/scene.h>
 #include <spam/errors.h>
 
-PetscErrorCode SpamRotorOptions(const SpamCommonParams *c, PetscBool pair, SpamRotorParams *p)
+static PetscErrorCode SpamRotorOptions(const SpamCommonParams *c, PetscBool pair, SpamRotorParams *p)
 {
   char val[64];
 
@@ -26,7 +26,6 @@ PetscErrorCode SpamRotorOptions(const SpamCommonParams *c, PetscBool pair, SpamR
   PetscCall(PetscOptionsReal("-rotor_speed", "Speed of the vertices of the rigidly rotating hexagon", "README", p->speed, &p->speed, NULL));
   if (pair) PetscCall(PetscOptionsReal("-rotor_gap", "Gap between the two hexagons' vertex circles (default h + 1: no contact)", "README", p->gap, &p->gap, NULL));
   PetscOptionsEnd();
-  PetscCall(SpamSolidOptions(&p->solid));
   PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->n));
   if (p->n < 1 || p->n > 1000) SPAM_BAD_INPUT("-rotor_n", val, "allowed: 1 to 1000 shells");
   PetscCall(SpamCheckParticleCount("-rotor_n", val, (pair ? 2.0 : 1.0) * (1.0 + 3.0 * (double)p->n * (double)(p->n + 1))));
@@ -57,7 +56,7 @@ static PetscInt Hexagon(PetscInt n, double cx, double omega, PetscBool mirror, d
   return m;
 }
 
-PetscErrorCode SpamRotorBuild(const SpamCommonParams *c, const SpamRotorParams *p, SpamParticles *out)
+static PetscErrorCode SpamRotorBuild(const SpamCommonParams *c, const SpamRotorParams *p, SpamParticles *out)
 {
   const PetscInt one   = 1 + 3 * p->n + 3 * p->n * p->n;
   const double   omega = p->speed / (double)p->n, half = (double)p->n + 0.5 * p->gap;
@@ -76,7 +75,45 @@ PetscErrorCode SpamRotorBuild(const SpamCommonParams *c, const SpamRotorParams *
   PetscCall(PetscStrncpy(out->info.name, p->pair ? "rotor-pair" : "rotor", sizeof out->info.name));
   out->info.sound_traversal_time = 2.0 * (double)p->n / sqrt((p->solid.lambda + 2.0 * p->solid.eta) / p->solid.rho0);
   out->info.t_end_default        = 2.0 * PETSC_PI / omega;
-  out->model_set                 = PETSC_TRUE;
-  PetscCall(SpamModelSolidSetUp(2, c->h, c->mass, &p->solid, &out->model));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode OptionsOne(const SpamCommonParams *c, SpamSceneParams *p, SpamSolidParams *solid)
+{
+  PetscFunctionBeginUser;
+  PetscCall(SpamRotorOptions(c, PETSC_FALSE, &p->rotor));
+  *solid = p->rotor.solid;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode OptionsPair(const SpamCommonParams *c, SpamSceneParams *p, SpamSolidParams *solid)
+{
+  PetscFunctionBeginUser;
+  PetscCall(SpamRotorOptions(c, PETSC_TRUE, &p->rotor));
+  *solid = p->rotor.solid;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p, const SpamSolidParams *solid, SpamParticles *out)
+{
+  SpamRotorParams r = p->rotor;
+
+  PetscFunctionBeginUser;
+  r.solid = *solid;
+  PetscCall(SpamRotorBuild(c, &r, out));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamSceneRotor(SpamSceneOps *ops)
+{
+  PetscFunctionBeginUser;
+  *ops = (SpamSceneOps){"rotor", 4, PETSC_FALSE, OptionsOne, Build};
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamSceneRotorPair(SpamSceneOps *ops)
+{
+  PetscFunctionBeginUser;
+  *ops = (SpamSceneOps){"rotor-pair", 4, PETSC_FALSE, OptionsPair, Build};
   PetscFunctionReturn(0);
 }

@@ -5,7 +5,7 @@
 #include <spam/scene.h>
 #include <spam/errors.h>
 
-PetscErrorCode SpamRotorMdOptions(const SpamCommonParams *c, SpamRotorMdParams *p)
+static PetscErrorCode SpamRotorMdOptions(const SpamCommonParams *c, SpamRotorMdParams *p)
 {
   char val[64];
 
@@ -35,7 +35,7 @@ PetscErrorCode SpamRotorMdOptions(const SpamCommonParams *c, SpamRotorMdParams *
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamRotorMdBuild(const SpamCommonParams *c, const SpamRotorMdParams *p, SpamParticles *out)
+static PetscErrorCode SpamRotorMdBuild(const SpamCommonParams *c, const SpamRotorMdParams *p, SpamParticles *out)
 {
   const PetscInt n     = 1 + 3 * p->n + 3 * p->n * p->n;
   const double   omega = p->speed / (double)p->n;
@@ -54,5 +54,28 @@ PetscErrorCode SpamRotorMdBuild(const SpamCommonParams *c, const SpamRotorMdPara
   out->info.t_end_default        = 2.0 * PETSC_PI / omega;
   out->model_set                 = PETSC_TRUE;
   PetscCall(SpamModelSpringsSetUp(2, c->h, c->mass, p->k, 1.0, p->range, &out->model));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, SpamSolidParams *solid)
+{
+  PetscFunctionBeginUser;
+  SpamSolidDefaults(solid);
+  PetscCall(SpamRotorMdOptions(c, &p->rotor_md));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p, const SpamSolidParams *solid, SpamParticles *out)
+{
+  PetscFunctionBeginUser;
+  (void)solid;
+  PetscCall(SpamRotorMdBuild(c, &p->rotor_md, out));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamSceneRotorMd(SpamSceneOps *ops)
+{
+  PetscFunctionBeginUser;
+  *ops = (SpamSceneOps){"rotor-md", 4, PETSC_TRUE, Options, Build};
   PetscFunctionReturn(0);
 }

@@ -6,7 +6,7 @@
 #include <spam/scene.h>
 #include <spam/errors.h>
 
-PetscErrorCode SpamTensileOptions(const SpamCommonParams *c, SpamTensileParams *p)
+static PetscErrorCode SpamTensileOptions(const SpamCommonParams *c, SpamTensileParams *p)
 {
   char val[64];
 
@@ -23,7 +23,6 @@ PetscErrorCode SpamTensileOptions(const SpamCommonParams *c, SpamTensileParams *
   PetscCall(PetscOptionsReal("-tensile_stress", "Hydrostatic tension sigma0 (positive: tension)", "README", p->stress, &p->stress, NULL));
   PetscCall(PetscOptionsReal("-tensile_kick", "Initial x velocity of the centre particle", "README", p->kick, &p->kick, NULL));
   PetscOptionsEnd();
-  PetscCall(SpamSolidOptions(&p->solid));
   PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->ny));
   if (p->ny < 2 || p->ny % 2) SPAM_BAD_INPUT("-tensile_ny", val, "must be an even number of rows >= 2 (periodic triangular lattice)");
   PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->nx));
@@ -37,7 +36,7 @@ PetscErrorCode SpamTensileOptions(const SpamCommonParams *c, SpamTensileParams *
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamTensileBuild(const SpamCommonParams *c, const SpamTensileParams *p, SpamParticles *out)
+static PetscErrorCode SpamTensileBuild(const SpamCommonParams *c, const SpamTensileParams *p, SpamParticles *out)
 {
   const PetscInt n = p->nx * p->ny, centre = (p->ny / 2) * p->nx + p->nx / 2;
 
@@ -56,7 +55,30 @@ PetscErrorCode SpamTensileBuild(const SpamCommonParams *c, const SpamTensilePara
   PetscCall(PetscStrncpy(out->info.name, "tensile", sizeof out->info.name));
   out->info.sound_traversal_time = (double)p->nx / sqrt((p->solid.lambda + 2.0 * p->solid.eta) / p->solid.rho0);
   out->info.t_end_default        = 150.0;
-  out->model_set                 = PETSC_TRUE;
-  PetscCall(SpamModelSolidSetUp(2, c->h, c->mass, &p->solid, &out->model));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, SpamSolidParams *solid)
+{
+  PetscFunctionBeginUser;
+  PetscCall(SpamTensileOptions(c, &p->tensile));
+  *solid = p->tensile.solid;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p, const SpamSolidParams *solid, SpamParticles *out)
+{
+  SpamTensileParams q = p->tensile;
+
+  PetscFunctionBeginUser;
+  q.solid = *solid;
+  PetscCall(SpamTensileBuild(c, &q, out));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamSceneTensile(SpamSceneOps *ops)
+{
+  PetscFunctionBeginUser;
+  *ops = (SpamSceneOps){"tensile", 4, PETSC_FALSE, Options, Build};
   PetscFunctionReturn(0);
 }

@@ -1,5 +1,6 @@
-/* Options of the elastic solid shared by planewave, rotor, rotor-pair and tensile: the
- * Lame constants and every choice of the PRE study space. */
+/* The model's options, read for every scene that does not carry its own model: the
+ * material, the Lame constants and every choice of the PRE study space (viscosities,
+ * conduction, density, coordinates, angular momentum). The scene supplies the defaults. */
 #include <spam/scene.h>
 #include <spam/errors.h>
 #include <float.h>
@@ -9,7 +10,7 @@ const char *const SpamDensityInitialNames[] = {"ideal", "summed"};
 const char *const SpamCoordsModeNames[]     = {"R0", "R1", "R2"};
 const char *const SpamAngmomModeNames[]     = {"none", "gauss", "Ti", "Tij"};
 const char *const SpamViscosityModeNames[]  = {"none", "monaghan", "vonneumann"};
-const char *const SpamMaterialNames[]       = {"elastic", "gas"};
+const char *const SpamMaterialNames[]       = {"elastic", "gas", "isentrope"};
 
 /* Index of val in names, or a bad-input error listing them. */
 static PetscErrorCode Choice(const char *opt, const char *val, const char *const *names, int n, int *k)
@@ -55,13 +56,13 @@ PetscErrorCode SpamSolidOptions(SpamSolidParams *p)
    * that the end of set-up refuses, say, -xsph_eps without -coordinates R2. */
   PetscCall(PetscOptionsHasHelp(NULL, &help));
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Elastic solid (Hoover, Hoover & Merritt 2004)", "spam-ark");
-  PetscCall(PetscOptionsString("-material", "Constitutive law: elastic (Hooke, stress in the state) or gas (P = (gamma-1) rho e)", "README", mat, mat, sizeof mat, NULL));
+  PetscCall(PetscOptionsString("-material", "Model: isentrope (P = kappa rho^gamma, state [x v]; default of expansion and file), gas (P = (gamma-1) rho e with the energy equation) or elastic (Hooke, stress in the state; default of the lattice scenes)", "README", mat, mat, sizeof mat, NULL));
   if (help || !strcmp(mat, "gas")) PetscCall(PetscOptionsReal("-gas_e0", "Gas: initial energy per unit mass of every particle", "README", p->gas_e0, &p->gas_e0, NULL));
   PetscCall(PetscOptionsReal("-viscosity_shear", "Newtonian shear viscosity eta_s (0: off)", "README", p->shear_visc, &p->shear_visc, NULL));
   PetscCall(PetscOptionsReal("-viscosity_bulk", "Newtonian bulk viscosity eta_b (0: off)", "README", p->bulk_visc, &p->bulk_visc, NULL));
   PetscCall(PetscOptionsReal("-conductivity", "Fourier heat conductivity kappa, Q = -kappa grad T (0: off)", "README", p->conductivity, &p->conductivity, NULL));
   if (help || !strcmp(mat, "gas") || p->conductivity != 0.0) PetscCall(PetscOptionsReal("-gas_gamma", "Gas: gamma of P = (gamma - 1) rho e (2 in 2D); also sets T = (gamma - 1) e (-material gas or -conductivity)", "README", p->gamma, &p->gamma, NULL));
-  if (help || strcmp(mat, "gas")) {
+  if (help || !strcmp(mat, "elastic")) {
     PetscCall(PetscOptionsReal("-solid_lambda", "Lame constant lambda (default sqrt(3)/4: springs k = 1; -material elastic)", "README", p->lambda, &p->lambda, NULL));
     PetscCall(PetscOptionsReal("-solid_eta", "Lame constant eta, the shear modulus (default sqrt(3)/4; -material elastic)", "README", p->eta, &p->eta, NULL));
   }
@@ -79,7 +80,7 @@ PetscErrorCode SpamSolidOptions(SpamSolidParams *p)
   }
   PetscCall(PetscOptionsReal("-closest_approach", "Reflect the radial relative velocity of approaching pairs nearer than this, after each step (0: off; PRE Sec. IV)", "README", p->closest_approach, &p->closest_approach, NULL));
   PetscOptionsEnd();
-  PetscCall(Choice("-material", mat, SpamMaterialNames, 2, &k));
+  PetscCall(Choice("-material", mat, SpamMaterialNames, 3, &k));
   p->material = (SpamMaterial)k;
   PetscCall(Positive("-gas_e0", p->gas_e0, PETSC_TRUE));
   PetscCall(Positive("-viscosity_shear", p->shear_visc, PETSC_TRUE));

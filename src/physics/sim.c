@@ -19,10 +19,13 @@ PetscErrorCode SpamSimCreate(MPI_Comm comm, const SpamModel *model, const SpamBo
   PetscCall(DMSwarmRegisterPetscDatatypeField(sim->swarm, SPAM_STATE_FIELD, model->layout.nvar, PETSC_REAL));
   PetscCall(DMSwarmFinalizeFieldRegister(sim->swarm));
   PetscCall(DMSwarmSetLocalSizes(sim->swarm, n, 0));
+  PetscCall(SpamFieldsCreate(model->dim, (int)n, (int)n, model->tensor, &sim->f));
+  for (PetscInt i = 0; i < n; i++) sim->f.m[i] = model->mass;
+  sim->f.uniform_mass = 1;
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamSimFill(SpamSim *sim, const double *x, const double *v)
+PetscErrorCode SpamSimFill(SpamSim *sim, const double *x, const double *v, const double *m)
 {
   const SpamLayout *l   = &sim->model.layout;
   const int         dim = sim->model.dim;
@@ -39,6 +42,8 @@ PetscErrorCode SpamSimFill(SpamSim *sim, const double *x, const double *v)
     }
   }
   PetscCall(DMSwarmRestoreField(sim->swarm, SPAM_STATE_FIELD, &bs, &type, (void **)&s));
+  for (PetscInt i = 0; m && i < sim->n; i++) sim->f.m[i] = m[i];
+  sim->f.uniform_mass = (int)SpamFieldsUniformMass(&sim->f);
   PetscFunctionReturn(0);
 }
 
@@ -79,12 +84,14 @@ PetscErrorCode SpamSimSetUp(SpamSim *sim)
   PetscFunctionBeginUser;
   PetscCall(DMSwarmGetSize(sim->swarm, &sim->nglobal));
   PetscCall(DMSwarmCreateGlobalVectorFromField(sim->swarm, SPAM_STATE_FIELD, &sim->X));
-  PetscCall(PetscMalloc2(n + 1, &sim->rho, n + 1, &sim->q));
-  PetscCall(PetscCalloc1(3 * (size_t)n + 3, &sim->acc));
-  if (sim->threads > 1) PetscCall(PetscMalloc2((size_t)(sim->threads - 1) * sim->model.dim * n + 1, &sim->tacc, (size_t)(sim->threads - 1) * n + 1, &sim->trho));
+  if (sim->threads > 1) PetscCall(PetscMalloc2((size_t)(sim->threads - 1) * sim->model.dim * sim->f.cap + 1, &sim->tacc, (size_t)(sim->threads - 1) * sim->f.cap + 1, &sim->trho));
   /* gamma = 2: P/rho^2 = kappa for every particle, set once. */
-  for (PetscInt i = 0; i < n; i++) sim->q[i] = sim->model.eos.kappa;
+  for (PetscInt i = 0; i < sim->f.cap; i++) sim->f.q[i] = sim->model.eos.kappa;
   PetscCall(SpamNeighboursCreate((int)n, &sim->box, sim->model.kernel.h, sim->skin, &sim->nl));
+  if (sim->periodic_ghosts) {
+    const PetscBool all[3] = {PETSC_TRUE, PETSC_TRUE, PETSC_TRUE};
+    PetscCall(SpamNeighboursSetPeriodicGhosts(&sim->nl, &sim->box, all));
+  }
   PetscCall(SpamNeighboursSetThreads(&sim->nl, sim->threads));
   PetscCall(RegisterEvents(sim));
   PetscCall(FirstBuild(sim));
@@ -95,9 +102,8 @@ PetscErrorCode SpamSimDestroy(SpamSim *sim)
 {
   PetscFunctionBeginUser;
   if (sim->X) PetscCall(DMSwarmDestroyGlobalVectorFromField(sim->swarm, SPAM_STATE_FIELD, &sim->X));
-  if (sim->rho) {
-    PetscCall(PetscFree2(sim->rho, sim->q));
-    PetscCall(PetscFree(sim->acc));
+  PetscCall(SpamFieldsDestroy(&sim->f));
+  if (sim->nl.start) {
     PetscCall(PetscFree2(sim->tacc, sim->trho));
     PetscCall(SpamNeighboursDestroy(&sim->nl));
   }

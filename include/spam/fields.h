@@ -1,0 +1,40 @@
+/* Per-particle field arrays of the pair passes, with ghost slots: every array holds the
+ * n local particles first and then the ghosts (ghosts.h), so a pair function indexes
+ * i and j alike. The model fills them from the state y before a pass (positions live in
+ * the neighbour list's u), gathers them into the ghost slots, and folds what the passes
+ * accumulated on ghosts back onto their sources. Only the arrays a model uses are
+ * allocated (NULL otherwise). */
+#ifndef SPAM_FIELDS_H
+#define SPAM_FIELDS_H
+#include <petscsys.h>
+
+typedef struct {
+  int     dim, n, cap;     /* local particles; slots allocated (local + ghost)         */
+  double *m;               /* [cap] mass                                                */
+  double *v;               /* [cap*dim] velocity                                        */
+  double *rho;             /* [cap] density: summed, or the state's (continuity)       */
+  double *q;               /* [cap] P/rho^2 (isentropic gas)                            */
+  double *e, *T;           /* [cap] energy per unit mass, temperature                  */
+  double *qs;              /* [cap*dim*dim] sigma/rho^2 (full symmetric tensor)        */
+  double *gradv;           /* [cap*dim*dim] (grad v)^{ab} = dv^b/dx^a at a*dim + b     */
+  double *heat;            /* [cap*dim] grad T, then Q/rho^2                           */
+  double *xdot;            /* [cap*dim] dr/dt                                           */
+  double *uc;              /* [cap*dim] velocity of the continuity equation            */
+  double *acc;             /* [cap*dim] acceleration                                    */
+  double *edot, *rhodot;   /* [cap]                                                     */
+  double *wsum;            /* [cap] sum_j w_ij (R1's normalisation)                    */
+  double *ltorque, *tfac;  /* [cap] particle torque and its scaling factor (T_i)       */
+  PetscBool tensor;        /* the tensor-path arrays are allocated                     */
+  int       uniform_mass;  /* every particle has mass m[0] (set at set-up)             */
+} SpamFields;
+
+/* Allocates the arrays for n local particles and at least cap slots: m, rho, q and acc
+ * always, the tensor path's when tensor is set. */
+PetscErrorCode SpamFieldsCreate(int dim, int n, int cap, PetscBool tensor, SpamFields *f);
+/* Room for `slots` (local + ghost) in every allocated array, keeping the values of the
+ * local ones; called after a list build added ghosts (rare: not in the steady state). */
+PetscErrorCode SpamFieldsReserve(SpamFields *f, int slots);
+PetscErrorCode SpamFieldsDestroy(SpamFields *f);
+/* Whether every particle has the same mass (the gas passes then fold m into a constant). */
+PetscBool SpamFieldsUniformMass(const SpamFields *f);
+#endif

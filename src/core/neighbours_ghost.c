@@ -1,0 +1,127 @@
+/* The ghost part of the neighbour list: ghost slots after the local particles in u, and
+ * each local particle's ghost neighbours as a second CSR list. The local rows are the
+ * half list of neighbours.c; the ghost rows are built over every adjacent cell (a ghost
+ * has no row of its own that could hold the pair), and a periodic image's pair is kept
+ * only in the row of the lower of its two particles, so every physical pair is listed
+ * once and the fold of ghosts.h keeps the momentum exact. */
+#include <spam/neighbours.h>
+#include <limits.h>
+
+PetscErrorCode SpamNeighboursSetPeriodicGhosts(SpamNeighbours *nl, const SpamBox *box, const PetscBool per[3])
+{
+  PetscFunctionBeginUser;
+  PetscCheck(nl->builds == 0, PETSC_COMM_SELF, PETSC_ERR_ORDER, "set the ghost directions before the first build");
+  nl->lbox = *box;
+  for (int d = 0; d < box->dim; d++) {
+    nl->ghosts.periodic[d] = (PetscBool)(per[d] && box->periodic[d]);
+    if (nl->ghosts.periodic[d]) nl->lbox.periodic[d] = PETSC_FALSE;
+  }
+  nl->im = SpamBoxImage(&nl->lbox);
+  PetscFunctionReturn(0);
+}
+
+/* Room for the ghost slots in u (the local part is kept). */
+static PetscErrorCode GrowSlots(SpamNeighbours *nl)
+{
+  const int need = nl->n + nl->ghosts.n + 1;
+
+  PetscFunctionBeginUser;
+  if (need <= nl->ucap) PetscFunctionReturn(0);
+  nl->ucap = need + need / 8 + 16;
+  for (int d = 0; d < 3; d++) PetscCall(PetscRealloc((size_t)nl->ucap * sizeof(double), &nl->u[d]));
+  PetscFunctionReturn(0);
+}
+
+/* Counting sort of the ghosts by the cell they fall in (clamped into the edge cells:
+ * a ghost beyond a face is within the list range of that face's cells only). */
+static PetscErrorCode BinGhosts(SpamNeighbours *nl)
+{
+  const int ng = nl->ghosts.n;
+
+  PetscFunctionBeginUser;
+  if (nl->gcell_cap < ng + 1 || !nl->gcell_start) {
+    PetscCall(PetscFree2(nl->gcell_start, nl->gcell_list));
+    nl->gcell_cap = ng + ng / 2 + 16;
+    PetscCall(PetscMalloc2(nl->ncells + 1, &nl->gcell_start, nl->gcell_cap, &nl->gcell_list));
+  }
+  for (int c = 0; c <= nl->ncells; c++) nl->gcell_start[c] = 0;
+  for (int k = 0; k < ng; k++) {
+    const double u[3] = {nl->u[0][nl->n + k], nl->u[1][nl->n + k], nl->u[2][nl->n + k]};
+    nl->gcell_start[SpamNeighboursCellOf(nl, &nl->lbox, u) + 1]++;
+  }
+  for (int c = 0; c < nl->ncells; c++) nl->gcell_start[c + 1] += nl->gcell_start[c];
+  for (int k = 0; k < ng; k++) {
+    const double u[3] = {nl->u[0][nl->n + k], nl->u[1][nl->n + k], nl->u[2][nl->n + k]};
+    nl->gcell_list[nl->gcell_start[SpamNeighboursCellOf(nl, &nl->lbox, u)]++] = k;
+  }
+  for (int c = nl->ncells; c > 0; c--) nl->gcell_start[c] = nl->gcell_start[c - 1];
+  nl->gcell_start[0] = 0;
+  PetscFunctionReturn(0);
+}
+
+/* Whether ghost k pairs with local i in i's row: a periodic image only when its source
+ * is above i (the pair's other copy, in the source's row, is skipped). */
+static int KeepGhostPair(const SpamGhosts *g, int i, int k)
+{
+  return g->kind[k] != SPAM_GHOST_PERIODIC || g->src[k] > i;
+}
+
+static PetscErrorCode AppendGhost(SpamNeighbours *nl, int j)
+{
+  PetscFunctionBeginUser;
+  if (nl->ngpairs == nl->gcap) {
+    PetscCheck(nl->gcap < (size_t)INT_MAX / 2, PETSC_COMM_SELF, PETSC_ERR_MEM, "too many ghost pairs");
+    nl->gcap = nl->gcap + nl->gcap / 2 + 64;
+    PetscCall(PetscRealloc(nl->gcap * sizeof(int), &nl->gnbr));
+  }
+  nl->gnbr[nl->ngpairs++] = j;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode GhostRows(SpamNeighbours *nl)
+{
+  const SpamGhosts *g   = &nl->ghosts;
+  const int         dim = nl->dim;
+  int               adj[27];
+
+  PetscFunctionBeginUser;
+  nl->ngpairs   = 0;
+  nl->gstart[0] = 0;
+  for (int i = 0; i < nl->n; i++) {
+    const int na = g->n ? SpamNeighboursAdjacentCells(nl, &nl->lbox, nl->cell_of[i], adj) : 0;
+    for (int a = 0; a < na; a++)
+      for (int q = nl->gcell_start[adj[a]]; q < nl->gcell_start[adj[a] + 1]; q++) {
+        const int k = nl->gcell_list[q], j = nl->n + k;
+        double    r2 = 0.0;
+        if (!KeepGhostPair(g, i, k)) continue;
+        for (int d = 0; d < dim; d++) {
+          const double dx = SpamImageDelta(&nl->im, d, nl->u[d][i] - nl->u[d][j]);
+          r2 += dx * dx;
+        }
+        if (r2 < nl->rc2) PetscCall(AppendGhost(nl, j));
+      }
+    nl->gstart[i + 1] = (int)nl->ngpairs;
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamNeighboursBuildGhosts(SpamNeighbours *nl, const SpamBox *box)
+{
+  PetscFunctionBeginUser;
+  nl->ngpairs = 0;
+  for (int i = 0; i <= nl->n; i++) nl->gstart[i] = 0;
+  if (!(nl->ghosts.periodic[0] || nl->ghosts.periodic[1] || nl->ghosts.periodic[2])) PetscFunctionReturn(0);
+  /* At the build every particle is inside the box, so only an image within the list
+   * range rc of a face can be within rc of a local particle. */
+  PetscCall(SpamGhostsSelect(&nl->ghosts, box, nl->n, nl->u, sqrt(nl->rc2)));
+  PetscCall(GrowSlots(nl));
+  SpamGhostsPositions(&nl->ghosts, nl->dim, nl->n, nl->u);
+  PetscCall(BinGhosts(nl));
+  PetscCall(GhostRows(nl));
+  PetscFunctionReturn(0);
+}
+
+void SpamNeighboursMoveGhosts(SpamNeighbours *nl)
+{
+  if (nl->ghosts.n) SpamGhostsPositions(&nl->ghosts, nl->dim, nl->n, nl->u);
+}

@@ -1,0 +1,70 @@
+/* The one pair-loop driver. SPAM_PAIR_WALK(Name, Ctx, Fn) defines
+ *   static void Name(const SpamNeighbours *nl, const SpamKernel *k, Ctx *ctx)
+ * which visits every listed pair within the kernel range -- the local rows of the half
+ * list, then each row's ghost neighbours (j >= n, ghosts.h) -- and calls
+ *   Fn(dim, ctx, i, j, dx, r2, w, g)   (dim a literal)
+ * with dx = r_i - r_j (minimum image where the row may cross a periodic face), r2 = |dx|^2,
+ * w = w(r) and g = w'(r)/r, so that grad_i w_ij = g dx. Each pair is visited once; a pair
+ * function updates both particles (the ghost's share is folded or dropped afterwards).
+ * The walk is compiled once per dimension and kernel (literal arguments of always-inline
+ * functions, so the kernel's shape and the loops over d are folded), and per row once
+ * with and once without the minimum image. A pass that needs several pair functions
+ * calls them from one Fn, so they share one walk of the list. */
+#ifndef SPAM_PAIR_WALK_H
+#define SPAM_PAIR_WALK_H
+#include <spam/neighbours.h>
+#include <spam/kernel.h>
+#include "../kernels/kernel_shape.h"
+
+/* Calls Name##Rows(D, K, args) with the dimension D and kernel kind K as literals. */
+#define SPAM_WALK_KERNELS(Name, D, kind, ...) \
+  switch (kind) { \
+  case SPAM_KERNEL_WENDLAND_C2: Name##Rows(D, SPAM_KERNEL_WENDLAND_C2, __VA_ARGS__); break; \
+  case SPAM_KERNEL_WENDLAND_C4: Name##Rows(D, SPAM_KERNEL_WENDLAND_C4, __VA_ARGS__); break; \
+  case SPAM_KERNEL_WENDLAND_C6: Name##Rows(D, SPAM_KERNEL_WENDLAND_C6, __VA_ARGS__); break; \
+  case SPAM_KERNEL_CUBIC_SPLINE: Name##Rows(D, SPAM_KERNEL_CUBIC_SPLINE, __VA_ARGS__); break; \
+  case SPAM_KERNEL_QUINTIC_SPLINE: Name##Rows(D, SPAM_KERNEL_QUINTIC_SPLINE, __VA_ARGS__); break; \
+  default: Name##Rows(D, SPAM_KERNEL_LUCY, __VA_ARGS__); break; \
+  }
+#define SPAM_WALK_DISPATCH(Name, dim, kind, ...) \
+  switch (dim) { \
+  case 1: SPAM_WALK_KERNELS(Name, 1, kind, __VA_ARGS__); break; \
+  case 2: SPAM_WALK_KERNELS(Name, 2, kind, __VA_ARGS__); break; \
+  default: SPAM_WALK_KERNELS(Name, 3, kind, __VA_ARGS__); break; \
+  }
+
+#define SPAM_PAIR_WALK(Name, Ctx, Fn) \
+  static inline __attribute__((always_inline)) void Name##Segment(const int dim, const int kind, const int img, const SpamNeighbours *nl, const SpamKernel *k, Ctx *ctx, int i, const int *nb, int np) \
+  { \
+    const double ui[3] = {nl->u[0][i], dim > 1 ? nl->u[1][i] : 0.0, dim > 2 ? nl->u[2][i] : 0.0}; \
+    for (int c = 0; c < np; c++) { \
+      const int j     = nb[c]; \
+      double    dx[3] = {0.0, 0.0, 0.0}, r2 = 0.0; \
+      for (int d = 0; d < dim; d++) { \
+        dx[d] = img ? SpamImageDelta(&nl->im, d, ui[d] - nl->u[d][j]) : ui[d] - nl->u[d][j]; \
+        r2 += dx[d] * dx[d]; \
+      } \
+      if (r2 >= k->h2) continue; \
+      const double s = sqrt(r2) * k->hinv; \
+      Fn(dim, ctx, i, j, dx, r2, k->wnorm * SpamKernelShapeF(kind, dim, s), k->gnorm * SpamKernelShapeG(kind, dim, s)); \
+    } \
+  } \
+  static inline __attribute__((always_inline)) void Name##Rows(const int dim, const int kind, const SpamNeighbours *nl, const SpamKernel *k, Ctx *ctx) \
+  { \
+    for (int i = 0; i < nl->n; i++) { \
+      const int *nb = nl->nbr + nl->start[i], np = nl->start[i + 1] - nl->start[i]; \
+      const int *gb = nl->gnbr + nl->gstart[i], ng = nl->gstart[i + 1] - nl->gstart[i]; \
+      if (nl->image[i]) { \
+        Name##Segment(dim, kind, 1, nl, k, ctx, i, nb, np); \
+        if (ng) Name##Segment(dim, kind, 1, nl, k, ctx, i, gb, ng); \
+      } else { \
+        Name##Segment(dim, kind, 0, nl, k, ctx, i, nb, np); \
+        if (ng) Name##Segment(dim, kind, 0, nl, k, ctx, i, gb, ng); \
+      } \
+    } \
+  } \
+  static void Name(const SpamNeighbours *nl, const SpamKernel *k, Ctx *ctx) \
+  { \
+    SPAM_WALK_DISPATCH(Name, k->dim, k->kind, nl, k, ctx) \
+  }
+#endif

@@ -1,0 +1,82 @@
+/* Per-particle field arrays with ghost slots. */
+#include <spam/fields.h>
+
+/* Every array with its number of values per slot (0: not allocated for this model). */
+static int Arrays(SpamFields *f, double **a[16], int per[16])
+{
+  const int d = f->dim, t = f->tensor ? 1 : 0;
+  int       k = 0;
+#define SPAM_ARRAY(ptr, w) (a[k] = &(ptr), per[k++] = (w))
+  SPAM_ARRAY(f->m, 1);
+  SPAM_ARRAY(f->rho, 1);
+  SPAM_ARRAY(f->q, 1);
+  SPAM_ARRAY(f->acc, d);
+  SPAM_ARRAY(f->v, t * d);
+  SPAM_ARRAY(f->e, t);
+  SPAM_ARRAY(f->T, t);
+  SPAM_ARRAY(f->qs, t * d * d);
+  SPAM_ARRAY(f->gradv, t * d * d);
+  SPAM_ARRAY(f->heat, t * d);
+  SPAM_ARRAY(f->xdot, t * d);
+  SPAM_ARRAY(f->uc, t * d);
+  SPAM_ARRAY(f->edot, t);
+  SPAM_ARRAY(f->rhodot, t);
+  SPAM_ARRAY(f->wsum, t);
+  SPAM_ARRAY(f->ltorque, t);
+#undef SPAM_ARRAY
+  return k;
+}
+
+PetscErrorCode SpamFieldsCreate(int dim, int n, int cap, PetscBool tensor, SpamFields *f)
+{
+  double **a[16];
+  int      per[16], na;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(f, sizeof *f));
+  f->dim    = dim;
+  f->n      = n;
+  f->tensor = tensor;
+  f->cap    = PetscMax(cap, n) + 1;
+  na        = Arrays(f, a, per);
+  for (int k = 0; k < na; k++)
+    if (per[k]) PetscCall(PetscCalloc1((size_t)f->cap * per[k], a[k]));
+  if (tensor) PetscCall(PetscCalloc1((size_t)f->cap, &f->tfac));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamFieldsReserve(SpamFields *f, int slots)
+{
+  double **a[16];
+  int      per[16], na, old = f->cap;
+
+  PetscFunctionBeginUser;
+  if (slots + 1 <= f->cap) PetscFunctionReturn(0);
+  f->cap = slots + slots / 8 + 16;
+  na     = Arrays(f, a, per);
+  for (int k = 0; k < na; k++) {
+    if (!per[k]) continue;
+    PetscCall(PetscRealloc((size_t)f->cap * per[k] * sizeof(double), a[k]));
+    for (size_t z = (size_t)old * per[k]; z < (size_t)f->cap * per[k]; z++) (*a[k])[z] = 0.0;
+  }
+  if (f->tensor) PetscCall(PetscRealloc((size_t)f->cap * sizeof(double), &f->tfac));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamFieldsDestroy(SpamFields *f)
+{
+  double **a[16];
+  int      per[16], na = Arrays(f, a, per);
+
+  PetscFunctionBeginUser;
+  for (int k = 0; k < na; k++) PetscCall(PetscFree(*a[k]));
+  PetscCall(PetscFree(f->tfac));
+  PetscFunctionReturn(0);
+}
+
+PetscBool SpamFieldsUniformMass(const SpamFields *f)
+{
+  for (int i = 1; i < f->n; i++)
+    if (f->m[i] != f->m[0]) return PETSC_FALSE;
+  return PETSC_TRUE;
+}

@@ -1,0 +1,82 @@
+/* The tensor-path model (elastic solid or gas with the energy equation): its layout, hooks
+ * and set-up. */
+#include <spam/physics.h>
+#include <spam/stress.h>
+
+PetscErrorCode SpamDiagSolid(SpamSim *sim, const double *y, SpamModelDiag *d)
+{
+  const SpamLayout *l   = &sim->model.layout;
+  double            loc = 0.0;
+
+  PetscFunctionBeginUser;
+  for (PetscInt i = 0; i < sim->n; i++) loc += sim->f.m[i] * y[(size_t)i * l->nvar + l->e];
+  PetscCallMPI(MPIU_Allreduce(&loc, &d->internal, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
+  PetscCall(SpamTensorTorqueSum(sim, y, &d->torque));
+  PetscFunctionReturn(0);
+}
+
+/* Scratch, bodies (connected within the kernel range), the gas's initial energy where the
+ * input gave none, and on request the summed value as the initial continuity density. */
+PetscErrorCode SpamSetUpSolid(SpamSim *sim)
+{
+  const SpamLayout *l = &sim->model.layout;
+  PetscScalar      *y;
+  PetscInt          bad;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamPhysicsScratchCreate(sim));
+  PetscCall(VecGetArray(sim->X, &y));
+  PetscCall(SpamBodiesLabel(sim, y, sim->model.kernel.h));
+  if (sim->model.solid.material == SPAM_MATERIAL_GAS && !sim->model.energy_given)
+    for (PetscInt i = 0; i < sim->n; i++) y[(size_t)i * l->nvar + l->e] = sim->model.solid.gas_e0;
+  if (l->rho >= 0 && sim->model.solid.density_initial == SPAM_DENSITY_INITIAL_SUMMED) {
+    PetscCall(SpamDensitySummation(sim, y, &bad));
+    for (PetscInt i = 0; i < sim->n; i++) y[(size_t)i * l->nvar + l->rho] = sim->f.rho[i];
+  }
+  PetscCall(VecRestoreArray(sim->X, &y));
+  PetscFunctionReturn(0);
+}
+
+/* The longitudinal (or gas) sound speed at the reference density: a linear material's
+ * signal speed does not depend on its state; the gas's is taken at its initial state. */
+static PetscErrorCode SolidSoundSpeed(SpamSim *sim, const double *y, double *cmax)
+{
+  PetscFunctionBeginUser;
+  (void)y;
+  *cmax = sim->model.solid.sound_speed;
+  PetscFunctionReturn(0);
+}
+
+/* Closest-approach reflection after each accepted step (PRE Sec. IV). */
+static PetscErrorCode SolidClosestApproach(SpamSim *sim, double *y, PetscInt *changed)
+{
+  PetscFunctionBeginUser;
+  PetscCall(SpamClosestApproachReflect(sim, y, sim->model.solid.closest_approach, changed));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamModelSolidSetUp(int dim, const SpamKernel *kernel, double mass, const SpamSolidParams *p, SpamModel *m)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(m, sizeof *m));
+  m->dim    = dim;
+  m->mass   = mass;
+  m->solid  = *p;
+  m->kernel = *kernel;
+  m->tensor = PETSC_TRUE;
+  if (p->material == SPAM_MATERIAL_GAS) {
+    const double pres    = (p->gamma - 1.0) * p->rho0 * p->gas_e0;
+    m->solid.sound_speed = sqrt(p->gamma * pres / p->rho0);
+    PetscCall(SpamLayoutSolid(dim, (PetscBool)(p->density != SPAM_DENSITY_SUMMATION), PETSC_FALSE, p->rho0, pres > 0.0 ? pres : 1.0, &m->layout));
+  } else {
+    m->solid.sound_speed = sqrt((p->lambda + 2.0 * p->eta) / p->rho0);
+    PetscCall(SpamLayoutSolid(dim, (PetscBool)(p->density != SPAM_DENSITY_SUMMATION), PETSC_TRUE, p->rho0, p->lambda + 2.0 * p->eta, &m->layout));
+  }
+  m->rhs             = SpamRhsSolid;
+  m->max_sound_speed = SolidSoundSpeed;
+  m->diag            = SpamDiagSolid;
+  m->setup           = SpamSetUpSolid;
+  if (p->closest_approach > 0) m->post_step = SolidClosestApproach;
+  PetscCall(PetscStrncpy(m->name, p->material == SPAM_MATERIAL_GAS ? "gas" : "elastic", sizeof m->name));
+  PetscFunctionReturn(0);
+}

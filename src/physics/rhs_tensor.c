@@ -1,0 +1,332 @@
+/* Right-hand side of the tensor path (PRE Secs. I-II, VI-VIII): the elastic solid and the
+ * gas with the energy equation, in one to three dimensions, in this order:
+ *   fields from y (v, e, T; rho from the state or the density walk), gathered to ghosts
+ *   walk 1 (gradients): grad v, R1/R2 coordinate averages, grad T
+ *   particle laws: sigma/rho^2 (Hooke's stress in the state, or -P/rho^2 I of the gas),
+ *     Newtonian and von Neumann viscosity, Hooke's stress rate, heat flux Q/rho^2
+ *   walk 2 (2D torque scaling only): the pair torques and their scaling factors
+ *   walk 3 (forces): pair force with Monaghan's viscosity, work, continuity, heat flux
+ *   Gauss's constraint, gravity.
+ * Each walk runs the pair functions of src/pair/ in one pass over the list. Accumulations
+ * on ghost slots are folded onto their sources after each walk. Nothing here allocates
+ * except when a list build adds ghosts beyond the slots reserved so far. */
+#include <spam/physics.h>
+#include <spam/stress.h>
+#include "../pair/pair_walk.h"
+#include "../pair/pair_gradients.h"
+#include "../pair/pair_coordinates.h"
+#include "../pair/pair_stress_force.h"
+#include "../pair/pair_heat_flux.h"
+#include "../pair/pair_torque.h"
+
+typedef struct {
+  SpamFields            *f;
+  const SpamSolidParams *p;
+  double                 h;
+  int                    coords;     /* SpamCoordsMode                                  */
+  int                    conduction; /* grad T in walk 1, heat flux in walk 3          */
+  int                    scale;      /* torque scaling (Ti or Tij) in walk 3           */
+  int                    continuity; /* drho/dt in walk 3                               */
+  const SpamPhysicsScratch *ps;      /* bodies and torque sums                          */
+  double                 torque;     /* walk 2: sum of the unscaled pair torques        */
+} TensorPass;
+
+/* Walk 1: the gradients and averages that read v, T and rho. */
+static inline __attribute__((always_inline)) void GradientPair(const int dim, TensorPass *c, int i, int j, const double dx[3], double r2, double w, double g)
+{
+  SpamFields  *f      = c->f;
+  const double rho_ij = SpamPairMeanDensity(c->p->rho_geometric, f->rho[i], f->rho[j]);
+  (void)r2;
+  SpamPairVelocityGradient(dim, f, i, j, dx, g / rho_ij);
+  if (c->coords == SPAM_COORDS_R1) SpamPairAverageVelocity(dim, f, i, j, w);
+  else if (c->coords == SPAM_COORDS_R2) SpamPairXsph(dim, f, i, j, c->p->xsph_eps * w / rho_ij);
+  if (c->conduction) SpamPairTemperatureGradient(dim, f, i, j, dx, g / rho_ij);
+}
+SPAM_PAIR_WALK(WalkGradients, TensorPass, GradientPair)
+
+static inline __attribute__((always_inline)) int BodyOf(const TensorPass *c, int i)
+{
+  return c->p->per_body ? c->ps->body[i] : 0;
+}
+
+/* Walk 2 (2D): the pair torques of the unscaled stress force, summed per body (T_ij) or
+ * per particle (T_i). */
+static inline __attribute__((always_inline)) void TorquePair(const int dim, TensorPass *c, int i, int j, const double dx[3], double r2, double w, double g)
+{
+  double F[3];
+  (void)r2;
+  (void)w;
+  SpamPairStressForce(dim, c->f, i, j, dx, g, F);
+  const double L = SpamPairTorque(dx, F);
+  c->torque += L;
+  if (c->p->angmom == SPAM_ANGMOM_TIJ) {
+    if (L > 0.0) c->ps->bpos[BodyOf(c, i)] += L;
+    else c->ps->bneg[BodyOf(c, i)] += L;
+  } else {
+    c->f->ltorque[i] += 0.5 * L;
+    c->f->ltorque[j] += 0.5 * L;
+  }
+}
+SPAM_PAIR_WALK(WalkTorques, TensorPass, TorquePair)
+
+/* The scaling factor of one pair's torque-carrying force. */
+static inline __attribute__((always_inline)) double TorqueFactor(const TensorPass *c, int i, int j, double L)
+{
+  if (c->p->angmom == SPAM_ANGMOM_TIJ) {
+    const double R = c->ps->bfac[BodyOf(c, i)];
+    return L > 0.0 ? 1.0 / R : R;
+  }
+  return 0.5 * (c->f->tfac[i] + c->f->tfac[j]);
+}
+
+/* Walk 3: the pair force (scaled, with Monaghan's viscosity) and its work, the continuity
+ * density rate and the heat flux. */
+static inline __attribute__((always_inline)) void ForcePair(const int dim, TensorPass *c, int i, int j, const double dx[3], double r2, double w, double g)
+{
+  SpamFields *f = c->f;
+  double      F[3];
+  (void)w;
+  SpamPairStressForce(dim, f, i, j, dx, g, F);
+  if (dim == 2 && c->scale) SpamPairScaleTorque(dx, r2, TorqueFactor(c, i, j, SpamPairTorque(dx, F)), F);
+  if (c->p->viscosity == SPAM_VISCOSITY_MONAGHAN) {
+    const double rho_ij = SpamPairMeanDensity(c->p->rho_geometric, f->rho[i], f->rho[j]);
+    const double pi     = SpamPairMonaghan(dim, c->p->visc_alpha, c->p->visc_beta, c->p->sound_speed, c->h, dx, f->v + (size_t)i * dim, f->v + (size_t)j * dim, r2, rho_ij);
+    for (int d = 0; d < dim; d++) F[d] -= f->m[i] * f->m[j] * pi * g * dx[d];
+  }
+  SpamPairApplyForce(dim, f, i, j, dx, g, F, c->continuity);
+  if (c->conduction) SpamPairHeatFlux(dim, f, i, j, dx, g);
+}
+SPAM_PAIR_WALK(WalkForces, TensorPass, ForcePair)
+
+static void Zero(double *a, size_t len)
+{
+  for (size_t k = 0; k < len; k++) a[k] = 0.0;
+}
+
+/* Per-particle fields of y for the local slots, then gathered into the ghosts: velocity,
+ * energy and temperature, mass, and the density (summed, or the state's). */
+static PetscErrorCode FillFields(SpamSim *sim, const double *y, PetscInt *bad)
+{
+  const SpamLayout      *l   = &sim->model.layout;
+  const SpamSolidParams *p   = &sim->model.solid;
+  SpamFields            *f   = &sim->f;
+  const SpamGhosts      *gh  = &sim->nl.ghosts;
+  const int              dim = l->dim, n = (int)sim->n, nv = l->nvar;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamNeighboursUpdate(&sim->nl, &sim->box, y + l->x, nv, PETSC_FALSE, bad));
+  if (*bad >= 0) PetscFunctionReturn(0);
+  PetscCall(SpamFieldsReserve(f, SpamNeighboursSlots(&sim->nl)));
+  for (int i = 0; i < n; i++) {
+    const double *yi = y + (size_t)i * nv;
+    for (int d = 0; d < dim; d++) f->v[(size_t)i * dim + d] = yi[l->v + d];
+    f->e[i] = yi[l->e];
+    f->T[i] = (p->gamma - 1.0) * yi[l->e];
+  }
+  SpamGhostsGather(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->m);
+  SpamGhostsGather(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->v);
+  SpamGhostsGather(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->e);
+  SpamGhostsGather(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->T);
+  if (p->density == SPAM_DENSITY_SUMMATION) {
+    PetscCall(SpamDensitySummation(sim, y, bad));
+    PetscFunctionReturn(0);
+  }
+  for (int i = 0; i < n; i++) {
+    f->rho[i] = y[(size_t)i * nv + l->rho];
+    if (!(f->rho[i] > 0.0) || !isfinite(f->rho[i])) {
+      *bad = i;
+      PetscFunctionReturn(0);
+    }
+  }
+  SpamGhostsGather(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->rho);
+  PetscFunctionReturn(0);
+}
+
+/* Walk 1 and its folds: grad v, dr/dt (R0: v; R1: the normalised average with the self
+ * term; R2: v plus XSPH) and grad T. */
+static void Gradients(SpamSim *sim, TensorPass *c)
+{
+  SpamFields       *f   = c->f;
+  const SpamGhosts *gh  = &sim->nl.ghosts;
+  const int         dim = f->dim, n = (int)sim->n, slots = SpamNeighboursSlots(&sim->nl);
+  const double      w0  = sim->model.kernel.wnorm;
+
+  Zero(f->gradv, (size_t)slots * dim * dim);
+  Zero(f->heat, (size_t)slots * dim);
+  for (int i = 0; i < slots; i++) {
+    const double self = c->coords == SPAM_COORDS_R1 ? (i < n ? w0 : 0.0) : (i < n ? 1.0 : 0.0);
+    for (int d = 0; d < dim; d++) f->xdot[(size_t)i * dim + d] = self * f->v[(size_t)i * dim + d];
+    f->wsum[i] = c->coords == SPAM_COORDS_R1 && i < n ? w0 : 0.0;
+  }
+  WalkGradients(&sim->nl, &sim->model.kernel, c);
+  SpamGhostsFold(gh, dim, n, dim * dim, SPAM_GHOST_TENSOR, f->gradv);
+  SpamGhostsFold(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->xdot);
+  SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->wsum);
+  SpamGhostsFold(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->heat);
+  if (c->coords == SPAM_COORDS_R1)
+    for (int i = 0; i < n; i++)
+      for (int d = 0; d < dim; d++) f->xdot[(size_t)i * dim + d] /= f->wsum[i];
+}
+
+/* sigma/rho^2 of particle i into q (D x D): the state's stress (elastic) or -P/rho^2 I
+ * with P = (gamma - 1) rho e (gas), plus the viscous stresses. */
+static void StressOverRho2(const SpamSim *sim, const double *yi, int i, double *q)
+{
+  const SpamLayout      *l   = &sim->model.layout;
+  const SpamSolidParams *p   = &sim->model.solid;
+  const SpamFields      *f   = &sim->f;
+  const int              dim = l->dim;
+  const double           rho = f->rho[i], *g = f->gradv + (size_t)i * dim * dim;
+
+  for (int k = 0; k < dim * dim; k++) q[k] = 0.0;
+  if (p->material == SPAM_MATERIAL_GAS)
+    for (int a = 0; a < dim; a++) q[a * dim + a] = -(p->gamma - 1.0) * yi[l->e] / rho;
+  else {
+    SpamStressUnpack(dim, yi + l->s, q);
+    for (int k = 0; k < dim * dim; k++) q[k] /= rho * rho;
+  }
+  if (p->shear_visc > 0.0 || p->bulk_visc > 0.0) SpamNewtonianViscosity(dim, p->shear_visc, p->bulk_visc, g, rho, q);
+  if (p->viscosity == SPAM_VISCOSITY_VON_NEUMANN) SpamVonNeumannViscosity(dim, p->visc_alpha, p->visc_beta, p->sound_speed, sim->model.kernel.h, g, rho, q);
+}
+
+/* The particle laws: Q, the stress rate (into ydot), the heat flux Q/rho^2 and the
+ * velocity of the continuity equation; then gathered into the ghosts. */
+static void ParticleLaws(SpamSim *sim, const double *y, double *ydot)
+{
+  const SpamLayout      *l   = &sim->model.layout;
+  const SpamSolidParams *p   = &sim->model.solid;
+  SpamFields            *f   = &sim->f;
+  const SpamGhosts      *gh  = &sim->nl.ghosts;
+  const int              dim = l->dim, n = (int)sim->n, nv = l->nvar;
+
+  for (int i = 0; i < n; i++) {
+    const double *yi = y + (size_t)i * nv, *g = f->gradv + (size_t)i * dim * dim;
+    StressOverRho2(sim, yi, i, f->qs + (size_t)i * dim * dim);
+    if (p->material == SPAM_MATERIAL_ELASTIC) SpamHookeStressRate(dim, p->lambda, p->eta, g, yi + l->s, ydot + (size_t)i * nv + l->s);
+    for (int d = 0; d < dim; d++) {
+      f->heat[(size_t)i * dim + d] *= -p->conductivity / (f->rho[i] * f->rho[i]);
+      f->uc[(size_t)i * dim + d] = p->density == SPAM_DENSITY_CHAIN_RULE ? f->xdot[(size_t)i * dim + d] : f->v[(size_t)i * dim + d];
+    }
+  }
+  SpamGhostsGather(gh, dim, n, dim * dim, SPAM_GHOST_TENSOR, f->qs);
+  SpamGhostsGather(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->heat);
+  SpamGhostsGather(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->uc);
+}
+
+/* Walk 2: R per body from the positive and negative torque sums (1 where either is 0),
+ * then T_i's particle factors. */
+static PetscErrorCode TorqueFactors(SpamSim *sim, TensorPass *c)
+{
+  SpamPhysicsScratch *ps   = sim->ps;
+  SpamFields         *f    = &sim->f;
+  const int           n    = (int)sim->n, slots = SpamNeighboursSlots(&sim->nl);
+  const int           nb   = sim->model.solid.per_body ? ps->nbody : 1;
+  const PetscBool     pair = (PetscBool)(sim->model.solid.angmom == SPAM_ANGMOM_TIJ);
+
+  PetscFunctionBeginUser;
+  for (int b = 0; b < ps->nbody; b++) ps->bpos[b] = ps->bneg[b] = 0.0;
+  Zero(f->ltorque, (size_t)slots);
+  c->torque = 0.0;
+  WalkTorques(&sim->nl, &sim->model.kernel, c);
+  SpamGhostsFold(&sim->nl.ghosts, 2, n, 1, SPAM_GHOST_SCALAR, f->ltorque);
+  if (!pair)
+    for (int i = 0; i < n; i++) {
+      if (f->ltorque[i] > 0.0) ps->bpos[BodyOf(c, i)] += f->ltorque[i];
+      else ps->bneg[BodyOf(c, i)] += f->ltorque[i];
+    }
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, ps->bpos, nb, MPI_DOUBLE, MPI_SUM, sim->comm));
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, ps->bneg, nb, MPI_DOUBLE, MPI_SUM, sim->comm));
+  for (int b = 0; b < nb; b++) ps->bfac[b] = (ps->bpos[b] > 0.0 && ps->bneg[b] < 0.0) ? sqrt(ps->bpos[b] / -ps->bneg[b]) : 1.0;
+  if (!pair) {
+    for (int i = 0; i < n; i++) {
+      const double R = ps->bfac[BodyOf(c, i)];
+      f->tfac[i]     = f->ltorque[i] > 0.0 ? 1.0 / R : R;
+    }
+    SpamGhostsGather(&sim->nl.ghosts, 2, n, 1, SPAM_GHOST_SCALAR, f->tfac);
+  }
+  PetscFunctionReturn(0);
+}
+
+/* Walk 3 and its folds: accelerations, de/dt, drho/dt. */
+static void Forces(SpamSim *sim, TensorPass *c)
+{
+  SpamFields       *f   = c->f;
+  const SpamGhosts *gh  = &sim->nl.ghosts;
+  const int         dim = f->dim, n = (int)sim->n, slots = SpamNeighboursSlots(&sim->nl);
+
+  Zero(f->acc, (size_t)slots * dim);
+  Zero(f->edot, (size_t)slots);
+  Zero(f->rhodot, (size_t)slots);
+  WalkForces(&sim->nl, &sim->model.kernel, c);
+  SpamGhostsFold(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->acc);
+  SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->edot);
+  SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->rhodot);
+}
+
+static void Assemble(const SpamSim *sim, double *ydot)
+{
+  const SpamLayout *l   = &sim->model.layout;
+  const SpamFields *f   = &sim->f;
+  const int         dim = l->dim;
+
+  for (PetscInt i = 0; i < sim->n; i++) {
+    double *r = ydot + (size_t)i * l->nvar;
+    for (int d = 0; d < dim; d++) {
+      r[l->x + d] = f->xdot[(size_t)i * dim + d];
+      r[l->v + d] = f->acc[(size_t)i * dim + d] + sim->model.gravity[d];
+    }
+    r[l->e] = f->edot[i];
+    if (l->rho >= 0) r[l->rho] = f->rhodot[i];
+  }
+}
+
+static TensorPass PassOf(SpamSim *sim)
+{
+  const SpamSolidParams *p = &sim->model.solid;
+  TensorPass             c = {&sim->f, p, sim->model.kernel.h, (int)p->coords, p->conductivity > 0.0, p->angmom == SPAM_ANGMOM_TI || p->angmom == SPAM_ANGMOM_TIJ, p->density != SPAM_DENSITY_SUMMATION, sim->ps, 0.0};
+  return c;
+}
+
+PetscErrorCode SpamRhsSolid(SpamSim *sim, const double *y, double *ydot, PetscInt *bad)
+{
+  TensorPass c;
+
+  PetscFunctionBeginUser;
+  PetscCall(FillFields(sim, y, bad));
+  if (*bad >= 0) PetscFunctionReturn(0);
+  c = PassOf(sim);
+  PetscCall(PetscLogEventBegin(sim->ev.force, 0, 0, 0, 0));
+  Gradients(sim, &c);
+  ParticleLaws(sim, y, ydot);
+  if (c.scale) PetscCall(TorqueFactors(sim, &c));
+  Forces(sim, &c);
+  PetscCall(PetscLogEventEnd(sim->ev.force, 0, 0, 0, 0));
+  if (sim->model.solid.angmom == SPAM_ANGMOM_GAUSS) PetscCall(SpamGaussConstraint(sim, y));
+  Assemble(sim, ydot);
+  sim->stats.pair_visits += (2.0 + (c.scale ? 1.0 : 0.0)) * (double)(sim->nl.npairs + sim->nl.ngpairs);
+  PetscFunctionReturn(0);
+}
+
+/* The unscaled spurious torque sum_{i<j} L_ij of the state's stress (2D diagnostics). */
+PetscErrorCode SpamTensorTorqueSum(SpamSim *sim, const double *y, double *total)
+{
+  TensorPass c;
+  PetscInt   bad;
+  double    *scratch;
+
+  PetscFunctionBeginUser;
+  *total = NAN;
+  PetscCall(FillFields(sim, y, &bad));
+  if (bad >= 0 || sim->model.dim != 2) PetscFunctionReturn(0);
+  c = PassOf(sim);
+  PetscCall(PetscMalloc1((size_t)sim->n * sim->model.layout.nvar + 1, &scratch)); /* the stress rate, unused */
+  Gradients(sim, &c);
+  ParticleLaws(sim, y, scratch);
+  PetscCall(PetscFree(scratch));
+  for (int b = 0; b < sim->ps->nbody; b++) sim->ps->bpos[b] = sim->ps->bneg[b] = 0.0;
+  Zero(sim->f.ltorque, (size_t)SpamNeighboursSlots(&sim->nl));
+  c.torque = 0.0;
+  WalkTorques(&sim->nl, &sim->model.kernel, &c);
+  PetscCallMPI(MPIU_Allreduce(&c.torque, total, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
+  PetscFunctionReturn(0);
+}

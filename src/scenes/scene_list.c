@@ -1,0 +1,16 @@
+/* The scenes spam-ark knows, by name: a new scene is its own file and one line here. */
+#include <spam/scene.h>
+
+PetscErrorCode SpamSceneRegisterAll(PetscFunctionList *list)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscFunctionListAdd(list, "expansion", SpamSceneExpansion));
+  PetscCall(PetscFunctionListAdd(list, "file", SpamSceneFile));
+  PetscCall(PetscFunctionListAdd(list, "chain", SpamSceneChain));
+  PetscCall(PetscFunctionListAdd(list, "planewave", SpamScenePlanewave));
+  PetscCall(PetscFunctionListAdd(list, "rotor", SpamSceneRotor));
+  PetscCall(PetscFunctionListAdd(list, "rotor-pair", SpamSceneRotorPair));
+  PetscCall(PetscFunctionListAdd(list, "rotor-md", SpamSceneRotorMd));
+  PetscCall(PetscFunctionListAdd(list, "tensile", SpamSceneTensile));
+  PetscFunctionReturn(0);
+}
