@@ -15,7 +15,7 @@
 typedef enum {
   G_ALL, G_DT, G_ADAPTIVE, G_ARKODE, G_ARKODE_ADAPT, G_CVODE, G_TS, G_TS_ADAPT, G_RK, G_SSP, G_SYMP,
   G_FILE, G_PERIODIC, G_ISENTROPE, G_EXPANSION, G_CHAIN, G_SPRING, G_ROTOR_MD, G_PLANEWAVE, G_ROTOR, G_ROTOR_PAIR, G_TENSILE,
-  G_SOLID, G_SOLID_GAS, G_SOLID_GAMMA, G_SOLID_ELASTIC, G_SOLID_VISC, G_SOLID_R2, G_SOLID_TORQUE, G_SOLID_CONT, G_ENTROPY
+  G_MODEL, G_SOLID, G_SOLID_GAS, G_SOLID_GAMMA, G_SOLID_ELASTIC, G_SOLID_VISC, G_SOLID_R2, G_SOLID_TORQUE, G_SOLID_CONT, G_ENTROPY
 } Group;
 
 typedef struct {
@@ -50,12 +50,14 @@ static const Known KnownOptions[] = {
   {"planewave_ny", PETSC_TRUE, G_PLANEWAVE}, {"planewave_mode", PETSC_TRUE, G_PLANEWAVE}, {"planewave_amplitude", PETSC_TRUE, G_PLANEWAVE},
   {"rotor_n", PETSC_TRUE, G_ROTOR}, {"rotor_speed", PETSC_TRUE, G_ROTOR}, {"rotor_gap", PETSC_TRUE, G_ROTOR_PAIR},
   {"tensile_nx", PETSC_TRUE, G_TENSILE}, {"tensile_ny", PETSC_TRUE, G_TENSILE}, {"tensile_stress", PETSC_TRUE, G_TENSILE}, {"tensile_kick", PETSC_TRUE, G_TENSILE},
-  {"material", PETSC_TRUE, G_SOLID}, {"density", PETSC_TRUE, G_SOLID}, {"density_mean", PETSC_TRUE, G_SOLID}, {"coordinates", PETSC_TRUE, G_SOLID},
+  {"material", PETSC_TRUE, G_MODEL}, {"density", PETSC_TRUE, G_SOLID}, {"density_mean", PETSC_TRUE, G_SOLID}, {"coordinates", PETSC_TRUE, G_SOLID},
   {"angmom", PETSC_TRUE, G_SOLID}, {"viscosity", PETSC_TRUE, G_SOLID}, {"viscosity_shear", PETSC_TRUE, G_SOLID}, {"viscosity_bulk", PETSC_TRUE, G_SOLID},
   {"conductivity", PETSC_TRUE, G_SOLID}, {"closest_approach", PETSC_TRUE, G_SOLID}, {"gas_e0", PETSC_TRUE, G_SOLID_GAS},
   {"gas_gamma", PETSC_TRUE, G_SOLID_GAMMA}, {"solid_lambda", PETSC_TRUE, G_SOLID_ELASTIC}, {"solid_eta", PETSC_TRUE, G_SOLID_ELASTIC},
   {"viscosity_alpha", PETSC_TRUE, G_SOLID_VISC}, {"viscosity_beta", PETSC_TRUE, G_SOLID_VISC}, {"xsph_eps", PETSC_TRUE, G_SOLID_R2},
   {"angmom_scope", PETSC_TRUE, G_SOLID_TORQUE}, {"density_initial", PETSC_TRUE, G_SOLID_CONT},
+  /* the pair layer: kernel, gravity, periodic images as ghosts (scene.c) */
+  {"kernel", PETSC_TRUE, G_MODEL}, {"gravity", PETSC_TRUE, G_MODEL}, {"periodic_images", PETSC_TRUE, G_ALL},
 };
 #define NKNOWN ((int)(sizeof KnownOptions / sizeof KnownOptions[0]))
 
@@ -289,7 +291,12 @@ static PetscBool RelevantScene(Group g, const Run *r, char *why, size_t len, Pet
   *known = PETSC_TRUE;
   if (g == G_ISENTROPE) {
     if (!strcmp(r->model, "isentrope")) return PETSC_TRUE;
-    (void)snprintf(why, len, "applies to the isentropic gas of -scene expansion and file (this run: -scene %s, model %s)", r->scene, r->model);
+    (void)snprintf(why, len, "applies to -material isentrope (this run: -scene %s, model %s)", r->scene, r->model);
+    return PETSC_FALSE;
+  }
+  if (g == G_MODEL) {
+    if (strcmp(r->model, "springs")) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to the smooth-particle models (this run: -scene %s carries its own model, springs)", r->scene);
     return PETSC_FALSE;
   }
   for (size_t k = 0; k < sizeof SceneGroups / sizeof SceneGroups[0]; k++) {
@@ -309,7 +316,7 @@ static PetscBool RelevantSolid(Group g, const Run *r, char *why, size_t len)
   const SpamSolidParams *s = r->solid;
 
   if (!s) {
-    (void)snprintf(why, len, "applies to the solids of -scene planewave, rotor, rotor-pair and tensile (this run: -scene %s, model %s)", r->scene, r->model);
+    (void)snprintf(why, len, "applies to -material gas and elastic (this run: -scene %s, model %s)", r->scene, r->model);
     return PETSC_FALSE;
   }
   switch (g) {

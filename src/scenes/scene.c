@@ -204,7 +204,7 @@ static PetscErrorCode BuildScene(const SpamCommonParams *c, PetscFunctionList li
     const char **names;
     int          n;
     PetscCall(PetscFunctionListGet(list, &names, &n));
-    for (int k = 0; k < n; k++) {
+    for (int k = 0; k < n && names[k]; k++) { /* PETSc 3.18 ends the array with NULL, counted in n */
       SpamSceneOps    other;
       SpamSceneParams tmp;
       SpamSolidParams ts;
@@ -216,6 +216,7 @@ static PetscErrorCode BuildScene(const SpamCommonParams *c, PetscFunctionList li
     PetscCall(PetscFree(names));
   }
   PetscCall(ops->options(c, &sp, solid));
+  if (c->dim != 2) solid->gamma = 1.0 + 2.0 / c->dim; /* the ideal gas's isentrope in D dimensions */
   if (!ops->own_model || help) PetscCall(SpamSolidOptions(solid));
   PetscCall(PetscMemzero(p, sizeof *p));
   ierr = ops->build(c, &sp, solid, p);
@@ -292,7 +293,7 @@ static PetscErrorCode SceneNames(PetscFunctionList list, char *buf, size_t len)
   buf[0] = 0;
   PetscFunctionBeginUser;
   PetscCall(PetscFunctionListGet(list, &names, &n));
-  for (int k = 0; k < n; k++) {
+  for (int k = 0; k < n && names[k]; k++) { /* PETSc 3.18 ends the array with NULL, counted in n */
     PetscCall(PetscStrlcat(buf, k ? ", " : "", len));
     PetscCall(PetscStrlcat(buf, names[k], len));
   }
@@ -324,14 +325,20 @@ static PetscErrorCode ChooseScene(MPI_Comm comm, PetscFunctionList list, SpamSce
 
 static PetscErrorCode CheckDimension(const SpamCommonParams *c, const SpamSceneOps *ops)
 {
-  char val[64], dims[32] = "";
+  static const char *const words[] = {"", "one", "two", "three"};
+  char                     val[64], dims[32] = "";
+  int                      count = 0, only = 0;
 
   PetscFunctionBeginUser;
   if (ops->dims & (1 << c->dim)) PetscFunctionReturn(0);
   for (int d = 1; d <= 3; d++)
-    if (ops->dims & (1 << d)) (void)snprintf(dims + strlen(dims), sizeof dims - strlen(dims), "%s%d", dims[0] ? ", " : "", d);
+    if (ops->dims & (1 << d)) {
+      (void)snprintf(dims + strlen(dims), sizeof dims - strlen(dims), "%s%d", count++ ? ", " : "", d);
+      only = d;
+    }
   PetscCall(PetscSNPrintf(val, sizeof val, "%d", c->dim));
-  SPAM_BAD_INPUT("-dim", val, "-scene %s exists in %s dimension%s", ops->name, dims, strchr(dims, ',') ? "s" : "");
+  if (count == 1) SPAM_BAD_INPUT("-dim", val, "-scene %s is %s-dimensional: add -dim %d", ops->name, words[only], only);
+  SPAM_BAD_INPUT("-dim", val, "-scene %s exists in dimensions %s", ops->name, dims);
 }
 
 /* Swarm, particle order, fields and set-up of the built particles p. */
