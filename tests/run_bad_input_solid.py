@@ -20,6 +20,7 @@ cases = [
     ("odd rows", ["-scene", "planewave", "-planewave_ny", 23], ["-planewave_ny", "'23'", "even"]),
     ("unknown polarisation", ["-scene", "planewave", "-planewave_mode", "shear"], ["-planewave_mode", "'shear'", "transverse, longitudinal"]),
     ("amplitude too large", ["-scene", "planewave", "-planewave_amplitude", 0.6], ["-planewave_amplitude", "'0.6'", "< 0.5"]),
+    ("unknown initial stress", ["-scene", "planewave", "-planewave_stress", "exact"], ["-planewave_stress", "'exact'", "spam, continuum"]),
     ("zero shells", ["-scene", "rotor", "-rotor_n", 0], ["-rotor_n", "'0'", "1 to 1000"]),
     ("negative speed", ["-scene", "rotor", "-rotor_speed", -0.1], ["-rotor_speed", "'-0.1'", "positive"]),
     ("spring range beyond h", ["-scene", "rotor-md", "-spring_range", 3.5], ["-spring_range", "'3.5'", "0 < range < h"]),

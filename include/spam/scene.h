@@ -45,6 +45,7 @@ typedef struct {
   PetscInt  nx, ny;     /* lattice columns and rows (ny even: periodic)            */
   PetscBool longitudinal;
   double    amplitude;
+  PetscBool continuum_stress; /* -planewave_stress continuum: Hooke(grad u), not SPAM's */
   SpamSolidParams solid;
 } SpamPlanewaveParams;
 

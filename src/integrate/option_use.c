@@ -58,6 +58,8 @@ static const Known KnownOptions[] = {
   {"angmom_scope", PETSC_TRUE, G_SOLID_TORQUE}, {"density_initial", PETSC_TRUE, G_SOLID_CONT},
   /* the pair layer: kernel, gravity, periodic images as ghosts (scene.c) */
   {"kernel", PETSC_TRUE, G_MODEL}, {"gravity", PETSC_TRUE, G_MODEL}, {"periodic_images", PETSC_TRUE, G_ALL},
+  /* Issue 14 point 6: the plane wave's initial stress (scenes/planewave_stress.c). */
+  {"planewave_stress", PETSC_TRUE, G_PLANEWAVE},
 };
 #define NKNOWN ((int)(sizeof KnownOptions / sizeof KnownOptions[0]))
 

@@ -12,11 +12,26 @@ typedef struct {
   double out_interval, snap_interval, next_out, next_snap;
 } Schedule;
 
+/* Times within this relative distance are one time. Output times are products k*interval
+ * and the time a method reaches is a sum of steps, so an output time and the end time
+ * (240 * 2.0943951023931953 and 502.6548245743669 in options/rotor.opts), or a step's end
+ * and its target, can differ by a few ulps; treated as distinct, they cost a step of
+ * ~1e-13 that repeats the last row, snapshot and steps.csv line. 1e-13 is ~500 ulps, far
+ * below any step a run takes (the step floor is 1e-12 t_end). */
+#define SPAM_TIME_ROUNDOFF 1e-13
+
+/* t has reached target, to round-off. */
+static PetscBool Reached(double t, double target)
+{
+  return (PetscBool)(t >= target - SPAM_TIME_ROUNDOFF * fabs(target));
+}
+
+/* The first multiple of interval after t; the end time if that is past or at it. */
 static double NextMultiple(double t, double interval, double t_end)
 {
   if (interval <= 0) return t_end;
   double k = floor(t / interval + 1e-9) + 1.0;
-  return PetscMin(k * interval, t_end);
+  return Reached(k * interval, t_end) ? t_end : k * interval;
 }
 
 /* With a fixed step, outputs fall on step boundaries: an output time between two steps
@@ -292,9 +307,15 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
       break;
     }
     PetscCall(TSGetTime(ts, &tnew));
+    if (tnew != tstop && Reached(tnew, tstop) && tnew <= tstop * (1.0 + SPAM_TIME_ROUNDOFF)) {
+      /* A step that lands within round-off of its stop time has reached it: the TS holds
+       * tstop itself, so the next step starts from the output time, not an ulp before. */
+      tnew = tstop;
+      PetscCall(TSSetTime(ts, tnew));
+    }
     PetscCall(Progress(ts, sim, wall0, tnew - t, &p));
     if (app->self_stepping && isfinite(app->bound) && p.dt >= app->bound * (1.0 - 1e-9)) limit = app->bound_which;
-    if (app->self_stepping && tnew >= tstop * (1.0 - 1e-14) && limit == SPAM_LIMIT_ACCURACY && r->fixed_dt <= 0) limit = SPAM_LIMIT_OUTPUT;
+    if (app->self_stepping && tnew >= tstop && limit == SPAM_LIMIT_ACCURACY && r->fixed_dt <= 0) limit = SPAM_LIMIT_OUTPUT;
     if (limit == SPAM_LIMIT_CFL || limit == SPAM_LIMIT_FORCE) r->limited++;
     p.limited = r->limited;
     p.limit   = SpamStepLimitNames[limit];
@@ -313,16 +334,16 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
     r->t = t;
     PetscCall(SpamStepsAppend(out, &p));
     if (o->monitor) PetscCall(SpamMonitorStep(sim, &p));
-    if (t >= tstop * (1.0 - 1e-14) || t >= o->t_end || p.steps >= o->max_steps) {
-      const PetscBool snap = (PetscBool)(o->snapshot_interval > 0 && (t >= s.next_snap * (1.0 - 1e-14) || t >= o->t_end || p.steps >= o->max_steps));
+    if (t >= tstop || t >= o->t_end || p.steps >= o->max_steps) {
+      const PetscBool snap = (PetscBool)(o->snapshot_interval > 0 && (Reached(t, s.next_snap) || t >= o->t_end || p.steps >= o->max_steps));
       PetscCall(Output(sim, o, out, &p, snap, r));
       t_row = t;
       if (snap) t_snap = t;
-      if (t >= s.next_out * (1.0 - 1e-14)) s.next_out = NextMultiple(t, s.out_interval, o->t_end);
-      if (t >= s.next_snap * (1.0 - 1e-14)) s.next_snap = NextMultiple(t, s.snap_interval, o->t_end);
+      if (Reached(t, s.next_out)) s.next_out = NextMultiple(t, s.out_interval, o->t_end);
+      if (Reached(t, s.next_snap)) s.next_snap = NextMultiple(t, s.snap_interval, o->t_end);
     }
   }
-  if (r->status == SPAM_STATUS_OK && t < o->t_end * (1.0 - 1e-14)) r->status = SPAM_STATUS_MAX_STEPS;
+  if (r->status == SPAM_STATUS_OK && t < o->t_end) r->status = SPAM_STATUS_MAX_STEPS;
   r->steps     = p.steps;
   r->rejected  = p.rejected;
   r->attempts  = p.steps + p.rejected;

@@ -4,14 +4,18 @@
  * the matching stress sigma_xy = eta k A cos(ky) (transverse) or sigma_yy = (lambda + 2 eta)
  * k A cos(ky), sigma_xx = lambda k A cos(ky) (longitudinal). The elastic energy per unit
  * mass W/rho0, W = sigma:epsilon/2, starts in e, so KE + IE is the total energy. The
- * period predicted by the linearised SPAM equations (dispersion_lucy.c) is printed. */
+ * period predicted by the linearised SPAM equations (dispersion_lucy.c) is printed.
+ * That is -planewave_stress continuum; the default, spam, replaces the stress, density
+ * and energy by those of SPAM's own strain of the displaced lattice (planewave_stress.c),
+ * which starts the wave at a turning point of the discrete dynamics. */
 #include <spam/scene.h>
 #include <spam/physics.h>
 #include <spam/errors.h>
+#include <spam/planewave_stress.h>
 
 static PetscErrorCode SpamPlanewaveOptions(const SpamCommonParams *c, SpamPlanewaveParams *p)
 {
-  char val[64], mode[32] = "transverse";
+  char val[64], mode[32] = "transverse", stress[32] = "spam";
 
   PetscFunctionBeginUser;
   p->nx        = 24;
@@ -24,9 +28,12 @@ static PetscErrorCode SpamPlanewaveOptions(const SpamCommonParams *c, SpamPlanew
   PetscCall(PetscOptionsInt("-planewave_ny", "Lattice rows (even; the wavelength is ny sqrt(3)/2)", "README", p->ny, &p->ny, NULL));
   PetscCall(PetscOptionsString("-planewave_mode", "Polarisation: transverse (u_x) or longitudinal (u_y)", "README", mode, mode, sizeof mode, NULL));
   PetscCall(PetscOptionsReal("-planewave_amplitude", "Displacement amplitude A (lattice units)", "README", p->amplitude, &p->amplitude, NULL));
+  PetscCall(PetscOptionsString("-planewave_stress", "Initial stress: spam (Hooke's law of SPAM's strain of the displaced lattice) or continuum (of grad u)", "README", stress, stress, sizeof stress, NULL));
   PetscOptionsEnd();
   if (strcmp(mode, "transverse") && strcmp(mode, "longitudinal")) SPAM_BAD_INPUT("-planewave_mode", mode, "allowed: transverse, longitudinal");
   p->longitudinal = (PetscBool)!strcmp(mode, "longitudinal");
+  if (strcmp(stress, "spam") && strcmp(stress, "continuum")) SPAM_BAD_INPUT("-planewave_stress", stress, "allowed: spam, continuum");
+  p->continuum_stress = (PetscBool)!strcmp(stress, "continuum");
   PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->ny));
   if (p->ny < 2 || p->ny % 2) SPAM_BAD_INPUT("-planewave_ny", val, "must be an even number of rows >= 2 (periodic triangular lattice)");
   PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->nx));
@@ -35,6 +42,29 @@ static PetscErrorCode SpamPlanewaveOptions(const SpamCommonParams *c, SpamPlanew
   PetscCall(SpamCheckParticleCount("-planewave_nx x -planewave_ny", val, (double)p->nx * (double)p->ny));
   (void)snprintf(val, sizeof val, "%g", p->amplitude);
   if (!isfinite(p->amplitude) || fabs(p->amplitude) >= 0.5) SPAM_BAD_INPUT("-planewave_amplitude", val, "allowed: |A| < 0.5 lattice spacings");
+  PetscFunctionReturn(0);
+}
+
+/* Stress, density and energy of SPAM's strain of the displaced lattice out->x; the pair
+ * density is the one the model's density choice gives on the reference lattice. */
+static PetscErrorCode LatticeStress(const SpamCommonParams *c, const SpamPlanewaveParams *p, SpamParticles *out)
+{
+  const SpamSolidParams *s = &p->solid;
+  const PetscInt         n = p->nx * p->ny;
+  SpamKernel             ker;
+  double                *x0, *u, rho_ref = s->rho0;
+
+  PetscFunctionBeginUser;
+  ker = c->kernel; /* the run's kernel (-kernel) */
+  PetscCall(PetscMalloc2(2 * n, &x0, 2 * n, &u));
+  SpamLatticeTriangular(p->nx, p->ny, 1.0, x0);
+  for (PetscInt k = 0; k < 2 * n; k++) u[k] = out->x[k] - x0[k];
+  {
+    const SpamDisplacedLattice L = {p->nx, p->ny, 1.0, x0, u, c->mass, s->lambda, s->eta};
+    if (s->density == SPAM_DENSITY_SUMMATION || s->density_initial == SPAM_DENSITY_INITIAL_SUMMED) rho_ref = SpamLatticeSummedDensity(&ker, &L);
+    SpamPlanewaveStressSpam(&ker, &L, rho_ref, out->sigma, out->rho, out->e);
+  }
+  PetscCall(PetscFree2(x0, u));
   PetscFunctionReturn(0);
 }
 
@@ -66,6 +96,7 @@ static PetscErrorCode SpamPlanewaveBuild(const SpamCommonParams *c, const SpamPl
     }
     out->e[i] = 0.5 * mod * strain * strain / s->rho0;
   }
+  if (!p->continuum_stress) PetscCall(LatticeStress(c, p, out));
   out->box = (SpamBox){2, {0, 0, 0}, {(double)p->nx, ly, 0}, {PETSC_TRUE, PETSC_TRUE, PETSC_FALSE}};
   SpamDispersionLucy(c->h, 1.0, c->mass, s->rho0, s->lambda, s->eta, kvec, &wt, &wl);
   {
