@@ -116,6 +116,7 @@ static PetscErrorCode DiagSprings(SpamSim *sim, const double *y, SpamModelDiag *
     }
   PetscCallMPI(MPIU_Allreduce(&pe, &d->internal, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
   d->torque = 0.0;
+  PetscCall(SpamBodiesDiag(sim, y, d));
   PetscFunctionReturn(0);
 }
 
