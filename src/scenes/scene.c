@@ -244,6 +244,8 @@ static PetscErrorCode ModelOf(const SpamCommonParams *c, SpamParticles *p, SpamS
   char val[64];
 
   PetscFunctionBeginUser;
+  PetscCall(PetscSNPrintf(val, sizeof val, "ghost"));
+  if (c->periodic_ghosts && (p->model_set || solid->closest_approach > 0)) SPAM_BAD_INPUT("-periodic_images", val, "%s finds its pairs by the minimum image: use -periodic_images minimum", p->model_set ? "the spring model's bond list" : "-closest_approach");
   if (p->model_set) *model = p->model;
   else if (solid->material == SPAM_MATERIAL_ISENTROPE) PetscCall(SpamModelIsentropeSetUp(p->dim, &c->kernel, p->mass, c->gamma, c->kappa, model));
   else {
