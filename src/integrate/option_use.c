@@ -56,6 +56,8 @@ static const Known KnownOptions[] = {
   {"gas_gamma", PETSC_TRUE, G_SOLID_GAMMA}, {"solid_lambda", PETSC_TRUE, G_SOLID_ELASTIC}, {"solid_eta", PETSC_TRUE, G_SOLID_ELASTIC},
   {"viscosity_alpha", PETSC_TRUE, G_SOLID_VISC}, {"viscosity_beta", PETSC_TRUE, G_SOLID_VISC}, {"xsph_eps", PETSC_TRUE, G_SOLID_R2},
   {"angmom_scope", PETSC_TRUE, G_SOLID_TORQUE}, {"density_initial", PETSC_TRUE, G_SOLID_CONT},
+  /* kernels by name (src/kernels, SpamKernelOptions) */
+  {"kernel", PETSC_TRUE, G_ALL},
 };
 #define NKNOWN ((int)(sizeof KnownOptions / sizeof KnownOptions[0]))
 
