@@ -42,18 +42,26 @@ PetscErrorCode SpamKernelNames(char *buf, size_t len);
 
 #include <kernels/kernel_shape.h>
 
+/* The kind is known here only at run time: Lucy's kernel is taken apart from the switch
+ * over the others, a compare the branch predictor gets right every time. Loops that are
+ * specialised on the kind call kernel_shape.h directly, without either. */
+
 /* w(r) from r^2; zero outside the support. */
 static inline double SpamKernelW(const SpamKernel *k, double r2)
 {
   if (r2 >= k->h2) return 0.0;
-  return SpamKernelShapeScaledF(k->kind, k->dim, k->wnorm, sqrt(r2) * k->hinv);
+  const double s = sqrt(r2) * k->hinv;
+  if (k->kind == SPAM_KERNEL_LUCY) return SpamLucyF(k->wnorm, s);
+  return SpamKernelShapeScaledF(k->kind, k->dim, k->wnorm, s);
 }
 
 /* w'(r)/r from r^2, so that grad_i w_ij = (w'/r) r_ij; zero outside the support. */
 static inline double SpamKernelDWOverR(const SpamKernel *k, double r2)
 {
   if (r2 >= k->h2) return 0.0;
-  return SpamKernelShapeScaledG(k->kind, k->dim, k->gnorm, sqrt(r2) * k->hinv);
+  const double s = sqrt(r2) * k->hinv;
+  if (k->kind == SPAM_KERNEL_LUCY) return SpamLucyG(k->gnorm, s);
+  return SpamKernelShapeScaledG(k->kind, k->dim, k->gnorm, s);
 }
 
 /* w'(r) and w''(r) for r >= 0, zero for r >= h (the tests and the linearised analyses). */

@@ -1,6 +1,6 @@
-/* w'(r) and w''(r) of any kernel, from its shapes: w' = (w'/r) r = gnorm h s G(s) and
- * w'' = gnorm H(s) (for Lucy the arithmetic of the former kernel_lucy.c). Out of line: the tests and the linearised analyses call them, no pair
- * loop does. */
+/* w'(r) and w''(r) of any kernel from its shapes: w' = (w'/r) r = gnorm h s G(s) and
+ * w'' = gnorm H(s) (for Lucy the arithmetic of the former kernel_lucy.c). Out of line:
+ * the tests and the linearised analyses call them, no pair loop. */
 #include <spam/kernel.h>
 
 double SpamKernelDW(const SpamKernel *k, double r)
