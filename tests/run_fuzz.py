@@ -408,8 +408,9 @@ for v in (1e3, 1e10, 1e300, -1e300, 4.9e-324):
 # structure
 body = good_lines[1:]
 structural = [
-    ("no header", b"\n".join(body) + b"\n", {2}),
-    ("header y,x,vx,vy", b"y,x,vx,vy\n" + b"\n".join(body) + b"\n", {2}),
+    # A header-less file is the legacy x,y,vx,vy layout; a header names columns in any order.
+    ("no header", b"\n".join(body) + b"\n", {0}),
+    ("header y,x,vx,vy", b"y,x,vx,vy\n" + b"\n".join(body) + b"\n", {0}),
     ("header X,Y,VX,VY", b"X,Y,VX,VY\n" + b"\n".join(body) + b"\n", {2}),
     ("header with extra column", b"x,y,vx,vy,q\n" + b"\n".join(body) + b"\n", {2}),
     ("header with spaces", b"x, y, vx, vy\n" + b"\n".join(body) + b"\n", {0, 2}),

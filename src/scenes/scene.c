@@ -23,6 +23,8 @@ PetscErrorCode SpamParticlesFree(SpamParticles *p)
   PetscCall(PetscFree(p->x));
   PetscCall(PetscFree(p->v));
   if (p->e) PetscCall(PetscFree3(p->e, p->rho, p->sigma));
+  PetscCall(PetscFree(p->m));
+  PetscCall(PetscFree(p->id));
   PetscFunctionReturn(0);
 }
 
@@ -235,6 +237,8 @@ static PetscErrorCode CheckBuilt(MPI_Comm comm, const SpamCommonParams *c, int s
   }
   if (p->model_set) *model = p->model;
   else PetscCall(SpamModelIsentropeSetUp(c->dim, c->h, p->mass, c->gamma, c->kappa, model));
+  PetscCall(SpamParticlesCheckColumns(p, &model->layout)); /* a file's columns against the model */
+  PetscCall(SpamParticlesCheckMasses(p));
   PetscFunctionReturn(0);
 }
 

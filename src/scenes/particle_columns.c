@@ -1,0 +1,44 @@
+/* What a particle file gives against what the model can hold. A file's column the model
+ * has no place for would be dropped without a word, and the run would not be the one the
+ * file describes: that is bad input, named by column and by the model's state. */
+#include <spam/scene.h>
+#include <spam/errors.h>
+
+PetscErrorCode SpamParticlesCheckColumns(const SpamParticles *p, const SpamLayout *l)
+{
+  static const struct {
+    unsigned    bit;
+    const char *column, *field;
+  } fields[] = {
+    {SPAM_COLUMN_E,      "e",                      "an energy per unit mass"},
+    {SPAM_COLUMN_RHO,    "rho",                    "an integrated density (it sums the density from positions)"},
+    {SPAM_COLUMN_STRESS, "sxx, sxy, ... (stress)", "a stress"},
+  };
+  char state[256];
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamLayoutDescribe(l, state, sizeof state));
+  for (size_t k = 0; k < sizeof fields / sizeof fields[0]; k++) {
+    const int offset = fields[k].bit == SPAM_COLUMN_E ? l->e : fields[k].bit == SPAM_COLUMN_RHO ? l->rho : l->s;
+    if ((p->columns & fields[k].bit) && offset < 0) SPAM_BAD_INPUT("column", fields[k].column, "the model (state: %s) carries no %s; remove the column or choose a model that has it", state, fields[k].field);
+  }
+  PetscFunctionReturn(0);
+}
+
+/* Every model has one particle mass (SpamModel.mass) until the lead's model rewrite of
+ * issue 14 carries per-particle masses into the physics; then this refusal goes. */
+PetscErrorCode SpamParticlesCheckMasses(const SpamParticles *p)
+{
+  char first[32], other[32], row[32];
+
+  PetscFunctionBeginUser;
+  if (!p->m) PetscFunctionReturn(0);
+  for (PetscInt i = 1; i < p->n; i++) {
+    if (p->m[i] == p->m[0]) continue;
+    (void)snprintf(first, sizeof first, "%.17g", p->m[0]); /* PETSc's %g writes 1 as "1." */
+    (void)snprintf(other, sizeof other, "%.17g", p->m[i]);
+    (void)snprintf(row, sizeof row, "%" PetscInt_FMT, (p->id ? p->id[i] : i) + 1);
+    SPAM_BAD_INPUT("column m", other, "particle %s has another mass than particle 1 (%s); unequal masses are not supported yet: every model has one particle mass until per-particle masses reach the physics (issue 14, the model rewrite)", row, first);
+  }
+  PetscFunctionReturn(0);
+}
