@@ -11,16 +11,6 @@ static const char *StressName(int dim, int k)
   return dim == 1 ? "sxx" : dim == 2 ? s2[k] : s3[k];
 }
 
-/* Position in direction d as written: the state's value where it lies in the box (so a
- * file read back is bitwise the state), else wrapped into the box in a periodic direction;
- * an open direction keeps it. */
-static double Position(const SpamSim *sim, int d, double x)
-{
-  const SpamBox *b = &sim->box;
-  if (!b->periodic[d] || (x >= b->lo[d] && x < b->lo[d] + b->len[d])) return x;
-  return b->lo[d] + SpamBoxLocal(b, d, x);
-}
-
 /* The header: x..,vx..,m[,e][,rho][,stress],id[,rho_sum]. */
 static void Header(SpamFile *f, const SpamLayout *l, PetscBool rho_sum)
 {
@@ -52,7 +42,7 @@ static PetscErrorCode WriteRows(const char *path, const SpamSim *sim, const doub
   for (PetscInt r = 0; r < sim->n; r++) {
     const PetscInt i = SpamSimAtRow(sim, r);
     const double  *p = y + (size_t)i * l->nvar;
-    for (int d = 0; d < dim; d++) SpamFilePrintf(&f, "%s%.17g", d ? "," : "", Position(sim, d, p[l->x + d]));
+    for (int d = 0; d < dim; d++) SpamFilePrintf(&f, "%s%.17g", d ? "," : "", SpamSnapshotPosition(sim, d, p[l->x + d]));
     for (int d = 0; d < dim; d++) SpamFilePrintf(&f, ",%.17g", p[l->v + d]);
     SpamFilePrintf(&f, ",%.17g", sim->model.mass);
     if (l->e >= 0) SpamFilePrintf(&f, ",%.17g", p[l->e]);

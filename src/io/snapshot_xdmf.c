@@ -92,7 +92,7 @@ static PetscErrorCode FieldsGather(const SpamSim *sim, const double *y, Fields *
     if (f->e) f->e[r] = y[(size_t)i * l->nvar + l->e];
     if (f->s6) SpamSnapshotStress6(sim, y, i, f->s6 + 6 * r);
     for (int d = 0; d < sim->model.dim; d++) {
-      f->x[3 * r + d] = sim->box.lo[d] + SpamBoxLocal(&sim->box, d, y[(size_t)i * l->nvar + l->x + d]);
+      f->x[3 * r + d] = SpamSnapshotPosition(sim, d, y[(size_t)i * l->nvar + l->x + d]);
       f->v[3 * r + d] = y[(size_t)i * l->nvar + l->v + d];
     }
   }

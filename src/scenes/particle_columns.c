@@ -10,9 +10,9 @@ PetscErrorCode SpamParticlesCheckColumns(const SpamParticles *p, const SpamLayou
     unsigned    bit;
     const char *column, *field;
   } fields[] = {
-    {SPAM_COLUMN_E,      "e",                      "an energy per unit mass"},
-    {SPAM_COLUMN_RHO,    "rho",                    "an integrated density (it sums the density from positions)"},
-    {SPAM_COLUMN_STRESS, "sxx, sxy, ... (stress)", "a stress"},
+    {SPAM_COLUMN_E,      "e",                      "energy per unit mass e"},
+    {SPAM_COLUMN_RHO,    "rho",                    "density rho (it sums the density from the positions)"},
+    {SPAM_COLUMN_STRESS, "sxx, sxy, ... (stress)", "stress"},
   };
   char state[256];
 
@@ -20,7 +20,7 @@ PetscErrorCode SpamParticlesCheckColumns(const SpamParticles *p, const SpamLayou
   PetscCall(SpamLayoutDescribe(l, state, sizeof state));
   for (size_t k = 0; k < sizeof fields / sizeof fields[0]; k++) {
     const int offset = fields[k].bit == SPAM_COLUMN_E ? l->e : fields[k].bit == SPAM_COLUMN_RHO ? l->rho : l->s;
-    if ((p->columns & fields[k].bit) && offset < 0) SPAM_BAD_INPUT("column", fields[k].column, "the model (state: %s) carries no %s; remove the column or choose a model that has it", state, fields[k].field);
+    if ((p->columns & fields[k].bit) && offset < 0) SPAM_BAD_INPUT("column", fields[k].column, "the model (state: %s) has no %s; remove the column or choose a model that has it", state, fields[k].field);
   }
   PetscFunctionReturn(0);
 }
