@@ -88,6 +88,10 @@ c.check(code == 0 and same_state(got) and [int(r["id"]) for r in got] == list(ra
 # --- every column --------------------------------------------------------------------------
 code, got, err = read_back("mass", write("mass.csv", as_csv("x,y,vx,vy,m", lambda k, p: p + (0.75,))), box)
 c.check(code == 0 and got and all(float(r["m"]) == 0.75 for r in got), f"column m, equal masses 0.75: accepted, written back as m = 0.75 {err[:160]}")
+code, _, err = read_back("mass_option", os.path.join(w, "mass.csv"), box + ["-mass", 1])
+c.check(code == 2 and err.count("\n") == 0 and "-mass" in err and "column m" in err, f"-mass other than the file's masses refused: {err[:160]}")
+code, got, err = read_back("mass_option_same", os.path.join(w, "mass.csv"), box + ["-mass", 0.75])
+c.check(code == 0 and len(got) == 16, f"-mass equal to the file's masses accepted {err[:160]}")
 code, got, err = read_back("unequal", write("unequal.csv", as_csv("x,y,vx,vy,m", lambda k, p: p + (1 + (k == 5),))), box)
 c.check(code == 2 and err.count("\n") == 0 and "unequal masses are not supported yet" in err and "particle 6" in err,
         f"unequal masses refused in one line until the model carries them: {err[:200]}")

@@ -370,6 +370,23 @@ static PetscErrorCode SetBox(const SpamCommonParams *c, SpamParticles *out)
   PetscFunctionReturn(0);
 }
 
+/* A file with masses (column m, or a snapshot's /mass) and -mass as well: they must agree,
+ * else one of the two would be ignored without a word. */
+static PetscErrorCode CheckMassOption(const SpamCommonParams *c, const char *path, const SpamParticles *out)
+{
+  PetscBool set;
+  char      val[128], first[32];
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsHasName(NULL, NULL, "-mass", &set));
+  if (!set || !out->m) PetscFunctionReturn(0);
+  PetscCall(SpamOptionText("-mass", c->mass, val, sizeof val));
+  (void)snprintf(first, sizeof first, "%.17g", out->m[0]); /* PETSc's %g writes 1 as "1." */
+  for (PetscInt i = 0; i < out->n; i++)
+    if (out->m[i] != c->mass) SPAM_BAD_INPUT("-mass", val, "the file %s gives the masses (column m: %s for particle 1); omit -mass or give the file's", path, first);
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamFileBuild(const SpamCommonParams *c, const SpamFileParams *p, SpamParticles *out)
 {
   CsvReader     *r;
@@ -390,6 +407,7 @@ PetscErrorCode SpamFileBuild(const SpamCommonParams *c, const SpamFileParams *p,
   }
   PetscCall(PetscFree(r));
   if (!ierr && hdf5) ierr = SpamFileReadHdf5(c, p->path, out);
+  if (!ierr) ierr = CheckMassOption(c, p->path, out);
   if (ierr) PetscCall(SpamParticlesFree(out)); /* nothing read is kept after an error */
   PetscCall(ierr);
   if (!hdf5) PetscCall(SetBox(c, out));
