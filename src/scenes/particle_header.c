@@ -24,8 +24,10 @@ static int SlotOf(const char *name, int dim, int *dim_needed)
 
   *dim_needed = 1;
   for (int d = 0; d < 3; d++) {
-    if (!strcmp(name, ax[d])) return *dim_needed = d + 1, SLOT_X + d;
-    if (!strcmp(name, va[d])) return *dim_needed = d + 1, SLOT_V + d;
+    const PetscBool pos = (PetscBool)!strcmp(name, ax[d]), vel = (PetscBool)!strcmp(name, va[d]);
+    if (!pos && !vel) continue;
+    *dim_needed = d + 1;
+    return (pos ? SLOT_X : SLOT_V) + d;
   }
   if (!strcmp(name, "m")) return SLOT_M;
   if (!strcmp(name, "e")) return SLOT_E;
@@ -35,7 +37,7 @@ static int SlotOf(const char *name, int dim, int *dim_needed)
   for (int k = 0; k < SpamStressComponents(dim); k++)
     if (!strcmp(name, SpamStressName(dim, k))) return SLOT_S + k;
   for (int k = 0; k < 6; k++) /* a stress name of a higher dimension */
-    if (!strcmp(name, Stress3[k])) return *dim_needed = strchr(name + 1, 'z') ? 3 : 2, -1;
+    if (!strcmp(name, Stress3[k])) *dim_needed = strchr(name + 1, 'z') ? 3 : 2;
   return -1;
 }
 

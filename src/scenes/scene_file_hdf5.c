@@ -8,8 +8,8 @@
 #include <spam/errors.h>
 #include <hdf5.h>
 
-/* Reads an attribute of the root group as n values of the given native type; *found is
- * false if the file has no such attribute or it holds another count. */
+/* Reads an attribute of the root group as n values of the given native type; false if
+ * the file has no such attribute or it holds another count. */
 static PetscBool ReadAttribute(hid_t file, const char *name, hid_t type, void *buf, hssize_t n)
 {
   hid_t     a, space;
@@ -26,7 +26,8 @@ static PetscBool ReadAttribute(hid_t file, const char *name, hid_t type, void *b
 }
 
 /* Reads dataset name as n rows of ncomp values of the native type into buf; *found is
- * false if the file has no such dataset. A dataset of another shape is bad input. */
+ * false if the file has no such dataset. A dataset of another shape is bad input. HDF5
+ * converts the stored type (a snapshot's little-endian doubles) to the native one. */
 static PetscErrorCode ReadDataset(hid_t file, const char *path, const char *name, hid_t type, hsize_t n, hsize_t ncomp, void *buf, PetscBool *found)
 {
   hid_t   set, space;
