@@ -386,6 +386,8 @@ typedef struct {
   double *xd, *xs;     /* dr/dt and its scale                                            */
   double *lt, *tf;     /* T_i: particle torque 1/2 sum_j L_ij and factor                 */
   double *acc, *as;    /* acceleration and its scale (before Gauss's force)              */
+  int    *body, nbody; /* torque scaling's bodies (per_body), else all 0                 */
+  double *bpos, *bneg, *bR; /* per body: torque sums and the ratio R                     */
 } TensorWork;
 
 /* Sound speed of the viscosities: c_L of Hooke's solid, or the gas's at its initial state. */
@@ -531,16 +533,19 @@ static double PairForce(int D, const TensorWork *w, const double *mass, int i, i
   return D == 2 ? dx[0] * F[1] - dx[1] * F[0] : 0.0;
 }
 
-/* Torque scaling (2D): R = sqrt(sum of positive torques / -sum of negative ones) over the
- * pairs i < j (T_ij) or over the particle torques L_i = 1/2 sum_j L_ij (T_i, with the
- * particle factors f_i = 1/R for L_i > 0, else R); 1 where either sum is zero. */
-static double TorqueRatio(const SpamModel *m, const SpamBox *b, int n, const double *u, const double *mass, TensorWork *w)
+/* Torque scaling (2D): per body, R = sqrt(sum of positive torques / -sum of negative
+ * ones) over the pairs i < j (T_ij) or over the particle torques L_i = 1/2 sum_j L_ij
+ * (T_i, with the particle factors f_i = 1/R for L_i > 0, else R); 1 where either sum is
+ * zero. A pair's torque counts in the body of its particles (one body: the cases with
+ * bodies keep them apart by more than h). */
+static void TorqueRatio(const SpamModel *m, const SpamBox *b, int n, const double *u, const double *mass, TensorWork *w)
 {
   const int tij = m->solid.angmom == SPAM_ANGMOM_TIJ;
-  double    pos = 0.0, neg = 0.0, R;
 
+  for (int k = 0; k < w->nbody; k++) w->bpos[k] = w->bneg[k] = 0.0;
   for (int i = 0; i < n; i++) {
-    w->lt[i] = 0.0;
+    const int k = w->body[i];
+    w->lt[i]    = 0.0;
     for (int j = 0; j < n; j++) {
       double       dx[3], F[3];
       const double r2 = Sep(b, u, i, j, dx);
@@ -548,18 +553,17 @@ static double TorqueRatio(const SpamModel *m, const SpamBox *b, int n, const dou
       const double L = PairForce(2, w, mass, i, j, dx, SpamKernelDWOverR(&m->kernel, r2), F);
       w->lt[i] += 0.5 * L;
       if (tij && j > i) {
-        if (L > 0.0) pos += L;
-        else neg += L;
+        if (L > 0.0) w->bpos[k] += L;
+        else w->bneg[k] += L;
       }
     }
     if (!tij) {
-      if (w->lt[i] > 0.0) pos += w->lt[i];
-      else neg += w->lt[i];
+      if (w->lt[i] > 0.0) w->bpos[k] += w->lt[i];
+      else w->bneg[k] += w->lt[i];
     }
   }
-  R = pos > 0.0 && neg < 0.0 ? sqrt(pos / -neg) : 1.0;
-  for (int i = 0; i < n; i++) w->tf[i] = w->lt[i] > 0.0 ? 1.0 / R : R;
-  return R;
+  for (int k = 0; k < w->nbody; k++) w->bR[k] = w->bpos[k] > 0.0 && w->bneg[k] < 0.0 ? sqrt(w->bpos[k] / -w->bneg[k]) : 1.0;
+  for (int i = 0; i < n; i++) w->tf[i] = w->lt[i] > 0.0 ? 1.0 / w->bR[w->body[i]] : w->bR[w->body[i]];
 }
 
 /* Gauss's constraint (2D, centre-of-mass frame): a_i += -alpha v_i + beta (-y_i, x_i),
@@ -616,11 +620,10 @@ static void TensorReference(const Spoil *spoil, const SpamModel *m, const SpamBo
   const int              D = m->dim, nv = l->nvar, chain = p->density == SPAM_DENSITY_CHAIN_RULE;
   const int              scale = D == 2 && (p->angmom == SPAM_ANGMOM_TI || p->angmom == SPAM_ANGMOM_TIJ);
   const double           h = m->kernel.h, c = SoundSpeed(p);
-  double                 R = 1.0;
 
   TensorGradients(spoil, m, b, n, y, u, mass, w);
   TensorLaws(m, n, y, w, ref, scl);
-  if (scale) R = TorqueRatio(m, b, n, u, mass, w);
+  if (scale) TorqueRatio(m, b, n, u, mass, w);
   for (int i = 0; i < n; i++) {
     const double *vi = y + (size_t)i * nv + l->v, *ui = chain ? w->xd + 3 * i : vi;
     const double  usi = chain ? w->xs[i] : 0.0;
@@ -637,7 +640,7 @@ static void TensorReference(const Spoil *spoil, const SpamModel *m, const SpamBo
       const double L = PairForce(D, w, mass, i, j, dx, g, F);
       double       fs = mm * fabs(g) * r * (w->qa[i] + w->qa[j]), vr = 0.0;
       if (scale) { /* the part of F perpendicular to r_ij times the pair's factor */
-        const double fac = p->angmom == SPAM_ANGMOM_TIJ ? (L > 0.0 ? 1.0 / R : R) : 0.5 * (w->tf[i] + w->tf[j]);
+        const double fac = p->angmom == SPAM_ANGMOM_TIJ ? (L > 0.0 ? 1.0 / w->bR[w->body[i]] : w->bR[w->body[i]]) : 0.5 * (w->tf[i] + w->tf[j]);
         const double along = (F[0] * dx[0] + F[1] * dx[1]) / r2;
         for (int d = 0; d < 2; d++) F[d] = along * dx[d] + fac * (F[d] - along * dx[d]);
         fs *= PetscMax(1.0, fac);
@@ -695,6 +698,7 @@ typedef struct {
   SpamViscosityMode viscosity;
   SpamAngmomMode    angmom; /* 2D only; NONE elsewhere */
   int               box;
+  PetscBool         per_body; /* 2D: two lattice blobs far apart, scaled per body */
 } TensorOpts;
 
 static PetscErrorCode TensorCompare(TestCount *c, const Spoil *spoil, SpamSim *sim, const char *label, const char *stage, const double *mass, double *u, TensorWork *w, double *ref, double *scl, double *ydot)
@@ -740,6 +744,7 @@ static PetscErrorCode TensorWorkAlloc(int n, TensorWork *w)
   PetscFunctionBeginUser;
   PetscCall(PetscMalloc7(n, &w->rho, n, &w->T, 9 * n, &w->G, 9 * n, &w->Gs, 9 * n, &w->Q, n, &w->qa, 3 * n, &w->H));
   PetscCall(PetscMalloc7(n, &w->Ha, 3 * n, &w->xd, n, &w->xs, n, &w->lt, n, &w->tf, 3 * n, &w->acc, n, &w->as));
+  PetscCall(PetscMalloc4(n, &w->body, n, &w->bpos, n, &w->bneg, n, &w->bR));
   PetscFunctionReturn(0);
 }
 
@@ -748,6 +753,7 @@ static PetscErrorCode TensorWorkFree(TensorWork *w)
   PetscFunctionBeginUser;
   PetscCall(PetscFree7(w->rho, w->T, w->G, w->Gs, w->Q, w->qa, w->H));
   PetscCall(PetscFree7(w->Ha, w->xd, w->xs, w->lt, w->tf, w->acc, w->as));
+  PetscCall(PetscFree4(w->body, w->bpos, w->bneg, w->bR));
   PetscFunctionReturn(0);
 }
 
@@ -768,7 +774,7 @@ static PetscErrorCode TensorModel(const GasGeometry *gg, const char *kname, cons
   sp.rho_geometric = o->geometric;
   sp.xsph_eps      = 0.7; /* not 1, so that a lost epsilon shows */
   sp.angmom        = o->angmom;
-  sp.per_body      = PETSC_FALSE;
+  sp.per_body      = o->per_body;
   sp.viscosity     = o->viscosity;
   sp.visc_alpha    = 0.8;
   sp.visc_beta     = 1.7;
@@ -800,6 +806,45 @@ static void TensorState(const SpamModel *m, int n, double *y, uint64_t *seed)
   }
 }
 
+/* Connected parts (pairs nearer than h, minimum image) of the positions x: body[i] and
+ * their number, by spreading labels until nothing changes. */
+static int LabelBodies(const SpamBox *b, int n, const double *x, double h, int *body, double *u)
+{
+  int nbody = 0;
+
+  Local(b, n, x, b->dim, u);
+  for (int i = 0; i < n; i++) body[i] = -1;
+  for (int s = 0; s < n; s++) {
+    int grown = 1;
+    if (body[s] >= 0) continue;
+    body[s] = nbody;
+    while (grown) {
+      grown = 0;
+      for (int i = 0; i < n; i++)
+        for (int j = 0; body[i] == nbody && j < n; j++) {
+          double dx[3];
+          if (body[j] < 0 && Sep(b, u, i, j, dx) < h * h) {
+            body[j] = nbody;
+            grown   = 1;
+          }
+        }
+    }
+    nbody++;
+  }
+  return nbody;
+}
+
+/* Two blobs of a jittered square lattice (spacing 1, 7 columns) at the left and right
+ * ends of the box, 10 apart: two bodies that the moves below cannot join. */
+static void TwoBlobs(const SpamBox *b, int n, double *x, uint64_t *seed)
+{
+  for (int i = 0; i < n; i++) {
+    const int k = i % ((n + 1) / 2), right = i >= (n + 1) / 2;
+    x[2 * i]     = b->lo[0] + (right ? b->len[0] - 7.0 : 0.0) + (k % 7) + 0.5 + 0.3 * (TestUniform(seed) - 0.5);
+    x[2 * i + 1] = b->lo[1] + (k / 7) + 0.5 + 0.3 * (TestUniform(seed) - 0.5);
+  }
+}
+
 static PetscErrorCode TensorCase(TestCount *c, const Spoil *spoil, const GasGeometry *gg, const char *kname, const TensorOpts *o, int n, uint64_t seed)
 {
   static const char *boxes[3] = {"periodic", "open", "mixed"};
@@ -813,6 +858,7 @@ static PetscErrorCode TensorCase(TestCount *c, const Spoil *spoil, const GasGeom
   PetscScalar       *y;
   char               label[256], stage[64];
   int                nv, crossed;
+  const int          nv_max = SPAM_MAX_NVAR;
 
   PetscFunctionBeginUser;
   for (int d = 0; d < dim; d++) {
@@ -830,7 +876,18 @@ static PetscErrorCode TensorCase(TestCount *c, const Spoil *spoil, const GasGeom
     x[i]        = b.lo[d] + b.len[d] * TestUniform(&seed);
     v[i]        = 0.0; /* set with the state below */
   }
+  if (o->per_body) TwoBlobs(&b, n, x, &seed);
   Masses(o->unequal, n, mass, &seed);
+  PetscCall(TensorWorkAlloc(n, &w));
+  PetscCall(PetscMalloc4((size_t)n * dim, &u, (size_t)n * nv_max, &ref, (size_t)n * nv_max, &scl, (size_t)n * nv_max, &ydot));
+  w.nbody = 1;
+  for (int i = 0; i < n; i++) w.body[i] = 0;
+  if (o->per_body) {
+    const size_t len = strlen(label);
+    w.nbody          = LabelBodies(&b, n, x, h, w.body, u);
+    (void)snprintf(label + len, sizeof label - len, " per body");
+    TestCheck(c, w.nbody == 2, "%s: the reference finds %d bodies (2)", label, w.nbody);
+  }
   PetscCall(SpamSimCreate(PETSC_COMM_SELF, &m, &b, n, skin, &sim));
   sim.periodic_ghosts = o->ghosts;
   PetscCall(SpamSimFill(&sim, x, v, o->unequal ? mass : NULL));
@@ -840,8 +897,6 @@ static PetscErrorCode TensorCase(TestCount *c, const Spoil *spoil, const GasGeom
   PetscCall(VecGetArray(sim.X, &y));
   TensorState(&sim.model, n, y, &seed);
   PetscCall(VecRestoreArray(sim.X, &y));
-  PetscCall(TensorWorkAlloc(n, &w));
-  PetscCall(PetscMalloc4((size_t)n * dim, &u, (size_t)n * nv, &ref, (size_t)n * nv, &scl, (size_t)n * nv, &ydot));
 
   PetscCall(TensorCompare(c, spoil, &sim, label, "E0 first", mass, u, &w, ref, scl, ydot));
   PetscCall(VecGetArray(sim.X, &y));
@@ -919,14 +974,17 @@ int main(int argc, char **argv)
   for (int dim = 1; dim <= 3; dim++)
     for (int k = 0; k < 6; k++) {
       const int        two = dim == 2;
-      const TensorOpts cases[5] = {
-        {SPAM_MATERIAL_ELASTIC, SPAM_DENSITY_SUMMATION, SPAM_COORDS_R0, PETSC_FALSE, PETSC_FALSE, PETSC_FALSE, PETSC_FALSE, PETSC_FALSE, SPAM_VISCOSITY_NONE, two ? SPAM_ANGMOM_TI : SPAM_ANGMOM_NONE, 0},
-        {SPAM_MATERIAL_ELASTIC, SPAM_DENSITY_CONTINUITY, SPAM_COORDS_R1, PETSC_TRUE, PETSC_TRUE, PETSC_TRUE, PETSC_TRUE, PETSC_TRUE, SPAM_VISCOSITY_MONAGHAN, two ? SPAM_ANGMOM_TIJ : SPAM_ANGMOM_NONE, 0},
-        {SPAM_MATERIAL_GAS, SPAM_DENSITY_CHAIN_RULE, SPAM_COORDS_R2, PETSC_FALSE, PETSC_TRUE, PETSC_FALSE, PETSC_TRUE, PETSC_TRUE, SPAM_VISCOSITY_VON_NEUMANN, two ? SPAM_ANGMOM_GAUSS : SPAM_ANGMOM_NONE, 1},
-        {SPAM_MATERIAL_GAS, SPAM_DENSITY_SUMMATION, SPAM_COORDS_R1, PETSC_TRUE, PETSC_FALSE, PETSC_TRUE, PETSC_FALSE, PETSC_TRUE, SPAM_VISCOSITY_MONAGHAN, SPAM_ANGMOM_NONE, dim >= 2 ? 2 : 0},
-        {SPAM_MATERIAL_ELASTIC, SPAM_DENSITY_CHAIN_RULE, SPAM_COORDS_R2, PETSC_TRUE, PETSC_FALSE, PETSC_FALSE, PETSC_FALSE, PETSC_FALSE, SPAM_VISCOSITY_VON_NEUMANN, two ? SPAM_ANGMOM_TI : SPAM_ANGMOM_NONE, dim >= 2 ? 2 : 1},
+      const TensorOpts cases[7] = {
+        {SPAM_MATERIAL_ELASTIC, SPAM_DENSITY_SUMMATION, SPAM_COORDS_R0, PETSC_FALSE, PETSC_FALSE, PETSC_FALSE, PETSC_FALSE, PETSC_FALSE, SPAM_VISCOSITY_NONE, two ? SPAM_ANGMOM_TI : SPAM_ANGMOM_NONE, 0, PETSC_FALSE},
+        {SPAM_MATERIAL_ELASTIC, SPAM_DENSITY_CONTINUITY, SPAM_COORDS_R1, PETSC_TRUE, PETSC_TRUE, PETSC_TRUE, PETSC_TRUE, PETSC_TRUE, SPAM_VISCOSITY_MONAGHAN, two ? SPAM_ANGMOM_TIJ : SPAM_ANGMOM_NONE, 0, PETSC_FALSE},
+        {SPAM_MATERIAL_GAS, SPAM_DENSITY_CHAIN_RULE, SPAM_COORDS_R2, PETSC_FALSE, PETSC_TRUE, PETSC_FALSE, PETSC_TRUE, PETSC_TRUE, SPAM_VISCOSITY_VON_NEUMANN, two ? SPAM_ANGMOM_GAUSS : SPAM_ANGMOM_NONE, 1, PETSC_FALSE},
+        {SPAM_MATERIAL_GAS, SPAM_DENSITY_SUMMATION, SPAM_COORDS_R1, PETSC_TRUE, PETSC_FALSE, PETSC_TRUE, PETSC_FALSE, PETSC_TRUE, SPAM_VISCOSITY_MONAGHAN, SPAM_ANGMOM_NONE, dim >= 2 ? 2 : 0, PETSC_FALSE},
+        {SPAM_MATERIAL_ELASTIC, SPAM_DENSITY_CHAIN_RULE, SPAM_COORDS_R2, PETSC_TRUE, PETSC_FALSE, PETSC_FALSE, PETSC_FALSE, PETSC_FALSE, SPAM_VISCOSITY_VON_NEUMANN, two ? SPAM_ANGMOM_TI : SPAM_ANGMOM_NONE, dim >= 2 ? 2 : 1, PETSC_FALSE},
+        /* 2D: torque scaling per body, two bodies */
+        {SPAM_MATERIAL_ELASTIC, SPAM_DENSITY_CONTINUITY, SPAM_COORDS_R0, PETSC_FALSE, PETSC_TRUE, PETSC_FALSE, PETSC_FALSE, PETSC_FALSE, SPAM_VISCOSITY_NONE, SPAM_ANGMOM_TIJ, 1, PETSC_TRUE},
+        {SPAM_MATERIAL_GAS, SPAM_DENSITY_SUMMATION, SPAM_COORDS_R2, PETSC_TRUE, PETSC_FALSE, PETSC_FALSE, PETSC_TRUE, PETSC_FALSE, SPAM_VISCOSITY_MONAGHAN, SPAM_ANGMOM_TI, 1, PETSC_TRUE},
       };
-      for (int q = 0; q < 5; q++) PetscCall(TensorCase(&c, &spoil, &geo[dim - 1], kernels[k], &cases[q], ntensor[dim - 1], 50000 + 1000 * (uint64_t)dim + 100 * (uint64_t)k + (uint64_t)q));
+      for (int q = 0; q < (two ? 7 : 5); q++) PetscCall(TensorCase(&c, &spoil, &geo[dim - 1], kernels[k], &cases[q], ntensor[dim - 1], 50000 + 1000 * (uint64_t)dim + 100 * (uint64_t)k + (uint64_t)q));
     }
   PetscCall(PetscTime(&t1));
   printf("runtime %.2f s\n", (double)(t1 - t0));
