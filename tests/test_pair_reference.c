@@ -54,9 +54,12 @@
  *     Newtonian (Kelvin-Voigt) + heat, T_ij (2D);
  *   gas, chain rule, R2, arithmetic, unequal, open, von Neumann + Newtonian + heat, Gauss (2D);
  *   gas, summation, R1, geometric, equal, mixed (1D periodic) with ghost images, Monaghan + heat;
- *   elastic, chain rule, R2, geometric, equal, mixed (1D open), von Neumann, T_i (2D).
- * Torque scaling runs with one global body (per_body off): the bodies' labelling is not a
- * pair sum.
+ *   elastic, chain rule, R2, geometric, equal, mixed (1D open), von Neumann, T_i (2D);
+ * and in 2D two more with torque scaling per body (per_body) on two jittered lattice blobs
+ * 10 apart (the reference labels its own connected parts, pairs nearer than h):
+ *   elastic, continuity, R0, unequal, open, T_ij;  gas, summation, R2, Monaghan +
+ *   Newtonian, open, T_i.
+ * The other cases scale with one global body (per_body off).
  *
  * The scale of each comparison: the optimised sum and the reference add the same pair
  * terms F_ij in different orders (half list, sorted or vectorised, against j = 0..N-1),
