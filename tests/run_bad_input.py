@@ -45,7 +45,7 @@ cases = [
     ("short line", file_scene + ["-file_path", write("s.csv", "x,y,vx,vy\n1,2,0,0\n1,2,3\n")], ["s.csv:3", "'1,2,3'", "expected 4", "found 3"]),
     ("not a number", file_scene + ["-file_path", write("n.csv", "x,y,vx,vy\n1,2,0,0\n1,two,0,0\n")], ["n.csv:3", "'1,two,0,0'", "field 2"]),
     ("infinite value", file_scene + ["-file_path", write("i.csv", "x,y,vx,vy\n1,2,inf,0\n")], ["i.csv:2", "field 3", "finite"]),
-    ("non-positive mass", file_scene + ["-file_path", write("m.csv", "x,y,vx,vy,m\n1,2,0,0,1\n3,2,0,0,0\n")], ["m.csv:3", "'0'"]),
+    ("non-positive mass", file_scene + ["-file_path", write("m.csv", "x,y,vx,vy,m\n1,2,0,0,1\n3,2,0,0,0\n")], ["m.csv:3", "mass must be positive"]),
     ("unknown -ts_type", ["-ts_type", "leapfrog"], ["-ts_type", "'leapfrog'", "arkode, cvode, rk, ssp, euler, basicsymplectic"]),
     ("implicit -ts_type", ["-ts_type", "beuler"], ["-ts_type", "'beuler'", "allowed"]),
     ("unknown RK scheme", ["-ts_type", "rk", "-ts_rk_type", "9x"], ["-ts_rk_type", "'9x'", "5dp"]),
