@@ -3,8 +3,8 @@
 A CSV header names its columns in any order (x y z vx vy vz m e rho sxx sxy syy sxz syz szz
 id, and the snapshots' rho_sum); a header-less file is the legacy x,y,vx,vy layout. What the
 run writes (-initial_csv, -final_csv, CSV and HDF5 snapshots) reads back unchanged. A column
-the model cannot hold, an unknown or duplicate column, a missing position; unequal masses
-(until the model carries per-particle masses) are bad input: one line, exit 2."""
+the model cannot hold, an unknown or duplicate column or a missing position is bad input: one
+line, exit 2. Unequal masses are read and written back per particle."""
 import json
 import math
 import os

@@ -239,6 +239,18 @@ static PetscErrorCode SortOption(MPI_Comm comm, PetscBool file, PetscBool *sort)
   PetscFunctionReturn(0);
 }
 
+/* The reference density of given densities: their common value, or their mean. */
+static double ReferenceDensity(const SpamParticles *p)
+{
+  double lo = p->rho[0], hi = p->rho[0], sum = 0.0;
+  for (PetscInt i = 0; i < p->n; i++) {
+    lo = PetscMin(lo, p->rho[i]);
+    hi = PetscMax(hi, p->rho[i]);
+    sum += p->rho[i];
+  }
+  return lo == hi ? lo : sum / (double)p->n;
+}
+
 /* The model of the run: the scene's own (springs), or the one read from the options
  * (-material and the rest) with the scene's defaults, in the scene's dimension. */
 static PetscErrorCode ModelOf(const SpamCommonParams *c, SpamParticles *p, SpamSolidParams *solid, SpamModel *model)
@@ -255,6 +267,9 @@ static PetscErrorCode ModelOf(const SpamCommonParams *c, SpamParticles *p, SpamS
     if (p->dim != 2 && solid->angmom != SPAM_ANGMOM_NONE) SPAM_BAD_INPUT("-angmom", val, "the angular-momentum treatments are two-dimensional (this run: -dim %d)", p->dim);
     PetscCall(PetscSNPrintf(val, sizeof val, "%g", solid->closest_approach));
     if (p->dim != 2 && solid->closest_approach > 0) SPAM_BAD_INPUT("-closest_approach", val, "is two-dimensional (this run: -dim %d)", p->dim);
+    /* A file's densities set the reference density (sound speed, error weights), as the
+     * lattice scenes' ideal density does. */
+    if (p->columns & SPAM_COLUMN_RHO) solid->rho0 = ReferenceDensity(p);
     /* no density given (a file without rho, the expansion): the continuity density starts summed */
     if (solid->density != SPAM_DENSITY_SUMMATION && (!p->rho || (p->columns && !(p->columns & SPAM_COLUMN_RHO)))) solid->density_initial = SPAM_DENSITY_INITIAL_SUMMED;
     PetscCall(SpamModelSolidSetUp(p->dim, &c->kernel, p->mass, solid, model));
