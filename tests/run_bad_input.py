@@ -30,6 +30,7 @@ cases = [
     ("negative h", ["-h", -2.5], ["-h", "'-2.5'", "positive"]),
     ("h not a number", ["-h", "abc"], ["-h", "'abc'", "number"]),
     ("dimension 4", ["-dim", 4], ["-dim", "'4'", "1, 2 or 3"]),
+    ("unknown kernel", ["-kernel", "wendland"], ["-kernel", "'wendland'", "allowed: lucy, wendland_c2, wendland_c4, wendland_c6, cubic_spline, quintic_spline"]),
     ("box narrower than 2h (expansion)", ["-expansion_n", 2, "-h", 3], ["expansion_n", "'4'", "at least 2h"]),
     ("box narrower than 2h (file)", file_scene[:-1] + ["5,8", "-file_path", good], ["-box_len", "'5'", "at least 2h"]),
     ("skin of half the box", ["-expansion_n", 8, "-neighbour_skin", 9], ["-neighbour_skin", "'9.'", "below half the periodic box edge"]),

@@ -25,11 +25,4 @@ typedef struct {
 /* Evaluates every diagnostic of state y (raw array) at time t. */
 PetscErrorCode SpamDiagnosticsCompute(SpamSim *sim, const SpamDiagnosticsOptions *o, double t, const double *y, SpamDiagnostics *d);
 
-/* Entropy of Hoover & Hoover (2001) Eq. 22 with its sign corrected:
- * s = k (rho/m) ln[(e + <(v - <v>)^2>/2)^(D/2) / rho]. Needs sim->rho filled. */
-/* Lz of every body about its own centre of mass (lbody[nbody]; bodies from sim->ps). */
-PetscErrorCode SpamBodyAngularMomentum(SpamSim *sim, const double *y, double *lbody);
-
-PetscErrorCode SpamEntropySum(SpamSim *sim, const double *y, double *S);
-PetscErrorCode SpamEntropyGrid(SpamSim *sim, const double *y, double spacing, double *S);
 #endif

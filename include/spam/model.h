@@ -19,10 +19,14 @@ typedef PetscErrorCode (*SpamAccelFn)(struct SpamSim *sim, const double *x, int 
 /* Largest sound speed of state y (for the CFL step bound and the error weights). */
 typedef PetscErrorCode (*SpamSoundSpeedFn)(struct SpamSim *sim, const double *y, double *cmax);
 /* Model-specific diagnostics of state y: the internal energy sum m e (or the potential
- * energy of a molecular model) and the spurious torque sum_{i<j} Ldot_ij before any
- * scaling (0 where the forces are central). */
+ * energy of a molecular model), the spurious torque sum_{i<j} Ldot_ij before any
+ * scaling (0 where the forces are central, NaN where not computed), and the bodies. The
+ * summed density of y is in sim->f.rho when it is called. */
 typedef struct {
   double internal, torque;
+  int    nbody;           /* connected bodies labelled at set-up (0: none)               */
+  double lbody[2];        /* Lz of bodies 0 and 1 about their own centres (NaN: n/a)     */
+  double gauss_singular;  /* evaluations where Gauss's principle was singular            */
 } SpamModelDiag;
 typedef PetscErrorCode (*SpamModelDiagFn)(struct SpamSim *sim, const double *y, SpamModelDiag *d);
 /* A jump of state y between steps (closest-approach reflection): sets *changed to the
@@ -53,10 +57,22 @@ typedef struct {
   SpamLayout       layout;
   SpamSolidParams  solid;        /* elastic solid: the tensor-path choices             */
   SpamSpringParams springs;      /* molecular springs (rotor-md)                       */
-  SpamModelDiagFn  diag;         /* NULL: internal energy from the isentrope           */
+  SpamModelDiagFn  diag;
   SpamModelSetUpFn setup;        /* NULL: nothing beyond SpamSimSetUp                   */
   SpamPostStepFn   post_step;    /* NULL: the state never jumps                          */
 } SpamModel;
+
+/* One setting of a model, for outputs (summary.json, snapshot attributes): a number, or
+ * a string when str is set. */
+typedef struct {
+  const char *key, *str;
+  double      num;
+} SpamSetting;
+#define SPAM_MAX_SETTINGS 32
+/* The settings of model m (its name, kernel, gravity and the parameters of its laws) into
+ * s[SPAM_MAX_SETTINGS]; returns how many. Outputs print these rather than reading the
+ * model's internals. */
+int SpamModelSettings(const SpamModel *m, SpamSetting *s);
 
 PetscErrorCode SpamModelIsentropeSetUp(int dim, const SpamKernel *kernel, double mass, double gamma, double kappa, SpamModel *m);
 /* The tensor path (PRE Secs. I-II) with the choices in p: the linear elastic solid or the

@@ -6,12 +6,7 @@
 #include <spam/run.h>
 #include <petscts.h>
 
-/* Before PetscInitialize: rewrites --help and --version to -help and -version, answers
- * -version ("spam-ark VERSION"), and checks every -options_file argument (and the
- * -options_file lines inside those files) the way PETSc would read it, so that a missing,
- * unreadable or malformed file is one line of bad input, not PETSc's abort. Returns -1 to
- * go on, else the exit code (0 after -version, 2 after printing the bad input). */
-int SpamArgvCheck(int argc, char **argv);
+#include <spam/argv.h>
 
 /* Refuses a non-boolean option of spam-ark given with no value or an empty one (PETSc
  * would ignore it). Reads the database without marking anything used. */

@@ -33,6 +33,10 @@ PetscErrorCode SpamPhysicsScratchCreate(SpamSim *sim);
 /* Labels the connected bodies: particles closer than range at the current positions y
  * share a body (union-find over the neighbour list, ghost pairs joining their sources). */
 PetscErrorCode SpamBodiesLabel(SpamSim *sim, const double *y, double range);
+/* Lz of every body about its own centre of mass (lbody[nbody]), and the bodies' part of
+ * a model's diagnostics (count, Lz of bodies 0 and 1, Gauss's singular evaluations). */
+PetscErrorCode SpamBodyAngularMomentum(SpamSim *sim, const double *y, double *lbody);
+PetscErrorCode SpamBodiesDiag(SpamSim *sim, const double *y, SpamModelDiag *d);
 /* Gauss's principle: adds -alpha (v - v_cm) + beta z x (r - r_cm) to the accelerations
  * so that the total L and E are constant; skipped (and counted) when singular. */
 PetscErrorCode SpamGaussConstraint(SpamSim *sim, const double *y);

@@ -3,7 +3,7 @@
  * traceback) on an options file it cannot open or parse; checking the files first, with
  * PETSc's own rules, turns that into one line of bad input. */
 #define _POSIX_C_SOURCE 200809L /* getline, strtok_r */
-#include <spam/options.h>
+#include <spam/argv.h>
 #include <spam/errors.h>
 #include <spam/version.h>
 #include <errno.h>

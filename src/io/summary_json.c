@@ -73,37 +73,15 @@ static void Str(Summary *s, const char *key, const char *v)
 }
 
 /* The model and the settings that define it: a study script reads them to label runs. */
+/* The model's settings, as the model states them. */
 static void ModelFields(Summary *f, const SpamModel *m)
 {
-  const SpamSolidParams *s = &m->solid;
+  SpamSetting set[SPAM_MAX_SETTINGS];
+  const int   n = SpamModelSettings(m, set);
 
-  Str(f, "model", m->name);
-  if (!strcmp(m->name, "isentrope")) {
-    Num(f, "eos_gamma", m->eos.gamma);
-    Num(f, "eos_kappa", m->eos.kappa);
-  } else if (!strcmp(m->name, "springs")) {
-    Num(f, "spring_k", m->springs.k);
-    Num(f, "spring_r0", m->springs.r0);
-  } else {
-    if (s->material == SPAM_MATERIAL_GAS) Num(f, "gas_gamma", s->gamma);
-    else {
-      Num(f, "solid_lambda", s->lambda);
-      Num(f, "solid_eta", s->eta);
-    }
-    Str(f, "density", SpamDensityModeNames[s->density]);
-    Str(f, "density_initial", SpamDensityInitialNames[s->density_initial]);
-    Str(f, "density_mean", s->rho_geometric ? "geometric" : "arithmetic");
-    Str(f, "coordinates", SpamCoordsModeNames[s->coords]);
-    Num(f, "xsph_eps", s->xsph_eps);
-    Str(f, "angmom", SpamAngmomModeNames[s->angmom]);
-    Str(f, "angmom_scope", s->per_body ? "body" : "global");
-    Str(f, "viscosity", SpamViscosityModeNames[s->viscosity]);
-    Num(f, "viscosity_alpha", s->visc_alpha);
-    Num(f, "viscosity_beta", s->visc_beta);
-    Num(f, "viscosity_shear", s->shear_visc);
-    Num(f, "viscosity_bulk", s->bulk_visc);
-    Num(f, "conductivity", s->conductivity);
-    Num(f, "closest_approach", s->closest_approach);
+  for (int k = 0; k < n; k++) {
+    if (set[k].str) Str(f, set[k].key, set[k].str);
+    else Num(f, set[k].key, set[k].num);
   }
 }
 

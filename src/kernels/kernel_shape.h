@@ -1,22 +1,93 @@
-/* TEMPORARY (replaced by the kernels branch): Lucy's shape only. */
+/* The shapes of the smoothing kernels, for the pair loops:
+ *   w(r) = wnorm F(s),  w'(r)/r = gnorm G(s),  w''(r) = gnorm H(s),  s = r/h,
+ * with wnorm = C_D h^-D and gnorm = cgrad C_D h^-(D+2) set by SpamKernelCreate.
+ *
+ * kind and dim are literals where the pair loops call these, so each switch below folds
+ * to the one kernel's arithmetic. Every function is defined for all s >= 0 and is exactly
+ * zero for s >= 1 without a branch the vectoriser cannot turn into a select: the factor
+ * t = 1 - s is clamped at zero (SpamKernelEdge), the spline pieces are clamped the same
+ * way, and near s = 0, where G would be F'/s, a select picks a polynomial instead of
+ * dividing by s. Each kernel's functions live in its own header, listed below.
+ *
+ * spam/kernel.h includes this file (for SpamKernelW and SpamKernelDWOverR); including
+ * kernel.h first, above the guard, lets a pair loop include either in either order. */
+#include <spam/kernel.h>
 #ifndef SPAM_KERNEL_SHAPE_H
 #define SPAM_KERNEL_SHAPE_H
-#include <spam/kernel.h>
+
 #ifndef SPAM_INLINE
 #define SPAM_INLINE static inline __attribute__((always_inline))
 #endif
+
+/* (1 - x)_+: the factor that makes a kernel vanish at and beyond its edge. */
+SPAM_INLINE double SpamKernelEdge(double x)
+{
+  const double t = 1.0 - x;
+  return t > 0.0 ? t : 0.0;
+}
+
+#include <kernels/kernel_lucy.h>
+#include <kernels/kernel_wendland_c2.h>
+#include <kernels/kernel_wendland_c4.h>
+#include <kernels/kernel_wendland_c6.h>
+#include <kernels/kernel_cubic_spline.h>
+#include <kernels/kernel_quintic_spline.h>
+
+/* c F(s), c G(s), c H(s), the scale c multiplied first. A pair loop passes its prefactor
+ * as c (m wnorm for the density, the pressure factor times gnorm for the force): with
+ * Lucy's kernel that is exactly the arithmetic the loops had, so their numbers do not
+ * change in the last bit. */
+SPAM_INLINE double SpamKernelShapeScaledF(const int kind, const int dim, double c, double s)
+{
+  switch (kind) {
+  case SPAM_KERNEL_WENDLAND_C2: return SpamWendlandC2F(dim, c, s);
+  case SPAM_KERNEL_WENDLAND_C4: return SpamWendlandC4F(dim, c, s);
+  case SPAM_KERNEL_WENDLAND_C6: return SpamWendlandC6F(dim, c, s);
+  case SPAM_KERNEL_CUBIC_SPLINE: return SpamCubicSplineF(c, s);
+  case SPAM_KERNEL_QUINTIC_SPLINE: return SpamQuinticSplineF(c, s);
+  default: return SpamLucyF(c, s); /* SPAM_KERNEL_LUCY */
+  }
+}
+
+SPAM_INLINE double SpamKernelShapeScaledG(const int kind, const int dim, double c, double s)
+{
+  switch (kind) {
+  case SPAM_KERNEL_WENDLAND_C2: return SpamWendlandC2G(dim, c, s);
+  case SPAM_KERNEL_WENDLAND_C4: return SpamWendlandC4G(dim, c, s);
+  case SPAM_KERNEL_WENDLAND_C6: return SpamWendlandC6G(dim, c, s);
+  case SPAM_KERNEL_CUBIC_SPLINE: return SpamCubicSplineG(c, s);
+  case SPAM_KERNEL_QUINTIC_SPLINE: return SpamQuinticSplineG(c, s);
+  default: return SpamLucyG(c, s);
+  }
+}
+
+SPAM_INLINE double SpamKernelShapeScaledH(const int kind, const int dim, double c, double s)
+{
+  switch (kind) {
+  case SPAM_KERNEL_WENDLAND_C2: return SpamWendlandC2H(dim, c, s);
+  case SPAM_KERNEL_WENDLAND_C4: return SpamWendlandC4H(dim, c, s);
+  case SPAM_KERNEL_WENDLAND_C6: return SpamWendlandC6H(dim, c, s);
+  case SPAM_KERNEL_CUBIC_SPLINE: return SpamCubicSplineH(c, s);
+  case SPAM_KERNEL_QUINTIC_SPLINE: return SpamQuinticSplineH(c, s);
+  default: return SpamLucyH(c, s);
+  }
+}
+
+/* w = wnorm F(s); F(0) = 1. (1.0 times x is x: F is the scaled form's arithmetic.) */
 SPAM_INLINE double SpamKernelShapeF(const int kind, const int dim, double s)
 {
-  double t = 1.0 - s;
-  (void)kind; (void)dim;
-  t = t > 0.0 ? t : 0.0;
-  return (1.0 + 3.0 * s) * t * t * t;
+  return SpamKernelShapeScaledF(kind, dim, 1.0, s);
 }
+
+/* w'(r)/r = gnorm G(s); finite at s = 0, where it is w''(0)/gnorm. */
 SPAM_INLINE double SpamKernelShapeG(const int kind, const int dim, double s)
 {
-  double t = 1.0 - s;
-  (void)kind; (void)dim;
-  t = t > 0.0 ? t : 0.0;
-  return t * t;
+  return SpamKernelShapeScaledG(kind, dim, 1.0, s);
+}
+
+/* w''(r) = gnorm H(s) (the linearised analyses and the tests). */
+SPAM_INLINE double SpamKernelShapeH(const int kind, const int dim, double s)
+{
+  return SpamKernelShapeScaledH(kind, dim, 1.0, s);
 }
 #endif

@@ -46,7 +46,7 @@
       } \
       if (r2 >= k->h2) continue; \
       const double s = sqrt(r2) * k->hinv; \
-      Fn(dim, ctx, i, j, dx, r2, k->wnorm * SpamKernelShapeF(kind, dim, s), k->gnorm * SpamKernelShapeG(kind, dim, s)); \
+      Fn(dim, ctx, i, j, dx, r2, SpamKernelShapeScaledF(kind, dim, k->wnorm, s), SpamKernelShapeScaledG(kind, dim, k->gnorm, s)); \
     } \
   } \
   static inline __attribute__((always_inline)) void Name##Rows(const int dim, const int kind, const SpamNeighbours *nl, const SpamKernel *k, Ctx *ctx) \

@@ -46,3 +46,48 @@ PetscErrorCode SpamBodiesLabel(SpamSim *sim, const double *y, double range)
   PetscCall(PetscCalloc3(ps->nbody, &ps->bpos, ps->nbody, &ps->bneg, ps->nbody, &ps->bfac));
   PetscFunctionReturn(0);
 }
+
+/* Per body: sums of m, m r, m v, then Lz = sum m (r - r_b) x (v - v_b). */
+PetscErrorCode SpamBodyAngularMomentum(SpamSim *sim, const double *y, double *lbody)
+{
+  const SpamLayout *l  = &sim->model.layout;
+  const int         nb = sim->ps->nbody;
+  double           *s, *lz;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscCalloc2(5 * nb, &s, nb, &lz));
+  for (PetscInt i = 0; i < sim->n; i++) {
+    const double *p = y + (size_t)i * l->nvar, m = sim->f.m[i];
+    double       *b = s + 5 * sim->ps->body[i];
+    b[0] += m;
+    for (int d = 0; d < 2; d++) {
+      b[1 + d] += m * p[l->x + d];
+      b[3 + d] += m * p[l->v + d];
+    }
+  }
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, s, 5 * nb, MPI_DOUBLE, MPI_SUM, sim->comm));
+  for (PetscInt i = 0; i < sim->n; i++) {
+    const double *p = y + (size_t)i * l->nvar, *b = s + 5 * sim->ps->body[i], m = sim->f.m[i];
+    const double  r[2] = {p[l->x] - b[1] / b[0], p[l->x + 1] - b[2] / b[0]}, v[2] = {p[l->v] - b[3] / b[0], p[l->v + 1] - b[4] / b[0]};
+    lz[sim->ps->body[i]] += m * (r[0] * v[1] - r[1] * v[0]);
+  }
+  PetscCallMPI(MPIU_Allreduce(lz, lbody, nb, MPI_DOUBLE, MPI_SUM, sim->comm));
+  PetscCall(PetscFree2(s, lz));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamBodiesDiag(SpamSim *sim, const double *y, SpamModelDiag *d)
+{
+  PetscFunctionBeginUser;
+  d->lbody[0] = d->lbody[1] = NAN;
+  if (!sim->ps || sim->model.dim != 2) PetscFunctionReturn(0);
+  d->nbody          = sim->ps->nbody;
+  d->gauss_singular = (double)sim->ps->gauss_singular;
+  if (sim->ps->nbody <= 2) {
+    double lb[2] = {NAN, NAN};
+    PetscCall(SpamBodyAngularMomentum(sim, y, lb));
+    d->lbody[0] = lb[0];
+    if (sim->ps->nbody == 2) d->lbody[1] = lb[1];
+  }
+  PetscFunctionReturn(0);
+}

@@ -4,7 +4,7 @@
  * fluctuation about the local mean flow counts as internal energy, which is what makes
  * the free expansion produce N k ln(V2/V1). Two estimates: a sum over particles (volume
  * m/rho_i each) and an integral of s over a regular grid. Results are S/k. */
-#include <spam/diagnostics.h>
+#include <spam/entropy.h>
 
 /* ln[(e + dv2/2)^(D/2) / rho] for one point. */
 static double EntropyPerMass(const SpamModel *m, double rho, double v2mean, const double *vmean)

@@ -6,6 +6,19 @@ PetscBool SpamEosDensityFree(const SpamEosIsentrope *q)
   return (PetscBool)(q->gamma == 2.0);
 }
 
+/* Internal energy sum m e(rho) at the summed density; the forces are central. */
+static PetscErrorCode DiagIsentrope(SpamSim *sim, const double *y, SpamModelDiag *d)
+{
+  double loc = 0.0;
+
+  PetscFunctionBeginUser;
+  (void)y;
+  for (PetscInt i = 0; i < sim->n; i++) loc += sim->f.m[i] * SpamEosEnergy(&sim->model.eos, sim->f.rho[i]);
+  PetscCallMPI(MPIU_Allreduce(&loc, &d->internal, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
+  d->torque = NAN; /* not computed: the pair forces are central */
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamModelIsentropeSetUp(int dim, const SpamKernel *kernel, double mass, double gamma, double kappa, SpamModel *m)
 {
   PetscFunctionBeginUser;
@@ -20,6 +33,7 @@ PetscErrorCode SpamModelIsentropeSetUp(int dim, const SpamKernel *kernel, double
   m->rhs          = SpamRhsIsentrope;
   m->accel        = SpamAccelIsentrope;
   m->max_sound_speed = SpamMaxSoundSpeedIsentrope;
+  m->diag            = DiagIsentrope;
   PetscCall(PetscStrncpy(m->name, "isentrope", sizeof m->name));
   PetscFunctionReturn(0);
 }

@@ -12,6 +12,7 @@ PetscErrorCode SpamDiagSolid(SpamSim *sim, const double *y, SpamModelDiag *d)
   for (PetscInt i = 0; i < sim->n; i++) loc += sim->f.m[i] * y[(size_t)i * l->nvar + l->e];
   PetscCallMPI(MPIU_Allreduce(&loc, &d->internal, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
   PetscCall(SpamTensorTorqueSum(sim, y, &d->torque));
+  PetscCall(SpamBodiesDiag(sim, y, d));
   PetscFunctionReturn(0);
 }
 

@@ -3,6 +3,7 @@
  * neighbours of the triangular lattice). Central forces conserve the angular momentum
  * exactly; the state is [x, v], so the symplectic splits can use the acceleration. */
 #include <spam/physics.h>
+#include "../pair/pair_spring.h"
 
 /* Bonds: a CSR half list (each pair once, in the neighbour list's row) of the pairs closer
  * than range at the positions y. */
@@ -73,12 +74,7 @@ static PetscErrorCode AccelSprings(SpamSim *sim, const double *x, int stride, Pe
         *bad = i;
         PetscFunctionReturn(0);
       }
-      /* F_i = -phi'(r) r_ij / r = k (r0 - r) r_ij / r */
-      const double f = sp->k * (sp->r0 - r) / (r * sim->model.mass);
-      for (int d = 0; d < dim; d++) {
-        sim->f.acc[(size_t)i * dim + d] += f * dx[d];
-        sim->f.acc[(size_t)j * dim + d] -= f * dx[d];
-      }
+      SpamPairSpring(dim, &sim->f, sp->k, sp->r0, (int)i, j, dx, r);
     }
   }
   sim->stats.pair_visits += (double)ps->nbonds;
@@ -116,6 +112,7 @@ static PetscErrorCode DiagSprings(SpamSim *sim, const double *y, SpamModelDiag *
     }
   PetscCallMPI(MPIU_Allreduce(&pe, &d->internal, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
   d->torque = 0.0;
+  PetscCall(SpamBodiesDiag(sim, y, d));
   PetscFunctionReturn(0);
 }
 

@@ -55,19 +55,20 @@ static PetscErrorCode Broadcast(const char *opt, PetscInt n, int dim, PetscBool 
   PetscFunctionReturn(0);
 }
 
-/* Lucy's kernel at this h: its normalisation C_D h^-D and that of its derivatives,
- * C_D h^-(D+2), must be normal finite numbers, or every density and force is 0 or inf. */
-static PetscErrorCode CheckKernelRange(int dim, double h)
+/* The kernel of -kernel at this h (into k): its normalisation C_D h^-D and that of its
+ * derivatives, C_D h^-(D+2), must be normal finite numbers, or every density and force
+ * is 0 or inf. */
+static PetscErrorCode KernelAndRange(int dim, double h, SpamKernel *kernel)
 {
-  SpamKernel k;
-  char       val[128], w[32], g[32];
+  const SpamKernel *k = kernel;
+  char              val[128], w[32], g[32];
 
   PetscFunctionBeginUser;
   PetscCall(SpamOptionText("-h", h, val, sizeof val));
-  PetscCall(SpamKernelLucyInit(dim, h, &k));
-  (void)snprintf(w, sizeof w, "%.3g", k.wnorm);
-  (void)snprintf(g, sizeof g, "%.3g", fabs(k.gnorm));
-  if (!(isnormal(k.wnorm) && isnormal(k.gnorm))) SPAM_BAD_INPUT("-h", val, "out of range: the kernel's normalisations C_D h^-%d = %s and C_D h^-%d = %s must be normal finite numbers", dim, w, dim + 2, g);
+  PetscCall(SpamKernelOptions(dim, h, kernel));
+  (void)snprintf(w, sizeof w, "%.3g", k->wnorm);
+  (void)snprintf(g, sizeof g, "%.3g", fabs(k->gnorm));
+  if (!(isnormal(k->wnorm) && isnormal(k->gnorm))) SPAM_BAD_INPUT("-h", val, "out of range: the kernel's normalisations C_D h^-%d = %s and C_D h^-%d = %s must be normal finite numbers", dim, w, dim + 2, g);
   PetscFunctionReturn(0);
 }
 
@@ -81,7 +82,7 @@ static PetscErrorCode KernelOptions(SpamCommonParams *c)
   PetscFunctionBeginUser;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Particles, kernel and gas", "spam-ark");
   PetscCall(PetscOptionsInt("-dim", "Space dimension (1, 2 or 3)", "README", dim, &dim, NULL));
-  PetscCall(PetscOptionsReal("-h", "Kernel range h (Lucy's kernel vanishes at r = h)", "README", c->h, &c->h, NULL));
+  PetscCall(PetscOptionsReal("-h", "Kernel range h (every kernel vanishes at r = h)", "README", c->h, &c->h, NULL));
   PetscCall(PetscOptionsReal("-mass", "Particle mass m", "README", c->mass, &c->mass, NULL));
   c->skin = 0.1 * c->h;
   PetscCall(PetscOptionsReal("-neighbour_skin", "Verlet-list skin (default 0.1 h)", "README", c->skin, &c->skin, NULL));
@@ -96,8 +97,7 @@ static PetscErrorCode KernelOptions(SpamCommonParams *c)
   PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, c->threads));
   if (c->threads < 1 || c->threads > SPAM_MAX_THREADS) SPAM_BAD_INPUT("-threads", val, "must be from 1 to %d", SPAM_MAX_THREADS);
   PetscCall(CheckPositive("-h", c->h));
-  PetscCall(CheckKernelRange(c->dim, c->h));
-  PetscCall(SpamKernelOptions(c->dim, c->h, &c->kernel));
+  PetscCall(KernelAndRange(c->dim, c->h, &c->kernel));
   PetscCall(CheckPositive("-mass", c->mass));
   PetscCall(SpamOptionText("-neighbour_skin", c->skin, val, sizeof val));
   if (!(c->skin >= 0.0) || !isfinite(c->skin)) SPAM_BAD_INPUT("-neighbour_skin", val, "must be zero or positive");
@@ -244,6 +244,8 @@ static PetscErrorCode ModelOf(const SpamCommonParams *c, SpamParticles *p, SpamS
   char val[64];
 
   PetscFunctionBeginUser;
+  PetscCall(PetscSNPrintf(val, sizeof val, "ghost"));
+  if (c->periodic_ghosts && (p->model_set || solid->closest_approach > 0)) SPAM_BAD_INPUT("-periodic_images", val, "%s finds its pairs by the minimum image: use -periodic_images minimum", p->model_set ? "the spring model's bond list" : "-closest_approach");
   if (p->model_set) *model = p->model;
   else if (solid->material == SPAM_MATERIAL_ISENTROPE) PetscCall(SpamModelIsentropeSetUp(p->dim, &c->kernel, p->mass, c->gamma, c->kappa, model));
   else {

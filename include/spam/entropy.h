@@ -1,0 +1,10 @@
+/* Entropy of the isentropic gas (Hoover & Hoover 2001, Eq. 22 with its sign corrected):
+ * s = k (rho/m) ln[(e + <(v - <v>)^2>/2)^(D/2) / rho], summed over the particles or
+ * integrated on a grid. Both need sim->f.rho filled (the summed density of y). */
+#ifndef SPAM_ENTROPY_H
+#define SPAM_ENTROPY_H
+#include <spam/sim.h>
+
+PetscErrorCode SpamEntropySum(SpamSim *sim, const double *y, double *S);
+PetscErrorCode SpamEntropyGrid(SpamSim *sim, const double *y, double spacing, double *S);
+#endif

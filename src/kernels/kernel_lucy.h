@@ -1,0 +1,28 @@
+/* Lucy's kernel (Lucy 1977): F = (1 + 3s) t^3, t = 1 - s, the same shape in 1, 2 and 3D.
+ * Its w'(r)/r is -12 (1 - s)^2: G = t^2 with the factor -12 in gnorm. Each function returns
+ * c times the shape, c multiplied first: c (1 + 3s) t t t and c t t are the very operations
+ * the pair loops and evaluators had, so every number made with Lucy's kernel stays the
+ * same bit for bit. Included by kernel_shape.h, which defines SPAM_INLINE and
+ * SpamKernelEdge. */
+#ifndef SPAM_KERNEL_LUCY_H
+#define SPAM_KERNEL_LUCY_H
+
+SPAM_INLINE double SpamLucyF(double c, double s)
+{
+  const double t = SpamKernelEdge(s);
+  return c * (1.0 + 3.0 * s) * t * t * t;
+}
+
+SPAM_INLINE double SpamLucyG(double c, double s)
+{
+  const double t = SpamKernelEdge(s);
+  return c * t * t;
+}
+
+/* F''(s) / -12 = t (1 - 3s). */
+SPAM_INLINE double SpamLucyH(double c, double s)
+{
+  const double t = SpamKernelEdge(s);
+  return c * t * (1.0 - 3.0 * s);
+}
+#endif
