@@ -7,7 +7,8 @@ typedef struct {
   double t;
   double mass, p[3], l[3];          /* momentum and angular momentum (about the origin of
                                        the box-local frame; l[2] only in 2D)          */
-  double kinetic, internal, total;
+  double kinetic, internal, total; /* total = kinetic + internal + potential            */
+  double potential;                 /* of uniform gravity, -sum m g.(x - box corner)   */
   double gyration;                  /* radius of gyration about the centre of mass     */
   double entropy_sum, entropy_grid; /* S/k: particle sum and grid integration          */
   /* Elastic solid and spring models (NaN or 0 where they do not apply):               */

@@ -10,7 +10,7 @@
 
 typedef struct {
   int     dim, n, cap;     /* local particles; slots allocated (local + ghost)         */
-  double *m;               /* [cap] mass                                                */
+  double *m, *minv;        /* [cap] mass and its inverse (pair updates multiply by it)  */
   double *v;               /* [cap*dim] velocity                                        */
   double *rho;             /* [cap] density: summed, or the state's (continuity)       */
   double *q;               /* [cap] P/rho^2 (isentropic gas)                            */
@@ -35,6 +35,9 @@ PetscErrorCode SpamFieldsCreate(int dim, int n, int cap, PetscBool tensor, SpamF
  * local ones; called after a list build added ghosts (rare: not in the steady state). */
 PetscErrorCode SpamFieldsReserve(SpamFields *f, int slots);
 PetscErrorCode SpamFieldsDestroy(SpamFields *f);
+/* The local masses: m[i] (or `uniform` for every particle when m is NULL), their
+ * inverses, and whether they are all equal. */
+void SpamFieldsSetMasses(SpamFields *f, const double *m, double uniform);
 /* Whether every particle has the same mass (the gas passes then fold m into a constant). */
 PetscBool SpamFieldsUniformMass(const SpamFields *f);
 #endif

@@ -24,6 +24,7 @@ typedef PetscErrorCode (*SpamSoundSpeedFn)(struct SpamSim *sim, const double *y,
  * summed density of y is in sim->f.rho when it is called. */
 typedef struct {
   double internal, torque;
+  double potential;       /* energy of the external field (gravity), else 0              */
   int    nbody;           /* connected bodies labelled at set-up (0: none)               */
   double lbody[2];        /* Lz of bodies 0 and 1 about their own centres (NaN: n/a)     */
   double gauss_singular;  /* evaluations where Gauss's principle was singular            */

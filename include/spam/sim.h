@@ -85,6 +85,9 @@ PetscErrorCode SpamAccel(SpamSim *sim, const double *x, int stride, PetscInt *ba
 PetscErrorCode SpamRhsIsentrope(SpamSim *sim, const double *y, double *ydot, PetscInt *bad);
 PetscErrorCode SpamAccelIsentrope(SpamSim *sim, const double *x, int stride, PetscInt *bad);
 PetscErrorCode SpamMaxSoundSpeedIsentrope(SpamSim *sim, const double *y, double *cmax);
+/* Potential energy of the model's uniform gravity, -sum m g.(x - box corner), reduced
+ * over the ranks (0 without gravity). */
+PetscErrorCode SpamGravityEnergy(SpamSim *sim, const double *y, double *pot);
 /* The isentropic gas's density and force passes through the pair driver (any kernel,
  * unequal masses, ghost slots; pass_pressure.c). */
 void SpamPressureDensityWalk(SpamSim *sim);

@@ -5,12 +5,14 @@
 /* Internal energy, spurious torque and bodies, as the model computes them. */
 static PetscErrorCode ModelDiagnostics(SpamSim *sim, const double *y, SpamDiagnostics *d)
 {
-  SpamModelDiag md = {0.0, NAN, 0, {NAN, NAN}, 0.0};
+  SpamModelDiag md = {0.0, NAN, 0.0, 0, {NAN, NAN}, 0.0};
 
   PetscFunctionBeginUser;
   PetscCall(sim->model.diag(sim, y, &md));
   d->internal       = md.internal;
-  d->total          = d->kinetic + d->internal;
+  PetscCall(SpamGravityEnergy(sim, y, &md.potential));
+  d->potential      = md.potential;
+  d->total          = d->kinetic + d->internal + d->potential;
   d->torque         = md.torque;
   d->nbody          = md.nbody;
   d->lbody[0]       = md.lbody[0];

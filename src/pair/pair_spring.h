@@ -8,8 +8,8 @@ static inline __attribute__((always_inline)) void SpamPairSpring(const int dim, 
 {
   const double c = k * (r0 - r) / r;
   for (int d = 0; d < dim; d++) {
-    f->acc[(size_t)i * dim + d] += c * dx[d] / f->m[i];
-    f->acc[(size_t)j * dim + d] -= c * dx[d] / f->m[j];
+    f->acc[(size_t)i * dim + d] += c * dx[d] * f->minv[i];
+    f->acc[(size_t)j * dim + d] -= c * dx[d] * f->minv[j];
   }
 }
 #endif

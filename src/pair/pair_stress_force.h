@@ -37,12 +37,12 @@ static inline __attribute__((always_inline)) void SpamPairApplyForce(const int d
   double        work = 0.0, rhod = 0.0;
   for (int d = 0; d < dim; d++) {
     work += 0.5 * (vj[d] - vi[d]) * F[d];
-    f->acc[(size_t)i * dim + d] += F[d] / f->m[i];
-    f->acc[(size_t)j * dim + d] -= F[d] / f->m[j];
+    f->acc[(size_t)i * dim + d] += F[d] * f->minv[i];
+    f->acc[(size_t)j * dim + d] -= F[d] * f->minv[j];
     if (continuity) rhod += g * (f->uc[(size_t)i * dim + d] - f->uc[(size_t)j * dim + d]) * dx[d];
   }
-  f->edot[i] += work / f->m[i];
-  f->edot[j] += work / f->m[j];
+  f->edot[i] += work * f->minv[i];
+  f->edot[j] += work * f->minv[j];
   if (continuity) {
     f->rhodot[i] += f->m[j] * rhod;
     f->rhodot[j] += f->m[i] * rhod;

@@ -2,12 +2,13 @@
 #include <spam/fields.h>
 
 /* Every array with its number of values per slot (0: not allocated for this model). */
-static int Arrays(SpamFields *f, double **a[16], int per[16])
+static int Arrays(SpamFields *f, double **a[20], int per[20])
 {
   const int d = f->dim, t = f->tensor ? 1 : 0;
   int       k = 0;
 #define SPAM_ARRAY(ptr, w) (a[k] = &(ptr), per[k++] = (w))
   SPAM_ARRAY(f->m, 1);
+  SPAM_ARRAY(f->minv, 1);
   SPAM_ARRAY(f->rho, 1);
   SPAM_ARRAY(f->q, 1);
   SPAM_ARRAY(f->acc, d);
@@ -29,8 +30,8 @@ static int Arrays(SpamFields *f, double **a[16], int per[16])
 
 PetscErrorCode SpamFieldsCreate(int dim, int n, int cap, PetscBool tensor, SpamFields *f)
 {
-  double **a[16];
-  int      per[16], na;
+  double **a[20];
+  int      per[20], na;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(f, sizeof *f));
@@ -47,8 +48,8 @@ PetscErrorCode SpamFieldsCreate(int dim, int n, int cap, PetscBool tensor, SpamF
 
 PetscErrorCode SpamFieldsReserve(SpamFields *f, int slots)
 {
-  double **a[16];
-  int      per[16], na, old = f->cap;
+  double **a[20];
+  int      per[20], na, old = f->cap;
 
   PetscFunctionBeginUser;
   if (slots + 1 <= f->cap) PetscFunctionReturn(0);
@@ -65,8 +66,8 @@ PetscErrorCode SpamFieldsReserve(SpamFields *f, int slots)
 
 PetscErrorCode SpamFieldsDestroy(SpamFields *f)
 {
-  double **a[16];
-  int      per[16], na = Arrays(f, a, per);
+  double **a[20];
+  int      per[20], na = Arrays(f, a, per);
 
   PetscFunctionBeginUser;
   for (int k = 0; k < na; k++) PetscCall(PetscFree(*a[k]));
@@ -79,4 +80,13 @@ PetscBool SpamFieldsUniformMass(const SpamFields *f)
   for (int i = 1; i < f->n; i++)
     if (f->m[i] != f->m[0]) return PETSC_FALSE;
   return PETSC_TRUE;
+}
+
+void SpamFieldsSetMasses(SpamFields *f, const double *m, double uniform)
+{
+  for (int i = 0; i < f->n; i++) {
+    f->m[i]    = m ? m[i] : uniform;
+    f->minv[i] = 1.0 / f->m[i];
+  }
+  f->uniform_mass = (int)SpamFieldsUniformMass(f);
 }

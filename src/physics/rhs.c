@@ -32,3 +32,17 @@ PetscErrorCode SpamAccel(SpamSim *sim, const double *x, int stride, PetscInt *ba
   sim->stats.rhs_time += t1 - t0;
   PetscFunctionReturn(0);
 }
+
+PetscErrorCode SpamGravityEnergy(SpamSim *sim, const double *y, double *pot)
+{
+  const SpamLayout *l   = &sim->model.layout;
+  double            loc = 0.0;
+
+  PetscFunctionBeginUser;
+  *pot = 0.0;
+  if (!sim->model.gravity_on) PetscFunctionReturn(0);
+  for (PetscInt i = 0; i < sim->n; i++)
+    for (int d = 0; d < sim->model.dim; d++) loc -= sim->f.m[i] * sim->model.gravity[d] * (y[(size_t)i * l->nvar + l->x + d] - sim->box.lo[d]);
+  PetscCallMPI(MPIU_Allreduce(&loc, pot, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
+  PetscFunctionReturn(0);
+}

@@ -188,7 +188,10 @@ static PetscErrorCode ReserveSlots(SpamSim *sim)
 {
   PetscFunctionBeginUser;
   PetscCall(SpamFieldsReserve(&sim->f, SpamNeighboursSlots(&sim->nl)));
-  if (sim->nl.ghosts.n) SpamGhostsGather(&sim->nl.ghosts, sim->model.dim, (int)sim->n, 1, SPAM_GHOST_SCALAR, sim->f.m);
+  if (sim->nl.ghosts.n) {
+    SpamGhostsGather(&sim->nl.ghosts, sim->model.dim, (int)sim->n, 1, SPAM_GHOST_SCALAR, sim->f.m);
+    SpamGhostsGather(&sim->nl.ghosts, sim->model.dim, (int)sim->n, 1, SPAM_GHOST_SCALAR, sim->f.minv);
+  }
   PetscFunctionReturn(0);
 }
 

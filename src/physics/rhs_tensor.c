@@ -124,6 +124,7 @@ static PetscErrorCode FillFields(SpamSim *sim, const double *y, PetscInt *bad)
     f->T[i] = (p->gamma - 1.0) * yi[l->e];
   }
   SpamGhostsGather(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->m);
+  SpamGhostsGather(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->minv);
   SpamGhostsGather(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->v);
   SpamGhostsGather(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->e);
   SpamGhostsGather(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->T);

@@ -20,8 +20,7 @@ PetscErrorCode SpamSimCreate(MPI_Comm comm, const SpamModel *model, const SpamBo
   PetscCall(DMSwarmFinalizeFieldRegister(sim->swarm));
   PetscCall(DMSwarmSetLocalSizes(sim->swarm, n, 0));
   PetscCall(SpamFieldsCreate(model->dim, (int)n, (int)n, model->tensor, &sim->f));
-  for (PetscInt i = 0; i < n; i++) sim->f.m[i] = model->mass;
-  sim->f.uniform_mass = 1;
+  SpamFieldsSetMasses(&sim->f, NULL, model->mass);
   PetscFunctionReturn(0);
 }
 
@@ -42,8 +41,7 @@ PetscErrorCode SpamSimFill(SpamSim *sim, const double *x, const double *v, const
     }
   }
   PetscCall(DMSwarmRestoreField(sim->swarm, SPAM_STATE_FIELD, &bs, &type, (void **)&s));
-  for (PetscInt i = 0; m && i < sim->n; i++) sim->f.m[i] = m[i];
-  sim->f.uniform_mass = (int)SpamFieldsUniformMass(&sim->f);
+  if (m) SpamFieldsSetMasses(&sim->f, m, 0.0);
   PetscFunctionReturn(0);
 }
 
