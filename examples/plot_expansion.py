@@ -214,6 +214,10 @@ def read_snapshot(path, np):
         with open(path, "r", encoding="utf-8") as fh:
             t = parse_time_line(fh.readline(), path)
             header = [c.strip() for c in fh.readline().strip().split(",")]
+            # The density a model sums from positions is the column rho_sum (rho is a
+            # carried density, which the file scene reads back).
+            if "rho" not in header and "rho_sum" in header:
+                header[header.index("rho_sum")] = "rho"
             missing = [c for c in wanted if c not in header]
             if missing:
                 raise InputError("%s: missing column(s) %s" % (path, ", ".join(missing)))

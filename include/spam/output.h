@@ -56,6 +56,7 @@ typedef struct {
   char      dir[PETSC_MAX_PATH_LEN];
   SpamFile  timeseries, steps; /* appended during the run, renamed at the end       */
   int       nsnap;             /* snapshots written so far                          */
+  long      step;              /* step of the last timeseries row (snapshot attribute) */
   double   *snap_times;        /* [capacity] times of the snapshots, for the XDMF index */
   int       snap_cap;
   PetscBool hdf5, csv;
@@ -105,12 +106,19 @@ PetscErrorCode SpamStepsAppend(SpamOutput *o, const SpamProgress *pr);
 
 /* Per-particle snapshot fields: the density the model uses, the stress in Tensor6 order. */
 double SpamSnapshotDensity(const SpamSim *sim, const double *y, PetscInt i);
+double SpamSnapshotPosition(const SpamSim *sim, int d, double x);
 void   SpamSnapshotStress6(const SpamSim *sim, const double *y, PetscInt i, double t6[6]);
 /* Particle snapshot: HDF5 + XDMF (ParaView) and/or CSV (positions, velocities, density,
  * and energy and stress where the state has them). Needs sim->rho of state y. */
 PetscErrorCode SpamSnapshotWrite(SpamOutput *o, SpamSim *sim, const double *y, double t, const char *tag);
 PetscErrorCode SpamSnapshotCsvWrite(const char *path, const SpamSim *sim, const double *y, double t);
-PetscErrorCode SpamSnapshotHdf5Write(const char *path, const SpamSim *sim, const double *y);
-/* Particles as a file-scene CSV (x,y[,z],vx,vy[,vz],m) at full precision. */
+PetscErrorCode SpamSnapshotHdf5Write(const char *path, const SpamSim *sim, const double *y, double t, long step);
+/* Particles as a file-scene CSV at full precision, the format the file scene reads: a
+ * header naming the columns x..,vx..,m, then e, rho (carried density) and the stress where
+ * the state holds them, and id (the input row); positions wrapped into the box in its
+ * periodic directions. Rows in input order. */
 PetscErrorCode SpamParticlesCsvWrite(const char *path, const SpamSim *sim, const double *y);
+/* The model's settings as a JSON object (model_settings.c), for the snapshot attribute
+ * "model"; buf of len bytes. */
+PetscErrorCode SpamModelSettingsJson(const SpamModel *m, char *buf, size_t len);
 #endif

@@ -3,12 +3,33 @@
 #define SPAM_SCENE_H
 #include <spam/sim.h>
 
+/* The columns a particle file can give (SpamParticles.columns): positions and velocities,
+ * per-particle mass, energy per unit mass, density, stress and the particle id. */
+#define SPAM_COLUMN_X      (1u << 0)
+#define SPAM_COLUMN_V      (1u << 1)
+#define SPAM_COLUMN_M      (1u << 2)
+#define SPAM_COLUMN_E      (1u << 3)
+#define SPAM_COLUMN_RHO    (1u << 4)
+#define SPAM_COLUMN_STRESS (1u << 5)
+#define SPAM_COLUMN_ID     (1u << 6)
+
+/* Stress components per particle: D(D+1)/2 (1 in 1D, 3 in 2D, 6 in 3D). */
+static inline int SpamStressComponents(int dim)
+{
+  return dim * (dim + 1) / 2;
+}
+
 /* Particles as a scene makes them, before they go into the swarm. */
 typedef struct {
   int           dim;
   PetscInt      n;
   double       *x, *v;   /* [n*dim] each                                         */
-  double       *e, *rho, *sigma; /* optional initial fields ([n], [n], [3n]) or NULL  */
+  /* Optional initial fields ([n], [n], [n D(D+1)/2]) or NULL; sigma per particle in the
+   * order xx xy yy (2D), xx xy xz yy yz zz (3D: the upper triangle row by row), xx (1D). */
+  double       *e, *rho, *sigma;
+  double       *m;       /* [n] per-particle mass, or NULL: every particle has mass  */
+  PetscInt     *id;      /* [n] particle ids, or NULL: ids are the input rows         */
+  unsigned      columns; /* SPAM_COLUMN_* bits of the columns the input gave (0: a scene) */
   double        mass;
   SpamBox       box;
   SpamSceneInfo info;
@@ -122,6 +143,13 @@ PetscErrorCode SpamParticlesAllocateFields(SpamParticles *p);
 void SpamParticlesOpenBox(SpamParticles *p, double margin);
 /* Copies the optional fields of p into the swarm where the layout has them. */
 PetscErrorCode SpamSimFillFields(SpamSim *sim, const SpamParticles *p);
+/* The file scene's HDF5 input: the program's own snapshot (scene_file_hdf5.c). */
+PetscErrorCode SpamFileIsHdf5(const char *path, PetscBool *hdf5);
+PetscErrorCode SpamFileReadHdf5(const SpamCommonParams *c, const char *path, SpamParticles *out);
+/* Columns of a particle file against the model (particle_columns.c): a column the layout
+ * cannot hold (e without l->e, rho without l->rho, stress without l->s) is bad input
+ * naming the column and the model. */
+PetscErrorCode SpamParticlesCheckColumns(const SpamParticles *p, const SpamLayout *l);
 PetscErrorCode SpamParticlesAllocate(int dim, PetscInt n, SpamParticles *p);
 /* The largest particle count a run can hold here: state indices within PetscInt and a
  * lower bound of the bytes per particle within the physical memory (scene_size.c). A

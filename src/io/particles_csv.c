@@ -1,56 +1,75 @@
-/* Particles as CSV: file-scene input format, and the snapshots the chart scripts read. */
+/* Particles as CSV in the one format the file scene reads (src/scenes/particle_header.c):
+ * a header naming the columns, one particle per row in input order, full precision. Both
+ * -initial_csv/-final_csv and the CSV snapshots write it, so every such file reads back. */
 #include <spam/output.h>
 
-PetscErrorCode SpamParticlesCsvWrite(const char *path, const SpamSim *sim, const double *y)
+/* Stress component names of the state's order (the upper triangle row by row). */
+static const char *StressName(int dim, int k)
+{
+  static const char *s2[3] = {"sxx", "sxy", "syy"};
+  static const char *s3[6] = {"sxx", "sxy", "sxz", "syy", "syz", "szz"};
+  return dim == 1 ? "sxx" : dim == 2 ? s2[k] : s3[k];
+}
+
+/* The header: x..,vx..,m[,e][,rho][,stress],id[,rho_sum]. */
+static void Header(SpamFile *f, const SpamLayout *l, PetscBool rho_sum)
 {
   static const char *ax[3] = {"x", "y", "z"};
-  const SpamLayout  *l     = &sim->model.layout;
-  const int          dim   = sim->model.dim;
-  SpamFile           f;
+  const int          dim   = l->dim;
+
+  for (int d = 0; d < dim; d++) SpamFilePrintf(f, "%s%s", d ? "," : "", ax[d]);
+  for (int d = 0; d < dim; d++) SpamFilePrintf(f, ",v%s", ax[d]);
+  SpamFilePrintf(f, ",m");
+  if (l->e >= 0) SpamFilePrintf(f, ",e");
+  if (l->rho >= 0) SpamFilePrintf(f, ",rho");
+  for (int k = 0; l->s >= 0 && k < dim * (dim + 1) / 2; k++) SpamFilePrintf(f, ",%s", StressName(dim, k));
+  SpamFilePrintf(f, ",id%s\n", rho_sum ? ",rho_sum" : "");
+}
+
+/* rho_sum: the summed density of a model that does not carry it (sim->f.rho of state y),
+ * for charts; the file scene recognises the column and does not read it. */
+static PetscErrorCode WriteRows(const char *path, const SpamSim *sim, const double *y, const char *comment, PetscBool with_rho_sum)
+{
+  const SpamLayout *l       = &sim->model.layout;
+  const int         dim     = sim->model.dim;
+  const PetscBool   rho_sum = (PetscBool)(with_rho_sum && l->rho < 0);
+  SpamFile          f;
 
   PetscFunctionBeginUser;
   PetscCall(SpamFileBegin(path, &f));
-  for (int d = 0; d < dim; d++) SpamFilePrintf(&f, "%s%s", d ? "," : "", ax[d]);
-  for (int d = 0; d < dim; d++) SpamFilePrintf(&f, ",v%s", ax[d]);
-  SpamFilePrintf(&f, ",m\n");
+  if (comment) SpamFilePrintf(&f, "# %s\n", comment);
+  Header(&f, l, rho_sum);
   for (PetscInt r = 0; r < sim->n; r++) {
-    const double *p = y + (size_t)SpamSimAtRow(sim, r) * l->nvar;
-    for (int d = 0; d < dim; d++) SpamFilePrintf(&f, "%s%.17g", d ? "," : "", p[l->x + d]);
+    const PetscInt i = SpamSimAtRow(sim, r);
+    const double  *p = y + (size_t)i * l->nvar;
+    for (int d = 0; d < dim; d++) SpamFilePrintf(&f, "%s%.17g", d ? "," : "", SpamSnapshotPosition(sim, d, p[l->x + d]));
     for (int d = 0; d < dim; d++) SpamFilePrintf(&f, ",%.17g", p[l->v + d]);
-    SpamFilePrintf(&f, ",%.17g\n", sim->model.mass);
+    SpamFilePrintf(&f, ",%.17g", sim->f.m[i]);
+    if (l->e >= 0) SpamFilePrintf(&f, ",%.17g", p[l->e]);
+    if (l->rho >= 0) SpamFilePrintf(&f, ",%.17g", p[l->rho]);
+    for (int k = 0; l->s >= 0 && k < dim * (dim + 1) / 2; k++) SpamFilePrintf(&f, ",%.17g", p[l->s + k]);
+    SpamFilePrintf(&f, ",%" PetscInt_FMT, r);
+    if (rho_sum) SpamFilePrintf(&f, ",%.17g", sim->f.rho[i]);
+    SpamFilePrintf(&f, "\n");
   }
   PetscCall(SpamFileCommit(&f));
   PetscFunctionReturn(0);
 }
 
-/* Snapshot for charts: positions wrapped into the box, padded to three components. */
+PetscErrorCode SpamParticlesCsvWrite(const char *path, const SpamSim *sim, const double *y)
+{
+  PetscFunctionBeginUser;
+  PetscCall(WriteRows(path, sim, y, NULL, PETSC_FALSE));
+  PetscFunctionReturn(0);
+}
+
+/* A snapshot: the time as a leading comment, and the summed density for charts. */
 PetscErrorCode SpamSnapshotCsvWrite(const char *path, const SpamSim *sim, const double *y, double t)
 {
-  const SpamLayout *l   = &sim->model.layout;
-  const int         dim = sim->model.dim;
-  SpamFile          f;
+  char comment[64];
 
   PetscFunctionBeginUser;
-  PetscCall(SpamFileBegin(path, &f));
-  SpamFilePrintf(&f, "# t=%.10g\nx,y,z,vx,vy,vz,rho%s%s\n", t, l->e >= 0 ? ",e" : "", l->s >= 0 ? ",sxx,sxy,sxz,syy,syz,szz" : "");
-  for (PetscInt r = 0; r < sim->n; r++) {
-    const PetscInt i = SpamSimAtRow(sim, r);
-    const double  *p = y + (size_t)i * l->nvar;
-    double         x[3] = {0, 0, 0}, v[3] = {0, 0, 0};
-    for (int d = 0; d < dim; d++) {
-      x[d] = sim->box.lo[d] + SpamBoxLocal(&sim->box, d, p[l->x + d]);
-      v[d] = p[l->v + d];
-    }
-    /* Full precision: studies measure integrator errors from these snapshots. */
-    SpamFilePrintf(&f, "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g", x[0], x[1], x[2], v[0], v[1], v[2], SpamSnapshotDensity(sim, y, i));
-    if (l->e >= 0) SpamFilePrintf(&f, ",%.17g", p[l->e]);
-    if (l->s >= 0) {
-      double t6[6];
-      SpamSnapshotStress6(sim, y, i, t6);
-      for (int k = 0; k < 6; k++) SpamFilePrintf(&f, ",%.17g", t6[k]);
-    }
-    SpamFilePrintf(&f, "\n");
-  }
-  PetscCall(SpamFileCommit(&f));
+  (void)snprintf(comment, sizeof comment, "t=%.10g", t);
+  PetscCall(WriteRows(path, sim, y, comment, PETSC_TRUE));
   PetscFunctionReturn(0);
 }

@@ -1,7 +1,17 @@
-/* What a snapshot writes for one particle beyond r and v, the same in HDF5 and CSV: the
+/* What a snapshot writes for one particle, the same in HDF5 and CSV: the position, the
  * density the model uses (the carried one under continuity, else the summed one), the
  * energy per unit mass and the stress when the state holds them. */
 #include <spam/output.h>
+
+/* The state's coordinate where it lies in the box, so that a file read back (the file
+ * scene) holds bitwise the state; else wrapped into the box in a periodic direction (an
+ * open direction keeps it). lo + SpamBoxLocal alone would round x when lo is not 0. */
+double SpamSnapshotPosition(const SpamSim *sim, int d, double x)
+{
+  const SpamBox *b = &sim->box;
+  if (!b->periodic[d] || (x >= b->lo[d] && x < b->lo[d] + b->len[d])) return x;
+  return b->lo[d] + SpamBoxLocal(b, d, x);
+}
 
 double SpamSnapshotDensity(const SpamSim *sim, const double *y, PetscInt i)
 {

@@ -1,9 +1,9 @@
-/* Particle snapshots: one HDF5 file per snapshot (positions, velocities, density, and
- * energy and stress where the model carries them) and an
+/* Particle snapshots: one HDF5 file per snapshot (positions, velocities, density, mass,
+ * id, and energy and stress where the model carries them, with the attributes a reader
+ * needs to use it alone: snapshot_attributes.c) and an
  * XDMF index over all of them that ParaView opens as a time series of point clouds. */
 #define _DEFAULT_SOURCE /* open flags, flock, lstat, gethostname: POSIX, not C11 */
-#include <spam/output.h>
-#include <hdf5.h>
+#include "snapshot_hdf5.h"
 
 #include <errno.h>
 #include <sys/stat.h>
@@ -11,9 +11,10 @@
 
 /* An HDF5 file being written; every failure becomes one line naming the file. */
 typedef struct {
-  hid_t       file;
-  const char *path;
-  long        writes, fail_at; /* test-only injected failure, see output.h */
+  hid_t          file;
+  const char    *path;
+  long           writes, fail_at; /* test-only injected failure, see output.h */
+  const SpamSim *sim;
 } H5Out;
 
 static PetscErrorCode H5Failed(const H5Out *h)
@@ -59,7 +60,12 @@ static PetscErrorCode WriteDataset(H5Out *h, const char *name, const double *dat
 
 /* The fields of one snapshot, row r being input row r. */
 typedef struct {
-  double *x, *v, *rho, *e, *s6;
+  double    *x, *v, *rho, *e, *s6, *m;
+  long long *id;   /* the input row: the file scene's id column                          */
+  double     t;
+  long       step;
+  int        carried; /* the density is state, not summed                                */
+  char       model[2048];
 } Fields;
 
 static PetscErrorCode FieldsGather(const SpamSim *sim, const double *y, Fields *f)
@@ -72,18 +78,45 @@ static PetscErrorCode FieldsGather(const SpamSim *sim, const double *y, Fields *
   PetscCall(PetscCalloc1(3 * n + 1, &f->x));
   PetscCall(PetscCalloc1(3 * n + 1, &f->v));
   PetscCall(PetscCalloc1(n + 1, &f->rho));
+  PetscCall(PetscCalloc1(n + 1, &f->m));
+  PetscCall(PetscCalloc1(n + 1, &f->id));
+  PetscCall(SpamModelSettingsJson(&sim->model, f->model, sizeof f->model));
+  f->carried = l->rho >= 0;
   if (l->e >= 0) PetscCall(PetscCalloc1(n + 1, &f->e));
   if (l->s >= 0) PetscCall(PetscCalloc1(6 * n + 1, &f->s6));
   for (PetscInt r = 0; r < n; r++) {
     const PetscInt i = SpamSimAtRow(sim, r);
     f->rho[r]        = SpamSnapshotDensity(sim, y, i);
+    f->m[r]          = sim->f.m[i];
+    f->id[r]         = r;
     if (f->e) f->e[r] = y[(size_t)i * l->nvar + l->e];
     if (f->s6) SpamSnapshotStress6(sim, y, i, f->s6 + 6 * r);
     for (int d = 0; d < sim->model.dim; d++) {
-      f->x[3 * r + d] = sim->box.lo[d] + SpamBoxLocal(&sim->box, d, y[(size_t)i * l->nvar + l->x + d]);
+      f->x[3 * r + d] = SpamSnapshotPosition(sim, d, y[(size_t)i * l->nvar + l->x + d]);
       f->v[3 * r + d] = y[(size_t)i * l->nvar + l->v + d];
     }
   }
+  PetscFunctionReturn(0);
+}
+
+/* The ids as 64-bit integers (a run may hold more particles than a 32-bit int counts). */
+static PetscErrorCode WriteIds(H5Out *h, const long long *id, hsize_t n)
+{
+  hid_t  space, set;
+  herr_t w;
+
+  PetscFunctionBeginUser;
+  PetscCallH5(h, space = H5Screate_simple(1, &n, NULL));
+  set = H5Dcreate2(h->file, "/id", H5T_STD_I64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  if (set < 0) {
+    (void)H5Sclose(space);
+    PetscCall(H5Failed(h));
+  }
+  errno = 0;
+  w     = H5Dwrite(set, H5T_NATIVE_LLONG, H5S_ALL, H5S_ALL, H5P_DEFAULT, id);
+  if (H5Dclose(set) < 0) w = -1;
+  if (H5Sclose(space) < 0) w = -1;
+  if (w < 0) PetscCall(H5Failed(h));
   PetscFunctionReturn(0);
 }
 
@@ -93,6 +126,10 @@ static PetscErrorCode FieldsWrite(H5Out *h, const Fields *f, hsize_t n)
   PetscCall(WriteDataset(h, "/positions", f->x, n, 3));
   PetscCall(WriteDataset(h, "/velocities", f->v, n, 3));
   PetscCall(WriteDataset(h, "/density", f->rho, n, 1));
+  PetscCallH5(h, SpamSnapshotDensityCarried(h->file, f->carried));
+  PetscCall(WriteDataset(h, "/mass", f->m, n, 1));
+  PetscCall(WriteIds(h, f->id, n));
+  PetscCallH5(h, SpamSnapshotAttributes(h->file, h->sim, f->t, f->step, f->model));
   if (f->e) PetscCall(WriteDataset(h, "/energy", f->e, n, 1));
   if (f->s6) PetscCall(WriteDataset(h, "/stress", f->s6, n, 6));
   PetscFunctionReturn(0);
@@ -101,9 +138,9 @@ static PetscErrorCode FieldsWrite(H5Out *h, const Fields *f, hsize_t n)
 /* The temporary is created new by us (O_EXCL | O_NOFOLLOW) before HDF5 opens it by name;
  * before the rename it must still be the regular file we created, not something put in
  * its place. */
-static PetscErrorCode WriteFile(const char *path, const char *tmp, const struct stat *made, const Fields *f, hsize_t n)
+static PetscErrorCode WriteFile(const char *path, const char *tmp, const struct stat *made, const SpamSim *sim, const Fields *f, hsize_t n)
 {
-  H5Out          h = {-1, path, 0, SpamTestFailWriteAt(path)};
+  H5Out          h = {-1, path, 0, SpamTestFailWriteAt(path), sim};
   struct stat    now;
   PetscErrorCode ierr;
 
@@ -127,10 +164,12 @@ static PetscErrorCode FieldsFree(Fields *f)
   PetscCall(PetscFree(f->rho));
   PetscCall(PetscFree(f->e));
   PetscCall(PetscFree(f->s6));
+  PetscCall(PetscFree(f->m));
+  PetscCall(PetscFree(f->id));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamSnapshotHdf5Write(const char *path, const SpamSim *sim, const double *y)
+PetscErrorCode SpamSnapshotHdf5Write(const char *path, const SpamSim *sim, const double *y, double t, long step)
 {
   char           tmp[PETSC_MAX_PATH_LEN + 32];
   Fields         f = {0};
@@ -148,7 +187,9 @@ PetscErrorCode SpamSnapshotHdf5Write(const char *path, const SpamSim *sim, const
   }
   (void)close(fd); /* HDF5 opens it by name; WriteFile checks it is still this file */
   ierr = FieldsGather(sim, y, &f);
-  if (!ierr) ierr = WriteFile(path, tmp, &made, &f, (hsize_t)sim->n);
+  f.t    = t;
+  f.step = step;
+  if (!ierr) ierr = WriteFile(path, tmp, &made, sim, &f, (hsize_t)sim->n);
   if (ierr) (void)unlink(tmp);
   PetscCall(FieldsFree(&f));
   PetscCall(ierr);
@@ -210,7 +251,7 @@ PetscErrorCode SpamSnapshotWrite(SpamOutput *o, SpamSim *sim, const double *y, d
     }
     PetscCall(PetscSNPrintf(name, sizeof name, "snap_%05d.h5", o->nsnap));
     PetscCall(SpamOutputPath(o, name, path, sizeof path));
-    PetscCall(SpamSnapshotHdf5Write(path, sim, y));
+    PetscCall(SpamSnapshotHdf5Write(path, sim, y, t, o->step));
     PetscCall(SpamManifestAdd(o, name, "snapshot_h5", t, PETSC_FALSE));
     o->snap_times[o->nsnap] = t;
   }

@@ -7,6 +7,7 @@ PetscErrorCode SpamTimeseriesAppend(SpamOutput *o, const SpamSim *sim, const Spa
   double       rs = NAN, rg = NAN;
 
   PetscFunctionBeginUser;
+  o->step = pr->steps;
   if (norm > 0) {
     rs = (d->entropy_sum - d0->entropy_sum) / norm;
     rg = (d->entropy_grid - d0->entropy_grid) / norm;

@@ -48,7 +48,7 @@ void SpamSolidDefaults(SpamSolidParams *p)
 PetscErrorCode SpamParticlesAllocateFields(SpamParticles *p)
 {
   PetscFunctionBeginUser;
-  PetscCall(PetscCalloc3(p->n + 1, &p->e, p->n + 1, &p->rho, 3 * p->n + 1, &p->sigma));
+  PetscCall(PetscCalloc3(p->n + 1, &p->e, p->n + 1, &p->rho, (size_t)SpamStressComponents(p->dim) * p->n + 1, &p->sigma));
   PetscFunctionReturn(0);
 }
 
@@ -69,7 +69,8 @@ void SpamParticlesOpenBox(SpamParticles *p, double margin)
 
 PetscErrorCode SpamSimFillFields(SpamSim *sim, const SpamParticles *p)
 {
-  const SpamLayout *l = &sim->model.layout;
+  const SpamLayout *l  = &sim->model.layout;
+  const int         ns = SpamStressComponents(p->dim);
   PetscReal        *s;
   PetscInt          bs;
   PetscDataType     type;
@@ -80,7 +81,7 @@ PetscErrorCode SpamSimFillFields(SpamSim *sim, const SpamParticles *p)
   for (PetscInt i = 0; i < sim->n; i++) {
     if (l->e >= 0) s[i * bs + l->e] = p->e[i];
     if (l->rho >= 0) s[i * bs + l->rho] = p->rho[i];
-    for (int k = 0; l->s >= 0 && k < 3; k++) s[i * bs + l->s + k] = p->sigma[3 * i + k];
+    for (int k = 0; l->s >= 0 && k < ns; k++) s[i * bs + l->s + k] = p->sigma[ns * i + k];
   }
   PetscCall(DMSwarmRestoreField(sim->swarm, SPAM_STATE_FIELD, &bs, &type, (void **)&s));
   PetscFunctionReturn(0);

@@ -87,6 +87,9 @@ PetscErrorCode SpamParticlesSortByCell(SpamParticles *p, double width, PetscInt 
   PetscCall(Permute(p->v, p->n, p->dim, row_of));
   PetscCall(Permute(p->e, p->n, 1, row_of));
   PetscCall(Permute(p->rho, p->n, 1, row_of));
-  PetscCall(Permute(p->sigma, p->n, 3, row_of));
+  PetscCall(Permute(p->sigma, p->n, SpamStressComponents(p->dim), row_of));
+  PetscCall(Permute(p->m, p->n, 1, row_of));
+  if (p->id) /* ids follow their particles */
+    for (PetscInt i = 0; i < p->n; i++) p->id[i] = row_of[i];
   PetscFunctionReturn(0);
 }

@@ -21,6 +21,8 @@ PetscErrorCode SpamParticlesFree(SpamParticles *p)
   PetscCall(PetscFree(p->x));
   PetscCall(PetscFree(p->v));
   if (p->e) PetscCall(PetscFree3(p->e, p->rho, p->sigma));
+  PetscCall(PetscFree(p->m));
+  PetscCall(PetscFree(p->id));
   PetscFunctionReturn(0);
 }
 
@@ -253,7 +255,8 @@ static PetscErrorCode ModelOf(const SpamCommonParams *c, SpamParticles *p, SpamS
     if (p->dim != 2 && solid->angmom != SPAM_ANGMOM_NONE) SPAM_BAD_INPUT("-angmom", val, "the angular-momentum treatments are two-dimensional (this run: -dim %d)", p->dim);
     PetscCall(PetscSNPrintf(val, sizeof val, "%g", solid->closest_approach));
     if (p->dim != 2 && solid->closest_approach > 0) SPAM_BAD_INPUT("-closest_approach", val, "is two-dimensional (this run: -dim %d)", p->dim);
-    if (solid->density != SPAM_DENSITY_SUMMATION && !p->rho) solid->density_initial = SPAM_DENSITY_INITIAL_SUMMED; /* no density given: sum it */
+    /* no density given (a file without rho, the expansion): the continuity density starts summed */
+    if (solid->density != SPAM_DENSITY_SUMMATION && (!p->rho || (p->columns && !(p->columns & SPAM_COLUMN_RHO)))) solid->density_initial = SPAM_DENSITY_INITIAL_SUMMED;
     PetscCall(SpamModelSolidSetUp(p->dim, &c->kernel, p->mass, solid, model));
   }
   for (int d = 0; d < 3; d++) {
@@ -283,6 +286,7 @@ static PetscErrorCode CheckBuilt(MPI_Comm comm, const SpamCommonParams *c, const
     if (p->box.periodic[d] && !(c->skin < 0.5 * p->box.len[d])) SPAM_BAD_INPUT("-neighbour_skin", val, "must be below half the periodic box edge (%g)", p->box.len[d]);
   }
   PetscCall(ModelOf(c, p, solid, model));
+  PetscCall(SpamParticlesCheckColumns(p, &model->layout)); /* a file's columns against the model */
   PetscFunctionReturn(0);
 }
 
@@ -356,7 +360,7 @@ static PetscErrorCode CreateSim(MPI_Comm comm, const SpamCommonParams *c, PetscB
     PetscCall(SpamParticlesSortByCell(p, c->h, sim->row_of));
     for (PetscInt i = 0; i < p->n; i++) sim->at_row[sim->row_of[i]] = i;
   }
-  PetscCall(SpamSimFill(sim, p->x, p->v, NULL)); /* per-particle masses: the file scene's m column (h-files) */
+  PetscCall(SpamSimFill(sim, p->x, p->v, p->m));
   PetscCall(SpamSimFillFields(sim, p));
   PetscFunctionReturn(0);
 }
@@ -386,7 +390,7 @@ PetscErrorCode SpamSceneCreateSim(MPI_Comm comm, SpamSim *sim)
   ierr = CheckBuilt(comm, &c, ops.name, &p, &solid, &model);
   if (ierr) PetscCall(SpamParticlesFree(&p)); /* refused: leak nothing */
   PetscCall(ierr);
-  model.energy_given = (PetscBool)(p.e && !strcmp(ops.name, "file"));
+  model.energy_given = (PetscBool)((p.columns & SPAM_COLUMN_E) != 0); /* a file's e column, else the gas's -gas_e0 */
   PetscCall(CreateSim(comm, &c, sort, &model, &p, sim));
   PetscCall(SpamParticlesFree(&p));
   PetscCall(SpamSimSetUp(sim));

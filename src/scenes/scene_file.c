@@ -1,10 +1,12 @@
-/* Particles read from a CSV file: header x[,y[,z]],vx[,vy[,vz]][,m] matching -dim, one
- * particle per line, every value a finite number, every particle inside the box
- * -box_lo/-box_len. Every line that is not so is bad input naming file:line: the file is
- * the user's, and a run from a half-read file would be a wrong result, not a failure. */
+/* Particles read from a file: CSV whose header names its columns (particle_header.c), a
+ * header-less CSV of x..,vx..[,m] as earlier versions wrote it, or the program's own HDF5
+ * snapshot (scene_file_hdf5.c, told by its signature, not by its name). Every value a
+ * finite number, every particle inside the box -box_lo/-box_len. Every line that is not so
+ * is bad input naming file:line: the file is the user's, and a run from a half-read file
+ * would be a wrong result, not a failure. */
 /* O_CLOEXEC and S_ISSOCK are POSIX 2008, which -std=c11 does not declare by default. */
 #define _POSIX_C_SOURCE 200809L
-#include <spam/scene.h>
+#include "particle_file.h"
 #include <spam/errors.h>
 #include <errno.h>
 #include <fcntl.h>
@@ -12,7 +14,7 @@
 #include <unistd.h>
 
 /* The longest line accepted, its end excluded, comments and header included. A data line
- * holds at most seven numbers; a longer line is refused whole rather than split into
+ * holds at most seventeen numbers; a longer line is refused whole rather than split into
  * two particles or cut short, and the limit bounds the memory a line takes. */
 #define CSV_MAX_LINE 4095
 /* Room for the quote of an offending line: SpamClip keeps 80 bytes and "..." (the error
@@ -34,20 +36,9 @@ static PetscErrorCode SpamFileOptions(SpamFileParams *p)
   PetscFunctionBeginUser;
   p->path[0] = 0;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene file", "spam-ark");
-  PetscCall(PetscOptionsString("-file_path", "CSV file of particles: header x,y[,z],vx,vy[,vz][,m]", "README", p->path, p->path, sizeof p->path, NULL));
+  PetscCall(PetscOptionsString("-file_path", "Particle file: CSV with a header naming columns x y z vx vy vz m e rho sxx sxy syy sxz syz szz id (any order), or an HDF5 snapshot of this program", "README", p->path, p->path, sizeof p->path, NULL));
   PetscOptionsEnd();
   PetscFunctionReturn(0);
-}
-
-/* Expected header for dim, with or without the mass column. */
-static void Header(int dim, PetscBool mass, char *buf, size_t len)
-{
-  static const char *ax[3] = {"x", "y", "z"};
-  size_t             k     = 0;
-  buf[0]                   = 0;
-  for (int d = 0; d < dim; d++) k += (size_t)snprintf(buf + k, len - k, "%s%s", d ? "," : "", ax[d]);
-  for (int d = 0; d < dim; d++) k += (size_t)snprintf(buf + k, len - k, ",v%s", ax[d]);
-  if (mass) (void)snprintf(buf + k, len - k, ",m");
 }
 
 /* Drops a CR (CRLF line ends) and trailing spaces. */
@@ -197,86 +188,157 @@ static PetscErrorCode CheckInBox(CsvReader *r, const SpamCommonParams *c, const 
   PetscFunctionReturn(0);
 }
 
-/* Checks one data line (nf fields) and returns its values in vals. */
-static PetscErrorCode ParseParticle(CsvReader *r, const SpamCommonParams *c, int nf, double *vals, double *mass)
+/* The values of one data line by slot; checks the line as a whole: field count, every
+ * field a finite number, the position inside the box, mass and density positive, an id a
+ * whole number. */
+static PetscErrorCode ParseParticle(CsvReader *r, const SpamCommonParams *c, const SpamColumnMap *map, double *slots)
 {
-  const int   dim = c->dim;
   const char *why;
-  char        first[32];
+  double      vals[NSLOTS];
   int         bad = 0, k;
 
   PetscFunctionBeginUser;
-  k = ParseLine(r->line, vals, 8, &bad, &why);
-  if (k < 0) CSV_BAD_LINE(r, "field %d %s; each of the %d fields must be a finite number", bad, why, nf);
-  if (k != nf) CSV_BAD_LINE(r, "expected %d comma-separated numbers, found %d", nf, k);
-  PetscCall(CheckInBox(r, c, vals));
-  if (nf == 2 * dim + 1) {
-    if (!(vals[2 * dim] > 0.0)) CSV_BAD_LINE(r, "mass must be positive");
-    if (*mass < 0.0) *mass = vals[2 * dim];
-    if (vals[2 * dim] != *mass) {
-      (void)snprintf(first, sizeof first, "%g", *mass); /* PETSc's %g writes 1 as "1." */
-      CSV_BAD_LINE(r, "every particle must have the same mass (%s on the first line); unequal masses are not supported yet", first);
-    }
-  }
+  k = ParseLine(r->line, vals, NSLOTS, &bad, &why);
+  if (k < 0) CSV_BAD_LINE(r, "field %d %s; each of the %d fields must be a finite number", bad, why, map->ncol);
+  if (k != map->ncol) CSV_BAD_LINE(r, "expected %d comma-separated numbers, found %d", map->ncol, k);
+  for (int s = 0; s < NSLOTS; s++) slots[s] = 0.0; /* velocities default to rest */
+  for (int j = 0; j < k; j++) slots[map->slot[j]] = vals[j];
+  PetscCall(CheckInBox(r, c, slots + SLOT_X));
+  if ((map->columns & SPAM_COLUMN_M) && !(slots[SLOT_M] > 0.0)) CSV_BAD_LINE(r, "mass must be positive");
+  if ((map->columns & SPAM_COLUMN_RHO) && !(slots[SLOT_RHO] > 0.0)) CSV_BAD_LINE(r, "density rho must be positive");
+  if ((map->columns & SPAM_COLUMN_ID) && !(slots[SLOT_ID] >= 0.0 && slots[SLOT_ID] < SpamMaxParticles() && slots[SLOT_ID] == floor(slots[SLOT_ID]))) CSV_BAD_LINE(r, "id must be a whole number from 0 to the particle count - 1");
   PetscFunctionReturn(0);
 }
 
-/* Reads the particles into out->x, out->v (allocated here; the caller frees them on an
- * error as on success). */
-static PetscErrorCode ReadBody(CsvReader *r, const SpamCommonParams *c, int nf, SpamParticles *out)
+/* A file without a header (as earlier versions read): its first line is data, x..,vx..
+ * with an optional mass. A line starting like a number is data, not a header. */
+static PetscBool LooksLikeData(const char *line)
 {
-  const int    dim  = c->dim;
-  const double maxn = SpamMaxParticles();
-  size_t       cap  = 1024, n = 0;
-  double       vals[8], mass = -1.0;
-  PetscBool    more;
-
-  PetscFunctionBeginUser;
-  PetscCall(PetscMalloc1(cap * dim, &out->x));
-  PetscCall(PetscMalloc1(cap * dim, &out->v));
-  for (;;) {
-    PetscCall(ReadLine(r, &more));
-    if (!more) break;
-    PetscCall(CheckLine(r));
-    if (!r->line[0] || r->line[0] == '#') continue;
-    if ((double)n >= maxn) CSV_BAD_LINE(r, "the file holds more than %.4g particles, the most that 32-bit state indices and this machine's physical memory allow", maxn);
-    PetscCall(ParseParticle(r, c, nf, vals, &mass));
-    if (n == cap) {
-      cap *= 2;
-      PetscCall(PetscRealloc(sizeof(double) * cap * dim, &out->x));
-      PetscCall(PetscRealloc(sizeof(double) * cap * dim, &out->v));
-    }
-    for (int d = 0; d < dim; d++) {
-      out->x[n * dim + d] = vals[d];
-      out->v[n * dim + d] = vals[dim + d];
-    }
-    n++;
-  }
-  if (n == 0) SPAM_BAD_INPUT("-file_path", r->path, "the file has a header but no particles");
-  out->dim  = dim;
-  out->n    = (PetscInt)n;
-  out->mass = mass;
-  PetscFunctionReturn(0);
+  while (*line == ' ' || *line == '\t') line++;
+  return (PetscBool)(strchr("0123456789+-.", *line) && *line);
 }
 
-/* Reads and checks the header: returns the number of fields of a data line. */
-static PetscErrorCode ReadHeader(CsvReader *r, int dim, int *nf)
+/* The first line that is neither blank nor a comment: the header, or in a header-less file
+ * the first particle (*pending: not yet consumed). */
+static PetscErrorCode ReadHeader(CsvReader *r, int dim, SpamColumnMap *map, PetscBool *pending)
 {
-  char      with_m[64], without_m[64];
+  char      why[256];
   PetscBool more;
 
   PetscFunctionBeginUser;
-  Header(dim, PETSC_TRUE, with_m, sizeof with_m);
-  Header(dim, PETSC_FALSE, without_m, sizeof without_m);
-  PetscCall(ReadLine(r, &more));
-  r->lineno = 1;
-  PetscCall(CheckLine(r));
-  if (!strcmp(r->line, with_m)) *nf = 2 * dim + 1;
-  else if (!strcmp(r->line, without_m)) *nf = 2 * dim;
-  else CSV_BAD_LINE(r, "header must be '%s' or '%s' for -dim %d", without_m, with_m, dim);
+  *pending = PETSC_FALSE;
+  for (;;) {
+    PetscCall(ReadLine(r, &more));
+    if (!more) SPAM_BAD_INPUT("-file_path", r->path, "the file holds no header and no particles");
+    PetscCall(CheckLine(r));
+    if (r->line[0] && r->line[0] != '#') break;
+  }
+  if (LooksLikeData(r->line)) {
+    double      vals[NSLOTS];
+    const char *bad_why;
+    int         bad, k = ParseLine(r->line, vals, NSLOTS, &bad, &bad_why);
+    if (k >= 0 && k != 2 * dim && k != 2 * dim + 1) CSV_BAD_LINE(r, "a file without a header holds %d or %d numbers a line (positions, velocities and optionally the mass for -dim %d), found %d; or give a header naming the columns", 2 * dim, 2 * dim + 1, dim, k);
+    SpamColumnsLegacy(dim, k < 0 ? 2 * dim : k, map);
+    *pending = PETSC_TRUE;
+  } else if (SpamColumnsParse(r->line, dim, map, why, sizeof why)) CSV_BAD_LINE(r, "%s", why);
   PetscFunctionReturn(0);
 }
 
+/* Every data line as its slots into *rows ([n][NSLOTS], allocated here). */
+static PetscErrorCode ReadRows(CsvReader *r, const SpamCommonParams *c, const SpamColumnMap *map, PetscBool pending, double **rows, size_t *n)
+{
+  const double maxn = SpamMaxParticles();
+  size_t       cap  = 1024;
+  PetscBool    more = PETSC_TRUE;
+
+  PetscFunctionBeginUser;
+  *n = 0;
+  PetscCall(PetscMalloc1(cap * NSLOTS, rows));
+  for (;;) {
+    if (!pending) {
+      PetscCall(ReadLine(r, &more));
+      if (!more) break;
+      PetscCall(CheckLine(r));
+      if (!r->line[0] || r->line[0] == '#') continue;
+    }
+    pending = PETSC_FALSE;
+    if ((double)*n >= maxn) CSV_BAD_LINE(r, "the file holds more than %.4g particles, the most that 32-bit state indices and this machine's physical memory allow", maxn);
+    if (*n == cap) {
+      cap *= 2;
+      PetscCall(PetscRealloc(sizeof(double) * cap * NSLOTS, rows));
+    }
+    PetscCall(ParseParticle(r, c, map, *rows + *n * NSLOTS));
+    ++*n;
+  }
+  if (*n == 0) SPAM_BAD_INPUT("-file_path", r->path, "the file has a header but no particles");
+  PetscFunctionReturn(0);
+}
+
+/* The rows into the arrays of out, then the particles in the order of their ids. */
+static PetscErrorCode Distribute(const char *path, int dim, const SpamColumnMap *map, const double *rows, PetscInt n, SpamParticles *out)
+{
+  const int   ns = SpamStressComponents(dim);
+  PetscInt    bad;
+  const char *why;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamParticlesAllocateColumns(dim, n, map->columns, out));
+  for (PetscInt i = 0; i < n; i++) {
+    const double *s = rows + (size_t)i * NSLOTS;
+    for (int d = 0; d < dim; d++) {
+      out->x[i * dim + d] = s[SLOT_X + d];
+      out->v[i * dim + d] = s[SLOT_V + d];
+    }
+    if (out->m) out->m[i] = s[SLOT_M];
+    if (out->id) out->id[i] = (PetscInt)s[SLOT_ID];
+    if (!out->e) continue;
+    out->e[i]   = s[SLOT_E];
+    out->rho[i] = s[SLOT_RHO];
+    for (int k = 0; k < ns; k++) out->sigma[(size_t)i * ns + k] = s[SLOT_S + k];
+  }
+  out->mass = out->m ? out->m[0] : -1.0;
+  PetscCall(SpamParticlesOrderById(out, &bad, &why));
+  if (bad >= 0) {
+    char row[64];
+    (void)snprintf(row, sizeof row, "id %" PetscInt_FMT " of particle %" PetscInt_FMT, out->id[bad], bad + 1);
+    SPAM_BAD_INPUT(path, row, "%s; the ids of %" PetscInt_FMT " particles are 0..%" PetscInt_FMT ", each once (particle k is row k of every output)", why, n, n - 1);
+  }
+  PetscFunctionReturn(0);
+}
+
+/* Reads the whole CSV file into out (the caller frees out on an error as on success). */
+static PetscErrorCode ReadCsv(CsvReader *r, const SpamCommonParams *c, SpamParticles *out)
+{
+  SpamColumnMap  map;
+  PetscBool      pending;
+  double        *rows = NULL;
+  size_t         n    = 0;
+  PetscErrorCode ierr;
+
+  PetscFunctionBeginUser;
+  PetscCall(ReadHeader(r, c->dim, &map, &pending));
+  ierr = ReadRows(r, c, &map, pending, &rows, &n);
+  if (!ierr) ierr = Distribute(r->path, c->dim, &map, rows, (PetscInt)n, out);
+  PetscCall(PetscFree(rows));
+  PetscCall(ierr);
+  PetscFunctionReturn(0);
+}
+
+/* The HDF5 signature at the start of the file (or after a user block of 512, 1024 or 2048
+ * bytes, where HDF5 also looks): the file's content decides, not its name. */
+static PetscBool HasHdf5Signature(FILE *f)
+{
+  static const unsigned char sig[8] = {0x89, 'H', 'D', 'F', '\r', '\n', 0x1a, '\n'};
+  static const long          at[4]  = {0, 512, 1024, 2048};
+  unsigned char              buf[8];
+
+  for (int k = 0; k < 4; k++) {
+    if (fseek(f, at[k], SEEK_SET) || fread(buf, 1, 8, f) != 8) break;
+    if (!memcmp(buf, sig, 8)) return PETSC_TRUE;
+  }
+  rewind(f);
+  return PETSC_FALSE;
+}
 /* The box is checked before any particle is compared with it, so that a box too small or
  * too far out (SpamBoxValidate: positive finite edges, corners within 1e9 h, NaN included)
  * is named as such rather than by a particle outside it. */
@@ -285,6 +347,7 @@ static PetscErrorCode CheckBox(const SpamCommonParams *c)
   SpamBox box = {c->dim, {0, 0, 0}, {0, 0, 0}, {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE}};
 
   PetscFunctionBeginUser;
+  if (!c->box_len_set) SPAM_BAD_INPUT("-box_len", "README", "the file scene needs the box edge lengths of a CSV file, e.g. -box_len 64,64 (an HDF5 snapshot carries its box)");
   for (int d = 0; d < c->dim; d++) {
     box.lo[d]       = c->box_lo[d];
     box.len[d]      = c->box_len[d];
@@ -294,35 +357,61 @@ static PetscErrorCode CheckBox(const SpamCommonParams *c)
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode SpamFileBuild(const SpamCommonParams *c, const SpamFileParams *p, SpamParticles *out)
+/* The box of a CSV file comes from the options: -box_len is required. */
+static PetscErrorCode SetBox(const SpamCommonParams *c, SpamParticles *out)
 {
-  CsvReader     *r;
-  int            nf = 0;
-  PetscErrorCode ierr;
-
   PetscFunctionBeginUser;
-  if (!p->path[0]) SPAM_BAD_INPUT("-file_path", "README", "the file scene needs a CSV file of particles");
-  if (!c->box_len_set) SPAM_BAD_INPUT("-box_len", "README", "the file scene needs the box edge lengths, e.g. -box_len 64,64");
-  PetscCall(CheckBox(c));
-  PetscCall(PetscMemzero(out, sizeof *out));
-  PetscCall(PetscNew(&r));
-  r->path = p->path;
-  ierr    = OpenRegular(p->path, &r->f);
-  if (!ierr) {
-    ierr = ReadHeader(r, c->dim, &nf);
-    if (!ierr) ierr = ReadBody(r, c, nf, out);
-    (void)fclose(r->f);
-  }
-  PetscCall(PetscFree(r));
-  if (ierr) PetscCall(SpamParticlesFree(out)); /* nothing read is kept after an error */
-  PetscCall(ierr);
-  if (out->mass < 0.0) out->mass = c->mass;
   out->box.dim = c->dim;
   for (int d = 0; d < c->dim; d++) {
     out->box.lo[d]       = c->box_lo[d];
     out->box.len[d]      = c->box_len[d];
     out->box.periodic[d] = c->periodic[d];
   }
+  PetscFunctionReturn(0);
+}
+
+/* A file with masses (column m, or a snapshot's /mass) and -mass as well: they must agree,
+ * else one of the two would be ignored without a word. */
+static PetscErrorCode CheckMassOption(const SpamCommonParams *c, const char *path, const SpamParticles *out)
+{
+  PetscBool set;
+  char      val[128], first[32];
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsHasName(NULL, NULL, "-mass", &set));
+  if (!set || !out->m) PetscFunctionReturn(0);
+  PetscCall(SpamOptionText("-mass", c->mass, val, sizeof val));
+  (void)snprintf(first, sizeof first, "%.17g", out->m[0]); /* PETSc's %g writes 1 as "1." */
+  for (PetscInt i = 0; i < out->n; i++)
+    if (out->m[i] != c->mass) SPAM_BAD_INPUT("-mass", val, "the file %s gives the masses (column m: %s for particle 1); omit -mass or give the file's", path, first);
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode SpamFileBuild(const SpamCommonParams *c, const SpamFileParams *p, SpamParticles *out)
+{
+  CsvReader     *r;
+  PetscBool      hdf5 = PETSC_FALSE;
+  PetscErrorCode ierr;
+
+  PetscFunctionBeginUser;
+  if (!p->path[0]) SPAM_BAD_INPUT("-file_path", "README", "the file scene needs a CSV file of particles or an HDF5 snapshot");
+  PetscCall(PetscMemzero(out, sizeof *out));
+  PetscCall(PetscNew(&r));
+  r->path = p->path;
+  ierr    = OpenRegular(p->path, &r->f);
+  if (!ierr) {
+    hdf5 = HasHdf5Signature(r->f);
+    if (!hdf5) ierr = CheckBox(c);
+    if (!ierr && !hdf5) ierr = ReadCsv(r, c, out);
+    (void)fclose(r->f);
+  }
+  PetscCall(PetscFree(r));
+  if (!ierr && hdf5) ierr = SpamFileReadHdf5(c, p->path, out);
+  if (!ierr) ierr = CheckMassOption(c, p->path, out);
+  if (ierr) PetscCall(SpamParticlesFree(out)); /* nothing read is kept after an error */
+  PetscCall(ierr);
+  if (!hdf5) PetscCall(SetBox(c, out));
+  if (out->mass < 0.0) out->mass = c->mass;
   PetscCall(PetscStrncpy(out->info.name, "file", sizeof out->info.name));
   out->info.t_end_default = 10.0;
   PetscFunctionReturn(0);

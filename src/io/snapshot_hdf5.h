@@ -1,0 +1,14 @@
+/* Internal to src/io: the HDF5 snapshot's attributes (snapshot_attributes.c). Functions
+ * return HDF5's status (negative: failed); the writer turns a failure into one line. */
+#ifndef SPAM_SNAPSHOT_HDF5_H
+#define SPAM_SNAPSHOT_HDF5_H
+#include <spam/output.h>
+#include <hdf5.h>
+
+/* Root attributes time, step, dim, box_lo, box_len, periodic, kernel_h, units, version and
+ * model (the JSON of SpamModelSettingsJson). */
+herr_t SpamSnapshotAttributes(hid_t file, const SpamSim *sim, double t, long step, const char *model);
+/* Attribute carried of /density: 1 when the density is state (the file scene reads it
+ * back), 0 when summed from the positions (derived, not read). */
+herr_t SpamSnapshotDensityCarried(hid_t file, int carried);
+#endif
