@@ -35,10 +35,10 @@ def worst(r1, r2, keys):
 
 
 # --- 1. rotor -> file -> rotor ---------------------------------------------------------------
-ROTOR = ["-rotor_n", 4, "-ts_max_time", 20, "-output_interval", 1, "-snapshot_interval", 0] + FAST
+ROTOR = ["-ts_max_time", 20, "-output_interval", 1, "-snapshot_interval", 0] + FAST
 da, db = os.path.join(w, "rotor"), os.path.join(w, "rotor_file")
 init = os.path.join(w, "rotor.csv")
-code, _, err = run(a.spam_ark, ["-scene", "rotor", "-initial_csv", init] + ROTOR, da)
+code, _, err = run(a.spam_ark, ["-scene", "rotor", "-rotor_n", 4, "-initial_csv", init] + ROTOR, da)
 c.check(code == 0, f"rotor scene runs and writes its particles {err[:200]}")
 head = open(init).readline() if code == 0 else ""
 head = head if not head.startswith("#") else [ln for ln in open(init) if not ln.startswith("#")][0]

@@ -422,9 +422,8 @@ static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, Spa
   PetscFunctionBeginUser;
   SpamSolidDefaults(solid);
   solid->material        = SPAM_MATERIAL_ISENTROPE;
-  solid->density         = SPAM_DENSITY_SUMMATION;
-  solid->density_initial = SPAM_DENSITY_INITIAL_SUMMED;
-  solid->rho0            = c->mass;
+  solid->density = SPAM_DENSITY_SUMMATION; /* a continuity density starts from the file's rho, else summed (scene.c) */
+  solid->rho0    = c->mass;
   PetscCall(SpamFileOptions(&p->file));
   PetscFunctionReturn(0);
 }
