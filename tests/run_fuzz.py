@@ -221,6 +221,8 @@ OPTION_TABLE = {
     "-scene_translate": ("E", real(m1=O0, zero=O0, tiny=O0, i31=O02)),
     "-expansion_amplitude": ("E", real(m1=O02, zero=O0, tiny=O0)),
     "-box_lo": ("F", real(zero=O0, tiny=O0)),
+    "-gravity": ("E", real(m1=O0, zero=O0, tiny=O0, i31=O023)),  # |g| up to 1e100; 2^31 may blow up
+    "-kernel": ("E", {}), "-periodic_images": ("E", {}),
     "-box_len": ("F", real(i31=O02)),
     "-periodic": ("F", {"0": O0}),
     "-file_path": ("F", {}),
