@@ -5,6 +5,7 @@
  * the free expansion produce N k ln(V2/V1). Two estimates: a sum over particles (volume
  * m/rho_i each) and an integral of s over a regular grid. Results are S/k. */
 #include <spam/entropy.h>
+#include "../pair/pair_walk.h"
 
 /* ln[(e + dv2/2)^(D/2) / rho] for one point. */
 static double EntropyPerMass(const SpamModel *m, double rho, double v2mean, const double *vmean)
@@ -15,54 +16,67 @@ static double EntropyPerMass(const SpamModel *m, double rho, double v2mean, cons
   return 0.5 * m->dim * log(SpamEosEnergy(&m->eos, rho) + 0.5 * dv2) - log(rho);
 }
 
+/* The pair walk of the entropy sum: kernel-weighted moments of the neighbours' velocities,
+ * mom_i += m_j w_ij (v_j, |v_j|^2) and alike for j, on arrays with ghost slots. */
+typedef struct {
+  const double *v, *m;
+  double       *mom; /* [slots * (dim + 1)] */
+} Moments;
+
+static inline __attribute__((always_inline)) void MomentPair(const int dim, Moments *c, int i, int j, const double dx[3], double r2, double w, double g)
+{
+  const double *vi = c->v + (size_t)i * dim, *vj = c->v + (size_t)j * dim;
+  double        vi2 = 0.0, vj2 = 0.0;
+  (void)dx;
+  (void)r2;
+  (void)g;
+  for (int d = 0; d < dim; d++) {
+    c->mom[(size_t)i * (dim + 1) + d] += c->m[j] * w * vj[d];
+    c->mom[(size_t)j * (dim + 1) + d] += c->m[i] * w * vi[d];
+    vi2 += vi[d] * vi[d];
+    vj2 += vj[d] * vj[d];
+  }
+  c->mom[(size_t)i * (dim + 1) + dim] += c->m[j] * w * vj2;
+  c->mom[(size_t)j * (dim + 1) + dim] += c->m[i] * w * vi2;
+}
+SPAM_PAIR_WALK(WalkMoments, Moments, MomentPair)
+
 PetscErrorCode SpamEntropySum(SpamSim *sim, const double *y, double *S)
 {
-  const SpamModel      *m  = &sim->model;
-  const SpamLayout     *l  = &m->layout;
-  const SpamNeighbours *nl = &sim->nl;
-  const int             dim = m->dim, nv = l->nvar;
-  const double          w0 = m->mass * m->kernel.wnorm;
-  const SpamImage       im = SpamBoxImage(&sim->box);
-  double               *acc, sum = 0.0; /* per particle: sum m w v (dim), sum m w v^2 */
+  const SpamModel  *m   = &sim->model;
+  const SpamLayout *l   = &m->layout;
+  const SpamGhosts *gh  = &sim->nl.ghosts;
+  const int         dim = m->dim, nv = l->nvar, n = (int)sim->n, slots = SpamNeighboursSlots(&sim->nl);
+  double           *v, *mom, sum = 0.0;
+  Moments           c;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscCalloc1((size_t)(dim + 1) * sim->n + 1, &acc));
-  for (PetscInt i = 0; i < sim->n; i++) {
-    const double *vi = y + (size_t)i * nv + l->v;
+  PetscCall(PetscCalloc2((size_t)dim * slots + 1, &v, (size_t)(dim + 1) * slots + 1, &mom));
+  for (int i = 0; i < n; i++) {
+    const double *vi = y + (size_t)i * nv + l->v, w0 = sim->f.m[i] * m->kernel.wnorm; /* the self term */
     double        v2 = 0.0;
     for (int d = 0; d < dim; d++) {
-      acc[i * (dim + 1) + d] = w0 * vi[d];
+      v[(size_t)i * dim + d]           = vi[d];
+      mom[(size_t)i * (dim + 1) + d] = w0 * vi[d];
       v2 += vi[d] * vi[d];
     }
-    acc[i * (dim + 1) + dim] = w0 * v2;
+    mom[(size_t)i * (dim + 1) + dim] = w0 * v2;
   }
-  for (int i = 0; i < nl->n; i++) {
-    for (int p = nl->start[i]; p < nl->start[i + 1]; p++) {
-      const int     j  = nl->nbr[p];
-      const double *vi = y + (size_t)i * nv + l->v, *vj = y + (size_t)j * nv + l->v;
-      double        r2 = 0.0, vi2 = 0.0, vj2 = 0.0;
-      for (int d = 0; d < dim; d++) {
-        const double dx = SpamImageDelta(&im, d, nl->u[d][i] - nl->u[d][j]);
-        r2 += dx * dx;
-      }
-      const double w = m->mass * SpamKernelW(&m->kernel, r2);
-      if (w == 0.0) continue;
-      for (int d = 0; d < dim; d++) {
-        acc[i * (dim + 1) + d] += w * vj[d];
-        acc[j * (dim + 1) + d] += w * vi[d];
-        vi2 += vi[d] * vi[d];
-        vj2 += vj[d] * vj[d];
-      }
-      acc[i * (dim + 1) + dim] += w * vj2;
-      acc[j * (dim + 1) + dim] += w * vi2;
-    }
+  SpamGhostsGather(gh, dim, n, dim, SPAM_GHOST_VECTOR, v);
+  c = (Moments){v, sim->f.m, mom};
+  WalkMoments(&sim->nl, &m->kernel, &c);
+  /* |v|^2 is a scalar under a mirror; the mean velocity a vector */
+  for (int k = 0; k < gh->n; k++) {
+    double *t = mom + (size_t)(n + k) * (dim + 1), *s = mom + (size_t)gh->src[k] * (dim + 1);
+    if (gh->kind[k] != SPAM_GHOST_PERIODIC) continue;
+    for (int d = 0; d <= dim; d++) s[d] += (d < dim && ((gh->flip[k] >> d) & 1) ? -1.0 : 1.0) * t[d];
   }
-  for (PetscInt i = 0; i < sim->n; i++) {
+  for (int i = 0; i < n; i++) {
     double vmean[3] = {0, 0, 0};
-    for (int d = 0; d < dim; d++) vmean[d] = acc[i * (dim + 1) + d] / sim->f.rho[i];
-    sum += EntropyPerMass(m, sim->f.rho[i], acc[i * (dim + 1) + dim] / sim->f.rho[i], vmean);
+    for (int d = 0; d < dim; d++) vmean[d] = mom[(size_t)i * (dim + 1) + d] / sim->f.rho[i];
+    sum += EntropyPerMass(m, sim->f.rho[i], mom[(size_t)i * (dim + 1) + dim] / sim->f.rho[i], vmean);
   }
-  PetscCall(PetscFree(acc));
+  PetscCall(PetscFree2(v, mom));
   PetscCallMPI(MPIU_Allreduce(&sum, S, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
   PetscFunctionReturn(0);
 }
