@@ -11,7 +11,16 @@ must report reflections. Where the theory says more, it is checked too:
 energy to the integrator's accuracy except under Gauss's principle (its multipliers
 diverge near rigid rotation, PRE Sec. VII), and angular momentum to 1e-9 with T_i or T_ij
 and R0 or R2 (R1's averaged velocity carries a torque of its own); a reflection is a
-central impulse that keeps kinetic energy, so neither check is loosened for it."""
+central impulse that keeps kinetic energy, so neither check is loosened for it.
+
+Gauss's principle with closest approach is the one exception to "runs to the end": the
+reflections kick the rotor off rigid rotation while the multipliers' denominator
+I - L^2/2K is near zero, which amplifies round-off into the outcome. Measured on the
+monaghan-summation-R0 case: the build before the pair layer ends with energy drift 1.10,
+6.87 and 3.18 under -scene_translate 0, 1000 and 0.5 (translations change only the
+round-off); the pair layer's build, whose sums are added in another order, goes unstable
+(exit 3) at t = 2.65 untranslated and ends with drift 4.48 and 9.29 translated. Such a run
+may therefore stop as unstable (exit 3, a clean stop); if it ends, every check applies."""
 import itertools
 import math
 import os
@@ -47,6 +56,9 @@ for dmin, visc, dens, coords, angm in list(pre) + more:
                                     "-coordinates", coords, "-angmom", angm, "-arkode_fixed_step", 0.05,
                                     "-ts_max_time", 4, "-output_interval", 0.5, "-snapshot_interval", 0], out)
     s = summary(out) if code == 0 else {}
+    if code == 3 and dmin > 0 and angm == "gauss":
+        c.check(summary(out)["status"] == "unstable", f"{name}: stopped as unstable (exit 3), allowed for Gauss with closest approach")
+        continue
     ok = code == 0 and s["status"] == "ok" and abs(s["t_final"] - 4) < 1e-9
     ts = table(os.path.join(out, "timeseries.csv")) if ok else {}
     finite = ok and all(math.isfinite(x) for k in ("px", "py", "lz", "kinetic", "internal", "total") for x in ts[k])
