@@ -27,7 +27,7 @@ The corpus (see tests/fuzz/cases.txt for the curated part):
   files    mutations of a good 8x8 CSV (fixed seed): hostile fields, structure, bytes; the
            expected code comes from a strict reference reader (reference_expect); cases it
            cannot decide accept 0 or 2 and are counted as "open".
-SPAM_FUZZ_STRIDE=k (tools/sanitize.sh: 8) runs every curated case and every k-th generated one.
+SPAM_FUZZ_STRIDE=k (tools/sanitize.sh: 16) runs every curated case and every k-th generated one.
 """
 import concurrent.futures
 import json
