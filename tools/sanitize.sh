@@ -22,4 +22,4 @@ export OMPI_MCA_ess_singleton_isolated=1
 export SPAM_FUZZ_STRIDE="${SPAM_FUZZ_STRIDE:-16}"
 cmake -S . -B build-asan -DSPAM_SANITIZE=ON -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build-asan -j2
-ctest --test-dir build-asan -L 'fast|fuzz' --output-on-failure
+ctest --test-dir build-asan -L 'fast|fuzz' -j2 --output-on-failure
