@@ -274,12 +274,12 @@ static PetscErrorCode ModelOf(const SpamCommonParams *c, SpamParticles *p, SpamS
     if (solid->density != SPAM_DENSITY_SUMMATION && (!p->rho || (p->columns && !(p->columns & SPAM_COLUMN_RHO)))) solid->density_initial = SPAM_DENSITY_INITIAL_SUMMED;
     PetscCall(SpamModelSolidSetUp(p->dim, &c->kernel, p->mass, solid, model));
   }
-  for (int d = 0; d < 3; d++) {
+  /* The spring scenes' own model takes no gravity: -gravity is then refused as unused
+   * (option_use.c), so it is only set on the smooth-particle models. */
+  for (int d = 0; d < 3 && !p->model_set; d++) {
     model->gravity[d] = d < p->dim ? c->gravity[d] : 0.0;
     if (model->gravity[d] != 0.0) model->gravity_on = PETSC_TRUE;
   }
-  PetscCall(PetscSNPrintf(val, sizeof val, "%g", c->gravity[p->dim - 1]));
-  if (model->gravity_on && !model->rhs) SPAM_BAD_INPUT("-gravity", val, "model %s takes no gravity", model->name);
   PetscFunctionReturn(0);
 }
 
