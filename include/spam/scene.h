@@ -2,6 +2,7 @@
 #ifndef SPAM_SCENE_H
 #define SPAM_SCENE_H
 #include <spam/sim.h>
+#include <spam/walls.h>
 
 /* The columns a particle file can give (SpamParticles.columns): positions and velocities,
  * per-particle mass, energy per unit mass, density, stress and the particle id. */
@@ -35,6 +36,13 @@ typedef struct {
   SpamSceneInfo info;
   PetscBool     model_set; /* the scene declared its model; else the isentropic gas */
   SpamModel     model;
+  /* Mirror walls of the box faces: a scene starts from the options' (c->walls) and fills
+   * the faces it needs where the user gave nothing; a direction with a wall is not
+   * periodic. */
+  SpamWalls     walls;
+  /* The scene's default gravity (used when -gravity is not given; gravity_set). */
+  double        gravity[3];
+  PetscBool     gravity_set;
 } SpamParticles;
 
 /* Options shared by every scene. */
@@ -48,6 +56,8 @@ typedef struct {
   PetscInt  threads;     /* OpenMP threads of the pair passes                        */
   SpamKernel kernel;     /* -kernel at -h in -dim                                    */
   double    gravity[3];  /* -gravity                                                 */
+  PetscBool gravity_given; /* -gravity was given (else a scene may set its own default) */
+  SpamWalls walls;       /* -wall_* (walls.h)                                         */
   PetscBool periodic_ghosts; /* -periodic_images ghost                               */
 } SpamCommonParams;
 

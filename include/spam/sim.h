@@ -6,6 +6,7 @@
 #include <spam/box.h>
 #include <spam/model.h>
 #include <spam/neighbours.h>
+#include <spam/walls.h>
 #include <spam/fields.h>
 
 #define SPAM_STATE_FIELD "spam_state"
@@ -46,6 +47,7 @@ typedef struct SpamSim {
   int            threads;  /* OpenMP threads of the pair passes (-threads; 1: none)   */
   double        *tacc, *trho; /* per-thread sums of threads 1..T-1 (NULL for T = 1)  */
   PetscBool      periodic_ghosts; /* periodic images as ghost slots (-periodic_images) */
+  SpamWalls      walls;           /* mirror walls of the box faces (walls.h)           */
   SpamRhsStats   stats;
   SpamLogEvents  ev;
   SpamSceneInfo  scene;

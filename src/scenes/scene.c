@@ -182,6 +182,8 @@ static PetscErrorCode ModelCommonOptions(SpamCommonParams *c)
   PetscCall(PetscOptionsRealArray("-gravity", "Uniform acceleration g: -dim values, or 1 value along the last direction (default 0)", "README", g, &ng, &set));
   PetscCall(PetscOptionsString("-periodic_images", "Periodic neighbours by the minimum image (minimum) or as ghost slots (ghost: the path of walls and halos)", "README", images, images, sizeof images, NULL));
   PetscOptionsEnd();
+  c->gravity_given = set;
+  PetscCall(SpamWallsOptions(c->dim, &c->walls));
   PetscCall(SpamOptionText("-gravity", set ? g[0] : 0.0, val, sizeof val));
   if (set && ng != 1 && ng != c->dim) SPAM_BAD_INPUT("-gravity", val, "takes 1 value (along the last direction) or %d (-dim %d); %" PetscInt_FMT " given", c->dim, c->dim, ng);
   for (int d = 0; d < 3; d++) c->gravity[d] = 0.0;
@@ -221,6 +223,7 @@ static PetscErrorCode BuildScene(const SpamCommonParams *c, PetscFunctionList li
   if (c->dim != 2) solid->gamma = 1.0 + 2.0 / c->dim; /* the ideal gas's isentrope in D dimensions */
   if (!ops->own_model || help) PetscCall(SpamSolidOptions(solid));
   PetscCall(PetscMemzero(p, sizeof *p));
+  p->walls = c->walls; /* the scene adds its own walls where none were given */
   ierr = ops->build(c, &sp, solid, p);
   if (ierr) PetscCall(SpamParticlesFree(p)); /* a scene refused after allocating: leak nothing */
   PetscCall(ierr);
@@ -277,8 +280,24 @@ static PetscErrorCode ModelOf(const SpamCommonParams *c, SpamParticles *p, SpamS
   /* The spring scenes' own model takes no gravity: -gravity is then refused as unused
    * (option_use.c), so it is only set on the smooth-particle models. */
   for (int d = 0; d < 3 && !p->model_set; d++) {
-    model->gravity[d] = d < p->dim ? c->gravity[d] : 0.0;
+    model->gravity[d] = d >= p->dim ? 0.0 : p->gravity_set && !c->gravity_given ? p->gravity[d] : c->gravity[d];
     if (model->gravity[d] != 0.0) model->gravity_on = PETSC_TRUE;
+  }
+  PetscFunctionReturn(0);
+}
+
+/* A direction with a mirror wall on either face is bounded there, not periodic; a wall
+ * on a face of a dimension the scene does not have is bad input. */
+static PetscErrorCode WallsOfBox(SpamParticles *p)
+{
+  char opt[40];
+
+  PetscFunctionBeginUser;
+  for (int f = 0; f < SPAM_FACES; f++) {
+    if (!SpamWallOn(&p->walls, f)) continue;
+    (void)snprintf(opt, sizeof opt, "-wall_%s", SpamFaceNames[f]);
+    if (f / 2 >= p->dim) SPAM_BAD_INPUT(opt, SpamWallSlipNames[p->walls.slip[f]], "the run is %d-dimensional: it has no %s face", p->dim, SpamFaceNames[f]);
+    p->box.periodic[f / 2] = PETSC_FALSE;
   }
   PetscFunctionReturn(0);
 }
@@ -294,6 +313,7 @@ static PetscErrorCode CheckBuilt(MPI_Comm comm, const SpamCommonParams *c, const
   PetscCall(PetscSNPrintf(val, sizeof val, "%d", size));
   if (size > 1) SPAM_BAD_INPUT("mpiexec -n", val, "this version runs on one rank; multi-rank halo exchange is not written yet");
   Translate(c->translate, p);
+  PetscCall(WallsOfBox(p));
   PetscCall(SpamBoxValidate(&p->box, c->h, !strcmp(scene, "expansion") ? "2 x -expansion_n" : !strcmp(scene, "file") ? "-box_len" : "the lattice size"));
   PetscCall(CheckNeighbourGrid(c, &p->box)); /* the translated box's range: SpamBoxValidate */
   for (int d = 0; d < p->box.dim; d++) { /* the list's minimum image corrects by one edge at most */
@@ -370,6 +390,7 @@ static PetscErrorCode CreateSim(MPI_Comm comm, const SpamCommonParams *c, PetscB
   sim->scene           = p->info;
   sim->threads         = (int)c->threads;
   sim->periodic_ghosts = c->periodic_ghosts;
+  sim->walls           = p->walls;
   if (sort) {
     PetscCall(PetscMalloc2(p->n + 1, &sim->row_of, p->n + 1, &sim->at_row));
     PetscCall(SpamParticlesSortByCell(p, c->h, sim->row_of));
