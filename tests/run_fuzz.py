@@ -94,6 +94,7 @@ CONTEXTS = {
     "CV": [("-expansion_n", "4"), ("-h", "1.5"), ("-ts_type", "cvode")] + TINY,
     "RK": [("-expansion_n", "4"), ("-h", "1.5"), ("-ts_type", "rk")] + TINY,
     "BS": [("-expansion_n", "4"), ("-h", "1.5"), ("-ts_type", "basicsymplectic")] + TINY,
+    "CONV": [("-scene", "convection"), ("-convection_nx", "6"), ("-convection_ny", "4"), ("-h", "1.5")] + TINY,
 }
 
 
@@ -266,6 +267,11 @@ OPTION_TABLE = {
     "-snapshot_interval": ("E", real(zero=O0, big=O02, i31=O02)),
     "-diag_grid_spacing": ("E", real(zero=O0, big=O02, i31=O02)),
     "-snapshot_max": ("E", {}),
+    # the Rayleigh-Benard cell: counts, Ra, Pr and g have finite ranges (every hostile value out)
+    "-convection_nx": ("CONV", {}), "-convection_ny": ("CONV", {}), "-convection_ra": ("CONV", {"2147483648": O0}),
+    "-convection_prandtl": ("CONV", {}), "-convection_g": ("CONV", {}),
+    "-convection_amplitude": ("CONV", real(zero=O0, tiny=O0)),
+    "-convection_seed": ("CONV", {"-1": O02, "0": O0, "2147483648": O0}),
     "-output_dir": ("E", PATH), "-initial_csv": ("E", PATH), "-final_csv": ("E", PATH),
 }
 for flag in ("-expansion_perturb_velocities", "-arkode_classic_weights", "-snapshot_hdf5", "-snapshot_csv",

@@ -104,6 +104,16 @@ typedef struct {
   SpamSolidParams solid;
 } SpamTensileParams;
 
+typedef struct {
+  PetscInt  nx, ny;     /* square lattice of unit spacing: the cell is nx x ny       */
+  double    ra, prandtl; /* Rayleigh number (superadiabatic) and Prandtl number       */
+  double    g;          /* gravity of the hydrostatic start (and of the run by default) */
+  double    t_bottom, t_top; /* the wall temperatures T_b, T_t (-wall_ylo/yhi_temperature) */
+  double    amplitude;  /* size of the seeded random velocities                       */
+  PetscInt  seed;
+  SpamSolidParams solid;
+} SpamConvectionParams;
+
 /* Every scene's parameters (a new scene adds its struct here). */
 typedef union {
   SpamExpansionParams expansion;
@@ -113,6 +123,7 @@ typedef union {
   SpamRotorMdParams   rotor_md;
   SpamChainParams     chain;
   SpamTensileParams   tensile;
+  SpamConvectionParams convection;
 } SpamSceneParams;
 
 /* A scene, registered by name (scene_list.c): it reads its own options into p and the
@@ -138,6 +149,7 @@ PetscErrorCode SpamSceneRotor(SpamSceneOps *ops);
 PetscErrorCode SpamSceneRotorPair(SpamSceneOps *ops);
 PetscErrorCode SpamSceneRotorMd(SpamSceneOps *ops);
 PetscErrorCode SpamSceneTensile(SpamSceneOps *ops);
+PetscErrorCode SpamSceneConvection(SpamSceneOps *ops);
 
 /* Triangular lattices of unit spacing a: nx x ny rows filling a periodic box
  * (nx a) x (ny sqrt(3)/2 a); and the hexagon of n shells about the origin (vertices on

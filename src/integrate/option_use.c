@@ -14,7 +14,7 @@
 /* What an option of spam-ark applies to. */
 typedef enum {
   G_ALL, G_DT, G_ADAPTIVE, G_ARKODE, G_ARKODE_ADAPT, G_CVODE, G_TS, G_TS_ADAPT, G_RK, G_SSP, G_SYMP,
-  G_FILE, G_PERIODIC, G_ISENTROPE, G_EXPANSION, G_CHAIN, G_SPRING, G_ROTOR_MD, G_PLANEWAVE, G_ROTOR, G_ROTOR_PAIR, G_TENSILE,
+  G_FILE, G_PERIODIC, G_ISENTROPE, G_EXPANSION, G_CHAIN, G_SPRING, G_ROTOR_MD, G_PLANEWAVE, G_ROTOR, G_ROTOR_PAIR, G_TENSILE, G_CONVECTION,
   G_MODEL, G_SOLID, G_SOLID_GAS, G_SOLID_GAMMA, G_SOLID_ELASTIC, G_SOLID_VISC, G_SOLID_R2, G_SOLID_TORQUE, G_SOLID_CONT, G_ENTROPY
 } Group;
 
@@ -60,6 +60,10 @@ static const Known KnownOptions[] = {
   {"kernel", PETSC_TRUE, G_MODEL}, {"gravity", PETSC_TRUE, G_MODEL}, {"periodic_images", PETSC_TRUE, G_ALL},
   /* Issue 14 point 6: the plane wave's initial stress (scenes/planewave_stress.c). */
   {"planewave_stress", PETSC_TRUE, G_PLANEWAVE},
+  /* Issue 15: the Rayleigh-Benard cell (scenes/scene_convection.c). */
+  {"convection_nx", PETSC_TRUE, G_CONVECTION}, {"convection_ny", PETSC_TRUE, G_CONVECTION}, {"convection_ra", PETSC_TRUE, G_CONVECTION},
+  {"convection_prandtl", PETSC_TRUE, G_CONVECTION}, {"convection_g", PETSC_TRUE, G_CONVECTION}, {"convection_amplitude", PETSC_TRUE, G_CONVECTION},
+  {"convection_seed", PETSC_TRUE, G_CONVECTION},
 };
 #define NKNOWN ((int)(sizeof KnownOptions / sizeof KnownOptions[0]))
 
@@ -225,6 +229,7 @@ static const struct {
   {G_ROTOR, {"rotor", "rotor-pair", "rotor-md"}, "rotor, rotor-pair and rotor-md", ""},
   {G_ROTOR_PAIR, {"rotor-pair"}, "rotor-pair", ""},
   {G_TENSILE, {"tensile"}, "tensile", ""},
+  {G_CONVECTION, {"convection"}, "convection", ""},
 };
 
 /* The groups of the method and the outputs: whether g applies to run r (*known: g is one

@@ -12,5 +12,6 @@ PetscErrorCode SpamSceneRegisterAll(PetscFunctionList *list)
   PetscCall(PetscFunctionListAdd(list, "rotor-pair", SpamSceneRotorPair));
   PetscCall(PetscFunctionListAdd(list, "rotor-md", SpamSceneRotorMd));
   PetscCall(PetscFunctionListAdd(list, "tensile", SpamSceneTensile));
+  PetscCall(PetscFunctionListAdd(list, "convection", SpamSceneConvection));
   PetscFunctionReturn(0);
 }
