@@ -102,7 +102,7 @@ static PetscErrorCode SpamConvectionOptions(const SpamCommonParams *c, SpamConve
   PetscOptionsEnd();
   p->g = 0.1 * HeatCapacity(p->solid.gamma) / (double)PetscMax(p->ny, 1);
   (void)snprintf(help, sizeof help, "Rayleigh number of the superadiabatic difference T_b - T_t - gH/c_p (T_b, T_t: -wall_ylo_temperature, -wall_yhi_temperature, here %g and %g); onset 1707.76", p->t_bottom, p->t_top);
-  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene convection (Hoover & Hoover 2001, Fig. 4)", "spam-ark");
+  PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene convection: Rayleigh number, gravity and seed", "spam-ark");
   PetscCall(PetscOptionsReal("-convection_ra", help, "README", p->ra, &p->ra, NULL));
   PetscCall(PetscOptionsReal("-convection_prandtl", "Prandtl number nu/chi: with Ra it sets the defaults of -viscosity_shear and -conductivity", "README", p->prandtl, &p->prandtl, NULL));
   PetscCall(PetscOptionsReal("-convection_g", "Gravity g of the hydrostatic start and of Ra (the run's too, unless -gravity is given) (default 0.1 c_p / H)", "README", p->g, &p->g, NULL));
