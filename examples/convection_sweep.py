@@ -73,7 +73,7 @@ def main():
 
     fig, ax = plt.subplots(figsize=(7, 4.8))
     x = [ra / pc.RA_CRITICAL for ra, *_ in results]
-    ax.plot(x, [r[1] for r in results], "C3-o", label="SPAM: mean of both walls")
+    ax.semilogx(x, [r[1] for r in results], "C3-o", label="SPAM: mean of both walls")
     ax.plot(x, [r[2] for r in results], "C1v", ms=5, label="SPAM: hot wall")
     ax.plot(x, [r[3] for r in results], "C0^", ms=5, label="SPAM: cold wall")
     ax.axvline(1.0, color="k", ls="--", lw=1, label="continuum onset Ra_c = 1707.76 (rigid walls)")
