@@ -33,6 +33,7 @@ static PetscErrorCode CheckGrid(const SpamSim *sim, const SpamRunOptions *ro, co
   PetscCall(SpamOptionText("-grid_interval", o->grid_interval, val, sizeof val));
   if (!(o->grid_interval > 0.0 && isfinite(o->grid_interval))) SPAM_BAD_INPUT("-grid_interval", val, "must be zero (off) or a positive finite grid spacing");
   points = SpamGridPointCount(&sim->box, o->grid_interval);
+  if (!isfinite(points)) SPAM_BAD_INPUT("-grid_interval", val, "the box would hold more than 1e308 grid points, at most %.0e; raise the spacing", SPAM_GRID_MAX_POINTS);
   if (!(points <= SPAM_GRID_MAX_POINTS)) SPAM_BAD_INPUT("-grid_interval", val, "the box would hold %.3g grid points, at most %.0e; raise the spacing", points, SPAM_GRID_MAX_POINTS);
   if (!(ro->snapshot_interval > 0)) SPAM_BAD_INPUT("-grid_interval", val, "the grid fields are written at the snapshot times, and -snapshot_interval is 0 (no snapshots)");
   if (!ro->hdf5 && !ro->csv) SPAM_BAD_INPUT("-grid_interval", val, "the grid fields are written in the snapshots' formats, and -snapshot_hdf5 and -snapshot_csv are both off");
