@@ -35,6 +35,7 @@ typedef struct {
   int       dim, ncell[3];
   double    width[3];
   PetscBool periodic[3];
+  SpamImage im;           /* minimum image of the box's periodic directions           */
   PetscInt *start, *list; /* particles of cell c: list[start[c] .. start[c+1])           */
   double   *u;            /* [n*3] box-local positions (wrapped in periodic directions)  */
 } Bins;
@@ -84,6 +85,7 @@ static PetscErrorCode BinsBuild(const SpamSim *sim, const double *y, Bins *b)
 
   PetscFunctionBeginUser;
   BinsShape(&sim->box, sim->model.kernel.h, n, b);
+  b->im = SpamBoxImage(&sim->box);
   ncells = (PetscInt)b->ncell[0] * b->ncell[1] * b->ncell[2];
   PetscCall(PetscCalloc1(ncells + 1, &b->start));
   PetscCall(PetscCalloc1(n + 1, &b->list));
@@ -130,15 +132,16 @@ static int Neighbouring(const Bins *b, int d, int c, int out[3])
   return k;
 }
 
-/* What a particle contributes, per unit weight m_j / rho_j: its fields in column order
- * (rho is summed with m_j itself, S with m_j / rho_j). */
+/* Where a particle's fields go among the columns (rho is summed with m_j itself, the
+ * others with m_j / rho_j, S with m_j / rho_j alone). */
 typedef struct {
-  int          ne, nt, ns; /* columns of e, T and the first stress (-1: none)           */
-  int          nstress;
-  double       gamma1;     /* gamma - 1 of the gas (T = (gamma - 1) e)                   */
-} Layout;
+  int    ne, nt, ns; /* columns of e, T and the first stress (-1: none)                 */
+  int    nstress;
+  double gamma1;     /* gamma - 1 of the gas (T = (gamma - 1) e)                         */
+} ColumnMap;
 
-static void ParticleValues(const SpamSim *sim, const double *y, PetscInt j, const Layout *lc, const SpamGridFields *f, double *val)
+/* Particle j's fields in column order into val. */
+static void ParticleValues(const SpamSim *sim, const double *y, PetscInt j, const ColumnMap *lc, const SpamGridFields *f, double *val)
 {
   const SpamLayout *l = &sim->model.layout;
   const double     *p = y + (size_t)j * l->nvar;
@@ -150,9 +153,8 @@ static void ParticleValues(const SpamSim *sim, const double *y, PetscInt j, cons
 }
 
 /* The fields at the point at box-local u: one pass over the neighbouring cells. */
-static void EvaluatePoint(const SpamSim *sim, const double *y, const Bins *b, const Layout *lc, const SpamGridFields *f, const double *u, double *sum)
+static void EvaluatePoint(const SpamSim *sim, const double *y, const Bins *b, const ColumnMap *lc, const SpamGridFields *f, const double *u, double *sum)
 {
-  const SpamImage im  = SpamBoxImage(&sim->box);
   const int       dim = b->dim;
   int             cell[3] = {0, 0, 0}, nb[3][3], nn[3] = {1, 1, 1};
   double          val[SPAM_GRID_MAX_COLUMNS] = {0};
@@ -171,7 +173,7 @@ static void EvaluatePoint(const SpamSim *sim, const double *y, const Bins *b, co
           const PetscInt j  = b->list[k];
           double         r2 = 0.0;
           for (int d = 0; d < dim; d++) {
-            const double dx = SpamImageDelta(&im, d, u[d] - b->u[3 * j + d]);
+            const double dx = SpamImageDelta(&b->im, d, u[d] - b->u[3 * j + d]);
             r2 += dx * dx;
           }
           const double w = SpamKernelW(&sim->model.kernel, r2);
@@ -186,7 +188,7 @@ static void EvaluatePoint(const SpamSim *sim, const double *y, const Bins *b, co
 }
 
 /* Columns rho, vx.., e, T (gas), the stress components in the state's order, S. */
-static PetscErrorCode Columns(const SpamSim *sim, const SpamGrid *g, SpamGridFields *f, Layout *lc)
+static PetscErrorCode Columns(const SpamSim *sim, const SpamGrid *g, SpamGridFields *f, ColumnMap *lc)
 {
   static const char *vn[3] = {"vx", "vy", "vz"};
   static const char *s1[1] = {"sxx"}, *s2[3] = {"sxx", "sxy", "syy"}, *s3[6] = {"sxx", "sxy", "sxz", "syy", "syz", "szz"};
@@ -220,7 +222,7 @@ static PetscErrorCode Columns(const SpamSim *sim, const SpamGrid *g, SpamGridFie
 PetscErrorCode SpamGridFieldsEvaluate(const SpamSim *sim, const double *y, const SpamGrid *g, SpamGridFields *f)
 {
   Bins   b = {0};
-  Layout lc;
+  ColumnMap lc;
   double sum[SPAM_GRID_MAX_COLUMNS];
 
   PetscFunctionBeginUser;
