@@ -39,6 +39,8 @@ grid written at t = 0 (the first snapshot: the state is exactly the file).
     the sampled maximum is attained, so equality holds to round-off).
 (g) Bad values refused in one line, exit 2, nothing written: -1, nan, a spacing giving
     more than 1e7 points (the count named), -grid_interval without snapshots.
+(h) A failed grid write (SPAM_TEST_FAIL_WRITE) is one line, exit 1, no temporary left; grid
+    files of an earlier run are refused without -output_overwrite and removed with it.
 """
 import math
 import os
@@ -255,6 +257,23 @@ ok = code == 0 and h5_shape(manifest_files(out, "grid_h5")[0], "/rho") == (6, 6,
 _, g3 = grid_csv(manifest_files(out, "grid_csv")[0]) if ok else (None, {"rho": np.zeros(1)})
 e3 = lattice_error(2.5, 3, 6)
 c.check(ok and float(np.abs(g3["rho"] - 1).max()) <= e3 + 1e-12, f"(f) 3D: /rho (6, 6, 6), /velocity (6, 6, 6, 3), |rho - 1| <= E_lat = {e3:.2e}")
+
+# ------------------------------------------------------- (h) failed write, earlier run ----
+env = dict(os.environ, SPAM_TEST_FAIL_WRITE="grid_00000.h5:2")
+fail_dir = os.path.join(w, "fail")
+args = ["-scene", "file", "-file_path", fo, "-box_len", "16,16", "-h", H] + FAST + ["-grid_interval", 1, "-output_dir", fail_dir]
+p = subprocess.run([a.spam_ark] + [str(v) for v in args], capture_output=True, text=True, env=env)
+left = [n for n in os.listdir(fail_dir) if n.endswith(".tmp") or n.startswith("grid_")] if os.path.isdir(fail_dir) else []
+c.check(p.returncode == 1 and p.stderr.strip().count("\n") == 0 and "grid_00000.h5" in p.stderr and not left,
+        f"(h) a failed grid write (injected ENOSPC): exit {p.returncode}, one line {p.stderr.strip()[:120]!r}, no temporary or grid file left {left}")
+out = os.path.join(w, "open")   # keep only the open-box run's grid files
+for n in os.listdir(out):
+    if not n.startswith("grid"):
+        os.remove(os.path.join(out, n))
+code, so, se = run(a.spam_ark, ["-scene", "file", "-file_path", fo, "-box_len", "16,16", "-h", H] + FAST, out)
+c.check(code == 2 and "grid" in se and "-output_overwrite" in se, f"(h) grid files alone are an earlier run's files: refused without -output_overwrite: {se.strip()[:140]}")
+code, so, se = run(a.spam_ark, ["-scene", "file", "-file_path", fo, "-box_len", "16,16", "-h", H, "-output_overwrite"] + FAST, out)
+c.check(code == 0 and not [n for n in os.listdir(out) if n.startswith("grid")], "(h) -output_overwrite removes them")
 
 # --------------------------------------------------------------------- (g) refusals ----
 for value, extra, words in (("-1", [], "positive"), ("nan", [], "positive"), ("1e-4", [], "2.56e+10 grid points"),
