@@ -137,7 +137,8 @@ def main():
     dx = x[0, 1] - x[0, 0] if dims[0] > 1 else 1.0
     dy = y[1, 0] - y[0, 0] if y is not None and dims[1] > 1 else dx
     k, p = spectrum(f, dx, dy)
-    good = p > 0
+    # Power below round-off of the field's size (a uniform field) is not drawn.
+    good = p > 1e-24 * max(float(np.abs(f).max()) ** 2, 1e-300)
     peak = k[np.argmax(p)] if good.any() else float("nan")
     unit = UNITS.get(a.field, "stress (energy / length^D)" if a.field.startswith("s") else "")
     fig, (ax0, ax1) = plt.subplots(1, 2, figsize=(11, 4.6))
@@ -147,7 +148,9 @@ def main():
         ax0.set_ylabel("%s (%s)" % (a.field, unit))
     else:
         cs = ax0.contourf(x, y, f, levels=24, cmap="viridis")
-        fig.colorbar(cs, ax=ax0, label="%s (%s)" % (a.field, unit))
+        bar = fig.colorbar(cs, ax=ax0, label="%s (%s)" % (a.field, unit))
+        bar.formatter.set_useOffset(False)
+        bar.update_ticks()
         ax0.set_aspect("equal")
         ax0.set_xlabel("x (reduced length)")
         ax0.set_ylabel("y (reduced length)")
@@ -157,6 +160,8 @@ def main():
         ax1.loglog(k[good], p[good], "o-", color="tab:red", ms=3, label="ring sum of |FFT|^2 / N^2")
         ax1.axvline(peak, color="grey", ls=":", label="peak k = %.4g" % peak)
         ax1.legend(loc="best", fontsize=8)
+    else:
+        ax1.text(0.5, 0.5, "%s is uniform to round-off:\nno power at k > 0" % a.field, ha="center", va="center", transform=ax1.transAxes)
     ax1.set_xlabel("wavenumber k (1 / reduced length)")
     ax1.set_ylabel("power of %s ((%s)^2)" % (a.field, unit))
     ax1.set_title("power spectrum of %s - mean" % a.field)
