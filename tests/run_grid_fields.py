@@ -33,7 +33,10 @@ grid written at t = 0 (the first snapshot: the state is exactly the file).
     equals the continuum integral of w over the quarter plane x, y > 0 (0.3657 for h = 3)
     within the midpoint rule's bound (a^2/24) int |w_xx| + |w_yy| (0.032; measured 0.3719,
     diff 0.0062), S there is well below 1 (0.61: below 1 - 10 E_lat), and beyond h of the
-    faces |S - 1| <= 2 E_lat / (1 - E_lat) as in the periodic box.
+    faces |S - 1| <= 2 E_lat / (1 - E_lat) as in the periodic box. With walls at y = 0 and
+    16 (-wall_ylo/-wall_yhi noslip) rho is the sum over the local particles alone (equal to
+    the direct sum, periodic in x and open in y: the wall images are not summed), 0.714 in
+    the row y = 0.5, and S there (0.712) is below 1 - 10 E_lat.
 (f) 1D and 3D grids: the shapes (1 x 16; 6 x 6 x 6 and velocity 6 x 6 x 6 x 3) and rho
     within their own lattice-sum errors (+1e-12: these grid points sit on the sites, where
     the sampled maximum is attained, so equality holds to round-off).
@@ -92,10 +95,11 @@ def grid_csv(path):
 
 
 def pairs(p, x, box, periodic):
-    """Separations p_i - x_j (minimum image where periodic): [np, nx, dim]."""
+    """Distances |p_i - x_j| (minimum image along the directions periodic says: a bool for
+    all, or one per direction): [np, nx]."""
     d = p[:, None, :] - x[None, :, :]
     for k in range(x.shape[1]):
-        if periodic:
+        if periodic if isinstance(periodic, bool) else periodic[k]:
             d[:, :, k] -= box[k] * np.rint(d[:, :, k] / box[k])
     return np.sqrt((d ** 2).sum(axis=2))
 
@@ -242,6 +246,16 @@ c.check(corner < 1 - 10 * E_LAT, f"(e) open box: S = {corner:.3f} at the corner 
 inner = (go["x"] > H) & (go["x"] < N - H) & (go["y"] > H) & (go["y"] < N - H)
 d_in = float(np.abs(go["S"][inner] - 1).max())
 c.check(d_in <= 2 * E_LAT / (1 - E_LAT), f"(e) open box interior (beyond h of the faces): |S - 1| = {d_in:.2e}")
+
+# ------------------------------------------------------------- (e) walls at y = 0, 16 ----
+out, code, se = spam("walls", ["-file_path", fo, "-box_len", "16,16", "-h", H, "-wall_ylo", "noslip", "-wall_yhi", "noslip", "-grid_interval", 1])
+_, gw = grid_csv(manifest_files(out, "grid_csv")[0]) if code == 0 else (None, {"rho": np.zeros(256), "S": np.zeros(256), "x": np.zeros(256), "y": np.zeros(256)})
+pw = np.stack([gw["x"], gw["y"]], axis=1)
+rw = lucy(pairs(pw, x2, [N, N], [True, False]), H, 2).sum(axis=1)
+row0 = gw["y"] < 1
+c.check(code == 0 and rel_err(gw["rho"], rw) < 1e-12 and float(gw["S"][row0].max()) < 1 - 10 * E_LAT,
+        f"(e) walls at y = 0 and 16 (-wall_ylo/-wall_yhi noslip): rho is the local particles' sum (no wall images), "
+        f"rho = {float(gw['rho'][row0].mean()):.3f} and S = {float(gw['S'][row0].mean()):.3f} in the row y = 0.5")
 
 # ------------------------------------------------------------------ (f) 1D and 3D ----
 x1 = lattice(16, 1)
