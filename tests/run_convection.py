@@ -20,10 +20,11 @@
 (c) Ra = 20 Ra_c (above onset), to t = 6000: on this coarse lattice (H = 3.3 h) SPAM's own
     onset lies between 5 and 7.5 Ra_c (docs/scenes/convection.md: at 5 Ra_c nothing grows
     in 8000, at 7.5 and 10 Ra_c rolls grow and then fade), so the rolls are asserted at
-    20 Ra_c: KE grows > 100 x the seeded KE (measured ~300 x), and saturates: the mean KE over
-    the last third is less than 2 x that over the middle third (while growing, KE rose 4.6 x
-    in 800 time units, ~45 x per third: measured ratio ~1.4), and Nu > 1.3 over the
-    second half (measured 2.11; Boussinesq rolls at 20 Ra_c carry Nu ~ 3).
+    20 Ra_c: KE grows > 100 x the seeded KE (measured 315 x), and saturates: the mean KE over
+    the last third is less than 3 x that over the middle third (while growing, KE rose 4.6 x
+    in 800 time units, ~45 x per third; saturated, the rolls' KE still wanders 2.5..4.3:
+    measured ratio 1.77), and Nu > 1.3 over the second half (measured 2.11; 2D Boussinesq
+    rolls at Ra ~ 3e4 carry Nu of about 3).
 Measured values are printed by each check."""
 import math
 import os
@@ -95,7 +96,7 @@ mid = [k for t, k in zip(ts["t"], ke) if t_end / 3.0 <= t < 2.0 / 3.0 * t_end]
 last = [k for t, k in zip(ts["t"], ke) if t >= 2.0 / 3.0 * t_end]
 c.check(ke[-1] > 100 * ke[0], f"Ra = 20 Ra_c: KE grows from {ke[0]:.3g} (seeded) to {ke[-1]:.3g} (> 100 x)")
 ratio = (sum(last) / len(last)) / (sum(mid) / len(mid))
-c.check(ratio < 2.0, f"Ra = 20 Ra_c: KE saturates, mean over the last third / over the middle third = {ratio:.3f} (< 2; "
+c.check(ratio < 3.0, f"Ra = 20 Ra_c: KE saturates, mean over the last third / over the middle third = {ratio:.3f} (< 3; "
         f"KE ranges {min(last):.3g}..{max(last):.3g} over the last third)")
 c.check(nu > 1.3, f"Ra = 20 Ra_c: Nu = {nu:.4f} over the second half (hot wall {nub:.4f}, cold wall {nut:.4f}) > 1.3")
 print(f"ms per RHS (the cell with walls): {1e3 * s['rhs_time_s'] / s['rhs_evals']:.4f}")
