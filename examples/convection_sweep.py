@@ -3,7 +3,7 @@
 
 Usage:
     python3 examples/convection_sweep.py --spam-ark build/spam-ark [--workdir DIR]
-        [--ratios 0.5,0.8,1.2,1.6,2,3,4,5] [--nx 32 --ny 16] [--t-end T] [-o OUT.png]
+        [--ratios 0.5,0.8,1.2,1.6,2,3,4,5] [--nx 32 --ny 16] [--t-end T] [--amplitude A] [-o OUT.png]
 
 Runs -scene convection (options/convection.opts: T_b = 1.25, T_t = 0.75, Pr = 1,
 g = 0.1 c_p / H) at Ra = ratio x 1707.76 (the superadiabatic Rayleigh number), each to
@@ -30,7 +30,7 @@ def run_one(a, ratio):
     out = os.path.join(a.workdir, f"ra{ratio:g}")
     args = [a.spam_ark, "-options_file", os.path.join(HERE, "..", "options", "convection.opts"),
             "-convection_nx", a.nx, "-convection_ny", a.ny, "-convection_g", 0.1 * 2.0 / a.ny,
-            "-convection_ra", ratio * pc.RA_CRITICAL, "-snapshot_interval", 0,
+            "-convection_ra", ratio * pc.RA_CRITICAL, "-convection_amplitude", a.amplitude, "-snapshot_interval", 0,
             "-output_dir", out, "-output_overwrite", "-output_interval", a.t_end / 200 if a.t_end else 20]
     if a.t_end:
         args += ["-ts_max_time", a.t_end]
@@ -54,6 +54,7 @@ def main():
     ap.add_argument("--nx", type=int, default=32)
     ap.add_argument("--ny", type=int, default=16)
     ap.add_argument("--t-end", type=float, default=0.0, help="end time of every run (0: the options file's)")
+    ap.add_argument("--amplitude", type=float, default=0.01, help="-convection_amplitude of every run (the seeded kick)")
     ap.add_argument("--t-bottom", type=float, default=1.25)
     ap.add_argument("--t-top", type=float, default=0.75)
     ap.add_argument("-o", "--out", default=None)
@@ -80,7 +81,7 @@ def main():
     ax.axhline(1.0, color="0.5", ls=":", lw=1, label="conduction Nu = 1")
     ax.set_xlabel("Ra / Ra_c (superadiabatic Rayleigh number over 1707.76)")
     ax.set_ylabel("Nusselt number Nu")
-    ax.set_title(f"scene convection: Nu against Ra ({a.nx} x {a.ny} lattice, Pr = 1, T_b = {a.t_bottom:g}, T_t = {a.t_top:g})", fontsize=10)
+    ax.set_title(f"scene convection: Nu against Ra ({a.nx} x {a.ny} lattice, Pr = 1, T_b = {a.t_bottom:g}, T_t = {a.t_top:g}, kick {a.amplitude:g} c_s)", fontsize=9)
     ax.legend(fontsize=8)
     out = a.out or os.path.join(a.workdir, "convection_nu_ra.png")
     fig.tight_layout()
