@@ -183,14 +183,14 @@ static PetscErrorCode Report(const SpamCommonParams *c, const SpamConvectionPara
   const double           cp = HeatCapacity(s->gamma), H = (double)p->ny, rho_mean = c->mass;
   const double           t_mean = 0.5 * (p->t_bottom + p->t_top), nu = s->shear_visc / rho_mean;
   const double           chi = s->conductivity / (rho_mean * cp), dt_sa = Superadiabatic(p, s->gamma);
-  const double           scale = p->g / t_mean * H * H * H / (nu * chi);
+  const double           scale = nu * chi > 0.0 ? p->g / t_mean * H * H * H / (nu * chi) : INFINITY; /* no transport: Ra is infinite (no division by 0 under -fp_trap) */
   char                   line[512];
 
   PetscFunctionBeginUser;
   (void)snprintf(line, sizeof line,
                  "convection: Ra = %.6g (superadiabatic dT = %.6g; Ra_c = %.2f, Ra/Ra_c = %.4g), Ra of the full dT %.6g, Pr = %.4g, g = %.6g, "
                  "T_b = %g, T_t = %g, nu = %.6g, chi = %.6g, diffusion time H^2/chi = %.6g\n",
-                 scale * dt_sa, dt_sa, RA_CRITICAL, scale * dt_sa / RA_CRITICAL, scale * (p->t_bottom - p->t_top), chi > 0.0 ? nu / chi : 0.0, p->g, p->t_bottom, p->t_top, nu, chi, chi > 0.0 ? H * H / chi : 0.0);
+                 scale * dt_sa, dt_sa, RA_CRITICAL, scale * dt_sa / RA_CRITICAL, scale * (p->t_bottom - p->t_top), chi > 0.0 ? nu / chi : INFINITY, p->g, p->t_bottom, p->t_top, nu, chi, chi > 0.0 ? H * H / chi : INFINITY);
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%s", line));
   PetscCall(PetscStrncpy(out->info.name, "convection", sizeof out->info.name));
   out->info.sound_traversal_time = H / sqrt(s->gamma * t_mean);
