@@ -94,6 +94,9 @@ CONTEXTS = {
     "CV": [("-expansion_n", "4"), ("-h", "1.5"), ("-ts_type", "cvode")] + TINY,
     "RK": [("-expansion_n", "4"), ("-h", "1.5"), ("-ts_type", "rk")] + TINY,
     "BS": [("-expansion_n", "4"), ("-h", "1.5"), ("-ts_type", "basicsymplectic")] + TINY,
+    "SOD": [("-scene", "sod"), ("-dim", "1"), ("-sod_n", "10")] + TINY,
+    "SOD2": [("-scene", "sod"), ("-dim", "2"), ("-sod_n", "8"), ("-sod_width", "4")] + TINY,
+    "SED": [("-scene", "sedov"), ("-sedov_n", "16")] + TINY,
 }
 
 
@@ -266,6 +269,9 @@ OPTION_TABLE = {
     "-snapshot_interval": ("E", real(zero=O0, big=O02, i31=O02)),
     "-diag_grid_spacing": ("E", real(zero=O0, big=O02, i31=O02)),
     "-snapshot_max": ("E", {}),
+    "-sod_n": ("SOD", {}), "-sod_width": ("SOD2", {}), "-sedov_n": ("SED", {}),
+    "-sod_length": ("SOD", real()),
+    "-sedov_energy": ("SED", real(i31=O03)),  # from 1e-100 to 1e100; 2^31 blows the box apart
     "-output_dir": ("E", PATH), "-initial_csv": ("E", PATH), "-final_csv": ("E", PATH),
 }
 for flag in ("-expansion_perturb_velocities", "-arkode_classic_weights", "-snapshot_hdf5", "-snapshot_csv",

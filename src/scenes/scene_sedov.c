@@ -36,7 +36,7 @@ static PetscErrorCode SedovOptions(const SpamCommonParams *c, SpamSedovParams *p
   if (p->n < 4) SPAM_BAD_INPUT("-sedov_n", val, "must be at least 4 lattice points per direction");
   PetscCall(SpamCheckParticleCount("-sedov_n", val, pow((double)p->n, c->dim)));
   PetscCall(SpamOptionText("-sedov_energy", p->energy, val, sizeof val));
-  if (!(p->energy > 0.0 && p->energy <= 1e100)) SPAM_BAD_INPUT("-sedov_energy", val, "must be a positive number up to 1e100");
+  if (!(p->energy >= 1e-100 && p->energy <= 1e100)) SPAM_BAD_INPUT("-sedov_energy", val, "allowed: 1e-100 to 1e100");
   PetscFunctionReturn(0);
 }
 

@@ -13,9 +13,10 @@
  * solution depends on x/t only, so the classical tube of unit length at t = 0.2 is this
  * one with -sod_n spacings per unit length at t = 0.2 n: the default end time. The tube
  * holds -sod_length such units (default 2: x in [-n, n)) and is periodic along x too, so
- * its ends carry the reversed jump; its waves (a fan moving right from -n, a shock moving
- * left from +n) stay outside |x| < n/2 (the classical tube [-0.5, 0.5]) until t = 0.2 n,
- * so the region compared is that of the single Riemann problem. -mass m scales both
+ * its ends carry the reversed jump; its waves (a fan moving right from -n, reaching -0.76 n,
+ * and a shock moving left from +n, reaching 0.65 n at t = 0.2 n) stay outside |x| < n/2
+ * (the classical tube [-0.5, 0.5]), so the region compared is that of the single Riemann
+ * problem. At least 1.4 units: shorter, the two problems' shocks meet by t = 0.2. -mass m scales both
  * densities and both pressures: the same flow (same e, same velocities).
  *
  * The energies per unit mass e = p / ((gamma - 1) rho) are given per particle; -gas_e0
@@ -32,6 +33,9 @@
 #define SOD_P_RIGHT   0.1
 #define SOD_GAMMA     1.4
 #define SOD_T_END     0.2 /* in units where the tube has unit length per -sod_n spacings */
+/* The shortest periodic tube whose two Riemann problems (the jump at 0 and its reverse at
+ * the ends) stay apart until t = 0.2: their shocks (1.752 t) meet when L/2 = 2 x 0.3504. */
+#define SOD_LENGTH_MIN 1.4
 
 static PetscErrorCode SodOptions(const SpamCommonParams *c, SpamSodParams *p)
 {
@@ -50,7 +54,7 @@ static PetscErrorCode SodOptions(const SpamCommonParams *c, SpamSodParams *p)
   PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->n));
   if (p->n < 2) SPAM_BAD_INPUT("-sod_n", val, "must be at least 2 lattice spacings per unit length");
   PetscCall(SpamOptionText("-sod_length", p->length, val, sizeof val));
-  if (!(p->length >= 1.0 && p->length <= 1e6)) SPAM_BAD_INPUT("-sod_length", val, "allowed: 1 to 1e6 unit lengths (below 1 the ends' waves reach the compared region by t = 0.2)");
+  if (!(p->length >= SOD_LENGTH_MIN && p->length <= 1e6)) SPAM_BAD_INPUT("-sod_length", val, "allowed: %g to 1e6 unit lengths (shorter, the shock of the reversed jump at the ends meets the tube's own by t = 0.2)", SOD_LENGTH_MIN);
   if (fmod(p->length * (double)p->n, 2.0) != 0.0) SPAM_BAD_INPUT("-sod_length", val, "-sod_length x -sod_n must be an even whole number of lattice spacings (the jump sits between two sites)");
   PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->width));
   PetscCall(PetscOptionsHasName(NULL, NULL, "-sod_width", &width_set));
