@@ -69,13 +69,15 @@ static PetscErrorCode SodOptions(const SpamCommonParams *c, SpamSodParams *p)
   PetscFunctionReturn(0);
 }
 
-/* A note when h is below the range that resolves the fan: it thins the gas to 0.43 of its
- * density, so the spacing there grows by 2.3 (1D), 1.5 (2D), 1.3 (3D); below these h a
- * particle of the fan keeps fewer than two neighbours each side in 1D (about 20 in 2D)
- * and the fan breaks into steps (measured at h = 3: rho*L 12% high in 1D and 2D). */
+/* A note when h is below the range that resolves the fan: the flow is planar, so the fan
+ * stretches the spacing along x by 2.3 (to density 0.43) in every dimension; a particle
+ * there then keeps fewer than three neighbours along x within h, and the fan breaks into
+ * steps. Measured (docs/scenes/sod.md): 1D h = 3, 4, 5 miss the fan ends by 10, 3, 1.2 h
+ * (rho*L +10%, +0.2%, +4%), h >= 6 within 0.5 h; 2D h = 3 and 3D h = 3 give rho*L 12% and
+ * 13% high, 2D h = 4 within 2.3%. */
 static PetscErrorCode NoteRange(const SpamCommonParams *c)
 {
-  static const double h_min[4] = {0.0, 6.0, 4.0, 3.0};
+  static const double h_min[4] = {0.0, 6.0, 4.0, 4.0};
   char                line[256];
 
   PetscFunctionBeginUser;
