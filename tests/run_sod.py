@@ -9,10 +9,11 @@ Monaghan viscosity alpha = 1, beta = 2, summation density, Lucy kernel):
   1D: -sod_n 400 -h 6 (800 particles; h = 0.015 tube lengths), about 1 s;
   2D: -sod_n 150 -h 4 -sod_width 8 (2400 particles; h = 0.027), about 8 s.
 The 3D tube (3600 particles at -sod_n 50, -sod_width 6) takes 35 s here: not tested.
-Why these h: the fan thins the gas to 0.43 of its density, so the spacing grows by 2.3 in
-1D (1.5 in 2D); at h = 3 in 1D (2D) a particle of the fan keeps one neighbour each side
-(about 12) and the fan breaks into steps (measured: rho*L 0.471 (1D), 0.478 (2D), 12%
-high). h = 6 in 1D and 4 in 2D keep at least 2 (20) neighbours there.
+Why these h: the flow is planar, so the fan stretches the spacing along x by 2.3 (to
+density 0.43) in every dimension, and too few particles along x stay within h. Measured in
+1D at -sod_n 400: h = 3, 4, 5 miss the fan ends by up to 10.6, 3.0, 1.2 h (rho*L +10.4%,
++0.2%, +4.2%); h = 6, 7, 8, 10 within 0.5 h (rho*L -0.6%, +0.1%, -0.4%, -0.7%). 2D h = 3
+and 3D h = 3 give rho*L 12% and 13% high; 2D h = 4 passes (below).
 
 What is measured (2D: averages over the cross-section in slices one spacing thick):
 - plateaus: mean rho, u, p over the star regions, leaving 2h at each end of the exact
