@@ -37,6 +37,12 @@
  * the ends) stay apart until t = 0.2: their shocks (1.752 t) meet when L/2 = 2 x 0.3504. */
 #define SOD_LENGTH_MIN 1.4
 
+/* Lattice sites along the tube: length x n, rounded (1.1 x 30 is 33.000000000000004). */
+static double TubeSites(const SpamSodParams *p)
+{
+  return round(p->length * (double)p->n);
+}
+
 static PetscErrorCode SodOptions(const SpamCommonParams *c, SpamSodParams *p)
 {
   char      val[128];
@@ -55,7 +61,7 @@ static PetscErrorCode SodOptions(const SpamCommonParams *c, SpamSodParams *p)
   if (p->n < 2) SPAM_BAD_INPUT("-sod_n", val, "must be at least 2 lattice spacings per unit length");
   PetscCall(SpamOptionText("-sod_length", p->length, val, sizeof val));
   if (!(p->length >= SOD_LENGTH_MIN && p->length <= 1e6)) SPAM_BAD_INPUT("-sod_length", val, "allowed: %g to 1e6 unit lengths (shorter, the shock of the reversed jump at the ends meets the tube's own by t = 0.2)", SOD_LENGTH_MIN);
-  if (fmod(p->length * (double)p->n, 2.0) != 0.0) SPAM_BAD_INPUT("-sod_length", val, "-sod_length x -sod_n must be an even whole number of lattice spacings (the jump sits between two sites)");
+  if (fabs(p->length * (double)p->n - TubeSites(p)) > 1e-9 * p->length * (double)p->n || fmod(TubeSites(p), 2.0) != 0.0) SPAM_BAD_INPUT("-sod_length", val, "-sod_length x -sod_n must be an even whole number of lattice spacings (the jump sits between two sites)");
   PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->width));
   PetscCall(PetscOptionsHasName(NULL, NULL, "-sod_width", &width_set));
   if (c->dim == 1 && width_set) SPAM_BAD_INPUT("-sod_width", val, "applies to the 2D and 3D tubes (this run: -dim 1)");
@@ -101,7 +107,7 @@ static void Site(int dim, PetscInt k, PetscInt nx, PetscInt width, double x0, do
 static PetscErrorCode SodBuild(const SpamCommonParams *c, const SpamSodParams *p, const SpamSolidParams *s, SpamParticles *out)
 {
   const int      dim = c->dim;
-  const PetscInt nx  = (PetscInt)(p->length * (double)p->n), w = dim > 1 ? p->width : 1;
+  const PetscInt nx  = (PetscInt)TubeSites(p), w = dim > 1 ? p->width : 1;
   const double   x0  = -0.5 * (double)nx;
   PetscInt       n   = nx;
 
