@@ -125,8 +125,11 @@ def main():
     fig.savefig(out, dpi=110)
     s = exact.speeds()
     star = (x > s["left_tail"] * ts + 2 * h / n) & (x < s["contact"] * ts - 2 * h / n)
-    print("t=%.6g N=%d rho*L=%.5f (exact %.5f) p*=%.5f (exact %.5f) png=%s"
-          % (ts, sm["n_particles"], rho[star].mean(), exact.rho_star_l, p[star].mean(), exact.p_star, out))
+    if star.any():
+        print("t=%.6g N=%d rho*L=%.5f (exact %.5f) p*=%.5f (exact %.5f) png=%s"
+              % (ts, sm["n_particles"], rho[star].mean(), exact.rho_star_l, p[star].mean(), exact.p_star, out))
+    else:  # h too coarse for a plateau 2h clear of the fan tail and the contact
+        print("t=%.6g N=%d rho*L plateau narrower than 4h png=%s" % (ts, sm["n_particles"], out))
 
 
 if __name__ == "__main__":
