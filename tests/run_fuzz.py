@@ -27,7 +27,8 @@ The corpus (see tests/fuzz/cases.txt for the curated part):
   files    mutations of a good 8x8 CSV (fixed seed): hostile fields, structure, bytes; the
            expected code comes from a strict reference reader (reference_expect); cases it
            cannot decide accept 0 or 2 and are counted as "open".
-SPAM_FUZZ_STRIDE=k (tools/sanitize.sh: 16) runs every curated case and every k-th generated one.
+SPAM_FUZZ_STRIDE=k (tools/sanitize.sh: 16) runs every curated case and every k-th generated one;
+SPAM_FUZZ_ONLY=regex only the cases whose name matches it (a development aid).
 """
 import concurrent.futures
 import json
@@ -504,6 +505,11 @@ file_cases.append(Case("files", "2D file under -dim 1", argv("F", [("-dim", "1")
 
 generated += file_cases
 cases += generated[::STRIDE] if STRIDE > 1 else generated
+# SPAM_FUZZ_ONLY=regex: only the cases whose name matches (say "^-sod_|^-sedov_" for the
+# option cases of two scenes), to try new options without the whole corpus.
+ONLY = os.environ.get("SPAM_FUZZ_ONLY")
+if ONLY:
+    cases = [k for k in cases if re.search(ONLY, k.name)]
 
 # ------------------------------------------------------------------------------ run ------
 
