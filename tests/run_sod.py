@@ -107,9 +107,23 @@ def measure(t, x, rho, u, p, h):
     return out, fronts
 
 
+# Toro's Table 4.3 (Test 1, Sod's states at gamma = 1.4), to five digits: the solver's check.
+TORO = {"p*": 0.30313, "u*": 0.92745, "rho*L": 0.42632, "rho*R": 0.26557}
+
+
+def check_solver(c):
+    """The exact solver against the published star state (a wrong solver would move every
+    reference of the run checks below)."""
+    R = sod(GAMMA)
+    got = {"p*": R.p_star, "u*": R.u_star, "rho*L": R.rho_star_l, "rho*R": R.rho_star_r}
+    for k, v in TORO.items():
+        c.check(abs(got[k] - v) <= 5e-6, f"exact solver {k} = {got[k]:.6f} (Toro: {v})")
+
+
 def main():
     a = arguments()
     c = Checks()
+    check_solver(c)
     for dim, n, h, width, tol in CASES:
         out = os.path.join(a.workdir, f"d{dim}")
         args = ["-scene", "sod", "-dim", dim, "-sod_n", n, "-h", h, "-snapshot_interval", 0.2 * n,
