@@ -12,6 +12,7 @@
  * except when a list build adds ghosts beyond the slots reserved so far. */
 #include <spam/physics.h>
 #include <spam/stress.h>
+#include <spam/wall_books.h>
 #include "../pair/pair_walk.h"
 #include "../pair/pair_gradients.h"
 #include "../pair/pair_coordinates.h"
@@ -103,6 +104,25 @@ static void Zero(double *a, size_t len)
   for (size_t k = 0; k < len; k++) a[k] = 0.0;
 }
 
+/* Under gravity a mirror image of the gas stands deeper in the field than its source:
+ * its pressure is the hydrostatic continuation P_g = P_i + rho_i g.(x_g - x_i), so that a
+ * column at rest is in balance at the wall as in its interior: sigma_g/rho^2 loses
+ * g.(x_g - x_i)/rho on its diagonal (the gas's; a solid's images keep their stress). (Without it the image's pressure equals its source's
+ * and the bottom layer lacks the push that holds up the column.) */
+static void HydrostaticImages(SpamSim *sim)
+{
+  const SpamGhosts *gh  = &sim->nl.ghosts;
+  SpamFields       *f   = &sim->f;
+  const int         dim = f->dim, n = (int)sim->n;
+
+  for (int k = 0; k < gh->n; k++) {
+    double dphi = 0.0; /* g.(x_g - x_i) */
+    if (gh->kind[k] != SPAM_GHOST_MIRROR) continue;
+    for (int d = 0; d < dim; d++) dphi += sim->model.gravity[d] * (sim->nl.u[d][n + k] - sim->nl.u[d][gh->src[k]]);
+    for (int a = 0; a < dim; a++) f->qs[(size_t)(n + k) * dim * dim + a * dim + a] -= dphi / f->rho[n + k];
+  }
+}
+
 /* Per-particle fields of y for the local slots, then gathered into the ghosts: velocity,
  * energy and temperature, mass, and the density (summed, or the state's). */
 static PetscErrorCode FillFields(SpamSim *sim, const double *y, PetscInt *bad)
@@ -125,9 +145,9 @@ static PetscErrorCode FillFields(SpamSim *sim, const double *y, PetscInt *bad)
   }
   SpamGhostsGather(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->m);
   SpamGhostsGather(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->minv);
-  SpamGhostsGather(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->v);
+  SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_VELOCITY, f->v);
   SpamGhostsGather(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->e);
-  SpamGhostsGather(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->T);
+  SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_TEMPERATURE, f->T);
   if (p->density == SPAM_DENSITY_SUMMATION) {
     PetscCall(SpamDensitySummation(sim, y, bad));
     PetscFunctionReturn(0);
@@ -209,9 +229,10 @@ static void ParticleLaws(SpamSim *sim, const double *y, double *ydot)
       f->uc[(size_t)i * dim + d] = p->density == SPAM_DENSITY_CHAIN_RULE ? f->xdot[(size_t)i * dim + d] : f->v[(size_t)i * dim + d];
     }
   }
-  SpamGhostsGather(gh, dim, n, dim * dim, SPAM_GHOST_TENSOR, f->qs);
-  SpamGhostsGather(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->heat);
-  SpamGhostsGather(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->uc);
+  SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_STRESS, f->qs);
+  if (gh->mirror && sim->model.gravity_on && p->material == SPAM_MATERIAL_GAS) HydrostaticImages(sim);
+  SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_HEAT_FLUX, f->heat);
+  SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_VELOCITY, f->uc);
 }
 
 /* Walk 2: R per body from the positive and negative torque sums (1 where either is 0),
@@ -248,7 +269,8 @@ static PetscErrorCode TorqueFactors(SpamSim *sim, TensorPass *c)
   PetscFunctionReturn(0);
 }
 
-/* Walk 3 and its folds: accelerations, de/dt, drho/dt. */
+/* Walk 3 and its folds: accelerations, de/dt (work, then plus heat), drho/dt. The heat
+ * rate stays apart on the ghost slots, where the walls' books read it. */
 static void Forces(SpamSim *sim, TensorPass *c)
 {
   SpamFields       *f   = c->f;
@@ -257,11 +279,14 @@ static void Forces(SpamSim *sim, TensorPass *c)
 
   Zero(f->acc, (size_t)slots * dim);
   Zero(f->edot, (size_t)slots);
+  Zero(f->qdot, (size_t)slots);
   Zero(f->rhodot, (size_t)slots);
   WalkForces(&sim->nl, &sim->model.kernel, c);
   SpamGhostsFold(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->acc);
   SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->edot);
+  SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->qdot);
   SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->rhodot);
+  for (int i = 0; i < n; i++) f->edot[i] += f->qdot[i];
 }
 
 static void Assemble(const SpamSim *sim, double *ydot)
@@ -304,6 +329,7 @@ PetscErrorCode SpamRhsSolid(SpamSim *sim, const double *y, double *ydot, PetscIn
   PetscCall(PetscLogEventEnd(sim->ev.force, 0, 0, 0, 0));
   if (sim->model.solid.angmom == SPAM_ANGMOM_GAUSS) PetscCall(SpamGaussConstraint(sim, y));
   Assemble(sim, ydot);
+  if (sim->nl.ghosts.mirror) SpamWallBooks(&sim->nl.ghosts, &sim->f, &sim->model.layout, (int)sim->n, PETSC_TRUE, &sim->wall_rates, ydot);
   sim->stats.pair_visits += (2.0 + (c.scale ? 1.0 : 0.0)) * (double)(sim->nl.npairs + sim->nl.ngpairs);
   PetscFunctionReturn(0);
 }

@@ -196,6 +196,24 @@ static PetscErrorCode ModelCommonOptions(SpamCommonParams *c)
   PetscFunctionReturn(0);
 }
 
+/* The walls of the run: the scene's defaults (out->walls, set by its build), overridden
+ * face by face by what the options gave. */
+static void MergeWalls(const SpamWalls *given, SpamWalls *w)
+{
+  for (int f = 0; f < SPAM_FACES; f++) {
+    if (given->slip_given[f]) w->slip[f] = given->slip[f];
+    if (given->velocity_given[f])
+      for (int d = 0; d < 3; d++) w->velocity[f][d] = given->velocity[f][d];
+    if (given->temperature_given[f]) {
+      w->isothermal[f]  = PETSC_TRUE;
+      w->temperature[f] = given->temperature[f];
+    }
+    w->slip_given[f]        = given->slip_given[f];
+    w->velocity_given[f]    = given->velocity_given[f];
+    w->temperature_given[f] = given->temperature_given[f];
+  }
+}
+
 /* Reads the options of the scene (of every scene with -help) and the model's, with the
  * scene's defaults, and builds the particles. */
 static PetscErrorCode BuildScene(const SpamCommonParams *c, PetscFunctionList list, const SpamSceneOps *ops, PetscBool help, SpamSolidParams *solid, SpamParticles *p)
@@ -225,10 +243,10 @@ static PetscErrorCode BuildScene(const SpamCommonParams *c, PetscFunctionList li
   if (c->dim != 2 && solid->gamma == 2.0) solid->gamma = 1.0 + 2.0 / c->dim;
   if (!ops->own_model || help) PetscCall(SpamSolidOptions(solid));
   PetscCall(PetscMemzero(p, sizeof *p));
-  p->walls = c->walls; /* the scene adds its own walls where none were given */
   ierr = ops->build(c, &sp, solid, p);
   if (ierr) PetscCall(SpamParticlesFree(p)); /* a scene refused after allocating: leak nothing */
   PetscCall(ierr);
+  MergeWalls(&c->walls, &p->walls);
   PetscFunctionReturn(0);
 }
 
@@ -278,6 +296,7 @@ static PetscErrorCode ModelOf(const SpamCommonParams *c, SpamParticles *p, SpamS
     /* no density given (a file without rho, the expansion): the continuity density starts summed */
     if (solid->density != SPAM_DENSITY_SUMMATION && (!p->rho || (p->columns && !(p->columns & SPAM_COLUMN_RHO)))) solid->density_initial = SPAM_DENSITY_INITIAL_SUMMED;
     PetscCall(SpamModelSolidSetUp(p->dim, &c->kernel, p->mass, solid, model));
+    if (SpamWallsAny(&p->walls, p->dim)) PetscCall(SpamLayoutAddWallBooks(&model->layout));
   }
   /* The spring scenes' own model takes no gravity: -gravity is then refused as unused
    * (option_use.c), so it is only set on the smooth-particle models. */
