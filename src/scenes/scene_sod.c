@@ -4,8 +4,8 @@
  *
  * Why a uniform lattice with unequal masses: the kernel range h is fixed, so the resolution
  * is the lattice spacing. Equal masses would need eight times the spacing on the right,
- * where a fixed h then holds an eighth of the neighbours (in 1D 2 instead of 6 at h = 3):
- * the low-density side would be barely resolved. One spacing everywhere with the mass
+ * where a fixed h then holds an eighth of the neighbours (in 1D at h = 6 left spacings,
+ * none at all): the low-density side would be unresolved. One spacing everywhere with the mass
  * m = rho * (cell volume) keeps both sides equally resolved, and the summation density
  * rho_i = sum_j m_j w_ij recovers rho on either side (smeared over h at the contact).
  *
@@ -16,7 +16,9 @@
  * its ends carry the reversed jump; its waves (a fan moving right from -n, reaching -0.76 n,
  * and a shock moving left from +n, reaching 0.65 n at t = 0.2 n) stay outside |x| < n/2
  * (the classical tube [-0.5, 0.5]), so the region compared is that of the single Riemann
- * problem. At least 1.4 units: shorter, the two problems' shocks meet by t = 0.2. -mass m scales both
+ * problem. At least 1.4 units: shorter, the two problems' shocks meet by t = 0.2. Mirror
+ * walls at the ends (-wall_xlo, -wall_xhi) replace the reversed jump; their reflections
+ * do not reach the compared region by t = 0.2 either. -mass m scales both
  * densities and both pressures: the same flow (same e, same velocities).
  *
  * The energies per unit mass e = p / ((gamma - 1) rho) are given per particle; -gas_e0
