@@ -95,7 +95,7 @@ def main():
     if not snaps:
         fail("%s: no CSV snapshot after t = 0" % a.dir)
     dim, h, gamma = int(sm["dim"]), float(sm["h"]), float(sm["gas_gamma"])
-    n = option(man, "sedov_n", 20.0 if dim == 3 else 64.0)
+    n = option(man, "sedov_n", 20.0 if dim == 3 else 48.0)
     e0, mass = option(man, "sedov_energy", 1e4), option(man, "mass", 1.0)
     xi0 = sedov_xi0(dim, gamma)
     prof = sedov_profile(dim, gamma)

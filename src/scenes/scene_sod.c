@@ -51,11 +51,11 @@ static PetscErrorCode SodOptions(const SpamCommonParams *c, SpamSodParams *p)
   PetscBool e0_set, width_set, help;
 
   PetscFunctionBeginUser;
-  p->n      = 200;
+  p->n      = c->dim == 1 ? 200 : c->dim == 2 ? 100 : 25; /* runs of seconds: 400, 1600, 3200 particles */
   p->length = 2.0;
   p->width  = 8;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene sod (Sod 1978 shock tube)", "spam-ark");
-  PetscCall(PetscOptionsInt("-sod_n", "Lattice spacings per unit length of the classical tube (the end time is 0.2 n)", "README", p->n, &p->n, NULL));
+  PetscCall(PetscOptionsInt("-sod_n", "Lattice spacings per unit length of the classical tube (the end time is 0.2 n; default 200, 100, 25 in 1D, 2D, 3D)", "README", p->n, &p->n, NULL));
   PetscCall(PetscOptionsReal("-sod_length", "Tube length in those units, periodic (the jump at 0, its reverse at the ends)", "README", p->length, &p->length, NULL));
   PetscCall(PetscOptionsInt("-sod_width", "Lattice points across the tube in each transverse direction (2D, 3D; periodic)", "README", p->width, &p->width, NULL));
   PetscOptionsEnd();
