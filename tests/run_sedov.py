@@ -1,7 +1,7 @@
 """The Sedov-Taylor blast (issue 15 point 4): -scene sedov in 2D (cylindrical), gamma = 5/3,
 density 1 at rest on a 48^2 periodic lattice, E0 = 1e4 deposited within h = 3 of the
 centre, ambient e0 = 1e-3; run to t = 2.4 (shock radius 17.9 = 0.37 of the box), CSV
-snapshots every 0.3. About 9 s. The 3D blast (20^3 = 8000 particles) takes minutes on
+snapshots every 0.3. 9-12 s (labelled slow). The 3D blast (20^3 = 8000 particles) takes minutes on
 this path (one thread): not tested.
 
 The exact solution (shock_exact.py): R(t) = xi0 (E t^2/rho)^(1/4), xi0 computed from the
