@@ -27,7 +27,8 @@ The corpus (see tests/fuzz/cases.txt for the curated part):
   files    mutations of a good 8x8 CSV (fixed seed): hostile fields, structure, bytes; the
            expected code comes from a strict reference reader (reference_expect); cases it
            cannot decide accept 0 or 2 and are counted as "open".
-SPAM_FUZZ_STRIDE=k (tools/sanitize.sh: 16) runs every curated case and every k-th generated one.
+SPAM_FUZZ_STRIDE=k (tools/sanitize.sh: 16) runs every curated case and every k-th generated one;
+SPAM_FUZZ_ONLY=regex only the cases whose name matches it (a development aid).
 """
 import concurrent.futures
 import json
@@ -96,6 +97,9 @@ CONTEXTS = {
     "BS": [("-expansion_n", "4"), ("-h", "1.5"), ("-ts_type", "basicsymplectic")] + TINY,
     # snapshots on (at t = 0 and 0.5): the grid fields are written at the snapshot times
     "EG": [("-expansion_n", "4"), ("-h", "1.5")] + TINY[:2] + [("-snapshot_interval", "0.5"), ("-output_interval", "0.25")],
+    "SOD": [("-scene", "sod"), ("-dim", "1"), ("-sod_n", "10")] + TINY,
+    "SOD2": [("-scene", "sod"), ("-dim", "2"), ("-sod_n", "8"), ("-sod_width", "4")] + TINY,
+    "SED": [("-scene", "sedov"), ("-sedov_n", "16")] + TINY,
 }
 
 
@@ -270,6 +274,9 @@ OPTION_TABLE = {
     "-diag_grid_spacing": ("E", real(zero=O0, big=O02, i31=O02)),
     "-grid_interval": ("EG", real(zero=O0, big=O0, i31=O0)),  # 1e300: one point per direction
     "-snapshot_max": ("E", {}),
+    "-sod_n": ("SOD", {}), "-sod_width": ("SOD2", {}), "-sedov_n": ("SED", {}),
+    "-sod_length": ("SOD", real()),
+    "-sedov_energy": ("SED", real(i31=O03)),  # from 1e-100 to 1e100; 2^31 blows the box apart
     "-output_dir": ("E", PATH), "-initial_csv": ("E", PATH), "-final_csv": ("E", PATH),
 }
 for flag in ("-expansion_perturb_velocities", "-arkode_classic_weights", "-snapshot_hdf5", "-snapshot_csv",
@@ -507,6 +514,11 @@ file_cases.append(Case("files", "2D file under -dim 1", argv("F", [("-dim", "1")
 
 generated += file_cases
 cases += generated[::STRIDE] if STRIDE > 1 else generated
+# SPAM_FUZZ_ONLY=regex: only the cases whose name matches (say "^-sod_|^-sedov_" for the
+# option cases of two scenes), to try new options without the whole corpus.
+ONLY = os.environ.get("SPAM_FUZZ_ONLY")
+if ONLY:
+    cases = [k for k in cases if re.search(ONLY, k.name)]
 
 # ------------------------------------------------------------------------------ run ------
 

@@ -12,5 +12,7 @@ PetscErrorCode SpamSceneRegisterAll(PetscFunctionList *list)
   PetscCall(PetscFunctionListAdd(list, "rotor-pair", SpamSceneRotorPair));
   PetscCall(PetscFunctionListAdd(list, "rotor-md", SpamSceneRotorMd));
   PetscCall(PetscFunctionListAdd(list, "tensile", SpamSceneTensile));
+  PetscCall(PetscFunctionListAdd(list, "sod", SpamSceneSod));
+  PetscCall(PetscFunctionListAdd(list, "sedov", SpamSceneSedov));
   PetscFunctionReturn(0);
 }
