@@ -27,7 +27,8 @@ The corpus (see tests/fuzz/cases.txt for the curated part):
   files    mutations of a good 8x8 CSV (fixed seed): hostile fields, structure, bytes; the
            expected code comes from a strict reference reader (reference_expect); cases it
            cannot decide accept 0 or 2 and are counted as "open".
-SPAM_FUZZ_STRIDE=k (tools/sanitize.sh: 16) runs every curated case and every k-th generated one.
+SPAM_FUZZ_STRIDE=k (tools/sanitize.sh: 16) runs every curated case and every k-th generated one;
+SPAM_FUZZ_ONLY=regex only the cases whose name matches it (a development aid).
 """
 import concurrent.futures
 import json
@@ -97,6 +98,9 @@ CONTEXTS = {
     "CONV": [("-scene", "convection"), ("-convection_nx", "6"), ("-convection_ny", "4"), ("-h", "1.5")] + TINY,
     # snapshots on (at t = 0 and 0.5): the grid fields are written at the snapshot times
     "EG": [("-expansion_n", "4"), ("-h", "1.5")] + TINY[:2] + [("-snapshot_interval", "0.5"), ("-output_interval", "0.25")],
+    "SOD": [("-scene", "sod"), ("-dim", "1"), ("-sod_n", "10")] + TINY,
+    "SOD2": [("-scene", "sod"), ("-dim", "2"), ("-sod_n", "8"), ("-sod_width", "4")] + TINY,
+    "SED": [("-scene", "sedov"), ("-sedov_n", "16")] + TINY,
 }
 
 
@@ -276,6 +280,9 @@ OPTION_TABLE = {
     "-convection_prandtl": ("CONV", {}), "-convection_g": ("CONV", {}),
     "-convection_amplitude": ("CONV", real(zero=O0, tiny=O0)),
     "-convection_seed": ("CONV", {"-1": O02, "0": O0, "2147483648": O0}),
+    "-sod_n": ("SOD", {}), "-sod_width": ("SOD2", {}), "-sedov_n": ("SED", {}),
+    "-sod_length": ("SOD", real()),
+    "-sedov_energy": ("SED", real(i31=O03)),  # from 1e-100 to 1e100; 2^31 blows the box apart
     "-output_dir": ("E", PATH), "-initial_csv": ("E", PATH), "-final_csv": ("E", PATH),
 }
 for flag in ("-expansion_perturb_velocities", "-arkode_classic_weights", "-snapshot_hdf5", "-snapshot_csv",
@@ -513,6 +520,11 @@ file_cases.append(Case("files", "2D file under -dim 1", argv("F", [("-dim", "1")
 
 generated += file_cases
 cases += generated[::STRIDE] if STRIDE > 1 else generated
+# SPAM_FUZZ_ONLY=regex: only the cases whose name matches (say "^-sod_|^-sedov_" for the
+# option cases of two scenes), to try new options without the whole corpus.
+ONLY = os.environ.get("SPAM_FUZZ_ONLY")
+if ONLY:
+    cases = [k for k in cases if re.search(ONLY, k.name)]
 
 # ------------------------------------------------------------------------------ run ------
 

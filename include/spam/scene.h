@@ -114,6 +114,17 @@ typedef struct {
   SpamSolidParams solid;
 } SpamConvectionParams;
 
+typedef struct {
+  PetscInt n;      /* lattice spacings per unit length of the classical tube            */
+  double   length; /* tube length in those units (periodic)                             */
+  PetscInt width;  /* lattice points across the tube in each transverse direction       */
+} SpamSodParams;
+
+typedef struct {
+  PetscInt n;      /* lattice points per direction of the periodic box                  */
+  double   energy; /* blast energy E0                                                   */
+} SpamSedovParams;
+
 /* Every scene's parameters (a new scene adds its struct here). */
 typedef union {
   SpamExpansionParams expansion;
@@ -124,6 +135,8 @@ typedef union {
   SpamChainParams     chain;
   SpamTensileParams   tensile;
   SpamConvectionParams convection;
+  SpamSodParams       sod;
+  SpamSedovParams     sedov;
 } SpamSceneParams;
 
 /* A scene, registered by name (scene_list.c): it reads its own options into p and the
@@ -150,6 +163,8 @@ PetscErrorCode SpamSceneRotorPair(SpamSceneOps *ops);
 PetscErrorCode SpamSceneRotorMd(SpamSceneOps *ops);
 PetscErrorCode SpamSceneTensile(SpamSceneOps *ops);
 PetscErrorCode SpamSceneConvection(SpamSceneOps *ops);
+PetscErrorCode SpamSceneSod(SpamSceneOps *ops);
+PetscErrorCode SpamSceneSedov(SpamSceneOps *ops);
 
 /* Triangular lattices of unit spacing a: nx x ny rows filling a periodic box
  * (nx a) x (ny sqrt(3)/2 a); and the hexagon of n shells about the origin (vertices on

@@ -14,7 +14,7 @@
 /* What an option of spam-ark applies to. */
 typedef enum {
   G_ALL, G_DT, G_ADAPTIVE, G_ARKODE, G_ARKODE_ADAPT, G_CVODE, G_TS, G_TS_ADAPT, G_RK, G_SSP, G_SYMP,
-  G_FILE, G_PERIODIC, G_ISENTROPE, G_EXPANSION, G_CHAIN, G_SPRING, G_ROTOR_MD, G_PLANEWAVE, G_ROTOR, G_ROTOR_PAIR, G_TENSILE, G_CONVECTION,
+  G_FILE, G_PERIODIC, G_ISENTROPE, G_EXPANSION, G_CHAIN, G_SPRING, G_ROTOR_MD, G_PLANEWAVE, G_ROTOR, G_ROTOR_PAIR, G_TENSILE, G_CONVECTION, G_SOD, G_SEDOV,
   G_MODEL, G_WALL, G_SOLID, G_SOLID_GAS, G_SOLID_GAMMA, G_SOLID_ELASTIC, G_SOLID_VISC, G_SOLID_R2, G_SOLID_TORQUE, G_SOLID_CONT, G_ENTROPY
 } Group;
 
@@ -65,6 +65,9 @@ static const Known KnownOptions[] = {
   {"convection_nx", PETSC_TRUE, G_CONVECTION}, {"convection_ny", PETSC_TRUE, G_CONVECTION}, {"convection_ra", PETSC_TRUE, G_CONVECTION},
   {"convection_prandtl", PETSC_TRUE, G_CONVECTION}, {"convection_g", PETSC_TRUE, G_CONVECTION}, {"convection_amplitude", PETSC_TRUE, G_CONVECTION},
   {"convection_seed", PETSC_TRUE, G_CONVECTION},
+  /* Issue 15 point 4: the shock problems (scene_sod.c, scene_sedov.c). */
+  {"sod_n", PETSC_TRUE, G_SOD}, {"sod_length", PETSC_TRUE, G_SOD}, {"sod_width", PETSC_TRUE, G_SOD},
+  {"sedov_n", PETSC_TRUE, G_SEDOV}, {"sedov_energy", PETSC_TRUE, G_SEDOV},
   /* Issue 15: mirror walls per box face (core/walls.c); relevance by face and condition (WallRelevant). */
   {"wall_xlo", PETSC_TRUE, G_WALL}, {"wall_xhi", PETSC_TRUE, G_WALL}, {"wall_ylo", PETSC_TRUE, G_WALL},
   {"wall_yhi", PETSC_TRUE, G_WALL}, {"wall_zlo", PETSC_TRUE, G_WALL}, {"wall_zhi", PETSC_TRUE, G_WALL},
@@ -135,7 +138,7 @@ static PetscErrorCode GivenFree(Given *g)
  * its 32-bit PetscInt without a range check, so 2147483648 arrives as -2147483648 and a
  * longer number as whatever its low bits say: check the text itself first. */
 static const char *const IntegerOptions[] = {"dim", "threads", "ts_max_steps", "ts_max_reject", "ts_ssp_nstages", "cvode_max_order", "snapshot_max", "expansion_n",
-                                             "expansion_seed", "chain_n", "planewave_nx", "planewave_ny", "rotor_n", "tensile_nx", "tensile_ny"};
+                                             "expansion_seed", "chain_n", "planewave_nx", "planewave_ny", "rotor_n", "tensile_nx", "tensile_ny", "sod_n", "sod_width", "sedov_n"};
 
 static PetscErrorCode CheckIntegerRange(const char *name, const char *value)
 {
@@ -240,6 +243,8 @@ static const struct {
   {G_ROTOR_PAIR, {"rotor-pair"}, "rotor-pair", ""},
   {G_TENSILE, {"tensile"}, "tensile", ""},
   {G_CONVECTION, {"convection"}, "convection", ""},
+  {G_SOD, {"sod"}, "sod", ""},
+  {G_SEDOV, {"sedov"}, "sedov", ""},
 };
 
 /* The groups of the method and the outputs: whether g applies to run r (*known: g is one

@@ -238,7 +238,9 @@ static PetscErrorCode BuildScene(const SpamCommonParams *c, PetscFunctionList li
     PetscCall(PetscFree(names));
   }
   PetscCall(ops->options(c, &sp, solid));
-  if (c->dim != 2) solid->gamma = 1.0 + 2.0 / c->dim; /* the ideal gas's isentrope in D dimensions */
+  /* The ideal gas's isentrope in D dimensions, unless the scene chose its gas's gamma
+   * (SpamSolidDefaults leaves 2, the 2D value; sod and sedov set 1.4 and 5/3). */
+  if (c->dim != 2 && solid->gamma == 2.0) solid->gamma = 1.0 + 2.0 / c->dim;
   if (!ops->own_model || help) PetscCall(SpamSolidOptions(solid));
   PetscCall(PetscMemzero(p, sizeof *p));
   ierr = ops->build(c, &sp, solid, p);

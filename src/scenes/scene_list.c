@@ -13,5 +13,7 @@ PetscErrorCode SpamSceneRegisterAll(PetscFunctionList *list)
   PetscCall(PetscFunctionListAdd(list, "rotor-md", SpamSceneRotorMd));
   PetscCall(PetscFunctionListAdd(list, "tensile", SpamSceneTensile));
   PetscCall(PetscFunctionListAdd(list, "convection", SpamSceneConvection));
+  PetscCall(PetscFunctionListAdd(list, "sod", SpamSceneSod));
+  PetscCall(PetscFunctionListAdd(list, "sedov", SpamSceneSedov));
   PetscFunctionReturn(0);
 }
