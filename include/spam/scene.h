@@ -115,6 +115,21 @@ typedef struct {
   double   energy; /* blast energy E0                                                   */
 } SpamSedovParams;
 
+typedef struct {
+  PetscInt n;          /* particles per row of the triangular lattice                */
+  double   p0;         /* pressure at the vortex centre (standard: 5)                */
+} SpamGreshoParams;
+
+typedef struct {
+  PetscInt n;          /* lattice points per direction: the box edge L               */
+  double   amplitude;  /* velocity amplitude U                                       */
+} SpamTaylorGreenParams;
+
+typedef struct {
+  PetscInt n, ny;      /* lattice points along x (the wavelength L) and across       */
+  double   eps;        /* relative amplitude of the energy mode                      */
+} SpamHeatModeParams;
+
 /* Every scene's parameters (a new scene adds its struct here). */
 typedef union {
   SpamExpansionParams expansion;
@@ -126,6 +141,9 @@ typedef union {
   SpamTensileParams   tensile;
   SpamSodParams       sod;
   SpamSedovParams     sedov;
+  SpamGreshoParams      gresho;
+  SpamTaylorGreenParams taylor_green;
+  SpamHeatModeParams    heat_mode;
 } SpamSceneParams;
 
 /* A scene, registered by name (scene_list.c): it reads its own options into p and the
@@ -153,12 +171,18 @@ PetscErrorCode SpamSceneRotorMd(SpamSceneOps *ops);
 PetscErrorCode SpamSceneTensile(SpamSceneOps *ops);
 PetscErrorCode SpamSceneSod(SpamSceneOps *ops);
 PetscErrorCode SpamSceneSedov(SpamSceneOps *ops);
+PetscErrorCode SpamSceneGresho(SpamSceneOps *ops);
+PetscErrorCode SpamSceneTaylorGreen(SpamSceneOps *ops);
+PetscErrorCode SpamSceneHeatMode(SpamSceneOps *ops);
 
 /* Triangular lattices of unit spacing a: nx x ny rows filling a periodic box
  * (nx a) x (ny sqrt(3)/2 a); and the hexagon of n shells about the origin (vertices on
  * the x axis at distance n a), 1 + 3n + 3n^2 points. x has room for the points. */
 void     SpamLatticeTriangular(PetscInt nx, PetscInt ny, double a, double *x);
 PetscInt SpamLatticeHexagon(PetscInt n, double a, double *x);
+/* The unit simple-cubic lattice of n[0] x ... x n[dim-1] points at (i + 1/2, j + 1/2, ...),
+ * x fastest, filling the box [0, n[0]) x ...; x has room for the points. */
+void     SpamLatticeSquare(int dim, const PetscInt n[], double *x);
 /* The solid's defaults (PRE): lambda = eta = sqrt(3)/4, rho0 = sqrt(4/3), continuity
  * density from the ideal value, R0, eps 1, no angular-momentum treatment. */
 void SpamSolidDefaults(SpamSolidParams *p);

@@ -14,5 +14,8 @@ PetscErrorCode SpamSceneRegisterAll(PetscFunctionList *list)
   PetscCall(PetscFunctionListAdd(list, "tensile", SpamSceneTensile));
   PetscCall(PetscFunctionListAdd(list, "sod", SpamSceneSod));
   PetscCall(PetscFunctionListAdd(list, "sedov", SpamSceneSedov));
+  PetscCall(PetscFunctionListAdd(list, "gresho", SpamSceneGresho));
+  PetscCall(PetscFunctionListAdd(list, "taylor-green", SpamSceneTaylorGreen));
+  PetscCall(PetscFunctionListAdd(list, "heat-mode", SpamSceneHeatMode));
   PetscFunctionReturn(0);
 }
