@@ -100,6 +100,9 @@ CONTEXTS = {
     "SOD": [("-scene", "sod"), ("-dim", "1"), ("-sod_n", "10")] + TINY,
     "SOD2": [("-scene", "sod"), ("-dim", "2"), ("-sod_n", "8"), ("-sod_width", "4")] + TINY,
     "SED": [("-scene", "sedov"), ("-sedov_n", "16")] + TINY,
+    "GR": [("-scene", "gresho"), ("-gresho_n", "8")] + TINY,
+    "TG": [("-scene", "taylor-green"), ("-taylorgreen_n", "8")] + TINY,
+    "HM": [("-scene", "heat-mode"), ("-heatmode_n", "8"), ("-heatmode_ny", "8")] + TINY,
 }
 
 
@@ -278,6 +281,11 @@ OPTION_TABLE = {
     "-sod_length": ("SOD", real()),
     "-sedov_energy": ("SED", real(i31=O03)),  # from 1e-100 to 1e100; 2^31 blows the box apart
     "-output_dir": ("E", PATH), "-initial_csv": ("E", PATH), "-final_csv": ("E", PATH),
+    # issue 15 point 4: the smooth flows with exact answers
+    "-gresho_n": ("GR", {}), "-taylorgreen_n": ("TG", {}), "-heatmode_n": ("HM", {}), "-heatmode_ny": ("HM", {}),
+    "-gresho_p0": ("GR", real(i31=O023)),  # from 1e-100 to 1e100; 2^31 may blow up or hit the step limit
+    "-taylorgreen_amplitude": ("TG", real(m1=O0, zero=O0, tiny=O0, i31=O023)),  # |U| up to 1e100
+    "-heatmode_eps": ("HM", real(zero=O0, tiny=O0)),  # |eps| < 1
 }
 for flag in ("-expansion_perturb_velocities", "-arkode_classic_weights", "-snapshot_hdf5", "-snapshot_csv",
              "-monitor", "-diag_entropy", "-sort_particles", "-output_overwrite"):

@@ -46,8 +46,9 @@ static PetscErrorCode SpamGreshoOptions(const SpamCommonParams *c, SpamGreshoPar
   if (p->n < 1) SPAM_BAD_INPUT("-gresho_n", val, "must be a positive number of lattice points");
   PetscCall(SpamCheckParticleCount("-gresho_n", val, 1.2 * pow((double)p->n, 2.0)));
   PetscCall(SpamOptionText("-gresho_p0", p->p0, val, sizeof val));
-  /* P is smallest at the centre; 1e100 keeps the energies and their squares finite. */
-  if (!(p->p0 > 0.0 && p->p0 <= 1e100)) SPAM_BAD_INPUT("-gresho_p0", val, "must be a positive number up to 1e100 (the pressure at the centre, its smallest value)");
+  /* P is smallest at the centre; the bounds keep the energies, their squares and the
+   * reference energy p0/(gamma - 1) normal numbers. */
+  if (!(p->p0 >= 1e-100 && p->p0 <= 1e100)) SPAM_BAD_INPUT("-gresho_p0", val, "must be from 1e-100 to 1e100 (the pressure at the centre, its smallest value)");
   (void)c;
   PetscFunctionReturn(0);
 }

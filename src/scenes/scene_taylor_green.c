@@ -81,6 +81,7 @@ static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, Spa
 static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p, const SpamSolidParams *solid, SpamParticles *out)
 {
   PetscFunctionBeginUser;
+  if (solid->material != SPAM_MATERIAL_GAS) SPAM_BAD_INPUT("-material", SpamMaterialNames[solid->material], "-scene taylor-green is the viscous gas: use -material gas");
   PetscCall(SpamTaylorGreenBuild(c, &p->taylor_green, solid, out));
   PetscFunctionReturn(0);
 }
