@@ -8,10 +8,10 @@ triangular lattice, -kernel wendland_c4 -h 3.
 Why Wendland C4: Lucy's kernel at h = 3 (2.79 spacings of this lattice) is unstable on the
 triangular lattice of the gas at rest: random velocities of 1e-3 grew to 0.09 by t = 0.75 L
 in a gas of P = 5.8 without the vortex; with Wendland C4 at the same h they stayed 6e-4
-(Lucy at h = 2.5: stable; Wendland C2 at h = 3: grew to 0.035). Lucy's 2D Fourier
-transform goes slightly negative (-5e-5 of its peak), the condition of the pairing
-instability (Dehnen & Aly 2012), but Wendland C2's does not, so that is not the whole
-story; the cause is not analysed here.
+(Lucy at h = 2.5: stable; Wendland C2 at h = 3: grew to 0.035). The isentropic gas
+(the other force path) grows the same noise: the lattice's linear stability under
+pressure, which depends on the kernel's shape at the neighbour distances (Morris 1996),
+not one force pass. Not analysed further here.
 
 What is checked and why the bounds:
 - The set-up: the binned v_phi(r) of the t = 0 snapshot is the exact profile (to 1e-12).
