@@ -94,6 +94,8 @@ CONTEXTS = {
     "CV": [("-expansion_n", "4"), ("-h", "1.5"), ("-ts_type", "cvode")] + TINY,
     "RK": [("-expansion_n", "4"), ("-h", "1.5"), ("-ts_type", "rk")] + TINY,
     "BS": [("-expansion_n", "4"), ("-h", "1.5"), ("-ts_type", "basicsymplectic")] + TINY,
+    "CO": [("-scene", "couette"), ("-couette_n", "4"), ("-h", "1.5")] + TINY,
+    "PO": [("-scene", "poiseuille"), ("-poiseuille_n", "4"), ("-h", "1.5")] + TINY,
 }
 
 
@@ -267,6 +269,11 @@ OPTION_TABLE = {
     "-diag_grid_spacing": ("E", real(zero=O0, big=O02, i31=O02)),
     "-snapshot_max": ("E", {}),
     "-output_dir": ("E", PATH), "-initial_csv": ("E", PATH), "-final_csv": ("E", PATH),
+    # the shear channels: n >= max(2, h); nx 0 is automatic; |speed| below the sound speed (1.41)
+    "-couette_n": ("CO", {}), "-couette_nx": ("CO", {"0": O0}), "-couette_start": ("CO", {}),
+    "-couette_speed": ("CO", real(m1=O0, zero=O0, tiny=O0)),
+    "-poiseuille_n": ("PO", {}), "-poiseuille_nx": ("PO", {"0": O0}), "-poiseuille_start": ("PO", {}),
+    "-poiseuille_speed": ("PO", real(m1=O0, zero=O0, tiny=O0)),
 }
 for flag in ("-expansion_perturb_velocities", "-arkode_classic_weights", "-snapshot_hdf5", "-snapshot_csv",
              "-monitor", "-diag_entropy", "-sort_particles", "-output_overwrite"):

@@ -14,7 +14,7 @@
 /* What an option of spam-ark applies to. */
 typedef enum {
   G_ALL, G_DT, G_ADAPTIVE, G_ARKODE, G_ARKODE_ADAPT, G_CVODE, G_TS, G_TS_ADAPT, G_RK, G_SSP, G_SYMP,
-  G_FILE, G_PERIODIC, G_ISENTROPE, G_EXPANSION, G_CHAIN, G_SPRING, G_ROTOR_MD, G_PLANEWAVE, G_ROTOR, G_ROTOR_PAIR, G_TENSILE,
+  G_FILE, G_PERIODIC, G_ISENTROPE, G_EXPANSION, G_CHAIN, G_SPRING, G_ROTOR_MD, G_PLANEWAVE, G_ROTOR, G_ROTOR_PAIR, G_TENSILE, G_COUETTE, G_POISEUILLE,
   G_MODEL, G_SOLID, G_SOLID_GAS, G_SOLID_GAMMA, G_SOLID_ELASTIC, G_SOLID_VISC, G_SOLID_R2, G_SOLID_TORQUE, G_SOLID_CONT, G_ENTROPY
 } Group;
 
@@ -60,6 +60,10 @@ static const Known KnownOptions[] = {
   {"kernel", PETSC_TRUE, G_MODEL}, {"gravity", PETSC_TRUE, G_MODEL}, {"periodic_images", PETSC_TRUE, G_ALL},
   /* Issue 14 point 6: the plane wave's initial stress (scenes/planewave_stress.c). */
   {"planewave_stress", PETSC_TRUE, G_PLANEWAVE},
+  /* Issue 15 point 4: the shear channels (scenes/shear_channel.c). */
+  {"couette_n", PETSC_TRUE, G_COUETTE}, {"couette_nx", PETSC_TRUE, G_COUETTE}, {"couette_speed", PETSC_TRUE, G_COUETTE},
+  {"couette_start", PETSC_TRUE, G_COUETTE}, {"poiseuille_n", PETSC_TRUE, G_POISEUILLE}, {"poiseuille_nx", PETSC_TRUE, G_POISEUILLE},
+  {"poiseuille_speed", PETSC_TRUE, G_POISEUILLE}, {"poiseuille_start", PETSC_TRUE, G_POISEUILLE},
 };
 #define NKNOWN ((int)(sizeof KnownOptions / sizeof KnownOptions[0]))
 
@@ -123,7 +127,8 @@ static PetscErrorCode GivenFree(Given *g)
  * its 32-bit PetscInt without a range check, so 2147483648 arrives as -2147483648 and a
  * longer number as whatever its low bits say: check the text itself first. */
 static const char *const IntegerOptions[] = {"dim", "threads", "ts_max_steps", "ts_max_reject", "ts_ssp_nstages", "cvode_max_order", "snapshot_max", "expansion_n",
-                                             "expansion_seed", "chain_n", "planewave_nx", "planewave_ny", "rotor_n", "tensile_nx", "tensile_ny"};
+                                             "expansion_seed", "chain_n", "planewave_nx", "planewave_ny", "rotor_n", "tensile_nx", "tensile_ny",
+                                             "couette_n", "couette_nx", "poiseuille_n", "poiseuille_nx"};
 
 static PetscErrorCode CheckIntegerRange(const char *name, const char *value)
 {
@@ -225,6 +230,8 @@ static const struct {
   {G_ROTOR, {"rotor", "rotor-pair", "rotor-md"}, "rotor, rotor-pair and rotor-md", ""},
   {G_ROTOR_PAIR, {"rotor-pair"}, "rotor-pair", ""},
   {G_TENSILE, {"tensile"}, "tensile", ""},
+  {G_COUETTE, {"couette"}, "couette", ""},
+  {G_POISEUILLE, {"poiseuille"}, "poiseuille", ""},
 };
 
 /* The groups of the method and the outputs: whether g applies to run r (*known: g is one

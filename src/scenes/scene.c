@@ -196,6 +196,25 @@ static PetscErrorCode ModelCommonOptions(SpamCommonParams *c)
   PetscFunctionReturn(0);
 }
 
+/* What the user gave on a face (-wall_F, -wall_F_velocity, -wall_F_temperature) wins over
+ * the scene's walls; this also restores the options' walls where a scene's
+ * SpamParticlesAllocate cleared them. */
+static void UserWallsWin(const SpamWalls *user, SpamWalls *w)
+{
+  for (int f = 0; f < SPAM_FACES; f++) {
+    if (user->slip_given[f]) w->slip[f] = user->slip[f];
+    if (user->velocity_given[f])
+      for (int d = 0; d < 3; d++) w->velocity[f][d] = user->velocity[f][d];
+    if (user->temperature_given[f]) {
+      w->isothermal[f]  = user->isothermal[f];
+      w->temperature[f] = user->temperature[f];
+    }
+    w->slip_given[f]        = user->slip_given[f];
+    w->velocity_given[f]    = user->velocity_given[f];
+    w->temperature_given[f] = user->temperature_given[f];
+  }
+}
+
 /* Reads the options of the scene (of every scene with -help) and the model's, with the
  * scene's defaults, and builds the particles. */
 static PetscErrorCode BuildScene(const SpamCommonParams *c, PetscFunctionList list, const SpamSceneOps *ops, PetscBool help, SpamSolidParams *solid, SpamParticles *p)
@@ -227,6 +246,7 @@ static PetscErrorCode BuildScene(const SpamCommonParams *c, PetscFunctionList li
   ierr = ops->build(c, &sp, solid, p);
   if (ierr) PetscCall(SpamParticlesFree(p)); /* a scene refused after allocating: leak nothing */
   PetscCall(ierr);
+  UserWallsWin(&c->walls, &p->walls);
   PetscFunctionReturn(0);
 }
 

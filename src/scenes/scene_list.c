@@ -12,5 +12,7 @@ PetscErrorCode SpamSceneRegisterAll(PetscFunctionList *list)
   PetscCall(PetscFunctionListAdd(list, "rotor-pair", SpamSceneRotorPair));
   PetscCall(PetscFunctionListAdd(list, "rotor-md", SpamSceneRotorMd));
   PetscCall(PetscFunctionListAdd(list, "tensile", SpamSceneTensile));
+  PetscCall(PetscFunctionListAdd(list, "couette", SpamSceneCouette));
+  PetscCall(PetscFunctionListAdd(list, "poiseuille", SpamScenePoiseuille));
   PetscFunctionReturn(0);
 }
