@@ -16,6 +16,14 @@ typedef struct {
   int    nbody;                     /* connected bodies at set-up (0: not labelled)     */
   double lbody[2];                  /* Lz of bodies 0 and 1 about their own centres     */
   double gauss_singular;            /* RHS evaluations where Gauss's principle was singular */
+  /* Mirror walls (zero without): the books integrated with the state (work, heat into the
+   * fluid and the impulse given it, where the model has the energy equation), and what
+   * each wall gives at this state (an RHS evaluation at the output time). */
+  double        wall_work, wall_heat, wall_impulse[3];
+  SpamWallRates wall;
+  /* What the outside gave the system since t = 0: energy (the walls' work and heat) and
+   * momentum (their impulse and gravity's M g t). The drifts are measured net of them. */
+  double        energy_in, momentum_in[3];
 } SpamDiagnostics;
 
 typedef struct {
@@ -26,4 +34,12 @@ typedef struct {
 /* Evaluates every diagnostic of state y (raw array) at time t. */
 PetscErrorCode SpamDiagnosticsCompute(SpamSim *sim, const SpamDiagnosticsOptions *o, double t, const double *y, SpamDiagnostics *d);
 
+/* The walls' part of d at state y (nothing without walls): the books and the rates. */
+PetscErrorCode SpamWallDiagnostics(SpamSim *sim, const double *y, SpamDiagnostics *d);
+/* The walls' columns of timeseries.csv for this run ("" without walls): a leading comma,
+ * then wall_work, wall_heat, wall_impulse_x.. (books) and per wall face F wall_F_fx..,
+ * wall_F_work_rate, wall_F_heat_rate. */
+void SpamWallColumns(const SpamSim *sim, char *buf, size_t len);
+/* The values of those columns (same order) from d. */
+void SpamWallValues(const SpamSim *sim, const SpamDiagnostics *d, char *buf, size_t len);
 #endif

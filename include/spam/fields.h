@@ -21,7 +21,8 @@ typedef struct {
   double *xdot;            /* [cap*dim] dr/dt                                           */
   double *uc;              /* [cap*dim] velocity of the continuity equation            */
   double *acc;             /* [cap*dim] acceleration                                    */
-  double *edot, *rhodot;   /* [cap]                                                     */
+  double *edot, *rhodot;   /* [cap] de/dt (work), drho/dt                               */
+  double *qdot;            /* [cap] de/dt by heat conduction (kept apart for the walls' books) */
   double *wsum;            /* [cap] sum_j w_ij (R1's normalisation)                    */
   double *ltorque, *tfac;  /* [cap] particle torque and its scaling factor (T_i)       */
   PetscBool tensor;        /* the tensor-path arrays are allocated                     */

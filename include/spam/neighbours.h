@@ -63,6 +63,9 @@ PetscErrorCode SpamNeighboursUpdate(SpamNeighbours *nl, const SpamBox *box, cons
 /* Periodic images as ghost slots instead of the minimum image along the directions set
  * in per (before the first build; a study of the ghost path, and the way halos work). */
 PetscErrorCode SpamNeighboursSetPeriodicGhosts(SpamNeighbours *nl, const SpamBox *box, const PetscBool per[3]);
+/* Mirror walls on the box faces (walls.h): their images become ghost slots (before the
+ * first build). */
+PetscErrorCode SpamNeighboursSetWalls(SpamNeighbours *nl, const SpamWalls *walls);
 /* After a build: picks the ghosts, places them and lists each local particle's ghost
  * neighbours (neighbours_ghost.c). Between builds: moves the ghosts with their sources. */
 PetscErrorCode SpamNeighboursBuildGhosts(SpamNeighbours *nl, const SpamBox *box);

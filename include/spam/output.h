@@ -42,6 +42,7 @@ void SpamFileDiscard(SpamFile *f);
 typedef struct {
   PetscBool overwrite;     /* -output_overwrite: remove an earlier run's files first  */
   PetscInt  snapshot_max;  /* -snapshot_max: no run writes more snapshots than this   */
+  char      timeseries_more[1024]; /* the run's further timeseries columns (",a,b"): walls */
 } SpamOutputOptions;
 
 /* One file of the run, as manifest.json lists it. */

@@ -36,9 +36,9 @@ typedef struct {
   SpamSceneInfo info;
   PetscBool     model_set; /* the scene declared its model; else the isentropic gas */
   SpamModel     model;
-  /* Mirror walls of the box faces: a scene starts from the options' (c->walls) and fills
-   * the faces it needs where the user gave nothing; a direction with a wall is not
-   * periodic. */
+  /* Mirror walls of the box faces: the scene's defaults (set in its build, after
+   * SpamParticlesAllocate), then overridden face by face by the options (c->walls: what
+   * was given); a direction with a wall is not periodic. */
   SpamWalls     walls;
   /* The scene's default gravity (used when -gravity is not given; gravity_set). */
   double        gravity[3];

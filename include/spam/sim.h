@@ -7,6 +7,7 @@
 #include <spam/model.h>
 #include <spam/neighbours.h>
 #include <spam/walls.h>
+#include <spam/wall_books.h>
 #include <spam/fields.h>
 
 #define SPAM_STATE_FIELD "spam_state"
@@ -48,6 +49,7 @@ typedef struct SpamSim {
   double        *tacc, *trho; /* per-thread sums of threads 1..T-1 (NULL for T = 1)  */
   PetscBool      periodic_ghosts; /* periodic images as ghost slots (-periodic_images) */
   SpamWalls      walls;           /* mirror walls of the box faces (walls.h)           */
+  SpamWallRates  wall_rates;      /* what the walls gave the fluid at the last RHS     */
   SpamRhsStats   stats;
   SpamLogEvents  ev;
   SpamSceneInfo  scene;
@@ -96,4 +98,7 @@ void SpamPressureDensityWalk(SpamSim *sim);
 void SpamPressureForceWalk(SpamSim *sim);
 /* Summation density of state y into sim->f.rho (diagnostics, or the density pass). */
 PetscErrorCode SpamDensitySummation(SpamSim *sim, const double *y, PetscInt *bad);
+/* Particles beyond a mirror wall after a step reflected back into the box (wall_reflect.c):
+ * position mirrored in the wall, normal velocity reversed; *changed counts them. */
+PetscErrorCode SpamWallReflect(SpamSim *sim, double *y, PetscInt *changed);
 #endif

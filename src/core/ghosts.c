@@ -1,4 +1,5 @@
-/* Ghost slots: selection of periodic images, their positions, gather and fold. */
+/* Ghost slots: selection of periodic and mirror images, their positions, gather (with
+ * the walls' conditions) and fold. */
 #include <spam/ghosts.h>
 
 PetscErrorCode SpamGhostsDestroy(SpamGhosts *g)
@@ -8,6 +9,7 @@ PetscErrorCode SpamGhostsDestroy(SpamGhosts *g)
   for (int d = 0; d < 3; d++) PetscCall(PetscFree(g->shift[d]));
   PetscCall(PetscFree(g->flip));
   PetscCall(PetscFree(g->kind));
+  PetscCall(PetscFree(g->face));
   g->n = g->cap = 0;
   PetscFunctionReturn(0);
 }
@@ -21,22 +23,46 @@ static PetscErrorCode Grow(SpamGhosts *g, int need)
   for (int d = 0; d < 3; d++) PetscCall(PetscRealloc((size_t)g->cap * sizeof(double), &g->shift[d]));
   PetscCall(PetscRealloc((size_t)g->cap, &g->flip));
   PetscCall(PetscRealloc((size_t)g->cap, &g->kind));
+  PetscCall(PetscRealloc((size_t)g->cap, &g->face));
   PetscFunctionReturn(0);
 }
 
-/* The image offsets (-1, 0, +1 edges per direction) a particle at u needs: along each
- * ghost-periodic direction, +1 when it lies within range of the lower face (its image
- * sits beyond the upper one), -1 near the upper face. Returns how many offsets exist in
- * each direction (1: only 0). */
-static void ImageOffsets(const SpamGhosts *g, const SpamBox *box, const double *u, double range, int off[3][2], int no[3])
+/* The images of a particle along one direction: itself, a periodic image one edge away
+ * (shift +-L), or its mirror in the lower (x -> -x) or upper (x -> 2L - x) wall. */
+typedef enum { IMG_SELF, IMG_PERIODIC_UP, IMG_PERIODIC_DOWN, IMG_MIRROR_LO, IMG_MIRROR_HI } Image;
+
+/* The images a particle at box-local u needs along direction d: a periodic image when
+ * it lies within range of a face of a ghost-periodic direction (beyond the other face),
+ * a mirror image in each wall it lies within range of. Returns how many (1: only itself). */
+static int ImagesAlong(const SpamGhosts *g, const SpamBox *box, int d, double u, double range, Image img[3])
 {
-  for (int d = 0; d < 3; d++) {
-    no[d]     = 1;
-    off[d][0] = 0;
-    if (d >= box->dim || !g->periodic[d]) continue;
-    if (u[d] < range) off[d][no[d]++] = 1;
-    else if (u[d] > box->len[d] - range) off[d][no[d]++] = -1;
+  int k = 0;
+  img[k++] = IMG_SELF;
+  if (d >= box->dim) return k;
+  if (g->periodic[d]) {
+    if (u < range) img[k++] = IMG_PERIODIC_UP;
+    else if (u > box->len[d] - range) img[k++] = IMG_PERIODIC_DOWN;
+    return k;
   }
+  if (SpamWallOn(&g->walls, 2 * d) && u < range) img[k++] = IMG_MIRROR_LO;
+  if (SpamWallOn(&g->walls, 2 * d + 1) && u > box->len[d] - range) img[k++] = IMG_MIRROR_HI;
+  return k;
+}
+
+/* Appends the ghost of particle i made of one image per direction. */
+static void AddGhost(SpamGhosts *g, const SpamBox *box, int i, const Image o[3])
+{
+  const int k = g->n++;
+  g->src[k]   = i;
+  g->flip[k] = g->face[k] = 0;
+  for (int d = 0; d < 3; d++) {
+    const double L = d < box->dim ? box->len[d] : 0.0;
+    g->shift[d][k] = o[d] == IMG_PERIODIC_UP ? L : o[d] == IMG_PERIODIC_DOWN ? -L : o[d] == IMG_MIRROR_HI ? 2.0 * L : 0.0;
+    if (o[d] == IMG_MIRROR_LO || o[d] == IMG_MIRROR_HI) g->flip[k] |= (unsigned char)(1u << d);
+    if (o[d] == IMG_MIRROR_HI) g->face[k] |= (unsigned char)(1u << d);
+  }
+  /* A ghost mirrored in any wall stands for the boundary, not for its source. */
+  g->kind[k] = g->flip[k] ? SPAM_GHOST_MIRROR : SPAM_GHOST_PERIODIC;
 }
 
 PetscErrorCode SpamGhostsSelect(SpamGhosts *g, const SpamBox *box, int n, double *const u[3], double range)
@@ -44,21 +70,17 @@ PetscErrorCode SpamGhostsSelect(SpamGhosts *g, const SpamBox *box, int n, double
   PetscFunctionBeginUser;
   g->n = 0;
   for (int i = 0; i < n; i++) {
-    const double ui[3] = {u[0][i], box->dim > 1 ? u[1][i] : 0.0, box->dim > 2 ? u[2][i] : 0.0};
-    int          off[3][2], no[3];
-    ImageOffsets(g, box, ui, range, off, no);
+    Image img[3][3];
+    int   no[3];
+    for (int d = 0; d < 3; d++) no[d] = ImagesAlong(g, box, d, d < box->dim ? u[d][i] : 0.0, range, img[d]);
     if (no[0] * no[1] * no[2] == 1) continue;
-    PetscCall(Grow(g, g->n + 8));
+    PetscCall(Grow(g, g->n + 27));
     for (int a = 0; a < no[0]; a++)
       for (int b = 0; b < no[1]; b++)
         for (int c = 0; c < no[2]; c++) {
-          const int o[3] = {off[0][a], off[1][b], off[2][c]};
-          if (!o[0] && !o[1] && !o[2]) continue; /* the particle itself */
-          g->src[g->n]  = i;
-          g->flip[g->n] = 0;
-          g->kind[g->n] = SPAM_GHOST_PERIODIC;
-          for (int d = 0; d < 3; d++) g->shift[d][g->n] = d < box->dim ? o[d] * box->len[d] : 0.0;
-          g->n++;
+          const Image o[3] = {img[0][a], img[1][b], img[2][c]};
+          if (o[0] == IMG_SELF && o[1] == IMG_SELF && o[2] == IMG_SELF) continue; /* the particle itself */
+          AddGhost(g, box, i, o);
         }
   }
   PetscFunctionReturn(0);
@@ -105,5 +127,44 @@ void SpamGhostsFold(const SpamGhosts *g, int dim, int n, int ncomp, SpamGhostPar
       s[c] += Sign(g, k, dim, ncomp, parity, c) * t[c];
       t[c] = 0.0;
     }
+  }
+}
+
+/* One wall's condition on the values t[] of a ghost mirrored in face f (normal d). */
+static void WallRule(const SpamWalls *w, int f, int dim, SpamWallField what, double *t)
+{
+  const int d = f / 2;
+  switch (what) {
+  case SPAM_WALL_FIELD_VELOCITY:
+    if (w->slip[f] == SPAM_WALL_NOSLIP)
+      for (int c = 0; c < dim; c++) t[c] = 2.0 * w->velocity[f][c] - t[c];
+    else t[d] = -t[d];
+    break;
+  case SPAM_WALL_FIELD_TEMPERATURE:
+    t[0] = SpamWallGhostTemperature(w, f, t[0]);
+    break;
+  case SPAM_WALL_FIELD_HEAT_FLUX:
+    for (int c = 0; c < dim; c++)
+      if ((c == d) != (PetscBool)w->isothermal[f]) t[c] = -t[c];
+    break;
+  case SPAM_WALL_FIELD_STRESS:
+    if (w->slip[f] == SPAM_WALL_NOSLIP) break;
+    for (int a = 0; a < dim; a++)
+      for (int b = 0; b < dim; b++)
+        if ((a == d) != (b == d)) t[a * dim + b] = -t[a * dim + b];
+    break;
+  }
+}
+
+void SpamGhostsGatherWall(const SpamGhosts *g, int dim, int n, SpamWallField what, double *field)
+{
+  const int ncomp = what == SPAM_WALL_FIELD_TEMPERATURE ? 1 : what == SPAM_WALL_FIELD_STRESS ? dim * dim : dim;
+
+  for (int k = 0; k < g->n; k++) {
+    const double *s = field + (size_t)g->src[k] * ncomp;
+    double       *t = field + (size_t)(n + k) * ncomp;
+    for (int c = 0; c < ncomp; c++) t[c] = s[c];
+    for (int d = 0; d < dim; d++) /* each mirror in turn: a corner ghost is mirrored twice */
+      if ((g->flip[k] >> d) & 1) WallRule(&g->walls, 2 * d + ((g->face[k] >> d) & 1), dim, what, t);
   }
 }

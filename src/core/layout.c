@@ -11,6 +11,7 @@ PetscErrorCode SpamLayoutPositionsVelocities(int dim, SpamLayout *l)
   l->e    = -1;
   l->rho  = -1;
   l->s    = -1;
+  l->wb   = -1;
   l->nvar = 2 * dim;
   PetscFunctionReturn(0);
 }
@@ -30,6 +31,16 @@ PetscErrorCode SpamLayoutSolid(int dim, PetscBool with_rho, PetscBool with_stres
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode SpamLayoutAddWallBooks(SpamLayout *l)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(l->nvar + 2 + l->dim <= SPAM_MAX_NVAR, PETSC_COMM_SELF, PETSC_ERR_SUP, "the state of %d values per particle has no room for the wall books", l->nvar);
+  l->wb = l->nvar;
+  l->nvar += 2 + l->dim;
+  for (int k = l->wb; k < l->nvar; k++) l->scale[k] = INFINITY; /* weight 1/inf = 0 */
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamLayoutDescribe(const SpamLayout *l, char *buf, size_t len)
 {
   static const char *ax[3] = {"x", "y", "z"};
@@ -44,6 +55,7 @@ PetscErrorCode SpamLayoutDescribe(const SpamLayout *l, char *buf, size_t len)
   if (l->e >= 0) used += (size_t)snprintf(buf + used, len - used, " e");
   if (l->rho >= 0) used += (size_t)snprintf(buf + used, len - used, " rho");
   for (int k = 0; l->s >= 0 && k < l->dim * (l->dim + 1) / 2; k++) used += (size_t)snprintf(buf + used, len - used, " %s", st[k]);
+  if (l->wb >= 0) used += (size_t)snprintf(buf + used, len - used, " wall_books");
   PetscFunctionReturn(0);
 }
 

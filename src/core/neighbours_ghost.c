@@ -20,6 +20,15 @@ PetscErrorCode SpamNeighboursSetPeriodicGhosts(SpamNeighbours *nl, const SpamBox
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode SpamNeighboursSetWalls(SpamNeighbours *nl, const SpamWalls *walls)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(nl->builds == 0, PETSC_COMM_SELF, PETSC_ERR_ORDER, "set the walls before the first build");
+  nl->ghosts.walls  = *walls;
+  nl->ghosts.mirror = SpamWallsAny(walls, nl->dim);
+  PetscFunctionReturn(0);
+}
+
 /* Room for the ghost slots in u (the local part is kept). */
 static PetscErrorCode GrowSlots(SpamNeighbours *nl)
 {
@@ -110,7 +119,7 @@ PetscErrorCode SpamNeighboursBuildGhosts(SpamNeighbours *nl, const SpamBox *box)
   PetscFunctionBeginUser;
   nl->ngpairs = 0;
   for (int i = 0; i <= nl->n; i++) nl->gstart[i] = 0;
-  if (!(nl->ghosts.periodic[0] || nl->ghosts.periodic[1] || nl->ghosts.periodic[2])) PetscFunctionReturn(0);
+  if (!(nl->ghosts.periodic[0] || nl->ghosts.periodic[1] || nl->ghosts.periodic[2] || nl->ghosts.mirror)) PetscFunctionReturn(0);
   /* At the build every particle is inside the box, so only an image within the list
    * range rc of a face can be within rc of a local particle. */
   PetscCall(SpamGhostsSelect(&nl->ghosts, box, nl->n, nl->u, sqrt(nl->rc2)));

@@ -35,10 +35,11 @@ void SpamRunUpdateDrifts(const SpamDiagnostics *d, SpamRunResult *r)
   r->momentum_scale = sqrt(2.0 * d0->mass * PetscMax(fabs(d0->total), 1e-300));
   r->angmom_scale   = r->momentum_scale * PetscMax(d0->gyration, 1e-300);
   for (int k = 0; k < 3; k++) {
-    dp += (d->p[k] - d0->p[k]) * (d->p[k] - d0->p[k]);
+    const double gain = d->momentum_in[k] - d0->momentum_in[k];
+    dp += (d->p[k] - d0->p[k] - gain) * (d->p[k] - d0->p[k] - gain);
     dl += (d->l[k] - d0->l[k]) * (d->l[k] - d0->l[k]);
   }
-  r->energy_drift_max   = PetscMax(r->energy_drift_max, fabs(d->total - d0->total) / e_ref);
+  r->energy_drift_max   = PetscMax(r->energy_drift_max, fabs(d->total - d0->total - (d->energy_in - d0->energy_in)) / e_ref);
   r->momentum_drift_max = PetscMax(r->momentum_drift_max, sqrt(dp) / r->momentum_scale);
   r->angmom_drift_max   = PetscMax(r->angmom_drift_max, sqrt(dl) / r->angmom_scale);
 }

@@ -77,8 +77,9 @@ static void Failed(SpamSim *sim, const SpamRunOptions *o, SpamOutput *out, SpamR
 
 PetscErrorCode SpamRunSession(SpamSim *sim, const SpamRunOptions *o, const SpamOutputOptions *oo, TS ts, SpamTsApp *app, int *exit_code)
 {
-  SpamOutput     out;
-  SpamRunResult  r;
+  SpamOutput        out;
+  SpamOutputOptions more = *oo;
+  SpamRunResult     r;
   SpamInterrupt *sig = NULL;
   PetscErrorCode ierr;
 
@@ -87,7 +88,8 @@ PetscErrorCode SpamRunSession(SpamSim *sim, const SpamRunOptions *o, const SpamO
   /* From the first file to the last, a signal asks for a clean end instead of killing
    * (one during the opening is seen before the first step: outputs at t = 0). */
   PetscCall(SpamInterruptInstall(&sig));
-  ierr = SpamOutputOpen(o->output_dir, o->hdf5, o->csv, oo, &out);
+  SpamWallColumns(sim, more.timeseries_more, sizeof more.timeseries_more);
+  ierr = SpamOutputOpen(o->output_dir, o->hdf5, o->csv, &more, &out);
   if (!ierr) ierr = Session(sim, o, ts, app, &out, &r);
   if (ierr) Failed(sim, o, &out, &r, ierr);
   PetscCall(SpamInterruptRestore(&sig));

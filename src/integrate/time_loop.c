@@ -230,18 +230,21 @@ static PetscErrorCode SelfSteppingBound(TS ts, SpamTsApp *app)
   PetscFunctionReturn(0);
 }
 
-/* The model's jump between steps (closest-approach reflection). A changed state restarts
- * the method: an FSAL stage or Adams history computed before the jump is no longer valid. */
+/* The jumps between steps: particles that crossed a mirror wall reflected back, and the
+ * model's own (closest-approach reflection). A changed state restarts the method: an
+ * FSAL stage or Adams history computed before the jump is no longer valid. */
 static PetscErrorCode PostStep(TS ts, SpamSim *sim, SpamRunResult *r)
 {
   PetscScalar *y;
-  PetscInt     changed = 0;
+  PetscInt     changed = 0, crossed = 0;
 
   PetscFunctionBeginUser;
-  if (!sim->model.post_step) PetscFunctionReturn(0);
+  if (!sim->model.post_step && !sim->nl.ghosts.mirror) PetscFunctionReturn(0);
   PetscCall(VecGetArray(sim->X, &y));
-  PetscCall(sim->model.post_step(sim, y, &changed));
+  if (sim->nl.ghosts.mirror) PetscCall(SpamWallReflect(sim, y, &crossed));
+  if (sim->model.post_step) PetscCall(sim->model.post_step(sim, y, &changed));
   PetscCall(VecRestoreArray(sim->X, &y));
+  changed += crossed;
   if (changed > 0) {
     r->jumps += changed;
     r->jump_steps++;

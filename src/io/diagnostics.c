@@ -79,5 +79,8 @@ PetscErrorCode SpamDiagnosticsCompute(SpamSim *sim, const SpamDiagnosticsOptions
     PetscCall(SpamEntropySum(sim, y, &d->entropy_sum));
     if (o->grid_spacing > 0) PetscCall(SpamEntropyGrid(sim, y, o->grid_spacing, &d->entropy_grid));
   }
+  PetscCall(SpamWallDiagnostics(sim, y, d));
+  d->energy_in = d->wall_work + d->wall_heat;
+  for (int k = 0; k < dim; k++) d->momentum_in[k] = d->wall_impulse[k] + d->mass * m->gravity[k] * t;
   PetscFunctionReturn(0);
 }

@@ -21,6 +21,7 @@ static int Arrays(SpamFields *f, double **a[20], int per[20])
   SPAM_ARRAY(f->xdot, t * d);
   SPAM_ARRAY(f->uc, t * d);
   SPAM_ARRAY(f->edot, t);
+  SPAM_ARRAY(f->qdot, t);
   SPAM_ARRAY(f->rhodot, t);
   SPAM_ARRAY(f->wsum, t);
   SPAM_ARRAY(f->ltorque, t);

@@ -44,4 +44,6 @@ void SpamPressureForceWalk(SpamSim *sim)
   for (size_t k = 0; k < len; k++) f->acc[k] = 0.0;
   WalkForce(&sim->nl, &sim->model.kernel, f);
   SpamGhostsFold(&sim->nl.ghosts, f->dim, (int)sim->n, f->dim, SPAM_GHOST_VECTOR, f->acc);
+  /* The isentrope's walls: their forces only (its energy has no equation to book work in). */
+  if (sim->nl.ghosts.mirror) SpamWallBooks(&sim->nl.ghosts, f, &sim->model.layout, (int)sim->n, PETSC_FALSE, &sim->wall_rates, NULL);
 }

@@ -12,6 +12,7 @@
  * except when a list build adds ghosts beyond the slots reserved so far. */
 #include <spam/physics.h>
 #include <spam/stress.h>
+#include <spam/wall_books.h>
 #include "../pair/pair_walk.h"
 #include "../pair/pair_gradients.h"
 #include "../pair/pair_coordinates.h"
@@ -125,9 +126,9 @@ static PetscErrorCode FillFields(SpamSim *sim, const double *y, PetscInt *bad)
   }
   SpamGhostsGather(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->m);
   SpamGhostsGather(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->minv);
-  SpamGhostsGather(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->v);
+  SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_VELOCITY, f->v);
   SpamGhostsGather(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->e);
-  SpamGhostsGather(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->T);
+  SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_TEMPERATURE, f->T);
   if (p->density == SPAM_DENSITY_SUMMATION) {
     PetscCall(SpamDensitySummation(sim, y, bad));
     PetscFunctionReturn(0);
@@ -209,9 +210,9 @@ static void ParticleLaws(SpamSim *sim, const double *y, double *ydot)
       f->uc[(size_t)i * dim + d] = p->density == SPAM_DENSITY_CHAIN_RULE ? f->xdot[(size_t)i * dim + d] : f->v[(size_t)i * dim + d];
     }
   }
-  SpamGhostsGather(gh, dim, n, dim * dim, SPAM_GHOST_TENSOR, f->qs);
-  SpamGhostsGather(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->heat);
-  SpamGhostsGather(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->uc);
+  SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_STRESS, f->qs);
+  SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_HEAT_FLUX, f->heat);
+  SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_VELOCITY, f->uc);
 }
 
 /* Walk 2: R per body from the positive and negative torque sums (1 where either is 0),
@@ -248,7 +249,8 @@ static PetscErrorCode TorqueFactors(SpamSim *sim, TensorPass *c)
   PetscFunctionReturn(0);
 }
 
-/* Walk 3 and its folds: accelerations, de/dt, drho/dt. */
+/* Walk 3 and its folds: accelerations, de/dt (work, then plus heat), drho/dt. The heat
+ * rate stays apart on the ghost slots, where the walls' books read it. */
 static void Forces(SpamSim *sim, TensorPass *c)
 {
   SpamFields       *f   = c->f;
@@ -257,11 +259,14 @@ static void Forces(SpamSim *sim, TensorPass *c)
 
   Zero(f->acc, (size_t)slots * dim);
   Zero(f->edot, (size_t)slots);
+  Zero(f->qdot, (size_t)slots);
   Zero(f->rhodot, (size_t)slots);
   WalkForces(&sim->nl, &sim->model.kernel, c);
   SpamGhostsFold(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->acc);
   SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->edot);
+  SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->qdot);
   SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->rhodot);
+  for (int i = 0; i < n; i++) f->edot[i] += f->qdot[i];
 }
 
 static void Assemble(const SpamSim *sim, double *ydot)
@@ -304,6 +309,7 @@ PetscErrorCode SpamRhsSolid(SpamSim *sim, const double *y, double *ydot, PetscIn
   PetscCall(PetscLogEventEnd(sim->ev.force, 0, 0, 0, 0));
   if (sim->model.solid.angmom == SPAM_ANGMOM_GAUSS) PetscCall(SpamGaussConstraint(sim, y));
   Assemble(sim, ydot);
+  if (sim->nl.ghosts.mirror) SpamWallBooks(&sim->nl.ghosts, &sim->f, &sim->model.layout, (int)sim->n, PETSC_TRUE, &sim->wall_rates, ydot);
   sim->stats.pair_visits += (2.0 + (c.scale ? 1.0 : 0.0)) * (double)(sim->nl.npairs + sim->nl.ngpairs);
   PetscFunctionReturn(0);
 }

@@ -90,6 +90,7 @@ PetscErrorCode SpamSimSetUp(SpamSim *sim)
     const PetscBool all[3] = {PETSC_TRUE, PETSC_TRUE, PETSC_TRUE};
     PetscCall(SpamNeighboursSetPeriodicGhosts(&sim->nl, &sim->box, all));
   }
+  if (SpamWallsAny(&sim->walls, sim->model.dim)) PetscCall(SpamNeighboursSetWalls(&sim->nl, &sim->walls));
   PetscCall(SpamNeighboursSetThreads(&sim->nl, sim->threads));
   PetscCall(RegisterEvents(sim));
   PetscCall(FirstBuild(sim));

@@ -196,22 +196,21 @@ static PetscErrorCode ModelCommonOptions(SpamCommonParams *c)
   PetscFunctionReturn(0);
 }
 
-/* What the user gave on a face (-wall_F, -wall_F_velocity, -wall_F_temperature) wins over
- * the scene's walls; this also restores the options' walls where a scene's
- * SpamParticlesAllocate cleared them. */
-static void UserWallsWin(const SpamWalls *user, SpamWalls *w)
+/* The walls of the run: the scene's defaults (out->walls, set by its build), overridden
+ * face by face by what the options gave. */
+static void MergeWalls(const SpamWalls *given, SpamWalls *w)
 {
   for (int f = 0; f < SPAM_FACES; f++) {
-    if (user->slip_given[f]) w->slip[f] = user->slip[f];
-    if (user->velocity_given[f])
-      for (int d = 0; d < 3; d++) w->velocity[f][d] = user->velocity[f][d];
-    if (user->temperature_given[f]) {
-      w->isothermal[f]  = user->isothermal[f];
-      w->temperature[f] = user->temperature[f];
+    if (given->slip_given[f]) w->slip[f] = given->slip[f];
+    if (given->velocity_given[f])
+      for (int d = 0; d < 3; d++) w->velocity[f][d] = given->velocity[f][d];
+    if (given->temperature_given[f]) {
+      w->isothermal[f]  = PETSC_TRUE;
+      w->temperature[f] = given->temperature[f];
     }
-    w->slip_given[f]        = user->slip_given[f];
-    w->velocity_given[f]    = user->velocity_given[f];
-    w->temperature_given[f] = user->temperature_given[f];
+    w->slip_given[f]        = given->slip_given[f];
+    w->velocity_given[f]    = given->velocity_given[f];
+    w->temperature_given[f] = given->temperature_given[f];
   }
 }
 
@@ -242,11 +241,10 @@ static PetscErrorCode BuildScene(const SpamCommonParams *c, PetscFunctionList li
   if (c->dim != 2) solid->gamma = 1.0 + 2.0 / c->dim; /* the ideal gas's isentrope in D dimensions */
   if (!ops->own_model || help) PetscCall(SpamSolidOptions(solid));
   PetscCall(PetscMemzero(p, sizeof *p));
-  p->walls = c->walls; /* the scene adds its own walls where none were given */
   ierr = ops->build(c, &sp, solid, p);
   if (ierr) PetscCall(SpamParticlesFree(p)); /* a scene refused after allocating: leak nothing */
   PetscCall(ierr);
-  UserWallsWin(&c->walls, &p->walls);
+  MergeWalls(&c->walls, &p->walls);
   PetscFunctionReturn(0);
 }
 
@@ -296,6 +294,7 @@ static PetscErrorCode ModelOf(const SpamCommonParams *c, SpamParticles *p, SpamS
     /* no density given (a file without rho, the expansion): the continuity density starts summed */
     if (solid->density != SPAM_DENSITY_SUMMATION && (!p->rho || (p->columns && !(p->columns & SPAM_COLUMN_RHO)))) solid->density_initial = SPAM_DENSITY_INITIAL_SUMMED;
     PetscCall(SpamModelSolidSetUp(p->dim, &c->kernel, p->mass, solid, model));
+    if (SpamWallsAny(&p->walls, p->dim)) PetscCall(SpamLayoutAddWallBooks(&model->layout));
   }
   /* The spring scenes' own model takes no gravity: -gravity is then refused as unused
    * (option_use.c), so it is only set on the smooth-particle models. */

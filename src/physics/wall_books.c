@@ -1,0 +1,44 @@
+/* The walls' books (wall_books.h). */
+#include <spam/wall_books.h>
+
+/* The face a mirror ghost is booked to: its lowest mirrored direction's. */
+static int FaceOf(const SpamGhosts *g, int k)
+{
+  int d = 0;
+  while (!((g->flip[k] >> d) & 1)) d++;
+  return 2 * d + ((g->face[k] >> d) & 1);
+}
+
+void SpamWallBooks(const SpamGhosts *g, const SpamFields *f, const SpamLayout *l, int n, PetscBool energy, SpamWallRates *r, double *ydot)
+{
+  const int dim = l->dim, nv = l->nvar;
+
+  for (int s = 0; s < SPAM_FACES; s++) {
+    r->work[s] = r->heat[s] = 0.0;
+    for (int d = 0; d < 3; d++) r->force[s][d] = 0.0;
+  }
+  r->energy = energy;
+  if (l->wb >= 0)
+    for (int i = 0; i < n; i++)
+      for (int c = 0; c < 2 + dim; c++) ydot[(size_t)i * nv + l->wb + c] = 0.0;
+  for (int k = 0; k < g->n; k++) {
+    const int     j = n + k, s = FaceOf(g, k);
+    const double *a = f->acc + (size_t)j * dim;
+    double        work = 0.0, heat = 0.0;
+    if (g->kind[k] != SPAM_GHOST_MIRROR) continue;
+    for (int d = 0; d < dim; d++) r->force[s][d] -= f->m[j] * a[d];
+    if (energy) {
+      for (int d = 0; d < dim; d++) work -= f->m[j] * f->v[(size_t)j * dim + d] * a[d];
+      work -= f->m[j] * f->edot[j];
+      heat = -f->m[j] * f->qdot[j];
+      r->work[s] += work;
+      r->heat[s] += heat;
+    }
+    if (l->wb >= 0) {
+      double *b = ydot + (size_t)g->src[k] * nv + l->wb;
+      b[0] += work;
+      b[1] += heat;
+      for (int d = 0; d < dim; d++) b[2 + d] -= f->m[j] * a[d];
+    }
+  }
+}

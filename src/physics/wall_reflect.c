@@ -1,0 +1,29 @@
+/* Particles that crossed a mirror wall during a step are put back by reflection. Within a
+ * step a particle beyond a wall still meets its own image (now inside the box) and the
+ * images of its neighbours, which push it back; but a fast, sparse front (an expansion
+ * reaching a wall) can end a step beyond it. Reflecting it (position mirrored in the
+ * wall, normal velocity reversed) is what an elastic wall would do; the step is then a
+ * jump of the state, counted in summary.json's post_step_jumps, and the integrator
+ * restarts from it. */
+#include <spam/physics.h>
+
+PetscErrorCode SpamWallReflect(SpamSim *sim, double *y, PetscInt *changed)
+{
+  const SpamLayout *l = &sim->model.layout;
+  const SpamWalls  *w = &sim->walls;
+
+  PetscFunctionBeginUser;
+  *changed = 0;
+  for (PetscInt i = 0; i < sim->n; i++) {
+    double *p = y + (size_t)i * l->nvar;
+    for (int d = 0; d < sim->model.dim; d++) {
+      const double lo = sim->box.lo[d], hi = lo + sim->box.len[d];
+      if (SpamWallOn(w, 2 * d) && p[l->x + d] < lo) p[l->x + d] = 2.0 * lo - p[l->x + d];
+      else if (SpamWallOn(w, 2 * d + 1) && p[l->x + d] > hi) p[l->x + d] = 2.0 * hi - p[l->x + d];
+      else continue;
+      p[l->v + d] = -p[l->v + d];
+      (*changed)++;
+    }
+  }
+  PetscFunctionReturn(0);
+}
