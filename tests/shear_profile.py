@@ -62,6 +62,25 @@ def profile(rows, n):
     return prof
 
 
+def mean_profile(snaps, n, t_from):
+    """The row profiles of the snapshots at t >= t_from, averaged over those snapshots."""
+    profs = [profile(rows, n) for t, rows in snaps if t >= t_from - 1e-9]
+    return [tuple(sum(p[k][c] for p in profs) / len(profs) for c in range(3)) for k in range(len(profs[0]))]
+
+
+def row_pairs(prof):
+    """Rows 2k and 2k+1 averaged: the lattice's Nyquist mode (v alternating row by row)
+    cancels."""
+    return [((prof[k][0] + prof[k + 1][0]) / 2, (prof[k][1] + prof[k + 1][1]) / 2, None)
+            for k in range(0, len(prof) - 1, 2)]
+
+
+def window_mean(ts, column, t_from):
+    """Mean of a timeseries column over the rows at t >= t_from."""
+    v = [x for t, x in zip(ts["t"], ts[column]) if t >= t_from - 1e-9]
+    return sum(v) / len(v)
+
+
 def errors(prof, exact, peak):
     """L2 (root mean square over rows) and max error of the binned v_x against exact(y),
     both relative to the peak speed."""
