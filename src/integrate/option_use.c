@@ -15,7 +15,7 @@
 typedef enum {
   G_ALL, G_DT, G_ADAPTIVE, G_ARKODE, G_ARKODE_ADAPT, G_CVODE, G_TS, G_TS_ADAPT, G_RK, G_SSP, G_SYMP,
   G_FILE, G_PERIODIC, G_ISENTROPE, G_EXPANSION, G_CHAIN, G_SPRING, G_ROTOR_MD, G_PLANEWAVE, G_ROTOR, G_ROTOR_PAIR, G_TENSILE, G_COUETTE, G_POISEUILLE,
-  G_MODEL, G_SOLID, G_SOLID_GAS, G_SOLID_GAMMA, G_SOLID_ELASTIC, G_SOLID_VISC, G_SOLID_R2, G_SOLID_TORQUE, G_SOLID_CONT, G_ENTROPY
+  G_MODEL, G_WALL, G_SOLID, G_SOLID_GAS, G_SOLID_GAMMA, G_SOLID_ELASTIC, G_SOLID_VISC, G_SOLID_R2, G_SOLID_TORQUE, G_SOLID_CONT, G_ENTROPY
 } Group;
 
 typedef struct {
@@ -60,6 +60,13 @@ static const Known KnownOptions[] = {
   {"kernel", PETSC_TRUE, G_MODEL}, {"gravity", PETSC_TRUE, G_MODEL}, {"periodic_images", PETSC_TRUE, G_ALL},
   /* Issue 14 point 6: the plane wave's initial stress (scenes/planewave_stress.c). */
   {"planewave_stress", PETSC_TRUE, G_PLANEWAVE},
+  /* Issue 15: mirror walls per box face (core/walls.c); relevance by face and condition (WallRelevant). */
+  {"wall_xlo", PETSC_TRUE, G_WALL}, {"wall_xhi", PETSC_TRUE, G_WALL}, {"wall_ylo", PETSC_TRUE, G_WALL},
+  {"wall_yhi", PETSC_TRUE, G_WALL}, {"wall_zlo", PETSC_TRUE, G_WALL}, {"wall_zhi", PETSC_TRUE, G_WALL},
+  {"wall_xlo_velocity", PETSC_TRUE, G_WALL}, {"wall_xhi_velocity", PETSC_TRUE, G_WALL}, {"wall_ylo_velocity", PETSC_TRUE, G_WALL},
+  {"wall_yhi_velocity", PETSC_TRUE, G_WALL}, {"wall_zlo_velocity", PETSC_TRUE, G_WALL}, {"wall_zhi_velocity", PETSC_TRUE, G_WALL},
+  {"wall_xlo_temperature", PETSC_TRUE, G_WALL}, {"wall_xhi_temperature", PETSC_TRUE, G_WALL}, {"wall_ylo_temperature", PETSC_TRUE, G_WALL},
+  {"wall_yhi_temperature", PETSC_TRUE, G_WALL}, {"wall_zlo_temperature", PETSC_TRUE, G_WALL}, {"wall_zhi_temperature", PETSC_TRUE, G_WALL},
   /* Issue 15 point 4: the shear channels (scenes/shear_channel.c). */
   {"couette_n", PETSC_TRUE, G_COUETTE}, {"couette_nx", PETSC_TRUE, G_COUETTE}, {"couette_speed", PETSC_TRUE, G_COUETTE},
   {"couette_start", PETSC_TRUE, G_COUETTE}, {"poiseuille_n", PETSC_TRUE, G_POISEUILLE}, {"poiseuille_nx", PETSC_TRUE, G_POISEUILLE},
@@ -177,6 +184,7 @@ PetscErrorCode SpamOptionsCheckValues(void)
 
 /* The run, as far as relevance goes. */
 typedef struct {
+  const SpamSim         *sim;
   const char            *scene, *model;
   const SpamSolidParams *solid; /* NULL unless the model is the tensor-path solid */
   const SpamRunOptions  *o;
@@ -193,6 +201,7 @@ static PetscErrorCode RunDescribe(const SpamSim *sim, const SpamRunOptions *o, T
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(r, sizeof *r));
+  r->sim   = sim;
   r->scene = sim->scene.name;
   r->model = sim->model.name;
   r->o     = o;
@@ -472,6 +481,37 @@ static PetscErrorCode NotUsed(const char *name, const char *value, const char *w
   PetscFunctionReturn(0);
 }
 
+/* A wall option -wall_F[_velocity|_temperature]: the face must exist in the run; its
+ * velocity applies to a no-slip wall of a model with viscous stresses (the tensor path),
+ * its temperature to a wall of a model that conducts heat. */
+static PetscBool WallRelevant(const char *name, const Run *r, char *why, size_t len)
+{
+  const SpamSim *sim = r->sim;
+  const int      dim = sim->model.dim;
+  const char    *suffix = name + 8; /* after "wall_" and the face */
+  int            f = 0;
+
+  while (f < SPAM_FACES && strncasecmp(name + 5, SpamFaceNames[f], 3)) f++;
+  if (!strcmp(r->model, "springs")) {
+    (void)snprintf(why, len, "applies to the smooth-particle models (this run: -scene %s carries its own model, springs)", r->scene);
+    return PETSC_FALSE;
+  }
+  if (f / 2 >= dim) {
+    (void)snprintf(why, len, "the %s face exists in %d dimensions (this run: -dim %d)", SpamFaceNames[f], f / 2 + 1, dim);
+    return PETSC_FALSE;
+  }
+  if (!*suffix) return PETSC_TRUE;
+  if (!strcasecmp(suffix, "_velocity") && (sim->walls.slip[f] != SPAM_WALL_NOSLIP || !r->solid)) {
+    (void)snprintf(why, len, "applies to a no-slip wall on the %s face of -material gas or elastic (this run: %s wall %s, model %s)", SpamFaceNames[f], SpamFaceNames[f], SpamWallSlipNames[sim->walls.slip[f]], r->model);
+    return PETSC_FALSE;
+  }
+  if (!strcasecmp(suffix, "_temperature") && (!SpamWallOn(&sim->walls, f) || !r->solid || !(r->solid->conductivity > 0))) {
+    (void)snprintf(why, len, "applies to a wall on the %s face of a model that conducts heat, -conductivity > 0 (this run: %s wall %s, model %s%s)", SpamFaceNames[f], SpamFaceNames[f], SpamWallSlipNames[sim->walls.slip[f]], r->model, r->solid ? ", -conductivity 0" : "");
+    return PETSC_FALSE;
+  }
+  return PETSC_TRUE;
+}
+
 static PetscErrorCode CheckOne(const char *name, const char *value, const Run *r, PetscInt nleft, char **left)
 {
   const Known *k = Find(name);
@@ -479,7 +519,7 @@ static PetscErrorCode CheckOne(const char *name, const char *value, const Run *r
 
   PetscFunctionBeginUser;
   if (k) {
-    if (!Relevant(k->group, r, why, sizeof why)) PetscCall(NotUsed(name, value, why));
+    if (k->group == G_WALL ? !WallRelevant(k->name, r, why, sizeof why) : !Relevant(k->group, r, why, sizeof why)) PetscCall(NotUsed(name, value, why));
     else if (Unused(name, nleft, left)) PetscCall(NotUsed(name, value, "not read by this scene, model or method"));
     PetscFunctionReturn(0);
   }

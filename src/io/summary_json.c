@@ -182,6 +182,24 @@ static void NullNote(Summary *f, const SpamRunResult *r)
   Str(f, "nulls", note);
 }
 
+/* The mirror walls, one key per face with a wall: wall_F (noslip or freeslip),
+ * wall_F_velocity, wall_F_temperature (a number, or "adiabatic"). */
+static void Walls(Summary *f, const SpamSim *sim)
+{
+  char key[48];
+
+  for (int s = 0; s < 2 * sim->model.dim; s++) {
+    if (!SpamWallOn(&sim->walls, s)) continue;
+    (void)snprintf(key, sizeof key, "wall_%s", SpamFaceNames[s]);
+    Str(f, key, SpamWallSlipNames[sim->walls.slip[s]]);
+    (void)snprintf(key, sizeof key, "wall_%s_velocity", SpamFaceNames[s]);
+    Vec3(f, key, sim->walls.velocity[s]);
+    (void)snprintf(key, sizeof key, "wall_%s_temperature", SpamFaceNames[s]);
+    if (sim->walls.isothermal[s]) Num(f, key, sim->walls.temperature[s]);
+    else Str(f, key, "adiabatic");
+  }
+}
+
 /* summary.json is listed in the manifest; the caller rewrites the manifest. */
 PetscErrorCode SpamSummaryWrite(SpamOutput *out, const SpamSim *sim, const SpamRunOptions *o, const SpamRunResult *r)
 {
@@ -202,6 +220,7 @@ PetscErrorCode SpamSummaryWrite(SpamOutput *out, const SpamSim *sim, const SpamR
   ModelFields(&f, &sim->model);
   Vec3(&f, "box_lo", sim->box.lo);
   Vec3(&f, "box_len", sim->box.len);
+  Walls(&f, sim);
   Str(&f, "method", r->method);
   Str(&f, "adapt", r->adapt);
   Num(&f, "fixed_step", r->fixed_dt);
