@@ -62,7 +62,10 @@ def main():
     fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.5))
     big = runs[-1]
     D = big["n"] ** 2 / big["nu"]
-    chosen = [s for s in big["snaps"] if any(abs(s[0] - f * D) < 1e-6 * D + 1e-9 for f in (0.0625, 0.125, 0.25, 0.5, 1.5))]
+    # the snapshots nearest to these fractions of the diffusion time (rho is not exactly 1)
+    chosen = sorted({min(range(len(big["snaps"])), key=lambda k: abs(big["snaps"][k][0] - f * D))
+                     for f in (0.0625, 0.125, 0.25, 0.5, 1.5)})
+    chosen = [big["snaps"][k] for k in chosen]
     colours = plt.cm.viridis([k / max(1, len(chosen) - 1) for k in range(len(chosen))])
     yy = [big["n"] * k / 200 for k in range(201)]
     for (t, rows), col in zip(chosen, colours):
