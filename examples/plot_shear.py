@@ -14,7 +14,8 @@ Left panel: v_x against y of the run with the largest H at several snapshot time
 rows (points) against the exact start-up series (lines) and the steady profile (dashed).
 Right panel: the error of the row profile averaged over t in [H^2/nu, 1.5 H^2/nu] against
 H/dx (log-log), rows and row pairs (the lattice's Nyquist mode cancels), with the fitted
-slope of each. Prints one line per run: H, L2 and max error.
+slope of each. Prints one line per run: H, L2 and max error. Needs matplotlib;
+re-runs itself with /usr/bin/python3 when the python3 first on PATH lacks it.
 """
 import argparse
 import math
@@ -26,7 +27,12 @@ from shear_profile import (couette_exact, errors, mean_profile, order, poiseuill
                            profile, row_pairs, snapshots)
 from spamrun import summary  # noqa: E402
 
-import matplotlib  # noqa: E402
+try:
+    import matplotlib  # noqa: E402
+except ImportError:  # a python3 without matplotlib first on PATH: Debian's has it
+    if os.path.realpath(sys.executable) != os.path.realpath("/usr/bin/python3") and os.path.exists("/usr/bin/python3"):
+        os.execv("/usr/bin/python3", ["/usr/bin/python3"] + sys.argv)
+    sys.exit("plot_shear: error: needs matplotlib (Debian: python3-matplotlib)")
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
