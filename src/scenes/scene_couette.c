@@ -24,9 +24,13 @@ static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p,
   const int              dim = c->dim, yhi = 3;
   const double           H   = (double)q->n;
   double                 nu, cs, U;
-  char                   line[320];
+  char                   line[320], val[64];
+  PetscBool              speed_set;
 
   PetscFunctionBeginUser;
+  PetscCall(PetscOptionsHasName(NULL, NULL, "-couette_speed", &speed_set));
+  PetscCall(SpamOptionText("-couette_speed", q->speed, val, sizeof val));
+  if (speed_set && c->walls.velocity_given[yhi]) SPAM_BAD_INPUT("-couette_speed", val, "-wall_yhi_velocity is given too and sets the upper wall's velocity: give one of them");
   PetscCall(SpamShearChannelCheck("couette", q, solid, &nu, &cs));
   PetscCall(SpamShearChannelBuild(c, "couette", q, out));
   if (!c->walls.velocity_given[yhi]) out->walls.velocity[yhi][0] = q->speed;

@@ -25,9 +25,13 @@ static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p,
   const int              dim = c->dim;
   const double           H   = (double)q->n;
   double                 nu, cs, g;
-  char                   line[320];
+  char                   line[320], val[64];
+  PetscBool              speed_set;
 
   PetscFunctionBeginUser;
+  PetscCall(PetscOptionsHasName(NULL, NULL, "-poiseuille_speed", &speed_set));
+  PetscCall(SpamOptionText("-poiseuille_speed", q->speed, val, sizeof val));
+  if (speed_set && c->gravity_given) SPAM_BAD_INPUT("-poiseuille_speed", val, "-gravity is given too and sets the driving force: give one of them");
   PetscCall(SpamShearChannelCheck("poiseuille", q, solid, &nu, &cs));
   PetscCall(SpamShearChannelBuild(c, "poiseuille", q, out));
   out->gravity[0]  = 8.0 * nu * q->speed / (H * H);
