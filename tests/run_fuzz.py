@@ -96,6 +96,8 @@ CONTEXTS = {
     "BS": [("-expansion_n", "4"), ("-h", "1.5"), ("-ts_type", "basicsymplectic")] + TINY,
     "CO": [("-scene", "couette"), ("-couette_n", "4"), ("-h", "1.5")] + TINY,
     "PO": [("-scene", "poiseuille"), ("-poiseuille_n", "4"), ("-h", "1.5")] + TINY,
+    # snapshots on (at t = 0 and 0.5): the grid fields are written at the snapshot times
+    "EG": [("-expansion_n", "4"), ("-h", "1.5")] + TINY[:2] + [("-snapshot_interval", "0.5"), ("-output_interval", "0.25")],
 }
 
 
@@ -268,6 +270,7 @@ OPTION_TABLE = {
     "-output_interval": ("E", real(zero=O0, big=O02, i31=O02)),
     "-snapshot_interval": ("E", real(zero=O0, big=O02, i31=O02)),
     "-diag_grid_spacing": ("E", real(zero=O0, big=O02, i31=O02)),
+    "-grid_interval": ("EG", real(zero=O0, big=O0, i31=O0)),  # 1e300: one point per direction
     "-snapshot_max": ("E", {}),
     "-output_dir": ("E", PATH), "-initial_csv": ("E", PATH), "-final_csv": ("E", PATH),
     # the shear channels: n >= max(2, h); nx 0 is automatic; |speed| below the sound speed (1.41)

@@ -43,6 +43,8 @@ typedef struct {
   PetscBool overwrite;     /* -output_overwrite: remove an earlier run's files first  */
   PetscInt  snapshot_max;  /* -snapshot_max: no run writes more snapshots than this   */
   char      timeseries_more[1024]; /* the run's further timeseries columns (",a,b"): walls */
+  double    grid_interval; /* -grid_interval: spacing of the grid fields at every      */
+                           /* snapshot (grid.h); 0: none                              */
 } SpamOutputOptions;
 
 /* One file of the run, as manifest.json lists it. */
@@ -60,6 +62,10 @@ typedef struct {
   long      step;              /* step of the last timeseries row (snapshot attribute) */
   double   *snap_times;        /* [capacity] times of the snapshots, for the XDMF index */
   int       snap_cap;
+  struct {
+    int     n, cap;
+    double *times;             /* [cap] times of the grid files, for grid.xmf       */
+  } grid;
   PetscBool hdf5, csv;
   SpamOutputOptions opt;
   int       lock_fd;           /* the lock file, held with flock (-1: none)         */

@@ -49,9 +49,11 @@ typedef struct {
 
 /* Reads and validates every run option; sim gives scene defaults (end time). */
 PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o);
-/* Reads -output_overwrite and -snapshot_max; refuses a snapshot interval that would write
- * more than -snapshot_max snapshots. Call before the set-up ends (see main.c). */
-PetscErrorCode SpamOutputOptionsParse(const SpamRunOptions *ro, SpamOutputOptions *o);
+/* Reads -output_overwrite, -snapshot_max and -grid_interval; refuses a snapshot interval
+ * that would write more than -snapshot_max snapshots and a grid spacing that is negative,
+ * not finite, gives too many points over sim's box or has no snapshot times to be written
+ * at. Call before the set-up ends (see main.c). */
+PetscErrorCode SpamOutputOptionsParse(const SpamSim *sim, const SpamRunOptions *ro, SpamOutputOptions *o);
 
 /* Per-step monitor line and the progress line with ETA. */
 PetscErrorCode SpamMonitorStep(const SpamSim *sim, const SpamProgress *p);

@@ -30,7 +30,7 @@ static PetscErrorCode Run(int *exit_code)
   /* From here on every path frees what it made: a refused option or directory and a
    * failed run (each reported already) leak nothing (the sanitizer build checks). */
   ierr = SpamRunOptionsParse(&sim, &o);
-  if (!ierr) ierr = SpamOutputOptionsParse(&o, &oo);
+  if (!ierr) ierr = SpamOutputOptionsParse(&sim, &o, &oo);
   if (!ierr) ierr = SpamTSCreate(&sim, &o, &app, &ts); /* validates the method; lists TS options */
   /* With -help every option has been listed with its default: nothing to run. Otherwise
    * every input is valid from here on: only now touch the file system. */

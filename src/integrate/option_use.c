@@ -33,6 +33,7 @@ static const Known KnownOptions[] = {
   {"output_interval", PETSC_TRUE, G_ALL}, {"snapshot_interval", PETSC_TRUE, G_ALL}, {"snapshot_hdf5", PETSC_FALSE, G_ALL},
   {"snapshot_csv", PETSC_FALSE, G_ALL}, {"monitor", PETSC_FALSE, G_ALL}, {"diag_entropy", PETSC_FALSE, G_ALL},
   {"output_overwrite", PETSC_FALSE, G_ALL}, {"snapshot_max", PETSC_TRUE, G_ALL}, /* the run's own directory (output_options.c) */
+  {"grid_interval", PETSC_TRUE, G_ALL}, /* fields on a grid at the snapshot times (grid.h) */
   {"initial_csv", PETSC_TRUE, G_ALL}, {"final_csv", PETSC_TRUE, G_ALL}, {"diag_grid_spacing", PETSC_TRUE, G_ENTROPY},
   {"ts_dt", PETSC_TRUE, G_DT}, {"ts_rtol", PETSC_TRUE, G_ADAPTIVE}, {"ts_atol", PETSC_TRUE, G_ADAPTIVE},
   {"arkode_classic_weights", PETSC_FALSE, G_ADAPTIVE}, {"step_cfl", PETSC_TRUE, G_ADAPTIVE}, {"step_force", PETSC_TRUE, G_ADAPTIVE},

@@ -17,12 +17,13 @@ static PetscBool DigitsThen(const char *s, const char *suffix)
 
 static PetscBool IsRunFile(const char *name)
 {
-  static const char *fixed[] = {"timeseries.csv", "steps.csv", "summary.json", "snapshots.xmf", "manifest.json", "particles_last_good.csv"};
+  static const char *fixed[] = {"timeseries.csv", "steps.csv", "summary.json", "snapshots.xmf", "manifest.json", "particles_last_good.csv", "grid.xmf"};
 
   for (size_t k = 0; k < sizeof fixed / sizeof fixed[0]; k++)
     if (!strcmp(name, fixed[k])) return PETSC_TRUE;
   if (!strncmp(name, "snap_", 5) && DigitsThen(name + 5, ".h5")) return PETSC_TRUE;
   if (!strncmp(name, "particles_", 10) && DigitsThen(name + 10, ".csv")) return PETSC_TRUE;
+  if (!strncmp(name, "grid_", 5) && (DigitsThen(name + 5, ".h5") || DigitsThen(name + 5, ".csv"))) return PETSC_TRUE;
   return PETSC_FALSE;
 }
 

@@ -92,6 +92,8 @@ static PetscErrorCode CommitListed(SpamOutput *o, SpamFile *f, const char *name,
 static void FreeLists(SpamOutput *o)
 {
   (void)PetscFree(o->snap_times);
+  (void)PetscFree(o->grid.times);
+  o->grid.n = o->grid.cap = 0;
   (void)PetscFree(o->files);
   o->nfiles = o->files_cap = o->snap_cap = 0;
 }

@@ -1,7 +1,8 @@
-/* Options of the output directory: whether an earlier run's files may be replaced, and
- * how many snapshots a run may write. */
+/* Options of the output directory: whether an earlier run's files may be replaced, how
+ * many snapshots a run may write, and the spacing of the grid fields written with them. */
 #include <spam/run.h>
 #include <spam/errors.h>
+#include <spam/grid.h>
 
 /* Snapshots at t = 0, at every interval up to t_end, and one more at the end (a last good
  * state, an interrupted run's state). A tiny interval would otherwise fill the disk with
@@ -19,7 +20,27 @@ static PetscErrorCode CheckSnapshotCount(const SpamRunOptions *ro, const SpamOut
   SPAM_BAD_INPUT("-snapshot_interval", val, "%s; raise -snapshot_interval (or -snapshot_max)", why);
 }
 
-PetscErrorCode SpamOutputOptionsParse(const SpamRunOptions *ro, SpamOutputOptions *o)
+/* The grid fields are written at the snapshot times, in the snapshots' formats: a spacing
+ * without snapshots, or without a format, would be given in vain. A tiny spacing would
+ * ask for more memory and disk than any run should: the count is named. */
+static PetscErrorCode CheckGrid(const SpamSim *sim, const SpamRunOptions *ro, const SpamOutputOptions *o)
+{
+  char   val[128];
+  double points;
+
+  PetscFunctionBeginUser;
+  if (o->grid_interval == 0.0) PetscFunctionReturn(0);
+  PetscCall(SpamOptionText("-grid_interval", o->grid_interval, val, sizeof val));
+  if (!(o->grid_interval > 0.0 && isfinite(o->grid_interval))) SPAM_BAD_INPUT("-grid_interval", val, "must be zero (off) or a positive finite grid spacing");
+  points = SpamGridPointCount(&sim->box, o->grid_interval);
+  if (!isfinite(points)) SPAM_BAD_INPUT("-grid_interval", val, "the box would hold more than 1e308 grid points, at most %.0e; raise the spacing", SPAM_GRID_MAX_POINTS);
+  if (!(points <= SPAM_GRID_MAX_POINTS)) SPAM_BAD_INPUT("-grid_interval", val, "the box would hold %.3g grid points, at most %.0e; raise the spacing", points, SPAM_GRID_MAX_POINTS);
+  if (!(ro->snapshot_interval > 0)) SPAM_BAD_INPUT("-grid_interval", val, "the grid fields are written at the snapshot times, and -snapshot_interval is 0 (no snapshots)");
+  if (!ro->hdf5 && !ro->csv) SPAM_BAD_INPUT("-grid_interval", val, "the grid fields are written in the snapshots' formats, and -snapshot_hdf5 and -snapshot_csv are both off");
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamOutputOptionsParse(const SpamSim *sim, const SpamRunOptions *ro, SpamOutputOptions *o)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(o, sizeof *o));
@@ -28,6 +49,7 @@ PetscErrorCode SpamOutputOptionsParse(const SpamRunOptions *ro, SpamOutputOption
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Output directory", "spam-ark");
   PetscCall(PetscOptionsBool("-output_overwrite", "Remove the files of an earlier run in -output_dir before starting (default: refuse a directory that holds them)", "README", o->overwrite, &o->overwrite, NULL));
   PetscCall(PetscOptionsInt("-snapshot_max", "Most snapshot files a run may write", "README", o->snapshot_max, &o->snapshot_max, NULL));
+  PetscCall(PetscOptionsReal("-grid_interval", "Grid spacing of the smooth-particle fields written at every snapshot time, grid_NNNNN.h5/.csv + grid.xmf (0: none)", "README", o->grid_interval, &o->grid_interval, NULL));
   PetscOptionsEnd();
   if (o->snapshot_max < 1) {
     char val[32];
@@ -35,5 +57,6 @@ PetscErrorCode SpamOutputOptionsParse(const SpamRunOptions *ro, SpamOutputOption
     SPAM_BAD_INPUT("-snapshot_max", val, "must be a positive integer");
   }
   PetscCall(CheckSnapshotCount(ro, o));
+  PetscCall(CheckGrid(sim, ro, o));
   PetscFunctionReturn(0);
 }

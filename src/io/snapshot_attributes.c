@@ -59,3 +59,13 @@ herr_t SpamSnapshotDensityCarried(hid_t file, int carried)
   if (H5Dclose(set) < 0) w = -1;
   return w;
 }
+
+herr_t SpamH5Attribute(hid_t loc, const char *name, hid_t file_type, hid_t mem_type, hsize_t n, const void *data)
+{
+  return Attribute(loc, name, file_type, mem_type, n, data);
+}
+
+herr_t SpamH5StringAttribute(hid_t loc, const char *name, const char *s)
+{
+  return StringAttribute(loc, name, s);
+}

@@ -11,4 +11,7 @@ herr_t SpamSnapshotAttributes(hid_t file, const SpamSim *sim, double t, long ste
 /* Attribute carried of /density: 1 when the density is state (the file scene reads it
  * back), 0 when summed from the positions (derived, not read). */
 herr_t SpamSnapshotDensityCarried(hid_t file, int carried);
+/* An attribute of loc: n values (0: a scalar); a fixed-length ASCII string. */
+herr_t SpamH5Attribute(hid_t loc, const char *name, hid_t file_type, hid_t mem_type, hsize_t n, const void *data);
+herr_t SpamH5StringAttribute(hid_t loc, const char *name, const char *s);
 #endif

@@ -4,6 +4,7 @@
  * XDMF index over all of them that ParaView opens as a time series of point clouds. */
 #define _DEFAULT_SOURCE /* open flags, flock, lstat, gethostname: POSIX, not C11 */
 #include "snapshot_hdf5.h"
+#include <spam/grid.h>
 
 #include <errno.h>
 #include <sys/stat.h>
@@ -263,6 +264,7 @@ PetscErrorCode SpamSnapshotWrite(SpamOutput *o, SpamSim *sim, const double *y, d
     PetscCall(SpamManifestAdd(o, name, tag ? "snapshot_csv_last_good" : "snapshot_csv", t, PETSC_FALSE));
   }
   o->nsnap++;
+  if (o->opt.grid_interval > 0) PetscCall(SpamGridWrite(o, sim, y, t)); /* fields on a grid, same time */
   if (o->hdf5) {
     PetscCall(WriteXdmfIndex(o, &sim->model.layout, sim->n));
     PetscCall(SpamManifestAdd(o, "snapshots.xmf", "xdmf_index", NAN, PETSC_FALSE));

@@ -104,6 +104,25 @@ static void Zero(double *a, size_t len)
   for (size_t k = 0; k < len; k++) a[k] = 0.0;
 }
 
+/* Under gravity a mirror image of the gas stands deeper in the field than its source:
+ * its pressure is the hydrostatic continuation P_g = P_i + rho_i g.(x_g - x_i), so that a
+ * column at rest is in balance at the wall as in its interior: sigma_g/rho^2 loses
+ * g.(x_g - x_i)/rho on its diagonal (the gas's; a solid's images keep their stress). (Without it the image's pressure equals its source's
+ * and the bottom layer lacks the push that holds up the column.) */
+static void HydrostaticImages(SpamSim *sim)
+{
+  const SpamGhosts *gh  = &sim->nl.ghosts;
+  SpamFields       *f   = &sim->f;
+  const int         dim = f->dim, n = (int)sim->n;
+
+  for (int k = 0; k < gh->n; k++) {
+    double dphi = 0.0; /* g.(x_g - x_i) */
+    if (gh->kind[k] != SPAM_GHOST_MIRROR) continue;
+    for (int d = 0; d < dim; d++) dphi += sim->model.gravity[d] * (sim->nl.u[d][n + k] - sim->nl.u[d][gh->src[k]]);
+    for (int a = 0; a < dim; a++) f->qs[(size_t)(n + k) * dim * dim + a * dim + a] -= dphi / f->rho[n + k];
+  }
+}
+
 /* Per-particle fields of y for the local slots, then gathered into the ghosts: velocity,
  * energy and temperature, mass, and the density (summed, or the state's). */
 static PetscErrorCode FillFields(SpamSim *sim, const double *y, PetscInt *bad)
@@ -211,6 +230,7 @@ static void ParticleLaws(SpamSim *sim, const double *y, double *ydot)
     }
   }
   SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_STRESS, f->qs);
+  if (gh->mirror && sim->model.gravity_on && p->material == SPAM_MATERIAL_GAS) HydrostaticImages(sim);
   SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_HEAT_FLUX, f->heat);
   SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_VELOCITY, f->uc);
 }
