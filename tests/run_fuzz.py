@@ -95,6 +95,8 @@ CONTEXTS = {
     "CV": [("-expansion_n", "4"), ("-h", "1.5"), ("-ts_type", "cvode")] + TINY,
     "RK": [("-expansion_n", "4"), ("-h", "1.5"), ("-ts_type", "rk")] + TINY,
     "BS": [("-expansion_n", "4"), ("-h", "1.5"), ("-ts_type", "basicsymplectic")] + TINY,
+    "CO": [("-scene", "couette"), ("-couette_n", "4"), ("-h", "1.5")] + TINY,
+    "PO": [("-scene", "poiseuille"), ("-poiseuille_n", "4"), ("-h", "1.5")] + TINY,
     # snapshots on (at t = 0 and 0.5): the grid fields are written at the snapshot times
     "EG": [("-expansion_n", "4"), ("-h", "1.5")] + TINY[:2] + [("-snapshot_interval", "0.5"), ("-output_interval", "0.25")],
     "SOD": [("-scene", "sod"), ("-dim", "1"), ("-sod_n", "10")] + TINY,
@@ -286,6 +288,11 @@ OPTION_TABLE = {
     "-gresho_p0": ("GR", real(i31=O023)),  # from 1e-100 to 1e100; 2^31 may blow up or hit the step limit
     "-taylorgreen_amplitude": ("TG", real(m1=O0, zero=O0, tiny=O0, i31=O023)),  # |U| up to 1e100
     "-heatmode_eps": ("HM", real(zero=O0, tiny=O0)),  # |eps| < 1
+    # the shear channels: n >= max(2, h); nx 0 is automatic; |speed| below the sound speed (1.41)
+    "-couette_n": ("CO", {}), "-couette_nx": ("CO", {"0": O0}), "-couette_start": ("CO", {}),
+    "-couette_speed": ("CO", real(m1=O0, zero=O0, tiny=O0)),
+    "-poiseuille_n": ("PO", {}), "-poiseuille_nx": ("PO", {"0": O0}), "-poiseuille_start": ("PO", {}),
+    "-poiseuille_speed": ("PO", real(m1=O0, zero=O0, tiny=O0)),
 }
 for flag in ("-expansion_perturb_velocities", "-arkode_classic_weights", "-snapshot_hdf5", "-snapshot_csv",
              "-monitor", "-diag_entropy", "-sort_particles", "-output_overwrite"):

@@ -129,6 +129,12 @@ typedef struct {
   PetscInt n, ny;      /* lattice points along x (the wavelength L) and across       */
   double   eps;        /* relative amplitude of the energy mode                      */
 } SpamHeatModeParams;
+/* A gas channel between mirror walls at y = 0 and y = H (couette, poiseuille): a square
+ * lattice of unit spacing, n rows across, nx columns along the periodic x (and z in 3D). */
+  PetscInt  n, nx;        /* rows across (H = n), columns along x and z (0: automatic)   */
+  double    speed;        /* couette: U of the upper wall; poiseuille: the peak speed    */
+  PetscBool steady_start; /* start on the exact steady profile instead of at rest        */
+} SpamShearParams;
 
 /* Every scene's parameters (a new scene adds its struct here). */
 typedef union {
@@ -144,6 +150,7 @@ typedef union {
   SpamGreshoParams      gresho;
   SpamTaylorGreenParams taylor_green;
   SpamHeatModeParams    heat_mode;
+  SpamShearParams     couette, poiseuille;
 } SpamSceneParams;
 
 /* A scene, registered by name (scene_list.c): it reads its own options into p and the
@@ -174,6 +181,19 @@ PetscErrorCode SpamSceneSedov(SpamSceneOps *ops);
 PetscErrorCode SpamSceneGresho(SpamSceneOps *ops);
 PetscErrorCode SpamSceneTaylorGreen(SpamSceneOps *ops);
 PetscErrorCode SpamSceneHeatMode(SpamSceneOps *ops);
+PetscErrorCode SpamSceneCouette(SpamSceneOps *ops);
+PetscErrorCode SpamScenePoiseuille(SpamSceneOps *ops);
+
+/* The shear channels' common part (shear_channel.c): the gas model's defaults (shear
+ * viscosity 1, summed density of the unit lattice), the options -NAME_speed (speed_help
+ * says what it is), -NAME_n, -NAME_nx and -NAME_start (start names the steady profile), and
+ * the lattice at rest in its box with no-slip walls on the y faces the user left alone. */
+void           SpamShearChannelDefaults(const SpamCommonParams *c, SpamSolidParams *solid);
+PetscErrorCode SpamShearChannelOptions(const SpamCommonParams *c, const char *name, const char *start, const char *speed_help, SpamShearParams *p);
+PetscErrorCode SpamShearChannelBuild(const SpamCommonParams *c, const char *name, const SpamShearParams *p, SpamParticles *out);
+/* The kinematic viscosity eta/rho0 and sound speed of the channel's gas; bad input (naming
+ * -NAME_speed) unless the viscosity is positive and |speed| below the sound speed. */
+PetscErrorCode SpamShearChannelCheck(const char *name, const SpamShearParams *p, const SpamSolidParams *solid, double *nu, double *c);
 
 /* Triangular lattices of unit spacing a: nx x ny rows filling a periodic box
  * (nx a) x (ny sqrt(3)/2 a); and the hexagon of n shells about the origin (vertices on

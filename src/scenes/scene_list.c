@@ -17,5 +17,7 @@ PetscErrorCode SpamSceneRegisterAll(PetscFunctionList *list)
   PetscCall(PetscFunctionListAdd(list, "gresho", SpamSceneGresho));
   PetscCall(PetscFunctionListAdd(list, "taylor-green", SpamSceneTaylorGreen));
   PetscCall(PetscFunctionListAdd(list, "heat-mode", SpamSceneHeatMode));
+  PetscCall(PetscFunctionListAdd(list, "couette", SpamSceneCouette));
+  PetscCall(PetscFunctionListAdd(list, "poiseuille", SpamScenePoiseuille));
   PetscFunctionReturn(0);
 }
