@@ -129,8 +129,10 @@ typedef struct {
   PetscInt n, ny;      /* lattice points along x (the wavelength L) and across       */
   double   eps;        /* relative amplitude of the energy mode                      */
 } SpamHeatModeParams;
+
 /* A gas channel between mirror walls at y = 0 and y = H (couette, poiseuille): a square
  * lattice of unit spacing, n rows across, nx columns along the periodic x (and z in 3D). */
+typedef struct {
   PetscInt  n, nx;        /* rows across (H = n), columns along x and z (0: automatic)   */
   double    speed;        /* couette: U of the upper wall; poiseuille: the peak speed    */
   PetscBool steady_start; /* start on the exact steady profile instead of at rest        */
