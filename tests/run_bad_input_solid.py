@@ -38,6 +38,15 @@ cases = [
     ("Lame constant of a gas", ["-scene", "rotor", "-material", "gas", "-solid_lambda", 1], ["-solid_lambda", "'1'", "-material elastic"]),
     ("gas energy of an elastic solid", ["-scene", "tensile", "-gas_e0", 2], ["-gas_e0", "'2'", "-material gas"]),
     ("chain amplitude too large", ["-scene", "chain", "-dim", 1, "-chain_amplitude", 0.3], ["-chain_amplitude", "'0.3'", "< 0.25"]),
+    # issue 15 point 4: the smooth flows with exact answers
+    ("gresho energy by -gas_e0", ["-scene", "gresho", "-gas_e0", 2], ["-gas_e0", "'2'", "-gresho_p0"]),
+    ("gresho as an elastic solid", ["-scene", "gresho", "-material", "elastic"], ["-material", "'elastic'", "-material gas"]),
+    ("gresho zero central pressure", ["-scene", "gresho", "-gresho_p0", 0], ["-gresho_p0", "'0'", "1e-100"]),
+    ("taylor-green as the isentrope", ["-scene", "taylor-green", "-material", "isentrope"], ["-material", "'isentrope'", "-material gas"]),
+    ("taylor-green infinite amplitude", ["-scene", "taylor-green", "-taylorgreen_amplitude", "inf"], ["-taylorgreen_amplitude", "'inf'", "finite"]),
+    ("heat mode amplitude 1", ["-scene", "heat-mode", "-heatmode_eps", 1], ["-heatmode_eps", "'1'", "|eps| < 1"]),
+    ("heat mode rows in 1D", ["-scene", "heat-mode", "-dim", 1, "-heatmode_ny", 12], ["-heatmode_ny", "'12'", "one-dimensional"]),
+    ("heat mode option in another scene", ["-scene", "gresho", "-heatmode_n", 30], ["-heatmode_n", "'30'", "-scene heat-mode", "gresho"]),
 ]
 for k, (name, args, needles) in enumerate(cases):
     out = os.path.join(a.workdir, f"out{k}")

@@ -96,11 +96,16 @@ CONTEXTS = {
     "RK": [("-expansion_n", "4"), ("-h", "1.5"), ("-ts_type", "rk")] + TINY,
     "BS": [("-expansion_n", "4"), ("-h", "1.5"), ("-ts_type", "basicsymplectic")] + TINY,
     "CONV": [("-scene", "convection"), ("-convection_nx", "6"), ("-convection_ny", "4"), ("-h", "1.5")] + TINY,
+    "CO": [("-scene", "couette"), ("-couette_n", "4"), ("-h", "1.5")] + TINY,
+    "PO": [("-scene", "poiseuille"), ("-poiseuille_n", "4"), ("-h", "1.5")] + TINY,
     # snapshots on (at t = 0 and 0.5): the grid fields are written at the snapshot times
     "EG": [("-expansion_n", "4"), ("-h", "1.5")] + TINY[:2] + [("-snapshot_interval", "0.5"), ("-output_interval", "0.25")],
     "SOD": [("-scene", "sod"), ("-dim", "1"), ("-sod_n", "10")] + TINY,
     "SOD2": [("-scene", "sod"), ("-dim", "2"), ("-sod_n", "8"), ("-sod_width", "4")] + TINY,
     "SED": [("-scene", "sedov"), ("-sedov_n", "16")] + TINY,
+    "GR": [("-scene", "gresho"), ("-gresho_n", "8")] + TINY,
+    "TG": [("-scene", "taylor-green"), ("-taylorgreen_n", "8")] + TINY,
+    "HM": [("-scene", "heat-mode"), ("-heatmode_n", "8"), ("-heatmode_ny", "8")] + TINY,
 }
 
 
@@ -284,6 +289,16 @@ OPTION_TABLE = {
     "-sod_length": ("SOD", real()),
     "-sedov_energy": ("SED", real(i31=O03)),  # from 1e-100 to 1e100; 2^31 blows the box apart
     "-output_dir": ("E", PATH), "-initial_csv": ("E", PATH), "-final_csv": ("E", PATH),
+    # issue 15 point 4: the smooth flows with exact answers
+    "-gresho_n": ("GR", {}), "-taylorgreen_n": ("TG", {}), "-heatmode_n": ("HM", {}), "-heatmode_ny": ("HM", {}),
+    "-gresho_p0": ("GR", real(i31=O023)),  # from 1e-100 to 1e100; 2^31 may blow up or hit the step limit
+    "-taylorgreen_amplitude": ("TG", real(m1=O0, zero=O0, tiny=O0, i31=O023)),  # |U| up to 1e100
+    "-heatmode_eps": ("HM", real(zero=O0, tiny=O0)),  # |eps| < 1
+    # the shear channels: n >= max(2, h); nx 0 is automatic; |speed| below the sound speed (1.41)
+    "-couette_n": ("CO", {}), "-couette_nx": ("CO", {"0": O0}), "-couette_start": ("CO", {}),
+    "-couette_speed": ("CO", real(m1=O0, zero=O0, tiny=O0)),
+    "-poiseuille_n": ("PO", {}), "-poiseuille_nx": ("PO", {"0": O0}), "-poiseuille_start": ("PO", {}),
+    "-poiseuille_speed": ("PO", real(m1=O0, zero=O0, tiny=O0)),
 }
 for flag in ("-expansion_perturb_velocities", "-arkode_classic_weights", "-snapshot_hdf5", "-snapshot_csv",
              "-monitor", "-diag_entropy", "-sort_particles", "-output_overwrite"):

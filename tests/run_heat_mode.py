@@ -1,4 +1,5 @@
-"""A Fourier mode of temperature in the conducting SPAM gas at rest (issue 14, "Done means"):
+"""A Fourier mode of temperature in the conducting SPAM gas at rest (issue 14, "Done means"; since
+issue 15 point 4 built by -scene heat-mode, src/scenes/scene_heat_mode.c):
 e = e0 (1 + eps cos kx), k = 2 pi / L, on the unit lattice (m = 1: rho = 1), periodic,
 -material gas with gamma = 1.4 (c_v = 1/(gamma-1) = 2.5, T = (gamma-1) e), -conductivity
 kappa = 1, no viscosity. Pure conduction at fixed density decays the mode at
@@ -44,47 +45,37 @@ E0, EPS, GAMMA, KAPPA, H, LY = 1e-6, 1e-3, 1.4, 1.0, 3.0, 12
 CURVE_TOL = 1e-6
 
 
-def write_lattice(path, dim, L):
-    """The gas at rest on the lattice (i + 1/2), e = e0 (1 + eps cos kx)."""
-    k = 2 * math.pi / L
-    ax = ["x", "y"][:dim]
-    shape = [L] + [LY] * (dim - 1)
-    xs = []
-    with open(path, "w") as f:
-        f.write(",".join(ax + ["v" + a for a in ax] + ["e"]) + "\n")
-        for idx in np.ndindex(*shape):
-            r = [i + 0.5 for i in idx]
-            xs.append(r[0])
-            f.write(",".join(repr(v) for v in r + [0.0] * dim + [E0 * (1 + EPS * math.cos(k * r[0]))]) + "\n")
-    return np.array(xs)
-
-
-def snapshot_e(path):
-    """The e column of a CSV snapshot (rows in input order; '#' lines are comments)."""
+def snapshot_columns(path, names):
+    """Columns of a CSV snapshot (rows in input order; '#' lines are comments)."""
     with open(path) as f:
         rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
-    return np.array([float(r["e"]) for r in rows])
+    return [np.array([float(r[n]) for r in rows]) for n in names]
 
 
 def mode_amplitude(a, c, dim, L):
-    """Runs one lattice to t = 1/sigma_v; returns (t, e'(t)) from its snapshots."""
+    """Runs -scene heat-mode (L along x, LY across) to t = 1/sigma_v; returns (t, e'(t))
+    from its snapshots, e' projected on cos(k x_i(0)) of the first snapshot's positions.
+    The scene's defaults are this test's physics (e0 = 1e-6, eps = 1e-3, kappa = 1);
+    gamma is given, as the gas's default is 1 + 2/D."""
     name = f"d{dim}_L{L}"
-    path = os.path.join(a.workdir, name + ".csv")
-    x0 = write_lattice(path, dim, L)
     k = 2 * math.pi / L
     t_end = 1 / ((GAMMA - 1) * KAPPA * k * k)
     out = os.path.join(a.workdir, name)
-    box = ",".join(str(v) for v in [L] + [LY] * (dim - 1))
-    args = ["-dim", dim, "-scene", "file", "-file_path", path, "-box_len", box, "-h", H, "-material", "gas",
-            "-gas_gamma", GAMMA, "-conductivity", KAPPA, "-ts_max_time", t_end, "-ts_rtol", 1e-10, "-ts_atol", 1e-20,
+    args = ["-dim", dim, "-scene", "heat-mode", "-heatmode_n", L, "-h", H, "-gas_gamma", GAMMA, "-gas_e0", E0,
+            "-heatmode_eps", EPS, "-conductivity", KAPPA, "-ts_max_time", t_end, "-ts_rtol", 1e-10, "-ts_atol", 1e-20,
             "-snapshot_interval", t_end / 25, "-snapshot_hdf5", "0", "-output_interval", 0]
+    if dim > 1:
+        args += ["-heatmode_ny", LY]
     code, _, err = run(a.spam_ark, args, out)
     if not c.check(code == 0, f"{name}: run completes (exit {code}) {err.strip()}"):
         return None, None
     times = {e["name"]: e["t"] for e in manifest(out)["files"] if e.get("kind") == "snapshot_csv"}
+    paths = manifest_files(out, "snapshot_csv")
+    x0, e_start = snapshot_columns(paths[0], ["x", "e"])
+    c.check(np.max(np.abs(e_start / (E0 * (1 + EPS * np.cos(k * x0))) - 1)) < 1e-14, f"{name}: the scene's e = e0 (1 + eps cos kx) at t = 0")
     t, amp = [], []
-    for p in manifest_files(out, "snapshot_csv"):
-        e = snapshot_e(p)
+    for p in paths:
+        (e,) = snapshot_columns(p, ["e"])
         t.append(times[os.path.basename(p)])
         amp.append(2 / len(e) * np.sum((e - e.mean()) * np.cos(k * x0)))
     return np.array(t), np.array(amp)

@@ -125,6 +125,29 @@ typedef struct {
   double   energy; /* blast energy E0                                                   */
 } SpamSedovParams;
 
+typedef struct {
+  PetscInt n;          /* particles per row of the triangular lattice                */
+  double   p0;         /* pressure at the vortex centre (standard: 5)                */
+} SpamGreshoParams;
+
+typedef struct {
+  PetscInt n;          /* lattice points per direction: the box edge L               */
+  double   amplitude;  /* velocity amplitude U                                       */
+} SpamTaylorGreenParams;
+
+typedef struct {
+  PetscInt n, ny;      /* lattice points along x (the wavelength L) and across       */
+  double   eps;        /* relative amplitude of the energy mode                      */
+} SpamHeatModeParams;
+
+/* A gas channel between mirror walls at y = 0 and y = H (couette, poiseuille): a square
+ * lattice of unit spacing, n rows across, nx columns along the periodic x (and z in 3D). */
+typedef struct {
+  PetscInt  n, nx;        /* rows across (H = n), columns along x and z (0: automatic)   */
+  double    speed;        /* couette: U of the upper wall; poiseuille: the peak speed    */
+  PetscBool steady_start; /* start on the exact steady profile instead of at rest        */
+} SpamShearParams;
+
 /* Every scene's parameters (a new scene adds its struct here). */
 typedef union {
   SpamExpansionParams expansion;
@@ -137,6 +160,10 @@ typedef union {
   SpamConvectionParams convection;
   SpamSodParams       sod;
   SpamSedovParams     sedov;
+  SpamGreshoParams      gresho;
+  SpamTaylorGreenParams taylor_green;
+  SpamHeatModeParams    heat_mode;
+  SpamShearParams     couette, poiseuille;
 } SpamSceneParams;
 
 /* A scene, registered by name (scene_list.c): it reads its own options into p and the
@@ -165,12 +192,31 @@ PetscErrorCode SpamSceneTensile(SpamSceneOps *ops);
 PetscErrorCode SpamSceneConvection(SpamSceneOps *ops);
 PetscErrorCode SpamSceneSod(SpamSceneOps *ops);
 PetscErrorCode SpamSceneSedov(SpamSceneOps *ops);
+PetscErrorCode SpamSceneGresho(SpamSceneOps *ops);
+PetscErrorCode SpamSceneTaylorGreen(SpamSceneOps *ops);
+PetscErrorCode SpamSceneHeatMode(SpamSceneOps *ops);
+PetscErrorCode SpamSceneCouette(SpamSceneOps *ops);
+PetscErrorCode SpamScenePoiseuille(SpamSceneOps *ops);
+
+/* The shear channels' common part (shear_channel.c): the gas model's defaults (shear
+ * viscosity 1, summed density of the unit lattice), the options -NAME_speed (speed_help
+ * says what it is), -NAME_n, -NAME_nx and -NAME_start (start names the steady profile), and
+ * the lattice at rest in its box with no-slip walls on the y faces the user left alone. */
+void           SpamShearChannelDefaults(const SpamCommonParams *c, SpamSolidParams *solid);
+PetscErrorCode SpamShearChannelOptions(const SpamCommonParams *c, const char *name, const char *start, const char *speed_help, SpamShearParams *p);
+PetscErrorCode SpamShearChannelBuild(const SpamCommonParams *c, const char *name, const SpamShearParams *p, SpamParticles *out);
+/* The kinematic viscosity eta/rho0 and sound speed of the channel's gas; bad input (naming
+ * -NAME_speed) unless the viscosity is positive and |speed| below the sound speed. */
+PetscErrorCode SpamShearChannelCheck(const char *name, const SpamShearParams *p, const SpamSolidParams *solid, double *nu, double *c);
 
 /* Triangular lattices of unit spacing a: nx x ny rows filling a periodic box
  * (nx a) x (ny sqrt(3)/2 a); and the hexagon of n shells about the origin (vertices on
  * the x axis at distance n a), 1 + 3n + 3n^2 points. x has room for the points. */
 void     SpamLatticeTriangular(PetscInt nx, PetscInt ny, double a, double *x);
 PetscInt SpamLatticeHexagon(PetscInt n, double a, double *x);
+/* The unit simple-cubic lattice of n[0] x ... x n[dim-1] points at (i + 1/2, j + 1/2, ...),
+ * x fastest, filling the box [0, n[0]) x ...; x has room for the points. */
+void     SpamLatticeSquare(int dim, const PetscInt n[], double *x);
 /* The solid's defaults (PRE): lambda = eta = sqrt(3)/4, rho0 = sqrt(4/3), continuity
  * density from the ideal value, R0, eps 1, no angular-momentum treatment. */
 void SpamSolidDefaults(SpamSolidParams *p);

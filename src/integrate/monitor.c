@@ -40,6 +40,7 @@ void SpamRunUpdateDrifts(const SpamDiagnostics *d, SpamRunResult *r)
     dl += (d->l[k] - d0->l[k]) * (d->l[k] - d0->l[k]);
   }
   r->energy_drift_max   = PetscMax(r->energy_drift_max, fabs(d->total - d0->total - (d->energy_in - d0->energy_in)) / e_ref);
-  r->momentum_drift_max = PetscMax(r->momentum_drift_max, sqrt(dp) / r->momentum_scale);
+  /* Not measured (walls without books): NaN stays NaN (PetscMax would drop it). */
+  r->momentum_drift_max = isfinite(dp) ? PetscMax(r->momentum_drift_max, sqrt(dp) / r->momentum_scale) : NAN;
   r->angmom_drift_max   = PetscMax(r->angmom_drift_max, sqrt(dl) / r->angmom_scale);
 }

@@ -14,7 +14,7 @@
 /* What an option of spam-ark applies to. */
 typedef enum {
   G_ALL, G_DT, G_ADAPTIVE, G_ARKODE, G_ARKODE_ADAPT, G_CVODE, G_TS, G_TS_ADAPT, G_RK, G_SSP, G_SYMP,
-  G_FILE, G_PERIODIC, G_ISENTROPE, G_EXPANSION, G_CHAIN, G_SPRING, G_ROTOR_MD, G_PLANEWAVE, G_ROTOR, G_ROTOR_PAIR, G_TENSILE, G_CONVECTION, G_SOD, G_SEDOV,
+  G_FILE, G_PERIODIC, G_ISENTROPE, G_EXPANSION, G_CHAIN, G_SPRING, G_ROTOR_MD, G_PLANEWAVE, G_ROTOR, G_ROTOR_PAIR, G_TENSILE, G_CONVECTION, G_SOD, G_SEDOV, G_GRESHO, G_TAYLOR_GREEN, G_HEAT_MODE, G_COUETTE, G_POISEUILLE,
   G_MODEL, G_WALL, G_SOLID, G_SOLID_GAS, G_SOLID_GAMMA, G_SOLID_ELASTIC, G_SOLID_VISC, G_SOLID_R2, G_SOLID_TORQUE, G_SOLID_CONT, G_ENTROPY
 } Group;
 
@@ -75,6 +75,14 @@ static const Known KnownOptions[] = {
   {"wall_yhi_velocity", PETSC_TRUE, G_WALL}, {"wall_zlo_velocity", PETSC_TRUE, G_WALL}, {"wall_zhi_velocity", PETSC_TRUE, G_WALL},
   {"wall_xlo_temperature", PETSC_TRUE, G_WALL}, {"wall_xhi_temperature", PETSC_TRUE, G_WALL}, {"wall_ylo_temperature", PETSC_TRUE, G_WALL},
   {"wall_yhi_temperature", PETSC_TRUE, G_WALL}, {"wall_zlo_temperature", PETSC_TRUE, G_WALL}, {"wall_zhi_temperature", PETSC_TRUE, G_WALL},
+  /* Issue 15 point 4: the smooth flows with exact answers (scene_gresho.c, scene_taylor_green.c, scene_heat_mode.c). */
+  {"gresho_n", PETSC_TRUE, G_GRESHO}, {"gresho_p0", PETSC_TRUE, G_GRESHO},
+  {"taylorgreen_n", PETSC_TRUE, G_TAYLOR_GREEN}, {"taylorgreen_amplitude", PETSC_TRUE, G_TAYLOR_GREEN},
+  {"heatmode_n", PETSC_TRUE, G_HEAT_MODE}, {"heatmode_ny", PETSC_TRUE, G_HEAT_MODE}, {"heatmode_eps", PETSC_TRUE, G_HEAT_MODE},
+  /* Issue 15 point 4: the shear channels (scenes/shear_channel.c). */
+  {"couette_n", PETSC_TRUE, G_COUETTE}, {"couette_nx", PETSC_TRUE, G_COUETTE}, {"couette_speed", PETSC_TRUE, G_COUETTE},
+  {"couette_start", PETSC_TRUE, G_COUETTE}, {"poiseuille_n", PETSC_TRUE, G_POISEUILLE}, {"poiseuille_nx", PETSC_TRUE, G_POISEUILLE},
+  {"poiseuille_speed", PETSC_TRUE, G_POISEUILLE}, {"poiseuille_start", PETSC_TRUE, G_POISEUILLE},
 };
 #define NKNOWN ((int)(sizeof KnownOptions / sizeof KnownOptions[0]))
 
@@ -138,7 +146,8 @@ static PetscErrorCode GivenFree(Given *g)
  * its 32-bit PetscInt without a range check, so 2147483648 arrives as -2147483648 and a
  * longer number as whatever its low bits say: check the text itself first. */
 static const char *const IntegerOptions[] = {"dim", "threads", "ts_max_steps", "ts_max_reject", "ts_ssp_nstages", "cvode_max_order", "snapshot_max", "expansion_n",
-                                             "expansion_seed", "chain_n", "planewave_nx", "planewave_ny", "rotor_n", "tensile_nx", "tensile_ny", "sod_n", "sod_width", "sedov_n"};
+                                             "expansion_seed", "chain_n", "planewave_nx", "planewave_ny", "rotor_n", "tensile_nx", "tensile_ny", "sod_n", "sod_width", "sedov_n",
+                                             "gresho_n", "taylorgreen_n", "heatmode_n", "heatmode_ny", "couette_n", "couette_nx", "poiseuille_n", "poiseuille_nx"};
 
 static PetscErrorCode CheckIntegerRange(const char *name, const char *value)
 {
@@ -245,6 +254,11 @@ static const struct {
   {G_CONVECTION, {"convection"}, "convection", ""},
   {G_SOD, {"sod"}, "sod", ""},
   {G_SEDOV, {"sedov"}, "sedov", ""},
+  {G_GRESHO, {"gresho"}, "gresho", ""},
+  {G_TAYLOR_GREEN, {"taylor-green"}, "taylor-green", ""},
+  {G_HEAT_MODE, {"heat-mode"}, "heat-mode", ""},
+  {G_COUETTE, {"couette"}, "couette", ""},
+  {G_POISEUILLE, {"poiseuille"}, "poiseuille", ""},
 };
 
 /* The groups of the method and the outputs: whether g applies to run r (*known: g is one

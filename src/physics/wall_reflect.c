@@ -4,7 +4,8 @@
  * reaching a wall) can end a step beyond it. Reflecting it (position mirrored in the
  * wall, normal velocity reversed) is what an elastic wall would do; the step is then a
  * jump of the state, counted in summary.json's post_step_jumps, and the integrator
- * restarts from it. */
+ * restarts from it. The impulse of the reflection, -2 m v_n, goes into the walls' books
+ * where the state carries them; its kinetic energy is unchanged. */
 #include <spam/physics.h>
 
 PetscErrorCode SpamWallReflect(SpamSim *sim, double *y, PetscInt *changed)
@@ -21,6 +22,7 @@ PetscErrorCode SpamWallReflect(SpamSim *sim, double *y, PetscInt *changed)
       if (SpamWallOn(w, 2 * d) && p[l->x + d] < lo) p[l->x + d] = 2.0 * lo - p[l->x + d];
       else if (SpamWallOn(w, 2 * d + 1) && p[l->x + d] > hi) p[l->x + d] = 2.0 * hi - p[l->x + d];
       else continue;
+      if (l->wb >= 0) p[l->wb + 2 + d] -= 2.0 * sim->f.m[i] * p[l->v + d];
       p[l->v + d] = -p[l->v + d];
       (*changed)++;
     }

@@ -15,5 +15,10 @@ PetscErrorCode SpamSceneRegisterAll(PetscFunctionList *list)
   PetscCall(PetscFunctionListAdd(list, "convection", SpamSceneConvection));
   PetscCall(PetscFunctionListAdd(list, "sod", SpamSceneSod));
   PetscCall(PetscFunctionListAdd(list, "sedov", SpamSceneSedov));
+  PetscCall(PetscFunctionListAdd(list, "gresho", SpamSceneGresho));
+  PetscCall(PetscFunctionListAdd(list, "taylor-green", SpamSceneTaylorGreen));
+  PetscCall(PetscFunctionListAdd(list, "heat-mode", SpamSceneHeatMode));
+  PetscCall(PetscFunctionListAdd(list, "couette", SpamSceneCouette));
+  PetscCall(PetscFunctionListAdd(list, "poiseuille", SpamScenePoiseuille));
   PetscFunctionReturn(0);
 }

@@ -1,0 +1,111 @@
+#!/usr/bin/env python3
+"""Chart the shear-channel scenes (couette, poiseuille; issue 15 point 4).
+
+Usage:
+    python3 examples/plot_shear.py DIR [DIR ...] [-o OUT.png]
+
+Each DIR is the output directory of one run of the same scene at one resolution, e.g.
+    spam-ark -options_file options/couette.opts -couette_n N -output_dir DIR
+with CSV snapshots (-snapshot_csv); the files are those manifest.json lists. The run's
+scene, H (box edge y), eta, rho (mean summed density), U (couette: the upper wall's
+velocity) and g (poiseuille: gravity_x) come from summary.json and the snapshots.
+
+Left panel: v_x against y of the run with the largest H at several snapshot times, SPAM
+rows (points) against the exact start-up series (lines) and the steady profile (dashed).
+Right panel: the error of the row profile averaged over t in [H^2/nu, 1.5 H^2/nu] against
+H/dx (log-log), rows and row pairs (the lattice's Nyquist mode cancels), with the fitted
+slope of each. Prints one line per run: H, L2 and max error. Needs matplotlib;
+re-runs itself with /usr/bin/python3 when the python3 first on PATH lacks it.
+"""
+import argparse
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests"))
+from shear_profile import (couette_exact, errors, mean_profile, order, poiseuille_exact,  # noqa: E402
+                           profile, row_pairs, snapshots)
+from spamrun import summary  # noqa: E402
+
+try:
+    import matplotlib  # noqa: E402
+except ImportError:  # a python3 without matplotlib first on PATH: Debian's has it
+    if os.path.realpath(sys.executable) != os.path.realpath("/usr/bin/python3") and os.path.exists("/usr/bin/python3"):
+        os.execv("/usr/bin/python3", ["/usr/bin/python3"] + sys.argv)
+    sys.exit("plot_shear: error: needs matplotlib (Debian: python3-matplotlib)")
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+
+def load(d):
+    s = summary(d)
+    n = int(round(s["box_len"][1]))
+    snaps = snapshots(d)
+    prof0 = profile(snaps[0][1], n)
+    rho = sum(r for _, _, r in prof0) / len(prof0)
+    nu = s["viscosity_shear"] / rho
+    if s["scene"] == "couette":
+        U = s["wall_yhi_velocity"][0]
+        exact = lambda y, t: couette_exact(y, t, U, n, nu)
+        peak = U
+    elif s["scene"] == "poiseuille":
+        g = s["gravity_x"]
+        exact = lambda y, t: poiseuille_exact(y, t, g, n, nu)
+        peak = g * n * n / (8 * nu)
+    else:
+        sys.exit(f"plot_shear: error: {d} is a run of -scene {s['scene']}, not couette or poiseuille")
+    return dict(scene=s["scene"], n=n, nu=nu, snaps=snaps, exact=exact, peak=peak)
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("dirs", nargs="+")
+    ap.add_argument("-o", "--out", default=None)
+    a = ap.parse_args()
+    runs = sorted((load(d) for d in a.dirs), key=lambda r: r["n"])
+    scene = runs[0]["scene"]
+    out = a.out or os.path.join(a.dirs[-1], f"{scene}.png")
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.5))
+    big = runs[-1]
+    D = big["n"] ** 2 / big["nu"]
+    # the snapshots nearest to these fractions of the diffusion time (rho is not exactly 1)
+    chosen = sorted({min(range(len(big["snaps"])), key=lambda k: abs(big["snaps"][k][0] - f * D))
+                     for f in (0.0625, 0.125, 0.25, 0.5, 1.5)})
+    chosen = [big["snaps"][k] for k in chosen]
+    colours = plt.cm.viridis([k / max(1, len(chosen) - 1) for k in range(len(chosen))])
+    yy = [big["n"] * k / 200 for k in range(201)]
+    for (t, rows), col in zip(chosen, colours):
+        p = profile(rows, big["n"])
+        ax1.plot([v / big["peak"] for _, v, _ in p], [y / big["n"] for y, _, _ in p], "o", ms=3.5, color=col,
+                 label=f"SPAM t = {t / D:.3g} H²/ν")
+        ax1.plot([big["exact"](y, t) / big["peak"] for y in yy], [y / big["n"] for y in yy], "-", color=col, lw=1)
+    ax1.plot([big["exact"](y, 1e6 * D) / big["peak"] for y in yy], [y / big["n"] for y in yy], "k--", lw=1, label="exact steady")
+    ax1.set_xlabel("v_x / " + ("U" if scene == "couette" else "peak speed g H²/(8ν)"))
+    ax1.set_ylabel("y / H")
+    ax1.set_title(f"{scene}: profiles, H/dx = {big['n']} (lines: exact series)")
+    ax1.legend(fontsize=7)
+    ns, e_rows, e_pairs = [], [], []
+    for r in runs:
+        Dr = r["n"] ** 2 / r["nu"]
+        prof = mean_profile(r["snaps"], r["n"], Dr)
+        ex = lambda y: r["exact"](y, 1.25 * Dr)
+        l2, mx = errors(prof, ex, r["peak"])
+        l2p, _ = errors(row_pairs(prof), ex, r["peak"])
+        ns.append(r["n"])
+        e_rows.append(l2)
+        e_pairs.append(l2p)
+        print(f"{scene} H/dx = {r['n']}: L2 {l2:.3e} max {mx:.3e} (rows), L2 {l2p:.3e} (row pairs), of the peak")
+    ax2.loglog(ns, e_rows, "o-", color="C0", label=f"rows (slope {-order(ns, e_rows):.2f})" if len(ns) > 1 else "rows")
+    ax2.loglog(ns, e_pairs, "s-", color="C1", label=f"row pairs (slope {-order(ns, e_pairs):.2f})" if len(ns) > 1 else "row pairs")
+    ax2.set_xlabel("H / dx (h/dx fixed)")
+    ax2.set_ylabel("L2 error of v_x / peak, t in [1, 1.5] H²/ν")
+    ax2.set_title(f"{scene}: error against resolution")
+    ax2.legend(fontsize=8)
+    ax2.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+    print(f"png={out}")
+
+
+if __name__ == "__main__":
+    main()

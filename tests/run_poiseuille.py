@@ -1,0 +1,66 @@
+"""Plane Poiseuille flow (issue 15 point 4): gas between no-slip walls at rest at y = 0 and
+y = H, driven along x by the body force g = 8 nu U / H^2 (the scene's default gravity, peak
+speed U = 0.1), started from rest, against v_x = g / (2 nu) y (H - y).
+
+Set-up: unit square lattice (rho = 1), Wendland C2 kernel with h = 3 (h/dx fixed), eta = 1
+(nu = 1), 8 columns along the periodic x, H = n = 8, 16, 32, run to 1.5 H^2/nu; Mach
+U/c = 0.07, Re = U H / nu <= 3.2, adiabatic walls. The profile is binned by lattice row and
+averaged over the snapshots in [H^2/nu, 1.5 H^2/nu] (transient below 5e-5 of the peak).
+
+Monaghan's pair viscosity at alpha = 0.1 (beta = 0) is on. Why: SPAM's Newtonian viscosity
+takes two passes (grad v, then the divergence of the stress), and the velocity alternating
+row by row (the lattice's Nyquist mode) has zero gradient, so no viscous force damps it.
+At a no-slip wall the image v_g = -v_i continues the parabola oddly, its curvature flips
+sign across the wall, and the viscous force of the rows within h of the wall has a
+Nyquist component: without a damping the mode grows until the lattice noise saturates it
+(at n = 8 the kinetic energy is 3 times the parabola's; docs/scenes/poiseuille.md). The
+pair term damps relative velocities of neighbours, the Nyquist mode first; it adds a
+viscosity of order alpha c h / 8 = 0.05 (5% of nu) where pairs approach.
+
+Why the tolerances:
+  * Steady profile. Inside, the two passes are exact for a parabola on the full lattice up
+    to the lattice sums' quadrature error (a factor on nu at fixed h/dx); the near-wall band
+    of width h, where the images' curvature is wrong, perturbs the profile by O((h/H)^2) of
+    the peak. Asserted: L2 error below C (h/H)^2 with C = 3 (measured C printed: 1.5 to 2.1)
+    and an order of at least 1.5 over n = 8, 16, 32.
+  * Force balance. At steady state the walls hold the whole body force: the two walls'
+    forces on the gas (books wall_ylo_fx + wall_yhi_fx, averaged over the window) sum to
+    -g M, up to the window's mean rate of change of momentum (the lattice noise's; measured
+    within 0.5% of g M): 2% (BOUND_FORCE).
+Measured values are printed; docs/scenes/poiseuille.md has them with the commit."""
+import os
+from spamrun import Checks, arguments, run, summary, table
+from shear_profile import errors, mean_profile, order, poiseuille_exact, snapshots, window_mean
+
+a = arguments()
+c = Checks()
+U, ETA, H_KERNEL, NX = 0.1, 1.0, 3.0, 8
+BOUND_C, BOUND_FORCE = 3.0, 0.02
+ns = (8, 16, 32)
+l2s = []
+for n in ns:
+    diffusion = n * n / ETA  # H^2 / nu at rho = 1
+    out = os.path.join(a.workdir, f"n{n}")
+    code, _, err = run(a.spam_ark, ["-scene", "poiseuille", "-poiseuille_n", n, "-poiseuille_nx", NX, "-poiseuille_speed", U,
+                                    "-h", H_KERNEL, "-kernel", "wendland_c2", "-viscosity_shear", ETA,
+                                    "-viscosity", "monaghan", "-viscosity_alpha", 0.1, "-viscosity_beta", 0,
+                                    "-ts_max_time", 1.5 * diffusion, "-output_interval", diffusion / 32,
+                                    "-snapshot_interval", diffusion / 32, "-snapshot_csv"], out)
+    if not c.check(code == 0, f"n = {n}: poiseuille runs (exit {code}) {err.strip()}"):
+        continue
+    g = summary(out)["gravity_x"]
+    prof = mean_profile(snapshots(out), n, diffusion)
+    nu = ETA / (sum(r for _, _, r in prof) / len(prof))
+    peak = g * n * n / (8 * nu)
+    l2, mx = errors(prof, lambda y: poiseuille_exact(y, 1.25 * diffusion, g, n, nu), peak)
+    l2s.append(l2)
+    bound = BOUND_C * (H_KERNEL / n) ** 2
+    c.check(l2 < bound, f"n = {n}: profile L2 {l2:.2e}, max {mx:.2e} of the peak {peak:.4g} (< {BOUND_C:g} (h/H)^2 = {bound:.3f}; C = {l2 / (H_KERNEL / n) ** 2:.2f})")
+    ts = table(os.path.join(out, "timeseries.csv"))
+    fw = window_mean(ts, "wall_ylo_fx", diffusion) + window_mean(ts, "wall_yhi_fx", diffusion)
+    gm = g * ts["mass"][0]
+    c.check(abs(fw / -gm - 1) < BOUND_FORCE, f"n = {n}: walls' force on the gas {fw:.5f} against -g M = {-gm:.5f} (ratio {fw / -gm:.4f}; within {BOUND_FORCE:.0%})")
+if len(l2s) == len(ns):
+    p = order(ns, l2s)
+    c.check(p >= 1.5, f"profile L2 error falls with n ({', '.join(f'{e:.2e}' for e in l2s)}): order {p:.2f} (>= 1.5)")
+c.finish()
