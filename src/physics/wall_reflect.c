@@ -4,8 +4,9 @@
  * reaching a wall) can end a step beyond it. Reflecting it (position mirrored in the
  * wall, normal velocity reversed) is what an elastic wall would do; the step is then a
  * jump of the state, counted in summary.json's post_step_jumps, and the integrator
- * restarts from it. The impulse of the reflection, -2 m v_n, goes into the walls' books
- * where the state carries them; its kinetic energy is unchanged. */
+ * restarts from it. Where the state carries the walls' books, the reflection's impulse
+ * -2 m v_n goes into them, and so does its change of gravity's energy -m g.(x' - x) (the
+ * kinetic energy is unchanged), so that E(t) - E(0) still equals what the walls gave. */
 #include <spam/physics.h>
 
 PetscErrorCode SpamWallReflect(SpamSim *sim, double *y, PetscInt *changed)
@@ -19,10 +20,14 @@ PetscErrorCode SpamWallReflect(SpamSim *sim, double *y, PetscInt *changed)
     double *p = y + (size_t)i * l->nvar;
     for (int d = 0; d < sim->model.dim; d++) {
       const double lo = sim->box.lo[d], hi = lo + sim->box.len[d];
-      if (SpamWallOn(w, 2 * d) && p[l->x + d] < lo) p[l->x + d] = 2.0 * lo - p[l->x + d];
-      else if (SpamWallOn(w, 2 * d + 1) && p[l->x + d] > hi) p[l->x + d] = 2.0 * hi - p[l->x + d];
+      const double x = p[l->x + d];
+      if (SpamWallOn(w, 2 * d) && x < lo) p[l->x + d] = 2.0 * lo - x;
+      else if (SpamWallOn(w, 2 * d + 1) && x > hi) p[l->x + d] = 2.0 * hi - x;
       else continue;
-      if (l->wb >= 0) p[l->wb + 2 + d] -= 2.0 * sim->f.m[i] * p[l->v + d];
+      if (l->wb >= 0) {
+        p[l->wb] -= sim->f.m[i] * sim->model.gravity[d] * (p[l->x + d] - x);
+        p[l->wb + 2 + d] -= 2.0 * sim->f.m[i] * p[l->v + d];
+      }
       p[l->v + d] = -p[l->v + d];
       (*changed)++;
     }
