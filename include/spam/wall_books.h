@@ -4,7 +4,8 @@
  * the momentum and energy exchanged cancel as between any two particles, so the wall's
  * force on the fluid is -m_g a_g, its mechanical power -m_g (v_g.a_g + de_g/dt by work)
  * and its heat -m_g de_g/dt by conduction, summed over its ghosts. A ghost mirrored in
- * two or three walls (a corner) is booked to the wall of its lowest mirrored direction. */
+ * two or three walls (a corner) is booked to the one whose condition sets its exchange:
+ * isothermal first, then moving, else its lowest mirrored direction's (wall_books.c). */
 #ifndef SPAM_WALL_BOOKS_H
 #define SPAM_WALL_BOOKS_H
 #include <spam/fields.h>

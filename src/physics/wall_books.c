@@ -1,12 +1,24 @@
 /* The walls' books (wall_books.h). */
 #include <spam/wall_books.h>
 
-/* The face a mirror ghost is booked to: its lowest mirrored direction's. */
+/* The face a mirror ghost is booked to. An image in one wall belongs to it. A corner image
+ * (mirrored in two or three walls) carries every one of their conditions; it is booked to
+ * the wall whose condition makes its exchange: an isothermal wall (it sets the image's
+ * temperature), else a moving wall (it sets the image's velocity), else the wall of its
+ * lowest mirrored direction. So a static adiabatic free-slip wall is booked nothing it
+ * did not exchange itself. */
 static int FaceOf(const SpamGhosts *g, int k)
 {
-  int d = 0;
-  while (!((g->flip[k] >> d) & 1)) d++;
-  return 2 * d + ((g->face[k] >> d) & 1);
+  int best = -1, rank = -1;
+
+  for (int d = 0; d < 3; d++) {
+    const int f = 2 * d + ((g->face[k] >> d) & 1);
+    int       r;
+    if (!((g->flip[k] >> d) & 1)) continue;
+    r = g->walls.isothermal[f] ? 2 : (g->walls.velocity[f][0] != 0.0 || g->walls.velocity[f][1] != 0.0 || g->walls.velocity[f][2] != 0.0) ? 1 : 0;
+    if (r > rank) best = f, rank = r;
+  }
+  return best;
 }
 
 void SpamWallBooks(const SpamGhosts *g, const SpamFields *f, const SpamLayout *l, int n, PetscBool energy, SpamWallRates *r, double *ydot)
