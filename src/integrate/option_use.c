@@ -147,7 +147,8 @@ static PetscErrorCode GivenFree(Given *g)
  * longer number as whatever its low bits say: check the text itself first. */
 static const char *const IntegerOptions[] = {"dim", "threads", "ts_max_steps", "ts_max_reject", "ts_ssp_nstages", "cvode_max_order", "snapshot_max", "expansion_n",
                                              "expansion_seed", "chain_n", "planewave_nx", "planewave_ny", "rotor_n", "tensile_nx", "tensile_ny", "sod_n", "sod_width", "sedov_n",
-                                             "gresho_n", "taylorgreen_n", "heatmode_n", "heatmode_ny", "couette_n", "couette_nx", "poiseuille_n", "poiseuille_nx"};
+                                             "gresho_n", "taylorgreen_n", "heatmode_n", "heatmode_ny", "couette_n", "couette_nx", "poiseuille_n", "poiseuille_nx",
+                                             "convection_nx", "convection_ny", "convection_seed"};
 
 static PetscErrorCode CheckIntegerRange(const char *name, const char *value)
 {
