@@ -284,7 +284,7 @@ OPTION_TABLE = {
     "-convection_nx": ("CONV", {}), "-convection_ny": ("CONV", {}), "-convection_ra": ("CONV", {"2147483648": O0}),
     "-convection_prandtl": ("CONV", {}), "-convection_g": ("CONV", {}),
     "-convection_amplitude": ("CONV", real(zero=O0, tiny=O0)),
-    "-convection_seed": ("CONV", {"-1": O02, "0": O0, "2147483648": O0}),
+    "-convection_seed": ("CONV", {"-1": O02, "0": O0}),
     "-sod_n": ("SOD", {}), "-sod_width": ("SOD2", {}), "-sedov_n": ("SED", {}),
     "-sod_length": ("SOD", real()),
     "-sedov_energy": ("SED", real(i31=O03)),  # from 1e-100 to 1e100; 2^31 blows the box apart

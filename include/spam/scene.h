@@ -220,6 +220,10 @@ void     SpamLatticeSquare(int dim, const PetscInt n[], double *x);
 /* The solid's defaults (PRE): lambda = eta = sqrt(3)/4, rho0 = sqrt(4/3), continuity
  * density from the ideal value, R0, eps 1, no angular-momentum treatment. */
 void SpamSolidDefaults(SpamSolidParams *p);
+/* The gas scenes' defaults: -material gas with the summed density (from the start) and the
+ * reference density rho0; and their check that the run kept the gas (bad input otherwise). */
+void           SpamSolidGasDefaults(double rho0, SpamSolidParams *p);
+PetscErrorCode SpamSceneRequireGas(const char *scene, const SpamSolidParams *p);
 /* Allocates the optional fields e, rho, sigma of p. */
 PetscErrorCode SpamParticlesAllocateFields(SpamParticles *p);
 /* Open box around the particles with a margin (non-periodic). */

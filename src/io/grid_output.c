@@ -18,19 +18,7 @@ typedef struct {
   long        writes, fail_at; /* test-only injected failure, see output.h */
 } GridH5;
 
-static PetscErrorCode H5Failed(const GridH5 *h)
-{
-  const int e = errno ? errno : EIO; /* HDF5 keeps the system call's errno */
-
-  PetscFunctionBeginUser;
-  SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write %s: %s", h->path, strerror(e));
-}
-
-#define PetscCallGridH5(h, call) \
-  do { \
-    errno = 0; \
-    if ((call) < 0) PetscCall(H5Failed(h)); \
-  } while (0)
+#define PetscCallGridH5(h, call) SpamCallH5((h)->path, call)
 
 /* The grid's shape as HDF5 and XDMF give it, slowest first: z y x (a 1D grid is one row). */
 static int Shape(const SpamGrid *g, hsize_t shape[4])
@@ -53,13 +41,13 @@ static PetscErrorCode WriteDataset(GridH5 *h, const SpamGrid *g, const char *nam
   set = H5Dcreate2(h->file, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   if (set < 0) {
     (void)H5Sclose(space);
-    PetscCall(H5Failed(h));
+    PetscCall(SpamH5Failed(h->path));
   }
   errno = 0;
   w     = ++h->writes == h->fail_at ? (errno = ENOSPC, -1) : H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data);
   if (H5Dclose(set) < 0) w = -1;
   if (H5Sclose(space) < 0) w = -1;
-  if (w < 0) PetscCall(H5Failed(h));
+  if (w < 0) PetscCall(SpamH5Failed(h->path));
   PetscFunctionReturn(0);
 }
 
@@ -138,11 +126,11 @@ static PetscErrorCode WriteHdf5(const char *path, const SpamSim *sim, const Spam
   (void)H5Eset_auto2(H5E_DEFAULT, NULL, NULL); /* no error-stack dump: one line instead */
   errno  = 0;
   h.file = H5Fcreate(tmp, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  if (h.file < 0) ierr = H5Failed(&h);
+  if (h.file < 0) ierr = SpamH5Failed(h.path);
   else {
     ierr  = WriteContents(&h, sim, g, f, t, step);
     errno = 0;
-    if (H5Fclose(h.file) < 0 && !ierr) ierr = H5Failed(&h);
+    if (H5Fclose(h.file) < 0 && !ierr) ierr = SpamH5Failed(h.path);
   }
   if (!ierr && (lstat(tmp, &now) || !S_ISREG(now.st_mode) || now.st_ino != made.st_ino || now.st_dev != made.st_dev)) ierr = PetscError(PETSC_COMM_SELF, __LINE__, PETSC_FUNCTION_NAME, __FILE__, PETSC_ERR_FILE_WRITE, PETSC_ERROR_INITIAL, "cannot write %s: its temporary %s was replaced during the write", path, tmp);
   if (!ierr && rename(tmp, path)) ierr = PetscError(PETSC_COMM_SELF, __LINE__, PETSC_FUNCTION_NAME, __FILE__, PETSC_ERR_FILE_WRITE, PETSC_ERROR_INITIAL, "cannot rename %s to %s: %s", tmp, path, strerror(errno));

@@ -2,6 +2,7 @@
  * back, scene_file_hdf5.c): root attributes time, step, dim, box_lo, box_len, periodic,
  * kernel_h, units, version and model (a JSON object, model_settings.c). */
 #include "snapshot_hdf5.h"
+#include <errno.h>
 #include <spam/version.h>
 
 static herr_t Attribute(hid_t file, const char *name, hid_t file_type, hid_t mem_type, hsize_t n, const void *data)
@@ -68,4 +69,12 @@ herr_t SpamH5Attribute(hid_t loc, const char *name, hid_t file_type, hid_t mem_t
 herr_t SpamH5StringAttribute(hid_t loc, const char *name, const char *s)
 {
   return StringAttribute(loc, name, s);
+}
+
+PetscErrorCode SpamH5Failed(const char *path)
+{
+  const int e = errno ? errno : EIO; /* HDF5 keeps the system call's errno */
+
+  PetscFunctionBeginUser;
+  SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write %s: %s", path, strerror(e));
 }

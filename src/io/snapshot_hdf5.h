@@ -14,4 +14,12 @@ herr_t SpamSnapshotDensityCarried(hid_t file, int carried);
 /* An attribute of loc: n values (0: a scalar); a fixed-length ASCII string. */
 herr_t SpamH5Attribute(hid_t loc, const char *name, hid_t file_type, hid_t mem_type, hsize_t n, const void *data);
 herr_t SpamH5StringAttribute(hid_t loc, const char *name, const char *s);
+/* A failed HDF5 call on the file at path: one line naming it and the system's reason (HDF5
+ * keeps the system call's errno), as a PETSc error. */
+PetscErrorCode SpamH5Failed(const char *path);
+#define SpamCallH5(path, call) \
+  do { \
+    errno = 0; \
+    if ((call) < 0) PetscCall(SpamH5Failed(path)); \
+  } while (0)
 #endif

@@ -18,19 +18,7 @@ typedef struct {
   const SpamSim *sim;
 } H5Out;
 
-static PetscErrorCode H5Failed(const H5Out *h)
-{
-  const int e = errno ? errno : EIO; /* HDF5 keeps the system call's errno */
-
-  PetscFunctionBeginUser;
-  SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write %s: %s", h->path, strerror(e));
-}
-
-#define PetscCallH5(h, call) \
-  do { \
-    errno = 0; \
-    if ((call) < 0) PetscCall(H5Failed(h)); \
-  } while (0)
+#define PetscCallH5(h, call) SpamCallH5((h)->path, call)
 
 static PetscErrorCode WriteDataset(H5Out *h, const char *name, const double *data, hsize_t n, hsize_t ncomp)
 {
@@ -43,7 +31,7 @@ static PetscErrorCode WriteDataset(H5Out *h, const char *name, const double *dat
   set = H5Dcreate2(h->file, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   if (set < 0) {
     (void)H5Sclose(space);
-    PetscCall(H5Failed(h));
+    PetscCall(SpamH5Failed(h->path));
   }
   errno = 0;
   w = ++h->writes == h->fail_at ? (errno = ENOSPC, -1) : H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data);
@@ -52,7 +40,7 @@ static PetscErrorCode WriteDataset(H5Out *h, const char *name, const double *dat
     (void)H5Dclose(set);
     (void)H5Sclose(space);
     errno = e;
-    PetscCall(H5Failed(h));
+    PetscCall(SpamH5Failed(h->path));
   }
   PetscCallH5(h, H5Dclose(set));
   PetscCallH5(h, H5Sclose(space));
@@ -111,13 +99,13 @@ static PetscErrorCode WriteIds(H5Out *h, const long long *id, hsize_t n)
   set = H5Dcreate2(h->file, "/id", H5T_STD_I64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
   if (set < 0) {
     (void)H5Sclose(space);
-    PetscCall(H5Failed(h));
+    PetscCall(SpamH5Failed(h->path));
   }
   errno = 0;
   w     = H5Dwrite(set, H5T_NATIVE_LLONG, H5S_ALL, H5S_ALL, H5P_DEFAULT, id);
   if (H5Dclose(set) < 0) w = -1;
   if (H5Sclose(space) < 0) w = -1;
-  if (w < 0) PetscCall(H5Failed(h));
+  if (w < 0) PetscCall(SpamH5Failed(h->path));
   PetscFunctionReturn(0);
 }
 
@@ -150,7 +138,7 @@ static PetscErrorCode WriteFile(const char *path, const char *tmp, const struct 
   PetscCallH5(&h, h.file = H5Fcreate(tmp, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT));
   ierr = FieldsWrite(&h, f, n);
   errno = 0;
-  if (H5Fclose(h.file) < 0 && !ierr) ierr = H5Failed(&h);
+  if (H5Fclose(h.file) < 0 && !ierr) ierr = SpamH5Failed(h.path);
   PetscCall(ierr);
   PetscCheck(!lstat(tmp, &now) && S_ISREG(now.st_mode) && now.st_ino == made->st_ino && now.st_dev == made->st_dev, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write %s: its temporary %s was replaced during the write", path, tmp);
   PetscCheck(!rename(tmp, path), PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot rename %s to %s: %s", tmp, path, strerror(errno));

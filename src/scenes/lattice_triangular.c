@@ -1,6 +1,7 @@
 /* Triangular lattices: the periodic crystal of the plane-wave and tensile scenes and the
  * hexagonal rotor. */
 #include <spam/scene.h>
+#include <spam/errors.h>
 
 void SpamLatticeTriangular(PetscInt nx, PetscInt ny, double a, double *x)
 {
@@ -43,6 +44,22 @@ void SpamSolidDefaults(SpamSolidParams *p)
   p->gas_e0          = 1.0;
   p->visc_alpha      = 1.0;
   p->visc_beta       = 2.0;
+}
+
+void SpamSolidGasDefaults(double rho0, SpamSolidParams *p)
+{
+  SpamSolidDefaults(p);
+  p->material        = SPAM_MATERIAL_GAS;
+  p->density         = SPAM_DENSITY_SUMMATION;
+  p->density_initial = SPAM_DENSITY_INITIAL_SUMMED;
+  p->rho0            = rho0;
+}
+
+PetscErrorCode SpamSceneRequireGas(const char *scene, const SpamSolidParams *p)
+{
+  PetscFunctionBeginUser;
+  if (p->material != SPAM_MATERIAL_GAS) SPAM_BAD_INPUT("-material", SpamMaterialNames[p->material], "-scene %s is a gas with its energy equation: use -material gas", scene);
+  PetscFunctionReturn(0);
 }
 
 PetscErrorCode SpamParticlesAllocateFields(SpamParticles *p)

@@ -107,11 +107,7 @@ static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, Spa
 {
   PetscFunctionBeginUser;
   PetscCall(SpamGreshoOptions(c, &p->gresho));
-  SpamSolidDefaults(solid);
-  solid->material        = SPAM_MATERIAL_GAS;
-  solid->density         = SPAM_DENSITY_SUMMATION;
-  solid->density_initial = SPAM_DENSITY_INITIAL_SUMMED;
-  solid->rho0            = c->mass;
+  SpamSolidGasDefaults(c->mass, solid);
   solid->gamma           = 5.0 / 3.0;
   /* The reference sound speed (error weights, CFL bound) is the centre's: the slowest. */
   solid->gas_e0 = p->gresho.p0 / (solid->gamma - 1.0);
@@ -121,7 +117,7 @@ static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, Spa
 static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p, const SpamSolidParams *solid, SpamParticles *out)
 {
   PetscFunctionBeginUser;
-  if (solid->material != SPAM_MATERIAL_GAS) SPAM_BAD_INPUT("-material", SpamMaterialNames[solid->material], "-scene gresho is a gas with its energy equation: use -material gas");
+  PetscCall(SpamSceneRequireGas("gresho", solid));
   PetscCall(RefuseGasE0());
   PetscCall(SpamGreshoBuild(c, &p->gresho, solid, out));
   PetscFunctionReturn(0);

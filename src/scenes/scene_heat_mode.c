@@ -75,11 +75,7 @@ static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, Spa
 {
   PetscFunctionBeginUser;
   PetscCall(SpamHeatModeOptions(c, &p->heat_mode));
-  SpamSolidDefaults(solid);
-  solid->material        = SPAM_MATERIAL_GAS;
-  solid->density         = SPAM_DENSITY_SUMMATION;
-  solid->density_initial = SPAM_DENSITY_INITIAL_SUMMED;
-  solid->rho0            = c->mass;
+  SpamSolidGasDefaults(c->mass, solid);
   solid->gas_e0          = 1e-6;
   solid->conductivity    = 1.0;
   PetscFunctionReturn(0);
@@ -88,7 +84,7 @@ static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, Spa
 static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p, const SpamSolidParams *solid, SpamParticles *out)
 {
   PetscFunctionBeginUser;
-  if (solid->material != SPAM_MATERIAL_GAS) SPAM_BAD_INPUT("-material", SpamMaterialNames[solid->material], "-scene heat-mode is a gas with its energy equation: use -material gas");
+  PetscCall(SpamSceneRequireGas("heat-mode", solid));
   PetscCall(SpamHeatModeBuild(c, &p->heat_mode, solid, out));
   PetscFunctionReturn(0);
 }

@@ -103,13 +103,9 @@ static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, Spa
 {
   PetscFunctionBeginUser;
   PetscCall(SedovOptions(c, &p->sedov));
-  SpamSolidDefaults(solid);
-  solid->material        = SPAM_MATERIAL_GAS;
+  SpamSolidGasDefaults(c->mass, solid); /* unit lattice */
   solid->gamma           = SEDOV_GAMMA;
   solid->gas_e0          = SEDOV_E_AMBIENT;
-  solid->rho0            = c->mass; /* unit lattice */
-  solid->density         = SPAM_DENSITY_SUMMATION;
-  solid->density_initial = SPAM_DENSITY_INITIAL_SUMMED;
   solid->viscosity       = SPAM_VISCOSITY_MONAGHAN;
   PetscFunctionReturn(0);
 }

@@ -145,13 +145,9 @@ static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, Spa
 {
   PetscFunctionBeginUser;
   PetscCall(SodOptions(c, &p->sod));
-  SpamSolidDefaults(solid);
-  solid->material        = SPAM_MATERIAL_GAS;
+  SpamSolidGasDefaults(c->mass * SOD_RHO_LEFT, solid);
   solid->gamma           = SOD_GAMMA;
   solid->gas_e0          = SOD_P_LEFT / (SOD_RHO_LEFT * (SOD_GAMMA - 1.0)); /* reference sound speed only */
-  solid->rho0            = c->mass * SOD_RHO_LEFT;
-  solid->density         = SPAM_DENSITY_SUMMATION;
-  solid->density_initial = SPAM_DENSITY_INITIAL_SUMMED;
   solid->viscosity       = SPAM_VISCOSITY_MONAGHAN;
   PetscFunctionReturn(0);
 }

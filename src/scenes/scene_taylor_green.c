@@ -68,11 +68,7 @@ static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, Spa
 {
   PetscFunctionBeginUser;
   PetscCall(SpamTaylorGreenOptions(c, &p->taylor_green));
-  SpamSolidDefaults(solid);
-  solid->material        = SPAM_MATERIAL_GAS;
-  solid->density         = SPAM_DENSITY_SUMMATION;
-  solid->density_initial = SPAM_DENSITY_INITIAL_SUMMED;
-  solid->rho0            = c->mass;
+  SpamSolidGasDefaults(c->mass, solid);
   solid->gas_e0          = 1e-4;
   solid->shear_visc      = 2.0;
   PetscFunctionReturn(0);
@@ -81,7 +77,7 @@ static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, Spa
 static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p, const SpamSolidParams *solid, SpamParticles *out)
 {
   PetscFunctionBeginUser;
-  if (solid->material != SPAM_MATERIAL_GAS) SPAM_BAD_INPUT("-material", SpamMaterialNames[solid->material], "-scene taylor-green is the viscous gas: use -material gas");
+  PetscCall(SpamSceneRequireGas("taylor-green", solid));
   PetscCall(SpamTaylorGreenBuild(c, &p->taylor_green, solid, out));
   PetscFunctionReturn(0);
 }

@@ -8,12 +8,8 @@
 
 void SpamShearChannelDefaults(const SpamCommonParams *c, SpamSolidParams *solid)
 {
-  SpamSolidDefaults(solid);
-  solid->material        = SPAM_MATERIAL_GAS;
+  SpamSolidGasDefaults(c->mass, solid); /* unit square lattice */
   solid->shear_visc      = 1.0; /* nu = 1 at unit density: Re = U H of order 1 for U = 0.1 */
-  solid->density         = SPAM_DENSITY_SUMMATION;
-  solid->density_initial = SPAM_DENSITY_INITIAL_SUMMED;
-  solid->rho0            = c->mass; /* unit square lattice */
 }
 
 /* The columns along x (and z): the user's, or n but at least 2 (h + skin), the shortest
