@@ -3,6 +3,7 @@
 #define SPAM_SCENE_H
 #include <spam/sim.h>
 #include <spam/walls.h>
+#include <stdint.h>
 
 /* The columns a particle file can give (SpamParticles.columns): positions and velocities,
  * per-particle mass, energy per unit mass, density, stress and the particle id. */
@@ -18,6 +19,17 @@
 static inline int SpamStressComponents(int dim)
 {
   return dim * (dim + 1) / 2;
+}
+
+/* splitmix64: a small generator whose stream depends only on the seed, so the scenes'
+ * random perturbations reproduce on every platform. Returns a uniform number in [-1, 1). */
+static inline double SpamSceneUniform(uint64_t *state)
+{
+  uint64_t z = (*state += 0x9E3779B97F4A7C15ULL);
+  z          = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
+  z          = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+  z ^= z >> 31;
+  return 2.0 * ((double)(z >> 11) * 0x1.0p-53) - 1.0;
 }
 
 /* Particles as a scene makes them, before they go into the swarm. */

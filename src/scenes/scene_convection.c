@@ -23,17 +23,6 @@
 #define FACE_BOTTOM 2       /* ylo */
 #define FACE_TOP    3       /* yhi */
 
-/* splitmix64 (as the expansion's): a stream set only by the seed, the same on every
- * platform. Returns a uniform number in [-1, 1). */
-static double Uniform(uint64_t *state)
-{
-  uint64_t z = (*state += 0x9E3779B97F4A7C15ULL);
-  z          = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-  z          = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-  z ^= z >> 31;
-  return 2.0 * ((double)(z >> 11) * 0x1.0p-53) - 1.0;
-}
-
 static double HeatCapacity(double gamma)
 {
   return gamma / (gamma - 1.0);
@@ -152,7 +141,7 @@ static void SeedVelocities(const SpamConvectionParams *p, SpamParticles *out)
 
   for (PetscInt i = 0; i < out->n; i++) {
     for (int d = 0; d < 2; d++) {
-      out->v[2 * i + d] = p->amplitude * Uniform(&rng);
+      out->v[2 * i + d] = p->amplitude * SpamSceneUniform(&rng);
       mom[d] += out->m[i] * out->v[2 * i + d];
     }
     mtot += out->m[i];

@@ -5,17 +5,6 @@
 #include <spam/scene.h>
 #include <spam/errors.h>
 
-/* splitmix64: a small generator whose stream depends only on the seed, so runs reproduce
- * on every platform. Returns a uniform number in [-1, 1). */
-static double Uniform(uint64_t *state)
-{
-  uint64_t z = (*state += 0x9E3779B97F4A7C15ULL);
-  z          = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;
-  z          = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
-  z ^= z >> 31;
-  return 2.0 * ((double)(z >> 11) * 0x1.0p-53) - 1.0;
-}
-
 static PetscErrorCode SpamExpansionOptions(const SpamCommonParams *c, SpamExpansionParams *p)
 {
   char val[64];
@@ -60,7 +49,7 @@ static PetscErrorCode SpamExpansionBuild(const SpamCommonParams *c, const SpamEx
     PetscInt rem = i;
     for (int d = 0; d < dim; d++) {
       const double site = (double)(rem % p->n) + 0.5;
-      const double r    = p->amplitude * Uniform(&rng);
+      const double r    = p->amplitude * SpamSceneUniform(&rng);
       rem /= p->n;
       out->x[i * dim + d] = site + (p->velocities ? 0.0 : r);
       out->v[i * dim + d] = p->velocities ? r : 0.0;
