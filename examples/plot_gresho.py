@@ -76,11 +76,7 @@ def main():
     p.add_argument("dir")
     p.add_argument("-o", "--out")
     a = p.parse_args()
-    try:
-        man = spam_manifest.read(a.dir)
-        spam_manifest.check(man, a.dir, "plot_gresho.py")
-    except spam_manifest.ManifestError as exc:
-        sys.exit(f"plot_gresho.py: {exc}")
+    man, _ = spam_manifest.open_run(a.dir, "plot_gresho.py")
     snaps = spam_manifest.files(man, a.dir, "snapshot_csv")
     if len(snaps) < 2:
         sys.exit(f"plot_gresho.py: {a.dir}: need CSV snapshots at t = 0 and later (-snapshot_csv, -snapshot_interval)")

@@ -48,11 +48,7 @@ def main():
     p.add_argument("dir")
     p.add_argument("-o", "--out")
     a = p.parse_args()
-    try:
-        man = spam_manifest.read(a.dir)
-        spam_manifest.check(man, a.dir, "plot_heat_mode.py")
-    except spam_manifest.ManifestError as exc:
-        sys.exit(f"plot_heat_mode.py: {exc}")
+    man, _ = spam_manifest.open_run(a.dir, "plot_heat_mode.py")
     snaps = spam_manifest.files(man, a.dir, "snapshot_csv")
     if len(snaps) < 3:
         sys.exit(f"plot_heat_mode.py: {a.dir}: needs CSV snapshots (-snapshot_csv, -snapshot_interval)")

@@ -21,7 +21,6 @@ A missing or malformed input is one line on stderr and exit status 2.
 """
 import argparse
 import csv
-import json
 import os
 import sys
 
@@ -79,18 +78,7 @@ def main():
     ap.add_argument("dir")
     ap.add_argument("-o", "--out")
     a = ap.parse_args()
-    try:
-        man = spam_manifest.read(a.dir)
-        spam_manifest.check(man, a.dir, "plot_sedov")
-    except spam_manifest.ManifestError as exc:
-        fail(exc)
-    try:
-        with open(os.path.join(a.dir, "summary.json")) as f:
-            sm = json.load(f)
-    except (OSError, ValueError) as exc:
-        fail("cannot read summary.json: %s" % exc)
-    if sm.get("scene") != "sedov":
-        fail("%s is a run of -scene %s, not sedov" % (a.dir, sm.get("scene")))
+    man, sm = spam_manifest.open_run(a.dir, "plot_sedov", scene="sedov")
     snaps = [(t, p) for t, p in spam_manifest.files(man, a.dir, "snapshot_csv") if t and t > 0]
     if not snaps:
         fail("%s: no CSV snapshot after t = 0" % a.dir)

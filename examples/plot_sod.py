@@ -19,7 +19,6 @@ input is one line on stderr and exit status 2.
 """
 import argparse
 import csv
-import json
 import os
 import sys
 
@@ -69,18 +68,7 @@ def main():
     ap.add_argument("-o", "--out")
     ap.add_argument("--window", type=float, default=0.5, help="half-width of the x range drawn (tube units)")
     a = ap.parse_args()
-    try:
-        man = spam_manifest.read(a.dir)
-        spam_manifest.check(man, a.dir, "plot_sod")
-    except spam_manifest.ManifestError as exc:
-        fail(exc)
-    try:
-        with open(os.path.join(a.dir, "summary.json")) as f:
-            sm = json.load(f)
-    except (OSError, ValueError) as exc:
-        fail("cannot read summary.json: %s" % exc)
-    if sm.get("scene") != "sod":
-        fail("%s is a run of -scene %s, not sod" % (a.dir, sm.get("scene")))
+    man, sm = spam_manifest.open_run(a.dir, "plot_sod", scene="sod")
     snaps = spam_manifest.files(man, a.dir, "snapshot_csv")
     if not snaps:
         fail("%s: no CSV snapshot (run with -snapshot_csv true and -snapshot_interval > 0)" % a.dir)

@@ -39,11 +39,7 @@ def main():
     p.add_argument("dir")
     p.add_argument("-o", "--out")
     a = p.parse_args()
-    try:
-        man = spam_manifest.read(a.dir)
-        spam_manifest.check(man, a.dir, "plot_taylor_green.py")
-    except spam_manifest.ManifestError as exc:
-        sys.exit(f"plot_taylor_green.py: {exc}")
+    man, _ = spam_manifest.open_run(a.dir, "plot_taylor_green.py")
     ts = spam_manifest.files(man, a.dir, "timeseries")
     path = ts[0][1] if ts else os.path.join(a.dir, "timeseries.csv")
     with open(path) as f:

@@ -65,3 +65,26 @@ def check(man, run_dir, prog, refuse=("failed",)):
         sys.stderr.write("%s: warning: %s: the run's status is %r (%s); its files are drawn as "
                          "they are\n" % (prog, run_dir, st, why))
     return st
+
+
+def open_run(run_dir, prog, scene=None):
+    """(manifest, summary) of a run a chart script draws; on any problem, one line naming
+    prog on stderr and exit code 2. With scene, summary.json must say the run is of that
+    scene (a chart of the wrong scene would look plausible and mean nothing)."""
+    try:
+        man = read(run_dir)
+        check(man, run_dir, prog)
+        summary = None
+        if scene is not None:
+            path = os.path.join(run_dir, "summary.json")
+            try:
+                with open(path, encoding="utf-8") as fh:
+                    summary = json.load(fh)
+            except (OSError, UnicodeDecodeError, ValueError) as exc:
+                raise ManifestError("cannot read %s: %s" % (path, exc))
+            if summary.get("scene") != scene:
+                raise ManifestError("%s is a run of -scene %s, not %s" % (run_dir, summary.get("scene"), scene))
+    except ManifestError as exc:
+        sys.stderr.write("%s: error: %s\n" % (prog, " ".join(str(exc).split())))
+        sys.exit(2)
+    return man, summary
