@@ -52,6 +52,7 @@ STRIDE = max(1, int(os.environ.get("SPAM_FUZZ_STRIDE", "1")))
 ENV = dict(os.environ)
 # OpenMPI's singleton start without its PMIx server: 0.1 s instead of 0.3-0.6 s per start.
 ENV.setdefault("OMPI_MCA_ess_singleton_isolated", "1")
+ENV.setdefault("OMPI_MCA_pml", "ob1")  # no UCX probe at each start (tests/CMakeLists.txt)
 # Address space of one case (normal build): a reader that grows a buffer without bound on
 # /dev/zero fails instead of taking the machine's memory. Not under ASan (its shadow memory
 # is terabytes of address space).
