@@ -31,7 +31,7 @@ int main(int argc, char **argv)
   N_Vector   x, w, xc;
   uint64_t   seed = 11;
   static double xa[L], wa[L];
-  realtype   rms, max, nrm[2];
+  realtype   rms, max, nrm[2] = {-1.0, -1.0};
   N_Vector   xs[2], ws[2];
 
   PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
@@ -82,7 +82,10 @@ int main(int argc, char **argv)
     /* The fused array form (used by SUNDIALS packages on several vectors at once) must not
      * bypass it. */
     xs[0] = x, xs[1] = xc, ws[0] = w, ws[1] = w;
-    TestCheck(&c, N_VWrmsNormVectorArray(2, xs, ws, nrm) == 0 && nrm[0] == big && nrm[1] == big, "N_VWrmsNormVectorArray gives the max norm of each vector (%.6g, %.6g)", nrm[0], nrm[1]);
+    {
+      const int flag = N_VWrmsNormVectorArray(2, xs, ws, nrm); /* before the check reads nrm */
+      TestCheck(&c, flag == 0 && nrm[0] == big && nrm[1] == big, "N_VWrmsNormVectorArray gives the max norm of each vector (%.6g, %.6g)", nrm[0], nrm[1]);
+    }
     N_VDestroy(xc);
   }
 
