@@ -189,7 +189,9 @@ def chart(a, rows, path):
     ax[0, 1].set(xlabel="relative tolerance rtol", ylabel="largest particle position error at t_end (lattice spacings)",
                  title=f"Max-particle error against rtol (N = {a.tol_size}^2)")
     panel(ax[1, 0], rows, at_rtol, "N", "rhs_evals", True)
-    ax[1, 0].set(xlabel="particles N", ylabel="right-hand-side evaluations", title=f"Cost against N (rtol {a.rtol:g})")
+    ax[1, 0].set_yscale("linear")  # a ratio of 1.2 reads better from zero
+    ax[1, 0].set_ylim(bottom=0)
+    ax[1, 0].set(xlabel="particles N", ylabel="right-hand-side evaluations to t_end", title=f"Cost against N (rtol {a.rtol:g})")
     panel(ax[1, 1], rows, at_size, "rhs_evals", "err_max", True)
     ax[1, 1].set(xlabel="right-hand-side evaluations", ylabel="largest particle position error at t_end (lattice spacings)",
                  title=f"Work-precision (N = {a.tol_size}^2, rtol beside points)")
