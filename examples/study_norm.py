@@ -191,6 +191,7 @@ def chart(a, rows, path):
     panel(ax[1, 0], rows, at_rtol, "N", "rhs_evals", True)
     ax[1, 0].set_yscale("linear")  # a ratio of 1.2 reads better from zero
     ax[1, 0].set_ylim(bottom=0)
+    ax[1, 0].legend(fontsize=7, loc="lower right")
     ax[1, 0].set(xlabel="particles N", ylabel="right-hand-side evaluations to t_end", title=f"Cost against N (rtol {a.rtol:g})")
     panel(ax[1, 1], rows, at_size, "rhs_evals", "err_max", True)
     ax[1, 1].set(xlabel="right-hand-side evaluations", ylabel="largest particle position error at t_end (lattice spacings)",
