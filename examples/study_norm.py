@@ -1,7 +1,7 @@
 #!/usr/bin/env python3
 """The error norm of adaptive stepping (-error_norm rms|max) against the number of particles.
 
-    study_norm.py --out DIR [--spam-ark PATH] [--sizes 16,32,64,128] [--rtol 1e-6]
+    study_norm.py --out DIR [--spam-ark PATH] [--sizes 16,...,512] [--rtol 1e-6]
                   [--tols 1e-4,...,1e-9] [--tol-size 64] [--t-end 4] [--h 3] [--ref-rtol 1e-11]
 
 An adaptive method holds the norm of its weighted local error estimate to 1. The rms norm,
@@ -290,8 +290,8 @@ def main(argv=None):
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("--out", required=True)
     p.add_argument("--spam-ark", default=os.path.join(REPO, "build", "spam-ark"))
-    p.add_argument("--sizes", type=lambda s: [int(x) for x in s.split(",")], default=[16, 32, 64, 128],
-                   help="lattice points per direction, N = n^2 (default 16,32,64,128)")
+    p.add_argument("--sizes", type=lambda s: [int(x) for x in s.split(",")], default=[16, 32, 64, 128, 256, 512],
+                   help="lattice points per direction, N = n^2 (default 16,32,64,128,256,512)")
     p.add_argument("--rtol", type=float, default=1e-6, help="the tolerance of the sweep over N")
     p.add_argument("--tols", type=floats, default=[1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9], help="the tolerances at --tol-size")
     p.add_argument("--tol-size", type=int, default=64)
