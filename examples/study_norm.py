@@ -235,9 +235,9 @@ def readings(a, rows):
                   + ", ".join(f"{ratio[n]:.1f}" for n in sizes)
                   + f" times the max norm's at N = " + ", ".join(f"{n}^2" for n in sizes)
                   + f"; fitted against N it grows as N^{srms:.2f} (rms) and N^{smax:.2f} (max). "
-                  f"Largest particle error / (rtol h): rms {by[('rms', lo, a.rtol)]['err_max_over_rtol_h']:.2g} to "
-                  f"{by[('rms', hi, a.rtol)]['err_max_over_rtol_h']:.2g}, max {by[('max', lo, a.rtol)]['err_max_over_rtol_h']:.2g} to "
-                  f"{by[('max', hi, a.rtol)]['err_max_over_rtol_h']:.2g} from N = {lo}^2 to {hi}^2.", "",
+                  "Largest particle error / (rtol h) over N = " + f"{lo}^2 to {hi}^2: "
+                  + ", ".join(f"{norm} {min(by[(norm, n, a.rtol)]['err_max_over_rtol_h'] for n in sizes):.2g} to "
+                              f"{max(by[(norm, n, a.rtol)]['err_max_over_rtol_h'] for n in sizes):.2g}" for norm in NORMS) + ".", "",
                   "The max norm costs " + ", ".join(f"{cost[n]:.2f}" for n in sizes)
                   + " times the RHS evaluations of the rms norm at the same sizes and rtol.", ""]
     tols = {norm: sorted((r for r in ok if r["norm"] == norm and r["n"] == a.tol_size and r["rtol"] in a.tols),
