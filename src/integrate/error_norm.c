@@ -57,14 +57,17 @@ PetscErrorCode SpamErrorNormSetTS(TS ts, SpamErrorNorm norm)
   const NormType want = norm == SPAM_ERROR_NORM_MAX ? NORM_INFINITY : NORM_2;
   TSType         type;
   TSAdapt        adapt;
-  PetscBool      given;
+  PetscBool      given, none;
 
   PetscFunctionBeginUser;
   PetscCall(TSGetType(ts, &type));
   if (!strcmp(type, SPAM_TSARKODE) || !strcmp(type, SPAM_TSCVODE)) PetscFunctionReturn(0);
   PetscCall(TSGetAdapt(ts, &adapt));
-  /* PETSc 3.18 has no setter for the adaptor's norm type, only the option. */
+  PetscCall(PetscObjectTypeCompare((PetscObject)adapt, TSADAPTNONE, &none));
+  /* PETSc 3.18 has no setter for the adaptor's norm type, only the option (which, without
+   * an adaptor, the check of unused options refuses as such). */
   PetscCall(PetscOptionsHasName(NULL, NULL, "-ts_adapt_wnormtype", &given));
+  given = (PetscBool)(given && !none);
   if (given && adapt->wnormtype != want) SPAM_BAD_INPUT("-ts_adapt_wnormtype", NormTypes[adapt->wnormtype], "disagrees with -error_norm %s (NORM_2 is rms, INFINITY is max): give -error_norm alone, it sets the norm of every adaptive method", SpamErrorNormNames[norm]);
   adapt->wnormtype = want;
   PetscFunctionReturn(0);
