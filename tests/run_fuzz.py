@@ -300,6 +300,8 @@ OPTION_TABLE = {
     "-couette_speed": ("CO", real(m1=O0, zero=O0, tiny=O0)),
     "-poiseuille_n": ("PO", {}), "-poiseuille_nx": ("PO", {"0": O0}), "-poiseuille_start": ("PO", {}),
     "-poiseuille_speed": ("PO", real(m1=O0, zero=O0, tiny=O0)),
+    # issue 16 point 4: rms or max, names only (every hostile value refused)
+    "-error_norm": ("E", {}),
 }
 for flag in ("-expansion_perturb_velocities", "-arkode_classic_weights", "-snapshot_hdf5", "-snapshot_csv",
              "-monitor", "-diag_entropy", "-sort_particles", "-output_overwrite"):

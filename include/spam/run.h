@@ -2,6 +2,7 @@
 #ifndef SPAM_RUN_H
 #define SPAM_RUN_H
 #include <spam/output.h>
+#include <spam/error_norm.h>
 
 /* How a run ended: done (ok or at the step limit), blown up, stopped by SIGINT/SIGTERM
  * (outputs complete at the time reached), or failed (a write or library failure). */
@@ -17,6 +18,7 @@ typedef struct {
   double   adapt_params[3];  /* controller gains k1, k2, k3 (0: ARKODE's defaults)   */
   PetscInt n_adapt_params;
   PetscBool classic_weights; /* ARKODE's own rtol|y| + atol weights (for comparison)   */
+  SpamErrorNorm error_norm;  /* -error_norm: rms or max of the weighted error, every method */
   PetscInt cvode_max_order;
   /* physical step bound (off when 0): dt <= cfl h / c_max and dt <= force sqrt(h / |a|max) */
   double   cfl, force;

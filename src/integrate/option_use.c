@@ -83,6 +83,8 @@ static const Known KnownOptions[] = {
   {"couette_n", PETSC_TRUE, G_COUETTE}, {"couette_nx", PETSC_TRUE, G_COUETTE}, {"couette_speed", PETSC_TRUE, G_COUETTE},
   {"couette_start", PETSC_TRUE, G_COUETTE}, {"poiseuille_n", PETSC_TRUE, G_POISEUILLE}, {"poiseuille_nx", PETSC_TRUE, G_POISEUILLE},
   {"poiseuille_speed", PETSC_TRUE, G_POISEUILLE}, {"poiseuille_start", PETSC_TRUE, G_POISEUILLE},
+  /* Issue 16 point 4: the norm of the weighted error (error_norm.c); a fixed step has none. */
+  {"error_norm", PETSC_TRUE, G_ADAPTIVE},
 };
 #define NKNOWN ((int)(sizeof KnownOptions / sizeof KnownOptions[0]))
 

@@ -201,6 +201,7 @@ PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o)
   PetscCall(PetscOptionsString("-initial_csv", "Also write the initial particles to this CSV (file-scene format)", "README", o->initial_csv, o->initial_csv, sizeof o->initial_csv, NULL));
   PetscCall(PetscOptionsString("-final_csv", "Also write the final particles to this CSV (file-scene format)", "README", o->final_csv, o->final_csv, sizeof o->final_csv, NULL));
   PetscOptionsEnd();
+  PetscCall(SpamErrorNormOptions(sim->comm, &o->error_norm));
   PetscCall(CheckArkode(o));
   PetscCall(CheckTimes(o));
   PetscCall(CheckRange("-ts_rtol", o->rtol, 0.0, PETSC_TRUE, "a tolerance must be positive"));

@@ -94,6 +94,7 @@ static PetscErrorCode TSSetUp_SpamARKode(TS ts)
   /* Fused operations: a stage or history combination of k vectors is one VecMAXPY pass
    * instead of k VecAXPY passes over memory (clones inherit the setting). */
   PetscCheck(N_VEnableFusedOps_Petsc(ark->y, SUNTRUE) == 0, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "N_VEnableFusedOps_Petsc failed");
+  PetscCall(SpamErrorNormAttach(ark->y, app->o->error_norm)); /* -error_norm: cloned with y */
   ark->mem = ERKStepCreate(SpamSundialsRhs, ts->ptime, ark->y, ark->sunctx);
   PetscCheck(ark->mem, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "ERKStepCreate failed");
   PetscCallARK(ERKStepSetUserData(ark->mem, app));

@@ -187,6 +187,7 @@ PetscErrorCode SpamTSCreate(SpamSim *sim, const SpamRunOptions *o, SpamTsApp *ap
   PetscCall(TSSetMaxTime(*ts, o->t_end));
   PetscCall(TSSetTimeStep(*ts, o->dt_first > 0 ? o->dt_first : 0.05 * sim->model.kernel.h / app->w.vscale));
   PetscCall(Tolerances(*ts, app));
+  PetscCall(SpamErrorNormSetTS(*ts, o->error_norm)); /* -error_norm as PETSc's adaptor norm */
   PetscCall(TSSetUp(*ts));
   PetscCall(CheckRkEmbedded(*ts));
   PetscFunctionReturn(0);

@@ -2,7 +2,8 @@
  * depend on where the origin is, so positions are weighed against the kernel range h:
  * 1/(rtol h + atol), the same for every particle and every translation. Velocities are
  * weighed against the particle's speed |v_i| (rotation invariant), floored at the sound
- * speed: 1/(rtol max(|v_i|, c0) + atol). Other fields against their declared scales. */
+ * speed: 1/(rtol max(|v_i|, c0) + atol). Other fields against their declared scales.
+ * The norm of error times weight that the method holds to 1 is -error_norm's (error_norm.c). */
 #include <spam/weights.h>
 #include <nvector/nvector_petsc.h>
 
