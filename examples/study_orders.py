@@ -6,8 +6,8 @@
 For every kernel x method x scene, a series of fixed steps (halving) runs to t = 8 and its
 RMS position error at t = 8 (minimum image) is measured against a reference of the same
 kernel and scene; the order is the least-squares slope of log error against log dt over the
-asymptotic range (the three smallest steps whose error stands clear of the reference's own
-error). Two scenes:
+asymptotic range (the smallest steps whose error stands clear of the reference's own error,
+within a factor 4 in dt; see fit_order). Two scenes:
 
   expansion  the 2D expansion, 16 x 16 particles, h = 3: pairs cross r = h all the time;
   lattice    the periodic 16 x 16 square lattice of tests/run_order.py with small random
@@ -22,9 +22,9 @@ error falls as dt^min(p, m+1) instead of dt^p. The study compares that with what
 
 Methods: RK4 (PETSc rk 4: ARKODE 6.4.1 has no classical 4th-order table), ARKODE
 Dormand-Prince 5(4), Verner 6(5) and Fehlberg 8(7) with -arkode_fixed_step. The reference is
-ARKODE Dormand-Prince at rtol 1e-13 (its step controller shrinks the steps that hold a
-crossing), checked against PETSc rk 8vr at rtol 1e-13: their difference is the reference's
-error floor, and an error within 30 times that floor is left out of the fit.
+ARKODE Dormand-Prince at rtol 1e-14 (its step controller shrinks the steps that hold a
+crossing), checked against PETSc rk 8vr at rtol 1e-14: their difference is the reference's
+error floor, and an error within 10 times that floor is left out of the fit.
 
 Writes DIR/orders.csv (every run), DIR/orders.png (measured order against the kernel's
 smoothness at r = h), DIR/wp_kernels.png (error against RHS evaluations, a panel per kernel)
@@ -62,19 +62,22 @@ COMMON = ["-dim", 2, "-ts_max_time", END_TIME, "-diag_entropy", 0, "-output_inte
 
 
 def arkode(table):
-    return lambda dt: ["-arkode_table", table, "-arkode_fixed_step", "%.10g" % dt]
+    return lambda dt: ["-arkode_table", table, "-arkode_fixed_step", "%.17g" % dt]
 
 
 # label, nominal order, options for a fixed step dt. One colour and marker per method.
-METHODS = [("RK4", 4, lambda dt: ["-ts_type", "rk", "-ts_rk_type", "4", "-ts_adapt_type", "none", "-ts_dt", "%.10g" % dt]),
+METHODS = [("RK4", 4, lambda dt: ["-ts_type", "rk", "-ts_rk_type", "4", "-ts_adapt_type", "none", "-ts_dt", "%.17g" % dt]),
            ("DP5", 5, arkode("ARKODE_DORMAND_PRINCE_7_4_5")),
            ("V6", 6, arkode("ARKODE_VERNER_8_5_6")),
            ("F8", 8, arkode("ARKODE_FEHLBERG_13_7_8"))]
 STYLE = {"RK4": ("tab:blue", "o"), "DP5": ("tab:orange", "s"), "V6": ("tab:green", "^"), "F8": ("tab:purple", "D")}
-REFERENCE = ["-arkode_table", "ARKODE_DORMAND_PRINCE_7_4_5", "-ts_rtol", "1e-13", "-ts_atol", "1e-15"]
-CHECK = ["-ts_type", "rk", "-ts_rk_type", "8vr", "-ts_rtol", "1e-13", "-ts_atol", "1e-15"]
-FLOOR_FACTOR = 20.0   # errors within this factor of the reference's error are not fitted
-FIT_POINTS = 3        # the asymptotic range: this many smallest usable steps
+# Measured on the Lucy expansion: DP5 at rtol 1e-13 is 1.4e-10 from DP5 at 1e-14, which agrees
+# with rk 8vr at 1e-14 to 2.0e-11.
+REFERENCE = ["-arkode_table", "ARKODE_DORMAND_PRINCE_7_4_5", "-ts_rtol", "1e-14", "-ts_atol", "1e-16"]
+CHECK = ["-ts_type", "rk", "-ts_rk_type", "8vr", "-ts_rtol", "1e-14", "-ts_atol", "1e-16"]
+FLOOR_FACTOR = 10.0   # errors within this factor of the reference's error are not fitted
+FIT_SPAN = 4.0        # the asymptotic range: usable steps within this factor of the smallest usable one
+FIT_POINTS = 3        # and at least this many of them
 
 
 def lattice_file(path):
@@ -102,9 +105,9 @@ def scenes(runs):
 # sqrt(2) apart where a high-order method crosses that window in a few halvings. On the
 # expansion RK4 and DP5 run dt = 0.2 ... 0.0125 (issue 16's 0.2 ... 0.025 and one more).
 STEPS = {("expansion", "RK4"): [40, 80, 160, 320, 640], ("expansion", "DP5"): [40, 80, 160, 320, 640],
-         ("expansion", "V6"): [20, 28, 40, 56, 80, 160], ("expansion", "F8"): [10, 14, 20, 28, 40, 80],
+         ("expansion", "V6"): [20, 28, 40, 56, 80, 160, 320], ("expansion", "F8"): [10, 14, 20, 28, 40, 80, 160],
          ("lattice", "RK4"): [8, 16, 32, 64, 128], ("lattice", "DP5"): [8, 16, 32, 64, 128],
-         ("lattice", "V6"): [8, 12, 16, 24, 32, 64], ("lattice", "F8"): [4, 6, 8, 12, 16, 24]}
+         ("lattice", "V6"): [8, 12, 16, 24, 32, 64], ("lattice", "F8"): [6, 8, 12, 16, 24, 32]}
 
 
 def smoothness(kernel, dim=2):
@@ -119,8 +122,10 @@ def smoothness(kernel, dim=2):
 
 def spam(binary, args, outdir):
     """Runs spam-ark into outdir unless a finished run is there; returns its summary.json."""
-    summ = os.path.join(outdir, "summary.json")
-    if os.path.exists(summ) and os.path.exists(os.path.join(outdir, "final.csv")):
+    summ, argf = os.path.join(outdir, "summary.json"), os.path.join(outdir, "args.txt")
+    line = " ".join(map(str, args)) + "\n"
+    if os.path.exists(summ) and os.path.exists(os.path.join(outdir, "final.csv")) and os.path.exists(argf) \
+            and open(argf).read() == line:
         s = json.load(open(summ))
         if s.get("status") in ("ok", "unstable"):
             return s
@@ -130,6 +135,8 @@ def spam(binary, args, outdir):
                        capture_output=True, text=True)
     if p.returncode not in (0, 3):
         sys.exit(f"spam-ark failed (exit {p.returncode}): {' '.join(map(str, args))}\n{p.stderr.strip()}")
+    with open(argf, "w") as f:   # the options that made this run: other options run it again
+        f.write(line)
     s = json.load(open(summ))
     if p.returncode == 3 and not os.path.exists(os.path.join(outdir, "final.csv")):
         open(os.path.join(outdir, "final.csv"), "w").close()
@@ -148,13 +155,12 @@ def rms_position(p, q, box):
 
 
 def joint_clearance(outdir, box, h, kernel):
-    """Closest approach of any pair distance to r = h or a spline joint over the reference
-    run's snapshots (s = r/h), and the number of pair distances that crossed r = h between
-    consecutive snapshots (a lower bound on the crossings)."""
-    snaps = sorted((t, p) for t, p in snapshot_positions(outdir))
+    """Over the reference run's snapshots (0.25 apart): the closest approach of any pair
+    distance to r = h or a spline joint (in units of h), and how many times a pair distance
+    crossed r = h and crossed an inner joint between consecutive snapshots (a lower bound)."""
     joints = [1.0] + JOINTS.get(kernel, [])
-    clearance, crossings, before = math.inf, 0, None
-    for _, p in snaps:
+    clearance, crossings, before = math.inf, [0] * len(joints), None
+    for _, p in sorted(snapshot_positions(outdir), key=lambda tp: tp[0]):
         d = p[:, None, :] - p[None, :, :]
         d -= box * np.round(d / box)
         s = np.sqrt(np.sum(d * d, axis=2))[np.triu_indices(len(p), 1)] / h
@@ -162,9 +168,10 @@ def joint_clearance(outdir, box, h, kernel):
         for j in joints:
             clearance = min(clearance, float(np.min(np.abs(s[near] - j))))
         if before is not None:
-            crossings += int(np.sum((before < 1) != (s < 1)))
+            for i, j in enumerate(joints):
+                crossings[i] += int(np.sum((before < j) != (s < j)))
         before = s
-    return clearance, crossings
+    return clearance, crossings[0], sum(crossings[1:])
 
 
 def snapshot_positions(outdir):
@@ -176,20 +183,32 @@ def snapshot_positions(outdir):
 
 
 def fit_order(points, floor):
-    """points: [(dt, error)] of finished runs, largest dt first. Returns (order, scatter,
-    local orders, dts used): the slope over the FIT_POINTS smallest steps whose error exceeds
-    FLOOR_FACTOR x floor, and the largest deviation of a local order log2(e(dt)/e(dt/2))
-    within that range from the fit (the fit's scatter)."""
+    """points: [(dt, error)], largest dt first. The asymptotic range: the steps whose error
+    exceeds FLOOR_FACTOR x floor and that lie within a factor FIT_SPAN of the smallest such
+    step (at least FIT_POINTS of them, taking larger steps if needed). Returns (order, scatter,
+    local orders, dts used): the least-squares slope of log error against log dt, the
+    standard error of that slope (nan with two points), and the order of each neighbouring
+    pair of steps. A crossing's error depends on where in its step the crossing falls, so the
+    errors scatter about the line and the standard error says by how much."""
     usable = [(dt, e) for dt, e in points if e is not None and math.isfinite(e) and e > FLOOR_FACTOR * floor]
-    rng = usable[-FIT_POINTS:]
+    if not usable:
+        return math.nan, math.nan, [], []
+    smallest = usable[-1][0]
+    rng = [(dt, e) for dt, e in usable if dt <= FIT_SPAN * smallest * (1 + 1e-9)]
+    if len(rng) < FIT_POINTS:
+        rng = usable[-FIT_POINTS:]
+    local = [math.log(e1 / e2) / math.log(d1 / d2) for (d1, e1), (d2, e2) in zip(rng, rng[1:])]
     if len(rng) < 2:
-        return math.nan, math.nan, [], [dt for dt, _ in rng]
+        return math.nan, math.nan, local, [dt for dt, _ in rng]
     x = np.log([dt for dt, _ in rng])
     y = np.log([e for _, e in rng])
-    order = float(np.polyfit(x, y, 1)[0])
-    local = [math.log(e1 / e2) / math.log(d1 / d2) for (d1, e1), (d2, e2) in zip(rng, rng[1:])]
-    scatter = max(abs(o - order) for o in local) if len(local) > 1 else math.nan
-    return order, scatter, local, [dt for dt, _ in rng]
+    slope, icept = np.polyfit(x, y, 1)
+    if len(rng) > 2:
+        res = y - (slope * x + icept)
+        scatter = float(math.sqrt(np.sum(res ** 2) / (len(rng) - 2) / np.sum((x - x.mean()) ** 2)))
+    else:
+        scatter = math.nan
+    return float(slope), scatter, local, [dt for dt, _ in rng]
 
 
 def attainable(p, smooth):
@@ -231,14 +250,16 @@ def study(a):
             prog.step(f"{scene} {kernel} check")
             ref = positions(rdir)
             floor = rms_position(positions(cdir), ref, box)
-            clearance, crossings = joint_clearance(rdir, box, h, kernel)
-            refs[(scene, kernel)] = {"floor": floor, "clearance": clearance, "crossings": crossings}
+            clearance, crossings, inner = joint_clearance(rdir, box, h, kernel)
+            refs[(scene, kernel)] = {"floor": floor, "clearance": clearance, "crossings": crossings, "inner": inner}
             for label, p, args in methods:
                 for n in STEPS[(scene, label)]:
                     dt = END_TIME / n
                     d = os.path.join(runs, scene, kernel, f"{label}_{n}steps")
                     s = spam(a.spam_ark, fixed + args(dt), d)
                     ok = s.get("status") == "ok" and s.get("steps") == n and s.get("t_final") == END_TIME
+                    if s.get("status") == "ok" and not ok:
+                        sys.exit(f"{d}: {s.get('steps')} steps to t = {s.get('t_final')}, not {n} to {END_TIME:g}")
                     err = rms_position(positions(d), ref, box) if ok else None
                     rows.append({"scene": scene, "kernel": kernel, "smooth": smoothness(kernel), "method": label,
                                  "nominal": p, "dt": dt, "status": s.get("status"), "rhs_evals": s.get("rhs_evals"),
@@ -269,12 +290,13 @@ def write_csv(path, rows, fitted):
     with open(path + ".tmp", "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(["scene", "kernel", "smooth_at_h", "method", "nominal_order", "dt", "status", "rhs_evals",
-                    "rms_position_error", "reference_floor", "fitted_order", "fit_scatter", "fit_dts"])
+                    "rms_position_error", "reference_floor", "fitted_order", "fit_scatter", "fit_dts", "fit_local_orders"])
         for r in rows:
             f = fit[(r["scene"], r["kernel"], r["method"])]
             w.writerow([r["scene"], r["kernel"], r["smooth"], r["method"], r["nominal"], "%g" % r["dt"], r["status"],
                         r["rhs_evals"], "" if r["error"] is None else "%.6e" % r["error"], "%.3e" % r["reference_floor"],
-                        "%.3f" % f["order"], "%.3f" % f["scatter"], " ".join("%g" % d for d in f["dts"])])
+                        "%.3f" % f["order"], "%.3f" % f["scatter"], " ".join("%.4g" % d for d in f["dts"]),
+                        " ".join("%.3f" % o for o in f["local"])])
     os.replace(path + ".tmp", path)
 
 
@@ -382,9 +404,10 @@ def section(a, rows, fitted, refs, methods, kernels, elapsed):
              f"Commit {commit}, command `{cmd}` ({len(rows) + 2 * len(refs)} runs, {elapsed:.0f} s). "
              "Table of every run: [orders.csv](orders.csv).", "",
              "Fixed steps to t = 8 (2D, 16 x 16 particles, isentrope γ = 2); error: RMS position at t = 8 against "
-             "ARKODE Dormand-Prince at rtol 1e-13 (floor: its difference from PETSc rk 8vr at rtol 1e-13); order: "
-             f"least-squares slope of log error against log dt over the {FIT_POINTS} smallest steps whose error "
-             f"exceeds {FLOOR_FACTOR:g} x the floor (± the largest deviation of a halving's order from it). "
+             "ARKODE Dormand-Prince at rtol 1e-14 (floor: its difference from PETSc rk 8vr at rtol 1e-14); order: "
+             f"least-squares slope of log error against log dt over the steps whose error exceeds {FLOOR_FACTOR:g} x "
+             f"the floor and that lie within a factor {FIT_SPAN:g} of the smallest such step (at least {FIT_POINTS}), "
+             "± the standard error of the slope. "
              "RK4 is PETSc's rk 4 (ARKODE 6.4.1 has no classical 4th-order table). In brackets: min(p, m + 1) "
              "on the expansion, where pairs cross r = h (w is C^m there), p on the lattice, where none do.", ""]
     for scene, (dts_note) in (("expansion", "pairs cross r = h"), ("lattice", "no pair reaches r = h")):
@@ -424,14 +447,19 @@ def readings(rows, fitted, refs, methods, kernels):
             f"{k} {max(f['order'] for f in exp if f['kernel'] == k):.2f}" for k in kernels
             if any(f['kernel'] == k for f in exp)) + ".")
         cr = [refs[k]["crossings"] for k in refs if k[0] == "expansion"]
+        inner = {k[1]: refs[k]["inner"] for k in refs if k[0] == "expansion" and k[1] in JOINTS}
         t.append(f"Pair distances crossing r = h in a reference run (counted between snapshots 0.25 apart, "
-                 f"a lower bound): {min(cr)}–{max(cr)}.")
+                 f"a lower bound): {min(cr)}–{max(cr)}" + ("; crossing a spline's inner joint: " + ", ".join(
+                     f"{k} {v}" for k, v in inner.items()) if inner else "") + ".")
         paras.append(" ".join(t))
     if lat:
         near = [f for f in lat if f["order"] >= f["nominal"] - 0.5]
         t = [f"Reading (lattice): {len(near)} of {len(lat)} fitted orders reach p − 0.5 or more"
              + (" (not: " + ", ".join(f"{f['kernel']} {f['method']} {f['order']:.2f}" for f in lat if f not in near)
                 + ")" if len(near) < len(lat) else "") + "."]
+        lr = [refs[k] for k in refs if k[0] == "lattice"]
+        t.append(f"Crossings of r = h or of a spline joint between the lattice reference's snapshots: "
+                 f"{sum(r['crossings'] + r['inner'] for r in lr)}.")
         cl = {k[1]: refs[k]["clearance"] for k in refs if k[0] == "lattice"}
         t.append("Closest approach of a pair distance to r = h or a spline joint over the reference run, in "
                  "units of h: " + ", ".join(f"{k} {v:.3f}" for k, v in cl.items()) + ".")
