@@ -322,10 +322,9 @@ def chart_orders(path, fitted, methods, kernels):
             if bad:
                 ax.plot([slot[f["kernel"]] + offs[method] for f in bad], [1.2] * len(bad), "x", color="red", ms=9,
                         mew=2, label=f"{method}: no fit (errors at the reference's floor)")
-            xs = np.arange(1.6, 8.6, 0.01)
-            pred = [min(fs[0]["nominal"], math.floor(x + 0.5) + 1) if scene == "expansion" else fs[0]["nominal"]
-                    for x in xs]
-            ax.plot(xs, pred, color=col, lw=0.8, ls="--", alpha=0.7)
+            for f in fs:   # the prediction: a short dashed bar at each kernel's abscissa
+                ax.plot([slot[f["kernel"]] - 0.2, slot[f["kernel"]] + 0.2], [f["predicted"]] * 2, color=col, lw=1.2,
+                        ls="--", alpha=0.8)
         for k in kernels:
             ax.annotate(k, (slot[k], 0.6), rotation=90, fontsize=7, ha="center", va="bottom", color="0.3")
         ax.set_xlabel("kernel smoothness at r = h: w is C^m (m, 2D)")
@@ -335,9 +334,9 @@ def chart_orders(path, fitted, methods, kernels):
         ax.set_title(f"{scene} (2D, 16 x 16, t = {END_TIME:g}): {what}", fontsize=10)
         ax.set_ylim(0.5, 9.5)
     axes[0][0].set_ylabel("measured order (slope of log RMS position error vs log dt)")
-    axes[0][0].plot([], [], "k--", lw=0.8, label="predicted: min(p, m + 1) crossing, p without")
+    axes[0][0].plot([], [], "k--", lw=0.8, label="predicted: min(p, m + 1) where pairs cross, else p")
     axes[0][0].legend(fontsize=7, loc="upper left")
-    fig.suptitle("Fixed-step order against the kernel's smoothness at r = h (bars: fit scatter)")
+    fig.suptitle("Fixed-step order against the kernel's smoothness at r = h (error bars: standard error of the fitted slope)")
     fig.tight_layout()
     fig.savefig(path + ".tmp.png", dpi=110)
     plt.close(fig)
@@ -370,7 +369,7 @@ def chart_wp(path, rows, methods, kernels, refs):
         ax.set_title(f"{kernel} (C^{smoothness(kernel)} at r = h)", fontsize=10)
         ax.grid(alpha=0.3, which="both")
         if i % cols == 0:
-            ax.set_ylabel("RMS position error at t = 8 (h units: 1)")
+            ax.set_ylabel("RMS position error at t = 8 (reduced units)")
         if i // cols == (n - 1) // cols:
             ax.set_xlabel("RHS evaluations")
     for j in range(n, axes.size):
