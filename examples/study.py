@@ -7,8 +7,9 @@
     study.py entropy    [--n N ...] --out DIR
     study.py tensile    [--sigma0 S ...] [--method LABEL=OPTIONS ...] --out DIR
     study.py drift      [--scene-opts ...] [--method LABEL=OPTIONS ...] [--fixed LABEL=OPTIONS ...] --out DIR
-    study.py gallery    [--small] --out DIR  (README's gallery: all of the above, and
-                        examples/study_orders.py and study_norm.py where they exist)
+    study.py gallery    [--small] --out DIR  (README's gallery: all of the above, then
+                        examples/study_orders.py and study_norm.py where they exist, and
+                        the PRE 2004 figures of examples/pre2004_figures.py, not --small)
 
 precision: every adaptive method x tolerance, and every fixed-step method of --fixed (default:
     the symplectic Verlet, Symp3 and Symp4 of PETSc's basicsymplectic types kdk, 3 and 4) x
@@ -1120,6 +1121,11 @@ def gallery(a):
         print("study.py: running", " ".join(relative(w) for w in cmd), flush=True)
         if subprocess.run(cmd).returncode != 0:
             failed.append(name)
+    if not a.small:  # the PRE 2004 figures (examples/fig*.png), their runs under DIR/pre2004/
+        script = os.path.join(REPO, "examples", "pre2004_figures.py")
+        print("study.py: running examples/pre2004_figures.py", flush=True)
+        if subprocess.run([sys.executable, script, "--spam-ark", a.spam_ark, "--out", os.path.join(a.out, "pre2004")]).returncode:
+            failed.append("pre2004_figures.py")
     if failed:
         raise SystemExit(f"study.py: {', '.join(failed)} failed (the rest of the gallery is written)")
 
