@@ -107,7 +107,9 @@ DEFAULT_DTS = [0.4, 0.2, 0.1, 0.05, 0.025]
 # third-order SSP RK.
 DEFAULT_FIXED = ["euler=-ts_type euler:1", "Verlet=-ts_type basicsymplectic:1", "Heun=-ts_type rk -ts_rk_type 2a -ts_adapt_type none:2",
                  "SSP3=-ts_type ssp -ts_ssp_type rks3 -ts_ssp_nstages 4:4", "RK4=-ts_type rk -ts_rk_type 4 -ts_adapt_type none:4",
-                 "DP5=-ts_type rk -ts_rk_type 5dp -ts_adapt_type none:6", "V6=-ts_type rk -ts_rk_type 6vr -ts_adapt_type none:9"]
+                 "DP5=-ts_type rk -ts_rk_type 5dp -ts_adapt_type none:6", "V6=-ts_type rk -ts_rk_type 6vr -ts_adapt_type none:9",
+                 "Symp3=-ts_type basicsymplectic -ts_basicsymplectic_type 3:3",
+                 "Symp4=-ts_type basicsymplectic -ts_basicsymplectic_type 4:3"]
 DEFAULT_SCENE = "-expansion_n 24 -h 3 -ts_max_time 16"
 
 
@@ -401,7 +403,7 @@ def loglog(path, rows, x, y, xlabel, ylabel, title, adaptive_only=False):
     refused = sorted({r["method"] for r in rows if r["status"] == "refused"})
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
-    ax.set_title(title + (f"\n(refused on this scene: {', '.join(refused)})" if refused else ""), fontsize=9)
+    ax.set_title(title + (f"\n(refused by spam-ark on this scene: {', '.join(refused)})" if refused else ""), fontsize=9)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=7)
     fig.tight_layout()
@@ -656,7 +658,7 @@ def stability(a):
     rows = []
     specs = a.method or DEFAULT_FIXED
     scenes = stability_scenes(a)
-    prog = Progress(len(specs) * len(scenes))
+    prog, refused = Progress(len(specs) * len(scenes)), {}
     for scene, opts_scene, unit, unit_name in scenes:
         common = opts_scene.split() + ["-snapshot_interval", 0, "-output_interval", 0, "-diag_entropy", 0]
         b = argparse.Namespace(**vars(a))
@@ -668,6 +670,7 @@ def stability(a):
                 lo, hi = largest_stable_step(b, common, opts.split(), label, a.dt_guess * unit, 2 * a.dt_guess * unit)
             except Refused:
                 prog.step(f"{scene}, {label}: refused by spam-ark for this scene")
+                refused.setdefault(scene, []).append(label)
                 continue
             exact = imaginary_axis_limit(label) if scene == "chain" else float("nan")
             stages = measured_stages(os.path.join(b.out, "stability", f"{label}_{lo:.10g}"), stages)
@@ -678,8 +681,10 @@ def stability(a):
                          "cost_per_unit_time": int(stages) / lo if lo > 0 else float("inf")})
             prog.step(f"{scene}, {label}: stable up to dt {lo:.5g} ({lo / unit:.4f} {unit_name})")
     write_csv(os.path.join(a.out, "stability.csv"), rows)
-    stability_chart(rows, [s[0] for s in scenes], os.path.join(a.out, "stability.png"))
+    stability_chart(rows, [s[0] for s in scenes], os.path.join(a.out, "stability.png"), refused)
     lines = ["## Stability limits", "", "![stability](stability.png)", "",
+             *(["Refused by spam-ark (exit 2): " + "; ".join(f"{k}: {', '.join(v)}" for k, v in refused.items()) + ".", ""]
+               if refused else []),
              f"Largest stable fixed step by bisection ({a.steps} steps a trial, unstable when KE > {a.growth:g} x the "
              f"initial energy; [stability.csv](stability.csv)). On the chain (a linear oscillator) the closed form is "
              "where the method's stability region leaves the imaginary axis.", "",
@@ -701,7 +706,8 @@ def stability_reading(rows):
     agree = [f"{r['method']} {r['error']:+.2%}" for r in known if abs(r["error"]) <= 0.01]
     off = [f"{r['method']} {r['error']:+.2%}" for r in known if abs(r["error"]) > 0.01]
     text = "Reading: " + (f"on the chain the found limits match their closed forms within 1% for {', '.join(agree)}"
-                          if agree else "no found limit matches a closed form within 1%")
+                          if agree else "no found limit matches a closed form within 1%" if known
+                          else "no method here has a closed form")
     if off:
         text += (f"; not for {', '.join(off)}: past its limit |R(iy)| exceeds 1 only slightly, so the growth is too "
                  "slow to reach the bound within a trial and the found limit depends on --steps and --growth")
@@ -714,8 +720,9 @@ def stability_reading(rows):
     return text + ". Fewest force evaluations per unit time at the limit: " + "; ".join(cheap) + "."
 
 
-def stability_chart(rows, scenes, path):
-    """One panel per scene: the largest stable step against stages, closed forms hollow."""
+def stability_chart(rows, scenes, path, refused):
+    """One panel per scene: the largest stable step against stages, closed forms hollow;
+    methods spam-ark refused on a scene named in its panel's title."""
     fig, axes = plt.subplots(1, len(scenes), figsize=(4.2 * len(scenes), 4.4), squeeze=False)
     for ax, scene in zip(axes[0], scenes):
         rs = [r for r in rows if r["scene"] == scene]
@@ -725,9 +732,11 @@ def stability_chart(rows, scenes, path):
                 ax.plot(r["force_evals_per_step"], r["closed_form"], **style(r["method"]), ms=13, mfc="none", linestyle="none")
         ax.set_xlabel("force evaluations per step (stages)")
         ax.set_ylabel(f"largest stable step (units of {rs[0]['unit'] if rs else '?'})")
-        ax.set_title(scene + (" (hollow: closed form)" if scene == "chain" else ""), fontsize=10)
+        ax.set_title(scene + (" (hollow: closed form)" if scene == "chain" else "")
+                     + (f"\nrefused by spam-ark here: {', '.join(refused[scene])}" if refused.get(scene) else ""), fontsize=9)
         ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=7)
+        if rs:
+            ax.legend(fontsize=7)
     fig.suptitle("Stability limit of fixed-step methods (scenes: " + ", ".join(scenes) + ")")
     fig.tight_layout()
     fig.savefig(path, dpi=110)

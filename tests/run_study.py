@@ -24,7 +24,7 @@ p = subprocess.run(cmd, capture_output=True, text=True)
 c.check(p.returncode == 0, f"study runs (exit {p.returncode}) {p.stderr.strip()[-300:]}")
 with open(os.path.join(out, "precision.csv")) as f:
     rows = list(csv.DictReader(f))
-cols = ["method", "options", "rtol", "status", "steps", "rejected", "rhs_evals", "wall_s", "rhs_share", "err_x_final",
+cols = ["method", "options", "rtol", "dt", "status", "steps", "rejected", "rhs_evals", "wall_s", "rhs_share", "err_x_final",
         "err_v_final", "err_x_max", "err_v_max", "energy_drift", "momentum_drift", "angmom_drift", "entropy_diff"]
 c.check(len(rows) == 4 and list(rows[0]) == cols, f"precision.csv: {len(rows)} rows, columns {list(rows[0])}")
 dp = {float(r["rtol"]): float(r["err_x_final"]) for r in rows if r["method"] == "DP5"}
