@@ -61,6 +61,7 @@ import re
 import shutil
 import subprocess
 import sys
+import tempfile
 import time
 
 try:
@@ -1169,6 +1170,11 @@ def main(argv=None):
     a = p.parse_args(argv)
     a.made = made_line(argv)
     os.makedirs(a.out, exist_ok=True)
+    # OpenMPI makes its session directory under TMPDIR at every start of spam-ark; two
+    # starts by different jobs sharing /tmp now and then collide there (exit 1 in
+    # orte_session_dir), so this study's runs get a directory of their own.
+    private_tmp = tempfile.mkdtemp(prefix="spam-study-")
+    os.environ["TMPDIR"] = private_tmp
     if not os.access(a.spam_ark, os.X_OK):
         sys.exit(f"study.py: no spam-ark at {a.spam_ark} (build it, or pass --spam-ark)")
     if a.what in ("precision", "controller"):
@@ -1177,12 +1183,15 @@ def main(argv=None):
         a.scene_opts = a.scene_opts or DRIFT_SCENE
         a.t_end = a.t_end or DRIFT_T_END
     a.t_end = a.t_end or 16.0
-    if a.what == "gallery":
-        gallery(a)
-    else:
-        a.n = a.n or [32, 48, 64]
-        {"precision": precision, "stability": stability, "controller": controller, "entropy": entropy,
-         "tensile": tensile, "drift": drift}[a.what](a)
+    try:
+        if a.what == "gallery":
+            gallery(a)
+        else:
+            a.n = a.n or [32, 48, 64]
+            {"precision": precision, "stability": stability, "controller": controller, "entropy": entropy,
+             "tensile": tensile, "drift": drift}[a.what](a)
+    finally:
+        shutil.rmtree(private_tmp, ignore_errors=True)
     print(f"study.py: results in {a.out}")
 
 

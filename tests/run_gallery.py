@@ -50,6 +50,8 @@ FILES = {"precision": ["precision.csv", "error_vs_rhs.png", "error_vs_wall.png",
 ABSOLUTE = re.compile(r"(?:^|[\s`'\"(\[=])/[\w.+-]+/", re.M)
 MADE = re.compile(r"\*Made at commit ([0-9a-f]{7,40}(?:-dirty)?) by `python3 examples/study\.py gallery --small [^`]*`")
 
+git = subprocess.run(["git", "-C", os.path.join(here, ".."), "rev-parse", "--short", "HEAD"], capture_output=True, text=True)
+head = git.stdout.strip() if git.returncode == 0 else None  # None: not a git checkout, no commit to compare
 mds = {}
 for sub, parts in (("", ["precision", "stability", "controller", "entropy", "tensile", "drift"]),
                    ("planewave", ["precision", "planewave"])):
@@ -63,7 +65,8 @@ for sub, parts in (("", ["precision", "stability", "controller", "entropy", "ten
                                             and os.path.getsize(os.path.join(out, sub, f)) > (1000 if f.endswith(".png") else 100))]
         c.check(bool(body) and not missing, f"{sub or '.'}/{part}: section in study.md, files written (missing: {missing or 'none'})")
         m = MADE.search(body)
-        c.check(m is not None, f"{sub or '.'}/{part}: names its commit and command ({m.group(1) if m else 'absent'})")
+        c.check(m is not None and (head is None or m.group(1).split("-")[0] == head),
+                f"{sub or '.'}/{part}: names its commit and command ({m.group(1) if m else 'absent'}; HEAD {head})")
     bad = ABSOLUTE.findall(md)
     c.check(not bad and os.path.abspath(here + "/..") not in md and a.workdir not in md,
             f"{sub or '.'}/study.md: no absolute path ({bad[:3] or 'none'})")
