@@ -1054,13 +1054,13 @@ def tensile_chart(rows, series, path):
             t, ke = series[(v, s0)]
             ax1.semilogy(t, ke, ["-", "--", ":"][k % 3], color=plt.cm.viridis(j / max(len(sigmas) - 1, 1)), lw=1,
                          label=f"sigma0 {s0:g}" if k == 0 else None)
-    ax1.set_xlabel("t")
-    ax1.set_ylabel("kinetic energy")
+    ax1.set_xlabel("t (reduced time units)")
+    ax1.set_ylabel("kinetic energy (reduced units)")
     ax1.set_title("Tensile crystal, KE(t): " + ", ".join(f"{v} {['solid', 'dashed', 'dotted'][k % 3]}" for k, v in enumerate(variants)), fontsize=8)
     ax1.legend(fontsize=7)
     ax1.grid(True, which="both", alpha=0.3)
     ax2.axhline(0, color="k", lw=0.8)
-    ax2.set_xlabel("tension sigma0")
+    ax2.set_xlabel("tension sigma0 (reduced stress units)")
     ax2.set_ylabel("fitted growth rate of KE (per unit time)")
     ax2.set_title("Tensile crystal (options/tensile.opts): growth rate against tension", fontsize=9)
     ax2.legend(fontsize=8)
