@@ -15,8 +15,9 @@ precision: every adaptive method x tolerance, and every fixed-step method of --f
     the symplectic Verlet, Symp3 and Symp4 of PETSc's basicsymplectic types kdk, 3 and 4) x
     step --dt (each must divide the output interval t_end/20), runs in its own
     directory DIR/runs/<label>_<tol or dt>/ (a finished run, one whose manifest.json says ok, max_steps
-    or unstable, is skipped: an interrupted study resumes, rerunning with -output_overwrite any
-    run that was interrupted or failed). A reference (ARKODE Dormand-Prince 5(4) at rtol 1e-13) is run once
+    or unstable, and whose summary.json names the same spam-ark executable (its SHA-1), is
+    skipped: an interrupted study resumes, rerunning with -output_overwrite any run that was
+    interrupted, failed or made by another build). A reference (ARKODE Dormand-Prince 5(4) at rtol 1e-13) is run once
     per scene and cached in DIR/reference_<hash>/. Errors are RMS position and velocity
     differences from it at every snapshot time (minimum image across periodic faces);
     drifts of energy, momentum and angular momentum come from each summary.json, the
@@ -53,6 +54,7 @@ build/spam-ark. Progress and an ETA are printed as runs finish.
 """
 import argparse
 import csv
+import functools
 import hashlib
 import json
 import math
@@ -131,12 +133,23 @@ class Progress:
               f"  elapsed {el:.0f} s  eta {eta:.0f} s", flush=True)
 
 
+@functools.lru_cache(maxsize=None)
+def binary_id(binary):
+    """SHA-1 of the spam-ark executable: a run directory remembers the build that made it."""
+    with open(binary, "rb") as f:
+        return hashlib.sha1(f.read()).hexdigest()[:16]
+
+
 def spam(binary, args, outdir, refused_ok=False):
-    """Runs spam-ark unless outdir already holds a finished run; returns (code, skipped).
-    Exit 2 (spam-ark refused the input) is returned rather than raised when refused_ok."""
+    """Runs spam-ark unless outdir already holds a finished run made by this same build of
+    spam-ark (a run of another build is stale: the gallery regenerated after a change to the
+    program must not reuse it); returns (code, skipped). Exit 2 (spam-ark refused the input)
+    is returned rather than raised when refused_ok."""
     summ = os.path.join(outdir, "summary.json")
     if spam_manifest.status(outdir) in spam_manifest.FINISHED and os.path.exists(summ):
-        return json.load(open(summ)).get("exit_code", 0), True
+        s = json.load(open(summ))
+        if s.get("binary_sha1") == binary_id(binary):
+            return s.get("exit_code", 0), True
     os.makedirs(os.path.dirname(outdir) or ".", exist_ok=True)
     # Not finished (absent, interrupted, failed): run it afresh over whatever is left.
     p = subprocess.run([binary] + [str(a) for a in args] + ["-output_dir", outdir, "-output_overwrite"],
@@ -145,9 +158,10 @@ def spam(binary, args, outdir, refused_ok=False):
         return 2, False
     if p.returncode not in (0, 3):
         raise SystemExit(f"spam-ark failed (exit {p.returncode}): {' '.join(map(str, args))}\n{p.stderr.strip()}")
-    if os.path.exists(summ):  # remember the exit code so a resumed study needs no rerun
+    if os.path.exists(summ):  # remember the exit code and the build so a resumed study needs no rerun
         s = json.load(open(summ))
         s["exit_code"] = p.returncode
+        s["binary_sha1"] = binary_id(binary)
         with open(summ + ".tmp", "w") as f:
             json.dump(s, f, indent=1)
         os.replace(summ + ".tmp", summ)
