@@ -6,12 +6,18 @@
     study.py controller [--scene-opts ...] [--method LABEL=OPTIONS ...] [--loose-tol T] --out DIR
     study.py entropy    [--n N ...] --out DIR
     study.py tensile    [--sigma0 S ...] [--method LABEL=OPTIONS ...] --out DIR
-    study.py gallery    --out DIR        (the default study of README's gallery: all of the above)
+    study.py drift      [--scene-opts ...] [--method LABEL=OPTIONS ...] [--fixed LABEL=OPTIONS ...] --out DIR
+    study.py gallery    [--small] --out DIR  (README's gallery: all of the above, then
+                        examples/study_orders.py and study_norm.py where they exist, and
+                        the PRE 2004 figures of examples/pre2004_figures.py, not --small)
 
-precision: every method x tolerance (or x fixed step, for fixed-step methods) runs in its own
-    directory DIR/runs/<label>_<tol>/ (a finished run, one whose manifest.json says ok, max_steps
-    or unstable, is skipped: an interrupted study resumes, rerunning with -output_overwrite any
-    run that was interrupted or failed). A reference (ARKODE Dormand-Prince 5(4) at rtol 1e-13) is run once
+precision: every adaptive method x tolerance, and every fixed-step method of --fixed (default:
+    the symplectic Verlet, Symp3 and Symp4 of PETSc's basicsymplectic types kdk, 3 and 4) x
+    step --dt (each must divide the output interval t_end/20), runs in its own
+    directory DIR/runs/<label>_<tol or dt>/ (a finished run, one whose manifest.json says ok, max_steps
+    or unstable, and whose summary.json names the same spam-ark executable (its SHA-1), is
+    skipped: an interrupted study resumes, rerunning with -output_overwrite any run that was
+    interrupted, failed or made by another build). A reference (ARKODE Dormand-Prince 5(4) at rtol 1e-13) is run once
     per scene and cached in DIR/reference_<hash>/. Errors are RMS position and velocity
     differences from it at every snapshot time (minimum image across periodic faces);
     drifts of energy, momentum and angular momentum come from each summary.json, the
@@ -26,18 +32,29 @@ stability: for each fixed-step method, the largest stable step by bisection on d
     Writes stability.csv and stability.png.
 controller: adaptive runs at a loose tolerance, where stability, not accuracy, limits the
     step: dt(t) of each controller with its rejections, and the step oscillation (RMS of
-    log(dt_n+1/dt_n)). Writes controllers.csv and controllers.png.
+    log(dt_n+1/dt_n)); a run that ends unstable (exit 3) is drawn as such. Writes
+    controllers.csv and controllers.png.
 entropy: Delta S(t)/(N k ln 4) for several lattice sizes, sum and grid (CiSE 2001 Fig. 3).
+    Writes entropy.csv and entropy.png.
+drift: long-time energy error |E(t) - E0|/|E0| of the symplectic fixed-step methods against
+    adaptive Runge-Kutta pairs on the MD rotor (options/rotor-md.opts: a spring lattice, a
+    smooth Hamiltonian of positions and velocities only), 10^4 steps of the finest Verlet
+    series; the exponent p of the envelope |E - E0| ~ t^p tells bounded oscillation (p near
+    0) from secular drift (p near 1). Writes drift.csv and drift.png.
 tensile: the tensile instability (PRE 2004 Sec. IV, options/tensile.opts): the growth rate of
     KE (a line through ln KE over the second half of each run) against the tension sigma0
     for R0, R2 and R0 with Monaghan viscosity. Writes tensile.csv, tensile.png.
-Each study adds its section to DIR/study.md.
+Each study adds its section to DIR/study.md (other sections, e.g. those of study_orders.py,
+are kept), headed by the commit (git rev-parse --short HEAD, "-dirty" if the tree differs)
+and the command that made it, with paths relative to the repository; every reading in it
+is computed from the runs.
 
 Needs numpy and matplotlib (/usr/bin/python3 on Debian); the spam-ark binary defaults to
 build/spam-ark. Progress and an ETA are printed as runs finish.
 """
 import argparse
 import csv
+import functools
 import hashlib
 import json
 import math
@@ -46,6 +63,7 @@ import re
 import shutil
 import subprocess
 import sys
+import tempfile
 import time
 
 try:
@@ -53,12 +71,14 @@ try:
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    import matplotlib.ticker
 except ImportError:
     if os.path.realpath(sys.executable) != "/usr/bin/python3" and os.path.exists("/usr/bin/python3"):
         os.execv("/usr/bin/python3", ["/usr/bin/python3"] + sys.argv)
     sys.exit("study.py needs numpy and matplotlib (Debian: python3-numpy python3-matplotlib)")
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import spam_manifest  # noqa: E402
+from chart_style import style, UNSTABLE  # noqa: E402
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 # The reference: Dormand-Prince at rtol 1e-13. Lucy's force is only C^1 where a pair crosses
@@ -74,13 +94,25 @@ DEFAULT_METHODS = ["BS3=-arkode_table ARKODE_BOGACKI_SHAMPINE_4_2_3",
                    "CVODE=-ts_type cvode",
                    "rk5dp=-ts_type rk -ts_rk_type 5dp"]
 DEFAULT_TOLS = [1e-4, 1e-6, 1e-8, 1e-10]
+# The fixed-step symplectic series beside them: spam-ark's default kick-drift-kick Verlet
+# (order 2, one force evaluation a step) and PETSc 3.18's basicsymplectic types 3 and 4
+# (orders 3 and 4, three force evaluations a step: measured on the MD rotor, where the
+# energy error falls 8x and 16x when dt halves).
+DEFAULT_SYMPLECTIC = ["Verlet=-ts_type basicsymplectic",
+                      "Symp3=-ts_type basicsymplectic -ts_basicsymplectic_type 3",
+                      "Symp4=-ts_type basicsymplectic -ts_basicsymplectic_type 4"]
+# Steps of the fixed series on the default scene (t_end 16, outputs every 0.8): divisors of
+# 0.8 from near Verlet's stability limit (about 1.05 = 0.35 h/c0) down.
+DEFAULT_DTS = [0.4, 0.2, 0.1, 0.05, 0.025]
 # Fixed-step methods for the stability study, with their force evaluations per step (the
 # study measures them from the runs; the number here is used only if no trial was stable).
 # PETSc's SSP types take 5 stages (rks2) or 9 (rks3) unless told: SSP3 is the 4-stage
 # third-order SSP RK.
 DEFAULT_FIXED = ["euler=-ts_type euler:1", "Verlet=-ts_type basicsymplectic:1", "Heun=-ts_type rk -ts_rk_type 2a -ts_adapt_type none:2",
                  "SSP3=-ts_type ssp -ts_ssp_type rks3 -ts_ssp_nstages 4:4", "RK4=-ts_type rk -ts_rk_type 4 -ts_adapt_type none:4",
-                 "DP5=-ts_type rk -ts_rk_type 5dp -ts_adapt_type none:6", "V6=-ts_type rk -ts_rk_type 6vr -ts_adapt_type none:9"]
+                 "DP5=-ts_type rk -ts_rk_type 5dp -ts_adapt_type none:6", "V6=-ts_type rk -ts_rk_type 6vr -ts_adapt_type none:9",
+                 "Symp3=-ts_type basicsymplectic -ts_basicsymplectic_type 3:3",
+                 "Symp4=-ts_type basicsymplectic -ts_basicsymplectic_type 4:3"]
 DEFAULT_SCENE = "-expansion_n 24 -h 3 -ts_max_time 16"
 
 
@@ -101,12 +133,23 @@ class Progress:
               f"  elapsed {el:.0f} s  eta {eta:.0f} s", flush=True)
 
 
+@functools.lru_cache(maxsize=None)
+def binary_id(binary):
+    """SHA-1 of the spam-ark executable: a run directory remembers the build that made it."""
+    with open(binary, "rb") as f:
+        return hashlib.sha1(f.read()).hexdigest()[:16]
+
+
 def spam(binary, args, outdir, refused_ok=False):
-    """Runs spam-ark unless outdir already holds a finished run; returns (code, skipped).
-    Exit 2 (spam-ark refused the input) is returned rather than raised when refused_ok."""
+    """Runs spam-ark unless outdir already holds a finished run made by this same build of
+    spam-ark (a run of another build is stale: the gallery regenerated after a change to the
+    program must not reuse it); returns (code, skipped). Exit 2 (spam-ark refused the input)
+    is returned rather than raised when refused_ok."""
     summ = os.path.join(outdir, "summary.json")
     if spam_manifest.status(outdir) in spam_manifest.FINISHED and os.path.exists(summ):
-        return json.load(open(summ)).get("exit_code", 0), True
+        s = json.load(open(summ))
+        if s.get("binary_sha1") == binary_id(binary):
+            return s.get("exit_code", 0), True
     os.makedirs(os.path.dirname(outdir) or ".", exist_ok=True)
     # Not finished (absent, interrupted, failed): run it afresh over whatever is left.
     p = subprocess.run([binary] + [str(a) for a in args] + ["-output_dir", outdir, "-output_overwrite"],
@@ -115,9 +158,10 @@ def spam(binary, args, outdir, refused_ok=False):
         return 2, False
     if p.returncode not in (0, 3):
         raise SystemExit(f"spam-ark failed (exit {p.returncode}): {' '.join(map(str, args))}\n{p.stderr.strip()}")
-    if os.path.exists(summ):  # remember the exit code so a resumed study needs no rerun
+    if os.path.exists(summ):  # remember the exit code and the build so a resumed study needs no rerun
         s = json.load(open(summ))
         s["exit_code"] = p.returncode
+        s["binary_sha1"] = binary_id(binary)
         with open(summ + ".tmp", "w") as f:
             json.dump(s, f, indent=1)
         os.replace(summ + ".tmp", summ)
@@ -160,50 +204,78 @@ def scene_key(args):
     return hashlib.sha1(" ".join(map(str, args)).encode()).hexdigest()[:10]
 
 
+def scene_name(opts, n_particles=None):
+    """A short name of the scene for chart titles: the options file's or -scene's name
+    (spam-ark's default scene is the expansion), with the particle count when known."""
+    words = opts.split() if isinstance(opts, str) else [str(w) for w in opts]
+    name = "expansion"
+    if "-options_file" in words:
+        name = os.path.basename(words[words.index("-options_file") + 1]).rsplit(".", 1)[0]
+    if "-scene" in words:
+        name = words[words.index("-scene") + 1]
+    return name + (f", N = {n_particles}" if n_particles else "")
+
+
+def precision_row(label, opts, code, d, ref, rs, box, rtol=float("nan"), dt=float("nan")):
+    """One precision.csv row; a run spam-ark refused (exit 2) has status "refused" and no numbers."""
+    nan = float("nan")
+    if code == 2:
+        s = {"status": "refused", "steps": 0, "rejected_steps": 0, "rhs_evals": 0, "wall_time_s": nan,
+             "rhs_time_share": nan, "energy_rel_drift_max": nan, "momentum_rel_drift_max": nan,
+             "angular_momentum_rel_drift_max": nan, "entropy_sum_final": None}
+    else:
+        s = json.load(open(os.path.join(d, "summary.json")))
+    e = errors(snapshots(d), ref, box) if code == 0 else []
+    return {"method": label, "options": " ".join(map(str, opts)), "rtol": rtol, "dt": dt, "status": s["status"],
+            "steps": s["steps"], "rejected": s["rejected_steps"], "rhs_evals": s["rhs_evals"],
+            "wall_s": s["wall_time_s"], "rhs_share": s["rhs_time_share"],
+            "err_x_final": e[-1][1] if e else nan, "err_v_final": e[-1][2] if e else nan,
+            "err_x_max": max(x[1] for x in e) if e else nan,
+            "err_v_max": max(x[2] for x in e) if e else nan,
+            "energy_drift": s["energy_rel_drift_max"], "momentum_drift": s["momentum_rel_drift_max"],
+            "angmom_drift": s["angular_momentum_rel_drift_max"],
+            "entropy_diff": abs((s["entropy_sum_final"] or 0) - (rs["entropy_sum_final"] or 0)) if code != 2 else nan}
+
+
 def precision(a):
     base = a.scene_opts.split()
     common = base + ["-snapshot_interval", a.t_end / 4, "-output_interval", a.t_end / 20, "-snapshot_hdf5", 0]
     refdir = os.path.join(a.out, "reference_" + scene_key(common + REFERENCE))
     methods = parse_methods(a.method or DEFAULT_METHODS)
-    tols = a.tol or DEFAULT_TOLS
+    fixed = parse_methods(a.fixed if a.fixed is not None else ([] if a.method else DEFAULT_SYMPLECTIC))
+    tols, dts = a.tol or DEFAULT_TOLS, a.dt or DEFAULT_DTS
     wave = planewave_probe(a.spam_ark, common, os.path.join(a.out, "probe"))
     if wave:  # the period is fitted to KE(t): 40 samples (about 10 per KE oscillation over two
         # periods) fix it well; finer ones would also end more steps (every output ends one)
         common[common.index("-output_interval") + 1] = a.t_end / 40
         refdir = os.path.join(a.out, "reference_" + scene_key(common + REFERENCE))
-    prog = Progress(1 + len(methods) * len(tols))
+    prog = Progress(1 + len(methods) * len(tols) + len(fixed) * len(dts))
     _, skipped = spam(a.spam_ark, common + REFERENCE, refdir)
     prog.step("reference (Dormand-Prince, rtol 1e-13)", skipped)
     ref = snapshots(refdir)
     rs = json.load(open(os.path.join(refdir, "summary.json")))
     box = rs["box_len"]
-    rows = []
-    for label, opts in methods:
-        for tol in tols:
-            d = os.path.join(a.out, "runs", f"{label}_{tol:g}")
-            code, skipped = spam(a.spam_ark, common + opts + ["-ts_rtol", tol, "-ts_atol", tol * 1e-3], d)
-            prog.step(f"{label} rtol {tol:g}", skipped)
-            s = json.load(open(os.path.join(d, "summary.json")))
-            e = errors(snapshots(d), ref, box) if code == 0 else []
-            rows.append({"method": label, "options": " ".join(opts), "rtol": tol, "status": s["status"],
-                         "steps": s["steps"], "rejected": s["rejected_steps"], "rhs_evals": s["rhs_evals"],
-                         "wall_s": s["wall_time_s"], "rhs_share": s["rhs_time_share"],
-                         "err_x_final": e[-1][1] if e else float("nan"), "err_v_final": e[-1][2] if e else float("nan"),
-                         "err_x_max": max(x[1] for x in e) if e else float("nan"),
-                         "err_v_max": max(x[2] for x in e) if e else float("nan"),
-                         "energy_drift": s["energy_rel_drift_max"], "momentum_drift": s["momentum_rel_drift_max"],
-                         "angmom_drift": s["angular_momentum_rel_drift_max"],
-                         "entropy_diff": abs((s["entropy_sum_final"] or 0) - (rs["entropy_sum_final"] or 0))})
-            if wave and len(wave) == 2:
-                ref_period, ref_amp = wave_measures(refdir, wave[0])
-                wave = wave + (ref_period, 1 - ref_amp)
-            if wave:
-                rows[-1].update(wave_errors(d, refdir, wave) if code == 0 else wave_errors(None, refdir, wave))
-    write_csv(os.path.join(a.out, "precision.csv"), rows)
-    charts = precision_charts(rows, a.out)
-    report(a.out, rows, charts, common)
     if wave:
-        planewave_report(a.out, rows, wave)
+        ref_period, ref_amp = wave_measures(refdir, wave[0])
+        wave = wave + (ref_period, 1 - ref_amp)
+    cases = [(label, opts + ["-ts_rtol", tol, "-ts_atol", tol * 1e-3], f"{label}_{tol:g}", {"rtol": tol}, f"rtol {tol:g}")
+             for label, opts in methods for tol in tols]
+    cases += [(label, opts + ["-ts_dt", "%.10g" % dt], f"{label}_dt{dt:g}", {"dt": dt}, f"dt {dt:g}")
+              for label, opts in fixed for dt in dts]
+    rows = []
+    for label, opts, name, knob, what in cases:
+        d = os.path.join(a.out, "runs", name)
+        code, skipped = spam(a.spam_ark, common + opts, d, refused_ok=True)
+        prog.step(f"{label} {what}" + (" (refused by spam-ark on this scene)" if code == 2 else ""), skipped)
+        rows.append(precision_row(label, opts, code, d, ref, rs, box, **knob))
+        if wave:
+            rows[-1].update(wave_errors(d if code == 0 else None, refdir, wave))
+    write_csv(os.path.join(a.out, "precision.csv"), rows)
+    scene = scene_name(base, rs.get("n_particles"))
+    charts = precision_charts(rows, a.out, scene)
+    report(a.out, rows, charts, common, a.made)
+    if wave:
+        planewave_report(a.out, rows, wave, a.made)
     return rows
 
 
@@ -267,7 +339,7 @@ def wave_errors(run, ref, wave):
             "amplitude_decay": 1 - amp}
 
 
-def planewave_report(out, rows, wave):
+def planewave_report(out, rows, wave, made=None):
     ok = [r for r in rows if r["status"] == "ok" and r["period"] == r["period"]]
     lines = ["## Plane wave: period and amplitude", "",
              f"Linearised SPAM period {wave[0]:.6f} (continuum {wave[1]:.6f}); periods and amplitudes "
@@ -280,7 +352,7 @@ def planewave_report(out, rows, wave):
     lines += ["", f"The reference (Dormand-Prince, rtol 1e-13): period {wave[2]:.6f} ({wave[2] / wave[0] - 1:+.2e} against "
               f"linearised SPAM: the finite amplitude's own shift), amplitude decay {wave[3]:+.2e} (energy leaving the "
               "wave for other modes); a method's error is its difference from these."]
-    update_report(out, "planewave", lines)
+    update_report(out, "planewave", lines, made)
 
 
 def write_csv(path, rows):
@@ -294,53 +366,90 @@ def write_csv(path, rows):
 MARKERS = "osD^v<>ph*"
 
 
-def by_method(rows):
+def finite(x):
+    return isinstance(x, (int, float)) and math.isfinite(x)
+
+
+def by_method(rows, adaptive_only=False):
+    """{method: [rows that ended ok]}, in the order the methods first appear."""
     out = {}
     for r in rows:
-        if r["status"] == "ok":
+        if r["status"] == "ok" and not (adaptive_only and not finite(r["rtol"])):
             out.setdefault(r["method"], []).append(r)
     return out
 
 
-def loglog(path, rows, x, y, xlabel, ylabel, title, annotate_tol=False):
-    fig, ax = plt.subplots(figsize=(6.4, 4.6))
-    for k, (m, rs) in enumerate(by_method(rows).items()):
+def knob(r, short=False):
+    """A run's tolerance (adaptive) or step (fixed), as written in the text or, short,
+    beside its point on a chart."""
+    if finite(r["rtol"]):
+        return f"{r['rtol']:g}" if short else f"rtol {r['rtol']:g}"
+    return f"dt {r['dt']:g}"
+
+
+def draw_unstable(ax, rows, x):
+    """Runs that ended unstable or at their step limit: hollow red X at the top of the axes,
+    at their x, labelled once."""
+    bad = [r for r in rows if r["status"] not in ("ok", "refused") and finite(r[x]) and r[x] > 0]
+    if not bad:
+        return
+    top = ax.get_ylim()[1]
+    ax.plot([r[x] for r in bad], [top] * len(bad), **UNSTABLE, clip_on=False,
+            label="unstable / not finished: " + ", ".join(sorted({f"{r['method']} {knob(r)}" for r in bad})))
+    for r in bad:
+        ax.annotate(f"{r['method']} {knob(r)}", (r[x], top), textcoords="offset points", xytext=(4, -10), fontsize=6,
+                    color="red")
+
+
+def loglog(path, rows, x, y, xlabel, ylabel, title, adaptive_only=False):
+    """One series per method (style from chart_style), each point labelled with its rtol
+    (adaptive) or dt (fixed); unstable runs marked; refused methods named in the title."""
+    fig, ax = plt.subplots(figsize=(7.4, 5.2))
+    for m, rs in by_method(rows, adaptive_only).items():
         rs = sorted(rs, key=lambda r: r[x])
         xs, ys = [r[x] for r in rs], [max(r[y], 1e-17) for r in rs]
-        ax.loglog(xs, ys, marker=MARKERS[k % len(MARKERS)], label=m)
+        fixed = not finite(rs[0]["rtol"])
+        ax.loglog(xs, ys, **style(m), linestyle="--" if fixed else "-", label=m + (" (fixed dt)" if fixed else " (rtol)"))
+        for r, xv, yv in zip(rs, xs, ys):
+            ax.annotate(knob(r, short=True) if fixed or x != "rtol" else "", (xv, yv), textcoords="offset points", xytext=(3, 3),
+                        fontsize=5.5, color=style(m)["color"])
+    if not adaptive_only:
+        draw_unstable(ax, rows, x)
+    refused = sorted({r["method"] for r in rows if r["status"] == "refused"})
     ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
-    ax.set_title(title)
+    ax.set_title(title + (f"\n(refused by spam-ark on this scene: {', '.join(refused)})" if refused else ""), fontsize=9)
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return os.path.basename(path)
 
 
-def precision_charts(rows, out):
+def precision_charts(rows, out, scene):
     c = {}
     c["err_rhs"] = loglog(os.path.join(out, "error_vs_rhs.png"), rows, "rhs_evals", "err_x_final",
                           "right-hand-side evaluations", "RMS position error at t_end (length units)",
-                          "Work-precision: error against RHS evaluations")
+                          f"Work-precision, {scene}: error against RHS evaluations")
     c["err_wall"] = loglog(os.path.join(out, "error_vs_wall.png"), rows, "wall_s", "err_x_final",
                            "wall time (s, one core)", "RMS position error at t_end (length units)",
-                           "Work-precision: error against wall time")
+                           f"Work-precision, {scene}: error against wall time")
     c["energy"] = loglog(os.path.join(out, "energy_drift_vs_tol.png"), rows, "rtol", "energy_drift",
-                         "relative tolerance rtol", "max |E(t) - E0| / |E0|", "Energy drift under adaptive stepping")
+                         "relative tolerance rtol", "max |E(t) - E0| / |E0|",
+                         f"Energy drift under adaptive stepping, {scene}", adaptive_only=True)
     c["angmom"] = loglog(os.path.join(out, "angmom_drift_vs_tol.png"), rows, "rtol", "angmom_drift",
                          "relative tolerance rtol", "max |L(t) - L0| / (sqrt(2 M E0) R_g)",
-                         "Angular-momentum drift under adaptive stepping")
-    fig, ax = plt.subplots(figsize=(6.4, 4.6))
-    for k, (m, rs) in enumerate(by_method(rows).items()):
+                         f"Angular-momentum drift under adaptive stepping, {scene}", adaptive_only=True)
+    fig, ax = plt.subplots(figsize=(7.4, 5.2))
+    for m, rs in by_method(rows, adaptive_only=True).items():
         rs = sorted(rs, key=lambda r: r["rtol"])
-        ax.loglog([r["rtol"] for r in rs], [r["steps"] for r in rs], marker=MARKERS[k % len(MARKERS)], label=f"{m} accepted")
-        ax.loglog([r["rtol"] for r in rs], [max(r["rejected"], 0.5) for r in rs], marker=MARKERS[k % len(MARKERS)],
-                  linestyle=":", color=ax.lines[-1].get_color(), label=f"{m} rejected")
+        ax.loglog([r["rtol"] for r in rs], [r["steps"] for r in rs], **style(m), label=f"{m} accepted")
+        ax.loglog([r["rtol"] for r in rs], [max(r["rejected"], 0.5) for r in rs], **style(m), mfc="none",
+                  linestyle=":", label=f"{m} rejected")
     ax.set_xlabel("relative tolerance rtol")
     ax.set_ylabel("steps (rejected: 0 drawn at 0.5)")
-    ax.set_title("Accepted and rejected steps")
+    ax.set_title(f"Accepted and rejected steps, {scene}", fontsize=9)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=7, ncol=2)
     fig.tight_layout()
@@ -350,51 +459,113 @@ def precision_charts(rows, out):
     return c
 
 
-def report(out, rows, charts, common):
-    ok = [r for r in rows if r["status"] == "ok" and r["err_x_final"] == r["err_x_final"]]
-    lines = ["## Work-precision", "", f"Scene: `spam-ark {' '.join(map(str, common))}`; "
+def cheapest_to(rows, target):
+    """The run with the fewest RHS evaluations among those whose final RMS position error is
+    at most target (None if none is)."""
+    ok = [r for r in rows if r["status"] == "ok" and finite(r["err_x_final"]) and r["err_x_final"] <= target]
+    return min(ok, key=lambda r: r["rhs_evals"]) if ok else None
+
+
+def fitted_orders(rows):
+    """{fixed-step method: slope of log error against log dt} over its runs that ended ok
+    with an error above 1e-12 (below, round-off and the reference's own error dominate)."""
+    out = {}
+    for m, rs in by_method(rows).items():
+        rs = [r for r in rs if finite(r["dt"]) and finite(r["err_x_final"]) and r["err_x_final"] > 1e-12]
+        if len(rs) >= 2:
+            out[m] = float(np.polyfit(np.log([r["dt"] for r in rs]), np.log([r["err_x_final"] for r in rs]), 1)[0])
+    return out
+
+
+def energy_slopes(rows):
+    """{adaptive method: d log(energy drift) / d log(rtol)} between its loosest and tightest run."""
+    slope = {}
+    for m, rs in by_method(rows, adaptive_only=True).items():
+        rs = sorted(rs, key=lambda r: r["rtol"])
+        if len(rs) >= 2 and rs[0]["energy_drift"] > 0 and rs[-1]["energy_drift"] > 0:
+            slope[m] = math.log(rs[-1]["energy_drift"] / rs[0]["energy_drift"]) / math.log(rs[-1]["rtol"] / rs[0]["rtol"])
+    return slope
+
+
+def report(out, rows, charts, common, made=None):
+    ok = [r for r in rows if r["status"] == "ok" and finite(r["err_x_final"])]
+    lines = ["## Work-precision", f"Scene: `spam-ark {relative(' '.join(map(str, common)))}`; "
              f"reference ARKODE Dormand-Prince at rtol 1e-13. Table: [precision.csv](precision.csv).", ""]
+    refused = sorted({r["method"] for r in rows if r["status"] == "refused"})
+    bad = [r for r in rows if r["status"] not in ("ok", "refused")]
+    if refused:
+        lines += [f"Refused by spam-ark on this scene (exit 2): {', '.join(refused)}.", ""]
+    if bad:
+        lines += ["Ended unstable or at the step limit: " + ", ".join(f"{r['method']} {knob(r)} ({r['status']})" for r in bad)
+                  + ".", ""]
     if ok:
         best = min(ok, key=lambda r: r["err_x_final"])  # the most accurate run
-        cheapest = {}
-        for r in ok:
-            if r["err_x_final"] <= 1e-6 and (r["method"] not in cheapest or r["rhs_evals"] < cheapest[r["method"]]["rhs_evals"]):
-                cheapest[r["method"]] = r
-        winner = min(cheapest.values(), key=lambda r: r["rhs_evals"]) if cheapest else None
+        winner = cheapest_to(ok, 1e-6)
         lines += [f"![error vs RHS]({charts['err_rhs']})", "",
                   (f"Reading: to reach 1e-6 in position, {winner['method']} needs the fewest RHS evaluations "
-                   f"({winner['rhs_evals']} at rtol {winner['rtol']:g}); the most accurate run is {best['method']} at "
-                   f"rtol {best['rtol']:g} ({best['err_x_final']:.1e}).") if winner else
-                  f"Reading: no run reached 1e-6; the most accurate is {best['method']} at rtol {best['rtol']:g}.", ""]
+                   f"({winner['rhs_evals']} at {knob(winner)}); the most accurate run is {best['method']} at "
+                   f"{knob(best)} ({best['err_x_final']:.1e}).") if winner else
+                  f"Reading: no run reached 1e-6; the most accurate is {best['method']} at {knob(best)} "
+                  f"({best['err_x_final']:.1e}).", ""]
+        orders = fitted_orders(rows)
+        if orders:
+            lines += ["Fixed-step series: fitted order (slope of log error against log dt) "
+                      + ", ".join(f"{m} {v:.2f}" for m, v in orders.items()) + ".", ""]
         fastest = min(ok, key=lambda r: r["wall_s"])
         lines += [f"![error vs wall time]({charts['err_wall']})", "",
                   f"Reading: wall time follows RHS evaluations (the RHS takes {100 * np.median([r['rhs_share'] for r in ok]):.0f}% "
-                  f"of the wall time, median); the fastest run was {fastest['method']} at rtol {fastest['rtol']:g} "
+                  f"of the wall time, median); the fastest run was {fastest['method']} at {knob(fastest)} "
                   f"({fastest['wall_s']:.2f} s).", ""]
-        slope = {}
-        for m, rs in by_method(rows).items():
-            rs = sorted(rs, key=lambda r: r["rtol"])
-            if len(rs) >= 2 and rs[0]["energy_drift"] > 0 and rs[-1]["energy_drift"] > 0:
-                slope[m] = math.log(rs[-1]["energy_drift"] / rs[0]["energy_drift"]) / math.log(rs[-1]["rtol"] / rs[0]["rtol"])
+        slope = energy_slopes(rows)
         lines += [f"![energy drift]({charts['energy']})", "",
                   "Reading: energy drift against tolerance, fitted slopes " +
                   ", ".join(f"{m} {v:.2f}" for m, v in slope.items()) + " (1 means drift proportional to rtol).", ""]
-        worst = max(ok, key=lambda r: r["angmom_drift"])
+        adaptive = [r for r in ok if finite(r["rtol"])]
+        worst = max(adaptive or ok, key=lambda r: r["angmom_drift"])
         lines += [f"![angular momentum drift]({charts['angmom']})", "",
-                  f"Reading: the largest angular-momentum drift is {worst['angmom_drift']:.1e} ({worst['method']}, rtol "
-                  f"{worst['rtol']:g}); in a periodic box L is not a conserved quantity (images break rotational "
+                  f"Reading: the largest angular-momentum drift is {worst['angmom_drift']:.1e} ({worst['method']}, "
+                  f"{knob(worst)}); in a periodic box L is not a conserved quantity (images break rotational "
                   f"symmetry), so compare methods here against each other, not against zero.", ""]
-        rej = sum(r["rejected"] for r in ok)
+        rej = sum(r["rejected"] for r in adaptive)
         lines += [f"![steps]({charts['steps']})", "",
-                  f"Reading: steps grow as rtol tightens; {rej} rejected steps in all {len(ok)} runs.", ""]
-    update_report(out, "precision", lines)
+                  f"Reading: steps grow as rtol tightens; {rej} rejected steps in all {len(adaptive)} adaptive runs.", ""]
+    update_report(out, "precision", lines, made)
 
 
-def update_report(out, part, lines):
+def relative(text):
+    """text with every absolute path made relative to the repository (study.md must not
+    carry a path of the machine that wrote it)."""
+    return re.sub(r"(?<![\w.)}])/[^\s`'\"]+", lambda m: os.path.relpath(m.group(0), REPO), text)
+
+
+def commit_id():
+    """git rev-parse --short HEAD of the repository, with "-dirty" if a tracked file differs."""
+    try:
+        head = subprocess.run(["git", "-C", REPO, "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
+                              check=True).stdout.strip()
+        dirty = subprocess.run(["git", "-C", REPO, "status", "--porcelain", "--untracked-files=no"],
+                               capture_output=True, text=True, check=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown (not a git checkout)"
+    return head + ("-dirty" if dirty else "")
+
+
+def made_line(argv):
+    """The provenance line of every section: commit and command, relative paths only."""
+    words = ["python3", relative(os.path.abspath(sys.argv[0]))] + [relative(w) for w in argv]
+    cmd = " ".join(w if w and not re.search(r"[\s'\"]", w) else "'" + w + "'" for w in words)
+    return f"*Made at commit {commit_id()} by `{cmd}` (run from the repository root).*"
+
+
+def update_report(out, part, lines, made=None):
     """Replaces (or appends) the section of one study in DIR/study.md, so the studies run
-    one at a time (and resumed) each keep their own lines."""
+    one at a time (and resumed) each keep their own lines; sections written by other
+    scripts (any <!-- name --> ... <!-- /name --> pair) are left as they are. The line
+    `made` (commit and command) follows the section's heading."""
     path = os.path.join(out, "study.md")
     text = open(path).read() if os.path.exists(path) else "# spam-ark study\n"
+    if made:
+        lines = lines[:1] + ["", made, ""] + (lines[2:] if lines[1:2] == [""] else lines[1:])
     begin, end = f"<!-- {part} -->\n", f"<!-- /{part} -->\n"
     section = begin + "\n".join(lines) + "\n" + end
     if begin in text and end in text:
@@ -502,7 +673,7 @@ def stability(a):
     rows = []
     specs = a.method or DEFAULT_FIXED
     scenes = stability_scenes(a)
-    prog = Progress(len(specs) * len(scenes))
+    prog, refused = Progress(len(specs) * len(scenes)), {}
     for scene, opts_scene, unit, unit_name in scenes:
         common = opts_scene.split() + ["-snapshot_interval", 0, "-output_interval", 0, "-diag_entropy", 0]
         b = argparse.Namespace(**vars(a))
@@ -514,6 +685,7 @@ def stability(a):
                 lo, hi = largest_stable_step(b, common, opts.split(), label, a.dt_guess * unit, 2 * a.dt_guess * unit)
             except Refused:
                 prog.step(f"{scene}, {label}: refused by spam-ark for this scene")
+                refused.setdefault(scene, []).append(label)
                 continue
             exact = imaginary_axis_limit(label) if scene == "chain" else float("nan")
             stages = measured_stages(os.path.join(b.out, "stability", f"{label}_{lo:.10g}"), stages)
@@ -524,8 +696,10 @@ def stability(a):
                          "cost_per_unit_time": int(stages) / lo if lo > 0 else float("inf")})
             prog.step(f"{scene}, {label}: stable up to dt {lo:.5g} ({lo / unit:.4f} {unit_name})")
     write_csv(os.path.join(a.out, "stability.csv"), rows)
-    stability_chart(rows, [s[0] for s in scenes], os.path.join(a.out, "stability.png"))
+    stability_chart(rows, [s[0] for s in scenes], os.path.join(a.out, "stability.png"), refused)
     lines = ["## Stability limits", "", "![stability](stability.png)", "",
+             *(["Refused by spam-ark (exit 2): " + "; ".join(f"{k}: {', '.join(v)}" for k, v in refused.items()) + ".", ""]
+               if refused else []),
              f"Largest stable fixed step by bisection ({a.steps} steps a trial, unstable when KE > {a.growth:g} x the "
              f"initial energy; [stability.csv](stability.csv)). On the chain (a linear oscillator) the closed form is "
              "where the method's stability region leaves the imaginary axis.", "",
@@ -534,29 +708,51 @@ def stability(a):
         lines.append(f"| {r['scene']} | {r['method']} | {r['force_evals_per_step']} | {r['dt_limit']:.4f} | {r['unit']} | "
                      + (f"{r['closed_form']:.4f} | " if r["closed_form"] == r["closed_form"] else "- | ")
                      + (f"{r['error']:+.2%} |" if r["error"] == r["error"] else "- |"))
-    lines += ["", "Reading: a method whose |R(iy)| exceeds 1 only slightly past its limit (Dormand-Prince beyond "
-              "w dt = 0.997, Euler and Heun everywhere) grows too slowly to reach the bound within a trial, so its "
-              "found limit depends on --steps and --growth; RK4, SSP3 and Verlet grow fast past theirs."]
-    update_report(a.out, "stability", lines)
+    lines += ["", stability_reading(rows)]
+    update_report(a.out, "stability", lines, a.made)
     return rows
 
 
-def stability_chart(rows, scenes, path):
-    """One panel per scene: the largest stable step against stages, closed forms hollow."""
+def stability_reading(rows):
+    """Which found limits agree with their closed forms to 1% and which do not (those whose
+    |R(iy)| exceeds 1 only slightly past the limit grow too slowly to reach the bound within
+    a trial), and the cheapest method per unit time on each scene: all from the rows."""
+    known = [r for r in rows if r["error"] == r["error"]]
+    agree = [f"{r['method']} {r['error']:+.2%}" for r in known if abs(r["error"]) <= 0.01]
+    off = [f"{r['method']} {r['error']:+.2%}" for r in known if abs(r["error"]) > 0.01]
+    text = "Reading: " + (f"on the chain the found limits match their closed forms within 1% for {', '.join(agree)}"
+                          if agree else "no found limit matches a closed form within 1%" if known
+                          else "no method here has a closed form")
+    if off:
+        text += (f"; not for {', '.join(off)}: past its limit |R(iy)| exceeds 1 only slightly, so the growth is too "
+                 "slow to reach the bound within a trial and the found limit depends on --steps and --growth")
+    cheap = []
+    for scene in dict.fromkeys(r["scene"] for r in rows):
+        rs = [r for r in rows if r["scene"] == scene and r["dt_limit"] > 0]
+        if rs:
+            b = min(rs, key=lambda r: r["cost_per_unit_time"])
+            cheap.append(f"{scene} {b['method']} ({b['force_evals_per_step'] / b['dt_limit']:.2f} per {b['unit']})")
+    return text + ". Fewest force evaluations per unit time at the limit: " + "; ".join(cheap) + "."
+
+
+def stability_chart(rows, scenes, path, refused):
+    """One panel per scene: the largest stable step against stages, closed forms hollow;
+    methods spam-ark refused on a scene named in its panel's title."""
     fig, axes = plt.subplots(1, len(scenes), figsize=(4.2 * len(scenes), 4.4), squeeze=False)
     for ax, scene in zip(axes[0], scenes):
         rs = [r for r in rows if r["scene"] == scene]
-        for k, r in enumerate(rs):
-            m = MARKERS[k % len(MARKERS)]
-            ax.plot(r["force_evals_per_step"], r["dt_limit"], m, color=f"C{k}", ms=8, label=r["method"])
+        for r in rs:
+            ax.plot(r["force_evals_per_step"], r["dt_limit"], **style(r["method"]), ms=8, linestyle="none", label=r["method"])
             if r["closed_form"] == r["closed_form"]:
-                ax.plot(r["force_evals_per_step"], r["closed_form"], m, color=f"C{k}", ms=13, mfc="none")
+                ax.plot(r["force_evals_per_step"], r["closed_form"], **style(r["method"]), ms=13, mfc="none", linestyle="none")
         ax.set_xlabel("force evaluations per step (stages)")
         ax.set_ylabel(f"largest stable step (units of {rs[0]['unit'] if rs else '?'})")
-        ax.set_title(scene + (" (hollow: closed form)" if scene == "chain" else ""), fontsize=10)
+        ax.set_title(scene + (" (hollow: closed form)" if scene == "chain" else "")
+                     + (f"\nrefused by spam-ark here: {', '.join(refused[scene])}" if refused.get(scene) else ""), fontsize=9)
         ax.grid(True, alpha=0.3)
-        ax.legend(fontsize=7)
-    fig.suptitle("Stability limit of fixed-step methods")
+        if rs:
+            ax.legend(fontsize=7)
+    fig.suptitle("Stability limit of fixed-step methods (scenes: " + ", ".join(scenes) + ")")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -570,17 +766,19 @@ DEFAULT_CONTROLLERS = ["ARKODE I=-arkode_adapt i", "ARKODE PI=-arkode_adapt pi",
 def controller(a):
     """Adaptive steps near the stability limit: a loose tolerance lets accuracy allow steps
     that stability does not, so the controller must find the limit by rejections. Charted:
-    dt(t) per controller, rejections marked; the oscillation is the RMS of log(dt_n+1/dt_n)."""
+    dt(t) per controller, rejections marked, a run that ended unstable (exit 3) ended by a
+    hollow red X and named so in the legend; the oscillation is the RMS of log(dt_n+1/dt_n)."""
     common = a.scene_opts.split() + ["-snapshot_interval", 0, "-output_interval", 0, "-diag_entropy", 0,
                                      "-ts_rtol", a.loose_tol, "-ts_atol", a.loose_tol]
     specs = a.method or DEFAULT_CONTROLLERS
     prog, rows = Progress(len(specs)), []
-    fig, ax = plt.subplots(figsize=(7.2, 4.6))
-    for k, spec in enumerate(specs):
+    fig, ax = plt.subplots(figsize=(7.6, 4.8))
+    for spec in specs:
         label, _, opts = spec.partition("=")
         d = os.path.join(a.out, "controller", label.replace(" ", "_").replace("(", "").replace(")", ""))
         code, skipped = spam(a.spam_ark, common + opts.split(), d)
         prog.step(label, skipped)
+        s = json.load(open(os.path.join(d, "summary.json")))
         with open(os.path.join(d, "steps.csv")) as f:
             st = list(csv.DictReader(f))
         t = np.array([float(r["t"]) for r in st])
@@ -588,26 +786,58 @@ def controller(a):
         rej = np.array([int(r["rejected"]) for r in st])
         keep = np.array([r["limit"] != "output" for r in st])
         ratio = np.diff(np.log(dt[keep])) if keep.sum() > 2 else np.array([0.0])
-        line, = ax.semilogy(t, dt, "-", lw=1, label=f"{label}: {rej[-1] if len(rej) else 0} rejected")
+        nrej = int(rej[-1]) if len(rej) else 0
+        sty = style(label)
+        tag = f"UNSTABLE at t = {s['t_final']:.4g} ({nrej} rejected before)" if code == 3 else f"{nrej} rejected"
+        ax.semilogy(t, dt, "-", lw=1, color=sty["color"], label=f"{label}: {tag}")
         jumps = np.nonzero(np.diff(np.concatenate([[0], rej])) > 0)[0]
-        ax.semilogy(t[jumps], dt[jumps], "x", color=line.get_color())
-        rows.append({"controller": label, "options": opts, "exit_code": code, "steps": len(st),
-                     "rejected": int(rej[-1]) if len(rej) else 0, "dt_median": float(np.median(dt)) if len(dt) else 0.0,
+        ax.semilogy(t[jumps], dt[jumps], linestyle="none", marker=sty["marker"], color=sty["color"], ms=4)
+        if code == 3 and len(t):
+            ax.semilogy([t[-1]], [dt[-1]], **UNSTABLE)
+        rows.append({"controller": label, "options": opts, "exit_code": code, "status": s["status"],
+                     "t_final": s["t_final"], "steps": len(st), "rejected": nrej,
+                     "dt_median": float(np.median(dt)) if len(dt) else 0.0,
                      "oscillation_rms_log_ratio": float(np.sqrt(np.mean(ratio ** 2)))})
-    ax.set_xlabel("t")
-    ax.set_ylabel("accepted step dt (x: step after a rejection)")
-    ax.set_title(f"Controllers near the stability limit (rtol = atol = {a.loose_tol:g})")
+    ax.plot([], [], **UNSTABLE, label="run ended unstable (exit 3)")
+    ax.set_xlabel("t (reduced time units)")
+    ax.set_ylabel("accepted step dt (markers: step after a rejection)")
+    ax.set_title(f"Controllers near the stability limit, {scene_name(a.scene_opts)} (rtol = atol = {a.loose_tol:g})",
+                 fontsize=9)
     ax.grid(True, which="both", alpha=0.3)
     ax.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(os.path.join(a.out, "controllers.png"), dpi=110)
     plt.close(fig)
     write_csv(os.path.join(a.out, "controllers.csv"), rows)
+    lines = ["## Step controllers near the stability limit", "![controllers](controllers.png)", "",
+             f"Scene: `spam-ark {relative(' '.join(map(str, common)))}` with each controller's options "
+             "([controllers.csv](controllers.csv)).", "",
+             "| controller | status | t_final | steps | rejected | median dt | RMS log(dt_n+1/dt_n) |",
+             "|---|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append(f"| {r['controller']} | {r['status']} | {r['t_final']:.4g} | {r['steps']} | {r['rejected']} | "
+                     f"{r['dt_median']:.4g} | {r['oscillation_rms_log_ratio']:.4f} |")
+    lines += ["", controller_reading(rows)]
+    update_report(a.out, "controller", lines, a.made)
     return rows
 
 
+def controller_reading(rows):
+    unstable = [r for r in rows if r["exit_code"] == 3]
+    done = [r for r in rows if r["exit_code"] == 0]
+    text = f"Reading: {len(unstable)} of {len(rows)} controllers ended unstable (exit 3)"
+    if unstable:
+        text += (", having rejected " + ", ".join(f"{r['rejected']}" for r in unstable) + " steps before"
+                 " (the error estimate does not see the instability grow, so the step is not cut)")
+    if done:
+        calm = min(done, key=lambda r: r["oscillation_rms_log_ratio"])
+        text += (f"; of those that finished, {calm['controller']} oscillates least "
+                 f"(RMS log ratio {calm['oscillation_rms_log_ratio']:.4f}, {calm['rejected']} rejected)")
+    return text + "."
+
+
 def entropy(a):
-    rows, fig = [], plt.figure(figsize=(6.4, 4.6))
+    rows, fig = [], plt.figure(figsize=(6.8, 4.8))
     ax = fig.gca()
     prog = Progress(len(a.n))
     for k, n in enumerate(a.n):
@@ -621,18 +851,160 @@ def entropy(a):
         t = [float(r["t"]) / tau for r in ts]
         ax.plot(t, [float(r["dS_sum_ratio"]) for r in ts], "-", color=f"C{k}", label=f"N = {n * n}, sum")
         ax.plot(t, [float(r["dS_grid_ratio"]) for r in ts], "--", color=f"C{k}", label=f"N = {n * n}, grid")
-        rows.append({"n": n, "N": n * n, "h": a.h, "dS_sum_final": s["dS_sum_ratio_final"], "dS_grid_final": s["dS_grid_ratio_final"]})
+        rows.append({"n": n, "N": n * n, "h": a.h, "t_final_over_tau": t[-1], "dS_sum_final": s["dS_sum_ratio_final"],
+                     "dS_grid_final": s["dS_grid_ratio_final"]})
     ax.axhline(1.0, color="k", lw=0.8)
     ax.set_xlabel("t / tau (sound traversal times)")
     ax.set_ylabel("Delta S / (N k ln 4)")
-    ax.set_title(f"Entropy of the fourfold free expansion, h = {a.h:g}")
+    ax.set_title(f"Entropy of the fourfold free expansion (scene expansion), h = {a.h:g}", fontsize=9)
     ax.legend(fontsize=7)
     ax.grid(True, alpha=0.3)
     fig.tight_layout()
     fig.savefig(os.path.join(a.out, "entropy.png"), dpi=110)
     plt.close(fig)
     write_csv(os.path.join(a.out, "entropy.csv"), rows)
+    lines = ["## Entropy of the free expansion", "![entropy](entropy.png)", "",
+             f"Scene: `spam-ark -expansion_n N -h {a.h:g} -snapshot_interval 0` for each n ([entropy.csv](entropy.csv)); "
+             "Delta S/(N k ln 4) from the particles' densities (sum) and on the grid, 1 for the ideal gas's fourfold expansion.",
+             "", "| n | N | t_end / tau | Delta S sum | Delta S grid |", "|---|---|---|---|---|"]
+    for r in rows:
+        lines.append(f"| {r['n']} | {r['N']} | {r['t_final_over_tau']:.2f} | {r['dS_sum_final']:.4f} | {r['dS_grid_final']:.4f} |")
+    best = min(rows, key=lambda r: abs(r["dS_sum_final"] - 1))
+    lines += ["", f"Reading: at the end the summed entropy ratio ranges over "
+              f"{min(r['dS_sum_final'] for r in rows):.4f} to {max(r['dS_sum_final'] for r in rows):.4f}, the grid's over "
+              f"{min(r['dS_grid_final'] for r in rows):.4f} to {max(r['dS_grid_final'] for r in rows):.4f}; closest to 1 "
+              f"(summed): N = {best['N']} ({best['dS_sum_final']:.4f})."]
+    update_report(a.out, "entropy", lines, a.made)
     return rows
+
+
+# The drift study's scene: the MD rotor (options/rotor-md.opts), 217 particles joined by
+# Hookean springs, spinning. Its state is positions and velocities only and its force derives
+# from a smooth potential, so it is a Hamiltonian system: backward error analysis gives a
+# symplectic method a nearby energy it conserves (bounded oscillation of E), while a
+# Runge-Kutta pair's error adds up (secular drift). The plane wave cannot be used: its
+# elastic model carries e, rho and the stress, and spam-ark refuses a symplectic split there.
+DRIFT_SCENE = "-options_file " + os.path.join(REPO, "options", "rotor-md.opts") + " -ts_max_time 2000"
+DRIFT_T_END = 2000.0
+DRIFT_DTS = [0.4, 0.2]          # Verlet at 0.2: 10^4 steps of t_end 2000
+DRIFT_ADAPTIVE = ["BS3=-arkode_table ARKODE_BOGACKI_SHAMPINE_4_2_3", "DP5=-arkode_table ARKODE_DORMAND_PRINCE_7_4_5"]
+DRIFT_TOLS = [1e-4, 1e-6]
+
+
+def drift_exponent(t, err):
+    """Exponent p of the envelope of |E(t) - E0|/|E0| (its running maximum) ~ t^p, fitted
+    over the last 90% of the run in log-log: a bounded oscillation gives p near 0, a
+    secular drift p near 1 (or more, if it accelerates)."""
+    t, env = np.asarray(t), np.maximum.accumulate(np.asarray(err))
+    sel = (t >= 0.1 * t[-1]) & (env > 0)
+    return float(np.polyfit(np.log(t[sel]), np.log(env[sel]), 1)[0]) if sel.sum() >= 3 else float("nan")
+
+
+def drift(a):
+    """Energy error over a long run (10^4 steps and more) of the symplectic fixed-step series
+    against adaptive Runge-Kutta pairs at a comparable number of RHS evaluations."""
+    base = a.scene_opts.split()
+    common = base + ["-snapshot_interval", 0, "-output_interval", a.t_end / 400]
+    cases = [(label, opts + ["-ts_rtol", tol, "-ts_atol", tol * 1e-3], f"{label}_{tol:g}", {"rtol": tol, "dt": float("nan")})
+             for label, opts in parse_methods(a.method or DRIFT_ADAPTIVE) for tol in (a.tol or DRIFT_TOLS)]
+    cases += [(label, opts + ["-ts_dt", "%.10g" % dt], f"{label}_dt{dt:g}", {"rtol": float("nan"), "dt": dt})
+              for label, opts in parse_methods(a.fixed if a.fixed is not None else DEFAULT_SYMPLECTIC) for dt in (a.dt or DRIFT_DTS)]
+    prog, rows, series = Progress(len(cases)), [], {}
+    for label, opts, name, k, what in [(c[0], c[1], c[2], c[3], knob(c[3])) for c in cases]:
+        d = os.path.join(a.out, "drift", name)
+        code, skipped = spam(a.spam_ark, common + opts, d)
+        prog.step(f"drift {label} {what}", skipped)
+        s = json.load(open(os.path.join(d, "summary.json")))
+        ts = table_of(os.path.join(d, "timeseries.csv"))
+        err = np.abs(ts["total"] / ts["total"][0] - 1)
+        series[name] = (ts["t"], err)
+        rows.append({"method": label, "options": " ".join(map(str, opts)), **k, "status": s["status"],
+                     "steps": s["steps"], "rhs_evals": s["rhs_evals"], "t_final": s["t_final"],
+                     "energy_err_final": float(err[-1]), "energy_err_max": float(err.max()),
+                     "drift_exponent": drift_exponent(ts["t"][1:], err[1:]), "run": name})
+    write_csv(os.path.join(a.out, "drift.csv"), rows)
+    scene = scene_name(base, json.load(open(os.path.join(a.out, "drift", rows[0]["run"], "summary.json"))).get("n_particles"))
+    drift_chart(rows, series, scene, os.path.join(a.out, "drift.png"))
+    lines = ["## Long-time energy drift: symplectic against adaptive", "![drift](drift.png)", "",
+             f"Scene: `spam-ark {relative(' '.join(map(str, common)))}` with each method's options ([drift.csv](drift.csv)): "
+             "the MD rotor, a spring lattice whose state is positions and velocities only and whose force derives "
+             "from a smooth potential, so it is Hamiltonian and a symplectic method keeps a nearby energy (the plane "
+             "wave's elastic state carries e, rho and the stress, which spam-ark refuses to split). p is the exponent of "
+             "the envelope of |E(t) - E0|/|E0| ~ t^p over the last 90% of the run (0: bounded, 1: secular drift).", "",
+             "| method | rtol or dt | steps | RHS evaluations | max \\|dE\\|/E0 | final \\|dE\\|/E0 | p |", "|---|---|---|---|---|---|---|"]
+    for r in rows:
+        lines.append(f"| {r['method']} | {knob(r)} | {r['steps']} | {r['rhs_evals']} | {r['energy_err_max']:.2e} | "
+                     f"{r['energy_err_final']:.2e} | {r['drift_exponent']:.2f} |")
+    lines += ["", drift_reading(rows)]
+    update_report(a.out, "drift", lines, a.made)
+    return rows
+
+
+def table_of(path):
+    with open(path) as f:
+        rs = list(csv.DictReader(f))
+    return {k: np.array([float(r[k]) for r in rs]) for k in ("t", "total")}
+
+
+def drift_reading(rows):
+    """The symplectic runs' largest exponent against the adaptive runs' smallest, and the
+    pair of runs of nearest cost (RHS evaluations) with their final energy errors."""
+    ok = [r for r in rows if r["status"] == "ok"]
+    fixed = [r for r in ok if finite(r["dt"])]
+    adaptive = [r for r in ok if finite(r["rtol"])]
+    if not fixed or not adaptive:
+        return "Reading: no comparison (a series is missing or did not finish)."
+    f_max = max(fixed, key=lambda r: r["drift_exponent"])
+    a_min = min(adaptive, key=lambda r: r["drift_exponent"])
+    f, ad = min(((f, ad) for f in fixed for ad in adaptive),
+                key=lambda p: abs(math.log(p[0]["rhs_evals"] / p[1]["rhs_evals"])))
+    return (f"Reading: envelope exponents p of the fixed-step symplectic runs are at most {f_max['drift_exponent']:.2f} "
+            f"({f_max['method']} {knob(f_max)}), of the adaptive runs at least {a_min['drift_exponent']:.2f} "
+            f"({a_min['method']} {knob(a_min)}). At nearest cost, {f['method']} {knob(f)} ({f['rhs_evals']} RHS "
+            f"evaluations) ends with |dE|/E0 = {f['energy_err_final']:.1e}, {ad['method']} at {knob(ad)} "
+            f"({ad['rhs_evals']}) with {ad['energy_err_final']:.1e}.")
+
+
+def drift_chart(rows, series, scene, path):
+    """Left: |E(t) - E0|/|E0| against t for every run (log scale; symplectic dashed). Right:
+    the final energy error against RHS evaluations, rtol or dt beside each point."""
+    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(12.5, 4.8))
+    for r in rows:
+        t, err = series[r["run"]]
+        sty = style(r["method"])
+        fixed = finite(r["dt"])
+        ax1.semilogy(t[1:], np.maximum(err[1:], 1e-17), "--" if fixed else "-", color=sty["color"], lw=0.8,
+                     label=f"{r['method']} {knob(r)}" + ("" if r["status"] == "ok" else f" ({r['status'].upper()})"))
+        if r["status"] != "ok":
+            ax1.semilogy([t[-1]], [max(err[-1], 1e-17)], **UNSTABLE)
+    ax1.set_xlabel("t (reduced time units)")
+    ax1.set_ylabel("|E(t) - E0| / |E0|")
+    ax1.set_title(f"Energy error over time, {scene}", fontsize=9)
+    ax1.grid(True, which="both", alpha=0.3)
+    ax1.legend(fontsize=6, ncol=2)
+    for m in dict.fromkeys(r["method"] for r in rows):
+        rs = sorted([r for r in rows if r["method"] == m and r["status"] == "ok"], key=lambda r: r["rhs_evals"])
+        if not rs:
+            continue
+        fixed = finite(rs[0]["dt"])
+        ax2.loglog([r["rhs_evals"] for r in rs], [max(r["energy_err_final"], 1e-17) for r in rs], **style(m),
+                   linestyle="--" if fixed else "-", label=m + (" (fixed dt)" if fixed else " (rtol)"))
+        for r in rs:
+            ax2.annotate(knob(r, short=True), (r["rhs_evals"], max(r["energy_err_final"], 1e-17)), textcoords="offset points",
+                         xytext=(3, 3), fontsize=6, color=style(m)["color"])
+    bad = [r for r in rows if r["status"] != "ok"]
+    if bad:
+        ax2.plot([r["rhs_evals"] for r in bad], [max(r["energy_err_final"], 1e-17) for r in bad], **UNSTABLE,
+                 label="unstable / not finished")
+    ax2.set_xlabel("right-hand-side evaluations")
+    ax2.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+    ax2.set_ylabel("|E(t_end) - E0| / |E0|")
+    ax2.set_title(f"Final energy error against cost, {scene}", fontsize=9)
+    ax2.grid(True, which="both", alpha=0.3)
+    ax2.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
 
 
 # The tensile-instability variants (PRE Sec. IV): standard SPAM, Monaghan's velocity
@@ -681,7 +1053,7 @@ def tensile(a):
     grow = [r for r in rows if r["rate"] > 0.01]
     lines += ["", f"Reading: {len(grow)} of {len(rows)} runs grow faster than 0.01 per unit time: "
               + (", ".join(sorted({r['variant'] for r in grow})) or "none") + "."]
-    update_report(a.out, "tensile", lines)
+    update_report(a.out, "tensile", lines, a.made)
     return rows
 
 
@@ -691,20 +1063,20 @@ def tensile_chart(rows, series, path):
     sigmas = sorted({r["sigma0"] for r in rows})
     for k, v in enumerate(variants):
         rs = [r for r in rows if r["variant"] == v]
-        ax2.plot([r["sigma0"] for r in rs], [r["rate"] for r in rs], marker=MARKERS[k], label=v)
+        ax2.plot([r["sigma0"] for r in rs], [r["rate"] for r in rs], **style(v), label=v)
         for j, s0 in enumerate(sigmas):
             t, ke = series[(v, s0)]
             ax1.semilogy(t, ke, ["-", "--", ":"][k % 3], color=plt.cm.viridis(j / max(len(sigmas) - 1, 1)), lw=1,
                          label=f"sigma0 {s0:g}" if k == 0 else None)
-    ax1.set_xlabel("t")
-    ax1.set_ylabel("kinetic energy")
-    ax1.set_title("KE(t): " + ", ".join(f"{v} {['solid', 'dashed', 'dotted'][k % 3]}" for k, v in enumerate(variants)), fontsize=8)
+    ax1.set_xlabel("t (reduced time units)")
+    ax1.set_ylabel("kinetic energy (reduced units)")
+    ax1.set_title("Tensile crystal, KE(t): " + ", ".join(f"{v} {['solid', 'dashed', 'dotted'][k % 3]}" for k, v in enumerate(variants)), fontsize=8)
     ax1.legend(fontsize=7)
     ax1.grid(True, which="both", alpha=0.3)
     ax2.axhline(0, color="k", lw=0.8)
-    ax2.set_xlabel("tension sigma0")
+    ax2.set_xlabel("tension sigma0 (reduced stress units)")
     ax2.set_ylabel("fitted growth rate of KE (per unit time)")
-    ax2.set_title("Tensile instability: growth rate against tension", fontsize=10)
+    ax2.set_title("Tensile crystal (options/tensile.opts): growth rate against tension", fontsize=9)
     ax2.legend(fontsize=8)
     ax2.grid(True, alpha=0.3)
     fig.tight_layout()
@@ -712,33 +1084,94 @@ def tensile_chart(rows, series, path):
     plt.close(fig)
 
 
+# The small gallery (--small): every study on a scene small enough that all of them run in
+# about a minute (tests/run_gallery.py); the numbers are not meant for README.
+SMALL = {"precision": dict(scene_opts="-expansion_n 10 -h 3 -ts_max_time 8", t_end=8.0,
+                           method=DEFAULT_METHODS[:2], tol=[1e-4, 1e-7], fixed=[DEFAULT_SYMPLECTIC[0], DEFAULT_SYMPLECTIC[2]],
+                           dt=[0.2, 0.1]),
+         "planewave": dict(scene_opts=f"-options_file {os.path.join(REPO, 'options', 'planewave.opts')} -planewave_nx 12 "
+                                      "-planewave_ny 12 -ts_max_time 36", t_end=36.0, method=[DEFAULT_METHODS[1]],
+                           tol=[1e-4, 1e-7], fixed=DEFAULT_SYMPLECTIC[:1], dt=[0.45]),
+         "stability": dict(scene_opts=None, scene=["chain"], steps=200, rel=0.02,
+                           method=["Verlet=-ts_type basicsymplectic:1", "RK4=-ts_type rk -ts_rk_type 4 -ts_adapt_type none:4"]),
+         "controller": dict(scene_opts="-expansion_n 10 -h 3 -ts_max_time 60",
+                            method=[DEFAULT_CONTROLLERS[1], DEFAULT_CONTROLLERS[4]]),
+         "entropy": dict(n=[8, 12], h=3.0),
+         "tensile": dict(method=TENSILE_VARIANTS[:1], sigma0=[0.02]),
+         "drift": dict(scene_opts=f"-options_file {os.path.join(REPO, 'options', 'rotor-md.opts')} -rotor_n 4 -ts_max_time 200",
+                       t_end=200.0, method=[DRIFT_ADAPTIVE[1]], tol=[1e-4], fixed=DEFAULT_SYMPLECTIC[:1], dt=[0.2])}
+FULL = {"precision": dict(scene_opts=DEFAULT_SCENE, t_end=16.0, method=None, tol=None, fixed=None, dt=None),
+        "planewave": dict(scene_opts=f"-options_file {os.path.join(REPO, 'options', 'planewave.opts')} -ts_max_time 72",
+                          t_end=72.0, method=None, tol=None, fixed=None, dt=[0.45]),
+        "stability": dict(scene_opts=None, scene=None, method=None, steps=1000),
+        "controller": dict(scene_opts="-expansion_n 24 -h 3 -ts_max_time 240", method=None),
+        "entropy": dict(n=[32, 48, 64], h=7.0),
+        "tensile": dict(method=None, sigma0=None),
+        "drift": dict(scene_opts=DRIFT_SCENE, t_end=DRIFT_T_END, method=None, tol=None, fixed=None, dt=None)}
+# Standalone studies of other scripts that write their own sections of study.md.
+OTHER_STUDIES = ["study_orders.py", "study_norm.py"]
+
+
 def gallery(a):
-    """The default study behind README's gallery: each part on the scene that shows it."""
-    def part(fn, **kw):
+    """README's gallery, each part on the scene that shows it; --small: the same parts on
+    small scenes (for the test). Then the standalone studies of OTHER_STUDIES that exist."""
+    sizes = SMALL if a.small else FULL
+
+    def part(fn, key, **kw):
         b = argparse.Namespace(**vars(a))
-        for k, v in kw.items():
+        for k, v in dict(sizes[key], **kw).items():
             setattr(b, k, v)
         return fn(b)
-    part(precision, scene_opts=DEFAULT_SCENE, t_end=16.0, method=None, tol=None)
-    part(precision, scene_opts=f"-options_file {os.path.join(REPO, 'options', 'planewave.opts')} -ts_max_time 72",
-         t_end=72.0, method=None, tol=None, out=os.path.join(a.out, "planewave"))
-    part(stability, scene_opts=None, scene=None, method=None, steps=1000)
-    part(controller, scene_opts="-expansion_n 24 -h 3 -ts_max_time 240", method=None)
-    part(entropy, n=[32, 48, 64], h=7.0)
-    part(tensile, method=None, sigma0=None)
+    part(precision, "precision")
+    part(precision, "planewave", out=os.path.join(a.out, "planewave"))
+    part(stability, "stability")
+    part(controller, "controller")
+    part(entropy, "entropy")
+    part(tensile, "tensile")
+    part(drift, "drift")
+    failed = []
+    for name in OTHER_STUDIES:
+        script = os.path.join(REPO, "examples", name)
+        if not os.path.exists(script):
+            print(f"study.py: {name} not found, skipped", flush=True)
+            continue
+        cmd = [sys.executable, script, "--out", a.out, "--spam-ark", a.spam_ark]
+        if a.small:
+            helptext = subprocess.run([sys.executable, script, "-h"], capture_output=True, text=True).stdout
+            if "--small" not in helptext:
+                print(f"study.py: {name} has no --small, skipped in the small gallery", flush=True)
+                continue
+            cmd.append("--small")
+        print("study.py: running", " ".join(relative(w) for w in cmd), flush=True)
+        if subprocess.run(cmd).returncode != 0:
+            failed.append(name)
+    if not a.small:  # the PRE 2004 figures (examples/fig*.png), their runs under DIR/pre2004/
+        script = os.path.join(REPO, "examples", "pre2004_figures.py")
+        print("study.py: running examples/pre2004_figures.py", flush=True)
+        if subprocess.run([sys.executable, script, "--spam-ark", a.spam_ark, "--out", os.path.join(a.out, "pre2004")]).returncode:
+            failed.append("pre2004_figures.py")
+    if failed:
+        raise SystemExit(f"study.py: {', '.join(failed)} failed (the rest of the gallery is written)")
 
 
 def main(argv=None):
+    argv = sys.argv[1:] if argv is None else argv
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("what", choices=["precision", "stability", "controller", "entropy", "tensile", "gallery"])
+    p.add_argument("what", choices=["precision", "stability", "controller", "entropy", "tensile", "drift", "gallery"])
     p.add_argument("--out", required=True)
     p.add_argument("--spam-ark", default=os.path.join(REPO, "build", "spam-ark"))
-    p.add_argument("--scene-opts", help=f"scene options (default '{DEFAULT_SCENE}'; stability: the presets of --scene)")
+    p.add_argument("--scene-opts", help=f"scene options (default '{DEFAULT_SCENE}'; drift: options/rotor-md.opts "
+                   "to t = 2000; stability: the presets of --scene)")
     p.add_argument("--scene", action="append", choices=list(STABILITY_SCENES),
                    help="stability: preset scene (repeatable; default all: " + ", ".join(STABILITY_SCENES) + ")")
-    p.add_argument("--t-end", type=float, default=16.0, help="end time (must match -ts_max_time in --scene-opts)")
+    p.add_argument("--t-end", type=float, help="end time (must match -ts_max_time in --scene-opts; default 16, drift 2000)")
     p.add_argument("--method", action="append", help="LABEL=OPTIONS (stability: LABEL=OPTIONS:FORCE_EVALS_PER_STEP)")
     p.add_argument("--tol", action="append", type=float)
+    p.add_argument("--fixed", action="append", help="precision, drift: fixed-step LABEL=OPTIONS run at each --dt "
+                   "(default the symplectic Verlet, Symp3, Symp4 unless --method is given)")
+    p.add_argument("--dt", action="append", type=float, help="precision, drift: steps of the --fixed series "
+                   "(default " + ", ".join(map(str, DEFAULT_DTS)) + "; drift " + ", ".join(map(str, DRIFT_DTS)) + ")")
+    p.add_argument("--small", action="store_true", help="gallery: small scenes (about a minute; for the test)")
     p.add_argument("--dt-guess", type=float, default=0.2, help="stability: first step tried, in the scene's time unit")
     p.add_argument("--time-unit", type=float, default=3.0, help="stability: h/c0 of the scene")
     p.add_argument("--steps", type=int, default=2000, help="stability: steps of each trial run")
@@ -749,17 +1182,30 @@ def main(argv=None):
     p.add_argument("--h", type=float, default=7.0, help="entropy: kernel range")
     p.add_argument("--sigma0", action="append", type=float, help="tensile: tensions (default " + ", ".join(map(str, DEFAULT_SIGMA0)) + ")")
     a = p.parse_args(argv)
+    a.made = made_line(argv)
     os.makedirs(a.out, exist_ok=True)
+    # OpenMPI makes its session directory under TMPDIR at every start of spam-ark; two
+    # starts by different jobs sharing /tmp now and then collide there (exit 1 in
+    # orte_session_dir), so this study's runs get a directory of their own.
+    private_tmp = tempfile.mkdtemp(prefix="spam-study-")
+    os.environ["TMPDIR"] = private_tmp
     if not os.access(a.spam_ark, os.X_OK):
         sys.exit(f"study.py: no spam-ark at {a.spam_ark} (build it, or pass --spam-ark)")
     if a.what in ("precision", "controller"):
         a.scene_opts = a.scene_opts or DEFAULT_SCENE
-    if a.what == "gallery":
-        gallery(a)
-    else:
-        a.n = a.n or [32, 48, 64]
-        {"precision": precision, "stability": stability, "controller": controller, "entropy": entropy,
-         "tensile": tensile}[a.what](a)
+    if a.what == "drift":
+        a.scene_opts = a.scene_opts or DRIFT_SCENE
+        a.t_end = a.t_end or DRIFT_T_END
+    a.t_end = a.t_end or 16.0
+    try:
+        if a.what == "gallery":
+            gallery(a)
+        else:
+            a.n = a.n or [32, 48, 64]
+            {"precision": precision, "stability": stability, "controller": controller, "entropy": entropy,
+             "tensile": tensile, "drift": drift}[a.what](a)
+    finally:
+        shutil.rmtree(private_tmp, ignore_errors=True)
     print(f"study.py: results in {a.out}")
 
 

@@ -2,8 +2,9 @@
 rk 5dp at rtol 1e-4 and 1e-8) on a small expansion writes precision.csv with the documented
 columns, five charts and study.md; Dormand-Prince's RMS position error falls as the
 tolerance tightens (by more than 10x for 10^4x in rtol: the global error of an adaptive
-fifth-order pair falls at least as rtol^(1/4) even with the C^1 kernel); and a study whose
-runs were partly lost resumes by running only the missing case."""
+fifth-order pair falls at least as rtol^(1/4) even with the C^1 kernel); a study whose
+runs were partly lost resumes by running only the missing case; and one resumed with another
+build of spam-ark reruns every case."""
 import csv
 import os
 import shutil
@@ -24,7 +25,7 @@ p = subprocess.run(cmd, capture_output=True, text=True)
 c.check(p.returncode == 0, f"study runs (exit {p.returncode}) {p.stderr.strip()[-300:]}")
 with open(os.path.join(out, "precision.csv")) as f:
     rows = list(csv.DictReader(f))
-cols = ["method", "options", "rtol", "status", "steps", "rejected", "rhs_evals", "wall_s", "rhs_share", "err_x_final",
+cols = ["method", "options", "rtol", "dt", "status", "steps", "rejected", "rhs_evals", "wall_s", "rhs_share", "err_x_final",
         "err_v_final", "err_x_max", "err_v_max", "energy_drift", "momentum_drift", "angmom_drift", "entropy_diff"]
 c.check(len(rows) == 4 and list(rows[0]) == cols, f"precision.csv: {len(rows)} rows, columns {list(rows[0])}")
 dp = {float(r["rtol"]): float(r["err_x_final"]) for r in rows if r["method"] == "DP5"}
@@ -38,4 +39,14 @@ p = subprocess.run(cmd, capture_output=True, text=True)
 skipped = p.stdout.count("skipped")
 c.check(p.returncode == 0 and skipped == 4 and p.stdout.count("[") == 5,
         f"resumed study: {skipped} of 5 runs skipped (reference + 3), one rerun")
+# Another build: the same executable with one byte appended (an ELF file ignores trailing
+# bytes) has another SHA-1, so every run, the reference too, is stale and made again.
+other = os.path.join(a.workdir, "spam-ark-other-build")
+shutil.copyfile(a.spam_ark, other)
+with open(other, "ab") as f:
+    f.write(b"\0")
+os.chmod(other, 0o755)
+p = subprocess.run(cmd[:cmd.index("--spam-ark") + 1] + [other] + cmd[cmd.index("--spam-ark") + 2:], capture_output=True, text=True)
+c.check(p.returncode == 0 and p.stdout.count("skipped") == 0 and p.stdout.count("[") == 5,
+        f"study resumed with another build of spam-ark: {p.stdout.count('skipped')} of 5 runs skipped (none may be)")
 c.finish()
