@@ -11,7 +11,10 @@
 #define SPAM_TSARKODE "arkode"
 #define SPAM_TSCVODE  "cvode"
 
-typedef enum { SPAM_LIMIT_ACCURACY, SPAM_LIMIT_FIXED, SPAM_LIMIT_OUTPUT, SPAM_LIMIT_CFL, SPAM_LIMIT_FORCE } SpamStepLimit;
+/* END: a step shortened to land on t_end (the only stop of a run that interpolates its
+ * outputs); OUTPUT: shortened to land on an output time (-output_stop, or a method or scene
+ * that cannot interpolate: see output_mode.c). */
+typedef enum { SPAM_LIMIT_ACCURACY, SPAM_LIMIT_FIXED, SPAM_LIMIT_OUTPUT, SPAM_LIMIT_CFL, SPAM_LIMIT_FORCE, SPAM_LIMIT_END } SpamStepLimit;
 extern const char *const SpamStepLimitNames[];
 
 /* The application context of the TS. The weights come first: SUNDIALS hands one user-data
@@ -56,6 +59,18 @@ PetscErrorCode SpamSymplecticSetUp(TS ts, SpamTsApp *app);
 PetscErrorCode SpamVecCacheSubVectors(Vec X);
 /* "rk 5dp", "arkode ARKODE_DORMAND_PRINCE_7_4_5", ...; the adaptor; the fixed step or 0. */
 PetscErrorCode SpamTSDescribe(TS ts, const SpamTsApp *app, char *method, size_t mlen, char *adapt, size_t alen, double *fixed_dt);
+
+/* How the outputs of run r are taken: "interpolated" (the method's dense output between
+ * steps, TSInterpolate; the only stop is t_end), "stopped" (steps are cut to land on each
+ * output time) or "steps" (fixed steps, whose ends the output times are rounded to); why[]
+ * says why a run does not interpolate. */
+typedef enum { SPAM_OUTPUT_INTERPOLATED, SPAM_OUTPUT_STOPPED, SPAM_OUTPUT_STEPS } SpamOutputMode;
+extern const char *const SpamOutputModeNames[];
+PetscErrorCode SpamTSOutputMode(TS ts, const SpamTsApp *app, double fixed_dt, SpamOutputMode *mode, char *why, size_t len);
+
+/* -sundials_stats: ARKODE's or CVODE's table of statistics (its PrintAllStats) on viewer's
+ * file; nothing for the other types. */
+PetscErrorCode SpamTSSundialsStats(TS ts, FILE *file);
 
 /* Integrates to t_end with the TS made by SpamTSCreate (any method), writing outputs as
  * it goes; an unstable run ends with r->status = UNSTABLE, not an error. */

@@ -28,6 +28,8 @@ typedef struct {
   char     initial_csv[PETSC_MAX_PATH_LEN], final_csv[PETSC_MAX_PATH_LEN];
   double   output_interval, snapshot_interval;
   PetscBool monitor, hdf5, csv;
+  PetscBool output_stop;     /* cut steps to land on output times instead of interpolating */
+  PetscBool sundials_stats;  /* ARKODE's / CVODE's statistics table at the end           */
   SpamDiagnosticsOptions diag;
 } SpamRunOptions;
 
@@ -45,6 +47,10 @@ typedef struct {
   double     energy_drift_max, momentum_drift_max, angmom_drift_max;
   double     momentum_scale, angmom_scale;
   double     energy_scale;           /* the blow-up bound's unit: see time_loop.c       */
+  char       output_mode[16];        /* interpolated, stopped or steps (integrator.h)   */
+  char       output_mode_reason[200];/* why not interpolated ("" when interpolated)     */
+  long       interpolated_rows;      /* rows (and snapshots) written from the interpolant */
+  long       interpolation_rhs_evals;/* RHS evaluations the interpolant made (not in rhs_evals) */
 } SpamRunResult;
 
 /* Reads and validates every run option; sim gives scene defaults (end time). */

@@ -147,6 +147,26 @@ static PetscErrorCode TSStep_SpamARKode(TS ts)
   PetscFunctionReturn(0);
 }
 
+/* Dense output (TSInterpolate): ERKStep's Hermite interpolant of the last step into X,
+ * leaving ERKStep's own state and history alone. Its degree is min(5, order - 1); degrees
+ * 4 and 5 cost one and two right-hand sides per step with an output in it. */
+static PetscErrorCode TSInterpolate_SpamARKode(TS ts, PetscReal t, Vec X)
+{
+  TS_SpamARKode *ark = (TS_SpamARKode *)ts->data;
+  N_Vector       x   = N_VMake_Petsc(X, ark->sunctx);
+  SpamTsApp     *app;
+  int            flag;
+
+  PetscFunctionBeginUser;
+  PetscCheck(x, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "N_VMake_Petsc failed");
+  PetscCall(TSGetApplicationContext(ts, &app));
+  flag = ERKStepGetDky(ark->mem, t, 0, x);
+  N_VDestroy(x);
+  PetscCall(app->perr);
+  PetscCall(SpamCheckArkode(flag, "ERKStepGetDky"));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode TSReset_SpamARKode(TS ts)
 {
   TS_SpamARKode *ark = (TS_SpamARKode *)ts->data;
@@ -201,6 +221,7 @@ PetscErrorCode SpamTSCreate_ARKode(TS ts)
   ts->ops->reset          = TSReset_SpamARKode;
   ts->ops->destroy        = TSDestroy_SpamARKode;
   ts->ops->view           = TSView_SpamARKode;
+  ts->ops->interpolate    = TSInterpolate_SpamARKode;
   ts->default_adapt_type  = TSADAPTNONE; /* ERKStep adapts by itself */
   ts->usessnes            = PETSC_FALSE;
   PetscFunctionReturn(0);

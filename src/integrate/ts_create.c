@@ -4,7 +4,7 @@
 #include <spam/integrator.h>
 #include <spam/errors.h>
 
-const char *const SpamStepLimitNames[] = {"accuracy", "fixed", "output", "cfl", "force"};
+const char *const SpamStepLimitNames[] = {"accuracy", "fixed", "output", "cfl", "force", "end"};
 
 static const char *const TsTypes[]     = {"arkode", "cvode", "rk", "ssp", "euler", "basicsymplectic"};
 static const char *const RkTypes[]     = {"1fe", "2a", "2b", "3", "3bs", "4", "5f", "5dp", "5bs", "6vr", "7vr", "8vr"};

@@ -83,6 +83,22 @@ static PetscErrorCode TSStep_SpamCVode(TS ts)
   PetscFunctionReturn(0);
 }
 
+/* Dense output (TSInterpolate): CVODE's interpolating polynomial of the current Adams
+ * order into X, from the history CVODE keeps anyway (no right-hand side, no change to it). */
+static PetscErrorCode TSInterpolate_SpamCVode(TS ts, PetscReal t, Vec X)
+{
+  TS_SpamCVode *cv = (TS_SpamCVode *)ts->data;
+  N_Vector      x  = N_VMake_Petsc(X, cv->sunctx);
+  int           flag;
+
+  PetscFunctionBeginUser;
+  PetscCheck(x, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "N_VMake_Petsc failed");
+  flag = CVodeGetDky(cv->mem, t, 0, x);
+  N_VDestroy(x);
+  PetscCall(SpamCheckCvode(flag, "CVodeGetDky"));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode TSReset_SpamCVode(TS ts)
 {
   TS_SpamCVode *cv = (TS_SpamCVode *)ts->data;
@@ -116,6 +132,7 @@ PetscErrorCode SpamTSCreate_CVode(TS ts)
   ts->ops->step          = TSStep_SpamCVode;
   ts->ops->reset         = TSReset_SpamCVode;
   ts->ops->destroy       = TSDestroy_SpamCVode;
+  ts->ops->interpolate   = TSInterpolate_SpamCVode;
   ts->default_adapt_type = TSADAPTNONE; /* CVODE adapts step and order by itself */
   ts->usessnes           = PETSC_FALSE;
   PetscFunctionReturn(0);
