@@ -11,13 +11,9 @@ typedef struct {
   /* time */
   double   t_end, dt_first, fixed_step;
   PetscInt max_steps;
-  /* error control (ARKODE and CVODE; TS methods take -ts_adapt_* from PETSc itself) */
-  double   rtol, atol, safety, max_growth, max_first_growth, max_efail_growth;
-  char     table[64], adapt[16];
-  double   adapt_params[3];  /* controller gains k1, k2, k3 (0: ARKODE's defaults)   */
-  PetscInt n_adapt_params;
+  /* error control (the arkode and cvode types read their own options: integrator.h) */
+  double   rtol, atol;
   PetscBool classic_weights; /* ARKODE's own rtol|y| + atol weights (for comparison)   */
-  PetscInt cvode_max_order;
   /* physical step bound (off when 0): dt <= cfl h / c_max and dt <= force sqrt(h / |a|max) */
   double   cfl, force;
   /* failure detection */
@@ -29,7 +25,6 @@ typedef struct {
   double   output_interval, snapshot_interval;
   PetscBool monitor, hdf5, csv;
   PetscBool output_stop;     /* cut steps to land on output times instead of interpolating */
-  PetscBool sundials_stats;  /* ARKODE's / CVODE's statistics table at the end           */
   SpamDiagnosticsOptions diag;
 } SpamRunOptions;
 

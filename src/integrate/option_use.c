@@ -206,6 +206,8 @@ typedef struct {
   const SpamRunOptions  *o;
   char                   type[32], adapt[32], method[160];
   PetscBool              adaptive;
+  double                 arkode_fixed;    /* arkode's fixed step, or 0             */
+  PetscBool              arkode_fixed_ts; /* ... given as -ts_adapt_type none -ts_dt */
 } Run;
 
 static PetscErrorCode RunDescribe(const SpamSim *sim, const SpamRunOptions *o, TS ts, Run *r)
@@ -227,7 +229,13 @@ static PetscErrorCode RunDescribe(const SpamSim *sim, const SpamRunOptions *o, T
   PetscCall(TSGetAdapt(ts, &adapt));
   PetscCall(TSAdaptGetType(adapt, &atype));
   PetscCall(PetscStrncpy(r->adapt, atype, sizeof r->adapt));
-  if (!strcmp(type, SPAM_TSARKODE)) r->adaptive = (PetscBool)!(o->fixed_step > 0);
+  if (!strcmp(type, SPAM_TSARKODE)) {
+    const SpamArkodeSettings *s;
+    PetscCall(SpamTSARKodeGetSettings(ts, &s));
+    r->arkode_fixed    = s->fixed_step;
+    r->arkode_fixed_ts = s->fixed_by_ts;
+    r->adaptive        = (PetscBool)!(s->fixed_step > 0);
+  }
   else if (!strcmp(type, SPAM_TSCVODE)) r->adaptive = PETSC_TRUE;
   else r->adaptive = (PetscBool)strcmp(atype, TSADAPTNONE);
   if (!strcmp(type, TSRK)) PetscCall(TSRKGetType(ts, &sub));
@@ -235,7 +243,7 @@ static PetscErrorCode RunDescribe(const SpamSim *sim, const SpamRunOptions *o, T
   if (!strcmp(type, TSBASICSYMPLECTIC)) PetscCall(TSBasicSymplecticGetType(ts, &sub));
   if (sub) (void)snprintf(r->method, sizeof r->method, "-ts_type %s -ts_%s_type %s", type, type, sub);
   else (void)snprintf(r->method, sizeof r->method, "-ts_type %s", type);
-  if (!strcmp(type, SPAM_TSARKODE) && o->fixed_step > 0) (void)snprintf(r->method + strlen(r->method), sizeof r->method - strlen(r->method), " -arkode_fixed_step %.17g", o->fixed_step);
+  if (r->arkode_fixed > 0) (void)snprintf(r->method + strlen(r->method), sizeof r->method - strlen(r->method), r->arkode_fixed_ts ? " -ts_adapt_type none -ts_dt %.17g" : " -arkode_fixed_step %.17g", r->arkode_fixed);
   PetscFunctionReturn(0);
 }
 
@@ -279,8 +287,8 @@ static PetscBool RelevantMethod(Group g, const Run *r, char *why, size_t len, Pe
     (void)snprintf(why, len, "applies to the entropy estimates (this run: -diag_entropy false)");
     return PETSC_FALSE;
   case G_DT:
-    if (!(arkode && r->o->fixed_step > 0)) return PETSC_TRUE;
-    (void)snprintf(why, len, "the step of this run is -arkode_fixed_step %.17g", r->o->fixed_step);
+    if (!(arkode && r->arkode_fixed > 0 && !r->arkode_fixed_ts)) return PETSC_TRUE;
+    (void)snprintf(why, len, "the step of this run is -arkode_fixed_step %.17g", r->arkode_fixed);
     return PETSC_FALSE;
   case G_ADAPTIVE:
     if (r->adaptive) return PETSC_TRUE;
@@ -303,7 +311,8 @@ static PetscBool RelevantMethod(Group g, const Run *r, char *why, size_t len, Pe
     (void)snprintf(why, len, "applies to -ts_type cvode (this run: %s)", r->method);
     return PETSC_FALSE;
   case G_TS:
-    if (!arkode && !cvode) return PETSC_TRUE;
+    /* arkode takes -ts_adapt_type none (with -ts_dt) as its fixed step (arkode_options.c) */
+    if (!cvode && (!arkode || r->arkode_fixed_ts)) return PETSC_TRUE;
     (void)snprintf(why, len, "applies to PETSc's methods rk, ssp, euler and basicsymplectic (this run: %s, which controls its own steps: see -%s)", r->method, arkode ? "arkode_adapt" : "ts_rtol");
     return PETSC_FALSE;
   case G_TS_ADAPT:
@@ -550,7 +559,9 @@ static PetscErrorCode CheckOne(const char *name, const char *value, const Run *r
     PetscFunctionReturn(0);
   }
   if (IsPetscRuntime(name)) PetscFunctionReturn(0);
-  /* PETSc's step adaptor reads -ts_adapt_* for every method, used or not. */
+  /* PETSc's step adaptor reads -ts_adapt_* for every method, used or not. Issue 16 point
+   * 6: -ts_adapt_monitor also reports the steps of arkode and cvode (time_loop.c). */
+  if (!strcasecmp(name, "ts_adapt_monitor") && (!strcmp(r->type, SPAM_TSARKODE) || !strcmp(r->type, SPAM_TSCVODE))) PetscFunctionReturn(0);
   if (!strncmp(name, "ts_adapt_", 9) && !Relevant(G_TS_ADAPT, r, why, sizeof why)) PetscCall(NotUsed(name, value, why));
   else if (Unused(name, nleft, left)) PetscCall(RefuseUnknown(name, value));
   PetscFunctionReturn(0);

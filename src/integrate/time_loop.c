@@ -321,7 +321,7 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(r, sizeof *r));
   PetscCall(PetscTime(&wall0));
-  PetscCall(SpamTSDescribe(ts, app, r->method, sizeof r->method, r->adapt, sizeof r->adapt, &r->fixed_dt));
+  PetscCall(SpamTSDescribe(ts, r->method, sizeof r->method, r->adapt, sizeof r->adapt, &r->fixed_dt));
   {
     char line[512]; /* snprintf: PETSc's printf writes 3 as "3." */
     (void)snprintf(line, sizeof line, "spam-ark: scene %s, %ld particles in %dD, h %g, %s, step %s, rtol %g atol %g, to t = %g\n", sim->scene.name, (long)sim->nglobal, sim->model.dim, sim->model.kernel.h, r->method, r->fixed_dt > 0 ? "fixed" : r->adapt, o->rtol, o->atol, o->t_end);
@@ -336,6 +336,7 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
   PetscCall(Output(sim, o, out, &p, o->snapshot_interval > 0, r));
   t_snap = o->snapshot_interval > 0 ? 0.0 : -1.0;
   PetscCall(EnergyScale(sim, r));
+  PetscCall(TSMonitor(ts, 0, 0.0, sim->X));
   while (t < o->t_end && p.steps < o->max_steps) {
     /* Interpolating, the only stop is t_end; a step cut there is an "end" step. */
     const PetscBool     dense = (PetscBool)(s.mode == SPAM_OUTPUT_INTERPOLATED);
@@ -386,6 +387,9 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
     r->t = t;
     PetscCall(SpamStepsAppend(out, &p));
     if (o->monitor) PetscCall(SpamMonitorStep(sim, &p));
+    /* TSSolve would call the -ts_monitor monitors; this loop steps the TS itself. */
+    PetscCall(TSMonitor(ts, (PetscInt)p.steps, t, sim->X));
+    if (app->self_stepping) PetscCall(SpamTSAdaptMonitorSelf(ts, p.steps - 1, t - p.dt, p.dt, p.rejected));
     if (dense) PetscCall(InterpolatedOutputs(ts, sim, o, out, &p, &s, r));
     if (Reached(t, PetscMin(s.next_out, s.next_snap)) || t >= o->t_end || p.steps >= o->max_steps) {
       const PetscBool snap = (PetscBool)(o->snapshot_interval > 0 && (Reached(t, s.next_snap) || t >= o->t_end || p.steps >= o->max_steps));
@@ -422,5 +426,9 @@ PetscErrorCode SpamRun(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *
   PetscCall(VecDestroy(&Xout));
   PetscCall(VecDestroy(&Xgood));
   PetscCall(ierr);
+  /* What TSSolve does at its end: -ts_view (with SUNDIALS' table for arkode and cvode);
+   * and -sundials_stats. */
+  PetscCall(TSViewFromOptions(ts, NULL, "-ts_view"));
+  PetscCall(SpamTSSundialsStats(ts, PETSC_STDOUT, PETSC_FALSE));
   PetscFunctionReturn(0);
 }
