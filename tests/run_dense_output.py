@@ -112,6 +112,21 @@ if len(counts) == 2:
     c.check(abs(n1 - n2) <= 1 and ok1 and ok2, f"expansion: {n1} steps with 25 rows, {n2} with 241 (at most 1 apart), "
             "none cut by an output time")
 
+# (a) with the physical step bound active: the force bound reads the accelerations of the
+# last RHS evaluation, and DP5's degree-4 Hermite interpolant makes one per row (ERKStep
+# takes the bound after a step's stages, which overwrite them).
+counts = {}
+for interval in (0.8, 0.05):
+    out = os.path.join(a.workdir, f"force_{interval}")
+    code, _, err = run(a.spam_ark, EXP[:-1] + [1e-5, "-step_force", 0.02, "-output_interval", interval], out)
+    if c.check(code == 0, f"expansion -step_force 0.02, interval {interval}: exit {code} {err.strip()}"):
+        s = summary(out)
+        counts[interval] = (s["steps"], s["bound_limited_steps"], s["interpolation_rhs_evals"])
+if len(counts) == 2:
+    (n1, b1, i1), (n2, b2, i2) = counts[0.8], counts[0.05]
+    c.check(abs(n1 - n2) <= 1 and b1 > 0 and b2 > 0, f"expansion -step_force: {n1} and {n2} steps ({b1}, {b2} set by the "
+            f"bound; {i1} and {i2} RHS evaluations by the interpolant)")
+
 # (c) what does not interpolate says why.
 out = os.path.join(a.workdir, "walls")
 code, _, err = run(a.spam_ark, ["-options_file", os.path.join(ROOT, "options", "expansion-walls.opts"), "-expansion_n", 12,
