@@ -57,6 +57,8 @@ void SpamSundialsFailure(SpamTsApp *app, const char *call, char *(*namefn)(long)
  * time, step floor and -ts_dt); ERKStep's controller number of an -arkode_adapt name. */
 PetscErrorCode SpamArkodeOptionsRead(PetscOptionItems *PetscOptionsObject, const SpamRunOptions *o, SpamArkodeSettings *s);
 int            SpamArkodeAdaptMethod(const char *name);
+/* -ts_adapt_type for an arkode TS: none (with -ts_dt) sets s->fixed_step; others refused. */
+PetscErrorCode SpamArkodeAdaptType(const SpamRunOptions *o, SpamArkodeSettings *s);
 /* The settings of an arkode TS; NULL for another type. */
 PetscErrorCode SpamTSARKodeGetSettings(TS ts, const SpamArkodeSettings **s);
 /* With -help: lists the options of the SUNDIALS type that is not ts's own (PETSc lists only

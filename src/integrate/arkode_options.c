@@ -71,7 +71,7 @@ static PetscErrorCode CheckArkode(const SpamArkodeSettings *s, const SpamRunOpti
 
 /* -ts_adapt_type (validated by ts_create.c): none fixes the step to -ts_dt; the PETSc
  * adaptors cannot drive ERKStep, whose controller is -arkode_adapt. */
-static PetscErrorCode AdaptType(const SpamRunOptions *o, SpamArkodeSettings *s)
+PetscErrorCode SpamArkodeAdaptType(const SpamRunOptions *o, SpamArkodeSettings *s)
 {
   char      type[64] = "";
   PetscBool set;
@@ -114,6 +114,5 @@ PetscErrorCode SpamArkodeOptionsRead(PetscOptionItems *PetscOptionsObject, const
   s->n_adapt_params = ngains;
   for (int k = 0; k < 3; k++) s->adapt_params[k] = gains[k];
   PetscCall(CheckArkode(s, o));
-  PetscCall(AdaptType(o, s));
   PetscFunctionReturn(0);
 }

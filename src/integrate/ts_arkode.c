@@ -215,6 +215,7 @@ static PetscErrorCode TSSetFromOptions_SpamARKode(TS ts, PetscOptionItems *Petsc
   PetscCall(TSGetApplicationContext(ts, &app));
   PetscCheck(app, PetscObjectComm((PetscObject)ts), PETSC_ERR_ORDER, "the arkode TS needs a SpamTsApp application context before TSSetFromOptions");
   PetscCall(SpamArkodeOptionsRead(PetscOptionsObject, app->o, &ark->set));
+  PetscCall(SpamArkodeAdaptType(app->o, &ark->set));
   PetscFunctionReturn(0);
 }
 
