@@ -225,7 +225,8 @@ static PetscErrorCode Progress(TS ts, const SpamSim *sim, PetscLogDouble wall0, 
 
 /* The step size for TS methods that take the step the TS holds: the fixed step, or the
  * controller's proposal capped by the physical bound, and in both cases cut to end on
- * the next output time. Returns what set it. */
+ * tstop (the next output time, or t_end when the outputs are interpolated; a cut step is
+ * booked as 'cut'). Returns what set it. */
 static PetscErrorCode ChooseStep(TS ts, SpamTsApp *app, double fixed_dt, double tstop, SpamStepLimit cut, SpamStepLimit *limit)
 {
   SpamSim           *sim = app->sim;
