@@ -52,8 +52,7 @@ for extra in ([], ["-ts_type", "cvode"], ["-ts_type", "rk"]):
     c.check(code == 0 and not missing, f"-help {' '.join(extra)}: lists {want} with defaults (missing {missing})")
 
 for name, extra in TYPES.items():
-    code, out, err, d = go(extra + ["-ts_monitor", "-ts_view", "-ts_adapt_monitor"] if name != "basicsymplectic"
-                           else extra + ["-ts_monitor", "-ts_view"])
+    code, out, err, d = go(extra + ["-ts_monitor", "-ts_view", "-ts_adapt_monitor"])
     if not c.check(code == 0, f"{name}: -ts_monitor -ts_view run exits 0 {err.strip()}"):
         continue
     s = summary(d)
@@ -62,9 +61,8 @@ for name, extra in TYPES.items():
             f"{name}: -ts_monitor prints step 0 and each of the {s['steps']} steps ({len(mon)} lines, last at t = {mon[-1][1] if mon else '-'})")
     c.check(re.search(r"^TS Object:", out, re.M) is not None and re.search(r"^\s+type: " + name, out, re.M) is not None,
             f"{name}: -ts_view shows the TS of type {name}")
-    if name != "basicsymplectic":
-        adapt = re.findall(r"^\s+TSAdapt .*step\s+\d+ accepted", out, re.M)
-        c.check(len(adapt) >= s["steps"], f"{name}: -ts_adapt_monitor reports the {s['steps']} accepted steps ({len(adapt)} lines)")
+    adapt = re.findall(r"^\s+TSAdapt .*step\s+\d+ accepted", out, re.M)
+    c.check(len(adapt) >= s["steps"], f"{name}: -ts_adapt_monitor reports the {s['steps']} accepted steps ({len(adapt)} lines)")
     if name in ("arkode", "cvode"):
         c.check(stat(out, "Steps") == s["steps"], f"{name}: -ts_view shows SUNDIALS' table, Steps = {stat(out, 'Steps')} "
                 f"(the run: {s['steps']})")

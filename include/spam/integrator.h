@@ -96,7 +96,8 @@ PetscErrorCode SpamTSOutputMode(TS ts, const SpamTsApp *app, double fixed_dt, Sp
  * file: always with force (-ts_view), else only under -sundials_stats; nothing for the
  * other types. */
 PetscErrorCode SpamTSSundialsStats(TS ts, FILE *file, PetscBool force);
-/* -ts_adapt_monitor for arkode and cvode: a line per accepted step (the step from t0). */
+/* -ts_adapt_monitor for arkode, cvode and basicsymplectic, whose steps never consult
+ * PETSc's adaptor: a line per accepted step (the step from t0); nothing for the others. */
 PetscErrorCode SpamTSAdaptMonitorSelf(TS ts, long step, double t0, double dt, long rejected);
 
 /* Integrates to t_end with the TS made by SpamTSCreate (any method), writing outputs as

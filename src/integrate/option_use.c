@@ -560,8 +560,9 @@ static PetscErrorCode CheckOne(const char *name, const char *value, const Run *r
   }
   if (IsPetscRuntime(name)) PetscFunctionReturn(0);
   /* PETSc's step adaptor reads -ts_adapt_* for every method, used or not. Issue 16 point
-   * 6: -ts_adapt_monitor also reports the steps of arkode and cvode (time_loop.c). */
-  if (!strcasecmp(name, "ts_adapt_monitor") && (!strcmp(r->type, SPAM_TSARKODE) || !strcmp(r->type, SPAM_TSCVODE))) PetscFunctionReturn(0);
+   * 6: -ts_adapt_monitor reports the steps of every type (PETSc's adaptor, or the loop for
+   * arkode, cvode and basicsymplectic: sundials_report.c). */
+  if (!strcasecmp(name, "ts_adapt_monitor")) PetscFunctionReturn(0);
   if (!strncmp(name, "ts_adapt_", 9) && !Relevant(G_TS_ADAPT, r, why, sizeof why)) PetscCall(NotUsed(name, value, why));
   else if (Unused(name, nleft, left)) PetscCall(RefuseUnknown(name, value));
   PetscFunctionReturn(0);

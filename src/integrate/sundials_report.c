@@ -32,16 +32,20 @@ PetscErrorCode SpamTSSundialsHelp(TS ts, const SpamRunOptions *o)
   PetscFunctionReturn(0);
 }
 
-/* -ts_adapt_monitor for the types that choose their own steps: PETSc's adaptor never runs
- * for them (ts->adapt is "none"), so the loop reports each step here, in the adaptor
- * monitor's place and style. */
+/* -ts_adapt_monitor for the types whose step never consults PETSc's adaptor (arkode and
+ * cvode choose their own steps, basicsymplectic takes the fixed step): the loop reports
+ * each accepted step here, in the adaptor monitor's place and style. */
 PetscErrorCode SpamTSAdaptMonitorSelf(TS ts, long step, double t0, double dt, long rejected)
 {
-  TSType type;
+  TSType    type;
+  PetscBool own, symp;
 
   PetscFunctionBeginUser;
   if (!ts->adapt || !ts->adapt->monitor) PetscFunctionReturn(0);
   PetscCall(TSGetType(ts, &type));
-  PetscCall(PetscViewerASCIIPrintf(ts->adapt->monitor, "    TSAdapt %s (own controller) step %3ld accepted t=%-11g + %10.3e rejected so far %ld\n", type, step, t0, dt, rejected));
+  own  = (PetscBool)(!strcmp(type, SPAM_TSARKODE) || !strcmp(type, SPAM_TSCVODE));
+  symp = (PetscBool)!strcmp(type, TSBASICSYMPLECTIC);
+  if (!own && !symp) PetscFunctionReturn(0); /* PETSc's adaptor reports these itself */
+  PetscCall(PetscViewerASCIIPrintf(ts->adapt->monitor, "    TSAdapt %s (%s) step %3ld accepted t=%-11g + %10.3e rejected so far %ld\n", type, own ? "own controller" : "fixed step", step, t0, dt, rejected));
   PetscFunctionReturn(0);
 }

@@ -390,7 +390,7 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
     if (o->monitor) PetscCall(SpamMonitorStep(sim, &p));
     /* TSSolve would call the -ts_monitor monitors; this loop steps the TS itself. */
     PetscCall(TSMonitor(ts, (PetscInt)p.steps, t, sim->X));
-    if (app->self_stepping) PetscCall(SpamTSAdaptMonitorSelf(ts, p.steps - 1, t - p.dt, p.dt, p.rejected));
+    PetscCall(SpamTSAdaptMonitorSelf(ts, p.steps - 1, t - p.dt, p.dt, p.rejected));
     if (dense) PetscCall(InterpolatedOutputs(ts, sim, o, out, &p, &s, r));
     if (Reached(t, PetscMin(s.next_out, s.next_snap)) || t >= o->t_end || p.steps >= o->max_steps) {
       const PetscBool snap = (PetscBool)(o->snapshot_interval > 0 && (Reached(t, s.next_snap) || t >= o->t_end || p.steps >= o->max_steps));
