@@ -51,7 +51,7 @@ for opts, method, extra in runs:
     st = table(os.path.join(out, "steps.csv"))
     c.check(abs(st["t"][-1] - T_END) <= 1e-15 * T_END, f"{name}: last step ends at t = {st['t'][-1]!r} "
             f"(t_end {T_END!r}, difference {st['t'][-1] - T_END:.1e})")
-    short = [dt for dt, lim in zip(st["dt"], st["limit"]) if lim == "output" and dt < 1e-9 * T_END]
+    short = [dt for dt, lim in zip(st["dt"], st["limit"]) if lim in ("output", "end") and dt < 1e-9 * T_END]
     c.check(not short, f"{name}: no step cut to an output time is shorter than 1e-9 t_end (found {short})")
     c.check(len(set(st["t"])) == len(st["t"]), f"{name}: {len(st['t'])} steps.csv rows, each at its own time")
     h5 = manifest_files(out, "snapshot_h5")

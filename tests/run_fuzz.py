@@ -306,6 +306,10 @@ OPTION_TABLE = {
 for flag in ("-expansion_perturb_velocities", "-arkode_classic_weights", "-snapshot_hdf5", "-snapshot_csv",
              "-monitor", "-diag_entropy", "-sort_particles", "-output_overwrite"):
     OPTION_TABLE[flag] = ("E", BOOL)
+# Issue 16 point 1/6: outputs stop the integrator only when asked; SUNDIALS' statistics table
+# (the expansion context runs arkode, for which -sundials_stats is relevant).
+for flag in ("-output_stop", "-sundials_stats"):
+    OPTION_TABLE[flag] = ("E", BOOL)
 
 
 def help_options():

@@ -229,7 +229,10 @@ def strict(path):
 
 
 d = os.path.join(w, "tensile_rest")
-code, out, err = run(a.spam_ark, ["-scene", "tensile", "-tensile_kick", 0, "-ts_max_time", 150], d)
+# -step_cfl: a body at rest gives the controller nothing to see, so without a bound it
+# grows the step past the lattice's stability limit and round-off grows to KE 3e-7 (the
+# output stops capped the step at 1.5 before issue 16); see options/tensile.opts.
+code, out, err = run(a.spam_ark, ["-scene", "tensile", "-tensile_kick", 0, "-ts_max_time", 150, "-step_cfl", 0.5], d)
 s = strict(os.path.join(d, "summary.json"))
 c.check(code == 0 and s["status"] == "ok" and s["kinetic_final"] < 1e-20 * s["energy_scale"] and s["energy_scale"] > 0,
         f"tensile at rest, no kick: exit {code}, status {s['status']}, KE {s['kinetic_final']:.3g} against the energy scale {s['energy_scale']:.3g}")

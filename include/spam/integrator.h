@@ -11,8 +11,22 @@
 #define SPAM_TSARKODE "arkode"
 #define SPAM_TSCVODE  "cvode"
 
-typedef enum { SPAM_LIMIT_ACCURACY, SPAM_LIMIT_FIXED, SPAM_LIMIT_OUTPUT, SPAM_LIMIT_CFL, SPAM_LIMIT_FORCE } SpamStepLimit;
+/* END: a step shortened to land on t_end (the only stop of a run that interpolates its
+ * outputs); OUTPUT: shortened to land on an output time (-output_stop, or a method or scene
+ * that cannot interpolate: see output_mode.c). */
+typedef enum { SPAM_LIMIT_ACCURACY, SPAM_LIMIT_FIXED, SPAM_LIMIT_OUTPUT, SPAM_LIMIT_CFL, SPAM_LIMIT_FORCE, SPAM_LIMIT_END } SpamStepLimit;
 extern const char *const SpamStepLimitNames[];
+
+/* The options of the arkode TS type (arkode_options.c), read by its setfromoptions. */
+typedef struct {
+  char      table[64], adapt[16];
+  double    fixed_step;      /* 0: adaptive                                               */
+  double    safety, max_growth, max_first_growth, max_efail_growth; /* 0: ARKODE's       */
+  double    adapt_params[3]; /* controller gains k1, k2, k3 (n_adapt_params 0: ARKODE's) */
+  PetscInt  n_adapt_params;
+  PetscBool fixed_by_ts;     /* the fixed step is -ts_dt, asked by -ts_adapt_type none    */
+  PetscBool sundials_stats;  /* print ERKStepPrintAllStats at the end of the run          */
+} SpamArkodeSettings;
 
 /* The application context of the TS. The weights come first: SUNDIALS hands one user-data
  * pointer to the RHS and to the error-weight function, which reads a SpamWeightsCtx. */
@@ -39,6 +53,19 @@ void SpamSundialsErrHandler(int code, const char *module, const char *function, 
 /* Writes "<call> returned <FLAG_NAME> (<last SUNDIALS message>)" into app->fail. */
 void SpamSundialsFailure(SpamTsApp *app, const char *call, char *(*namefn)(long), int flag);
 
+/* Reads and checks the arkode options inside a PetscOptionsBegin block (o: the run's end
+ * time, step floor and -ts_dt); ERKStep's controller number of an -arkode_adapt name. */
+PetscErrorCode SpamArkodeOptionsRead(PetscOptionItems *PetscOptionsObject, const SpamRunOptions *o, SpamArkodeSettings *s);
+int            SpamArkodeAdaptMethod(const char *name);
+/* -ts_adapt_type for an arkode TS: none (with -ts_dt) sets s->fixed_step; others refused. */
+PetscErrorCode SpamArkodeAdaptType(const SpamRunOptions *o, SpamArkodeSettings *s);
+/* The settings of an arkode TS; NULL for another type. */
+PetscErrorCode SpamTSARKodeGetSettings(TS ts, const SpamArkodeSettings **s);
+/* With -help: lists the options of the SUNDIALS type that is not ts's own (PETSc lists only
+ * the chosen type's), so -help shows every option of spam-ark with its default. */
+PetscErrorCode SpamTSSundialsHelp(TS ts, const SpamRunOptions *o);
+PetscErrorCode SpamCVodeOptionsRead(PetscOptionItems *PetscOptionsObject, PetscInt *max_order, PetscBool *stats);
+
 /* Registers "arkode", "cvode" and the Verlet schemes "kdk" and "dkd"; call once. */
 PetscErrorCode SpamIntegratorsRegister(void);
 PetscErrorCode SpamTSCreate_ARKode(TS ts);
@@ -55,7 +82,23 @@ PetscErrorCode SpamSymplecticSetUp(TS ts, SpamTsApp *app);
  * sub-vector and scatter per index set instead of creating them on every call. */
 PetscErrorCode SpamVecCacheSubVectors(Vec X);
 /* "rk 5dp", "arkode ARKODE_DORMAND_PRINCE_7_4_5", ...; the adaptor; the fixed step or 0. */
-PetscErrorCode SpamTSDescribe(TS ts, const SpamTsApp *app, char *method, size_t mlen, char *adapt, size_t alen, double *fixed_dt);
+PetscErrorCode SpamTSDescribe(TS ts, char *method, size_t mlen, char *adapt, size_t alen, double *fixed_dt);
+
+/* How the outputs of run r are taken: "interpolated" (the method's dense output between
+ * steps, TSInterpolate; the only stop is t_end), "stopped" (steps are cut to land on each
+ * output time) or "steps" (fixed steps, whose ends the output times are rounded to); why[]
+ * says why a run does not interpolate. */
+typedef enum { SPAM_OUTPUT_INTERPOLATED, SPAM_OUTPUT_STOPPED, SPAM_OUTPUT_STEPS } SpamOutputMode;
+extern const char *const SpamOutputModeNames[];
+PetscErrorCode SpamTSOutputMode(TS ts, const SpamTsApp *app, double fixed_dt, SpamOutputMode *mode, char *why, size_t len);
+
+/* ARKODE's or CVODE's table of statistics (its PrintAllStats, SUN_OUTPUTFORMAT_TABLE) on
+ * file: always with force (-ts_view), else only under -sundials_stats; nothing for the
+ * other types. */
+PetscErrorCode SpamTSSundialsStats(TS ts, FILE *file, PetscBool force);
+/* -ts_adapt_monitor for arkode, cvode and basicsymplectic, whose steps never consult
+ * PETSc's adaptor: a line per accepted step (the step from t0); nothing for the others. */
+PetscErrorCode SpamTSAdaptMonitorSelf(TS ts, long step, double t0, double dt, long rejected);
 
 /* Integrates to t_end with the TS made by SpamTSCreate (any method), writing outputs as
  * it goes; an unstable run ends with r->status = UNSTABLE, not an error. */

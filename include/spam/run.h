@@ -12,14 +12,10 @@ typedef struct {
   /* time */
   double   t_end, dt_first, fixed_step;
   PetscInt max_steps;
-  /* error control (ARKODE and CVODE; TS methods take -ts_adapt_* from PETSc itself) */
-  double   rtol, atol, safety, max_growth, max_first_growth, max_efail_growth;
-  char     table[64], adapt[16];
-  double   adapt_params[3];  /* controller gains k1, k2, k3 (0: ARKODE's defaults)   */
-  PetscInt n_adapt_params;
+  /* error control (the arkode and cvode types read their own options: integrator.h) */
+  double   rtol, atol;
   PetscBool classic_weights; /* ARKODE's own rtol|y| + atol weights (for comparison)   */
   SpamErrorNorm error_norm;  /* -error_norm: rms or max of the weighted error, every method */
-  PetscInt cvode_max_order;
   /* physical step bound (off when 0): dt <= cfl h / c_max and dt <= force sqrt(h / |a|max) */
   double   cfl, force;
   /* failure detection */
@@ -30,6 +26,7 @@ typedef struct {
   char     initial_csv[PETSC_MAX_PATH_LEN], final_csv[PETSC_MAX_PATH_LEN];
   double   output_interval, snapshot_interval;
   PetscBool monitor, hdf5, csv;
+  PetscBool output_stop;     /* cut steps to land on output times instead of interpolating */
   SpamDiagnosticsOptions diag;
 } SpamRunOptions;
 
@@ -47,6 +44,10 @@ typedef struct {
   double     energy_drift_max, momentum_drift_max, angmom_drift_max;
   double     momentum_scale, angmom_scale;
   double     energy_scale;           /* the blow-up bound's unit: see time_loop.c       */
+  char       output_mode[16];        /* interpolated, stopped or steps (integrator.h)   */
+  char       output_mode_reason[200];/* why not interpolated ("" when interpolated)     */
+  long       interpolated_rows;      /* rows (and snapshots) written from the interpolant */
+  long       interpolation_rhs_evals;/* RHS evaluations the interpolant made (not in rhs_evals) */
 } SpamRunResult;
 
 /* Reads and validates every run option; sim gives scene defaults (end time). */

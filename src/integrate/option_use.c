@@ -15,7 +15,7 @@
 typedef enum {
   G_ALL, G_DT, G_ADAPTIVE, G_ARKODE, G_ARKODE_ADAPT, G_CVODE, G_TS, G_TS_ADAPT, G_RK, G_SSP, G_SYMP,
   G_FILE, G_PERIODIC, G_ISENTROPE, G_EXPANSION, G_CHAIN, G_SPRING, G_ROTOR_MD, G_PLANEWAVE, G_ROTOR, G_ROTOR_PAIR, G_TENSILE, G_CONVECTION, G_SOD, G_SEDOV, G_GRESHO, G_TAYLOR_GREEN, G_HEAT_MODE, G_COUETTE, G_POISEUILLE,
-  G_MODEL, G_WALL, G_SOLID, G_SOLID_GAS, G_SOLID_GAMMA, G_SOLID_ELASTIC, G_SOLID_VISC, G_SOLID_R2, G_SOLID_TORQUE, G_SOLID_CONT, G_ENTROPY
+  G_SUNDIALS, G_MODEL, G_WALL, G_SOLID, G_SOLID_GAS, G_SOLID_GAMMA, G_SOLID_ELASTIC, G_SOLID_VISC, G_SOLID_R2, G_SOLID_TORQUE, G_SOLID_CONT, G_ENTROPY
 } Group;
 
 typedef struct {
@@ -85,6 +85,9 @@ static const Known KnownOptions[] = {
   {"poiseuille_speed", PETSC_TRUE, G_POISEUILLE}, {"poiseuille_start", PETSC_TRUE, G_POISEUILLE},
   /* Issue 16 point 4: the norm of the weighted error (error_norm.c); a fixed step has none. */
   {"error_norm", PETSC_TRUE, G_ADAPTIVE},
+  /* Issue 16 point 1/6: outputs from the interpolant unless -output_stop (time_loop.c,
+   * output_mode.c); ARKODE's / CVODE's statistics table (ts_arkode.c, ts_cvode.c). */
+  {"output_stop", PETSC_FALSE, G_ALL}, {"sundials_stats", PETSC_FALSE, G_SUNDIALS},
 };
 #define NKNOWN ((int)(sizeof KnownOptions / sizeof KnownOptions[0]))
 
@@ -205,6 +208,8 @@ typedef struct {
   const SpamRunOptions  *o;
   char                   type[32], adapt[32], method[160];
   PetscBool              adaptive;
+  double                 arkode_fixed;    /* arkode's fixed step, or 0             */
+  PetscBool              arkode_fixed_ts; /* ... given as -ts_adapt_type none -ts_dt */
 } Run;
 
 static PetscErrorCode RunDescribe(const SpamSim *sim, const SpamRunOptions *o, TS ts, Run *r)
@@ -226,7 +231,13 @@ static PetscErrorCode RunDescribe(const SpamSim *sim, const SpamRunOptions *o, T
   PetscCall(TSGetAdapt(ts, &adapt));
   PetscCall(TSAdaptGetType(adapt, &atype));
   PetscCall(PetscStrncpy(r->adapt, atype, sizeof r->adapt));
-  if (!strcmp(type, SPAM_TSARKODE)) r->adaptive = (PetscBool)!(o->fixed_step > 0);
+  if (!strcmp(type, SPAM_TSARKODE)) {
+    const SpamArkodeSettings *s;
+    PetscCall(SpamTSARKodeGetSettings(ts, &s));
+    r->arkode_fixed    = s->fixed_step;
+    r->arkode_fixed_ts = s->fixed_by_ts;
+    r->adaptive        = (PetscBool)!(s->fixed_step > 0);
+  }
   else if (!strcmp(type, SPAM_TSCVODE)) r->adaptive = PETSC_TRUE;
   else r->adaptive = (PetscBool)strcmp(atype, TSADAPTNONE);
   if (!strcmp(type, TSRK)) PetscCall(TSRKGetType(ts, &sub));
@@ -234,7 +245,7 @@ static PetscErrorCode RunDescribe(const SpamSim *sim, const SpamRunOptions *o, T
   if (!strcmp(type, TSBASICSYMPLECTIC)) PetscCall(TSBasicSymplecticGetType(ts, &sub));
   if (sub) (void)snprintf(r->method, sizeof r->method, "-ts_type %s -ts_%s_type %s", type, type, sub);
   else (void)snprintf(r->method, sizeof r->method, "-ts_type %s", type);
-  if (!strcmp(type, SPAM_TSARKODE) && o->fixed_step > 0) (void)snprintf(r->method + strlen(r->method), sizeof r->method - strlen(r->method), " -arkode_fixed_step %.17g", o->fixed_step);
+  if (r->arkode_fixed > 0) (void)snprintf(r->method + strlen(r->method), sizeof r->method - strlen(r->method), r->arkode_fixed_ts ? " -ts_adapt_type none -ts_dt %.17g" : " -arkode_fixed_step %.17g", r->arkode_fixed);
   PetscFunctionReturn(0);
 }
 
@@ -278,8 +289,8 @@ static PetscBool RelevantMethod(Group g, const Run *r, char *why, size_t len, Pe
     (void)snprintf(why, len, "applies to the entropy estimates (this run: -diag_entropy false)");
     return PETSC_FALSE;
   case G_DT:
-    if (!(arkode && r->o->fixed_step > 0)) return PETSC_TRUE;
-    (void)snprintf(why, len, "the step of this run is -arkode_fixed_step %.17g", r->o->fixed_step);
+    if (!(arkode && r->arkode_fixed > 0 && !r->arkode_fixed_ts)) return PETSC_TRUE;
+    (void)snprintf(why, len, "the step of this run is -arkode_fixed_step %.17g", r->arkode_fixed);
     return PETSC_FALSE;
   case G_ADAPTIVE:
     if (r->adaptive) return PETSC_TRUE;
@@ -293,12 +304,17 @@ static PetscBool RelevantMethod(Group g, const Run *r, char *why, size_t len, Pe
     if (arkode && r->adaptive) return PETSC_TRUE;
     (void)snprintf(why, len, "applies to -ts_type arkode with adaptive steps (this run: %s)", r->method);
     return PETSC_FALSE;
+  case G_SUNDIALS:
+    if (arkode || cvode) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to -ts_type arkode and cvode (this run: %s)", r->method);
+    return PETSC_FALSE;
   case G_CVODE:
     if (cvode) return PETSC_TRUE;
     (void)snprintf(why, len, "applies to -ts_type cvode (this run: %s)", r->method);
     return PETSC_FALSE;
   case G_TS:
-    if (!arkode && !cvode) return PETSC_TRUE;
+    /* arkode takes -ts_adapt_type none (with -ts_dt) as its fixed step (arkode_options.c) */
+    if (!cvode && (!arkode || r->arkode_fixed_ts)) return PETSC_TRUE;
     (void)snprintf(why, len, "applies to PETSc's methods rk, ssp, euler and basicsymplectic (this run: %s, which controls its own steps: see -%s)", r->method, arkode ? "arkode_adapt" : "ts_rtol");
     return PETSC_FALSE;
   case G_TS_ADAPT:
@@ -545,7 +561,10 @@ static PetscErrorCode CheckOne(const char *name, const char *value, const Run *r
     PetscFunctionReturn(0);
   }
   if (IsPetscRuntime(name)) PetscFunctionReturn(0);
-  /* PETSc's step adaptor reads -ts_adapt_* for every method, used or not. */
+  /* PETSc's step adaptor reads -ts_adapt_* for every method, used or not. Issue 16 point
+   * 6: -ts_adapt_monitor reports the steps of every type (PETSc's adaptor, or the loop for
+   * arkode, cvode and basicsymplectic: sundials_report.c). */
+  if (!strcasecmp(name, "ts_adapt_monitor")) PetscFunctionReturn(0);
   if (!strncmp(name, "ts_adapt_", 9) && !Relevant(G_TS_ADAPT, r, why, sizeof why)) PetscCall(NotUsed(name, value, why));
   else if (Unused(name, nleft, left)) PetscCall(RefuseUnknown(name, value));
   PetscFunctionReturn(0);

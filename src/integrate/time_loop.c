@@ -1,6 +1,8 @@
 /* The one time loop. Every method is a TS (see integrator.h); the loop steps it with
- * TSStep towards the next output time, so it can monitor each step, write outputs at
- * exact times, apply the physical step bound, and stop cleanly when the state goes bad.
+ * TSStep towards t_end, writing the outputs due inside a step from the method's
+ * interpolant (TSInterpolate), or, where there is none or -output_stop asks, towards the
+ * next output time (output_mode.c), so it can monitor each step, write outputs at exact
+ * times, apply the physical step bound, and stop cleanly when the state goes bad.
  * Failure is a result: the reason, time and step go to the monitor and summary.json; so is
  * an interruption (SIGINT, SIGTERM), seen between steps, after which the outputs of the
  * time reached are written and the loop ends. */
@@ -9,7 +11,9 @@
 #include <spam/interrupt.h>
 
 typedef struct {
-  double out_interval, snap_interval, next_out, next_snap;
+  double         out_interval, snap_interval, next_out, next_snap;
+  SpamOutputMode mode;
+  Vec            Xout; /* the interpolated state of an output time (interpolated mode) */
 } Schedule;
 
 /* Times within this relative distance are one time. Output times are products k*interval
@@ -48,22 +52,61 @@ static void ScheduleInit(const SpamRunOptions *o, double fixed_dt, Schedule *s)
   s->next_snap = NextMultiple(0.0, s->snap_interval, o->t_end);
 }
 
-/* Diagnostics row (and snapshot when due) at the current state. */
-static PetscErrorCode Output(SpamSim *sim, const SpamRunOptions *o, SpamOutput *out, const SpamProgress *p, PetscBool snapshot, SpamRunResult *r)
+/* Diagnostics row (and snapshot when due) of state X at time p->t: sim->X, or an
+ * interpolated state. The writers read the state only through y; the density summation
+ * they start from checks the neighbour list against y's own positions. */
+static PetscErrorCode OutputOf(Vec X, SpamSim *sim, const SpamRunOptions *o, SpamOutput *out, const SpamProgress *p, PetscBool snapshot, SpamRunResult *r)
 {
   const PetscScalar *y;
   SpamDiagnostics    d;
 
   PetscFunctionBeginUser;
-  PetscCall(VecGetArrayRead(sim->X, &y));
+  PetscCall(VecGetArrayRead(X, &y));
   PetscCall(SpamDiagnosticsCompute(sim, &o->diag, p->t, y, &d));
   if (p->steps == 0 && p->t == 0.0) r->first = d;
   r->last = d;
   SpamRunUpdateDrifts(&d, r);
   PetscCall(SpamTimeseriesAppend(out, sim, p, &d, &r->first));
   if (snapshot) PetscCall(SpamSnapshotWrite(out, sim, y, p->t, NULL));
-  PetscCall(VecRestoreArrayRead(sim->X, &y));
+  PetscCall(VecRestoreArrayRead(X, &y));
   PetscCall(SpamMonitorProgress(sim, o, p, r));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode Output(SpamSim *sim, const SpamRunOptions *o, SpamOutput *out, const SpamProgress *p, PetscBool snapshot, SpamRunResult *r)
+{
+  PetscFunctionBeginUser;
+  PetscCall(OutputOf(sim->X, sim, o, out, p, snapshot, r));
+  PetscFunctionReturn(0);
+}
+
+/* The outputs due strictly inside the step just taken (before its end time p->t, which
+ * the loop writes from the state itself), from the method's interpolant. The integrator's
+ * state and history are not touched: the interpolant goes to a scratch vector. */
+static PetscErrorCode InterpolatedOutputs(TS ts, SpamSim *sim, const SpamRunOptions *o, SpamOutput *out, const SpamProgress *p, Schedule *s, SpamRunResult *r)
+{
+  SpamProgress q = *p;
+  long         keep;
+
+  PetscFunctionBeginUser;
+  for (;;) {
+    const double    tout = PetscMin(s->next_out, s->next_snap);
+    PetscBool       snap;
+    if (Reached(tout, p->t)) break; /* at the step's end, to round-off: its own state */
+    snap = (PetscBool)(o->snapshot_interval > 0 && Reached(tout, s->next_snap));
+    /* ERKStep's Hermite interpolant of degree 4 or 5 evaluates the right-hand side (it
+     * does not keep those evaluations between calls): output work, booked apart so that
+     * rhs_evals stays the method's work whatever the output cadence. */
+    keep = sim->stats.rhs_evals;
+    PetscCall(TSInterpolate(ts, tout, s->Xout));
+    r->interpolation_rhs_evals += sim->stats.rhs_evals - keep;
+    sim->stats.rhs_evals = keep;
+    q.t = tout;
+    PetscCall(OutputOf(s->Xout, sim, o, out, &q, snap, r));
+    r->interpolated_rows++;
+    if (Reached(tout, s->next_out)) s->next_out = NextMultiple(tout, s->out_interval, o->t_end);
+    if (Reached(tout, s->next_snap)) s->next_snap = NextMultiple(tout, s->snap_interval, o->t_end);
+  }
   PetscFunctionReturn(0);
 }
 
@@ -182,8 +225,9 @@ static PetscErrorCode Progress(TS ts, const SpamSim *sim, PetscLogDouble wall0, 
 
 /* The step size for TS methods that take the step the TS holds: the fixed step, or the
  * controller's proposal capped by the physical bound, and in both cases cut to end on
- * the next output time. Returns what set it. */
-static PetscErrorCode ChooseStep(TS ts, SpamTsApp *app, double fixed_dt, double tstop, SpamStepLimit *limit)
+ * tstop (the next output time, or t_end when the outputs are interpolated; a cut step is
+ * booked as 'cut'). Returns what set it. */
+static PetscErrorCode ChooseStep(TS ts, SpamTsApp *app, double fixed_dt, double tstop, SpamStepLimit cut, SpamStepLimit *limit)
 {
   SpamSim           *sim = app->sim;
   PetscReal          t, dt;
@@ -207,7 +251,7 @@ static PetscErrorCode ChooseStep(TS ts, SpamTsApp *app, double fixed_dt, double 
     }
   }
   if (t + dt > tstop - 1e-9 * dt) {
-    if (tstop - t < dt * (1.0 - 1e-9)) *limit = SPAM_LIMIT_OUTPUT;
+    if (tstop - t < dt * (1.0 - 1e-9)) *limit = cut;
     dt = tstop - t;
   }
   PetscCall(TSSetTimeStep(ts, dt));
@@ -266,7 +310,7 @@ static PetscErrorCode FailureReason(TS ts, const SpamTsApp *app, long step, doub
 }
 
 /* The loop proper; Xgood holds the last accepted state. */
-static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamOutput *out, SpamRunResult *r, Vec Xgood)
+static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamOutput *out, SpamRunResult *r, Vec Xgood, Vec Xout)
 {
   PetscLogDouble wall0;
   SpamProgress   p = {0};
@@ -278,21 +322,28 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(r, sizeof *r));
   PetscCall(PetscTime(&wall0));
-  PetscCall(SpamTSDescribe(ts, app, r->method, sizeof r->method, r->adapt, sizeof r->adapt, &r->fixed_dt));
+  PetscCall(SpamTSDescribe(ts, r->method, sizeof r->method, r->adapt, sizeof r->adapt, &r->fixed_dt));
   {
     char line[512]; /* snprintf: PETSc's printf writes 3 as "3." */
     (void)snprintf(line, sizeof line, "spam-ark: scene %s, %ld particles in %dD, h %g, %s, step %s, rtol %g atol %g, to t = %g\n", sim->scene.name, (long)sim->nglobal, sim->model.dim, sim->model.kernel.h, r->method, r->fixed_dt > 0 ? "fixed" : r->adapt, o->rtol, o->atol, o->t_end);
     PetscCall(PetscPrintf(sim->comm, "%s", line));
   }
   ScheduleInit(o, r->fixed_dt, &s);
+  s.Xout = Xout;
+  PetscCall(SpamTSOutputMode(ts, app, r->fixed_dt, &s.mode, r->output_mode_reason, sizeof r->output_mode_reason));
+  PetscCall(PetscStrncpy(r->output_mode, SpamOutputModeNames[s.mode], sizeof r->output_mode));
   PetscCall(VecCopy(sim->X, Xgood));
   p.limit = SpamStepLimitNames[SPAM_LIMIT_ACCURACY];
   PetscCall(Output(sim, o, out, &p, o->snapshot_interval > 0, r));
   t_snap = o->snapshot_interval > 0 ? 0.0 : -1.0;
   PetscCall(EnergyScale(sim, r));
+  PetscCall(TSMonitor(ts, 0, 0.0, sim->X));
   while (t < o->t_end && p.steps < o->max_steps) {
-    const double  tstop = PetscMin(s.next_out, s.next_snap);
-    SpamStepLimit limit = r->fixed_dt > 0 ? SPAM_LIMIT_FIXED : SPAM_LIMIT_ACCURACY;
+    /* Interpolating, the only stop is t_end; a step cut there is an "end" step. */
+    const PetscBool     dense = (PetscBool)(s.mode == SPAM_OUTPUT_INTERPOLATED);
+    const double        tstop = dense ? o->t_end : PetscMin(s.next_out, s.next_snap);
+    const SpamStepLimit cut   = dense ? SPAM_LIMIT_END : SPAM_LIMIT_OUTPUT;
+    SpamStepLimit       limit = r->fixed_dt > 0 ? SPAM_LIMIT_FIXED : SPAM_LIMIT_ACCURACY;
     char          why[256];
     PetscReal     tnew;
 
@@ -301,7 +352,7 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
       break;
     }
     PetscCall(TSSetMaxTime(ts, tstop));
-    if (!app->self_stepping) PetscCall(ChooseStep(ts, app, r->fixed_dt, tstop, &limit));
+    if (!app->self_stepping) PetscCall(ChooseStep(ts, app, r->fixed_dt, tstop, cut, &limit));
     else PetscCall(SelfSteppingBound(ts, app));
     PetscCall(TSStep(ts));
     PetscCall(FailureReason(ts, app, p.steps + 1, t, why, sizeof why));
@@ -318,7 +369,7 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
     }
     PetscCall(Progress(ts, sim, wall0, tnew - t, &p));
     if (app->self_stepping && isfinite(app->bound) && p.dt >= app->bound * (1.0 - 1e-9)) limit = app->bound_which;
-    if (app->self_stepping && tnew >= tstop && limit == SPAM_LIMIT_ACCURACY && r->fixed_dt <= 0) limit = SPAM_LIMIT_OUTPUT;
+    if (app->self_stepping && tnew >= tstop && limit == SPAM_LIMIT_ACCURACY && r->fixed_dt <= 0) limit = cut;
     if (limit == SPAM_LIMIT_CFL || limit == SPAM_LIMIT_FORCE) r->limited++;
     p.limited = r->limited;
     p.limit   = SpamStepLimitNames[limit];
@@ -326,18 +377,22 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
     PetscCall(CheckState(sim, o, r, t, p.steps, why, sizeof why));
     /* A collapse, not the cautious first steps of a start from rest: only a shrinking step
      * below the floor fails. */
-    if (!why[0] && r->fixed_dt <= 0 && limit != SPAM_LIMIT_OUTPUT && p.dt < dt_min && p.dt < dt_prev) (void)snprintf(why, sizeof why, "step size %.3e fell below the floor %.3e at t = %.6g (step %ld)", p.dt, dt_min, t, p.steps);
+    if (!why[0] && r->fixed_dt <= 0 && limit != cut && p.dt < dt_min && p.dt < dt_prev) (void)snprintf(why, sizeof why, "step size %.3e fell below the floor %.3e at t = %.6g (step %ld)", p.dt, dt_min, t, p.steps);
     if (why[0]) {
       PetscCall(Unstable(sim, out, Xgood, r->t, r, why));
       break;
     }
     PetscCall(PostStep(ts, sim, r));
     PetscCall(VecCopy(sim->X, Xgood));
-    if (limit != SPAM_LIMIT_OUTPUT) dt_prev = p.dt;
+    if (limit != cut) dt_prev = p.dt;
     r->t = t;
     PetscCall(SpamStepsAppend(out, &p));
     if (o->monitor) PetscCall(SpamMonitorStep(sim, &p));
-    if (t >= tstop || t >= o->t_end || p.steps >= o->max_steps) {
+    /* TSSolve would call the -ts_monitor monitors; this loop steps the TS itself. */
+    PetscCall(TSMonitor(ts, (PetscInt)p.steps, t, sim->X));
+    PetscCall(SpamTSAdaptMonitorSelf(ts, p.steps - 1, t - p.dt, p.dt, p.rejected));
+    if (dense) PetscCall(InterpolatedOutputs(ts, sim, o, out, &p, &s, r));
+    if (Reached(t, PetscMin(s.next_out, s.next_snap)) || t >= o->t_end || p.steps >= o->max_steps) {
       const PetscBool snap = (PetscBool)(o->snapshot_interval > 0 && (Reached(t, s.next_snap) || t >= o->t_end || p.steps >= o->max_steps));
       PetscCall(Output(sim, o, out, &p, snap, r));
       t_row = t;
@@ -359,16 +414,22 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
   PetscFunctionReturn(0);
 }
 
-/* Xgood is freed on every path: a failed write ends the run with an error, not a leak. */
+/* Xgood and Xout are freed on every path: a failed write ends the run with an error, not a leak. */
 PetscErrorCode SpamRun(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamOutput *out, SpamRunResult *r)
 {
-  Vec            Xgood;
+  Vec            Xgood, Xout;
   PetscErrorCode ierr;
 
   PetscFunctionBeginUser;
   PetscCall(VecDuplicate(sim->X, &Xgood));
-  ierr = Loop(sim, o, ts, app, out, r, Xgood);
+  PetscCall(VecDuplicate(sim->X, &Xout));
+  ierr = Loop(sim, o, ts, app, out, r, Xgood, Xout);
+  PetscCall(VecDestroy(&Xout));
   PetscCall(VecDestroy(&Xgood));
   PetscCall(ierr);
+  /* What TSSolve does at its end: -ts_view (with SUNDIALS' table for arkode and cvode);
+   * and -sundials_stats. */
+  PetscCall(TSViewFromOptions(ts, NULL, "-ts_view"));
+  PetscCall(SpamTSSundialsStats(ts, PETSC_STDOUT, PETSC_FALSE));
   PetscFunctionReturn(0);
 }

@@ -8,14 +8,13 @@
 #include <arkode/arkode_erkstep.h>
 #include <nvector/nvector_petsc.h>
 
-int SpamArkodeAdaptMethod(const char *name);
-
 #define ARK_CFL_FRACTION 0.5
 
 typedef struct {
-  SUNContext sunctx;
-  N_Vector   y;
-  void      *mem;
+  SUNContext         sunctx;
+  N_Vector           y;
+  void              *mem;
+  SpamArkodeSettings set; /* the type's options (arkode_options.c) */
 } TS_SpamARKode;
 
 /* ERKStep's stability function: the physical (CFL, force) bound of the current state. */
@@ -37,7 +36,7 @@ static int ArkStability(N_Vector y, realtype t, realtype *hstab, void *data)
   return 0;
 }
 
-static PetscErrorCode ConfigureController(void *mem, const SpamRunOptions *o)
+static PetscErrorCode ConfigureController(void *mem, const SpamArkodeSettings *o)
 {
   PetscFunctionBeginUser;
   if (o->fixed_step > 0) {
@@ -49,7 +48,6 @@ static PetscErrorCode ConfigureController(void *mem, const SpamRunOptions *o)
     const int use_default = o->n_adapt_params == 0;
     PetscCallARK(ERKStepSetAdaptivityMethod(mem, SpamArkodeAdaptMethod(o->adapt), use_default, 0, k));
   }
-  if (o->dt_first > 0) PetscCallARK(ERKStepSetInitStep(mem, o->dt_first));
   if (o->safety > 0) PetscCallARK(ERKStepSetSafetyFactor(mem, o->safety));
   if (o->max_growth > 0) PetscCallARK(ERKStepSetMaxGrowth(mem, o->max_growth));
   if (o->max_first_growth > 0) PetscCallARK(ERKStepSetMaxFirstGrowth(mem, o->max_first_growth));
@@ -101,7 +99,7 @@ static PetscErrorCode TSSetUp_SpamARKode(TS ts)
   PetscCallARK(ERKStepSetErrHandlerFn(ark->mem, SpamSundialsErrHandler, app));
   {
     ARKodeButcherTable B;
-    PetscCall(LoadTable(app->o->table, &B));
+    PetscCall(LoadTable(ark->set.table, &B));
     PetscCallARK(ERKStepSetTable(ark->mem, B)); /* ERKStep keeps a copy */
     ARKodeButcherTable_Free(B);
   }
@@ -110,8 +108,9 @@ static PetscErrorCode TSSetUp_SpamARKode(TS ts)
   PetscCallARK(ERKStepSetMaxNumSteps(ark->mem, -1)); /* the loop counts steps itself */
   /* -ts_max_reject means the same for every method: rejections of one step before it fails. */
   if (ts->max_reject > 0) PetscCallARK(ERKStepSetMaxErrTestFails(ark->mem, (int)ts->max_reject));
-  PetscCall(ConfigureController(ark->mem, app->o));
-  if (app->o->fixed_step <= 0 && (app->o->cfl > 0 || app->o->force > 0)) {
+  PetscCall(ConfigureController(ark->mem, &ark->set));
+  if (ark->set.fixed_step <= 0 && app->o->dt_first > 0) PetscCallARK(ERKStepSetInitStep(ark->mem, app->o->dt_first));
+  if (ark->set.fixed_step <= 0 && (app->o->cfl > 0 || app->o->force > 0)) {
     PetscCallARK(ERKStepSetStabilityFn(ark->mem, ArkStability, app));
     PetscCallARK(ERKStepSetCFLFraction(ark->mem, ARK_CFL_FRACTION));
   }
@@ -148,6 +147,26 @@ static PetscErrorCode TSStep_SpamARKode(TS ts)
   PetscFunctionReturn(0);
 }
 
+/* Dense output (TSInterpolate): ERKStep's Hermite interpolant of the last step into X,
+ * leaving ERKStep's own state and history alone. Its degree is min(5, order - 1); degrees
+ * 4 and 5 cost one and two right-hand sides per step with an output in it. */
+static PetscErrorCode TSInterpolate_SpamARKode(TS ts, PetscReal t, Vec X)
+{
+  TS_SpamARKode *ark = (TS_SpamARKode *)ts->data;
+  N_Vector       x   = N_VMake_Petsc(X, ark->sunctx);
+  SpamTsApp     *app;
+  int            flag;
+
+  PetscFunctionBeginUser;
+  PetscCheck(x, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "N_VMake_Petsc failed");
+  PetscCall(TSGetApplicationContext(ts, &app));
+  flag = ERKStepGetDky(ark->mem, t, 0, x);
+  N_VDestroy(x);
+  PetscCall(app->perr);
+  PetscCall(SpamCheckArkode(flag, "ERKStepGetDky"));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode TSReset_SpamARKode(TS ts)
 {
   TS_SpamARKode *ark = (TS_SpamARKode *)ts->data;
@@ -164,17 +183,60 @@ static PetscErrorCode TSDestroy_SpamARKode(TS ts)
 {
   PetscFunctionBeginUser;
   PetscCall(TSReset_SpamARKode(ts));
+  PetscCall(PetscObjectComposeFunction((PetscObject)ts, "SpamTSSundialsStats_C", NULL));
   PetscCall(PetscFree(ts->data));
   PetscFunctionReturn(0);
 }
 
+/* -ts_view: the table and controller, and ERKStep's statistics table. */
 static PetscErrorCode TSView_SpamARKode(TS ts, PetscViewer viewer)
 {
-  SpamTsApp *app;
+  TS_SpamARKode *ark = (TS_SpamARKode *)ts->data;
+  PetscBool      ascii;
+  FILE          *fd;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERASCII, &ascii));
+  if (!ascii) PetscFunctionReturn(0);
+  if (ark->set.fixed_step > 0) PetscCall(PetscViewerASCIIPrintf(viewer, "  ARKODE ERKStep, table %s, fixed step %g\n", ark->set.table, ark->set.fixed_step));
+  else PetscCall(PetscViewerASCIIPrintf(viewer, "  ARKODE ERKStep, table %s, controller %s\n", ark->set.table, ark->set.adapt));
+  if (!ark->mem) PetscFunctionReturn(0);
+  PetscCall(PetscViewerFlush(viewer));
+  PetscCall(PetscViewerASCIIGetPointer(viewer, &fd));
+  PetscCallARK(ERKStepPrintAllStats(ark->mem, fd, SUN_OUTPUTFORMAT_TABLE));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSSetFromOptions_SpamARKode(TS ts, PetscOptionItems *PetscOptionsObject)
+{
+  TS_SpamARKode *ark = (TS_SpamARKode *)ts->data;
+  SpamTsApp     *app;
 
   PetscFunctionBeginUser;
   PetscCall(TSGetApplicationContext(ts, &app));
-  if (app) PetscCall(PetscViewerASCIIPrintf(viewer, "  ARKODE ERKStep, table %s, controller %s\n", app->o->table, app->o->fixed_step > 0 ? "fixed step" : app->o->adapt));
+  PetscCheck(app, PetscObjectComm((PetscObject)ts), PETSC_ERR_ORDER, "the arkode TS needs a SpamTsApp application context before TSSetFromOptions");
+  PetscCall(SpamArkodeOptionsRead(PetscOptionsObject, app->o, &ark->set));
+  PetscCall(SpamArkodeAdaptType(app->o, &ark->set));
+  PetscFunctionReturn(0);
+}
+
+/* -sundials_stats (or force): ERKStepPrintAllStats, SUNDIALS' own table. */
+static PetscErrorCode SundialsStats_SpamARKode(TS ts, FILE *file, PetscBool force)
+{
+  TS_SpamARKode *ark = (TS_SpamARKode *)ts->data;
+
+  PetscFunctionBeginUser;
+  if (ark->mem && (force || ark->set.sundials_stats)) PetscCallARK(ERKStepPrintAllStats(ark->mem, file, SUN_OUTPUTFORMAT_TABLE));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamTSARKodeGetSettings(TS ts, const SpamArkodeSettings **s)
+{
+  PetscBool arkode;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectTypeCompare((PetscObject)ts, SPAM_TSARKODE, &arkode));
+  *s = arkode ? &((TS_SpamARKode *)ts->data)->set : NULL;
   PetscFunctionReturn(0);
 }
 
@@ -196,13 +258,19 @@ PetscErrorCode SpamTSCreate_ARKode(TS ts)
 
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&ark));
+  /* The defaults, for a TS that never reads its options (TSSetFromOptions sets them). */
+  PetscCall(PetscStrncpy(ark->set.table, "ARKODE_DORMAND_PRINCE_7_4_5", sizeof ark->set.table));
+  PetscCall(PetscStrncpy(ark->set.adapt, "pid", sizeof ark->set.adapt));
   ts->data                = (void *)ark;
+  ts->ops->setfromoptions = TSSetFromOptions_SpamARKode;
   ts->ops->setup          = TSSetUp_SpamARKode;
   ts->ops->step           = TSStep_SpamARKode;
   ts->ops->reset          = TSReset_SpamARKode;
   ts->ops->destroy        = TSDestroy_SpamARKode;
   ts->ops->view           = TSView_SpamARKode;
+  ts->ops->interpolate    = TSInterpolate_SpamARKode;
   ts->default_adapt_type  = TSADAPTNONE; /* ERKStep adapts by itself */
   ts->usessnes            = PETSC_FALSE;
+  PetscCall(PetscObjectComposeFunction((PetscObject)ts, "SpamTSSundialsStats_C", SundialsStats_SpamARKode));
   PetscFunctionReturn(0);
 }

@@ -4,7 +4,7 @@
 #include <spam/integrator.h>
 #include <spam/errors.h>
 
-const char *const SpamStepLimitNames[] = {"accuracy", "fixed", "output", "cfl", "force"};
+const char *const SpamStepLimitNames[] = {"accuracy", "fixed", "output", "cfl", "force", "end"};
 
 static const char *const TsTypes[]     = {"arkode", "cvode", "rk", "ssp", "euler", "basicsymplectic"};
 static const char *const RkTypes[]     = {"1fe", "2a", "2b", "3", "3bs", "4", "5f", "5dp", "5bs", "6vr", "7vr", "8vr"};
@@ -105,8 +105,8 @@ static PetscErrorCode ChooseType(TS ts, char *type, size_t len)
     PetscCall(ChosenName("-ts_basicsymplectic_type", "kdk", SympTypes, 6, sub, sizeof sub));
     PetscCall(TSBasicSymplecticSetType(ts, "kdk")); /* our default: velocity Verlet */
   }
-  /* Checked for every method: PETSc reads it for all (arkode and cvode then refuse it as
-   * not used, at the end of set-up). */
+  /* Checked for every method: PETSc reads it for all (arkode takes none with -ts_dt as its
+   * fixed step and cvode refuses it, in their setfromoptions). */
   PetscCall(ChosenName("-ts_adapt_type", strcmp(type, TSRK) ? TSADAPTNONE : TSADAPTBASIC, AdaptTypes, 3, sub, sizeof sub));
   PetscFunctionReturn(0);
 }
@@ -148,10 +148,26 @@ static PetscErrorCode CheckRkEmbedded(TS ts)
   PetscFunctionReturn(0);
 }
 
+/* Every run starts at t = 0: the output schedule, the end time and a snapshot's time are
+ * measured from there (a snapshot read back starts at 0 again). PETSc's -ts_init_time
+ * would move the TS alone, so any other value is refused. */
+static PetscErrorCode CheckInitTime(TS ts)
+{
+  PetscReal t;
+  char      val[128];
+
+  PetscFunctionBeginUser;
+  PetscCall(TSGetTime(ts, &t));
+  PetscCall(SpamOptionText("-ts_init_time", t, val, sizeof val));
+  if (t != 0.0) SPAM_BAD_INPUT("-ts_init_time", val, "every run starts at t = 0 (0 is the only value; -ts_max_time is the duration)");
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamTSCreate(SpamSim *sim, const SpamRunOptions *o, SpamTsApp *app, TS *ts)
 {
-  char    type[64];
-  TSAdapt adapt;
+  char      type[64];
+  TSAdapt   adapt;
+  PetscBool help;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(app, sizeof *app));
@@ -183,6 +199,15 @@ PetscErrorCode SpamTSCreate(SpamSim *sim, const SpamRunOptions *o, SpamTsApp *ap
     PetscCall(PetscPopErrorHandler());
     PetscCall(ierr); /* reported once already */
   }
+  PetscCall(PetscOptionsHasHelp(NULL, &help));
+  if (help) PetscCall(SpamTSSundialsHelp(*ts, o));
+  PetscCall(CheckInitTime(*ts));
+  {
+    /* -ts_view is PETSc's, acted on at the end of the run (time_loop.c) as TSSolve does:
+     * queried here so that the check of unused options knows the run takes it. */
+    PetscBool view;
+    PetscCall(PetscOptionsHasName(NULL, NULL, "-ts_view", &view));
+  }
   /* Our options win over PETSc's for the quantities both read. */
   PetscCall(TSSetMaxTime(*ts, o->t_end));
   PetscCall(TSSetTimeStep(*ts, o->dt_first > 0 ? o->dt_first : 0.05 * sim->model.kernel.h / app->w.vscale));
@@ -200,7 +225,7 @@ PetscErrorCode SpamTSAppDestroy(SpamTsApp *app)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamTSDescribe(TS ts, const SpamTsApp *app, char *method, size_t mlen, char *adapt, size_t alen, double *fixed_dt)
+PetscErrorCode SpamTSDescribe(TS ts, char *method, size_t mlen, char *adapt, size_t alen, double *fixed_dt)
 {
   TSType      type;
   const char *sub = "";
@@ -211,9 +236,11 @@ PetscErrorCode SpamTSDescribe(TS ts, const SpamTsApp *app, char *method, size_t 
   PetscCall(TSGetType(ts, &type));
   *fixed_dt = 0.0;
   if (!strcmp(type, SPAM_TSARKODE)) {
-    sub = app->o->table;
-    PetscCall(PetscStrncpy(adapt, app->o->fixed_step > 0 ? "none" : app->o->adapt, alen));
-    *fixed_dt = app->o->fixed_step;
+    const SpamArkodeSettings *s;
+    PetscCall(SpamTSARKodeGetSettings(ts, &s));
+    sub = s->table;
+    PetscCall(PetscStrncpy(adapt, s->fixed_step > 0 ? "none" : s->adapt, alen));
+    *fixed_dt = s->fixed_step;
   } else if (!strcmp(type, SPAM_TSCVODE)) {
     sub = "adams";
     PetscCall(PetscStrncpy(adapt, "cvode", alen));

@@ -13,7 +13,67 @@ typedef struct {
   N_Vector           y;
   SUNNonlinearSolver nls;
   void              *mem;
+  PetscInt           max_order; /* -cvode_max_order */
+  PetscBool          stats;     /* -sundials_stats  */
 } TS_SpamCVode;
+
+/* The options of the cvode type, read in its setfromoptions (and listed by -help). */
+PetscErrorCode SpamCVodeOptionsRead(PetscOptionItems *PetscOptionsObject, PetscInt *max_order, PetscBool *stats)
+{
+  char val[32];
+
+  PetscFunctionBeginUser;
+  PetscOptionsHeadBegin(PetscOptionsObject, "CVODE options (-ts_type cvode)");
+  PetscCall(PetscOptionsInt("-cvode_max_order", "Largest Adams order of CVODE (1..12)", "README", *max_order, max_order, NULL));
+  PetscCall(PetscOptionsBool("-sundials_stats", "Print CVODE's statistics table (CVodePrintAllStats) at the end of the run", "README", *stats, stats, NULL));
+  PetscOptionsHeadEnd();
+  PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, *max_order));
+  if (*max_order < 1 || *max_order > 12) SPAM_BAD_INPUT("-cvode_max_order", val, "Adams orders are 1 to 12");
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSSetFromOptions_SpamCVode(TS ts, PetscOptionItems *PetscOptionsObject)
+{
+  TS_SpamCVode *cv = (TS_SpamCVode *)ts->data;
+  char          type[64];
+  PetscBool     set;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamCVodeOptionsRead(PetscOptionsObject, &cv->max_order, &cv->stats));
+  /* CVODE varies its order and step together: it has no fixed-step mode to map
+   * -ts_adapt_type none onto. */
+  PetscCall(PetscOptionsGetString(NULL, NULL, "-ts_adapt_type", type, sizeof type, &set));
+  if (set) SPAM_BAD_INPUT("-ts_adapt_type", type, "-ts_type cvode chooses its own steps and orders (its tolerances are -ts_rtol, -ts_atol); a fixed step: -ts_type arkode or rk with -ts_adapt_type none -ts_dt <step>");
+  PetscFunctionReturn(0);
+}
+
+/* -sundials_stats (or force): CVodePrintAllStats, SUNDIALS' own table. */
+static PetscErrorCode SundialsStats_SpamCVode(TS ts, FILE *file, PetscBool force)
+{
+  TS_SpamCVode *cv = (TS_SpamCVode *)ts->data;
+
+  PetscFunctionBeginUser;
+  if (cv->mem && (force || cv->stats)) PetscCallCV(CVodePrintAllStats(cv->mem, file, SUN_OUTPUTFORMAT_TABLE));
+  PetscFunctionReturn(0);
+}
+
+/* -ts_view: the method and CVODE's statistics table. */
+static PetscErrorCode TSView_SpamCVode(TS ts, PetscViewer viewer)
+{
+  TS_SpamCVode *cv = (TS_SpamCVode *)ts->data;
+  PetscBool     ascii;
+  FILE         *fd;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERASCII, &ascii));
+  if (!ascii) PetscFunctionReturn(0);
+  PetscCall(PetscViewerASCIIPrintf(viewer, "  CVODE Adams, fixed-point iteration, largest order %" PetscInt_FMT "\n", cv->max_order));
+  if (!cv->mem) PetscFunctionReturn(0);
+  PetscCall(PetscViewerFlush(viewer));
+  PetscCall(PetscViewerASCIIGetPointer(viewer, &fd));
+  PetscCall(SundialsStats_SpamCVode(ts, fd, PETSC_TRUE));
+  PetscFunctionReturn(0);
+}
 
 static PetscErrorCode TSSetUp_SpamCVode(TS ts)
 {
@@ -40,7 +100,7 @@ static PetscErrorCode TSSetUp_SpamCVode(TS ts)
   cv->nls = SUNNonlinSol_FixedPoint(cv->y, 0, cv->sunctx);
   PetscCheck(cv->nls, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "SUNNonlinSol_FixedPoint failed");
   PetscCallCV(CVodeSetNonlinearSolver(cv->mem, cv->nls));
-  PetscCallCV(CVodeSetMaxOrd(cv->mem, (int)app->o->cvode_max_order));
+  PetscCallCV(CVodeSetMaxOrd(cv->mem, (int)cv->max_order));
   PetscCallCV(CVodeSetMaxNumSteps(cv->mem, -1)); /* the loop counts steps itself */
   /* -ts_max_reject means the same for every method: rejections of one step before it fails. */
   if (ts->max_reject > 0) {
@@ -84,6 +144,22 @@ static PetscErrorCode TSStep_SpamCVode(TS ts)
   PetscFunctionReturn(0);
 }
 
+/* Dense output (TSInterpolate): CVODE's interpolating polynomial of the current Adams
+ * order into X, from the history CVODE keeps anyway (no right-hand side, no change to it). */
+static PetscErrorCode TSInterpolate_SpamCVode(TS ts, PetscReal t, Vec X)
+{
+  TS_SpamCVode *cv = (TS_SpamCVode *)ts->data;
+  N_Vector      x  = N_VMake_Petsc(X, cv->sunctx);
+  int           flag;
+
+  PetscFunctionBeginUser;
+  PetscCheck(x, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "N_VMake_Petsc failed");
+  flag = CVodeGetDky(cv->mem, t, 0, x);
+  N_VDestroy(x);
+  PetscCall(SpamCheckCvode(flag, "CVodeGetDky"));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode TSReset_SpamCVode(TS ts)
 {
   TS_SpamCVode *cv = (TS_SpamCVode *)ts->data;
@@ -102,6 +178,7 @@ static PetscErrorCode TSDestroy_SpamCVode(TS ts)
 {
   PetscFunctionBeginUser;
   PetscCall(TSReset_SpamCVode(ts));
+  PetscCall(PetscObjectComposeFunction((PetscObject)ts, "SpamTSSundialsStats_C", NULL));
   PetscCall(PetscFree(ts->data));
   PetscFunctionReturn(0);
 }
@@ -112,12 +189,17 @@ PetscErrorCode SpamTSCreate_CVode(TS ts)
 
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&cv));
+  cv->max_order          = 12;
   ts->data               = (void *)cv;
+  ts->ops->setfromoptions = TSSetFromOptions_SpamCVode;
+  ts->ops->view          = TSView_SpamCVode;
   ts->ops->setup         = TSSetUp_SpamCVode;
   ts->ops->step          = TSStep_SpamCVode;
   ts->ops->reset         = TSReset_SpamCVode;
   ts->ops->destroy       = TSDestroy_SpamCVode;
+  ts->ops->interpolate   = TSInterpolate_SpamCVode;
   ts->default_adapt_type = TSADAPTNONE; /* CVODE adapts step and order by itself */
   ts->usessnes           = PETSC_FALSE;
+  PetscCall(PetscObjectComposeFunction((PetscObject)ts, "SpamTSSundialsStats_C", SundialsStats_SpamCVode));
   PetscFunctionReturn(0);
 }

@@ -104,6 +104,11 @@ static void Counts(Summary *f, const SpamSim *sim, const SpamRunResult *r)
   Int(f, "bound_limited_steps", r->limited);
   Int(f, "post_step_jumps", r->jumps);
   Int(f, "steps_with_jumps", r->jump_steps);
+  /* Issue 16 point 1: how the output times were reached (time_loop.c, output_mode.c). */
+  Str(f, "output_mode", r->output_mode);
+  Str(f, "output_mode_reason", r->output_mode_reason);
+  Int(f, "interpolated_rows", r->interpolated_rows);
+  Int(f, "interpolation_rhs_evals", r->interpolation_rhs_evals);
   /* Gauss's constraint: the largest acceleration it added (0 without it). */
   Num(f, "gauss_accel_max", sim->ps ? sim->ps->gauss_accel_max : 0.0);
   Int(f, "neighbour_builds", sim->nl.builds);
