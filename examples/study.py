@@ -784,7 +784,7 @@ def controller(a):
         t = np.array([float(r["t"]) for r in st])
         dt = np.array([float(r["dt"]) for r in st])
         rej = np.array([int(r["rejected"]) for r in st])
-        keep = np.array([r["limit"] != "output" for r in st])
+        keep = np.array([r["limit"] not in ("output", "end") for r in st])
         ratio = np.diff(np.log(dt[keep])) if keep.sum() > 2 else np.array([0.0])
         nrej = int(rej[-1]) if len(rej) else 0
         sty = style(label)
