@@ -144,7 +144,8 @@ if pid == 0:
         os._exit(127)
 _, status, ru = os.wait4(pid, 0)
 with open(out, "w") as fh:
-    fh.write("%d %d\n" % (os.waitstatus_to_exitcode(status), ru.ru_maxrss))
+    fh.write("%d %d %.6f\n" % (os.waitstatus_to_exitcode(status), ru.ru_maxrss,
+                               ru.ru_utime + ru.ru_stime))
 """
 
 
@@ -155,6 +156,14 @@ def run_measured(cmd, cwd, log_path, timeout=RUN_TIMEOUT_S):
     the launcher above (taskset execs the program in place, so that pid is
     the program's).
     """
+    return run_measured_cpu(cmd, cwd, log_path, timeout)[:3]
+
+
+def run_measured_cpu(cmd, cwd, log_path, timeout=RUN_TIMEOUT_S):
+    """As run_measured, with the program's CPU time (user + system, from the
+    same os.wait4) as a fourth value, None if unknown.  On a machine shared
+    with other work a process waits for a core; its CPU time does not count
+    the waiting, its wall time does."""
     rss_file = Path(str(log_path) + ".rusage")
     launcher = [sys.executable, "-S", "-c", _LAUNCHER, str(rss_file)]
     with open(log_path, "wb") as out:
@@ -169,10 +178,11 @@ def run_measured(cmd, cwd, log_path, timeout=RUN_TIMEOUT_S):
             p.wait()
         wall = time.perf_counter() - t0
     try:
-        rc, maxrss_kib = (int(v) for v in rss_file.read_text().split())
-    except (OSError, ValueError):
-        return (p.returncode or -1), wall, 0
-    return rc, wall, maxrss_kib * 1024
+        fields = rss_file.read_text().split()
+        rc, maxrss_kib, cpu = int(fields[0]), int(fields[1]), float(fields[2])
+    except (OSError, ValueError, IndexError):
+        return (p.returncode or -1), wall, 0, None
+    return rc, wall, maxrss_kib * 1024, cpu
 
 
 def tail(path, n=25):

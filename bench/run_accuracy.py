@@ -32,6 +32,7 @@ import argparse
 import datetime
 import json
 import math
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -105,8 +106,8 @@ def run_spam(a, curve, param, csv, box, work, tag, pin):
         final.unlink()
     cmd = pin + spam_cmd(a, curve, param, csv, box, outdir, final)
     log = work / ("%s.log" % tag)
-    rc, wall, _ = bc.run_measured(cmd, bc.REPO_ROOT, log)
-    rec = {"wall_s": wall, "rc": rc}
+    rc, wall, _, cpu = bc.run_measured_cpu(cmd, bc.REPO_ROOT, log)
+    rec = {"wall_s": wall, "cpu_s": cpu, "rc": rc}
     try:
         s = json.loads((outdir / "summary.json").read_text())
         rec.update({"status": s.get("status"), "steps": s.get("steps"), "rhs_evals": s.get("rhs_evals"),
@@ -132,9 +133,10 @@ def run_lammps(a, dt, data, table, work, tag, pin):
                                    after_run="write_dump all custom %s id x y vx vy modify sort id "
                                              "format float %%.17g" % dump))
     log = work / ("lammps_%s.log" % tag)
-    rc, wall, _ = bc.run_measured(pin + [a.lmp, "-in", inp.name, "-log", "none", "-nocite"], work, log)
+    rc, wall, _, cpu = bc.run_measured_cpu(pin + [a.lmp, "-in", inp.name, "-log", "none", "-nocite"],
+                                           work, log)
     res = pl.parse_lammps_log(log.read_text(errors="replace"))
-    rec = {"wall_s": wall, "rc": rc, "steps": steps, "loop_s": res.get("loop_time_s"),
+    rec = {"wall_s": wall, "cpu_s": cpu, "rc": rc, "steps": steps, "loop_s": res.get("loop_time_s"),
            "status": "ok" if rc == 0 and "loop_time_s" in res else "failed"}
     if rec["status"] != "ok":
         rec["error"] = bc.tail(log, 5)
@@ -249,6 +251,8 @@ def one_size(a, n, work, pin, ladders):
         walls = [x["wall_s"] for x in ok]
         r["wall_s"] = bc.med(walls)
         r["wall_s_runs"] = [x["wall_s"] for x in r["runs"]]
+        r["cpu_s"] = bc.med([x.get("cpu_s") for x in ok])
+        r["cpu_s_runs"] = [x.get("cpu_s") for x in r["runs"]]
         r["loop_s"] = bc.med([x.get("loop_s") for x in ok])
         r["loop_s_runs"] = [x.get("loop_s") for x in r["runs"]]
         r["wall_spread"] = (max(walls) / min(walls) - 1.0) if len(walls) > 1 else None
@@ -259,6 +263,7 @@ def one_size(a, n, work, pin, ladders):
     res["seconds"] = time.perf_counter() - t0
     res["tta"] = summarize(res["settings"], "wall_s")
     res["tta_loop"] = summarize(res["settings"], "loop_s")
+    res["tta_cpu"] = summarize(res["settings"], "cpu_s")
     res["table_check"] = table_check(res["settings"], recs, ref, box, mass)
     return res
 
@@ -331,20 +336,21 @@ def fmt_setting(curve, param):
 
 
 def print_size(res, repeats):
-    print("\n  setting                              steps  RHS evals  wall s (median)  spread  "
+    print("\n  setting                              steps  RHS evals  wall s (median)  spread  CPU s  "
           "KE error   max |dx|   RMS |dx|")
     for s in res["settings"]:
         e = s["err"] or {}
-        print("  %-30s %-9s %6s %9s %12s %9s   %9s %9s %9s%s"
+        print("  %-30s %-9s %6s %9s %12s %9s %7s   %9s %9s %9s%s"
               % (LABELS[s["curve"]][:30], fmt_setting(s["curve"], s["param"]), bc.fnum(s["steps"], "%d"),
                  bc.fnum(s["rhs_evals"], "%d"), bc.fnum(s["wall_s"], "%.3f"),
                  bc.fnum(s["wall_spread"] * 100 if s["wall_spread"] is not None else None, "%.0f%%"),
+                 bc.fnum(s["cpu_s"], "%.2f"),
                  bc.fnum(e.get("ke_err"), "%.2e"), bc.fnum(e.get("pos_err"), "%.2e"),
                  bc.fnum(e.get("pos_err_rms"), "%.2e"),
                  "" if s["status"] == "ok" else "  [%s]" % s["status"]))
     for measure, name in (("ke_err", "KE(t) relative error"), ("pos_err", "max position error")):
         print("\n  time to accuracy, %s (wall s; runs / interpolated; median of %d)" % (name, repeats))
-        for row, lrow in zip(res["tta"][measure], res["tta_loop"][measure]):
+        for row, lrow, crow in zip(res["tta"][measure], res["tta_loop"][measure], res["tta_cpu"][measure]):
             parts = []
             for c, v in row["curves"].items():
                 parts.append("%s %s/%s (%s)" % (c, bc.fnum(v["runs_s"]), bc.fnum(v["interp_s"]),
@@ -359,6 +365,11 @@ def print_size(res, repeats):
             if "ratio_runs" in lrow:
                 line += ("\n               run loops only (no start-up, reading or writing): runs %.3f (%s), "
                          "interpolated %.3f" % (lrow["ratio_runs"], lrow["best_spam_runs"], lrow["ratio_interp"]))
+            if "ratio_runs" in crow:
+                per = crow["ratio_runs_per_repeat"]
+                line += ("\n               CPU time of the whole processes: runs %.3f (%s; repeats %.3f-%.3f), "
+                         "interpolated %.3f" % (crow["ratio_runs"], crow["best_spam_runs"], min(per), max(per),
+                                                crow["ratio_interp"]))
             print(line)
     if res.get("table_check"):
         print("\n  LAMMPS against spam-ark kdk at the same dt (same scheme: the difference is LAMMPS's table):")
@@ -379,19 +390,23 @@ def headline(results, repeats):
         ratio = row["ratio_runs"]
         met = ratio <= TARGET_RATIO
         lrow = next(r for r in res["tta_loop"]["ke_err"] if r["eps"] == TARGET_EPS)
+        crow = next(r for r in res["tta_cpu"]["ke_err"] if r["eps"] == TARGET_EPS)
         c = row["curves"]
         cs = c[row["best_spam_runs"]]
         line = ("target (issue 16): N = %d, KE(t = %g) within %g, whole processes, median of %d: spam-ark %s "
                 "%s %.3f s, LAMMPS %s %.3f s: ratio %.3f (per repeat %.3f-%.3f) (target <= %g): %s.\n"
-                "  Interpolated to the step or tolerance that just reaches %g: %.3f; run loops only: %.3f."
+                "  Interpolated to the step or tolerance that just reaches %g: %.3f; run loops only: %.3f; "
+                "CPU time of the whole processes: %.3f (per repeat %.3f-%.3f)."
                 % (TARGET_N, T_END, TARGET_EPS, repeats, row["best_spam_runs"],
                    fmt_setting(row["best_spam_runs"], cs["setting"]), cs["runs_s"],
                    fmt_setting("lammps", c["lammps"]["setting"]), c["lammps"]["runs_s"], ratio,
                    min(row["ratio_runs_per_repeat"]), max(row["ratio_runs_per_repeat"]),
                    TARGET_RATIO, "met" if met else "falls short", TARGET_EPS, row["ratio_interp"],
-                   lrow.get("ratio_runs", float("nan"))))
+                   lrow.get("ratio_runs", float("nan")), crow.get("ratio_runs", float("nan")),
+                   min(crow.get("ratio_runs_per_repeat", [float("nan")])),
+                   max(crow.get("ratio_runs_per_repeat", [float("nan")]))))
         return {"met": met, "ratio_runs": ratio, "ratio_interp": row["ratio_interp"],
-                "ratio_loop_runs": lrow.get("ratio_runs"), "line": line}
+                "ratio_loop_runs": lrow.get("ratio_runs"), "ratio_cpu_runs": crow.get("ratio_runs"), "line": line}
     return {"met": None, "line": "target: N = %d was not run" % TARGET_N}
 
 
@@ -411,6 +426,7 @@ def main():
     p.add_argument("--skin", type=float, default=1.0, help="LAMMPS neighbour skin")
     p.add_argument("--cpu", type=int, default=0)
     p.add_argument("--no-pin", action="store_true")
+    p.add_argument("--keep", action="store_true", help="keep the scratch directory")
     p.add_argument("--out", default=None, help="JSON (default bench/results/accuracy_<date>.json)")
     p.add_argument("--chart", default=str(bc.REPO_ROOT / "docs" / "time_to_accuracy.png"),
                    help="the chart (PNG); '' for none")
@@ -445,11 +461,26 @@ def main():
     print("\n" + out["target"]["line"])
     spreads = [s["wall_spread"] for r in out["results"] for s in r["settings"] if s["wall_spread"] is not None]
     if spreads:
-        out["noise"] = {"median_spread": bc.med(spreads), "max_spread": max(spreads)}
-        print("noise: (slowest / fastest repeat - 1) of a setting's wall time: median %.0f%%, largest %.0f%%"
-              % (100 * out["noise"]["median_spread"], 100 * out["noise"]["max_spread"]))
+        runs = [x for r in out["results"] for s in r["settings"] for x in s["runs"] if x.get("cpu_s")]
+        cpu_spreads = [max(v) / min(v) - 1.0 for v in
+                       ([c for c in s["cpu_s_runs"] if c] for r in out["results"] for s in r["settings"])
+                       if len(v) > 1]
+        out["noise"] = {"median_spread": bc.med(spreads), "max_spread": max(spreads),
+                        "cpu_median_spread": bc.med(cpu_spreads), "cpu_max_spread": max(cpu_spreads, default=None),
+                        "wall_over_cpu_median": bc.med([x["wall_s"] / x["cpu_s"] for x in runs]),
+                        "wall_over_cpu_max": max((x["wall_s"] / x["cpu_s"] for x in runs), default=None)}
+        nz = out["noise"]
+        print("noise: (slowest / fastest repeat - 1) of a setting's wall time: median %.0f%%, largest %.0f%%; "
+              "of its CPU time: median %.0f%%, largest %.0f%%; wall / CPU time of a run: median %.2f, largest %.2f "
+              "(above 1: the process waited for the core, which other work shared)"
+              % (100 * nz["median_spread"], 100 * nz["max_spread"], 100 * (nz["cpu_median_spread"] or 0),
+                 100 * (nz["cpu_max_spread"] or 0), nz["wall_over_cpu_median"] or 0, nz["wall_over_cpu_max"] or 0))
     out_path.write_text(json.dumps(out, indent=1, default=str) + "\n")
     print("results in %s" % out_path)
+    if a.keep:
+        print("kept scratch directory %s" % work)
+    else:
+        shutil.rmtree(work, ignore_errors=True)
     if a.chart:
         import accuracy_chart
         accuracy_chart.draw(out, Path(a.chart))
