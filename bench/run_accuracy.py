@@ -418,6 +418,9 @@ def main():
     p.add_argument("--repeats", type=int, default=3, help="timed runs of every setting; medians reported")
     p.add_argument("--curves", default="lammps,dp5,bs3,kdk",
                    help="which ladders to run (lammps, dp5, bs3, kdk)")
+    p.add_argument("--ladder", action="append", default=[], metavar="CURVE=V,V,...",
+                   help="replace one curve's ladder (dt for lammps and kdk, rtol for dp5 and bs3), "
+                        "e.g. --ladder lammps=0.02,0.01; may be repeated")
     p.add_argument("--quick", action="store_true", help="N = 4096, 1 repeat, two or fewer settings a curve")
     p.add_argument("--table-points", type=int, default=20000,
                    help="LAMMPS table points (default 20000, as run_bench.py; the output compares "
@@ -434,6 +437,12 @@ def main():
     if a.quick:
         a.sizes, a.repeats = "4096", 1
     curves = a.curves.split(",")
+    own = {}
+    for item in a.ladder:
+        name, _, values = item.partition("=")
+        if name not in LABELS or not values:
+            raise SystemExit("--ladder: %r is not CURVE=V,V,... with CURVE one of %s" % (item, ", ".join(LABELS)))
+        own[name] = [float(v) for v in values.split(",")]
     a.spam_ark = str(Path(a.spam_ark).resolve())
     pin = bc.pin_prefix(a.cpu, not a.no_pin)
     work = Path(tempfile.mkdtemp(prefix="spam_accuracy_"))
@@ -450,7 +459,8 @@ def main():
            "atol_over_rtol": ATOL_OVER_RTOL, "table_points": a.table_points, "skin": a.skin,
            "results": []}
     for n in sorted(int(s) for s in a.sizes.split(",")):
-        lad = QUICK_LADDERS if a.quick else (LADDERS if n <= 16384 else LARGE_LADDERS)
+        lad = dict(QUICK_LADDERS if a.quick else (LADDERS if n <= 16384 else LARGE_LADDERS))
+        lad.update(own)
         res = one_size(a, n, work, pin, {c: lad[c] for c in curves})
         res["ladders"] = {c: lad[c] for c in curves}
         print_size(res, a.repeats)
