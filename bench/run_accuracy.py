@@ -431,11 +431,15 @@ def main():
     p.add_argument("--no-pin", action="store_true")
     p.add_argument("--keep", action="store_true", help="keep the scratch directory")
     p.add_argument("--out", default=None, help="JSON (default bench/results/accuracy_<date>.json)")
-    p.add_argument("--chart", default=str(bc.REPO_ROOT / "docs" / "time_to_accuracy.png"),
-                   help="the chart (PNG); '' for none")
+    p.add_argument("--chart", default=None,
+                   help="the chart (PNG; default docs/time_to_accuracy.png, with --quick "
+                        "bench/results/time_to_accuracy_quick.png); '' for none")
     a = p.parse_args()
     if a.quick:
         a.sizes, a.repeats = "4096", 1
+    if a.chart is None:
+        a.chart = str(bc.BENCH_DIR / "results" / "time_to_accuracy_quick.png" if a.quick
+                      else bc.REPO_ROOT / "docs" / "time_to_accuracy.png")
     curves = a.curves.split(",")
     own = {}
     for item in a.ladder:
