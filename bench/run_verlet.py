@@ -5,7 +5,7 @@ spam-ark runs `-ts_type basicsymplectic -ts_basicsymplectic_type kdk -ts_dt 0.05
 basicsymplectic TS with the kick-drift-kick scheme spam-ark registers); LAMMPS runs
 `fix nve` (the same kick-drift-kick) at timestep 0.05, from the same particles (the 2D
 expansion lattice, h = 3), for 200 steps. For P = rho^2/2 the SPAM force is the force of the
-pair potential w(r) (see run_bench.py), so both integrate the same dynamics with the same
+pair potential w(r) (see bench/README.md), so both integrate the same dynamics with the same
 scheme: the kinetic energies at the end must agree to 1e-9 relative (what is left is the
 LAMMPS table interpolation and round-off), spam-ark must spend 200 + 1 force evaluations,
 and the ratio of the times per step is printed (target <= 1.0).
@@ -14,15 +14,18 @@ This is a measurement, not a test. Usage (spam-ark built in build/):
     /usr/bin/python3 bench/run_verlet.py [--n 16384] [--steps 200] [--repeats 5]
 """
 import argparse
+import datetime
 import json
 import sys
 import tempfile
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-import run_bench as rb  # noqa: E402  (re-executes under /usr/bin/python3 if numpy is missing)
+import bench_common as bc  # noqa: E402  (re-executes under /usr/bin/python3 if numpy is missing)
+import peer_lammps as pl  # noqa: E402
+import spam_driver as sd  # noqa: E402
 
-np = rb.np
+np = bc.np
 
 
 def lammps_input(data, table, h, skin, steps, table_n, dt):
@@ -47,7 +50,7 @@ def kinetic(vel, mass):
 
 def main():
     p = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    p.add_argument("--spam-ark", default=str(rb.REPO_ROOT / "build" / "spam-ark"))
+    p.add_argument("--spam-ark", default=str(bc.REPO_ROOT / "build" / "spam-ark"))
     p.add_argument("--lmp", default="lmp")
     p.add_argument("--n", type=int, default=16384, help="particles (a perfect square)")
     p.add_argument("--h", type=float, default=3.0)
@@ -63,13 +66,13 @@ def main():
     a = p.parse_args()
     nx = int(round(a.n ** 0.5))
     assert nx * nx == a.n, "--n must be a perfect square"
-    pin = rb.pin_prefix(a.cpu, not a.no_pin)
+    pin = bc.pin_prefix(a.cpu, not a.no_pin)
     work = Path(tempfile.mkdtemp(prefix="spam_verlet_"))
-    csv, _ = rb.spam_make_initial(a.spam_ark, nx, a.h, work)
-    pos, vel, mass, _ = rb.read_particles_csv(csv)
+    csv, _ = sd.spam_make_initial(a.spam_ark, nx, a.h, work)
+    pos, vel, mass, _ = bc.read_particles_csv(csv)
     box = (2.0 * nx, 2.0 * nx)
-    rb.write_lammps_data(work / "data.lmp", pos, vel, box, float(mass[0]))
-    rb.write_table(work / "lucy.table", a.h, a.table_points, 1e-10)
+    pl.write_lammps_data(work / "data.lmp", pos, vel, box, float(mass[0]))
+    pl.write_table(work / "lucy.table", a.h, a.table_points, 1e-10)
 
     spam, lammps = [], []
     for k in range(a.repeats):
@@ -81,27 +84,27 @@ def main():
                      "-ts_max_steps", a.steps, "-ts_max_time", "%.17g" % ((a.steps + 0.5) * a.dt),
                      "-snapshot_interval", 0, "-output_interval", 0, "-diag_entropy", 0,
                      "-final_csv", final, "-output_dir", out, "-output_overwrite"]
-        rc, wall, rss = rb.run_measured(cmd, rb.REPO_ROOT, work / ("spam_%d.log" % k))
+        rc, wall, rss = bc.run_measured(cmd, bc.REPO_ROOT, work / ("spam_%d.log" % k))
         if rc != 0:
-            sys.exit("spam-ark failed:\n" + rb.tail(work / ("spam_%d.log" % k)))
+            sys.exit("spam-ark failed:\n" + bc.tail(work / ("spam_%d.log" % k)))
         s = json.loads((out / "summary.json").read_text())
-        _, v, m, _ = rb.read_particles_csv(final)
+        _, v, m, _ = bc.read_particles_csv(final)
         spam.append({"loop_s": s["wall_time_s"], "rhs_evals": s["rhs_evals"], "steps": s["steps"],
                      "ke": kinetic(v, m), "rss": rss})
         (work / "in.lmp").write_text(lammps_input("data.lmp", "lucy.table", a.h, a.skin, a.steps, a.table_points, a.dt))
         log = work / ("lammps_%d.log" % k)
-        rc, wall, rss = rb.run_measured(pin + [a.lmp, "-in", "in.lmp", "-log", "none", "-nocite"], work, log)
-        res = rb.parse_lammps_log(log.read_text(errors="replace"))
+        rc, wall, rss = bc.run_measured(pin + [a.lmp, "-in", "in.lmp", "-log", "none", "-nocite"], work, log)
+        res = pl.parse_lammps_log(log.read_text(errors="replace"))
         if rc != 0 or "loop_time_s" not in res:
-            sys.exit("LAMMPS failed:\n" + rb.tail(log))
+            sys.exit("LAMMPS failed:\n" + bc.tail(log))
         d = np.loadtxt(work / "final.txt", skiprows=9)
         lammps.append({"loop_s": res["loop_time_s"], "ke": kinetic(d[:, 1:3], np.full(len(d), float(mass[0]))),
                        "rss": rss})
 
     ke_s, ke_l = spam[0]["ke"], lammps[0]["ke"]
     rel = abs(ke_s - ke_l) / abs(ke_l)
-    t_s = rb.med([r["loop_s"] for r in spam]) / a.steps
-    t_l = rb.med([r["loop_s"] for r in lammps]) / a.steps
+    t_s = bc.med([r["loop_s"] for r in spam]) / a.steps
+    t_l = bc.med([r["loop_s"] for r in lammps]) / a.steps
     evals = spam[0]["rhs_evals"]
     print("Velocity Verlet, N = %d, h = %g, dt = %g, %d steps, one core, median of %d" % (a.n, a.h, a.dt, a.steps, a.repeats))
     print("  kinetic energy at the end: spam-ark %.15e  LAMMPS %.15e  relative difference %.2e  [%s: <= 1e-9]"
@@ -114,7 +117,7 @@ def main():
            "ke_spam": ke_s, "ke_lammps": ke_l, "ke_rel_diff": rel, "force_evals": evals,
            "ms_per_step_spam": 1e3 * t_s, "ms_per_step_lammps": 1e3 * t_l, "ratio": t_s / t_l,
            "spam_runs": spam, "lammps_runs": lammps}
-    out = Path(a.out) if a.out else rb.BENCH_DIR / "results" / ("verlet_%s.json" % rb.datetime.date.today().isoformat())
+    out = Path(a.out) if a.out else bc.BENCH_DIR / "results" / ("verlet_%s.json" % datetime.date.today().isoformat())
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(res, indent=1))
     print("  results in %s" % out)

@@ -8,12 +8,13 @@
  * The pair loops run over each particle's neighbours in chunks of SPAM_PAIR_CHUNK: a first
  * loop, which has no stores but to a small stack buffer, computes the pair terms and is
  * vectorised by the compiler (gathers of u[j] and q[j], a vector sqrt); a second, scalar
- * loop subtracts them from particle j in list order. The accelerations are interleaved
- * (a[j*dim + d]), so that each j's update touches one cache line, not dim of them: in
- * alternating runs this made the force pass 0.96-0.98 of its time with SoA arrays.
- * Particle i's own sum is a vector reduction in the first loop, so its rounding depends
- * on the vector width of the clone that runs (SPAM_CLONES below): deterministic for a
- * given binary and processor; test_pair_reference bounds it against a plain loop.
+ * loop subtracts them from particle j and adds them to particle i in list order. The
+ * accelerations are interleaved (a[j*dim + d]), so that each j's update touches one cache
+ * line, not dim of them: in alternating runs this made the force pass 0.96-0.98 of its
+ * time with SoA arrays.
+ * Particle i's own sum is taken in list order in the second loop, so its rounding does
+ * not depend on the vector width of the clone that runs (SPAM_CLONES below);
+ * test_pair_reference bounds it against a plain loop.
  *
  * These loops are written for Lucy's kernel, equal masses and no ghost slots: the
  * benchmark's case and every default run. Any other kernel, unequal masses or ghosts go
@@ -71,31 +72,23 @@ SPAM_INLINE void DensityRows(const int dim, const SpamNeighbours *nl, const Spam
 }
 
 /* Pair terms f_ij r_ij of np listed neighbours nb of particle i (at ui, q_i = qi) into
- * fd, their sum into ai. f > 0 pushes i away from j for positive pressure. */
-SPAM_INLINE void ForceChunk(const int dim, const int uniform, const int img, const SpamImage *im, const SpamNeighbours *nl, const SpamKernel *k, double coef, const double *q, double qi, const double *ui, const int *nb, int np, double fd[3][SPAM_PAIR_CHUNK], double *ai)
+ * fd. f > 0 pushes i away from j for positive pressure. The loop only stores: particle i's
+ * sum is taken in the scatter loop (ForceRows), because gcc 12 made this loop's vector
+ * reduction an epilogue of eight serial adds per component, reloaded from the stack, for
+ * rows of about 13 pairs: 18% of the force pass's samples (perf annotate, N = 16384). */
+SPAM_INLINE void ForceChunk(const int dim, const int uniform, const int img, const SpamImage *im, const SpamNeighbours *nl, const SpamKernel *k, double coef, const double *q, double qi, const double *ui, const int *nb, int np, double fd[3][SPAM_PAIR_CHUNK])
 {
   const double cq = coef * (qi + qi);
-  double       a0 = 0.0, a1 = 0.0, a2 = 0.0;
-#pragma omp simd reduction(+ : a0, a1, a2)
+#pragma omp simd
   for (int c = 0; c < np; c++) {
     const double x = Delta(dim, img, im, nl, ui, nb[c], 0), y = Delta(dim, img, im, nl, ui, nb[c], 1), z = Delta(dim, img, im, nl, ui, nb[c], 2);
     double       t = 1.0 - sqrt(x * x + y * y + z * z) * k->hinv;
     t              = t > 0.0 ? t : 0.0;
     const double f = (uniform ? cq : coef * (qi + q[nb[c]])) * t * t;
     fd[0][c]       = f * x;
-    a0 += fd[0][c];
-    if (dim > 1) {
-      fd[1][c] = f * y;
-      a1 += fd[1][c];
-    }
-    if (dim > 2) {
-      fd[2][c] = f * z;
-      a2 += fd[2][c];
-    }
+    if (dim > 1) fd[1][c] = f * y;
+    if (dim > 2) fd[2][c] = f * z;
   }
-  ai[0] += a0;
-  ai[1] += a1;
-  ai[2] += a2;
 }
 
 /* Rows [i0, i1) of the force pass, added to acc. */
@@ -107,13 +100,20 @@ SPAM_INLINE void ForceRows(const int dim, const int uniform, const SpamNeighbour
     for (int p0 = nl->start[i]; p0 < nl->start[i + 1]; p0 += SPAM_PAIR_CHUNK) {
       const int *nb = nl->nbr + p0, np = PetscMin(SPAM_PAIR_CHUNK, nl->start[i + 1] - p0);
       double     fd[3][SPAM_PAIR_CHUNK];
-      if (nl->image[i]) ForceChunk(dim, uniform, 1, im, nl, k, coef, q, q[i], ui, nb, np, fd, ai);
-      else ForceChunk(dim, uniform, 0, im, nl, k, coef, q, q[i], ui, nb, np, fd, ai);
+      if (nl->image[i]) ForceChunk(dim, uniform, 1, im, nl, k, coef, q, q[i], ui, nb, np, fd);
+      else ForceChunk(dim, uniform, 0, im, nl, k, coef, q, q[i], ui, nb, np, fd);
       for (int c = 0; c < np; c++) {
         double *aj = acc + (size_t)nb[c] * dim;
         aj[0] -= fd[0][c];
-        if (dim > 1) aj[1] -= fd[1][c];
-        if (dim > 2) aj[2] -= fd[2][c];
+        ai[0] += fd[0][c];
+        if (dim > 1) {
+          aj[1] -= fd[1][c];
+          ai[1] += fd[1][c];
+        }
+        if (dim > 2) {
+          aj[2] -= fd[2][c];
+          ai[2] += fd[2][c];
+        }
       }
     }
     for (int d = 0; d < dim; d++) acc[(size_t)i * dim + d] += ai[d];
