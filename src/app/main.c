@@ -4,6 +4,7 @@
 #include <spam/errors.h>
 #include <spam/version.h>
 #include <spam/options.h>
+#include <spam/mpi_start.h>
 #include <signal.h>
 
 static const char help[] = "spam-ark " SPAM_VERSION ": smooth-particle applied mechanics (Lucy-Monaghan SPAM/SPH)\n"
@@ -49,6 +50,7 @@ int main(int argc, char **argv)
 
   if (code >= 0) return code;
   code = SPAM_EXIT_OK;
+  SpamMpiSingletonDefaults(); /* alone: no singleton daemon, no UCX probe (mpi_start.c) */
   PetscCall(PetscInitialize(&argc, &argv, NULL, help));
   /* A reader that closes the pipe early (spam-ark -monitor | head) ends our output, not the
    * program with PETSc's signal trace: writes to it then fail quietly. (PETSc's own help
