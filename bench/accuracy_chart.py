@@ -54,7 +54,7 @@ def draw(out, path, tkey="wall_s"):
             lo, hi = ax.get_ylim()
             ax.set_ylim(lo, hi * 4.0)  # room for the table of ratios above the curves
             ax.set_xlabel("%s (reduced units; more accurate to the right)" % name)
-            ax.set_ylabel("wall time of the whole process, s (median of %d)" % out["repeats"])
+            ax.set_ylabel("wall time of the whole process, s (median of %s)" % out["repeats"])
             ax.set_title("2D isentropic expansion, h = 3, N = %d: time to accuracy" % res["n"], fontsize=10)
             ax.grid(True, which="major", alpha=0.3)
             ax.yaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
