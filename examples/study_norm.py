@@ -305,7 +305,9 @@ def main(argv=None):
     write_csv(os.path.join(a.out, "norm.csv"), rows)
     chart(a, rows, os.path.join(a.out, "norm.png"))
     commit = subprocess.run(["git", "-C", REPO, "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
-    command = "/usr/bin/python3 examples/study_norm.py " + " ".join(argv if argv is not None else sys.argv[1:])
+    # relative paths only: study.md must not carry a path of the machine that wrote it
+    words = [os.path.relpath(w, REPO) if os.path.isabs(w) else w for w in (argv if argv is not None else sys.argv[1:])]
+    command = "/usr/bin/python3 examples/study_norm.py " + " ".join(words)
     lines = ["## Error norm: rms against max (-error_norm)", "",
              f"Commit {commit or '?'}; command `{command}`. Table: [norm.csv](norm.csv).", "",
              "![rms and max error norms](norm.png)", ""] + readings(a, rows)
