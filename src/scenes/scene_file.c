@@ -29,6 +29,7 @@ typedef struct {
   size_t      len;                    /* its length, CSV_MAX_LINE + 1 if longer          */
   size_t      nul;                    /* 1-based column of its first NUL byte, or 0 */
   char        where[PETSC_MAX_PATH_LEN + 32], echo[CSV_ECHO + 4];
+  double      max_particles;          /* SpamMaxParticles(), once: it asks the kernel (sysinfo) */
 } CsvReader;
 
 static PetscErrorCode SpamFileOptions(SpamFileParams *p)
@@ -206,7 +207,7 @@ static PetscErrorCode ParseParticle(CsvReader *r, const SpamCommonParams *c, con
   PetscCall(CheckInBox(r, c, slots + SLOT_X));
   if ((map->columns & SPAM_COLUMN_M) && !(slots[SLOT_M] > 0.0)) CSV_BAD_LINE(r, "mass must be positive");
   if ((map->columns & SPAM_COLUMN_RHO) && !(slots[SLOT_RHO] > 0.0)) CSV_BAD_LINE(r, "density rho must be positive");
-  if ((map->columns & SPAM_COLUMN_ID) && !(slots[SLOT_ID] >= 0.0 && slots[SLOT_ID] < SpamMaxParticles() && slots[SLOT_ID] == floor(slots[SLOT_ID]))) CSV_BAD_LINE(r, "id must be a whole number from 0 to the particle count - 1");
+  if ((map->columns & SPAM_COLUMN_ID) && !(slots[SLOT_ID] >= 0.0 && slots[SLOT_ID] < r->max_particles && slots[SLOT_ID] == floor(slots[SLOT_ID]))) CSV_BAD_LINE(r, "id must be a whole number from 0 to the particle count - 1");
   PetscFunctionReturn(0);
 }
 
@@ -252,6 +253,7 @@ static PetscErrorCode ReadRows(CsvReader *r, const SpamCommonParams *c, const Sp
   PetscBool    more = PETSC_TRUE;
 
   PetscFunctionBeginUser;
+  r->max_particles = maxn; /* the id check of every line (ParseParticle) */
   *n = 0;
   PetscCall(PetscMalloc1(cap * NSLOTS, rows));
   for (;;) {
