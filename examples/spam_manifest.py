@@ -5,6 +5,8 @@ snapshots) with the run's status: running, ok, max_steps, unstable, interrupted 
 failed. Scripts read that list instead of globbing the directory, so a file left by
 another run is never picked up.
 """
+import functools
+import hashlib
 import json
 import os
 import sys
@@ -88,3 +90,31 @@ def open_run(run_dir, prog, scene=None):
         sys.stderr.write("%s: error: %s\n" % (prog, " ".join(str(exc).split())))
         sys.exit(2)
     return man, summary
+
+
+@functools.lru_cache(maxsize=None)
+def binary_id(binary):
+    """SHA-1 of the spam-ark executable: a run directory remembers the build that made it."""
+    with open(binary, "rb") as f:
+        return hashlib.sha1(f.read()).hexdigest()[:16]
+
+
+def same_build(summary, binary):
+    """Whether a finished run's summary was made by this build of spam-ark: a study rerun
+    after a change to the program must not reuse the old build's runs."""
+    return summary.get("binary_sha1") == binary_id(binary)
+
+
+def remember_build(run_dir, binary, exit_code):
+    """Records the build and exit code in run_dir/summary.json (if the run wrote one), so
+    that a resumed study can reuse the run without running it again."""
+    summ = os.path.join(run_dir, "summary.json")
+    if not os.path.exists(summ):
+        return
+    with open(summ, encoding="utf-8") as fh:
+        s = json.load(fh)
+    s["exit_code"] = exit_code
+    s["binary_sha1"] = binary_id(binary)
+    with open(summ + ".tmp", "w", encoding="utf-8") as fh:
+        json.dump(s, fh, indent=1)
+    os.replace(summ + ".tmp", summ)

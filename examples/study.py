@@ -54,7 +54,6 @@ build/spam-ark. Progress and an ETA are printed as runs finish.
 """
 import argparse
 import csv
-import functools
 import hashlib
 import json
 import math
@@ -133,13 +132,6 @@ class Progress:
               f"  elapsed {el:.0f} s  eta {eta:.0f} s", flush=True)
 
 
-@functools.lru_cache(maxsize=None)
-def binary_id(binary):
-    """SHA-1 of the spam-ark executable: a run directory remembers the build that made it."""
-    with open(binary, "rb") as f:
-        return hashlib.sha1(f.read()).hexdigest()[:16]
-
-
 def spam(binary, args, outdir, refused_ok=False):
     """Runs spam-ark unless outdir already holds a finished run made by this same build of
     spam-ark (a run of another build is stale: the gallery regenerated after a change to the
@@ -148,7 +140,7 @@ def spam(binary, args, outdir, refused_ok=False):
     summ = os.path.join(outdir, "summary.json")
     if spam_manifest.status(outdir) in spam_manifest.FINISHED and os.path.exists(summ):
         s = json.load(open(summ))
-        if s.get("binary_sha1") == binary_id(binary):
+        if spam_manifest.same_build(s, binary):
             return s.get("exit_code", 0), True
     os.makedirs(os.path.dirname(outdir) or ".", exist_ok=True)
     # Not finished (absent, interrupted, failed): run it afresh over whatever is left.
@@ -158,13 +150,7 @@ def spam(binary, args, outdir, refused_ok=False):
         return 2, False
     if p.returncode not in (0, 3):
         raise SystemExit(f"spam-ark failed (exit {p.returncode}): {' '.join(map(str, args))}\n{p.stderr.strip()}")
-    if os.path.exists(summ):  # remember the exit code and the build so a resumed study needs no rerun
-        s = json.load(open(summ))
-        s["exit_code"] = p.returncode
-        s["binary_sha1"] = binary_id(binary)
-        with open(summ + ".tmp", "w") as f:
-            json.dump(s, f, indent=1)
-        os.replace(summ + ".tmp", summ)
+    spam_manifest.remember_build(outdir, binary, p.returncode)  # a resumed study needs no rerun
     return p.returncode, False
 
 

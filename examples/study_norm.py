@@ -74,12 +74,15 @@ def spam(binary, args, outdir):
     """Runs spam-ark unless outdir holds a finished run; returns the summary (None: failed)."""
     summ = os.path.join(outdir, "summary.json")
     if spam_manifest.status(outdir) in spam_manifest.FINISHED and os.path.exists(summ):
-        return json.load(open(summ))
+        s = json.load(open(summ))
+        if spam_manifest.same_build(s, binary):  # another build's run is stale
+            return s
     os.makedirs(os.path.dirname(outdir), exist_ok=True)
     p = subprocess.run([binary] + [str(x) for x in args] + ["-output_dir", outdir, "-output_overwrite"],
                        capture_output=True, text=True)
     if p.returncode not in (0, 3):
         raise SystemExit(f"spam-ark failed (exit {p.returncode}): {' '.join(map(str, args))}\n{p.stderr.strip()}")
+    spam_manifest.remember_build(outdir, binary, p.returncode)
     return json.load(open(summ)) if os.path.exists(summ) else None
 
 
@@ -233,7 +236,7 @@ def readings(a, rows):
         smax = slope([by[("max", n, a.rtol)] for n in sizes], "N", "err_max")
         lines += [f"At rtol {a.rtol:g} the largest particle error under the rms norm is "
                   + ", ".join(f"{ratio[n]:.1f}" for n in sizes)
-                  + f" times the max norm's at N = " + ", ".join(f"{n}^2" for n in sizes)
+                  + " times the max norm's at N = " + ", ".join(f"{n}^2" for n in sizes)
                   + f"; fitted against N it grows as N^{srms:.2f} (rms) and N^{smax:.2f} (max). "
                   "Largest particle error / (rtol h) over N = " + f"{lo}^2 to {hi}^2: "
                   + ", ".join(f"{norm} {min(by[(norm, n, a.rtol)]['err_max_over_rtol_h'] for n in sizes):.2g} to "

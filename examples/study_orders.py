@@ -55,6 +55,8 @@ except ImportError:
     if os.path.realpath(sys.executable) != "/usr/bin/python3" and os.path.exists("/usr/bin/python3"):
         os.execv("/usr/bin/python3", ["/usr/bin/python3"] + sys.argv)
     sys.exit("study_orders.py needs numpy and matplotlib (Debian: python3-numpy python3-matplotlib)")
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import spam_manifest  # noqa: E402
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 KERNELS = ["lucy", "cubic_spline", "wendland_c2", "quintic_spline", "wendland_c4", "wendland_c6"]
@@ -131,7 +133,7 @@ def spam(binary, args, outdir, counts):
     if os.path.exists(summ) and os.path.exists(os.path.join(outdir, "final.csv")) and os.path.exists(argf) \
             and open(argf).read() == line:
         s = json.load(open(summ))
-        if s.get("status") in ("ok", "unstable"):
+        if s.get("status") in ("ok", "unstable") and spam_manifest.same_build(s, binary):
             counts["cached"] += 1
             return s
     counts["ran"] += 1
@@ -143,6 +145,7 @@ def spam(binary, args, outdir, counts):
         sys.exit(f"spam-ark failed (exit {p.returncode}): {' '.join(map(str, args))}\n{p.stderr.strip()}")
     with open(argf, "w") as f:   # the options that made this run: other options run it again
         f.write(line)
+    spam_manifest.remember_build(outdir, binary, p.returncode)  # and the build: another build runs it again
     s = json.load(open(summ))
     if p.returncode == 3 and not os.path.exists(os.path.join(outdir, "final.csv")):
         open(os.path.join(outdir, "final.csv"), "w").close()
