@@ -6,8 +6,16 @@ packages=(build-essential cmake pkg-config libsundials-dev petsc-dev libhdf5-ope
           python3 python3-matplotlib python3-numpy)
 # gcc's sanitizer runtimes for tools/sanitize.sh (libasan8, libubsan1) come with gcc-12
 # (libgcc-12-dev depends on them): nothing more to install.
-# The benchmark's peer; only with --bench (it is large and no test needs it).
-if [[ "${1:-}" == "--bench" ]]; then packages+=(lammps time); fi
+# Optional, each large: --bench adds the benchmark's peer (no test needs it); --paraview adds
+# ParaView with its Python (pvpython) and a virtual X server, for tests/run_paraview.py
+# (which skips without them).
+for flag in "$@"; do
+  case "$flag" in
+    --bench) packages+=(lammps time) ;;
+    --paraview) packages+=(paraview python3-paraview xvfb xauth) ;;
+    *) echo "tools/deps.sh: unknown flag $flag (accepted: --bench, --paraview)" >&2; exit 2 ;;
+  esac
+done
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

@@ -189,7 +189,7 @@ static PetscErrorCode WriteXdmfIndex(SpamOutput *o, const SpamGrid *g, const Spa
   Reversed(dx, sizeof dx, g, g->spacing, 1.0);
   PetscCall(SpamOutputPath(o, "grid.xmf", path, sizeof path));
   PetscCall(SpamFileBegin(path, x));
-  SpamFilePrintf(x, "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n    <Grid Name=\"grid\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
+  SpamFilePrintf(x, "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n    <Information Name=\"units\" Value=\"%s\"/>\n    <Grid Name=\"grid\" GridType=\"Collection\" CollectionType=\"Temporal\">\n", SPAM_UNITS_CONVENTION);
   for (int k = 0; k < o->grid.n; k++) {
     SpamFilePrintf(x, "    <Grid Name=\"grid_%05d\" GridType=\"Uniform\">\n      <Time Value=\"%.10g\"/>\n", k, o->grid.times[k]);
     SpamFilePrintf(x, "      <Topology TopologyType=\"%s\" Dimensions=\"%s\"/>\n", rank == 3 ? "3DCoRectMesh" : "2DCoRectMesh", dims);

@@ -1,6 +1,6 @@
 /* What an HDF5 snapshot carries so that a reader can use it alone (the file scene reads it
  * back, scene_file_hdf5.c): root attributes time, step, dim, box_lo, box_len, periodic,
- * kernel_h, units, version and model (a JSON object, model_settings.c). */
+ * kernel_h, units, units_convention, version and model (a JSON object, model_settings.c). */
 #include "snapshot_hdf5.h"
 #include <errno.h>
 #include <spam/version.h>
@@ -46,6 +46,7 @@ herr_t SpamSnapshotAttributes(hid_t file, const SpamSim *sim, double t, long ste
   if (Attribute(file, "periodic", H5T_STD_I32LE, H5T_NATIVE_INT, (hsize_t)dim, periodic) < 0) return -1;
   if (Attribute(file, "kernel_h", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 0, &sim->model.kernel.h) < 0) return -1;
   if (StringAttribute(file, "units", "reduced") < 0) return -1;
+  if (StringAttribute(file, "units_convention", SPAM_UNITS_CONVENTION) < 0) return -1;
   if (StringAttribute(file, "version", "spam-ark " SPAM_VERSION) < 0) return -1;
   return StringAttribute(file, "model", model);
 }

@@ -5,8 +5,16 @@
 #include <spam/output.h>
 #include <hdf5.h>
 
-/* Root attributes time, step, dim, box_lo, box_len, periodic, kernel_h, units, version and
- * model (the JSON of SpamModelSettingsJson). */
+/* What the numbers of every output mean, written into each HDF5 file (root attribute
+ * units_convention) and the XDMF indexes (Information "units") so that a reader needs no
+ * README. Plain ASCII without quotes or angle brackets: it goes into XML as is. */
+#define SPAM_UNITS_CONVENTION \
+  "reduced units: no physical units, numbers as the options give them: lengths as -box_len and -h " \
+  "(the scenes' lattice spacing is 1), masses as -mass (default 1), the time unit the one these and " \
+  "the model's constants (eos_kappa, spring and elastic constants) make; Boltzmann's k = 1; density " \
+  "is mass per length^dim, energy e per unit mass, stress = -pressure (tension positive)"
+/* Root attributes time, step, dim, box_lo, box_len, periodic, kernel_h, units ("reduced"),
+ * units_convention, version and model (the JSON of SpamModelSettingsJson). */
 herr_t SpamSnapshotAttributes(hid_t file, const SpamSim *sim, double t, long step, const char *model);
 /* Attribute carried of /density: 1 when the density is state (the file scene reads it
  * back), 0 when summed from the positions (derived, not read). */

@@ -191,11 +191,29 @@ static void XdmfItem(SpamFile *f, PetscInt n, int ncomp, int snap, const char *s
   else SpamFilePrintf(f, "        <DataItem Dimensions=\"%" PetscInt_FMT "\" NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">snap_%05d.h5:%s</DataItem>\n", n, snap, set);
 }
 
+/* The 64-bit ids, as the point cloud's connectivity and as an attribute. */
+static void XdmfIdItem(SpamFile *f, PetscInt n, int snap)
+{
+  SpamFilePrintf(f, "        <DataItem Dimensions=\"%" PetscInt_FMT "\" NumberType=\"Int\" Precision=\"8\" Format=\"HDF\">snap_%05d.h5:/id</DataItem>\n", n, snap);
+}
+
 static void XdmfAttribute(SpamFile *f, PetscInt n, int snap, const char *name, const char *type, int ncomp, const char *set)
 {
   SpamFilePrintf(f, "      <Attribute Name=\"%s\" AttributeType=\"%s\" Center=\"Node\">\n", name, type);
-  XdmfItem(f, n, ncomp, snap, set);
+  if (!strcmp(set, "/id")) XdmfIdItem(f, n, snap);
+  else XdmfItem(f, n, ncomp, snap, set);
   SpamFilePrintf(f, "      </Attribute>\n");
+}
+
+/* One vertex cell per particle. The connectivity must be written out: ParaView's Xdmf3
+ * reader makes no cells from a Polyvertex without it (an empty view), while the legacy
+ * XDMF reader numbered the nodes itself. Row r of a snapshot holds the particle of id r
+ * (FieldsGather), so /id is that list 0..n-1 and no further dataset is needed. */
+static void XdmfTopology(SpamFile *f, PetscInt n, int snap)
+{
+  SpamFilePrintf(f, "      <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"%" PetscInt_FMT "\" NodesPerElement=\"1\">\n", n);
+  XdmfIdItem(f, n, snap);
+  SpamFilePrintf(f, "      </Topology>\n");
 }
 
 /* Rewrites the whole index so that it always lists exactly the snapshots on disk. */
@@ -207,14 +225,17 @@ static PetscErrorCode WriteXdmfIndex(SpamOutput *o, const SpamLayout *l, PetscIn
   PetscFunctionBeginUser;
   PetscCall(SpamOutputPath(o, "snapshots.xmf", path, sizeof path));
   PetscCall(SpamFileBegin(path, f));
-  SpamFilePrintf(f, "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n    <Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n");
+  SpamFilePrintf(f, "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n  <Domain>\n    <Information Name=\"units\" Value=\"%s\"/>\n    <Grid Name=\"particles\" GridType=\"Collection\" CollectionType=\"Temporal\">\n", SPAM_UNITS_CONVENTION);
   for (int s = 0; s < o->nsnap; s++) {
     SpamFilePrintf(f, "    <Grid Name=\"snap_%05d\" GridType=\"Uniform\">\n      <Time Value=\"%.10g\"/>\n", s, o->snap_times[s]);
-    SpamFilePrintf(f, "      <Topology TopologyType=\"Polyvertex\" NumberOfElements=\"%" PetscInt_FMT "\" NodesPerElement=\"1\"/>\n      <Geometry GeometryType=\"XYZ\">\n", n);
+    XdmfTopology(f, n, s);
+    SpamFilePrintf(f, "      <Geometry GeometryType=\"XYZ\">\n");
     XdmfItem(f, n, 3, s, "/positions");
     SpamFilePrintf(f, "      </Geometry>\n");
     XdmfAttribute(f, n, s, "velocity", "Vector", 3, "/velocities");
     XdmfAttribute(f, n, s, "density", "Scalar", 1, "/density");
+    XdmfAttribute(f, n, s, "mass", "Scalar", 1, "/mass");
+    XdmfAttribute(f, n, s, "id", "Scalar", 1, "/id");
     if (l->e >= 0) XdmfAttribute(f, n, s, "energy", "Scalar", 1, "/energy");
     if (l->s >= 0) XdmfAttribute(f, n, s, "stress", "Tensor6", 6, "/stress");
     SpamFilePrintf(f, "    </Grid>\n");
