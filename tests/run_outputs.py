@@ -75,7 +75,7 @@ solid_dir = os.path.join(a.workdir, "solid")
 code, _, err = run(a.spam_ark, ["-scene", "rotor", "-rotor_n", 2, "-ts_max_time", 1, "-snapshot_interval", 1,
                                 "-snapshot_csv", "-output_dir", solid_dir], solid_dir)
 attrs = {e.get("Name"): e.get("AttributeType") for e in ET.parse(os.path.join(solid_dir, "snapshots.xmf")).getroot().iter("Attribute")} if code == 0 else {}
-c.check(attrs == {"velocity": "Vector", "density": "Scalar", "energy": "Scalar", "stress": "Tensor6"}, f"solid XDMF attributes {attrs} {err.strip()}")
+c.check(attrs == {"velocity": "Vector", "density": "Scalar", "mass": "Scalar", "id": "Scalar", "energy": "Scalar", "stress": "Tensor6"}, f"solid XDMF attributes {attrs} {err.strip()}")
 if code == 0 and shutil.which("h5dump"):
     dump = subprocess.run(["h5dump", "-m", "%.17g", "-d", "/stress", "-y", "-w", "0", os.path.join(solid_dir, "snap_00001.h5")], capture_output=True, text=True).stdout
     h5 = [float(x) for x in re.findall(r"-?\d+\.?\d*(?:e[-+]?\d+)?", dump.split("DATA {")[1].split("}")[0])]

@@ -167,7 +167,7 @@ code, _, err = read_back("h5_dim", h5, ["-dim", 3])
 c.check(code == 2 and "add -dim 2" in err, f"-dim other than the snapshot's refused: {err[:160]}")
 if shutil.which("h5dump"):
     dump = subprocess.run(["h5dump", "-A", h5], capture_output=True, text=True).stdout
-    names = ("time", "step", "dim", "box_lo", "box_len", "periodic", "kernel_h", "units", "version", "model")
+    names = ("time", "step", "dim", "box_lo", "box_len", "periodic", "kernel_h", "units", "units_convention", "version", "model")
     missing = [n for n in names if f'ATTRIBUTE "{n}"' not in dump]
     model = dump.split('ATTRIBUTE "model"')[1].split("(0): ", 1)[1].split("\n")[0].strip() if not missing else '""'
     settings = json.loads(model[1:-1])  # h5dump quotes the string without escaping it
