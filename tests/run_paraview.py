@@ -2,8 +2,9 @@
 snapshots.xmf and grid.xmf with the Xdmf3 reader and with the legacy XDMF reader; at the
 last time each gives as many points as the HDF5 file has rows, one vertex cell per particle
 (the Xdmf3 reader drew nothing when the Polyvertex topology had no connectivity) or the
-grid's cells, and the density range of the HDF5 file (h5dump) to rounding; the Xdmf3
-view of the particles is rendered to a PNG that is not blank. Skips (exit 77) without
+grid's cells, and the density range of the HDF5 file (h5dump) to rounding; an elastic
+solid's energy and stress come through (Tensor6: 6 components in Xdmf3, 9 in the legacy
+reader); the Xdmf3 view of the particles is rendered to a PNG that is not blank. Skips (exit 77) without
 pvpython or xvfb-run: `tools/deps.sh --paraview` installs them."""
 import json
 import os
@@ -27,10 +28,12 @@ for path, reader_name, png in json.loads(sys.argv[1]):
         times = list(reader.TimestepValues)
         reader.UpdatePipeline(times[-1])
         info = reader.GetDataInformation()
-        names = [reader.PointData.GetArray(i).GetName() for i in range(len(reader.PointData))]
+        arrays = [reader.PointData.GetArray(i) for i in range(len(reader.PointData))]
+        names = [x.GetName() for x in arrays]
         rho = reader.PointData["density" if "density" in names else "rho"]
         out = {"times": times, "points": info.GetNumberOfPoints(), "cells": info.GetNumberOfCells(),
-               "range": list(rho.GetRange()), "arrays": names}
+               "range": list(rho.GetRange()), "arrays": names,
+               "components": {x.GetName(): x.GetNumberOfComponents() for x in arrays}}
         if png != "-":
             view = simple.CreateView("RenderView")
             view.ViewTime = times[-1]
@@ -95,6 +98,13 @@ def agree(got, want):
     return all(abs(g - w) <= 1e-12 * abs(w) for g, w in zip(got, want))
 
 
+# An elastic solid (the 2D rotor, 19 particles) also carries energy and the stress (Tensor6).
+solid_dir = os.path.join(a.workdir, "solid")
+code, _, err = run(a.spam_ark, ["-scene", "rotor", "-rotor_n", 2, "-ts_max_time", 1, "-snapshot_interval", 1], solid_dir)
+c.check(code == 0, f"solid run exits 0 {err.strip()[:200]}")
+solid_xmf = os.path.join(solid_dir, "snapshots.xmf")
+solid_rho = h5_values(os.path.join(solid_dir, "snap_00001.h5"), "/density") if code == 0 else []
+
 # The index as it was before issue 17 (Polyvertex without connectivity): the control that
 # shows the cell count can fail. The Xdmf3 reader makes no cells of it.
 xmf = os.path.join(run_dir, "snapshots.xmf")
@@ -107,7 +117,7 @@ with open(old_xmf, "w") as f:
 png = os.path.join(a.workdir, "snapshots_xdmf3.png")
 grid_xmf = os.path.join(run_dir, "grid.xmf")
 jobs = [[xmf, "Xdmf3ReaderS", png], [grid_xmf, "Xdmf3ReaderS", "-"], [xmf, "XDMFReader", "-"], [grid_xmf, "XDMFReader", "-"],
-        [old_xmf, "Xdmf3ReaderS", "-"]]
+        [old_xmf, "Xdmf3ReaderS", "-"], [solid_xmf, "Xdmf3ReaderS", "-"], [solid_xmf, "XDMFReader", "-"]]
 reads = pv(jobs)
 for (path, reader, _), r in zip(jobs[:4], reads):
     ok = isinstance(r, dict)
@@ -123,6 +133,15 @@ for (path, reader, _), r in zip(jobs[:4], reads):
 r = reads[4]
 c.check(isinstance(r, dict) and r["points"] == n and r["cells"] == 0,
         f"control: Xdmf3ReaderS on the index without connectivity reads {r if not isinstance(r, dict) else r['cells']} cells (0 expected: the empty view)")
+
+# The Xdmf3 reader keeps the 6 components of a Tensor6, the legacy reader makes the full 3 x 3.
+for r, reader, stress in zip(reads[5:], ("Xdmf3ReaderS", "XDMFReader"), (6, 9)):
+    ok = isinstance(r, dict)
+    c.check(ok and r["times"] == [0, 1] and r["points"] == r["cells"] == len(solid_rho) == 19
+            and agree(r["range"], [min(solid_rho), max(solid_rho)])
+            and r["components"].get("energy") == 1 and r["components"].get("stress") == stress,
+            f"{reader} on the solid's snapshots.xmf: {({k: r[k] for k in ('times', 'points', 'cells', 'components')} if ok else r)}"
+            f" (want 19 points and cells, energy, stress of {stress} components)")
 
 # The render: the particles drawn, i.e. pixels other than the background (the corner's colour);
 # a particle is 4 x 4 pixels, so at least one pixel each even where they overlap.
