@@ -86,6 +86,15 @@ if code == 0 and shutil.which("h5dump"):
     c.check(len(h5) == len(csv6) == 6 * 19 and max(abs(u - w) for u, w in zip(h5, csv6)) < 1e-12 and max(map(abs, csv6)) > 0,
             f"stress of {len(csv6) // 6} particles, HDF5 = CSV, max |sigma| {max(map(abs, csv6)) if csv6 else 0:.3g}")
 
+# Read alone (h5py, h5dump): the columns of the [n][k] datasets are named, and the units.
+if code == 0 and shutil.which("h5dump"):
+    h5 = os.path.join(solid_dir, "snap_00001.h5")
+    named = {d: subprocess.run(["h5dump", "-a", f"{d}/components", h5], capture_output=True, text=True).stdout
+             for d in ("/positions", "/velocities", "/stress")}
+    units = subprocess.run(["h5dump", "-a", "units_convention", h5], capture_output=True, text=True).stdout
+    c.check('"x,y,z' in named["/positions"] and '"vx,vy,vz' in named["/velocities"] and '"sxx,sxy,sxz,syy,syz,szz' in named["/stress"]
+            and "reduced units" in units, f"HDF5 datasets name their components and the file its units: {units.split('(0): ')[-1][:60]}...")
+
 # The chart of the run.
 png = os.path.join(run_dir, "expansion.png")
 p = subprocess.run([sys.executable, os.path.join(root, "examples", "plot_expansion.py"), run_dir, "-o", png],

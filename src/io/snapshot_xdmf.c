@@ -20,7 +20,9 @@ typedef struct {
 
 #define PetscCallH5(h, call) SpamCallH5((h)->path, call)
 
-static PetscErrorCode WriteDataset(H5Out *h, const char *name, const double *data, hsize_t n, hsize_t ncomp)
+/* components (or NULL for a scalar) names the columns of an [n][ncomp] dataset, e.g. the
+ * order of the stress's six, so that a script reading the file alone needs no index. */
+static PetscErrorCode WriteDataset(H5Out *h, const char *name, const double *data, hsize_t n, hsize_t ncomp, const char *components)
 {
   hsize_t dims[2] = {n, ncomp};
   hid_t   space, set;
@@ -40,6 +42,11 @@ static PetscErrorCode WriteDataset(H5Out *h, const char *name, const double *dat
     (void)H5Dclose(set);
     (void)H5Sclose(space);
     errno = e;
+    PetscCall(SpamH5Failed(h->path));
+  }
+  if (components && SpamH5StringAttribute(set, "components", components) < 0) {
+    (void)H5Dclose(set);
+    (void)H5Sclose(space);
     PetscCall(SpamH5Failed(h->path));
   }
   PetscCallH5(h, H5Dclose(set));
@@ -112,15 +119,15 @@ static PetscErrorCode WriteIds(H5Out *h, const long long *id, hsize_t n)
 static PetscErrorCode FieldsWrite(H5Out *h, const Fields *f, hsize_t n)
 {
   PetscFunctionBeginUser;
-  PetscCall(WriteDataset(h, "/positions", f->x, n, 3));
-  PetscCall(WriteDataset(h, "/velocities", f->v, n, 3));
-  PetscCall(WriteDataset(h, "/density", f->rho, n, 1));
+  PetscCall(WriteDataset(h, "/positions", f->x, n, 3, "x,y,z (0 beyond dim)"));
+  PetscCall(WriteDataset(h, "/velocities", f->v, n, 3, "vx,vy,vz (0 beyond dim)"));
+  PetscCall(WriteDataset(h, "/density", f->rho, n, 1, NULL));
   PetscCallH5(h, SpamSnapshotDensityCarried(h->file, f->carried));
-  PetscCall(WriteDataset(h, "/mass", f->m, n, 1));
+  PetscCall(WriteDataset(h, "/mass", f->m, n, 1, NULL));
   PetscCall(WriteIds(h, f->id, n));
   PetscCallH5(h, SpamSnapshotAttributes(h->file, h->sim, f->t, f->step, f->model));
-  if (f->e) PetscCall(WriteDataset(h, "/energy", f->e, n, 1));
-  if (f->s6) PetscCall(WriteDataset(h, "/stress", f->s6, n, 6));
+  if (f->e) PetscCall(WriteDataset(h, "/energy", f->e, n, 1, NULL));
+  if (f->s6) PetscCall(WriteDataset(h, "/stress", f->s6, n, 6, "sxx,sxy,sxz,syy,syz,szz (ParaView's Tensor6 order; 0 beyond dim)"));
   PetscFunctionReturn(0);
 }
 
