@@ -207,8 +207,14 @@ static void XdmfIdItem(SpamFile *f, PetscInt n, int snap)
 static void XdmfAttribute(SpamFile *f, PetscInt n, int snap, const char *name, const char *type, int ncomp, const char *set)
 {
   SpamFilePrintf(f, "      <Attribute Name=\"%s\" AttributeType=\"%s\" Center=\"Node\">\n", name, type);
-  if (!strcmp(set, "/id")) XdmfIdItem(f, n, snap);
-  else XdmfItem(f, n, ncomp, snap, set);
+  XdmfItem(f, n, ncomp, snap, set);
+  SpamFilePrintf(f, "      </Attribute>\n");
+}
+
+static void XdmfIdAttribute(SpamFile *f, PetscInt n, int snap)
+{
+  SpamFilePrintf(f, "      <Attribute Name=\"id\" AttributeType=\"Scalar\" Center=\"Node\">\n");
+  XdmfIdItem(f, n, snap);
   SpamFilePrintf(f, "      </Attribute>\n");
 }
 
@@ -242,7 +248,7 @@ static PetscErrorCode WriteXdmfIndex(SpamOutput *o, const SpamLayout *l, PetscIn
     XdmfAttribute(f, n, s, "velocity", "Vector", 3, "/velocities");
     XdmfAttribute(f, n, s, "density", "Scalar", 1, "/density");
     XdmfAttribute(f, n, s, "mass", "Scalar", 1, "/mass");
-    XdmfAttribute(f, n, s, "id", "Scalar", 1, "/id");
+    XdmfIdAttribute(f, n, s);
     if (l->e >= 0) XdmfAttribute(f, n, s, "energy", "Scalar", 1, "/energy");
     if (l->s >= 0) XdmfAttribute(f, n, s, "stress", "Tensor6", 6, "/stress");
     SpamFilePrintf(f, "    </Grid>\n");
