@@ -3,7 +3,8 @@ temporary prefix, then, from other directories and without LD_LIBRARY_PATH:
 - the installed spam-ark runs the README's usage line on an installed options file
   (`-options_file options/expansion.opts`, found in PREFIX/share/spam, and saying so),
   while a file of that name in the working directory wins and a missing one is refused;
-- it needs no library of this project at run time (libspam is static);
+- it needs no library of this project at run time (libspam is static), and libspam.a
+  defines no global symbol outside the Spam prefix;
 - a small consumer program (C, -Wall -Wextra -Werror) built against the installed package
   with find_package(spam) and with pkg-config (spam.pc) prints the version and Lucy's
   kernel, checked against the closed forms: w(0) = 5 / (pi h^2) in 2D and
@@ -88,6 +89,14 @@ needed = [line for line in out.splitlines() if "(NEEDED)" in line]
 c.check(code == 0 and needed and not any("spam" in line for line in needed),
         f"installed spam-ark needs no libspam: {len(needed)} NEEDED entries")
 c.check(build not in out and a.workdir not in out, "installed spam-ark has no RPATH into the build tree or prefix")
+
+# libspam's namespace: every symbol it defines for other objects is Spam* (the rest is
+# static), so linking it cannot clash with a consumer's or a dependency's names.
+libs = glob.glob(os.path.join(prefix, "lib*", "**", "libspam.a"), recursive=True)
+code, out, err = sh(["nm", "-g", "--defined-only", libs[0]] if libs else ["false"])
+symbols = [f[2] for f in (line.split() for line in out.splitlines()) if len(f) == 3]
+foreign = sorted({s for s in symbols if not s.startswith("Spam")})
+c.check(code == 0 and symbols and not foreign, f"libspam.a defines {len(symbols)} global symbols, none outside Spam*: {foreign[:5]}")
 
 # The README's usage line from an empty directory: the installed options file is read.
 elsewhere = os.path.join(a.workdir, "elsewhere")
