@@ -6,6 +6,8 @@
  * -version ("spam-ark VERSION"), and checks every -options_file argument (and the
  * -options_file lines inside those files) the way PETSc would read it, so that a missing,
  * unreadable or malformed file is one line of bad input, not PETSc's abort. Returns -1 to
- * go on, else the exit code (0 after -version, 2 after printing the bad input). */
+ * go on, else the exit code (0 after -version, 2 after printing the bad input). An
+ * installed spam-ark reads a relative -options_file missing from the working directory from
+ * its share directory ($PREFIX/share/spam/options/...), saying so (core/argv_check.c). */
 int SpamArgvCheck(int argc, char **argv);
 #endif

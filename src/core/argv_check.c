@@ -9,6 +9,7 @@
 #include <errno.h>
 #include <stdarg.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 #define OPTIONS_FILE_DEPTH 8 /* -options_file inside options files, this deep at most */
 
@@ -85,6 +86,42 @@ static int CheckFile(const char *path, int depth)
   return rc;
 }
 
+/* An installed spam-ark (CMakeLists.txt, "Install") runs the options files shipped with it
+ * by the names README.md gives them, options/expansion.opts, from any directory: a relative
+ * -options_file that is not in the working directory is looked up in the share directory
+ * found from the executable's own path (bin/../share/spam), so a relocated install works.
+ * A file in the working directory always wins; the build tree has no such directory. On
+ * success argv[i] points to the installed file's path (allocated once, kept like argv) and
+ * a note says which file is read: no option file is taken in silence. */
+static void UseInstalledOptionsFile(char **arg)
+{
+#ifdef SPAM_SHARE_FROM_BIN
+  char        exe[4096], path[4096 + 256];
+  struct stat st;
+  ssize_t     len;
+  char       *slash, *copy;
+
+  if ((*arg)[0] == '/' || !stat(*arg, &st) || errno != ENOENT) return;
+  len = readlink("/proc/self/exe", exe, sizeof exe - 1);
+  if (len <= 0 || (size_t)len >= sizeof exe - 1) return;
+  exe[len] = 0;
+  if (!(slash = strrchr(exe, '/'))) return;
+  *slash = 0;
+  if ((size_t)snprintf(path, sizeof path, "%s/%s/%s", exe, SPAM_SHARE_FROM_BIN, *arg) >= sizeof path) return;
+  if (stat(path, &st) || !S_ISREG(st.st_mode) || !(copy = strdup(path))) return;
+  {
+    char name[300], shown[1200];
+
+    SpamEscape(*arg, name, sizeof name);
+    SpamEscape(path, shown, sizeof shown);
+    fprintf(stderr, "spam-ark: note: -options_file %s is not in the working directory: reading the installed %s\n", name, shown);
+  }
+  *arg = copy;
+#else
+  (void)arg;
+#endif
+}
+
 int SpamArgvCheck(int argc, char **argv)
 {
   for (int i = 1; i < argc; i++) {
@@ -100,6 +137,7 @@ int SpamArgvCheck(int argc, char **argv)
   for (int i = 1; i < argc; i++) {
     if (strcmp(argv[i], "-options_file")) continue;
     if (i + 1 >= argc || !argv[i + 1][0] || argv[i + 1][0] == '-') return Refuse("-options_file: needs a file name (-options_file FILE)");
+    UseInstalledOptionsFile(&argv[i + 1]);
     {
       const int rc = CheckFile(argv[i + 1], 0);
       if (rc >= 0) return rc;
