@@ -7,6 +7,7 @@
 #include <petscts.h>
 #include <spam/run.h>
 #include <spam/weights.h>
+#include <arkode/arkode_erkstep.h>
 
 #define SPAM_TSARKODE "arkode"
 #define SPAM_TSCVODE  "cvode"
@@ -45,6 +46,10 @@ typedef struct {
   /* kick-drift-kick: the force at the end of a step is the force at the next start */
   double               *xcache, *acache;
   PetscBool             cache_valid;
+  /* rk: the state at the start of the step, for a rejected step's retry */
+  Vec                   ystart;
+  PetscInt              ystart_step, ystart_reject;
+  double                ystart_t;
 } SpamTsApp;
 
 /* SUNDIALS callbacks shared by the arkode and cvode types (user data: a SpamTsApp). */
@@ -65,6 +70,56 @@ PetscErrorCode SpamTSARKodeGetSettings(TS ts, const SpamArkodeSettings **s);
  * the chosen type's), so -help shows every option of spam-ark with its default. */
 PetscErrorCode SpamTSSundialsHelp(TS ts, const SpamRunOptions *o);
 PetscErrorCode SpamCVodeOptionsRead(PetscOptionItems *PetscOptionsObject, PetscInt *max_order, PetscBool *stats);
+
+/* What a restarted arkode run needs to continue bit for bit: the next step size, the
+ * controller's error and step history (ERKStep's ehist, hhist after the last accepted
+ * step) and the steps accepted so far (the Gustafsson controllers' first-step form). */
+typedef struct {
+  double h_next, ehist[2], hhist[2];
+  long   accepted;
+} SpamArkodeHistory;
+/* After an accepted step: what a restart needs to continue bit for bit. */
+PetscErrorCode SpamTSARKodeGetHistory(TS ts, SpamArkodeHistory *h);
+/* On a freshly set-up arkode TS whose time and solution are the checkpoint's (TSSetTime
+ * and the state copied into the solution; before or after TSSetUp: ERKStep is
+ * re-initialised from them here): the first step is h_next, the controller uses the saved
+ * history until ARKODE's own catches up, and the first step's growth limit is the
+ * ordinary one (not ARKODE's larger first-step growth). */
+PetscErrorCode SpamTSARKodeSetHistory(TS ts, const SpamArkodeHistory *h);
+/* Whether the state after the last step may be checkpointed: always for other types; for
+ * arkode only if that step did not end on the stop time (its output is then ARKODE's
+ * interpolant, not y_n) and no clamp to the stop time is pending for the next step
+ * (ERKStep then takes h eta, not the reported step): t + h_next < tstop (1 - 1e-12). */
+PetscErrorCode SpamTSARKodeCheckpointable(TS ts, PetscBool *ok);
+
+/* ERKStep's built-in controllers (pid, pi, i, expgus, impgus with their default or
+ * -arkode_adapt_params gains, order p) as an ARKAdaptFn that carries its own history
+ * across a restart (arkode_controller.c). The arkode type always uses it. */
+typedef struct {
+  int               method; /* SpamArkodeAdaptMethod                                */
+  double            k[3];   /* gains                                                */
+  double            growth; /* largest growth after a step (-arkode_max_growth)     */
+  void             *mem;    /* the ERKStep it controls                              */
+  SpamArkodeHistory saved;  /* stands in while ERKStep's own history is blank       */
+  double            last_e[2], last_h[2]; /* (e1, e2), (h1, h2) of the last attempt */
+} SpamArkodeController;
+PetscErrorCode SpamArkodeControllerSetUp(SpamArkodeController *c, const SpamArkodeSettings *s, void *mem);
+int            SpamArkodeControllerAdapt(N_Vector y, realtype t, realtype h1, realtype h2, realtype h3, realtype e1, realtype e2, realtype e3, int q, int p, realtype *hnew, void *data);
+PetscErrorCode SpamArkodeControllerGet(const SpamArkodeController *c, SpamArkodeHistory *h);
+PetscErrorCode SpamArkodeControllerResume(SpamArkodeController *c, const SpamArkodeHistory *h);
+/* ARKODE's table by name, with the last stage time moved off 1 for tables whose last
+ * stage is not the solution (see ts_arkode.c): what the arkode type hands ERKStep. */
+PetscErrorCode SpamArkodeLoadTable(const char *name, ARKodeButcherTable *B);
+
+/* Deterministic linear combinations (det_combination.c): sums that skip zero coefficients
+ * and add the terms in index order, so that a combination does not depend on how many
+ * vectors it has. On the N_Vector (its clones inherit it) for ERKStep; on the Vec's maxpy
+ * (its duplicates inherit it) for PETSc's rk. */
+PetscErrorCode SpamNVectorDeterministic(N_Vector y);
+PetscErrorCode SpamVecDeterministicMAXPY(Vec X);
+/* PETSc's rk undoes a rejected step by subtraction, which does not give back y_n bit for
+ * bit; this restores the step's start state itself before the retried step. */
+PetscErrorCode SpamTSRKExactRollback(TS ts, SpamTsApp *app);
 
 /* Registers "arkode", "cvode" and the Verlet schemes "kdk" and "dkd"; call once. */
 PetscErrorCode SpamIntegratorsRegister(void);

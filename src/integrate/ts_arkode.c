@@ -11,10 +11,12 @@
 #define ARK_CFL_FRACTION 0.5
 
 typedef struct {
-  SUNContext         sunctx;
-  N_Vector           y;
-  void              *mem;
-  SpamArkodeSettings set; /* the type's options (arkode_options.c) */
+  SUNContext           sunctx;
+  N_Vector             y;
+  void                *mem;
+  SpamArkodeSettings   set;       /* the type's options (arkode_options.c)            */
+  SpamArkodeController ctl;       /* the step controller (arkode_controller.c)        */
+  int                  last_flag; /* ERKStepEvolve's return of the last step          */
 } TS_SpamARKode;
 
 /* ERKStep's stability function: the physical (CFL, force) bound of the current state. */
@@ -36,18 +38,16 @@ static int ArkStability(N_Vector y, realtype t, realtype *hstab, void *data)
   return 0;
 }
 
-static PetscErrorCode ConfigureController(void *mem, const SpamArkodeSettings *o)
+/* The controller is always our copy of ARKODE's (arkode_controller.c), never the built-in
+ * one, so that a run with checkpoints takes the steps of a run without. */
+static PetscErrorCode ConfigureController(void *mem, const SpamArkodeSettings *o, SpamArkodeController *ctl)
 {
   PetscFunctionBeginUser;
   if (o->fixed_step > 0) {
     PetscCallARK(ERKStepSetFixedStep(mem, o->fixed_step));
     PetscFunctionReturn(0);
   }
-  {
-    realtype  k[3] = {o->adapt_params[0], o->adapt_params[1], o->adapt_params[2]};
-    const int use_default = o->n_adapt_params == 0;
-    PetscCallARK(ERKStepSetAdaptivityMethod(mem, SpamArkodeAdaptMethod(o->adapt), use_default, 0, k));
-  }
+  PetscCall(SpamArkodeControllerSetUp(ctl, o, mem));
   if (o->safety > 0) PetscCallARK(ERKStepSetSafetyFactor(mem, o->safety));
   if (o->max_growth > 0) PetscCallARK(ERKStepSetMaxGrowth(mem, o->max_growth));
   if (o->max_first_growth > 0) PetscCallARK(ERKStepSetMaxFirstGrowth(mem, o->max_first_growth));
@@ -63,7 +63,7 @@ static PetscErrorCode ConfigureController(void *mem, const SpamArkodeSettings *o
  * in a plain RK loop give their nominal orders. Our right-hand side does not depend on t,
  * so moving that stage's time to 1 - 1e-6 changes nothing but the reuse. True FSAL tables
  * (Dormand-Prince: last row = b) keep the reuse. */
-static PetscErrorCode LoadTable(const char *name, ARKodeButcherTable *B)
+PetscErrorCode SpamArkodeLoadTable(const char *name, ARKodeButcherTable *B)
 {
   PetscBool fsal = PETSC_TRUE;
   int       s;
@@ -93,13 +93,16 @@ static PetscErrorCode TSSetUp_SpamARKode(TS ts)
    * instead of k VecAXPY passes over memory (clones inherit the setting). */
   PetscCheck(N_VEnableFusedOps_Petsc(ark->y, SUNTRUE) == 0, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "N_VEnableFusedOps_Petsc failed");
   PetscCall(SpamErrorNormAttach(ark->y, app->o->error_norm)); /* -error_norm: cloned with y */
+  /* Stages and solution summed term by term (det_combination.c): an FSAL table's last
+   * stage is then y_n+1 bit for bit, which a restart needs. */
+  PetscCall(SpamNVectorDeterministic(ark->y));
   ark->mem = ERKStepCreate(SpamSundialsRhs, ts->ptime, ark->y, ark->sunctx);
   PetscCheck(ark->mem, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "ERKStepCreate failed");
   PetscCallARK(ERKStepSetUserData(ark->mem, app));
   PetscCallARK(ERKStepSetErrHandlerFn(ark->mem, SpamSundialsErrHandler, app));
   {
     ARKodeButcherTable B;
-    PetscCall(LoadTable(ark->set.table, &B));
+    PetscCall(SpamArkodeLoadTable(ark->set.table, &B));
     PetscCallARK(ERKStepSetTable(ark->mem, B)); /* ERKStep keeps a copy */
     ARKodeButcherTable_Free(B);
   }
@@ -108,7 +111,7 @@ static PetscErrorCode TSSetUp_SpamARKode(TS ts)
   PetscCallARK(ERKStepSetMaxNumSteps(ark->mem, -1)); /* the loop counts steps itself */
   /* -ts_max_reject means the same for every method: rejections of one step before it fails. */
   if (ts->max_reject > 0) PetscCallARK(ERKStepSetMaxErrTestFails(ark->mem, (int)ts->max_reject));
-  PetscCall(ConfigureController(ark->mem, &ark->set));
+  PetscCall(ConfigureController(ark->mem, &ark->set, &ark->ctl));
   if (ark->set.fixed_step <= 0 && app->o->dt_first > 0) PetscCallARK(ERKStepSetInitStep(ark->mem, app->o->dt_first));
   if (ark->set.fixed_step <= 0 && (app->o->cfl > 0 || app->o->force > 0)) {
     PetscCallARK(ERKStepSetStabilityFn(ark->mem, ArkStability, app));
@@ -132,7 +135,8 @@ static PetscErrorCode TSStep_SpamARKode(TS ts)
   if (ts->steprestart && ts->steps > 0) PetscCallARK(ERKStepReset(ark->mem, ts->ptime, ark->y));
   ts->steprestart = PETSC_FALSE;
   PetscCallARK(ERKStepSetStopTime(ark->mem, ts->max_time)); /* set again after each stop */
-  flag = ERKStepEvolve(ark->mem, ts->max_time, ark->y, &tret, ARK_ONE_STEP);
+  flag           = ERKStepEvolve(ark->mem, ts->max_time, ark->y, &tret, ARK_ONE_STEP);
+  ark->last_flag = flag;
   PetscCall(app->perr);
   if (flag < 0) {
     SpamSundialsFailure(app, "ERKStepEvolve", ERKStepGetReturnFlagName, flag);
@@ -240,6 +244,79 @@ PetscErrorCode SpamTSARKodeGetSettings(TS ts, const SpamArkodeSettings **s)
   PetscFunctionReturn(0);
 }
 
+/* The arkode TS's data, set up (ERKStep created): an error for another type. */
+static PetscErrorCode SetUpArkode(TS ts, TS_SpamARKode **ark)
+{
+  PetscBool arkode;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectTypeCompare((PetscObject)ts, SPAM_TSARKODE, &arkode));
+  PetscCheck(arkode, PetscObjectComm((PetscObject)ts), PETSC_ERR_ARG_WRONG, "not an arkode TS");
+  PetscCall(TSSetUp(ts));
+  *ark = (TS_SpamARKode *)ts->data;
+  PetscCheck((*ark)->mem, PetscObjectComm((PetscObject)ts), PETSC_ERR_ORDER, "the arkode TS has no ERKStep");
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamTSARKodeGetHistory(TS ts, SpamArkodeHistory *h)
+{
+  TS_SpamARKode *ark = NULL;
+  long           nst;
+
+  PetscFunctionBeginUser;
+  PetscCall(SetUpArkode(ts, &ark));
+  if (ark->set.fixed_step <= 0) PetscCall(SpamArkodeControllerGet(&ark->ctl, h));
+  else { /* fixed steps: no history; the step is the option */
+    PetscCallARK(ERKStepGetNumSteps(ark->mem, &nst));
+    h->h_next   = ark->set.fixed_step;
+    h->ehist[0] = h->ehist[1] = 1.0;
+    h->hhist[0] = h->hhist[1] = 0.0;
+    h->accepted = ark->ctl.saved.accepted + nst;
+  }
+  PetscFunctionReturn(0);
+}
+
+/* ERKStep starts again from the TS's time and solution (it was created from the values
+ * they had at TSSetUp), forgetting its counters and history, which the controller then
+ * supplies. The TS's own restart flag is cleared: a restart of the TS's step (TSStep's
+ * ERKStepReset) would only do again what is done here. */
+PetscErrorCode SpamTSARKodeSetHistory(TS ts, const SpamArkodeHistory *h)
+{
+  TS_SpamARKode *ark = NULL;
+
+  PetscFunctionBeginUser;
+  PetscCall(SetUpArkode(ts, &ark));
+  PetscCallARK(ERKStepReInit(ark->mem, SpamSundialsRhs, ts->ptime, ark->y));
+  if (ark->set.fixed_step <= 0) PetscCall(SpamArkodeControllerResume(&ark->ctl, h));
+  else ark->ctl.saved.accepted = h->accepted;
+  ts->time_step   = h->h_next;
+  ts->steprestart = PETSC_FALSE;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamTSARKodeCheckpointable(TS ts, PetscBool *ok)
+{
+  PetscBool      arkode;
+  TS_SpamARKode *ark = NULL;
+  realtype       t, hnext;
+
+  PetscFunctionBeginUser;
+  *ok = PETSC_TRUE;
+  PetscCall(PetscObjectTypeCompare((PetscObject)ts, SPAM_TSARKODE, &arkode));
+  if (!arkode) PetscFunctionReturn(0);
+  PetscCall(SetUpArkode(ts, &ark));
+  if (ark->set.fixed_step > 0) PetscFunctionReturn(0); /* ERKStep's fixed step is not clamped */
+  if (ark->last_flag == ARK_TSTOP_RETURN) {
+    *ok = PETSC_FALSE;
+    PetscFunctionReturn(0);
+  }
+  PetscCallARK(ERKStepGetCurrentTime(ark->mem, &t));
+  PetscCallARK(ERKStepGetCurrentStep(ark->mem, &hnext));
+  /* A clamped step is (tstop - t)(1 - 4 eps): it ends within 1e-12 of tstop. */
+  *ok = (PetscBool)(t + hnext < ts->max_time - 1e-12 * PetscAbsReal(ts->max_time));
+  PetscFunctionReturn(0);
+}
+
 /* Statistics for the summary: step attempts of ERKStep. */
 PetscErrorCode SpamTSARKodeAttempts(TS ts, long *attempts);
 PetscErrorCode SpamTSARKodeAttempts(TS ts, long *attempts)
@@ -254,7 +331,7 @@ PetscErrorCode SpamTSARKodeAttempts(TS ts, long *attempts)
 
 PetscErrorCode SpamTSCreate_ARKode(TS ts)
 {
-  TS_SpamARKode *ark;
+  TS_SpamARKode *ark = NULL;
 
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&ark));

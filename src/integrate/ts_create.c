@@ -148,6 +148,23 @@ static PetscErrorCode CheckRkEmbedded(TS ts)
   PetscFunctionReturn(0);
 }
 
+/* An adaptive rk step that is rejected starts its retry from the exact start state
+ * (rk_rollback.c); a fixed step is never rejected. */
+static PetscErrorCode ExactRollback(TS ts, SpamTsApp *app)
+{
+  TSType      type;
+  TSAdapt     adapt;
+  TSAdaptType atype;
+
+  PetscFunctionBeginUser;
+  PetscCall(TSGetType(ts, &type));
+  if (strcmp(type, TSRK)) PetscFunctionReturn(0);
+  PetscCall(TSGetAdapt(ts, &adapt));
+  PetscCall(TSAdaptGetType(adapt, &atype));
+  if (strcmp(atype, TSADAPTNONE)) PetscCall(SpamTSRKExactRollback(ts, app));
+  PetscFunctionReturn(0);
+}
+
 /* Every run starts at t = 0: the output schedule, the end time and a snapshot's time are
  * measured from there (a snapshot read back starts at 0 again). PETSc's -ts_init_time
  * would move the TS alone, so any other value is refused. */
@@ -185,6 +202,9 @@ PetscErrorCode SpamTSCreate(SpamSim *sim, const SpamRunOptions *o, SpamTsApp *ap
   PetscCall(ChooseType(*ts, type, sizeof type));
   PetscCall(TSSetRHSFunction(*ts, NULL, TsRhs, app));
   if (!strcmp(type, TSBASICSYMPLECTIC)) PetscCall(SpamSymplecticSetUp(*ts, app));
+  /* rk's stages and solution summed term by term (det_combination.c), so that a restart
+   * continues bit for bit; before TSSetUp duplicates X into the stage vectors. */
+  if (!strcmp(type, TSRK)) PetscCall(SpamVecDeterministicMAXPY(sim->X));
   PetscCall(TSSetSolution(*ts, sim->X));
   PetscCall(TSSetTime(*ts, 0.0));
   PetscCall(TSSetMaxTime(*ts, o->t_end));
@@ -215,6 +235,7 @@ PetscErrorCode SpamTSCreate(SpamSim *sim, const SpamRunOptions *o, SpamTsApp *ap
   PetscCall(SpamErrorNormSetTS(*ts, o->error_norm)); /* -error_norm as PETSc's adaptor norm */
   PetscCall(TSSetUp(*ts));
   PetscCall(CheckRkEmbedded(*ts));
+  PetscCall(ExactRollback(*ts, app));
   PetscFunctionReturn(0);
 }
 
@@ -222,6 +243,7 @@ PetscErrorCode SpamTSAppDestroy(SpamTsApp *app)
 {
   PetscFunctionBeginUser;
   if (app->xcache) PetscCall(PetscFree2(app->xcache, app->acache));
+  PetscCall(VecDestroy(&app->ystart));
   PetscFunctionReturn(0);
 }
 
