@@ -46,10 +46,14 @@ typedef struct {
   /* kick-drift-kick: the force at the end of a step is the force at the next start */
   double               *xcache, *acache;
   PetscBool             cache_valid;
-  /* rk: the state at the start of the step, for a rejected step's retry */
+  /* adaptive rk (rk_rollback.c): the state at the start of the step, for a retry after
+   * a rejection, and whether the next RHS call is stage 0 of its first attempt (1) or of
+   * a retry (2), and whether the first attempt's f(y_n) is still in the stage vector */
   Vec                   ystart;
   PetscInt              ystart_step, ystart_reject;
   double                ystart_t;
+  int                   stage0;
+  PetscBool             f0_kept;
 } SpamTsApp;
 
 /* SUNDIALS callbacks shared by the arkode and cvode types (user data: a SpamTsApp). */
@@ -120,6 +124,11 @@ PetscErrorCode SpamVecDeterministicMAXPY(Vec X);
 /* PETSc's rk undoes a rejected step by subtraction, which does not give back y_n bit for
  * bit; this restores the step's start state itself before the retried step. */
 PetscErrorCode SpamTSRKExactRollback(TS ts, SpamTsApp *app);
+/* In the RHS of a PETSc method: whether this call is stage 0 of a retried rk step whose
+ * output vector still holds f(y_n) from the first attempt (then the call must leave it),
+ * and the bookkeeping after a call that did evaluate. */
+PetscBool SpamTSRKKeepStageZero(SpamTsApp *app);
+void      SpamTSRKEvaluated(SpamTsApp *app);
 
 /* Registers "arkode", "cvode" and the Verlet schemes "kdk" and "dkd"; call once. */
 PetscErrorCode SpamIntegratorsRegister(void);
@@ -131,6 +140,9 @@ PetscErrorCode SpamSymplecticRegister(void);
  * input) with the RHS, tolerances and, for basicsymplectic, the position/momentum split. */
 PetscErrorCode SpamTSCreate(SpamSim *sim, const SpamRunOptions *o, SpamTsApp *app, TS *ts);
 PetscErrorCode SpamTSAppDestroy(SpamTsApp *app);
+/* A restart: the velocity scale of the run's start (app->w.vscale, which SpamTSCreate takes
+ * from the sound speed of the state it finds), for the error weights and tolerances. */
+PetscErrorCode SpamTSSetVelocityScale(TS ts, SpamTsApp *app, double c0);
 /* Splits for basicsymplectic; refuses (bad input) a model whose state is more than r, v. */
 PetscErrorCode SpamSymplecticSetUp(TS ts, SpamTsApp *app);
 /* Makes VecGetSubVector on X (and on vectors duplicated from it later) reuse one

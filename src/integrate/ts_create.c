@@ -40,6 +40,7 @@ static PetscErrorCode TsRhs(TS ts, PetscReal t, Vec X, Vec F, void *ctx)
 
   PetscFunctionBeginUser;
   (void)ts;
+  if (SpamTSRKKeepStageZero(app)) PetscFunctionReturn(0); /* F holds f(y_n): rk_rollback.c */
   PetscCall(VecGetArrayRead(X, &x));
   PetscCall(VecGetArrayWrite(F, &f));
   PetscCall(SpamRhs(app->sim, x, f, &bad));
@@ -54,6 +55,7 @@ static PetscErrorCode TsRhs(TS ts, PetscReal t, Vec X, Vec F, void *ctx)
   }
   PetscCall(VecRestoreArrayWrite(F, &f));
   PetscCall(VecRestoreArrayRead(X, &x));
+  SpamTSRKEvaluated(app);
   PetscFunctionReturn(0);
 }
 
@@ -236,6 +238,18 @@ PetscErrorCode SpamTSCreate(SpamSim *sim, const SpamRunOptions *o, SpamTsApp *ap
   PetscCall(TSSetUp(*ts));
   PetscCall(CheckRkEmbedded(*ts));
   PetscCall(ExactRollback(*ts, app));
+  PetscFunctionReturn(0);
+}
+
+/* The velocity scale c0 is the sound speed of the state SpamTSCreate finds in sim->X: a
+ * run restarted from a checkpoint must get back the one of its start, or its error
+ * weights (and so its steps) differ from the uninterrupted run's. */
+PetscErrorCode SpamTSSetVelocityScale(TS ts, SpamTsApp *app, double c0)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(c0 > 0 && isfinite(c0), PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "velocity scale %g is not a positive number", c0);
+  app->w.vscale = c0;                /* arkode, cvode: read by SpamErrorWeights      */
+  PetscCall(Tolerances(ts, app));    /* PETSc's methods: the vector tolerances      */
   PetscFunctionReturn(0);
 }
 
