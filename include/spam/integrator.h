@@ -46,12 +46,11 @@ typedef struct {
   /* kick-drift-kick: the force at the end of a step is the force at the next start */
   double               *xcache, *acache;
   PetscBool             cache_valid;
-  /* adaptive rk (rk_rollback.c): the state at the start of the step, for a retry after
-   * a rejection, and whether the next RHS call is stage 0 of its first attempt (1) or of
-   * a retry (2), and whether the first attempt's f(y_n) is still in the stage vector */
-  Vec                   ystart;
-  PetscInt              ystart_step, ystart_reject;
-  double                ystart_t;
+  /* adaptive rk (rk_rollback.c): the step, time and rejections at the last stage 0 (a
+   * retry repeats the first two), whether the next RHS call is stage 0 of a first attempt
+   * (1) or of a retry (2), and whether the first attempt's f(y_n) is in the stage vector */
+  PetscInt              retry_step, retry_reject;
+  double                retry_t;
   int                   stage0;
   PetscBool             f0_kept;
 } SpamTsApp;
@@ -121,9 +120,10 @@ PetscErrorCode SpamArkodeLoadTable(const char *name, ARKodeButcherTable *B);
  * (its duplicates inherit it) for PETSc's rk. */
 PetscErrorCode SpamNVectorDeterministic(N_Vector y);
 PetscErrorCode SpamVecDeterministicMAXPY(Vec X);
-/* PETSc's rk undoes a rejected step by subtraction, which does not give back y_n bit for
- * bit; this restores the step's start state itself before the retried step. */
-PetscErrorCode SpamTSRKExactRollback(TS ts, SpamTsApp *app);
+/* The retry of a rejected rk step keeps the first attempt's stage 0 derivative f(y_n)
+ * (rk_rollback.c): the uninterrupted run reuses it (FSAL), a restarted one would
+ * evaluate it again at the rolled-back state. Installs a TSSetPreStage hook. */
+PetscErrorCode SpamTSRKKeepFirstStage(TS ts, SpamTsApp *app);
 /* In the RHS of a PETSc method: whether this call is stage 0 of a retried rk step whose
  * output vector still holds f(y_n) from the first attempt (then the call must leave it),
  * and the bookkeeping after a call that did evaluate. */

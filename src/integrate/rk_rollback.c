@@ -1,77 +1,66 @@
-/* An exact start state for the retry of a rejected PETSc rk step.
+/* The retry of a rejected PETSc rk step keeps the first attempt's f(y_n), so that a run
+ * restarted from a checkpoint retries with the bits of the uninterrupted run.
  *
- * TSStep_RK (PETSc 3.18.5, rk.c) forms y_n+1 in the solution vector itself and, when the
- * adaptor rejects the step, TSRollBack_RK subtracts h sum_j b_j k_j again: y_n' = y_n
- * only to rounding. The retry then starts from y_n'. In a continuing run its first stage
- * is still the FSAL derivative f(y_n) of the previous step, while a run restarted at y_n
- * (a new TS has no FSAL stage: ts->steprestart) computes f(y_n') there: a rejection as the
- * first step after a restart parted the two runs. Restoring y_n itself before the retry
- * makes both start the retry from y_n with stage f(y_n) (the restarted run computes it
- * again), so rk + basic restarts bit for bit even then. The hook is TSSetPreStage, which
- * TSStep_RK calls at the top of every stage, before stage 0 copies the solution; it costs
- * one copy of the state per step.
+ * TSStep_RK (PETSc 3.18.5, rk.c) reuses the last stage's derivative of the previous step as
+ * its stage 0 (FSAL), except right after ts->steprestart, which a new TS has. When the
+ * adaptor rejects a step, TSRollBack_RK subtracts h sum_j b_j k_j from the solution again
+ * (y_n' = y_n only to rounding, but the same bits in both runs) and the retry starts from
+ * y_n'. The continuing run keeps its stage 0 derivative f(y_n); the restarted run, without
+ * FSAL in its first step, evaluates stage 0 again at y_n' -- and spam-ark's right-hand side
+ * is not even a pure function of y (a neighbour list rebuilt during the rejected attempt
+ * sums the pairs in another order). Measured on test_erk_restart's gas: 3 of 4 restart
+ * points bitwise, the fourth parted when its first step was rejected.
  *
- * One more difference remains in the first step after a restart (TSStep_RK reuses no FSAL
- * stage after ts->steprestart): its retry evaluates f(y_n) again, and spam-ark's
- * right-hand side is not a pure function of y: a neighbour list rebuilt during the
- * rejected attempt sums the pairs in another order. The continuing run's retry reuses the
- * f(y_n) it had. So a retry leaves stage 0's derivative as the first attempt computed it
- * (TSStep_RK writes stage 0 into the same vector every attempt and a rollback does not
- * touch it): both runs then retry with the same bits. */
+ * So a retry does not evaluate stage 0 at all: TSStep_RK writes stage 0's derivative into
+ * the same vector at every attempt and a rollback leaves it alone, so it still holds the
+ * first attempt's f(y_n), which is what the continuing run uses. TSSetPreStage's hook marks
+ * stage 0 (c_0 = 0: the stage at the step's start) of a first attempt or of a retry; the
+ * right-hand side (ts_create.c) asks SpamTSRKKeepStageZero before evaluating. */
 #include <spam/integrator.h>
 
-/* Stage 0 sits at the step's start (c_0 = 0): the first attempt of a step records the
- * state, an attempt of the same step after a rejection gets it back. */
-static PetscErrorCode RestoreStepStart(TS ts, PetscReal stage_time)
+enum { STAGE_OTHER = 0, STAGE0_FIRST = 1, STAGE0_RETRY = 2 };
+
+static PetscErrorCode MarkStageZero(TS ts, PetscReal stage_time)
 {
   SpamTsApp *app;
   PetscReal  t;
   PetscInt   step, reject;
-  Vec        X;
 
   PetscFunctionBeginUser;
   PetscCall(TSGetApplicationContext(ts, &app));
   PetscCall(TSGetTime(ts, &t));
-  app->stage0 = 0;
+  app->stage0 = STAGE_OTHER;
   if (stage_time != t) PetscFunctionReturn(0);
   PetscCall(TSGetStepNumber(ts, &step));
   PetscCall(TSGetStepRejections(ts, &reject));
-  PetscCall(TSGetSolution(ts, &X));
-  if (step == app->ystart_step && t == app->ystart_t && reject > app->ystart_reject) {
-    PetscCall(VecCopy(app->ystart, X));
-    app->stage0 = 2;
-  } else {
-    PetscCall(VecCopy(X, app->ystart));
-    app->stage0  = 1;
+  if (step == app->retry_step && t == app->retry_t && reject > app->retry_reject) app->stage0 = STAGE0_RETRY;
+  else {
+    app->stage0  = STAGE0_FIRST;
     app->f0_kept = PETSC_FALSE;
   }
-  app->ystart_step   = step;
-  app->ystart_t      = t;
-  app->ystart_reject = reject;
+  app->retry_step   = step;
+  app->retry_t      = t;
+  app->retry_reject = reject;
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamTSRKExactRollback(TS ts, SpamTsApp *app)
+PetscErrorCode SpamTSRKKeepFirstStage(TS ts, SpamTsApp *app)
 {
-  Vec X;
-
   PetscFunctionBeginUser;
-  PetscCall(TSGetSolution(ts, &X));
-  if (!app->ystart) PetscCall(VecDuplicate(X, &app->ystart));
-  app->ystart_step = -1; /* nothing recorded yet */
-  PetscCall(TSSetPreStage(ts, RestoreStepStart));
+  app->retry_step = -1; /* no step seen yet */
+  PetscCall(TSSetPreStage(ts, MarkStageZero));
   PetscFunctionReturn(0);
 }
 
 PetscBool SpamTSRKKeepStageZero(SpamTsApp *app)
 {
-  const PetscBool keep = (PetscBool)(app->stage0 == 2 && app->f0_kept);
-  if (keep) app->stage0 = 0;
+  const PetscBool keep = (PetscBool)(app->stage0 == STAGE0_RETRY && app->f0_kept);
+  if (keep) app->stage0 = STAGE_OTHER;
   return keep;
 }
 
 void SpamTSRKEvaluated(SpamTsApp *app)
 {
-  if (app->stage0 == 1) app->f0_kept = PETSC_TRUE;
-  app->stage0 = 0;
+  if (app->stage0 == STAGE0_FIRST) app->f0_kept = PETSC_TRUE;
+  app->stage0 = STAGE_OTHER;
 }

@@ -150,9 +150,9 @@ static PetscErrorCode CheckRkEmbedded(TS ts)
   PetscFunctionReturn(0);
 }
 
-/* An adaptive rk step that is rejected starts its retry from the exact start state
+/* An adaptive rk step that is rejected keeps its stage 0 derivative for the retry
  * (rk_rollback.c); a fixed step is never rejected. */
-static PetscErrorCode ExactRollback(TS ts, SpamTsApp *app)
+static PetscErrorCode KeepFirstStage(TS ts, SpamTsApp *app)
 {
   TSType      type;
   TSAdapt     adapt;
@@ -163,7 +163,7 @@ static PetscErrorCode ExactRollback(TS ts, SpamTsApp *app)
   if (strcmp(type, TSRK)) PetscFunctionReturn(0);
   PetscCall(TSGetAdapt(ts, &adapt));
   PetscCall(TSAdaptGetType(adapt, &atype));
-  if (strcmp(atype, TSADAPTNONE)) PetscCall(SpamTSRKExactRollback(ts, app));
+  if (strcmp(atype, TSADAPTNONE)) PetscCall(SpamTSRKKeepFirstStage(ts, app));
   PetscFunctionReturn(0);
 }
 
@@ -237,7 +237,7 @@ PetscErrorCode SpamTSCreate(SpamSim *sim, const SpamRunOptions *o, SpamTsApp *ap
   PetscCall(SpamErrorNormSetTS(*ts, o->error_norm)); /* -error_norm as PETSc's adaptor norm */
   PetscCall(TSSetUp(*ts));
   PetscCall(CheckRkEmbedded(*ts));
-  PetscCall(ExactRollback(*ts, app));
+  PetscCall(KeepFirstStage(*ts, app));
   PetscFunctionReturn(0);
 }
 
@@ -257,7 +257,6 @@ PetscErrorCode SpamTSAppDestroy(SpamTsApp *app)
 {
   PetscFunctionBeginUser;
   if (app->xcache) PetscCall(PetscFree2(app->xcache, app->acache));
-  PetscCall(VecDestroy(&app->ystart));
   PetscFunctionReturn(0);
 }
 
