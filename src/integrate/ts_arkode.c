@@ -89,8 +89,8 @@ static PetscErrorCode TSSetUp_SpamARKode(TS ts)
   PetscCallARK(SUNContext_Create((void *)&app->sim->comm, &ark->sunctx));
   ark->y = N_VMake_Petsc(ts->vec_sol, ark->sunctx);
   PetscCheck(ark->y, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "N_VMake_Petsc failed");
-  /* Fused operations: a stage or history combination of k vectors is one VecMAXPY pass
-   * instead of k VecAXPY passes over memory (clones inherit the setting). */
+  /* Fused operations: a combination of k vectors is one pass over memory instead of k
+   * (clones inherit the setting); the linear combination itself is replaced below. */
   PetscCheck(N_VEnableFusedOps_Petsc(ark->y, SUNTRUE) == 0, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "N_VEnableFusedOps_Petsc failed");
   PetscCall(SpamErrorNormAttach(ark->y, app->o->error_norm)); /* -error_norm: cloned with y */
   /* Stages and solution summed term by term (det_combination.c): an FSAL table's last
