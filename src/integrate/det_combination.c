@@ -13,9 +13,9 @@
  * c2 x2 + c3 x3, which C evaluates left to right: the same operations in the same order
  * as adding one term after the other, so the grouping changes nothing in the result, and
  * a vector is read once. The passes run over blocks of BLOCK entries held in an L1-sized
- * buffer, so that z may be one of the terms. ISO C mode (-std=c11) keeps gcc from
- * contracting a + c x into an FMA, so vectorised loops and scalar remainders agree bit for
- * bit. */
+ * buffer, so that z may be one of the terms. No contraction of a + c x into an FMA
+ * (-ffp-contract=off, CMakeLists.txt), so vectorised loops and scalar remainders agree bit
+ * for bit whatever -march. */
 #include <petsc/private/vecimpl.h> /* X->ops->maxpy: PETSc 3.18 has no public VECOP_MAXPY */
 #include <spam/integrator.h>
 #include <nvector/nvector_petsc.h>
