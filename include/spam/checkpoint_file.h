@@ -69,8 +69,10 @@ PetscErrorCode SpamCkFileWrite(MPI_Comm comm, const SpamCkFile *c, const char *p
  * one). A missing or unreadable file, a file that is not HDF5, a truncated one, one without
  * this layout or format version, or one whose checksum disagrees with its contents raises
  * PETSC_ERR_USER_INPUT with one line "checkpoint PATH: <what is wrong>"; HDF5 prints
- * nothing. On failure c is left empty (Destroy is still allowed). Every rank of comm reads
- * the file; if one fails, all fail. */
+ * nothing: its automatic error printing is off during the read and put back after a
+ * success, but left off after a refusal (HDF5 1.10.8 would print at exit after some
+ * damaged files, see checkpoint_read.c). On failure c is left empty (Destroy is still
+ * allowed). Every rank of comm reads the file; if one fails, all fail. */
 PetscErrorCode SpamCkFileRead(MPI_Comm comm, const char *path, SpamCkFile *c);
 
 /* The entry of that name and kind. Missing, of another kind, or (n > 0) of another length:
