@@ -384,7 +384,10 @@ static PetscErrorCode TestRefusals(TestCount *tc, const char *dir, const double 
     PetscCall(CheckRefused(tc, dir, path, "a checkpoint of format 2", "format 'spam-ark checkpoint 2', this spam-ark reads 'spam-ark checkpoint 1'"));
     f = H5Fcreate(bad, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
     a = H5Acreate2(f, "units", t, s, H5P_DEFAULT, H5P_DEFAULT);
-    (void)H5Awrite(a, t, "reduced");
+    {
+      const char units[22] = "reduced"; /* as long as the type */
+      (void)H5Awrite(a, t, units);
+    }
     (void)H5Aclose(a);
     (void)H5Fclose(f);
     (void)H5Sclose(s);
