@@ -125,13 +125,15 @@ static PetscErrorCode ReadEntryFrom(const CkReader *r, hid_t set, const char *na
 {
   SpamCkKind kind = SPAM_CK_REAL;
   size_t     n = 0, bytes;
+  hsize_t    stored;
   char      *data, why[256];
 
   PetscFunctionBeginUser;
   if (!Classify(set, &kind, &n)) PetscCall(BAD(r->path, "entry '%s' is neither 64-bit reals, 64-bit integers nor a fixed-length string", name));
   if (kind != SPAM_CK_TEXT && n > (size_t)r->size / 8) PetscCall(BAD(r->path, "entry '%s' claims %zu values, more than the file's %lld bytes hold: damaged", name, n, (long long)r->size));
-  bytes = kind == SPAM_CK_TEXT ? n + 1 : n * 8;
-  if ((hsize_t)bytes != H5Dget_storage_size(set) || bytes > (size_t)r->size) PetscCall(BAD(r->path, "entry '%s' has %zu values but stores %llu bytes: truncated or damaged", name, n, (unsigned long long)H5Dget_storage_size(set)));
+  bytes  = kind == SPAM_CK_TEXT ? n + 1 : n * 8;
+  stored = H5Dget_storage_size(set);
+  if ((hsize_t)bytes != stored || bytes > (size_t)r->size) PetscCall(BAD(r->path, "entry '%s' needs %zu bytes but stores %llu: truncated or damaged", name, bytes, (unsigned long long)stored));
   PetscCall(PetscMalloc1(bytes + 1, &data));
   if (ReadData(set, kind, n, data) < 0) {
     SpamH5Reason(why, sizeof why);
@@ -230,8 +232,8 @@ static PetscErrorCode ReadHere(const char *path, SpamCkFile *c)
    * on some damaged files (HDFGroup/hdf5 issue 3790, fixed in 1.14.5) and then, at exit,
    * prints "HDF5: infinite loop closing library" unless its automatic printing is off. */
   if (!ierr) SpamH5QuietEnd(&quiet);
-  else (void)H5Eclear2(H5E_DEFAULT);
-  if (ierr) { /* nothing of a refused file is kept */
+  else { /* nothing of a refused file is kept */
+    (void)H5Eclear2(H5E_DEFAULT);
     PetscCall(SpamCkFileDestroy(c));
     PetscCall(PetscStrncpy(c->path, path, sizeof c->path));
   }
