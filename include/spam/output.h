@@ -19,7 +19,7 @@ typedef struct {
 
 /* Test only: SPAM_TEST_FAIL_WRITE=NAME:N makes the N-th write call (1: the first) to the
  * output file whose base name is NAME fail as if the disk were full (ENOSPC); for an HDF5
- * snapshot the N-th dataset write. It exists so the tests can prove that a failed write
+ * snapshot or checkpoint (checkpoint_file.h) the N-th dataset write. It exists so the tests can prove that a failed write
  * stops the run; it is an environment variable, not an option, so users never see it. */
 long SpamTestFailWriteAt(const char *path);
 
