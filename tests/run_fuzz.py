@@ -302,6 +302,11 @@ OPTION_TABLE = {
     "-poiseuille_speed": ("PO", real(m1=O0, zero=O0, tiny=O0)),
     # issue 16 point 4: rms or max, names only (every hostile value refused)
     "-error_norm": ("E", {}),
+    # issue 17 points 1-2: checkpoints (1e300: none before the end; 1e-300: too many) and
+    # restart (no hostile value names a checkpoint: every one refused)
+    "-checkpoint_interval": ("E", real(zero=O0, big=O0, i31=O0)),
+    "-checkpoint_wall": ("E", real(zero=O0, tiny=O0, big=O0, i31=O0, sub=None)),
+    "-restart": ("E", {}),
 }
 for flag in ("-expansion_perturb_velocities", "-arkode_classic_weights", "-snapshot_hdf5", "-snapshot_csv",
              "-monitor", "-diag_entropy", "-sort_particles", "-output_overwrite"):

@@ -167,9 +167,16 @@ PetscErrorCode SpamTSSundialsStats(TS ts, FILE *file, PetscBool force);
  * PETSc's adaptor: a line per accepted step (the step from t0); nothing for the others. */
 PetscErrorCode SpamTSAdaptMonitorSelf(TS ts, long step, double t0, double dt, long rejected);
 
+/* A restart of the cvode TS (after TSSetUp): its first step. */
+PetscErrorCode SpamTSCVodeSetInitStep(TS ts, double h);
+
+/* A checkpoint being continued (checkpoint.h). */
+typedef struct SpamRestart SpamRestart;
+
 /* Integrates to t_end with the TS made by SpamTSCreate (any method), writing outputs as
- * it goes; an unstable run ends with r->status = UNSTABLE, not an error. */
-PetscErrorCode SpamRun(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamOutput *out, SpamRunResult *r);
+ * it goes, from t = 0 or from the checkpoint rs (NULL: a new run); an unstable run ends
+ * with r->status = UNSTABLE, not an error. */
+PetscErrorCode SpamRun(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamOutput *out, SpamRestart *rs, SpamRunResult *r);
 
 /* Physical step bound of state y: min(cfl h / c_max, force sqrt(h / |a|max)), each term
  * only when its coefficient is positive; +inf when both are off. |a| is taken from the

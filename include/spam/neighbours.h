@@ -60,6 +60,15 @@ PetscErrorCode SpamNeighboursDestroy(SpamNeighbours *nl);
  * force is set. Returns PETSC_ERR_FP with the particle index in *bad if a position is not
  * finite (bad is -1 otherwise). */
 PetscErrorCode SpamNeighboursUpdate(SpamNeighbours *nl, const SpamBox *box, const double *x, int stride, PetscBool force, PetscInt *bad);
+/* Rebuilds the list at the reference positions xref[i*dim + d] of an earlier build (a
+ * checkpoint's), as that build made it; the next update moves from there. */
+PetscErrorCode SpamNeighboursRestore(SpamNeighbours *nl, const SpamBox *box, const double *xref);
+/* Keep and revert: a list build made by work outside the trajectory (the diagnostics and
+ * interpolations of an output) is undone, so the method's right-hand sides see the list
+ * they would have seen without that output. Keep copies the reference positions (xref,
+ * [n*dim]) and the build count; Revert rebuilds at them if a build happened since. */
+PetscErrorCode SpamNeighboursKeep(const SpamNeighbours *nl, double *xref, long *builds);
+PetscErrorCode SpamNeighboursRevert(SpamNeighbours *nl, const SpamBox *box, const double *xref, long builds);
 /* Periodic images as ghost slots instead of the minimum image along the directions set
  * in per (before the first build; a study of the ghost path, and the way halos work). */
 PetscErrorCode SpamNeighboursSetPeriodicGhosts(SpamNeighbours *nl, const SpamBox *box, const PetscBool per[3]);

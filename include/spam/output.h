@@ -99,6 +99,14 @@ PetscErrorCode SpamManifestWrite(SpamOutput *o);
 PetscErrorCode SpamOutputFindEarlier(const SpamOutput *o, char *name, size_t len);
 /* Removes an earlier run's files (all = true) or only stale temporaries. */
 PetscErrorCode SpamOutputRemoveEarlier(const SpamOutput *o, PetscBool all);
+/* Removes the run files that o->files does not list, and stale temporaries (a restart). */
+PetscErrorCode SpamOutputRemoveUnlisted(const SpamOutput *o);
+/* Creates dir and its parents. */
+PetscErrorCode SpamOutputMakeDirs(const char *dir);
+/* What f has written so far (flushed; malloc'd, NUL-terminated, *len bytes). */
+PetscErrorCode SpamFileContents(SpamFile *f, char **buf, size_t *len);
+/* A whole file (malloc'd, NUL-terminated); *buf NULL when it does not exist. */
+PetscErrorCode SpamReadWholeFile(const char *path, char **buf, size_t *len);
 
 typedef struct {
   double      t;

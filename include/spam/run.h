@@ -28,6 +28,11 @@ typedef struct {
   PetscBool monitor, hdf5, csv;
   PetscBool output_stop;     /* cut steps to land on output times instead of interpolating */
   SpamDiagnosticsOptions diag;
+  /* checkpoints (checkpoint.h): every this much simulated time / wall-clock time (0: off),
+   * and the checkpoint a run continues from ("" : a new run) */
+  double   checkpoint_interval, checkpoint_wall;
+  char     restart[PETSC_MAX_PATH_LEN];
+  PetscBool output_interval_set, snapshot_interval_set; /* given, not defaulted */
 } SpamRunOptions;
 
 typedef struct {
@@ -48,6 +53,18 @@ typedef struct {
   char       output_mode_reason[200];/* why not interpolated ("" when interpolated)     */
   long       interpolated_rows;      /* rows (and snapshots) written from the interpolant */
   long       interpolation_rhs_evals;/* RHS evaluations the interpolant made (not in rhs_evals) */
+  /* checkpoints written by this run: count, size of the last (bytes), its write time (s) */
+  long       checkpoints;
+  double     checkpoint_bytes, checkpoint_write;
+  /* a restart: the checkpoint continued, its time and step, whether the method goes on bit
+   * for bit (and why not), and the RHS evaluations the restart made that the
+   * uninterrupted run did not (the derivative at the restart state, which it had kept;
+   * not in rhs_evals) */
+  char       restart_from[PETSC_MAX_PATH_LEN];
+  double     restart_t;
+  long       restart_step, restart_rhs_evals;
+  PetscBool  restart_exact;
+  char       restart_why[160];
 } SpamRunResult;
 
 /* Reads and validates every run option; sim gives scene defaults (end time). */

@@ -7,6 +7,7 @@
 /* Call once every input is validated (nothing is written before). On success *exit_code
  * says how the run ended (0, 3, 130, 143); an error (a failed write, say) is returned
  * after the open temporaries are removed, summary.json says "status": "failed" with the
- * reason (when it can still be written) and the directory is released. */
-PetscErrorCode SpamRunSession(SpamSim *sim, const SpamRunOptions *o, const SpamOutputOptions *oo, TS ts, SpamTsApp *app, int *exit_code);
+ * reason (when it can still be written) and the directory is released. rs: the checkpoint
+ * the run continues (checkpoint.h), or NULL. */
+PetscErrorCode SpamRunSession(SpamSim *sim, const SpamRunOptions *o, const SpamOutputOptions *oo, TS ts, SpamTsApp *app, SpamRestart *rs, int *exit_code);
 #endif

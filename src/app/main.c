@@ -1,6 +1,7 @@
 /* spam-ark: smooth-particle applied mechanics on SUNDIALS ARKODE and PETSc. */
 #include <spam/scene.h>
 #include <spam/session.h>
+#include <spam/checkpoint.h>
 #include <spam/errors.h>
 #include <spam/version.h>
 #include <spam/options.h>
@@ -20,6 +21,7 @@ static PetscErrorCode Run(int *exit_code)
   SpamRunOptions    o;
   SpamOutputOptions oo;
   SpamTsApp         app;
+  SpamRestart       rs;
   TS                ts = NULL;
   PetscBool         help;
   PetscErrorCode    ierr;
@@ -28,6 +30,7 @@ static PetscErrorCode Run(int *exit_code)
   PetscCall(PetscOptionsHasHelp(NULL, &help));
   PetscCall(SpamSceneCreateSim(PETSC_COMM_WORLD, &sim));
   PetscCall(PetscMemzero(&app, sizeof app));
+  PetscCall(PetscMemzero(&rs, sizeof rs));
   /* From here on every path frees what it made: a refused option or directory and a
    * failed run (each reported already) leak nothing (the sanitizer build checks). */
   ierr = SpamRunOptionsParse(&sim, &o);
@@ -36,7 +39,10 @@ static PetscErrorCode Run(int *exit_code)
   /* With -help every option has been listed with its default: nothing to run. Otherwise
    * every input is valid from here on: only now touch the file system. */
   if (!ierr && !help) ierr = SpamOptionsCheckUse(&sim, &o, ts); /* no option given in vain */
-  if (!ierr && !help) ierr = SpamRunSession(&sim, &o, &oo, ts, &app, exit_code);
+  /* A checkpoint to continue is read and checked before the directory is touched. */
+  if (!ierr && !help && o.restart[0]) ierr = SpamRestartLoad(&sim, &o, ts, &rs);
+  if (!ierr && !help) ierr = SpamRunSession(&sim, &o, &oo, ts, &app, o.restart[0] ? &rs : NULL, exit_code);
+  PetscCall(SpamRestartDestroy(&rs));
   PetscCall(TSDestroy(&ts));
   PetscCall(SpamTSAppDestroy(&app));
   PetscCall(SpamSimDestroy(&sim));

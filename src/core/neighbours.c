@@ -553,6 +553,34 @@ PetscErrorCode SpamNeighboursUpdate(SpamNeighbours *nl, const SpamBox *box, cons
   PetscFunctionReturn(0);
 }
 
+/* The list as a build at reference positions xref made it: same shifts, same cells, same
+ * pair order, so that the right-hand side of a restarted run is the same function of the
+ * state as the uninterrupted run's (which built its list at those positions). */
+PetscErrorCode SpamNeighboursRestore(SpamNeighbours *nl, const SpamBox *box, const double *xref)
+{
+  PetscFunctionBeginUser;
+  PetscCall(Wrap(nl, box, xref, box->dim));
+  PetscCall(BuildList(nl, box));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamNeighboursKeep(const SpamNeighbours *nl, double *xref, long *builds)
+{
+  PetscFunctionBeginUser;
+  for (int i = 0; i < nl->n; i++)
+    for (int d = 0; d < nl->dim; d++) xref[(size_t)i * nl->dim + d] = nl->xref[d][i];
+  *builds = nl->builds;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamNeighboursRevert(SpamNeighbours *nl, const SpamBox *box, const double *xref, long builds)
+{
+  PetscFunctionBeginUser;
+  if (nl->builds == builds) PetscFunctionReturn(0);
+  PetscCall(SpamNeighboursRestore(nl, box, xref));
+  PetscFunctionReturn(0);
+}
+
 /* First row whose pairs start at or after pair p (start is non-decreasing). */
 static int RowAtPair(const SpamNeighbours *nl, size_t p)
 {

@@ -88,6 +88,8 @@ static const Known KnownOptions[] = {
   /* Issue 16 point 1/6: outputs from the interpolant unless -output_stop (time_loop.c,
    * output_mode.c); ARKODE's / CVODE's statistics table (ts_arkode.c, ts_cvode.c). */
   {"output_stop", PETSC_FALSE, G_ALL}, {"sundials_stats", PETSC_FALSE, G_SUNDIALS},
+  /* Issue 17 points 1-2: checkpoints and restart (checkpoint_*.c, restart_*.c). */
+  {"checkpoint_interval", PETSC_TRUE, G_ALL}, {"checkpoint_wall", PETSC_TRUE, G_ALL}, {"restart", PETSC_TRUE, G_ALL},
 };
 #define NKNOWN ((int)(sizeof KnownOptions / sizeof KnownOptions[0]))
 

@@ -87,6 +87,8 @@ static PetscErrorCode CheckGrid(const SpamSim *sim, const SpamRunOptions *o)
 
 PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o)
 {
+  PetscBool restart = PETSC_FALSE;
+
   PetscFunctionBeginUser;
   /* The -arkode_* and -cvode_* options are the arkode and cvode TS types' own, read by
    * their setfromoptions (arkode_options.c, ts_cvode.c). */
@@ -115,8 +117,8 @@ PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o)
   PetscCall(PetscOptionsString("-output_dir", "Directory for timeseries.csv, steps.csv, summary.json and snapshots", "README", o->output_dir, o->output_dir, sizeof o->output_dir, NULL));
   o->output_interval   = o->t_end / 100.0;
   o->snapshot_interval = o->t_end / 8.0;
-  PetscCall(PetscOptionsReal("-output_interval", "Time between diagnostics rows (default end time / 100; 0: start and end only)", "README", o->output_interval, &o->output_interval, NULL));
-  PetscCall(PetscOptionsReal("-snapshot_interval", "Time between particle snapshots (default end time / 8; 0: none)", "README", o->snapshot_interval, &o->snapshot_interval, NULL));
+  PetscCall(PetscOptionsReal("-output_interval", "Time between diagnostics rows (default end time / 100; 0: start and end only)", "README", o->output_interval, &o->output_interval, &o->output_interval_set));
+  PetscCall(PetscOptionsReal("-snapshot_interval", "Time between particle snapshots (default end time / 8; 0: none)", "README", o->snapshot_interval, &o->snapshot_interval, &o->snapshot_interval_set));
   PetscCall(PetscOptionsBool("-snapshot_hdf5", "Write HDF5 + XDMF snapshots (ParaView)", "README", o->hdf5, &o->hdf5, NULL));
   PetscCall(PetscOptionsBool("-snapshot_csv", "Write CSV snapshots (chart scripts)", "README", o->csv, &o->csv, NULL));
   PetscCall(PetscOptionsBool("-monitor", "Print a line per step", "README", o->monitor, &o->monitor, NULL));
@@ -125,7 +127,11 @@ PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o)
   PetscCall(PetscOptionsReal("-diag_grid_spacing", "Grid spacing of the entropy integral (0: off)", "README", o->diag.grid_spacing, &o->diag.grid_spacing, NULL));
   PetscCall(PetscOptionsString("-initial_csv", "Also write the initial particles to this CSV (file-scene format)", "README", o->initial_csv, o->initial_csv, sizeof o->initial_csv, NULL));
   PetscCall(PetscOptionsString("-final_csv", "Also write the final particles to this CSV (file-scene format)", "README", o->final_csv, o->final_csv, sizeof o->final_csv, NULL));
+  PetscCall(PetscOptionsReal("-checkpoint_interval", "Write OUTPUT_DIR/checkpoint.h5 every this much simulated time (0: off; one is always written on SIGINT/SIGTERM)", "README", o->checkpoint_interval, &o->checkpoint_interval, NULL));
+  PetscCall(PetscOptionsReal("-checkpoint_wall", "Write OUTPUT_DIR/checkpoint.h5 every this many wall-clock seconds (0: off)", "README", o->checkpoint_wall, &o->checkpoint_wall, NULL));
+  PetscCall(PetscOptionsString("-restart", "Continue the run saved in this checkpoint (its options must be the same but for outputs and the end)", "README", o->restart, o->restart, sizeof o->restart, &restart));
   PetscOptionsEnd();
+  if (restart && !o->restart[0]) SPAM_BAD_INPUT("-restart", "", "names no file: give the checkpoint to continue from (OUTPUT_DIR/checkpoint.h5)");
   PetscCall(SpamErrorNormOptions(sim->comm, &o->error_norm));
   PetscCall(CheckTimes(o));
   PetscCall(CheckRange("-ts_rtol", o->rtol, 0.0, PETSC_TRUE, "a tolerance must be positive"));
@@ -141,6 +147,9 @@ PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o)
     if (o->force > 0 && o->force < MIN_BOUND_FRACTION) SPAM_BAD_INPUT("-step_force", val, "too small: must be 0 (off) or at least %g", MIN_BOUND_FRACTION);
   }
   PetscCall(CheckGrid(sim, o));
+  PetscCall(CheckRange("-checkpoint_interval", o->checkpoint_interval, 0.0, PETSC_FALSE, "must be zero (off) or a positive time"));
+  PetscCall(CheckRange("-checkpoint_wall", o->checkpoint_wall, 0.0, PETSC_FALSE, "must be zero (off) or a positive number of seconds"));
+  PetscCall(CheckCount("-checkpoint_interval", o->checkpoint_interval, o->t_end, MAX_OUTPUT_ROWS, "checkpoints"));
   {
     char     val[32];
     PetscInt reject = 10;

@@ -1,5 +1,6 @@
 /* A run from its first file to its exit code. */
 #include <spam/session.h>
+#include <spam/checkpoint.h>
 #include <spam/interrupt.h>
 #include <spam/errors.h>
 
@@ -45,11 +46,11 @@ static PetscErrorCode Report(const SpamSim *sim, const SpamRunOptions *o, const 
 }
 
 /* Everything that writes, in order; any error returns at once to SpamRunSession. */
-static PetscErrorCode Session(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamOutput *out, SpamRunResult *r)
+static PetscErrorCode Session(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamOutput *out, SpamRestart *rs, SpamRunResult *r)
 {
   PetscFunctionBeginUser;
-  if (o->initial_csv[0]) PetscCall(WriteParticles(o->initial_csv, sim, out, "initial_particles"));
-  PetscCall(SpamRun(sim, o, ts, app, out, r));
+  if (o->initial_csv[0] && !rs) PetscCall(WriteParticles(o->initial_csv, sim, out, "initial_particles"));
+  PetscCall(SpamRun(sim, o, ts, app, out, rs, r));
   if (o->final_csv[0] && r->status != SPAM_STATUS_UNSTABLE) PetscCall(WriteParticles(o->final_csv, sim, out, "final_particles"));
   PetscCall(SpamSummaryWrite(out, sim, o, r));
   PetscCall(SpamOutputClose(out, ManifestStatus(r->status)));
@@ -75,7 +76,7 @@ static void Failed(SpamSim *sim, const SpamRunOptions *o, SpamOutput *out, SpamR
   SpamOutputAbandon(out);
 }
 
-PetscErrorCode SpamRunSession(SpamSim *sim, const SpamRunOptions *o, const SpamOutputOptions *oo, TS ts, SpamTsApp *app, int *exit_code)
+PetscErrorCode SpamRunSession(SpamSim *sim, const SpamRunOptions *o, const SpamOutputOptions *oo, TS ts, SpamTsApp *app, SpamRestart *rs, int *exit_code)
 {
   SpamOutput        out;
   SpamOutputOptions more = *oo;
@@ -89,8 +90,9 @@ PetscErrorCode SpamRunSession(SpamSim *sim, const SpamRunOptions *o, const SpamO
    * (one during the opening is seen before the first step: outputs at t = 0). */
   PetscCall(SpamInterruptInstall(&sig));
   SpamWallColumns(sim, more.timeseries_more, sizeof more.timeseries_more);
-  ierr = SpamOutputOpen(o->output_dir, o->hdf5, o->csv, &more, &out);
-  if (!ierr) ierr = Session(sim, o, ts, app, &out, &r);
+  if (rs) ierr = SpamOutputResume(o->output_dir, o->hdf5, o->csv, &more, &rs->file, &out);
+  else ierr = SpamOutputOpen(o->output_dir, o->hdf5, o->csv, &more, &out);
+  if (!ierr) ierr = Session(sim, o, ts, app, &out, rs, &r);
   if (ierr) Failed(sim, o, &out, &r, ierr);
   PetscCall(SpamInterruptRestore(&sig));
   PetscCall(ierr);

@@ -6,15 +6,17 @@
  * Failure is a result: the reason, time and step go to the monitor and summary.json; so is
  * an interruption (SIGINT, SIGTERM), seen between steps, after which the outputs of the
  * time reached are written and the loop ends. */
+#include <petsc/private/tsimpl.h> /* ts->steprestart: a jump pending (ClampPending) */
 #include <spam/integrator.h>
 #include <spam/errors.h>
 #include <spam/interrupt.h>
+#include "loop_state.h"
 
-typedef struct {
-  double         out_interval, snap_interval, next_out, next_snap;
-  SpamOutputMode mode;
-  Vec            Xout; /* the interpolated state of an output time (interpolated mode) */
-} Schedule;
+typedef SpamSchedule Schedule;
+
+/* A checkpoint asked for waits at most this many steps for one without a pending clamp
+ * (with outputs denser than the steps there may be none); it is then written as inexact. */
+#define SPAM_CKPT_MAX_DEFER 20
 
 /* Times within this relative distance are one time. Output times are products k*interval
  * and the time a method reaches is a sum of steps, so an output time and the end time
@@ -151,16 +153,13 @@ static PetscErrorCode EnergyScale(SpamSim *sim, SpamRunResult *r)
   PetscFunctionReturn(0);
 }
 
-/* SIGINT or SIGTERM came: the step in progress has been completed and accepted; write the
- * row and snapshot of the time reached (unless this very state was just written) and end. */
-static PetscErrorCode Interrupted(SpamSim *sim, const SpamRunOptions *o, SpamOutput *out, const SpamProgress *p, PetscBool row_done, PetscBool snap_done, SpamRunResult *r)
+/* The run ends short of t_end (a signal, the step limit): the row and snapshot of the time
+ * reached, unless this very state was just written. */
+static PetscErrorCode FinalOutputs(SpamSim *sim, const SpamRunOptions *o, SpamOutput *out, const SpamProgress *p, PetscBool row_done, PetscBool snap_done, SpamRunResult *r)
 {
   const PetscBool snap = (PetscBool)(o->snapshot_interval > 0 && !snap_done);
 
   PetscFunctionBeginUser;
-  r->status = SPAM_STATUS_INTERRUPTED;
-  r->signal = SpamInterruptSignal();
-  (void)snprintf(r->reason, sizeof r->reason, "interrupted by %s at t = %.6g (step %ld)", r->signal == SIGINT ? "SIGINT" : "SIGTERM", p->t, p->steps);
   if (!row_done) PetscCall(Output(sim, o, out, p, snap, r));
   else if (snap) {
     const PetscScalar *y;
@@ -168,6 +167,18 @@ static PetscErrorCode Interrupted(SpamSim *sim, const SpamRunOptions *o, SpamOut
     PetscCall(SpamSnapshotWrite(out, sim, y, p->t, NULL));
     PetscCall(VecRestoreArrayRead(sim->X, &y));
   }
+  PetscFunctionReturn(0);
+}
+
+/* SIGINT or SIGTERM came: the step in progress has been completed and accepted; write the
+ * outputs of the time reached and end. */
+static PetscErrorCode Interrupted(SpamSim *sim, const SpamRunOptions *o, SpamOutput *out, const SpamProgress *p, PetscBool row_done, PetscBool snap_done, SpamRunResult *r)
+{
+  PetscFunctionBeginUser;
+  r->status = SPAM_STATUS_INTERRUPTED;
+  r->signal = SpamInterruptSignal();
+  (void)snprintf(r->reason, sizeof r->reason, "interrupted by %s at t = %.6g (step %ld)", r->signal == SIGINT ? "SIGINT" : "SIGTERM", p->t, p->steps);
+  PetscCall(FinalOutputs(sim, o, out, p, row_done, snap_done, r));
   PetscFunctionReturn(0);
 }
 
@@ -309,53 +320,160 @@ static PetscErrorCode FailureReason(TS ts, const SpamTsApp *app, long step, doub
   PetscFunctionReturn(0);
 }
 
-/* The loop proper; Xgood holds the last accepted state. */
-static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamOutput *out, SpamRunResult *r, Vec Xgood, Vec Xout)
+/* Whether a stop-time clamp is pending for the next step: ERKStep then takes a step it
+ * cannot resume bit for bit from a checkpoint (after a clamp the next step is h*(h'/h),
+ * not h'), and a state jump (TSRestartStep) waits to drop the history. Other methods have
+ * their step cut by this loop, from a proposal the checkpoint keeps. */
+static PetscErrorCode ClampPending(TS ts, PetscBool *pending)
 {
-  PetscLogDouble wall0;
-  SpamProgress   p = {0};
-  Schedule       s;
-  double         t = 0.0, dt_prev = 0.0; /* no previous step: the first cannot shrink */
-  double         t_row = 0.0, t_snap;    /* times of the last row and snapshot written */
+  PetscBool ok;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamTSARKodeCheckpointable(ts, &ok));
+  *pending = (PetscBool)(!ok || (ts->steprestart && ts->steps > 0));
+  PetscFunctionReturn(0);
+}
+
+/* A checkpoint is asked for by the simulated-time interval or the wall clock. */
+static PetscErrorCode CheckpointAsked(const SpamRunOptions *o, SpamLoop *L)
+{
+  PetscLogDouble now;
+
+  PetscFunctionBeginUser;
+  if (o->checkpoint_interval > 0 && Reached(L->t, L->next_ckpt)) {
+    L->ckpt_due  = PETSC_TRUE;
+    L->next_ckpt = (floor(L->t / o->checkpoint_interval + 1e-9) + 1.0) * o->checkpoint_interval;
+  }
+  if (o->checkpoint_wall > 0) {
+    PetscCall(PetscTime(&now));
+    if (now - L->last_ckpt_wall >= o->checkpoint_wall) L->ckpt_due = PETSC_TRUE;
+  }
+  PetscFunctionReturn(0);
+}
+
+/* The stop of the next step: t_end when interpolating, else the next output time. */
+static double NextStop(const SpamRunOptions *o, const Schedule *s)
+{
+  return s->mode == SPAM_OUTPUT_INTERPOLATED ? o->t_end : PetscMin(s->next_out, s->next_snap);
+}
+
+/* Writes the checkpoint asked for (or forced: an interruption) unless a clamp is pending,
+ * in which case it waits for the next step, up to SPAM_CKPT_MAX_DEFER steps. *written
+ * says whether it was written. */
+static PetscErrorCode CheckpointServe(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamOutput *out, const SpamRunResult *r, SpamLoop *L, PetscBool *written)
+{
+  PetscBool pending = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  *written = PETSC_FALSE;
+  if (!L->ckpt_due || L->t >= o->t_end) PetscFunctionReturn(0);
+  PetscCall(ClampPending(ts, &pending));
+  if (pending && L->ckpt_deferred < SPAM_CKPT_MAX_DEFER) {
+    L->ckpt_deferred++;
+    PetscFunctionReturn(0);
+  }
+  PetscCall(SpamCheckpointWrite(sim, o, ts, app, out, r, L, (PetscBool)!pending));
+  L->ckpt_due      = PETSC_FALSE;
+  L->ckpt_deferred = 0;
+  PetscCall(PetscTime(&L->last_ckpt_wall));
+  *written = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
+/* A new run: the schedule from t = 0 and the row (and snapshot) of the initial state. */
+static PetscErrorCode Start(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamOutput *out, SpamRunResult *r, SpamLoop *L)
+{
+  PetscFunctionBeginUser;
+  ScheduleInit(o, r->fixed_dt, &L->s);
+  L->p.limit = SpamStepLimitNames[SPAM_LIMIT_ACCURACY];
+  PetscCall(Output(sim, o, out, &L->p, o->snapshot_interval > 0, r));
+  L->t_snap = o->snapshot_interval > 0 ? 0.0 : -1.0;
+  PetscCall(EnergyScale(sim, r));
+  PetscCall(TSMonitor(ts, 0, 0.0, sim->X));
+  PetscFunctionReturn(0);
+}
+
+/* A restart keeps the checkpoint's output schedule unless this run changed an interval
+ * or the end (both allowed: they change outputs only); the checkpoint clock starts anew. */
+static PetscErrorCode Reschedule(SpamSim *sim, const SpamRunOptions *o, double fixed_dt, const SpamRestart *rs, SpamLoop *L)
+{
+  Schedule      s;
+  const double *loop;
+
+  PetscFunctionBeginUser;
+  (void)sim;
+  PetscCall(SpamCkGetReal(&rs->file, "loop", 11, &loop));
+  ScheduleInit(o, fixed_dt, &s);
+  if (s.out_interval != L->s.out_interval || (o->t_end != loop[10] && L->s.next_out >= loop[10])) {
+    L->s.out_interval = s.out_interval;
+    L->s.next_out     = NextMultiple(L->t, s.out_interval, o->t_end);
+  }
+  if (s.snap_interval != L->s.snap_interval || (o->t_end != loop[10] && L->s.next_snap >= loop[10])) {
+    L->s.snap_interval = s.snap_interval;
+    L->s.next_snap     = NextMultiple(L->t, s.snap_interval, o->t_end);
+  }
+  L->next_ckpt = o->checkpoint_interval > 0 ? (floor(L->t / o->checkpoint_interval + 1e-9) + 1.0) * o->checkpoint_interval : INFINITY;
+  PetscFunctionReturn(0);
+}
+
+/* The loop proper; Xgood holds the last accepted state. rs: the checkpoint a restart
+ * continues (NULL: a new run). */
+static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamOutput *out, SpamRunResult *r, Vec Xgood, Vec Xout, SpamRestart *rs, SpamLoop *L)
+{
+  SpamProgress  *pp = &L->p;
+  Schedule      *sp = &L->s;
   const double   dt_min = o->dt_min > 0 ? o->dt_min : 1e-12 * PetscMax(o->t_end, 1e-300);
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(r, sizeof *r));
-  PetscCall(PetscTime(&wall0));
+  {
+    double *keep = L->xref_keep; /* allocated by SpamRun */
+    PetscCall(PetscMemzero(L, sizeof *L));
+    L->xref_keep = keep;
+  }
+  PetscCall(PetscTime(&L->wall0));
+  L->last_ckpt_wall = L->wall0;
+  L->next_ckpt      = o->checkpoint_interval > 0 ? o->checkpoint_interval : INFINITY;
   PetscCall(SpamTSDescribe(ts, r->method, sizeof r->method, r->adapt, sizeof r->adapt, &r->fixed_dt));
   {
     char line[512]; /* snprintf: PETSc's printf writes 3 as "3." */
     (void)snprintf(line, sizeof line, "spam-ark: scene %s, %ld particles in %dD, h %g, %s, step %s, rtol %g atol %g, to t = %g\n", sim->scene.name, (long)sim->nglobal, sim->model.dim, sim->model.kernel.h, r->method, r->fixed_dt > 0 ? "fixed" : r->adapt, o->rtol, o->atol, o->t_end);
     PetscCall(PetscPrintf(sim->comm, "%s", line));
   }
-  ScheduleInit(o, r->fixed_dt, &s);
-  s.Xout = Xout;
-  PetscCall(SpamTSOutputMode(ts, app, r->fixed_dt, &s.mode, r->output_mode_reason, sizeof r->output_mode_reason));
-  PetscCall(PetscStrncpy(r->output_mode, SpamOutputModeNames[s.mode], sizeof r->output_mode));
+  sp->Xout = Xout;
+  PetscCall(SpamTSOutputMode(ts, app, r->fixed_dt, &sp->mode, r->output_mode_reason, sizeof r->output_mode_reason));
+  PetscCall(PetscStrncpy(r->output_mode, SpamOutputModeNames[sp->mode], sizeof r->output_mode));
+  if (rs) {
+    PetscCall(SpamRestartApply(sim, o, ts, app, rs, r, L));
+    PetscCall(Reschedule(sim, o, r->fixed_dt, rs, L));
+  } else PetscCall(Start(sim, o, ts, out, r, L));
   PetscCall(VecCopy(sim->X, Xgood));
-  p.limit = SpamStepLimitNames[SPAM_LIMIT_ACCURACY];
-  PetscCall(Output(sim, o, out, &p, o->snapshot_interval > 0, r));
-  t_snap = o->snapshot_interval > 0 ? 0.0 : -1.0;
-  PetscCall(EnergyScale(sim, r));
-  PetscCall(TSMonitor(ts, 0, 0.0, sim->X));
-  while (t < o->t_end && p.steps < o->max_steps) {
+  while (L->t < o->t_end && pp->steps < o->max_steps) {
     /* Interpolating, the only stop is t_end; a step cut there is an "end" step. */
-    const PetscBool     dense = (PetscBool)(s.mode == SPAM_OUTPUT_INTERPOLATED);
-    const double        tstop = dense ? o->t_end : PetscMin(s.next_out, s.next_snap);
+    const PetscBool     dense = (PetscBool)(sp->mode == SPAM_OUTPUT_INTERPOLATED);
+    const double        tstop = NextStop(o, sp);
     const SpamStepLimit cut   = dense ? SPAM_LIMIT_END : SPAM_LIMIT_OUTPUT;
     SpamStepLimit       limit = r->fixed_dt > 0 ? SPAM_LIMIT_FIXED : SPAM_LIMIT_ACCURACY;
-    char          why[256];
-    PetscReal     tnew;
+    char                why[256];
+    PetscReal           tnew;
+    double              t = L->t;
 
     if (SpamInterruptSignal()) {
-      PetscCall(Interrupted(sim, o, out, &p, (PetscBool)(t_row == t), (PetscBool)(t_snap == t), r));
-      break;
+      /* The checkpoint first, so that it holds the series as a straight run writes them,
+       * without the extra row and snapshot of the interruption. */
+      PetscBool written;
+      L->ckpt_due = PETSC_TRUE;
+      PetscCall(CheckpointServe(sim, o, ts, app, out, r, L, &written));
+      if (written || L->t >= o->t_end || L->ckpt_deferred == 0) {
+        PetscCall(Interrupted(sim, o, out, pp, (PetscBool)(L->t_row == t), (PetscBool)(L->t_snap == t), r));
+        break;
+      }
     }
     PetscCall(TSSetMaxTime(ts, tstop));
     if (!app->self_stepping) PetscCall(ChooseStep(ts, app, r->fixed_dt, tstop, cut, &limit));
     else PetscCall(SelfSteppingBound(ts, app));
     PetscCall(TSStep(ts));
-    PetscCall(FailureReason(ts, app, p.steps + 1, t, why, sizeof why));
+    PetscCall(FailureReason(ts, app, pp->steps + 1, t, why, sizeof why));
     if (why[0]) {
       PetscCall(Unstable(sim, out, Xgood, t, r, why));
       break;
@@ -367,65 +485,94 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
       tnew = tstop;
       PetscCall(TSSetTime(ts, tnew));
     }
-    PetscCall(Progress(ts, sim, wall0, tnew - t, &p));
-    if (app->self_stepping && isfinite(app->bound) && p.dt >= app->bound * (1.0 - 1e-9)) limit = app->bound_which;
+    PetscCall(Progress(ts, sim, L->wall0, tnew - t, pp));
+    pp->rejected += L->rejected_base;
+    if (app->self_stepping && isfinite(app->bound) && pp->dt >= app->bound * (1.0 - 1e-9)) limit = app->bound_which;
     if (app->self_stepping && tnew >= tstop && limit == SPAM_LIMIT_ACCURACY && r->fixed_dt <= 0) limit = cut;
     if (limit == SPAM_LIMIT_CFL || limit == SPAM_LIMIT_FORCE) r->limited++;
-    p.limited = r->limited;
-    p.limit   = SpamStepLimitNames[limit];
-    t         = tnew;
-    PetscCall(CheckState(sim, o, r, t, p.steps, why, sizeof why));
+    pp->limited = r->limited;
+    pp->limit   = SpamStepLimitNames[limit];
+    t           = tnew;
+    L->t        = t;
+    PetscCall(CheckState(sim, o, r, t, pp->steps, why, sizeof why));
     /* A collapse, not the cautious first steps of a start from rest: only a shrinking step
      * below the floor fails. */
-    if (!why[0] && r->fixed_dt <= 0 && limit != cut && p.dt < dt_min && p.dt < dt_prev) (void)snprintf(why, sizeof why, "step size %.3e fell below the floor %.3e at t = %.6g (step %ld)", p.dt, dt_min, t, p.steps);
+    if (!why[0] && r->fixed_dt <= 0 && limit != cut && pp->dt < dt_min && pp->dt < L->dt_prev) (void)snprintf(why, sizeof why, "step size %.3e fell below the floor %.3e at t = %.6g (step %ld)", pp->dt, dt_min, t, pp->steps);
     if (why[0]) {
       PetscCall(Unstable(sim, out, Xgood, r->t, r, why));
       break;
     }
     PetscCall(PostStep(ts, sim, r));
     PetscCall(VecCopy(sim->X, Xgood));
-    if (limit != cut) dt_prev = p.dt;
+    if (limit != cut) L->dt_prev = pp->dt;
     r->t = t;
-    PetscCall(SpamStepsAppend(out, &p));
-    if (o->monitor) PetscCall(SpamMonitorStep(sim, &p));
+    PetscCall(SpamStepsAppend(out, pp));
+    if (o->monitor) PetscCall(SpamMonitorStep(sim, pp));
     /* TSSolve would call the -ts_monitor monitors; this loop steps the TS itself. */
-    PetscCall(TSMonitor(ts, (PetscInt)p.steps, t, sim->X));
-    PetscCall(SpamTSAdaptMonitorSelf(ts, p.steps - 1, t - p.dt, p.dt, p.rejected));
-    if (dense) PetscCall(InterpolatedOutputs(ts, sim, o, out, &p, &s, r));
-    if (Reached(t, PetscMin(s.next_out, s.next_snap)) || t >= o->t_end || p.steps >= o->max_steps) {
-      const PetscBool snap = (PetscBool)(o->snapshot_interval > 0 && (Reached(t, s.next_snap) || t >= o->t_end || p.steps >= o->max_steps));
-      PetscCall(Output(sim, o, out, &p, snap, r));
-      t_row = t;
-      if (snap) t_snap = t;
-      if (Reached(t, s.next_out)) s.next_out = NextMultiple(t, s.out_interval, o->t_end);
-      if (Reached(t, s.next_snap)) s.next_snap = NextMultiple(t, s.snap_interval, o->t_end);
+    PetscCall(TSMonitor(ts, (PetscInt)pp->steps, t, sim->X));
+    PetscCall(SpamTSAdaptMonitorSelf(ts, pp->steps - 1, t - pp->dt, pp->dt, pp->rejected));
+    /* Outputs do not steer the run: a list build their density sums or the interpolant's
+     * right-hand sides make is undone, so the method's next right-hand sides (and a
+     * restart from a checkpoint taken now) see the list the step left. */
+    PetscCall(SpamNeighboursKeep(&sim->nl, L->xref_keep, &L->builds_keep));
+    if (dense) PetscCall(InterpolatedOutputs(ts, sim, o, out, pp, sp, r));
+    if (Reached(t, PetscMin(sp->next_out, sp->next_snap)) || t >= o->t_end) {
+      const PetscBool snap = (PetscBool)(o->snapshot_interval > 0 && (Reached(t, sp->next_snap) || t >= o->t_end));
+      PetscCall(Output(sim, o, out, pp, snap, r));
+      L->t_row = t;
+      if (snap) L->t_snap = t;
+      if (Reached(t, sp->next_out)) sp->next_out = NextMultiple(t, sp->out_interval, o->t_end);
+      if (Reached(t, sp->next_snap)) sp->next_snap = NextMultiple(t, sp->snap_interval, o->t_end);
+    }
+    PetscCall(SpamNeighboursRevert(&sim->nl, &sim->box, L->xref_keep, L->builds_keep));
+    {
+      /* Stopped short of the end by -ts_max_steps with checkpoints on: one now (no deferral:
+       * the run ends here), before the row and snapshot of the time reached, which are this
+       * run's own ending, not part of the series a continued run writes. */
+      const PetscBool short_stop = (PetscBool)(pp->steps >= o->max_steps && t < o->t_end);
+      PetscBool       written;
+      PetscCall(CheckpointAsked(o, L));
+      if (short_stop && (o->checkpoint_interval > 0 || o->checkpoint_wall > 0)) {
+        L->ckpt_due      = PETSC_TRUE;
+        L->ckpt_deferred = SPAM_CKPT_MAX_DEFER;
+      }
+      PetscCall(CheckpointServe(sim, o, ts, app, out, r, L, &written));
+      if (short_stop) PetscCall(FinalOutputs(sim, o, out, pp, (PetscBool)(L->t_row == t), (PetscBool)(L->t_snap == t), r));
     }
   }
-  if (r->status == SPAM_STATUS_OK && t < o->t_end) r->status = SPAM_STATUS_MAX_STEPS;
-  r->steps     = p.steps;
-  r->rejected  = p.rejected;
-  r->attempts  = p.steps + p.rejected;
+  if (r->status == SPAM_STATUS_OK && L->t < o->t_end) r->status = SPAM_STATUS_MAX_STEPS;
+  r->steps     = pp->steps;
+  r->rejected  = pp->rejected;
+  r->attempts  = pp->steps + pp->rejected;
   r->rhs_evals = sim->stats.rhs_evals;
+  r->checkpoints      = L->ckpt_count;
+  r->checkpoint_bytes = L->ckpt_bytes;
+  r->checkpoint_write = L->ckpt_seconds;
   {
     PetscLogDouble now;
     PetscCall(PetscTime(&now));
-    r->wall = now - wall0;
+    r->wall = now - L->wall0;
   }
   PetscFunctionReturn(0);
 }
 
 /* Xgood and Xout are freed on every path: a failed write ends the run with an error, not a leak. */
-PetscErrorCode SpamRun(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamOutput *out, SpamRunResult *r)
+PetscErrorCode SpamRun(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamOutput *out, SpamRestart *rs, SpamRunResult *r)
 {
   Vec            Xgood, Xout;
+  SpamLoop      *L;
   PetscErrorCode ierr;
 
   PetscFunctionBeginUser;
+  PetscCall(PetscNew(&L));
+  PetscCall(PetscMalloc1((size_t)sim->n * sim->model.dim + 1, &L->xref_keep));
   PetscCall(VecDuplicate(sim->X, &Xgood));
   PetscCall(VecDuplicate(sim->X, &Xout));
-  ierr = Loop(sim, o, ts, app, out, r, Xgood, Xout);
+  ierr = Loop(sim, o, ts, app, out, r, Xgood, Xout, rs, L);
   PetscCall(VecDestroy(&Xout));
   PetscCall(VecDestroy(&Xgood));
+  PetscCall(PetscFree(L->xref_keep));
+  PetscCall(PetscFree(L));
   PetscCall(ierr);
   /* What TSSolve does at its end: -ts_view (with SUNDIALS' table for arkode and cvode);
    * and -sundials_stats. */

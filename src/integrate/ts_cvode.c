@@ -203,3 +203,15 @@ PetscErrorCode SpamTSCreate_CVode(TS ts)
   PetscCall(PetscObjectComposeFunction((PetscObject)ts, "SpamTSSundialsStats_C", SundialsStats_SpamCVode));
   PetscFunctionReturn(0);
 }
+
+/* A restart: CVODE starts at order 1 from the checkpoint's state; its first step is the
+ * step the checkpointed run was about to take (its history cannot be set: checkpoint.h). */
+PetscErrorCode SpamTSCVodeSetInitStep(TS ts, double h)
+{
+  TS_SpamCVode *cv = (TS_SpamCVode *)ts->data;
+
+  PetscFunctionBeginUser;
+  PetscCheck(cv->mem, PetscObjectComm((PetscObject)ts), PETSC_ERR_ORDER, "the cvode TS is not set up");
+  PetscCallCV(CVodeSetInitStep(cv->mem, h));
+  PetscFunctionReturn(0);
+}

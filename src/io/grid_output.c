@@ -32,13 +32,15 @@ static PetscErrorCode WriteDataset(GridH5 *h, const SpamGrid *g, const char *nam
 {
   hsize_t shape[4];
   int     rank = Shape(g, shape);
-  hid_t   space, set;
+  hid_t   space, set, dcpl;
   herr_t  w;
 
   PetscFunctionBeginUser;
   if (ncomp > 1) shape[rank++] = (hsize_t)ncomp;
+  PetscCallGridH5(h, dcpl = SpamH5Untimed(H5P_DATASET_CREATE));
   PetscCallGridH5(h, space = H5Screate_simple(rank, shape, NULL));
-  set = H5Dcreate2(h->file, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  set = H5Dcreate2(h->file, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+  (void)H5Pclose(dcpl);
   if (set < 0) {
     (void)H5Sclose(space);
     PetscCall(SpamH5Failed(h->path));
@@ -125,7 +127,11 @@ static PetscErrorCode WriteHdf5(const char *path, const SpamSim *sim, const Spam
   (void)close(fd);
   (void)H5Eset_auto2(H5E_DEFAULT, NULL, NULL); /* no error-stack dump: one line instead */
   errno  = 0;
-  h.file = H5Fcreate(tmp, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  {
+    const hid_t fcpl = SpamH5Untimed(H5P_FILE_CREATE);
+    h.file           = fcpl < 0 ? -1 : H5Fcreate(tmp, H5F_ACC_TRUNC, fcpl, H5P_DEFAULT);
+    if (fcpl >= 0) (void)H5Pclose(fcpl);
+  }
   if (h.file < 0) ierr = SpamH5Failed(h.path);
   else {
     ierr  = WriteContents(&h, sim, g, f, t, step);

@@ -17,7 +17,7 @@ static PetscBool DigitsThen(const char *s, const char *suffix)
 
 static PetscBool IsRunFile(const char *name)
 {
-  static const char *fixed[] = {"timeseries.csv", "steps.csv", "summary.json", "snapshots.xmf", "manifest.json", "particles_last_good.csv", "grid.xmf"};
+  static const char *fixed[] = {"timeseries.csv", "steps.csv", "summary.json", "snapshots.xmf", "manifest.json", "particles_last_good.csv", "grid.xmf", "checkpoint.h5"};
 
   for (size_t k = 0; k < sizeof fixed / sizeof fixed[0]; k++)
     if (!strcmp(name, fixed[k])) return PETSC_TRUE;
@@ -117,5 +117,26 @@ PetscErrorCode SpamOutputRemoveEarlier(const SpamOutput *o, PetscBool all)
   PetscCall(ierr);
   /* The manifest last: should removal stop half-way, it still lists what is left. */
   if (all) PetscCall(Remove(o, "manifest.json"));
+  PetscFunctionReturn(0);
+}
+
+/* A restart: every file of the run that the checkpoint's manifest does not list was
+ * written after the checkpoint (a snapshot, the summary) and goes, with stale temporaries;
+ * the checkpoint itself stays. */
+PetscErrorCode SpamOutputRemoveUnlisted(const SpamOutput *o)
+{
+  DIR           *d;
+  struct dirent *e;
+  PetscErrorCode ierr = 0;
+
+  PetscFunctionBeginUser;
+  PetscCheck(d = opendir(o->dir), PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot read directory %s: %s", o->dir, strerror(errno));
+  while (!ierr && (e = readdir(d))) {
+    PetscBool listed = (PetscBool)(!strcmp(e->d_name, "checkpoint.h5") || !strcmp(e->d_name, "manifest.json"));
+    for (int k = 0; k < o->nfiles && !listed; k++) listed = (PetscBool)(!o->files[k].outside && !strcmp(o->files[k].name, e->d_name));
+    if (IsTemporary(e->d_name) || (IsRunFile(e->d_name) && !listed)) ierr = Remove(o, e->d_name);
+  }
+  (void)closedir(d);
+  PetscCall(ierr);
   PetscFunctionReturn(0);
 }

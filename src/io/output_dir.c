@@ -5,7 +5,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-static PetscErrorCode MakeDirs(const char *dir)
+PetscErrorCode SpamOutputMakeDirs(const char *dir)
 {
   char p[PETSC_MAX_PATH_LEN];
 
@@ -67,7 +67,7 @@ PetscErrorCode SpamOutputOpen(const char *dir, PetscBool hdf5, PetscBool csv, co
   o->hdf5 = hdf5;
   o->csv  = csv;
   o->opt  = *opt;
-  PetscCall(MakeDirs(dir));
+  PetscCall(SpamOutputMakeDirs(dir));
   PetscCall(TakeDirectory(o));
   PetscCall(SpamOutputPath(o, "timeseries.csv", path, sizeof path));
   PetscCall(SpamFileBegin(path, &o->timeseries));

@@ -112,3 +112,42 @@ PetscErrorCode SpamFileCommit(SpamFile *f)
   }
   PetscFunctionReturn(0);
 }
+
+PetscErrorCode SpamReadWholeFile(const char *path, char **buf, size_t *len)
+{
+  FILE *f;
+  long  n;
+
+  PetscFunctionBeginUser;
+  *buf = NULL;
+  *len = 0;
+  if (!(f = fopen(path, "rb"))) {
+    PetscCheck(errno == ENOENT, PETSC_COMM_SELF, PETSC_ERR_FILE_READ, "cannot read %s: %s", path, strerror(errno));
+    PetscFunctionReturn(0);
+  }
+  if (fseek(f, 0, SEEK_END) || (n = ftell(f)) < 0 || fseek(f, 0, SEEK_SET)) {
+    const int e = errno;
+    (void)fclose(f);
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_READ, "cannot read %s: %s", path, strerror(e));
+  }
+  PetscCall(PetscMalloc1((size_t)n + 1, buf));
+  if (fread(*buf, 1, (size_t)n, f) != (size_t)n) {
+    const int e = errno;
+    (void)fclose(f);
+    PetscCall(PetscFree(*buf));
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_READ, "cannot read %s: %s", path, strerror(e));
+  }
+  (void)fclose(f);
+  (*buf)[n] = 0;
+  *len      = (size_t)n;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamFileContents(SpamFile *f, char **buf, size_t *len)
+{
+  PetscFunctionBeginUser;
+  PetscCall(SpamFileCheck(f));
+  PetscCall(SpamReadWholeFile(f->tmp, buf, len));
+  PetscCheck(*buf, PETSC_COMM_SELF, PETSC_ERR_FILE_READ, "cannot read back %s: it has gone", f->tmp);
+  PetscFunctionReturn(0);
+}

@@ -79,3 +79,14 @@ PetscErrorCode SpamH5Failed(const char *path)
   PetscFunctionBeginUser;
   SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write %s: %s", path, strerror(e));
 }
+
+hid_t SpamH5Untimed(hid_t kind)
+{
+  const hid_t plist = H5Pcreate(kind);
+  if (plist < 0) return plist;
+  if (H5Pset_obj_track_times(plist, 0) < 0) {
+    (void)H5Pclose(plist);
+    return -1;
+  }
+  return plist;
+}

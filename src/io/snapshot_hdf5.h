@@ -22,6 +22,11 @@ herr_t SpamSnapshotDensityCarried(hid_t file, int carried);
 /* An attribute of loc: n values (0: a scalar); a fixed-length ASCII string. */
 herr_t SpamH5Attribute(hid_t loc, const char *name, hid_t file_type, hid_t mem_type, hsize_t n, const void *data);
 herr_t SpamH5StringAttribute(hid_t loc, const char *name, const char *s);
+/* Property lists that keep no modification times (HDF5 stamps every object with the clock
+ * by default): the same run then writes the same bytes, so a restarted run's snapshots
+ * compare equal to the uninterrupted run's with cmp. kind: H5P_FILE_CREATE or
+ * H5P_DATASET_CREATE; the caller closes the list (negative: failed). */
+hid_t SpamH5Untimed(hid_t kind);
 /* A failed HDF5 call on the file at path: one line naming it and the system's reason (HDF5
  * keeps the system call's errno), as a PETSc error. */
 PetscErrorCode SpamH5Failed(const char *path);

@@ -27,10 +27,13 @@ static PetscErrorCode WriteDataset(H5Out *h, const char *name, const double *dat
   hsize_t dims[2] = {n, ncomp};
   hid_t   space, set;
   herr_t  w;
+  hid_t   dcpl;
 
   PetscFunctionBeginUser;
+  PetscCallH5(h, dcpl = SpamH5Untimed(H5P_DATASET_CREATE));
   PetscCallH5(h, space = H5Screate_simple(ncomp > 1 ? 2 : 1, dims, NULL));
-  set = H5Dcreate2(h->file, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  set = H5Dcreate2(h->file, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+  (void)H5Pclose(dcpl);
   if (set < 0) {
     (void)H5Sclose(space);
     PetscCall(SpamH5Failed(h->path));
@@ -98,12 +101,14 @@ static PetscErrorCode FieldsGather(const SpamSim *sim, const double *y, Fields *
 /* The ids as 64-bit integers (a run may hold more particles than a 32-bit int counts). */
 static PetscErrorCode WriteIds(H5Out *h, const long long *id, hsize_t n)
 {
-  hid_t  space, set;
+  hid_t  space, set, dcpl;
   herr_t w;
 
   PetscFunctionBeginUser;
+  PetscCallH5(h, dcpl = SpamH5Untimed(H5P_DATASET_CREATE));
   PetscCallH5(h, space = H5Screate_simple(1, &n, NULL));
-  set = H5Dcreate2(h->file, "/id", H5T_STD_I64LE, space, H5P_DEFAULT, H5P_DEFAULT, H5P_DEFAULT);
+  set = H5Dcreate2(h->file, "/id", H5T_STD_I64LE, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+  (void)H5Pclose(dcpl);
   if (set < 0) {
     (void)H5Sclose(space);
     PetscCall(SpamH5Failed(h->path));
@@ -142,7 +147,13 @@ static PetscErrorCode WriteFile(const char *path, const char *tmp, const struct 
 
   PetscFunctionBeginUser;
   (void)H5Eset_auto2(H5E_DEFAULT, NULL, NULL); /* no error-stack dump: one line instead */
-  PetscCallH5(&h, h.file = H5Fcreate(tmp, H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT));
+  {
+    hid_t fcpl;
+    PetscCallH5(&h, fcpl = SpamH5Untimed(H5P_FILE_CREATE));
+    h.file = H5Fcreate(tmp, H5F_ACC_TRUNC, fcpl, H5P_DEFAULT);
+    (void)H5Pclose(fcpl);
+    PetscCallH5(&h, h.file);
+  }
   ierr = FieldsWrite(&h, f, n);
   errno = 0;
   if (H5Fclose(h.file) < 0 && !ierr) ierr = SpamH5Failed(h.path);

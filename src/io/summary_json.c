@@ -115,6 +115,24 @@ static void Counts(Summary *f, const SpamSim *sim, const SpamRunResult *r)
   Int(f, "neighbour_list_grows", sim->nl.grows);
 }
 
+/* Issue 17: the checkpoints this run wrote, and the one it continued (null when new). */
+static void Checkpoints(Summary *f, const SpamRunResult *r)
+{
+  Int(f, "checkpoints_written", r->checkpoints);
+  Num(f, "checkpoint_bytes", r->checkpoint_bytes);
+  Num(f, "checkpoint_write_s", r->checkpoint_write);
+  if (!r->restart_from[0]) {
+    SpamFilePrintf(&f->f, "  \"restart_from\": null,\n");
+    return;
+  }
+  Str(f, "restart_from", r->restart_from);
+  Num(f, "restart_t", r->restart_t);
+  Int(f, "restart_step", r->restart_step);
+  Str(f, "restart", r->restart_exact ? "bitwise" : "approximate");
+  Str(f, "restart_why_approximate", r->restart_exact ? "" : r->restart_why);
+  Int(f, "restart_rhs_evals", r->restart_rhs_evals);
+}
+
 static void Performance(Summary *f, const SpamSim *sim, const SpamRunResult *r)
 {
   struct rusage ru;
@@ -234,6 +252,7 @@ PetscErrorCode SpamSummaryWrite(SpamOutput *out, const SpamSim *sim, const SpamR
   Num(&f, "rtol", o->rtol);
   Num(&f, "atol", o->atol);
   Counts(&f, sim, r);
+  Checkpoints(&f, r);
   Performance(&f, sim, r);
   Conservation(&f, sim, o, r);
   Str(&f, "output_dir", out->dir);

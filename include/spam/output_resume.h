@@ -1,0 +1,17 @@
+/* The output series in a checkpoint and their reopening by a restart (output_resume.c). */
+#ifndef SPAM_OUTPUT_RESUME_H
+#define SPAM_OUTPUT_RESUME_H
+#include <spam/output.h>
+#include <spam/checkpoint_file.h>
+
+/* The checkpoint's name in the output directory. */
+#define SPAM_CHECKPOINT_FILE "checkpoint.h5"
+
+/* Puts the series as they stand (texts, indexes, times, manifest list) into c. */
+PetscErrorCode SpamOutputSave(SpamOutput *o, SpamCkFile *c);
+/* Takes dir for a run continuing checkpoint c: locks it, removes the files written after
+ * the checkpoint, writes back its indexes and opens timeseries.csv and steps.csv holding
+ * the checkpoint's rows. (The checkpoint's options were checked: the directory's earlier
+ * run is the one being continued, not refused.) */
+PetscErrorCode SpamOutputResume(const char *dir, PetscBool hdf5, PetscBool csv, const SpamOutputOptions *opt, const SpamCkFile *c, SpamOutput *o);
+#endif

@@ -1,0 +1,183 @@
+/* Writing a checkpoint: what the run needs to go on bit for bit (checkpoint.h). Entries
+ * (h5dump -A shows them; /checkpoint/NAME):
+ *   version, options, method            text: who wrote it and with what options
+ *   exact                               1: taken with no clamp pending (see time_loop.c)
+ *   time, step, nglobal, nvar, dim      the moment and the shape of the state
+ *   state [n*nvar]                      the packed state, rows in the run's particle order
+ *   id [n], mass [n]                    each row's input row and mass (checked on restart)
+ *   xref [n*dim]                        the neighbour list's reference positions
+ *   acc [n*dim]                         the last force evaluation (the force step bound)
+ *   h_next                              the step the integrator proposes next
+ *   velocity_scale                      the error weights' velocity scale (the start's c0)
+ *   arkode_history [5], arkode_accepted ERKStep's controller: h_next, 2 errors, 2 steps
+ *   loop [11]                           schedule, loop times and end (see PutLoop)
+ *   kick_cached                         basicsymplectic: the kick's force is cached
+ *   progress [6], limit                 counters of the last step and what limited it
+ *   rhs_stats [3], list_builds          the RHS's counters
+ *   run_result                          the run's result so far (same build only)
+ *   out_*                               the output series (output_resume.c) */
+#include <petsc/private/tsimpl.h> /* ts->steprestart: a state jump waiting to restart the method */
+#include "loop_state.h"
+#include <spam/version.h>
+#include <sundials/sundials_config.h>
+
+#include <spam_commit.h> /* SPAM_GIT_COMMIT, made at every build (cmake/commit_header.cmake) */
+
+PetscErrorCode SpamCheckpointVersion(char *buf, size_t len)
+{
+  char        petsc[64];
+
+  PetscFunctionBeginUser;
+  (void)snprintf(petsc, sizeof petsc, "%d.%d.%d", PETSC_VERSION_MAJOR, PETSC_VERSION_MINOR, PETSC_VERSION_SUBMINOR);
+  /* Test only: SPAM_TEST_VERSION stands in for the program's version, so that a test can
+   * write a checkpoint of "another version" (an environment variable, not an option). */
+  const char *test = getenv("SPAM_TEST_VERSION");
+  (void)snprintf(buf, len, "spam-ark %s (commit %s), PETSc %s, SUNDIALS %s, checkpoint layout 1", test ? test : SPAM_VERSION, SPAM_GIT_COMMIT, petsc, SUNDIALS_VERSION);
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode PutIdentity(SpamSim *sim, const SpamRunResult *r, SpamCkFile *c)
+{
+  char  version[256], *all = NULL;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamCheckpointVersion(version, sizeof version));
+  PetscCall(SpamCkPutText(c, "version", version, strlen(version)));
+  PetscCall(PetscOptionsGetAll(NULL, &all));
+  PetscCall(SpamCkPutText(c, "options", all ? all : "", all ? strlen(all) : 0));
+  PetscCall(PetscFree(all));
+  PetscCall(SpamCkPutText(c, "method", r->method, strlen(r->method)));
+  PetscCall(SpamCkPutLong(c, "nglobal", (long)sim->nglobal));
+  PetscCall(SpamCkPutLong(c, "nvar", sim->model.layout.nvar));
+  PetscCall(SpamCkPutLong(c, "dim", sim->model.dim));
+  PetscFunctionReturn(0);
+}
+
+/* Per-particle arrays in the run's particle order (a restart builds the same order from
+ * the same options, and checks it by id). */
+static PetscErrorCode PutParticles(SpamSim *sim, SpamCkFile *c)
+{
+  const int          dim = sim->model.dim, n = (int)sim->n;
+  const PetscScalar *y;
+  double            *xref;
+  int64_t           *id;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArrayRead(sim->X, &y));
+  PetscCall(SpamCkPutReal(c, "state", (size_t)n * sim->model.layout.nvar, y));
+  PetscCall(VecRestoreArrayRead(sim->X, &y));
+  PetscCall(PetscMalloc2((size_t)n * dim + 1, &xref, (size_t)n + 1, &id));
+  for (int i = 0; i < n; i++) {
+    id[i] = SpamSimRowOf(sim, i);
+    for (int d = 0; d < dim; d++) xref[(size_t)i * dim + d] = sim->nl.xref[d][i];
+  }
+  PetscCall(SpamCkPutInt(c, "id", (size_t)n, id));
+  PetscCall(SpamCkPutReal(c, "xref", (size_t)n * dim, xref));
+  PetscCall(SpamCkPutReal(c, "mass", (size_t)n, sim->f.m));
+  PetscCall(SpamCkPutReal(c, "acc", (size_t)n * dim, sim->f.acc));
+  PetscCall(SpamCkPutLong(c, "list_builds", sim->nl.builds));
+  {
+    const double stats[3] = {(double)sim->stats.rhs_evals, sim->stats.rhs_time, sim->stats.pair_visits};
+    PetscCall(SpamCkPutReal(c, "rhs_stats", 3, stats));
+  }
+  PetscCall(PetscFree2(xref, id));
+  PetscFunctionReturn(0);
+}
+
+/* The integrator: the step it proposes next, and ERKStep's controller history. */
+static PetscErrorCode PutIntegrator(TS ts, const SpamTsApp *app, SpamCkFile *c)
+{
+  PetscBool arkode;
+  PetscReal dt;
+
+  PetscFunctionBeginUser;
+  PetscCall(TSGetTimeStep(ts, &dt));
+  PetscCall(PetscObjectTypeCompare((PetscObject)ts, SPAM_TSARKODE, &arkode));
+  if (arkode && app->self_stepping) {
+    SpamArkodeHistory h;
+    PetscCall(SpamTSARKodeGetHistory(ts, &h));
+    {
+      const double v[5] = {h.h_next, h.ehist[0], h.ehist[1], h.hhist[0], h.hhist[1]};
+      PetscCall(SpamCkPutReal(c, "arkode_history", 5, v));
+    }
+    PetscCall(SpamCkPutLong(c, "arkode_accepted", h.accepted));
+    dt = h.h_next;
+  }
+  PetscCall(SpamCkPutScalar(c, "h_next", dt));
+  PetscCall(SpamCkPutScalar(c, "velocity_scale", app->w.vscale));
+  {
+    /* the kick's cached force is at the current positions: the next step reuses it */
+    PetscBool          cached = app->cache_valid;
+    const PetscScalar *y;
+    const SpamSim     *sim = app->sim;
+    if (cached) {
+      PetscCall(VecGetArrayRead(sim->X, &y));
+      for (PetscInt i = 0; i < sim->n && cached; i++)
+        for (int d = 0; d < sim->model.dim; d++)
+          if (memcmp(&y[(size_t)i * sim->model.layout.nvar + sim->model.layout.x + d], &app->xcache[(size_t)i * sim->model.dim + d], sizeof(double))) cached = PETSC_FALSE;
+      PetscCall(VecRestoreArrayRead(sim->X, &y));
+    }
+    PetscCall(SpamCkPutLong(c, "kick_cached", cached));
+  }
+  PetscCall(SpamCkPutLong(c, "step_restart_pending", ts->steprestart && ts->steps > 0));
+  PetscFunctionReturn(0);
+}
+
+/* The loop: schedule, times, wall clock and checkpoint clock. */
+static PetscErrorCode PutLoop(const SpamRunOptions *o, const SpamLoop *L, const SpamRunResult *r, SpamCkFile *c)
+{
+  PetscLogDouble now;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscTime(&now));
+  {
+    const double v[11] = {L->s.out_interval, L->s.snap_interval, L->s.next_out, L->s.next_snap, L->t, L->dt_prev, L->t_row, L->t_snap, now - L->wall0, L->next_ckpt, o->t_end};
+    PetscCall(SpamCkPutReal(c, "loop", 11, v));
+  }
+  {
+    const double v[6] = {L->p.t, (double)L->p.steps, (double)L->p.rejected, (double)L->p.limited, L->p.dt, L->p.rhs_time};
+    PetscCall(SpamCkPutReal(c, "progress", 6, v));
+  }
+  PetscCall(SpamCkPutText(c, "limit", L->p.limit ? L->p.limit : "", L->p.limit ? strlen(L->p.limit) : 0));
+  PetscCall(SpamCkPutScalar(c, "time", L->t));
+  PetscCall(SpamCkPutLong(c, "step", L->p.steps));
+  /* The result so far (first diagnostics, drift maxima, counters) as the bytes of the
+   * struct: only the build that wrote it reads it back (the version check). */
+  PetscCall(SpamCkPutText(c, "run_result", (const char *)r, sizeof *r));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamCheckpointWrite(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamOutput *out, const SpamRunResult *r, SpamLoop *L, PetscBool exact)
+{
+  SpamCkFile     c;
+  char           path[PETSC_MAX_PATH_LEN];
+  size_t         bytes = 0;
+  PetscLogDouble t0, t1;
+  PetscErrorCode ierr;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscTime(&t0));
+  PetscCall(SpamCkFileInit(&c));
+  ierr = PutIdentity(sim, r, &c);
+  if (!ierr) ierr = SpamCkPutLong(&c, "exact", exact);
+  if (!ierr) ierr = PutParticles(sim, &c);
+  if (!ierr) ierr = PutIntegrator(ts, app, &c);
+  if (!ierr) ierr = PutLoop(o, L, r, &c);
+  if (!ierr) ierr = SpamOutputSave(out, &c);
+  if (!ierr) ierr = SpamOutputPath(out, SPAM_CHECKPOINT_FILE, path, sizeof path);
+  if (!ierr) ierr = SpamCkFileWrite(sim->comm, &c, path, &bytes);
+  PetscCall(SpamCkFileDestroy(&c));
+  PetscCall(ierr);
+  PetscCall(PetscTime(&t1));
+  L->ckpt_count++;
+  L->ckpt_bytes   = (double)bytes;
+  L->ckpt_seconds = t1 - t0;
+  PetscCall(SpamManifestAdd(out, SPAM_CHECKPOINT_FILE, "checkpoint", L->t, PETSC_FALSE));
+  PetscCall(SpamManifestWrite(out));
+  {
+    char line[PETSC_MAX_PATH_LEN + 256];
+    (void)snprintf(line, sizeof line, "spam-ark: checkpoint at t = %.6g (step %ld%s): %s, %.3g MB in %.3f s\n", L->t, L->p.steps, exact ? "" : ", inexact: a stop-time clamp was pending", path, 1e-6 * (double)bytes, t1 - t0);
+    PetscCall(PetscPrintf(sim->comm, "%s", line));
+  }
+  PetscFunctionReturn(0);
+}

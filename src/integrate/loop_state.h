@@ -1,0 +1,38 @@
+/* Internal to src/integrate: the time loop's state between two steps. It is what a
+ * checkpoint saves besides the particles and the integrator (checkpoint_save.c), and what a
+ * restart puts back (restart_load.c) before the loop goes on. */
+#ifndef SPAM_LOOP_STATE_H
+#define SPAM_LOOP_STATE_H
+#include <spam/checkpoint.h>
+
+typedef struct {
+  double         out_interval, snap_interval, next_out, next_snap;
+  SpamOutputMode mode;
+  Vec            Xout; /* the interpolated state of an output time (interpolated mode) */
+} SpamSchedule;
+
+typedef struct {
+  SpamSchedule   s;
+  SpamProgress   p;
+  double         t, dt_prev;        /* time reached; last step not cut (0: none yet)    */
+  double         t_row, t_snap;     /* times of the last row and snapshot written       */
+  PetscLogDouble wall0;             /* wall-clock origin of the run (restarts: shifted)  */
+  long           rejected_base;     /* rejections before a restart (the TS counts anew)  */
+  /* checkpoints */
+  double         next_ckpt;         /* simulated time of the next one (inf: none)        */
+  PetscLogDouble last_ckpt_wall;    /* wall clock of the last one (or of the start)      */
+  PetscBool      ckpt_due;          /* asked for, waiting for a step without a clamp     */
+  int            ckpt_deferred;     /* steps it has waited                               */
+  long           ckpt_count;
+  double         ckpt_bytes, ckpt_seconds; /* size and write time of the last one        */
+  double        *xref_keep;         /* [n*dim] the list's reference positions before the */
+  long           builds_keep;       /* outputs of a step, and its build count            */
+} SpamLoop;
+
+/* Writes OUTPUT_DIR/checkpoint.h5 of the loop at its current step boundary. exact: no
+ * stop-time clamp is pending (the restart will be bitwise where the method allows). */
+PetscErrorCode SpamCheckpointWrite(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamOutput *out, const SpamRunResult *r, SpamLoop *L, PetscBool exact);
+/* Puts the checkpoint's particles, list, integrator, loop and result back (after the TS
+ * is made, before the first step). */
+PetscErrorCode SpamRestartApply(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamRestart *rs, SpamRunResult *r, SpamLoop *L);
+#endif

@@ -1,0 +1,305 @@
+/* -restart FILE: reading and checking a checkpoint before the run touches its directory,
+ * then putting it back into the particles, the neighbour list, the integrator and the loop
+ * (checkpoint_save.c says what each entry is). */
+#define _DEFAULT_SOURCE /* realpath */
+#include <petsc/private/tsimpl.h> /* ts->steprestart: ERKStep is made anew at a restart */
+#include "loop_state.h"
+#include <spam/errors.h>
+#include <stdlib.h>
+#include <libgen.h>
+
+/* Whether the method continues bit for bit, and why not. */
+static PetscErrorCode Exactness(TS ts, const SpamCkFile *c, PetscBool *exact, char *why, size_t len)
+{
+  TSType  type;
+  TSAdapt adapt;
+  long    ckexact, pending;
+
+  PetscFunctionBeginUser;
+  PetscCall(TSGetType(ts, &type));
+  PetscCall(SpamCkGetLong(c, "exact", &ckexact));
+  PetscCall(SpamCkGetLong(c, "step_restart_pending", &pending));
+  *exact = PETSC_TRUE;
+  why[0] = 0;
+  if (!strcmp(type, SPAM_TSCVODE)) (void)snprintf(why, len, "CVODE's Adams history (Nordsieck array, order, step history) cannot be set: it restarts at order 1");
+  else if (strcmp(type, SPAM_TSARKODE) && strcmp(type, TSBASICSYMPLECTIC)) {
+    TSAdaptType at;
+    PetscCall(TSGetAdapt(ts, &adapt));
+    PetscCall(TSAdaptGetType(adapt, &at));
+    if (strcmp(at, TSADAPTBASIC) && strcmp(at, TSADAPTNONE)) (void)snprintf(why, len, "PETSc's %s adaptor keeps its error history private: it restarts without it", at);
+  }
+  if (!why[0] && !ckexact) (void)snprintf(why, len, "the checkpoint was taken while a stop-time clamp was pending");
+  if (!why[0] && pending) (void)snprintf(why, len, "the checkpoint was taken after a state jump, before the method restarted");
+  if (why[0]) *exact = PETSC_FALSE;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode CheckVersion(const SpamRestart *rs)
+{
+  char        now[256];
+  const char *was;
+  size_t      len;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamCheckpointVersion(now, sizeof now));
+  PetscCall(SpamCkGetText(&rs->file, "version", &was, &len));
+  if (strcmp(was, now)) SPAM_BAD_INPUT("-restart", rs->path, "was written by %s; this program is %s: a checkpoint continues only in the build that wrote it", was, now);
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode CheckOptions(const SpamRestart *rs)
+{
+  const char *was;
+  size_t      len;
+  char       *now = NULL, name[128], a[256], b[256];
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamCkGetText(&rs->file, "options", &was, &len));
+  PetscCall(PetscOptionsGetAll(NULL, &now));
+  PetscCall(SpamRestartOptionsDiffer(was, now ? now : "", name, sizeof name, a, b, sizeof a));
+  PetscCall(PetscFree(now));
+  if (name[0]) SPAM_BAD_INPUT("-restart", rs->path, "option -%s was %s in the checkpoint and is %s here: a restart continues the same run (only outputs, the end and checkpoints may change)", name, a, b);
+  PetscFunctionReturn(0);
+}
+
+/* The same particles in the same order with the same masses. */
+static PetscErrorCode CheckParticles(SpamSim *sim, const SpamRestart *rs)
+{
+  long           ng, nvar, dim;
+  const int64_t *id;
+  const double  *m;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamCkGetLong(&rs->file, "nglobal", &ng));
+  PetscCall(SpamCkGetLong(&rs->file, "nvar", &nvar));
+  PetscCall(SpamCkGetLong(&rs->file, "dim", &dim));
+  if (ng != (long)sim->nglobal || nvar != sim->model.layout.nvar || dim != sim->model.dim) SPAM_BAD_INPUT("-restart", rs->path, "holds %ld particles of %ld variables in %ldD; these options make %ld of %d in %dD", ng, nvar, dim, (long)sim->nglobal, sim->model.layout.nvar, sim->model.dim);
+  PetscCall(SpamCkGetInt(&rs->file, "id", (size_t)sim->n, &id));
+  PetscCall(SpamCkGetReal(&rs->file, "mass", (size_t)sim->n, &m));
+  for (PetscInt i = 0; i < sim->n; i++) {
+    if (id[i] != SpamSimRowOf(sim, i)) SPAM_BAD_INPUT("-restart", rs->path, "row %ld holds particle %lld; the scene made here puts particle %ld there (the scene or its input file changed)", (long)i, (long long)id[i], (long)SpamSimRowOf(sim, i));
+    if (memcmp(&m[i], &sim->f.m[i], sizeof m[i])) SPAM_BAD_INPUT("-restart", rs->path, "particle %ld has mass %.17g in the checkpoint and %.17g here (the scene or its input file changed)", (long)SpamSimRowOf(sim, i), m[i], sim->f.m[i]);
+  }
+  PetscFunctionReturn(0);
+}
+
+/* A restart continues the series of the directory its checkpoint is in. */
+static PetscErrorCode CheckDirectory(const SpamRunOptions *o, const SpamRestart *rs)
+{
+  char  copy[PETSC_MAX_PATH_LEN], a[PATH_MAX], b[PATH_MAX];
+  char *dir;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscStrncpy(copy, rs->path, sizeof copy));
+  dir = dirname(copy);
+  if (!realpath(dir, a) || !realpath(o->output_dir, b) || strcmp(a, b)) SPAM_BAD_INPUT("-restart", rs->path, "lies in %s but -output_dir is %s: a restart continues the series of the checkpoint's own directory (give -output_dir %s)", dir, o->output_dir, dir);
+  PetscFunctionReturn(0);
+}
+
+/* The output and snapshot intervals not given are the checkpoint's (their defaults follow
+ * the end time, which a restart may move); a run that stops at outputs keeps them. */
+static PetscErrorCode TakeIntervals(SpamRunOptions *o, SpamRestart *rs)
+{
+  const double  *loop;
+  const char    *blob;
+  size_t         len;
+  SpamRunResult  r;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamCkGetReal(&rs->file, "loop", 11, &loop));
+  PetscCall(SpamCkGetText(&rs->file, "run_result", &blob, &len));
+  if (len != sizeof r) SPAM_BAD_INPUT("-restart", rs->path, "its run record has %zu bytes, this build's %zu", len, sizeof r);
+  memcpy(&r, blob, sizeof r);
+  if (!o->output_interval_set) o->output_interval = loop[0];
+  if (!o->snapshot_interval_set) o->snapshot_interval = loop[1];
+  if (!strcmp(r.output_mode, "stopped") && (o->output_interval != loop[0] || o->snapshot_interval != loop[1])) SPAM_BAD_INPUT("-restart", rs->path, "this run stops its steps at the output times (%s), so a changed -output_interval or -snapshot_interval would change its steps", r.output_mode_reason[0] ? r.output_mode_reason : "-output_stop");
+  if (!(o->t_end > rs->t)) SPAM_BAD_INPUT("-restart", rs->path, "is at t = %.17g, not before -ts_max_time %.17g: nothing to continue", rs->t, o->t_end);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamRestartLoad(SpamSim *sim, SpamRunOptions *o, TS ts, SpamRestart *rs)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(rs, sizeof *rs));
+  PetscCall(PetscStrncpy(rs->path, o->restart, sizeof rs->path));
+  PetscCall(SpamCkFileInit(&rs->file));
+  PetscCall(SpamCkFileRead(sim->comm, rs->path, &rs->file));
+  PetscCall(CheckVersion(rs));
+  PetscCall(CheckOptions(rs));
+  PetscCall(CheckParticles(sim, rs));
+  PetscCall(SpamCkGetScalar(&rs->file, "time", &rs->t));
+  PetscCall(SpamCkGetLong(&rs->file, "step", &rs->step));
+  PetscCall(CheckDirectory(o, rs));
+  PetscCall(TakeIntervals(o, rs));
+  PetscCall(Exactness(ts, &rs->file, &rs->exact, rs->why, sizeof rs->why));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamRestartDestroy(SpamRestart *rs)
+{
+  PetscFunctionBeginUser;
+  PetscCall(SpamCkFileDestroy(&rs->file));
+  PetscFunctionReturn(0);
+}
+
+/* Particles, their list at the checkpoint's reference positions, the last forces. */
+static PetscErrorCode ApplyParticles(SpamSim *sim, const SpamCkFile *c)
+{
+  const int     dim = sim->model.dim;
+  const size_t  n   = (size_t)sim->n;
+  const double *state, *xref, *acc, *stats;
+  PetscScalar  *y;
+  long          builds;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamCkGetReal(c, "state", n * sim->model.layout.nvar, &state));
+  PetscCall(SpamCkGetReal(c, "xref", n * dim, &xref));
+  PetscCall(SpamCkGetReal(c, "acc", n * dim, &acc));
+  PetscCall(SpamCkGetReal(c, "rhs_stats", 3, &stats));
+  PetscCall(SpamCkGetLong(c, "list_builds", &builds));
+  PetscCall(VecGetArrayWrite(sim->X, &y));
+  PetscCall(PetscArraycpy(y, state, n * sim->model.layout.nvar));
+  PetscCall(VecRestoreArrayWrite(sim->X, &y));
+  PetscCall(SpamNeighboursRestore(&sim->nl, &sim->box, xref));
+  sim->nl.builds = builds;
+  PetscCall(SpamFieldsReserve(&sim->f, SpamNeighboursSlots(&sim->nl)));
+  PetscCall(PetscArraycpy(sim->f.acc, acc, n * dim));
+  sim->stats.rhs_evals   = (long)stats[0];
+  sim->stats.rhs_time    = stats[1];
+  sim->stats.pair_visits = stats[2];
+  PetscFunctionReturn(0);
+}
+
+/* Whether the uninterrupted run would reuse the derivative at the restart state (FSAL
+ * stage, ERKStep's kept F[0], the kick's cached force): the restarted method evaluates it
+ * once more, which is booked apart so that rhs_evals stays the uninterrupted run's. */
+static PetscErrorCode ReusedDerivative(TS ts, const SpamCkFile *c, PetscBool *reused)
+{
+  TSType type;
+  long   cached;
+
+  PetscFunctionBeginUser;
+  PetscCall(TSGetType(ts, &type));
+  *reused = PETSC_FALSE;
+  if (!strcmp(type, SPAM_TSARKODE)) *reused = PETSC_TRUE;
+  else if (!strcmp(type, TSRK)) PetscCall(TSRKGetTableau(ts, NULL, NULL, NULL, NULL, NULL, NULL, NULL, reused));
+  else if (!strcmp(type, TSBASICSYMPLECTIC)) {
+    PetscCall(SpamCkGetLong(c, "kick_cached", &cached));
+    *reused = (PetscBool)(cached != 0);
+  }
+  PetscFunctionReturn(0);
+}
+
+/* The integrator at the checkpoint's time and step, taking the step it proposed next
+ * (ERKStep: with its controller's history; CVODE: as its first step). */
+static PetscErrorCode ApplyIntegrator(TS ts, SpamTsApp *app, const SpamRestart *rs)
+{
+  PetscBool arkode, cvode;
+  double    h_next, vscale;
+  long      pending;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamCkGetScalar(&rs->file, "h_next", &h_next));
+  PetscCall(SpamCkGetLong(&rs->file, "step_restart_pending", &pending));
+  PetscCall(SpamCkGetScalar(&rs->file, "velocity_scale", &vscale));
+  PetscCall(SpamTSSetVelocityScale(ts, app, vscale)); /* the error weights of the run's start */
+  PetscCall(PetscObjectTypeCompare((PetscObject)ts, SPAM_TSARKODE, &arkode));
+  PetscCall(PetscObjectTypeCompare((PetscObject)ts, SPAM_TSCVODE, &cvode));
+  PetscCall(TSSetTime(ts, rs->t));
+  PetscCall(TSSetStepNumber(ts, (PetscInt)rs->step));
+  if (h_next > 0) PetscCall(TSSetTimeStep(ts, h_next));
+  /* CVODE takes its initial time when it is made: a set-up TS (the option checks may have
+   * set it up at t = 0) makes it again at the checkpoint's. (ERKStep is re-initialised at
+   * the TS's time by SpamTSARKodeSetHistory.) */
+  if (cvode && ts->setupcalled) {
+    PetscCall((*ts->ops->reset)(ts));
+    ts->setupcalled = PETSC_FALSE;
+  }
+  PetscCall(TSSetUp(ts));
+  if (arkode && SpamCkHas(&rs->file, "arkode_history")) {
+    const double     *v;
+    long              accepted;
+    SpamArkodeHistory h;
+    PetscCall(SpamCkGetReal(&rs->file, "arkode_history", 5, &v));
+    PetscCall(SpamCkGetLong(&rs->file, "arkode_accepted", &accepted));
+    h.h_next   = v[0];
+    h.ehist[0] = v[1];
+    h.ehist[1] = v[2];
+    h.hhist[0] = v[3];
+    h.hhist[1] = v[4];
+    h.accepted = accepted;
+    PetscCall(SpamTSARKodeSetHistory(ts, &h));
+  }
+  if (cvode && h_next > 0) PetscCall(SpamTSCVodeSetInitStep(ts, h_next));
+  /* ERKStep starts fresh here: a jump pending at the checkpoint still drops the history. */
+  if (arkode) ts->steprestart = pending ? PETSC_TRUE : PETSC_FALSE;
+  app->cache_valid = PETSC_FALSE;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode ApplyLoop(const SpamCkFile *c, SpamLoop *L)
+{
+  const double *loop, *p;
+  const char   *limit;
+  size_t        len;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamCkGetReal(c, "loop", 11, &loop));
+  PetscCall(SpamCkGetReal(c, "progress", 6, &p));
+  PetscCall(SpamCkGetText(c, "limit", &limit, &len));
+  L->s.out_interval  = loop[0];
+  L->s.snap_interval = loop[1];
+  L->s.next_out      = loop[2];
+  L->s.next_snap     = loop[3];
+  L->t               = loop[4];
+  L->dt_prev         = loop[5];
+  L->t_row           = loop[6];
+  L->t_snap          = loop[7];
+  L->wall0          -= loop[8];
+  L->p.t             = p[0];
+  L->p.steps         = (long)p[1];
+  L->p.rejected      = (long)p[2];
+  L->p.limited       = (long)p[3];
+  L->p.dt            = p[4];
+  L->p.rhs_time      = p[5];
+  L->rejected_base   = L->p.rejected;
+  L->p.limit         = SpamStepLimitNames[SPAM_LIMIT_ACCURACY];
+  for (int k = 0; k <= SPAM_LIMIT_END; k++)
+    if (!strcmp(limit, SpamStepLimitNames[k])) L->p.limit = SpamStepLimitNames[k];
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamRestartApply(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamRestart *rs, SpamRunResult *r, SpamLoop *L)
+{
+  const char   *blob;
+  size_t        len;
+  PetscBool     reused;
+  SpamRunResult now = *r; /* what this run has set: method, output mode */
+
+  PetscFunctionBeginUser;
+  PetscCall(ApplyParticles(sim, &rs->file));
+  PetscCall(ApplyIntegrator(ts, app, rs));
+  PetscCall(ApplyLoop(&rs->file, L));
+  PetscCall(SpamCkGetText(&rs->file, "run_result", &blob, &len));
+  memcpy(r, blob, sizeof *r);
+  PetscCall(PetscStrncpy(r->method, now.method, sizeof r->method));
+  PetscCall(PetscStrncpy(r->adapt, now.adapt, sizeof r->adapt));
+  PetscCall(PetscStrncpy(r->output_mode, now.output_mode, sizeof r->output_mode));
+  PetscCall(PetscStrncpy(r->output_mode_reason, now.output_mode_reason, sizeof r->output_mode_reason));
+  r->fixed_dt = now.fixed_dt;
+  PetscCall(ReusedDerivative(ts, &rs->file, &reused));
+  PetscCall(PetscStrncpy(r->restart_from, rs->path, sizeof r->restart_from));
+  r->restart_t         = rs->t;
+  r->restart_step      = rs->step;
+  r->restart_exact     = rs->exact;
+  r->restart_rhs_evals = reused ? 1 : 0;
+  PetscCall(PetscStrncpy(r->restart_why, rs->why, sizeof r->restart_why));
+  sim->stats.rhs_evals -= r->restart_rhs_evals;
+  (void)o;
+  {
+    char line[PETSC_MAX_PATH_LEN + 512];
+    (void)snprintf(line, sizeof line, "spam-ark: restart from %s at t = %.10g (step %ld): %s%s\n", rs->path, rs->t, rs->step, rs->exact ? "the method continues bit for bit" : "approximate: ", rs->exact ? "" : rs->why);
+    PetscCall(PetscPrintf(sim->comm, "%s", line));
+  }
+  PetscFunctionReturn(0);
+}

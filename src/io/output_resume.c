@@ -1,0 +1,188 @@
+/* The output series in a checkpoint, and a restart's reopening of the directory. A
+ * checkpoint carries the series as they stood when it was written: the text of
+ * timeseries.csv and steps.csv (which a run holds in temporaries until it ends, so a killed
+ * run leaves none), the XDMF indexes, the snapshot and grid times and the manifest's list.
+ * A restart puts exactly that back and removes what was written after, so the continued
+ * series have neither a duplicate nor a missing row whatever happened after the checkpoint
+ * (an interruption's extra row, a kill -9, a later checkpoint's rows). */
+#define _POSIX_C_SOURCE 200809L /* strtok_r */
+#include <spam/output_resume.h>
+#include <spam/errors.h>
+
+/* Manifest entries one a line: name, kind, time (%.17g or nan), outside (0 or 1), tab
+ * separated (names hold no tab: output_clean.c's PlainName and the option checks). */
+static PetscErrorCode SaveEntries(const SpamOutput *o, SpamCkFile *c)
+{
+  size_t cap = 64, len = 0;
+  char  *s;
+
+  PetscFunctionBeginUser;
+  for (int k = 0; k < o->nfiles; k++) cap += strlen(o->files[k].name) + strlen(o->files[k].kind) + 48;
+  PetscCall(PetscMalloc1(cap, &s));
+  s[0] = 0;
+  for (int k = 0; k < o->nfiles; k++) len += (size_t)snprintf(s + len, cap - len, "%s\t%s\t%.17g\t%d\n", o->files[k].name, o->files[k].kind, o->files[k].t, (int)o->files[k].outside);
+  PetscCall(SpamCkPutText(c, "out_files", s, len));
+  PetscCall(PetscFree(s));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode SaveFile(const SpamOutput *o, const char *name, const char *entry, SpamCkFile *c)
+{
+  char   path[PETSC_MAX_PATH_LEN], *buf;
+  size_t len;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamOutputPath(o, name, path, sizeof path));
+  PetscCall(SpamReadWholeFile(path, &buf, &len));
+  if (buf) PetscCall(SpamCkPutText(c, entry, buf, len));
+  PetscCall(PetscFree(buf));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode SaveSeries(SpamFile *f, const char *entry, SpamCkFile *c)
+{
+  char  *buf;
+  size_t len;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamFileContents(f, &buf, &len));
+  PetscCall(SpamCkPutText(c, entry, buf, len));
+  PetscCall(PetscFree(buf));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamOutputSave(SpamOutput *o, SpamCkFile *c)
+{
+  PetscFunctionBeginUser;
+  PetscCall(SaveSeries(&o->timeseries, "out_timeseries", c));
+  PetscCall(SaveSeries(&o->steps, "out_steps", c));
+  PetscCall(SaveFile(o, "snapshots.xmf", "out_snapshots_xmf", c));
+  PetscCall(SaveFile(o, "grid.xmf", "out_grid_xmf", c));
+  PetscCall(SaveEntries(o, c));
+  PetscCall(SpamCkPutLong(c, "out_nsnap", o->nsnap));
+  PetscCall(SpamCkPutLong(c, "out_step", o->step));
+  PetscCall(SpamCkPutReal(c, "out_snap_times", o->hdf5 ? (size_t)o->nsnap : 0, o->snap_times));
+  PetscCall(SpamCkPutReal(c, "out_grid_times", (size_t)o->grid.n, o->grid.times));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode RestoreEntries(const SpamCkFile *c, SpamOutput *o)
+{
+  const char *s;
+  size_t      len;
+  char       *copy, *line, *save = NULL;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamCkGetText(c, "out_files", &s, &len));
+  PetscCall(PetscStrallocpy(s, &copy));
+  for (line = strtok_r(copy, "\n", &save); line; line = strtok_r(NULL, "\n", &save)) {
+    char  *name = line, *kind = strchr(name, '\t'), *t = kind ? strchr(kind + 1, '\t') : NULL, *out = t ? strchr(t + 1, '\t') : NULL;
+    double tv;
+    if (!out) {
+      PetscCall(PetscFree(copy));
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "checkpoint %s: its list of output files is damaged", c->path);
+    }
+    *kind++ = 0;
+    *t++    = 0;
+    *out++  = 0;
+    tv      = strtod(t, NULL);
+    PetscCall(SpamManifestAdd(o, name, kind, tv, (PetscBool)(out[0] == '1')));
+  }
+  PetscCall(PetscFree(copy));
+  PetscFunctionReturn(0);
+}
+
+/* A real entry of any length (the times: as many as were written). */
+static PetscErrorCode GetTimes(const SpamCkFile *c, const char *name, const double **v, size_t *n)
+{
+  PetscFunctionBeginUser;
+  for (int k = 0; k < c->n; k++)
+    if (!strcmp(c->e[k].name, name) && c->e[k].kind == SPAM_CK_REAL) {
+      *v = (const double *)c->e[k].data;
+      *n = c->e[k].n;
+      PetscFunctionReturn(0);
+    }
+  SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "checkpoint %s: no entry %s", c->path, name);
+}
+
+static PetscErrorCode RestoreTimes(const SpamCkFile *c, const char *entry, double **times, int *n, int *cap)
+{
+  const double *v;
+  size_t        len;
+
+  PetscFunctionBeginUser;
+  PetscCall(GetTimes(c, entry, &v, &len));
+  *n   = (int)len;
+  *cap = (int)len + 16;
+  PetscCall(PetscMalloc1((size_t)*cap, times));
+  if (len) PetscCall(PetscArraycpy(*times, v, len));
+  PetscFunctionReturn(0);
+}
+
+/* A file of the directory written back as the checkpoint holds it (an XDMF index). */
+static PetscErrorCode RestoreFile(SpamOutput *o, const SpamCkFile *c, const char *entry, const char *name)
+{
+  char        path[PETSC_MAX_PATH_LEN];
+  const char *s;
+  size_t      len;
+  SpamFile    f;
+
+  PetscFunctionBeginUser;
+  if (!SpamCkHas(c, entry)) PetscFunctionReturn(0);
+  PetscCall(SpamCkGetText(c, entry, &s, &len));
+  PetscCall(SpamOutputPath(o, name, path, sizeof path));
+  PetscCall(SpamFileBegin(path, &f));
+  SpamFilePrintf(&f, "%s", s);
+  PetscCall(SpamFileCommit(&f));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode RestoreSeries(SpamOutput *o, const SpamCkFile *c, const char *entry, const char *name, SpamFile *f)
+{
+  char        path[PETSC_MAX_PATH_LEN];
+  const char *s;
+  size_t      len;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamCkGetText(c, entry, &s, &len));
+  PetscCall(SpamOutputPath(o, name, path, sizeof path));
+  PetscCall(SpamFileBegin(path, f));
+  SpamFilePrintf(f, "%s", s);
+  PetscCall(SpamFileCheck(f));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamOutputResume(const char *dir, PetscBool hdf5, PetscBool csv, const SpamOutputOptions *opt, const SpamCkFile *c, SpamOutput *o)
+{
+  PetscBool created;
+  long      nsnap, step;
+  int       ns; /* snapshot times: nsnap with HDF5 snapshots, 0 without */
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(o, sizeof *o));
+  o->lock_fd = -1;
+  PetscCall(PetscStrncpy(o->dir, dir, sizeof o->dir));
+  PetscCall(PetscStrncpy(o->status, "running", sizeof o->status));
+  o->hdf5 = hdf5;
+  o->csv  = csv;
+  o->opt  = *opt;
+  PetscCall(SpamOutputMakeDirs(dir));
+  PetscCall(SpamOutputLock(o, &created));
+  o->owned = PETSC_TRUE;
+  PetscCall(RestoreEntries(c, o));
+  PetscCall(SpamCkGetLong(c, "out_nsnap", &nsnap));
+  PetscCall(SpamCkGetLong(c, "out_step", &step));
+  o->nsnap = (int)nsnap;
+  o->step  = step;
+  PetscCall(RestoreTimes(c, "out_snap_times", &o->snap_times, &ns, &o->snap_cap));
+  PetscCall(RestoreTimes(c, "out_grid_times", &o->grid.times, &o->grid.n, &o->grid.cap));
+  PetscCall(SpamOutputRemoveUnlisted(o));
+  PetscCall(RestoreFile(o, c, "out_snapshots_xmf", "snapshots.xmf"));
+  PetscCall(RestoreFile(o, c, "out_grid_xmf", "grid.xmf"));
+  PetscCall(SpamManifestAdd(o, SPAM_CHECKPOINT_FILE, "checkpoint", NAN, PETSC_FALSE));
+  PetscCall(SpamOutputLockWrite(o));
+  PetscCall(SpamManifestWrite(o));
+  PetscCall(RestoreSeries(o, c, "out_timeseries", "timeseries.csv", &o->timeseries));
+  PetscCall(RestoreSeries(o, c, "out_steps", "steps.csv", &o->steps));
+  PetscFunctionReturn(0);
+}
