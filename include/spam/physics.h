@@ -17,6 +17,7 @@ typedef struct SpamPhysicsScratch {
   PetscBool gauss_reported;
   double   gauss_accel_max; /* largest |constraint acceleration| of any particle so far:  */
                             /* the scale of the round-off its sum adds to the momentum   */
+  double   gauss_momentum_residual; /* largest |sum m a| of the constraint (round-off) */
 } SpamPhysicsScratch;
 
 /* Separation r_i - r_j (minimum image) of a listed local pair in 2D from the neighbour

@@ -7,6 +7,8 @@
 #include <spam/errors.h>
 #include <stdlib.h>
 #include <libgen.h>
+#include <errno.h>
+#include <unistd.h>
 
 /* Whether the method continues bit for bit, and why not. */
 static PetscErrorCode Exactness(TS ts, const SpamCkFile *c, PetscBool *exact, char *why, size_t len)
@@ -123,6 +125,7 @@ PetscErrorCode SpamRestartLoad(SpamSim *sim, SpamRunOptions *o, TS ts, SpamResta
   PetscCall(PetscMemzero(rs, sizeof *rs));
   PetscCall(PetscStrncpy(rs->path, o->restart, sizeof rs->path));
   PetscCall(SpamCkFileInit(&rs->file));
+  if (access(rs->path, R_OK)) SPAM_BAD_INPUT("-restart", rs->path, "cannot be read: %s", strerror(errno));
   PetscCall(SpamCkFileRead(sim->comm, rs->path, &rs->file));
   PetscCall(CheckVersion(rs));
   PetscCall(CheckOptions(rs));

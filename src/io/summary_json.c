@@ -111,6 +111,7 @@ static void Counts(Summary *f, const SpamSim *sim, const SpamRunResult *r)
   Int(f, "interpolation_rhs_evals", r->interpolation_rhs_evals);
   /* Gauss's constraint: the largest acceleration it added (0 without it). */
   Num(f, "gauss_accel_max", sim->ps ? sim->ps->gauss_accel_max : 0.0);
+  Num(f, "gauss_momentum_residual_max", sim->ps ? sim->ps->gauss_momentum_residual : 0.0);
   Int(f, "neighbour_builds", sim->nl.builds);
   Int(f, "neighbour_list_grows", sim->nl.grows);
 }
