@@ -101,6 +101,8 @@ PetscErrorCode SpamOutputFindEarlier(const SpamOutput *o, char *name, size_t len
 PetscErrorCode SpamOutputRemoveEarlier(const SpamOutput *o, PetscBool all);
 /* Removes the run files that o->files does not list, and stale temporaries (a restart). */
 PetscErrorCode SpamOutputRemoveUnlisted(const SpamOutput *o);
+/* o made empty for dir (created with its parents), not yet locked or written. */
+PetscErrorCode SpamOutputInit(const char *dir, PetscBool hdf5, PetscBool csv, const SpamOutputOptions *opt, SpamOutput *o);
 /* Creates dir and its parents. */
 PetscErrorCode SpamOutputMakeDirs(const char *dir);
 /* What f has written so far (flushed; malloc'd, NUL-terminated, *len bytes). */

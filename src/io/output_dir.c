@@ -55,10 +55,8 @@ static PetscErrorCode TakeDirectory(SpamOutput *o)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamOutputOpen(const char *dir, PetscBool hdf5, PetscBool csv, const SpamOutputOptions *opt, SpamOutput *o)
+PetscErrorCode SpamOutputInit(const char *dir, PetscBool hdf5, PetscBool csv, const SpamOutputOptions *opt, SpamOutput *o)
 {
-  char path[PETSC_MAX_PATH_LEN];
-
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(o, sizeof *o));
   o->lock_fd = -1;
@@ -68,6 +66,15 @@ PetscErrorCode SpamOutputOpen(const char *dir, PetscBool hdf5, PetscBool csv, co
   o->csv  = csv;
   o->opt  = *opt;
   PetscCall(SpamOutputMakeDirs(dir));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamOutputOpen(const char *dir, PetscBool hdf5, PetscBool csv, const SpamOutputOptions *opt, SpamOutput *o)
+{
+  char path[PETSC_MAX_PATH_LEN];
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamOutputInit(dir, hdf5, csv, opt, o));
   PetscCall(TakeDirectory(o));
   PetscCall(SpamOutputPath(o, "timeseries.csv", path, sizeof path));
   PetscCall(SpamFileBegin(path, &o->timeseries));

@@ -159,14 +159,7 @@ PetscErrorCode SpamOutputResume(const char *dir, PetscBool hdf5, PetscBool csv, 
   int       ns; /* snapshot times: nsnap with HDF5 snapshots, 0 without */
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMemzero(o, sizeof *o));
-  o->lock_fd = -1;
-  PetscCall(PetscStrncpy(o->dir, dir, sizeof o->dir));
-  PetscCall(PetscStrncpy(o->status, "running", sizeof o->status));
-  o->hdf5 = hdf5;
-  o->csv  = csv;
-  o->opt  = *opt;
-  PetscCall(SpamOutputMakeDirs(dir));
+  PetscCall(SpamOutputInit(dir, hdf5, csv, opt, o));
   PetscCall(SpamOutputLock(o, &created));
   o->owned = PETSC_TRUE;
   PetscCall(RestoreEntries(c, o));
