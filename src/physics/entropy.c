@@ -62,7 +62,7 @@ PetscErrorCode SpamEntropySum(SpamSim *sim, const double *y, double *S)
     }
     mom[(size_t)i * (dim + 1) + dim] = w0 * v2;
   }
-  SpamGhostsGather(gh, dim, n, dim, SPAM_GHOST_VECTOR, v);
+  PetscCall(SpamGhostsGather(gh, dim, n, dim, SPAM_GHOST_VECTOR, v));
   c = (Moments){v, sim->f.m, mom};
   WalkMoments(&sim->nl, &m->kernel, &c);
   /* |v|^2 is a scalar under a mirror; the mean velocity a vector */
