@@ -47,6 +47,8 @@ typedef struct {
   SpamImage im;                  /* minimum image of the list's pairs (from lbox)     */
   int     threads;               /* threads of a build (SpamNeighboursSetThreads)     */
   SpamPairBuffer *tbuf;          /* [threads] each thread's rows of a threaded build */
+  int     bad_rank;              /* lowest rank holding a non-finite position at the */
+                                 /* last update, -1 if none (halo.h: all ranks agree) */
   long    builds, grows;         /* statistics                                       */
   PetscLogEvent ev_build;        /* -log_view event of a list build (0: none)         */
 } SpamNeighbours;
@@ -56,9 +58,17 @@ PetscErrorCode SpamNeighboursCreate(int n, const SpamBox *box, double cutoff, do
  * the same for every count. */
 PetscErrorCode SpamNeighboursSetThreads(SpamNeighbours *nl, int threads);
 PetscErrorCode SpamNeighboursDestroy(SpamNeighbours *nl);
+/* The particles of other ranks of comm become remote ghost slots (halo.h); before the
+ * first build. Every update and build is then collective over comm: the rebuild decision
+ * (some particle on some rank moved more than skin/2, or some rank forces it) and a
+ * non-finite position are agreed by every rank. Mirror walls are refused across ranks. */
+PetscErrorCode SpamNeighboursSetComm(SpamNeighbours *nl, MPI_Comm comm);
+/* *bad of an update whose non-finite position lies on another rank only. */
+#define SPAM_BAD_ON_OTHER_RANK PETSC_MAX_INT
 /* Copies positions (x[i*stride + d]) into nl->u, rebuilding the list when needed or when
- * force is set. Returns PETSC_ERR_FP with the particle index in *bad if a position is not
- * finite (bad is -1 otherwise). */
+ * force is set. If a position is not finite, returns at once (0) with *bad the index of
+ * this rank's first such particle, or SPAM_BAD_ON_OTHER_RANK on the ranks that have none
+ * (nl->bad_rank names the lowest rank that has one); *bad is -1 otherwise. */
 PetscErrorCode SpamNeighboursUpdate(SpamNeighbours *nl, const SpamBox *box, const double *x, int stride, PetscBool force, PetscInt *bad);
 /* Rebuilds the list at the reference positions xref[i*dim + d] of an earlier build (a
  * checkpoint's), as that build made it; the next update moves from there. */
@@ -76,10 +86,12 @@ PetscErrorCode SpamNeighboursSetPeriodicGhosts(SpamNeighbours *nl, const SpamBox
  * first build). */
 PetscErrorCode SpamNeighboursSetWalls(SpamNeighbours *nl, const SpamWalls *walls);
 /* After a build: picks the ghosts, places them and lists each local particle's ghost
- * neighbours (neighbours_ghost.c). Between builds: moves the ghosts with their sources. */
+ * neighbours (neighbours_ghost.c). Between builds: moves the ghosts with their sources.
+ * Both collective when a halo is set (SpamNeighboursSetComm). */
 PetscErrorCode SpamNeighboursBuildGhosts(SpamNeighbours *nl, const SpamBox *box);
-void           SpamNeighboursMoveGhosts(SpamNeighbours *nl);
-/* Local plus ghost slots: the length every per-particle array of a pass needs. */
+PetscErrorCode SpamNeighboursMoveGhosts(SpamNeighbours *nl);
+/* Local plus ghost slots (remote ones included): the length every per-particle array of
+ * a pass needs. */
 static inline int SpamNeighboursSlots(const SpamNeighbours *nl)
 {
   return nl->n + nl->ghosts.n;

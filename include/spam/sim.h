@@ -94,7 +94,7 @@ PetscErrorCode SpamMaxSoundSpeedIsentrope(SpamSim *sim, const double *y, double 
 PetscErrorCode SpamGravityEnergy(SpamSim *sim, const double *y, double *pot);
 /* The isentropic gas's density and force passes through the pair driver (any kernel,
  * unequal masses, ghost slots; pass_pressure.c). */
-void SpamPressureDensityWalk(SpamSim *sim);
+PetscErrorCode SpamPressureDensityWalk(SpamSim *sim);
 void SpamPressureForceWalk(SpamSim *sim);
 /* Summation density of state y into sim->f.rho (diagnostics, or the density pass). */
 PetscErrorCode SpamDensitySummation(SpamSim *sim, const double *y, PetscInt *bad);

@@ -10,7 +10,8 @@ PetscErrorCode SpamGhostsDestroy(SpamGhosts *g)
   PetscCall(PetscFree(g->flip));
   PetscCall(PetscFree(g->kind));
   PetscCall(PetscFree(g->face));
-  g->n = g->cap = 0;
+  PetscCall(SpamHaloDestroy(&g->halo));
+  g->n = g->cap = g->nlocal = 0;
   PetscFunctionReturn(0);
 }
 
@@ -83,16 +84,43 @@ PetscErrorCode SpamGhostsSelect(SpamGhosts *g, const SpamBox *box, int n, double
           AddGhost(g, box, i, o);
         }
   }
+  g->nlocal = g->n;
   PetscFunctionReturn(0);
 }
 
-void SpamGhostsPositions(const SpamGhosts *g, int dim, int n, double *const u[3])
+PetscErrorCode SpamGhostsSelectRemote(SpamGhosts *g, const SpamBox *box, int n, double *const u[3], double range)
 {
+  SpamHalo *h = &g->halo;
+
+  PetscFunctionBeginUser;
+  g->nlocal = g->n;
+  if (!h->active) PetscFunctionReturn(0);
+  PetscCall(SpamHaloSelect(h, box, g->periodic, n, u, range));
+  PetscCall(Grow(g, g->nlocal + h->nghost));
+  for (int q = 0; q < h->nghost; q++) {
+    const int k = g->nlocal + q;
+    g->src[k]  = -1;
+    g->flip[k] = g->face[k] = 0;
+    g->kind[k] = SPAM_GHOST_REMOTE;
+    for (int d = 0; d < 3; d++) g->shift[d][k] = h->ghost_shift[q][d] * h->len[d];
+  }
+  g->n = g->nlocal + h->nghost;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamGhostsPositions(const SpamGhosts *g, int dim, int n, double *const u[3])
+{
+  double *remote[3] = {NULL, NULL, NULL};
+
+  PetscFunctionBeginUser;
+  for (int d = 0; d < dim; d++) remote[d] = u[d] + n + g->nlocal;
   for (int d = 0; d < dim; d++)
-    for (int k = 0; k < g->n; k++) {
+    for (int k = 0; k < g->nlocal; k++) {
       const double s = u[d][g->src[k]];
       u[d][n + k]    = ((g->flip[k] >> d) & 1 ? -s : s) + g->shift[d][k];
     }
+  PetscCall(SpamHaloForwardPositions(&g->halo, dim, u, remote));
+  PetscFunctionReturn(0);
 }
 
 /* Sign of component c of a field under ghost k's mirror. */
@@ -108,18 +136,21 @@ static double Sign(const SpamGhosts *g, int k, int dim, int ncomp, SpamGhostPari
   }
 }
 
-void SpamGhostsGather(const SpamGhosts *g, int dim, int n, int ncomp, SpamGhostParity parity, double *field)
+PetscErrorCode SpamGhostsGather(const SpamGhosts *g, int dim, int n, int ncomp, SpamGhostParity parity, double *field)
 {
-  for (int k = 0; k < g->n; k++) {
+  PetscFunctionBeginUser;
+  for (int k = 0; k < g->nlocal; k++) {
     const double *s = field + (size_t)g->src[k] * ncomp;
     double       *t = field + (size_t)(n + k) * ncomp;
     for (int c = 0; c < ncomp; c++) t[c] = Sign(g, k, dim, ncomp, parity, c) * s[c];
   }
+  PetscCall(SpamHaloForward(&g->halo, ncomp, field, field + (size_t)(n + g->nlocal) * ncomp));
+  PetscFunctionReturn(0);
 }
 
 void SpamGhostsFold(const SpamGhosts *g, int dim, int n, int ncomp, SpamGhostParity parity, double *field)
 {
-  for (int k = 0; k < g->n; k++) {
+  for (int k = 0; k < g->nlocal; k++) {
     double *t = field + (size_t)(n + k) * ncomp;
     if (g->kind[k] != SPAM_GHOST_PERIODIC) continue;
     double *s = field + (size_t)g->src[k] * ncomp;
@@ -156,15 +187,18 @@ static void WallRule(const SpamWalls *w, int f, int dim, SpamWallField what, dou
   }
 }
 
-void SpamGhostsGatherWall(const SpamGhosts *g, int dim, int n, SpamWallField what, double *field)
+PetscErrorCode SpamGhostsGatherWall(const SpamGhosts *g, int dim, int n, SpamWallField what, double *field)
 {
   const int ncomp = what == SPAM_WALL_FIELD_TEMPERATURE ? 1 : what == SPAM_WALL_FIELD_STRESS ? dim * dim : dim;
 
-  for (int k = 0; k < g->n; k++) {
+  PetscFunctionBeginUser;
+  for (int k = 0; k < g->nlocal; k++) {
     const double *s = field + (size_t)g->src[k] * ncomp;
     double       *t = field + (size_t)(n + k) * ncomp;
     for (int c = 0; c < ncomp; c++) t[c] = s[c];
     for (int d = 0; d < dim; d++) /* each mirror in turn: a corner ghost is mirrored twice */
       if ((g->flip[k] >> d) & 1) WallRule(&g->walls, 2 * d + ((g->face[k] >> d) & 1), dim, what, t);
   }
+  PetscCall(SpamHaloForward(&g->halo, ncomp, field, field + (size_t)(n + g->nlocal) * ncomp));
+  PetscFunctionReturn(0);
 }

@@ -510,22 +510,63 @@ static double Displace(SpamNeighbours *nl, int dim, const double *x, int stride,
 /* At a build: wraps every position into the box and keeps the shift off = x - u, so that
  * until the next build u = x - off needs no floor and no division. Between builds u may
  * leave [0, len) by up to skin/2; every use takes a minimum image of a difference, which
- * stays correct while the skin is below half an edge. */
-static PetscErrorCode Wrap(SpamNeighbours *nl, const SpamBox *box, const double *x, int stride)
+ * stays correct while the skin is below half an edge. Returns the first particle and
+ * direction without a finite position in the box (bad[0] = -1: none). */
+static void Wrap(SpamNeighbours *nl, const SpamBox *box, const double *x, int stride, int bad[2])
 {
-  PetscFunctionBeginUser;
-  for (int d = 0; d < box->dim; d++) {
-    int bad = -1;
+  bad[0] = bad[1] = -1;
+  for (int d = 0; d < box->dim; d++)
     for (int i = 0; i < nl->n; i++) {
       const double xi = x[(size_t)i * stride + d];
       nl->xref[d][i]  = xi;
       nl->off[d][i]   = xi - SpamBoxLocal(box, d, xi);
       nl->u[d][i]     = xi - nl->off[d][i];
-      if (bad < 0 && !isfinite(nl->u[d][i] + nl->off[d][i])) bad = i;
+      if (bad[0] < 0 && !isfinite(nl->u[d][i] + nl->off[d][i])) {
+        bad[0] = i;
+        bad[1] = d;
+      }
     }
-    /* x is finite here; a non-finite u or shift means a non-finite box or an overflow of
-     * x - lo, which no cell can hold. */
-    PetscCheck(bad < 0, PETSC_COMM_SELF, PETSC_ERR_FP, "particle %d at %g has no finite position in the box (corner %g, edge %g) along direction %d", bad, x[(size_t)bad * stride + d], box->lo[d], box->len[d], d);
+}
+
+/* Wrap, then a failure on any rank fails every rank (no rank waits in the build's
+ * collectives for one that left). x is finite here; a non-finite u or shift means a
+ * non-finite box or an overflow of x - lo, which no cell can hold. */
+static PetscErrorCode WrapAll(SpamNeighbours *nl, const SpamBox *box, const double *x, int stride)
+{
+  const SpamHalo *h = &nl->ghosts.halo;
+  int             bad[2];
+  PetscMPIInt     first = -1;
+
+  PetscFunctionBeginUser;
+  Wrap(nl, box, x, stride, bad);
+  if (SpamHaloActive(h)) {
+    PetscMPIInt mine = bad[0] >= 0 ? h->size - h->rank : 0, most;
+    PetscCallMPI(MPI_Allreduce(&mine, &most, 1, MPI_INT, MPI_MAX, h->comm));
+    first = most > 0 ? h->size - most : -1;
+  }
+  if (bad[0] >= 0) {
+    const int i = bad[0], d = bad[1];
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FP, "particle %d at %g has no finite position in the box (corner %g, edge %g) along direction %d", i, x[(size_t)i * stride + d], box->lo[d], box->len[d], d);
+  }
+  PetscCheck(first < 0, PETSC_COMM_SELF, PETSC_ERR_FP, "a particle of rank %d has no finite position in the box", first);
+  PetscFunctionReturn(0);
+}
+
+/* The rebuild decision and the rank of the first non-finite position, agreed by every
+ * rank of the halo in one reduction: a rank that rebuilt alone, or stopped alone, would
+ * leave the others waiting in the build's collectives. */
+static PetscErrorCode Agree(SpamNeighbours *nl, int *rebuild, int nonfinite)
+{
+  const SpamHalo *h = &nl->ghosts.halo;
+
+  PetscFunctionBeginUser;
+  nl->bad_rank = nonfinite ? 0 : -1;
+  if (!SpamHaloActive(h)) PetscFunctionReturn(0);
+  {
+    PetscMPIInt mine[2] = {*rebuild, nonfinite ? h->size - h->rank : 0}, all[2];
+    PetscCallMPI(MPI_Allreduce(mine, all, 2, MPI_INT, MPI_MAX, h->comm));
+    *rebuild     = all[0];
+    nl->bad_rank = all[1] > 0 ? h->size - all[1] : -1;
   }
   PetscFunctionReturn(0);
 }
@@ -533,23 +574,26 @@ static PetscErrorCode Wrap(SpamNeighbours *nl, const SpamBox *box, const double 
 PetscErrorCode SpamNeighboursUpdate(SpamNeighbours *nl, const SpamBox *box, const double *x, int stride, PetscBool force, PetscInt *bad)
 {
   const int dim = box->dim;
-  int       nonfinite;
+  int       nonfinite, rebuild;
   double    maxd2;
 
   PetscFunctionBeginUser;
   *bad  = -1;
   maxd2 = Displace(nl, dim, x, stride, &nonfinite);
-  if (nonfinite) {
+  /* Two particles each moving skin/2 towards each other stay inside the list range. */
+  rebuild = force || nl->builds == 0 || (!nonfinite && maxd2 > 0.25 * nl->skin * nl->skin);
+  PetscCall(Agree(nl, &rebuild, nonfinite));
+  if (nl->bad_rank >= 0) {
+    if (!nonfinite) *bad = SPAM_BAD_ON_OTHER_RANK;
     for (PetscInt i = 0; i < nl->n && *bad < 0; i++)
       for (int d = 0; d < dim; d++)
         if (!isfinite(x[(size_t)i * stride + d])) *bad = i;
     PetscFunctionReturn(0);
   }
-  /* Two particles each moving skin/2 towards each other stay inside the list range. */
-  if (force || nl->builds == 0 || maxd2 > 0.25 * nl->skin * nl->skin) {
-    PetscCall(Wrap(nl, box, x, stride));
+  if (rebuild) {
+    PetscCall(WrapAll(nl, box, x, stride));
     PetscCall(BuildList(nl, box));
-  } else SpamNeighboursMoveGhosts(nl);
+  } else PetscCall(SpamNeighboursMoveGhosts(nl));
   PetscFunctionReturn(0);
 }
 
@@ -559,7 +603,7 @@ PetscErrorCode SpamNeighboursUpdate(SpamNeighbours *nl, const SpamBox *box, cons
 PetscErrorCode SpamNeighboursRestore(SpamNeighbours *nl, const SpamBox *box, const double *xref)
 {
   PetscFunctionBeginUser;
-  PetscCall(Wrap(nl, box, xref, box->dim));
+  PetscCall(WrapAll(nl, box, xref, box->dim));
   PetscCall(BuildList(nl, box));
   PetscFunctionReturn(0);
 }

@@ -3,7 +3,9 @@
  * half list of neighbours.c; the ghost rows are built over every adjacent cell (a ghost
  * has no row of its own that could hold the pair), and a periodic image's pair is kept
  * only in the row of the lower of its two particles, so every physical pair is listed
- * once and the fold of ghosts.h keeps the momentum exact. */
+ * once and the fold of ghosts.h keeps the momentum exact. A remote ghost's pair is kept
+ * in the local particle's row: its owner lists the same pair in its own row (newton off
+ * across ranks). */
 #include <spam/neighbours.h>
 #include <limits.h>
 
@@ -17,6 +19,14 @@ PetscErrorCode SpamNeighboursSetPeriodicGhosts(SpamNeighbours *nl, const SpamBox
     if (nl->ghosts.periodic[d]) nl->lbox.periodic[d] = PETSC_FALSE;
   }
   nl->im = SpamBoxImage(&nl->lbox);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamNeighboursSetComm(SpamNeighbours *nl, MPI_Comm comm)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(nl->builds == 0, PETSC_COMM_SELF, PETSC_ERR_ORDER, "set the communicator before the first build");
+  PetscCall(SpamHaloSetComm(&nl->ghosts.halo, comm));
   PetscFunctionReturn(0);
 }
 
@@ -69,7 +79,8 @@ static PetscErrorCode BinGhosts(SpamNeighbours *nl)
 }
 
 /* Whether ghost k pairs with local i in i's row: a periodic image only when its source
- * is above i (the pair's other copy, in the source's row, is skipped). */
+ * is above i (the pair's other copy, in the source's row, is skipped); a mirror or a
+ * remote ghost always. */
 static int KeepGhostPair(const SpamGhosts *g, int i, int k)
 {
   return g->kind[k] != SPAM_GHOST_PERIODIC || g->src[k] > i;
@@ -116,21 +127,31 @@ static PetscErrorCode GhostRows(SpamNeighbours *nl)
 
 PetscErrorCode SpamNeighboursBuildGhosts(SpamNeighbours *nl, const SpamBox *box)
 {
+  SpamGhosts     *g     = &nl->ghosts;
+  const PetscBool local = (PetscBool)(g->periodic[0] || g->periodic[1] || g->periodic[2] || g->mirror);
+
   PetscFunctionBeginUser;
   nl->ngpairs = 0;
   for (int i = 0; i <= nl->n; i++) nl->gstart[i] = 0;
-  if (!(nl->ghosts.periodic[0] || nl->ghosts.periodic[1] || nl->ghosts.periodic[2] || nl->ghosts.mirror)) PetscFunctionReturn(0);
+  if (!local && !SpamHaloActive(&g->halo)) PetscFunctionReturn(0);
+  /* Every rank has the same walls: all refuse together. A remote particle's mirror image
+   * would have to be sent too (not done yet). */
+  PetscCheck(!(g->mirror && SpamHaloActive(&g->halo)), PETSC_COMM_SELF, PETSC_ERR_SUP, "mirror walls are not supported across ranks yet (their images of other ranks' particles are not sent)");
   /* At the build every particle is inside the box, so only an image within the list
    * range rc of a face can be within rc of a local particle. */
-  PetscCall(SpamGhostsSelect(&nl->ghosts, box, nl->n, nl->u, sqrt(nl->rc2)));
+  g->n = 0;
+  if (local) PetscCall(SpamGhostsSelect(g, box, nl->n, nl->u, sqrt(nl->rc2)));
+  PetscCall(SpamGhostsSelectRemote(g, box, nl->n, nl->u, sqrt(nl->rc2)));
   PetscCall(GrowSlots(nl));
-  SpamGhostsPositions(&nl->ghosts, nl->dim, nl->n, nl->u);
+  PetscCall(SpamGhostsPositions(g, nl->dim, nl->n, nl->u));
   PetscCall(BinGhosts(nl));
   PetscCall(GhostRows(nl));
   PetscFunctionReturn(0);
 }
 
-void SpamNeighboursMoveGhosts(SpamNeighbours *nl)
+PetscErrorCode SpamNeighboursMoveGhosts(SpamNeighbours *nl)
 {
-  if (nl->ghosts.n) SpamGhostsPositions(&nl->ghosts, nl->dim, nl->n, nl->u);
+  PetscFunctionBeginUser;
+  if (nl->ghosts.n || SpamHaloActive(&nl->ghosts.halo)) PetscCall(SpamGhostsPositions(&nl->ghosts, nl->dim, nl->n, nl->u));
+  PetscFunctionReturn(0);
 }

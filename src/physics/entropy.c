@@ -62,13 +62,13 @@ PetscErrorCode SpamEntropySum(SpamSim *sim, const double *y, double *S)
     }
     mom[(size_t)i * (dim + 1) + dim] = w0 * v2;
   }
-  SpamGhostsGather(gh, dim, n, dim, SPAM_GHOST_VECTOR, v);
+  PetscCall(SpamGhostsGather(gh, dim, n, dim, SPAM_GHOST_VECTOR, v));
   c = (Moments){v, sim->f.m, mom};
   WalkMoments(&sim->nl, &m->kernel, &c);
   /* |v|^2 is a scalar under a mirror; the mean velocity a vector */
   for (int k = 0; k < gh->n; k++) {
+    if (gh->kind[k] != SPAM_GHOST_PERIODIC) continue; /* a remote ghost has no local source */
     double *t = mom + (size_t)(n + k) * (dim + 1), *s = mom + (size_t)gh->src[k] * (dim + 1);
-    if (gh->kind[k] != SPAM_GHOST_PERIODIC) continue;
     for (int d = 0; d <= dim; d++) s[d] += (d < dim && ((gh->flip[k] >> d) & 1) ? -1.0 : 1.0) * t[d];
   }
   for (int i = 0; i < n; i++) {

@@ -25,15 +25,17 @@ static inline __attribute__((always_inline)) void ForcePair(const int dim, SpamF
 }
 SPAM_PAIR_WALK(WalkForce, SpamFields, ForcePair)
 
-void SpamPressureDensityWalk(SpamSim *sim)
+PetscErrorCode SpamPressureDensityWalk(SpamSim *sim)
 {
   SpamFields *f     = &sim->f;
   const int   slots = SpamNeighboursSlots(&sim->nl);
 
+  PetscFunctionBeginUser;
   for (int i = 0; i < slots; i++) f->rho[i] = i < sim->n ? f->m[i] * sim->model.kernel.wnorm : 0.0;
   WalkDensity(&sim->nl, &sim->model.kernel, f);
   SpamGhostsFold(&sim->nl.ghosts, f->dim, (int)sim->n, 1, SPAM_GHOST_SCALAR, f->rho);
-  SpamGhostsGather(&sim->nl.ghosts, f->dim, (int)sim->n, 1, SPAM_GHOST_SCALAR, f->rho);
+  PetscCall(SpamGhostsGather(&sim->nl.ghosts, f->dim, (int)sim->n, 1, SPAM_GHOST_SCALAR, f->rho));
+  PetscFunctionReturn(0);
 }
 
 void SpamPressureForceWalk(SpamSim *sim)

@@ -188,10 +188,8 @@ static PetscErrorCode ReserveSlots(SpamSim *sim)
 {
   PetscFunctionBeginUser;
   PetscCall(SpamFieldsReserve(&sim->f, SpamNeighboursSlots(&sim->nl)));
-  if (sim->nl.ghosts.n) {
-    SpamGhostsGather(&sim->nl.ghosts, sim->model.dim, (int)sim->n, 1, SPAM_GHOST_SCALAR, sim->f.m);
-    SpamGhostsGather(&sim->nl.ghosts, sim->model.dim, (int)sim->n, 1, SPAM_GHOST_SCALAR, sim->f.minv);
-  }
+  PetscCall(SpamGhostsGather(&sim->nl.ghosts, sim->model.dim, (int)sim->n, 1, SPAM_GHOST_SCALAR, sim->f.m));
+  PetscCall(SpamGhostsGather(&sim->nl.ghosts, sim->model.dim, (int)sim->n, 1, SPAM_GHOST_SCALAR, sim->f.minv));
   PetscFunctionReturn(0);
 }
 
@@ -202,7 +200,7 @@ SPAM_CLONES static PetscErrorCode Density(SpamSim *sim)
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(sim->ev.density, 0, 0, 0, 0));
-  if (!FastPath(sim)) SpamPressureDensityWalk(sim);
+  if (!FastPath(sim)) PetscCall(SpamPressureDensityWalk(sim));
   else if (T == 1) DensityBlock(sim, sim->f.rho, 0, sim->nl.n, 0);
   else {
 #pragma omp parallel num_threads(T)
@@ -268,7 +266,7 @@ PetscErrorCode SpamAccelIsentrope(SpamSim *sim, const double *x, int stride, Pet
     PetscCall(Density(sim));
     for (PetscInt i = 0; i < sim->n; i++) sim->f.q[i] = SpamEosPOverRho2(&m->eos, sim->f.rho[i]);
   }
-  if (sim->nl.ghosts.n) SpamGhostsGather(&sim->nl.ghosts, m->dim, (int)sim->n, 1, SPAM_GHOST_SCALAR, sim->f.q);
+  PetscCall(SpamGhostsGather(&sim->nl.ghosts, m->dim, (int)sim->n, 1, SPAM_GHOST_SCALAR, sim->f.q));
   PetscCall(Force(sim));
   if (m->gravity_on)
     for (PetscInt i = 0; i < sim->n; i++)

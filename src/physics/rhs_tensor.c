@@ -143,11 +143,11 @@ static PetscErrorCode FillFields(SpamSim *sim, const double *y, PetscInt *bad)
     f->e[i] = yi[l->e];
     f->T[i] = (p->gamma - 1.0) * yi[l->e];
   }
-  SpamGhostsGather(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->m);
-  SpamGhostsGather(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->minv);
-  SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_VELOCITY, f->v);
-  SpamGhostsGather(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->e);
-  SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_TEMPERATURE, f->T);
+  PetscCall(SpamGhostsGather(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->m));
+  PetscCall(SpamGhostsGather(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->minv));
+  PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_VELOCITY, f->v));
+  PetscCall(SpamGhostsGather(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->e));
+  PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_TEMPERATURE, f->T));
   if (p->density == SPAM_DENSITY_SUMMATION) {
     PetscCall(SpamDensitySummation(sim, y, bad));
     PetscFunctionReturn(0);
@@ -159,7 +159,7 @@ static PetscErrorCode FillFields(SpamSim *sim, const double *y, PetscInt *bad)
       PetscFunctionReturn(0);
     }
   }
-  SpamGhostsGather(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->rho);
+  PetscCall(SpamGhostsGather(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->rho));
   PetscFunctionReturn(0);
 }
 
@@ -212,7 +212,7 @@ static void StressOverRho2(const SpamSim *sim, const double *yi, int i, double *
 
 /* The particle laws: Q, the stress rate (into ydot), the heat flux Q/rho^2 and the
  * velocity of the continuity equation; then gathered into the ghosts. */
-static void ParticleLaws(SpamSim *sim, const double *y, double *ydot)
+static PetscErrorCode ParticleLaws(SpamSim *sim, const double *y, double *ydot)
 {
   const SpamLayout      *l   = &sim->model.layout;
   const SpamSolidParams *p   = &sim->model.solid;
@@ -220,6 +220,7 @@ static void ParticleLaws(SpamSim *sim, const double *y, double *ydot)
   const SpamGhosts      *gh  = &sim->nl.ghosts;
   const int              dim = l->dim, n = (int)sim->n, nv = l->nvar;
 
+  PetscFunctionBeginUser;
   for (int i = 0; i < n; i++) {
     const double *yi = y + (size_t)i * nv, *g = f->gradv + (size_t)i * dim * dim;
     StressOverRho2(sim, yi, i, f->qs + (size_t)i * dim * dim);
@@ -229,10 +230,11 @@ static void ParticleLaws(SpamSim *sim, const double *y, double *ydot)
       f->uc[(size_t)i * dim + d] = p->density == SPAM_DENSITY_CHAIN_RULE ? f->xdot[(size_t)i * dim + d] : f->v[(size_t)i * dim + d];
     }
   }
-  SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_STRESS, f->qs);
+  PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_STRESS, f->qs));
   if (gh->mirror && sim->model.gravity_on && p->material == SPAM_MATERIAL_GAS) HydrostaticImages(sim);
-  SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_HEAT_FLUX, f->heat);
-  SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_VELOCITY, f->uc);
+  PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_HEAT_FLUX, f->heat));
+  PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_VELOCITY, f->uc));
+  PetscFunctionReturn(0);
 }
 
 /* Walk 2: R per body from the positive and negative torque sums (1 where either is 0),
@@ -264,7 +266,7 @@ static PetscErrorCode TorqueFactors(SpamSim *sim, TensorPass *c)
       const double R = ps->bfac[BodyOf(c, i)];
       f->tfac[i]     = f->ltorque[i] > 0.0 ? 1.0 / R : R;
     }
-    SpamGhostsGather(&sim->nl.ghosts, 2, n, 1, SPAM_GHOST_SCALAR, f->tfac);
+    PetscCall(SpamGhostsGather(&sim->nl.ghosts, 2, n, 1, SPAM_GHOST_SCALAR, f->tfac));
   }
   PetscFunctionReturn(0);
 }
@@ -323,7 +325,7 @@ PetscErrorCode SpamRhsSolid(SpamSim *sim, const double *y, double *ydot, PetscIn
   c = PassOf(sim);
   PetscCall(PetscLogEventBegin(sim->ev.force, 0, 0, 0, 0));
   Gradients(sim, &c);
-  ParticleLaws(sim, y, ydot);
+  PetscCall(ParticleLaws(sim, y, ydot));
   if (c.scale) PetscCall(TorqueFactors(sim, &c));
   Forces(sim, &c);
   PetscCall(PetscLogEventEnd(sim->ev.force, 0, 0, 0, 0));
@@ -348,7 +350,7 @@ PetscErrorCode SpamTensorTorqueSum(SpamSim *sim, const double *y, double *total)
   c = PassOf(sim);
   PetscCall(PetscMalloc1((size_t)sim->n * sim->model.layout.nvar + 1, &scratch)); /* the stress rate, unused */
   Gradients(sim, &c);
-  ParticleLaws(sim, y, scratch);
+  PetscCall(ParticleLaws(sim, y, scratch));
   PetscCall(PetscFree(scratch));
   for (int b = 0; b < sim->ps->nbody; b++) sim->ps->bpos[b] = sim->ps->bneg[b] = 0.0;
   Zero(sim->f.ltorque, (size_t)SpamNeighboursSlots(&sim->nl));

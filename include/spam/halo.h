@@ -1,0 +1,69 @@
+/* Halo of a rank: the other ranks' particles (and their periodic images) within the list
+ * range of this rank's particles, as remote ghost slots, exchanged through one PetscSF
+ * (roots: the ghost slots on the receiver; leaves: the (particle, image shift) items on the
+ * sender, one leaf per root). Chosen at every list build, which is collective: each rank
+ * all-gathers the bounding box of its particles' box-local positions, and sends particle i
+ * with shift s (s in {-1,0,1} along the directions whose periodicity is made by ghost
+ * images, 0 along the others) to rank r when dist(u_i + s L, box_r) < rc; along a periodic
+ * direction kept by the minimum image the distance is the periodic one and s = 0. Items in
+ * (rank, particle, shift) order; a receiver lays its ghost slots out by sender rank, then
+ * in the sender's item order. A rank sends itself nothing: its own periodic and mirror
+ * images are the local ghosts of ghosts.h.
+ *
+ * The exchange is forward only (owner -> ghost slot, PetscSFReduce with MPI_REPLACE): a
+ * rank computes its own particles' pairs with remote ghosts (newton off across ranks) and
+ * sends nothing back. On one rank (or a communicator of size one) nothing is set up and
+ * every call returns at once. Cost of a build: O(n * ranks) box tests, two MPI_Alltoall
+ * (PetscCommBuildTwoSided would scale to many ranks). */
+#ifndef SPAM_HALO_H
+#define SPAM_HALO_H
+#include <petscsf.h>
+#include <spam/box.h>
+
+/* The widest value a forward exchange carries: a 3 x 3 tensor. */
+#define SPAM_HALO_MAX_COMP 9
+
+typedef struct {
+  PetscBool     active;      /* a communicator of two ranks or more was set               */
+  MPI_Comm      comm;
+  PetscMPIInt   size, rank;
+  double        len[3];      /* box edges of the last build: a shift s is s * len          */
+  PetscSF       sf;          /* NULL until the first build                               */
+  /* Items this rank sends, in (rank, particle, shift) order. */
+  int           nitems, icap;
+  int          *item_src;    /* [icap] local particle                                    */
+  signed char (*item_shift)[3]; /* [icap] image shift s per direction                    */
+  double       *sendbuf;     /* [icap * SPAM_HALO_MAX_COMP] packed values of one exchange */
+  /* Remote ghost slots this rank receives, by sender rank. */
+  int           nghost, gcap;
+  int          *ghost_owner; /* [gcap] owner rank                                        */
+  int          *ghost_index; /* [gcap] the owner's local index at the build              */
+  signed char (*ghost_shift)[3]; /* [gcap] image shift s (the slot holds u + s L)        */
+  double       *recvbuf;     /* [gcap * 4] positions (or build data) as they arrive        */
+  /* Per rank (size): bounding boxes, counts and block offsets of a build. */
+  double       *boxes;       /* [size * 6] lo[3], hi[3] of every rank's particles         */
+  PetscMPIInt  *scount, *rcount, *roff, *soff;
+  MPI_Datatype  unit[SPAM_HALO_MAX_COMP + 1]; /* unit[c]: c contiguous doubles            */
+  long          builds;      /* statistics                                               */
+} SpamHalo;
+
+/* Uses comm for the halo (before the first build); a communicator of one rank sets up
+ * nothing. A zeroed SpamHalo is inactive. */
+PetscErrorCode SpamHaloSetComm(SpamHalo *h, MPI_Comm comm);
+PetscErrorCode SpamHaloDestroy(SpamHalo *h);
+static inline PetscBool SpamHaloActive(const SpamHalo *h)
+{
+  return h->active;
+}
+/* Collective. Chooses the items to send and the remote ghost slots to receive for the n
+ * local particles at box-local positions u[d][i] (wrapped into the box at this build),
+ * with list range rc. ghost_periodic[d]: direction d's periodicity is made by ghost images
+ * (shifts s = -1, 0, 1), otherwise a periodic direction of box uses the minimum image. */
+PetscErrorCode SpamHaloSelect(SpamHalo *h, const SpamBox *box, const PetscBool ghost_periodic[3], int n, double *const u[3], double rc);
+/* Collective. Positions of the remote ghost slots: dst[d][k] = u_owner[d] + s_d L_d for the
+ * remote slot k (the caller passes its arrays offset to the first remote slot). */
+PetscErrorCode SpamHaloForwardPositions(const SpamHalo *h, int dim, double *const u[3], double *const dst[3]);
+/* Collective. ncomp values per particle (1 .. SPAM_HALO_MAX_COMP) from each owner's field
+ * to the remote slots: dst[k * ncomp + c] = field_owner[i_k * ncomp + c]. */
+PetscErrorCode SpamHaloForward(const SpamHalo *h, int ncomp, const double *field, double *dst);
+#endif
