@@ -1,6 +1,7 @@
 /* The simulation object: a DMSwarm holding one packed field, and the scratch of the RHS. */
 #include <spam/sim.h>
 #include <spam/physics.h>
+#include <stdint.h>
 
 /* Gids in rank order: this rank's particles follow those of the ranks before it. */
 static PetscErrorCode NumberParticles(SpamSim *sim)
@@ -69,9 +70,10 @@ PetscErrorCode SpamSimFill(SpamSim *sim, const double *x, const double *v, const
 
 PetscErrorCode SpamSimSetRows(SpamSim *sim, const PetscInt *row_of)
 {
-  PetscInt64 first = sim->n ? sim->gid[0] : 0; /* gids are first + i until set here */
+  PetscInt64 first = INT64_MAX; /* this rank's gids are first .. first + n - 1 */
 
   PetscFunctionBeginUser;
+  for (PetscInt i = 0; i < sim->n; i++) first = PetscMin(first, sim->gid[i]);
   for (PetscInt i = 0; i < sim->n; i++) sim->gid[i] = first + row_of[i];
   PetscCall(SpamSimIndexRows(sim));
   PetscFunctionReturn(0);
