@@ -18,9 +18,15 @@
 #include <spam/cell_keys.h>
 
 /* Default of SpamDecomp.recut_above: a re-cut when the fullest rank holds 25 % more than
- * the mean. The step time is the fullest rank's, so the others then idle up to 20 % of
- * it; below that a re-cut, which moves particles between many ranks at once, costs more
- * than it saves between list rebuilds (numbers in the README of the branch's report). */
+ * the mean. Every RHS takes the fullest rank's time, so an imbalance I loses I - 1 RHS
+ * evaluations of the balanced run per evaluation. A re-cut is a migration that moves
+ * many particles: moving half of 10^5 particles on 2 ranks took 0.37-0.38 s, about 33
+ * RHS evaluations of the same particles (median 11 ms), and a migration that moves 0.4 %
+ * about 11 (test_migrate_np2 at fcdcce5, `ctest -R test_migrate_np2 -V`, two cores shared
+ * with other jobs). At 1.25 a re-cut pays for itself within about 130 RHS evaluations, a
+ * fraction of a run; a threshold nearer 1 would re-cut for gains that the next few list
+ * rebuilds undo, and would fall within a cut's own granularity (1 + cmax P / N for cells
+ * of cmax particles) when ranks hold few particles. */
 #define SPAM_RECUT_ABOVE_DEFAULT 1.25
 
 typedef struct {
