@@ -83,8 +83,9 @@ double SpamDecompImbalance(PetscMPIInt nranks, const PetscInt64 *count);
  * raised on every rank. */
 PetscErrorCode SpamSimMigrate(SpamSim *sim, SpamDecomp *dec, SpamMigrateInfo *info);
 /* The swarm's local particles (with X closed and the gid field restored) sorted by
- * (order key of their cell, gid): every field that belongs to a particle is permuted.
- * *permuted tells whether the order changed (local_order.c). */
+ * (order key of their cell, gid), every field that belongs to a particle permuted, and
+ * those whose DMSwarm_rank names another rank (sent by a migration) dropped. *permuted
+ * tells whether the order or the count changed (local_order.c). */
 PetscErrorCode SpamSwarmSortLocal(SpamSim *sim, const SpamCellGrid *grid, PetscBool *permuted);
 /* Whether the local particles are in that order; x: the state (X's array). */
 PetscBool SpamSimIsSortedLocal(const SpamSim *sim, const SpamCellGrid *grid, const double *y);

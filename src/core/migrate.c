@@ -1,7 +1,8 @@
 /* Migration between steps (decompose.h): owners by the curve cut, DMSwarmMigrate of a
  * DMSWARM_BASIC swarm with our own destination in DMSwarm_rank (the PIC migration with a
  * DMDA cell DM loses and duplicates particles in PETSc 3.18: design note
- * PARALLEL_RESTART.md 1.1), then the local sort and X re-made.
+ * PARALLEL_RESTART.md 1.1), then the local sort, which also drops what was sent, and X
+ * re-made.
  *
  * Every local phase ends in Agree: an error raised on some ranks only would leave the
  * others waiting in the next collective call for ever (the design note's t2 hung so).
@@ -142,7 +143,8 @@ static PetscErrorCode Move(SpamSim *sim, const SpamDecomp *dec, const PetscInt *
 {
   PetscFunctionBeginUser;
   PetscCall(Agree(sim->comm, Detach(sim, dest), "closing the swarm for a migration"));
-  if (moved) PetscCall(DMSwarmMigrate(sim->swarm, PETSC_TRUE));
+  /* Sent particles stay until the sort drops them all at once (local_order.c says why). */
+  if (moved) PetscCall(DMSwarmMigrate(sim->swarm, PETSC_FALSE));
   PetscCall(Agree(sim->comm, Reorder(sim, dec), "the local sort after a migration"));
   PetscCall(DMSwarmCreateGlobalVectorFromField(sim->swarm, SPAM_STATE_FIELD, &sim->X));
   PetscCall(Agree(sim->comm, SpamSimResize(sim), "re-making the scratch after a migration"));
