@@ -25,9 +25,8 @@
  * 20-21 ms, about 7 (test_migrate_np2 at e9de9a7, `ctest -R test_migrate_np2 -V`, two
  * runs, two cores shared with other jobs). At 1.25 a re-cut pays for itself within about
  * 150 RHS evaluations, a fraction of a run; a threshold nearer 1 would re-cut for gains
- * that the next few list
- * rebuilds undo, and would fall within a cut's own granularity (1 + cmax P / N for cells
- * of cmax particles) when ranks hold few particles. */
+ * that the next few list rebuilds undo, and would fall within a cut's own granularity
+ * (1 + cmax P / N for cells of cmax particles) when ranks hold few particles. */
 #define SPAM_RECUT_ABOVE_DEFAULT 1.25
 
 typedef struct {
