@@ -11,6 +11,12 @@
 #include <spam/fields.h>
 
 #define SPAM_STATE_FIELD "spam_state"
+/* The particle's identity: its input row (file line, lattice site) over all ranks. */
+#define SPAM_GID_FIELD "spam_gid"
+/* Per-particle data kept outside the state, copied into the swarm only to travel with
+ * their particle through a migration (migrate.c): the mass and the body label. */
+#define SPAM_MASS_FIELD "spam_mass"
+#define SPAM_BODY_FIELD "spam_body"
 
 typedef struct {
   long   rhs_evals;
@@ -54,28 +60,45 @@ typedef struct SpamSim {
   SpamLogEvents  ev;
   SpamSceneInfo  scene;
   struct SpamPhysicsScratch *ps; /* scratch of the tensor path and bonds (NULL for the gas) */
-  PetscInt      *row_of;   /* input row of particle i when set-up reordered them, else NULL */
-  PetscInt      *at_row;   /* the inverse: particle at input row r                     */
+  PetscInt64    *gid;      /* [n] the swarm's gid field, held open (as X holds the state) */
+  PetscInt      *at_row;   /* [n] local particles in increasing gid, NULL when in order */
 } SpamSim;
 
-/* Input row (file line, lattice site) of particle i: outputs and messages use it, so the
- * spatial reordering at set-up is invisible to users. */
+/* Input row (file line, lattice site) of particle i, its gid: outputs and messages use
+ * it, so the spatial reordering (set-up sort, migrations) is invisible to users. */
 static inline PetscInt SpamSimRowOf(const SpamSim *sim, PetscInt i)
 {
-  return sim->row_of ? sim->row_of[i] : i;
+  return sim->gid ? (PetscInt)sim->gid[i] : i;
 }
+/* The local particle with the r-th smallest gid of this rank: on one rank the particle
+ * at input row r (outputs written in input order use it). */
 static inline PetscInt SpamSimAtRow(const SpamSim *sim, PetscInt r)
 {
   return sim->at_row ? sim->at_row[r] : r;
 }
 
-/* Creates the swarm with n local particles and the model's layout; X is not yet made. */
+/* Creates the swarm with n local particles and the model's layout; X is not yet made.
+ * Collective on comm: the particles get gids in rank order (this rank's first gid is the
+ * count on the ranks before it). */
 PetscErrorCode SpamSimCreate(MPI_Comm comm, const SpamModel *model, const SpamBox *box, PetscInt n, double skin, SpamSim *sim);
+/* The gids of a set-up reordering: particle i came from local input row row_of[i]. */
+PetscErrorCode SpamSimSetRows(SpamSim *sim, const PetscInt *row_of);
+/* After the gids changed (SpamSimSetRows, a migration): at_row made anew. */
+PetscErrorCode SpamSimIndexRows(SpamSim *sim);
 /* Copies positions and velocities ([n*dim] each) into the swarm's packed field, and the
  * masses ([n], or NULL: every particle has the model's mass). */
 PetscErrorCode SpamSimFill(SpamSim *sim, const double *x, const double *v, const double *m);
 /* Wraps the packed field in X (zero copy) and allocates scratch: call once the swarm is filled. */
 PetscErrorCode SpamSimSetUp(SpamSim *sim);
+/* After the local particles changed (a migration): sim->n from the swarm, the fields,
+ * thread buffers, body labels and the (empty) neighbour list made to fit it, the masses
+ * and body labels taken from the swarm's carried fields. The other per-particle fields
+ * (density, accelerations, ...) hold nothing valid until the next right-hand side. Local;
+ * statistics (list builds, RHS counts) go on. SpamSimBuildList must follow once X is
+ * re-made. */
+PetscErrorCode SpamSimResize(SpamSim *sim);
+/* Builds the neighbour list (and its ghosts) at the positions in X. */
+PetscErrorCode SpamSimBuildList(SpamSim *sim);
 PetscErrorCode SpamSimDestroy(SpamSim *sim);
 
 /* The right-hand side ydot = f(y) of the sim's model on raw arrays of length n*nvar,

@@ -1,5 +1,23 @@
 /* The simulation object: a DMSwarm holding one packed field, and the scratch of the RHS. */
 #include <spam/sim.h>
+#include <spam/physics.h>
+#include <stdint.h>
+
+/* Gids in rank order: this rank's particles follow those of the ranks before it. */
+static PetscErrorCode NumberParticles(SpamSim *sim)
+{
+  PetscInt64 n = sim->n, first = 0;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Exscan(&n, &first, 1, MPIU_INT64, MPI_SUM, sim->comm));
+  {
+    PetscMPIInt rank;
+    PetscCallMPI(MPI_Comm_rank(sim->comm, &rank));
+    if (rank == 0) first = 0; /* MPI_Exscan leaves rank 0's result undefined */
+  }
+  for (PetscInt i = 0; i < sim->n; i++) sim->gid[i] = first + i;
+  PetscFunctionReturn(0);
+}
 
 PetscErrorCode SpamSimCreate(MPI_Comm comm, const SpamModel *model, const SpamBox *box, PetscInt n, double skin, SpamSim *sim)
 {
@@ -17,8 +35,13 @@ PetscErrorCode SpamSimCreate(MPI_Comm comm, const SpamModel *model, const SpamBo
   PetscCall(DMSwarmSetType(sim->swarm, DMSWARM_BASIC));
   PetscCall(DMSwarmInitializeFieldRegister(sim->swarm));
   PetscCall(DMSwarmRegisterPetscDatatypeField(sim->swarm, SPAM_STATE_FIELD, model->layout.nvar, PETSC_REAL));
+  PetscCall(DMSwarmRegisterPetscDatatypeField(sim->swarm, SPAM_GID_FIELD, 1, PETSC_INT64));
+  PetscCall(DMSwarmRegisterPetscDatatypeField(sim->swarm, SPAM_MASS_FIELD, 1, PETSC_REAL));
+  PetscCall(DMSwarmRegisterPetscDatatypeField(sim->swarm, SPAM_BODY_FIELD, 1, PETSC_INT));
   PetscCall(DMSwarmFinalizeFieldRegister(sim->swarm));
   PetscCall(DMSwarmSetLocalSizes(sim->swarm, n, 0));
+  PetscCall(DMSwarmGetField(sim->swarm, SPAM_GID_FIELD, NULL, NULL, (void **)&sim->gid));
+  PetscCall(NumberParticles(sim));
   PetscCall(SpamFieldsCreate(model->dim, (int)n, (int)n, model->tensor, &sim->f));
   SpamFieldsSetMasses(&sim->f, NULL, model->mass);
   PetscFunctionReturn(0);
@@ -42,6 +65,46 @@ PetscErrorCode SpamSimFill(SpamSim *sim, const double *x, const double *v, const
   }
   PetscCall(DMSwarmRestoreField(sim->swarm, SPAM_STATE_FIELD, &bs, &type, (void **)&s));
   if (m) SpamFieldsSetMasses(&sim->f, m, 0.0);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamSimSetRows(SpamSim *sim, const PetscInt *row_of)
+{
+  PetscInt64 first = INT64_MAX; /* this rank's gids are first .. first + n - 1 */
+
+  PetscFunctionBeginUser;
+  for (PetscInt i = 0; i < sim->n; i++) first = PetscMin(first, sim->gid[i]);
+  for (PetscInt i = 0; i < sim->n; i++) sim->gid[i] = first + row_of[i];
+  PetscCall(SpamSimIndexRows(sim));
+  PetscFunctionReturn(0);
+}
+
+typedef struct {
+  PetscInt64 gid;
+  PetscInt   i;
+} GidIndex;
+
+static int CompareGids(const void *a, const void *b)
+{
+  const GidIndex *p = a, *q = b;
+  return (p->gid > q->gid) - (p->gid < q->gid);
+}
+
+PetscErrorCode SpamSimIndexRows(SpamSim *sim)
+{
+  PetscBool sorted = PETSC_TRUE;
+  GidIndex *key;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscFree(sim->at_row));
+  for (PetscInt i = 1; i < sim->n && sorted; i++) sorted = (PetscBool)(sim->gid[i] > sim->gid[i - 1]);
+  if (sorted) PetscFunctionReturn(0); /* at_row would be the identity */
+  PetscCall(PetscMalloc1(sim->n, &key));
+  PetscCall(PetscMalloc1(sim->n, &sim->at_row));
+  for (PetscInt i = 0; i < sim->n; i++) key[i] = (GidIndex){sim->gid[i], i};
+  qsort(key, (size_t)sim->n, sizeof *key, CompareGids);
+  for (PetscInt r = 0; r < sim->n; r++) sim->at_row[r] = key[r].i;
+  PetscCall(PetscFree(key));
   PetscFunctionReturn(0);
 }
 
@@ -75,24 +138,81 @@ static PetscErrorCode FirstBuild(SpamSim *sim)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamSimSetUp(SpamSim *sim)
+/* The per-particle scratch of n = sim->n local particles once the fields are made:
+ * thread buffers, P/rho^2, and the neighbour list with the sim's ghosts and threads. */
+static PetscErrorCode CreateScratch(SpamSim *sim)
 {
-  const PetscInt n = sim->n;
-
   PetscFunctionBeginUser;
-  PetscCall(DMSwarmGetSize(sim->swarm, &sim->nglobal));
-  PetscCall(DMSwarmCreateGlobalVectorFromField(sim->swarm, SPAM_STATE_FIELD, &sim->X));
   if (sim->threads > 1) PetscCall(PetscMalloc2((size_t)(sim->threads - 1) * sim->model.dim * sim->f.cap + 1, &sim->tacc, (size_t)(sim->threads - 1) * sim->f.cap + 1, &sim->trho));
   /* gamma = 2: P/rho^2 = kappa for every particle, set once. */
   for (PetscInt i = 0; i < sim->f.cap; i++) sim->f.q[i] = sim->model.eos.kappa;
-  PetscCall(SpamNeighboursCreate((int)n, &sim->box, sim->model.kernel.h, sim->skin, &sim->nl));
+  PetscCall(SpamNeighboursCreate((int)sim->n, &sim->box, sim->model.kernel.h, sim->skin, &sim->nl));
   if (sim->periodic_ghosts) {
     const PetscBool all[3] = {PETSC_TRUE, PETSC_TRUE, PETSC_TRUE};
     PetscCall(SpamNeighboursSetPeriodicGhosts(&sim->nl, &sim->box, all));
   }
   if (SpamWallsAny(&sim->walls, sim->model.dim)) PetscCall(SpamNeighboursSetWalls(&sim->nl, &sim->walls));
   PetscCall(SpamNeighboursSetThreads(&sim->nl, sim->threads));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamSimSetUp(SpamSim *sim)
+{
+  PetscFunctionBeginUser;
+  PetscCall(DMSwarmGetSize(sim->swarm, &sim->nglobal));
+  PetscCall(DMSwarmCreateGlobalVectorFromField(sim->swarm, SPAM_STATE_FIELD, &sim->X));
+  PetscCall(CreateScratch(sim));
   PetscCall(RegisterEvents(sim));
+  PetscCall(FirstBuild(sim));
+  PetscFunctionReturn(0);
+}
+
+/* The carried masses and body labels of the swarm into the re-made fields and labels. */
+static PetscErrorCode TakeCarried(SpamSim *sim)
+{
+  PetscReal *m;
+  PetscInt  *body;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMSwarmGetField(sim->swarm, SPAM_MASS_FIELD, NULL, NULL, (void **)&m));
+  SpamFieldsSetMasses(&sim->f, m, 0.0);
+  PetscCall(DMSwarmRestoreField(sim->swarm, SPAM_MASS_FIELD, NULL, NULL, (void **)&m));
+  if (sim->ps) {
+    PetscCall(PetscFree(sim->ps->body));
+    PetscCall(PetscMalloc1(sim->n + 1, &sim->ps->body));
+    sim->ps->n = sim->n;
+    PetscCall(DMSwarmGetField(sim->swarm, SPAM_BODY_FIELD, NULL, NULL, (void **)&body));
+    for (PetscInt i = 0; i < sim->n; i++) sim->ps->body[i] = (int)body[i];
+    PetscCall(DMSwarmRestoreField(sim->swarm, SPAM_BODY_FIELD, NULL, NULL, (void **)&body));
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamSimResize(SpamSim *sim)
+{
+  const long          builds = sim->nl.builds, grows = sim->nl.grows;
+  const PetscLogEvent ev     = sim->nl.ev_build;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMSwarmGetLocalSize(sim->swarm, &sim->n));
+  /* The fields keep their arrays while they have room: every value but the masses (taken
+   * here) is made again by the next right-hand side. */
+  sim->f.n = (int)sim->n;
+  PetscCall(SpamFieldsReserve(&sim->f, (int)sim->n));
+  PetscCall(TakeCarried(sim));
+  /* The list has no resize: made anew, as are the thread buffers sized by the fields. */
+  PetscCall(PetscFree2(sim->tacc, sim->trho));
+  PetscCall(SpamNeighboursDestroy(&sim->nl));
+  PetscCall(CreateScratch(sim));
+  sim->nl.builds   = builds;
+  sim->nl.grows    = grows;
+  sim->nl.ev_build = ev;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamSimBuildList(SpamSim *sim)
+{
+  PetscFunctionBeginUser;
   PetscCall(FirstBuild(sim));
   PetscFunctionReturn(0);
 }
@@ -106,7 +226,8 @@ PetscErrorCode SpamSimDestroy(SpamSim *sim)
     PetscCall(PetscFree2(sim->tacc, sim->trho));
     PetscCall(SpamNeighboursDestroy(&sim->nl));
   }
-  PetscCall(PetscFree2(sim->row_of, sim->at_row));
+  PetscCall(PetscFree(sim->at_row));
+  if (sim->gid) PetscCall(DMSwarmRestoreField(sim->swarm, SPAM_GID_FIELD, NULL, NULL, (void **)&sim->gid));
   PetscCall(DMDestroy(&sim->swarm));
   PetscFunctionReturn(0);
 }

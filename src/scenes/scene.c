@@ -413,9 +413,11 @@ static PetscErrorCode CreateSim(MPI_Comm comm, const SpamCommonParams *c, PetscB
   sim->periodic_ghosts = c->periodic_ghosts;
   sim->walls           = p->walls;
   if (sort) {
-    PetscCall(PetscMalloc2(p->n + 1, &sim->row_of, p->n + 1, &sim->at_row));
-    PetscCall(SpamParticlesSortByCell(p, c->h, sim->row_of));
-    for (PetscInt i = 0; i < p->n; i++) sim->at_row[sim->row_of[i]] = i;
+    PetscInt *row_of;
+    PetscCall(PetscMalloc1(p->n + 1, &row_of));
+    PetscCall(SpamParticlesSortByCell(p, c->h, row_of));
+    PetscCall(SpamSimSetRows(sim, row_of));
+    PetscCall(PetscFree(row_of));
   }
   PetscCall(SpamSimFill(sim, p->x, p->v, p->m));
   PetscCall(SpamSimFillFields(sim, p));

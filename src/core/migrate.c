@@ -1,0 +1,210 @@
+/* Migration between steps (decompose.h): owners by the curve cut, DMSwarmMigrate of a
+ * DMSWARM_BASIC swarm with our own destination in DMSwarm_rank (the PIC migration with a
+ * DMDA cell DM loses and duplicates particles in PETSc 3.18: design note
+ * PARALLEL_RESTART.md 1.1), then the local sort, which also drops what was sent, and X
+ * re-made.
+ *
+ * Every local phase ends in Agree: an error raised on some ranks only would leave the
+ * others waiting in the next collective call for ever (the design note's t2 hung so).
+ * The swarm may only resize while no field is open, so X (which holds the state field)
+ * and the gid field are closed around DMSwarmMigrate; the masses and body labels, which
+ * live outside the swarm, ride in its carried fields. */
+#include <spam/decompose.h>
+#include <spam/physics.h>
+#include <stdint.h>
+
+/* Every rank learns whether a local phase failed anywhere, and all of them raise. */
+static PetscErrorCode Agree(MPI_Comm comm, PetscErrorCode local, const char *what)
+{
+  int mine = local != 0, any = 0;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPIU_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, comm));
+  PetscCall(local);
+  PetscCheck(!any, PETSC_COMM_SELF, PETSC_ERR_LIB, "%s failed on another rank", what);
+  PetscFunctionReturn(0);
+}
+
+/* Curve key of each particle's cell; *bad: the smallest gid with a non-finite position
+ * (INT64_MAX if none), whose owner cannot be known. */
+static PetscErrorCode CurveKeys(const SpamSim *sim, const SpamDecomp *dec, uint64_t *key, PetscInt64 *bad)
+{
+  const SpamLayout  *l = &sim->model.layout;
+  const PetscScalar *y;
+
+  PetscFunctionBeginUser;
+  *bad = INT64_MAX;
+  PetscCall(VecGetArrayRead(sim->X, &y));
+  for (PetscInt i = 0; i < sim->n; i++) {
+    const double *x = y + (size_t)i * l->nvar + l->x;
+    for (int d = 0; d < sim->model.dim; d++)
+      if (!isfinite(x[d])) *bad = PetscMin(*bad, sim->gid[i]);
+    key[i] = SpamDecompKey(dec, x);
+  }
+  PetscCall(VecRestoreArrayRead(sim->X, &y));
+  PetscFunctionReturn(0);
+}
+
+static int CompareKeys(const void *a, const void *b)
+{
+  const uint64_t p = *(const uint64_t *)a, q = *(const uint64_t *)b;
+  return (p > q) - (p < q);
+}
+
+/* A new cut from the particles' keys (collective; the sorted copy is local). */
+static PetscErrorCode Recut(SpamDecomp *dec, PetscInt n, const uint64_t *key)
+{
+  uint64_t      *sorted = NULL;
+  PetscErrorCode ierr   = PetscMalloc1(n + 1, &sorted);
+
+  PetscFunctionBeginUser;
+  if (!ierr) {
+    PetscCall(PetscArraycpy(sorted, key, n));
+    qsort(sorted, (size_t)n, sizeof *sorted, CompareKeys);
+  }
+  PetscCall(Agree(dec->comm, ierr, "a re-cut"));
+  PetscCall(SpamDecompCut(dec, n, sorted));
+  PetscCall(PetscFree(sorted));
+  PetscFunctionReturn(0);
+}
+
+/* dest[i] by the cut in force, and over all ranks: tally[r] the particles rank r will
+ * hold, tally[P] the particles that change rank. */
+static PetscErrorCode Destinations(const SpamDecomp *dec, PetscInt n, const uint64_t *key, PetscInt *dest, PetscInt64 *tally)
+{
+  const PetscMPIInt P = dec->nranks;
+
+  PetscFunctionBeginUser;
+  for (PetscMPIInt r = 0; r <= P; r++) tally[r] = 0;
+  for (PetscInt i = 0; i < n; i++) {
+    dest[i] = SpamDecompOwner(dec, key[i]);
+    tally[dest[i]]++;
+    tally[P] += dest[i] != dec->rank;
+  }
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, tally, P + 1, MPIU_INT64, MPI_SUM, dec->comm));
+  PetscFunctionReturn(0);
+}
+
+/* Carried data into the swarm, destinations into DMSwarm_rank, and X and the gid field
+ * closed, so that the swarm may resize. */
+static PetscErrorCode Detach(SpamSim *sim, const PetscInt *dest)
+{
+  PetscReal *m;
+  PetscInt  *body, *rank;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMSwarmGetField(sim->swarm, SPAM_MASS_FIELD, NULL, NULL, (void **)&m));
+  PetscCall(PetscArraycpy(m, sim->f.m, sim->n));
+  PetscCall(DMSwarmRestoreField(sim->swarm, SPAM_MASS_FIELD, NULL, NULL, (void **)&m));
+  if (sim->ps) {
+    PetscCall(DMSwarmGetField(sim->swarm, SPAM_BODY_FIELD, NULL, NULL, (void **)&body));
+    for (PetscInt i = 0; i < sim->n; i++) body[i] = sim->ps->body[i];
+    PetscCall(DMSwarmRestoreField(sim->swarm, SPAM_BODY_FIELD, NULL, NULL, (void **)&body));
+  }
+  PetscCall(DMSwarmGetField(sim->swarm, DMSwarmField_rank, NULL, NULL, (void **)&rank));
+  PetscCall(PetscArraycpy(rank, dest, sim->n));
+  PetscCall(DMSwarmRestoreField(sim->swarm, DMSwarmField_rank, NULL, NULL, (void **)&rank));
+  PetscCall(DMSwarmRestoreField(sim->swarm, SPAM_GID_FIELD, NULL, NULL, (void **)&sim->gid));
+  sim->gid = NULL;
+  PetscCall(DMSwarmDestroyGlobalVectorFromField(sim->swarm, SPAM_STATE_FIELD, &sim->X));
+  PetscFunctionReturn(0);
+}
+
+/* The arrived particles in order, the gid field re-opened and its index re-made. */
+static PetscErrorCode Reorder(SpamSim *sim, const SpamDecomp *dec)
+{
+  PetscBool permuted;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamSwarmSortLocal(sim, &dec->grid, &permuted));
+  PetscCall(DMSwarmGetField(sim->swarm, SPAM_GID_FIELD, NULL, NULL, (void **)&sim->gid));
+  PetscCall(DMSwarmGetLocalSize(sim->swarm, &sim->n));
+  PetscCall(SpamSimIndexRows(sim));
+  PetscFunctionReturn(0);
+}
+
+/* Whether every rank's particles are already in (cell, gid) order. */
+static PetscErrorCode AllSorted(const SpamSim *sim, const SpamDecomp *dec, PetscBool *sorted)
+{
+  const PetscScalar *y;
+  int                mine, all;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArrayRead(sim->X, &y));
+  mine = SpamSimIsSortedLocal(sim, &dec->grid, y);
+  PetscCall(VecRestoreArrayRead(sim->X, &y));
+  PetscCallMPI(MPIU_Allreduce(&mine, &all, 1, MPI_INT, MPI_LAND, sim->comm));
+  *sorted = (PetscBool)all;
+  PetscFunctionReturn(0);
+}
+
+/* Sends the particles by dest, sorts and re-makes X and the scratch (collective). */
+static PetscErrorCode Move(SpamSim *sim, const SpamDecomp *dec, const PetscInt *dest, PetscInt64 moved)
+{
+  PetscFunctionBeginUser;
+  PetscCall(Agree(sim->comm, Detach(sim, dest), "closing the swarm for a migration"));
+  /* Sent particles stay until the sort drops them all at once (local_order.c says why). */
+  if (moved) PetscCall(DMSwarmMigrate(sim->swarm, PETSC_FALSE));
+  PetscCall(Agree(sim->comm, Reorder(sim, dec), "the local sort after a migration"));
+  PetscCall(DMSwarmCreateGlobalVectorFromField(sim->swarm, SPAM_STATE_FIELD, &sim->X));
+  PetscCall(Agree(sim->comm, SpamSimResize(sim), "re-making the scratch after a migration"));
+  PetscCall(SpamSimBuildList(sim));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamSimMigrate(SpamSim *sim, SpamDecomp *dec, SpamMigrateInfo *info)
+{
+  const PetscMPIInt P  = dec->nranks;
+  const PetscInt    n0 = sim->n;
+  uint64_t         *key  = NULL;
+  PetscInt         *dest = NULL;
+  PetscInt64       *tally = NULL, bad = INT64_MAX;
+  PetscBool         sorted = PETSC_FALSE;
+  PetscErrorCode    ierr;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMemzero(info, sizeof *info));
+  info->bad = -1;
+  /* The model is the same on every rank, so this refusal is too. */
+  PetscCheck(!(sim->ps && sim->ps->bond_start), sim->comm, PETSC_ERR_SUP, "the spring model's bonds are kept by local particle index: its particles cannot migrate");
+  ierr = PetscMalloc3(n0 + 1, &key, n0 + 1, &dest, P + 1, &tally);
+  if (!ierr) ierr = CurveKeys(sim, dec, key, &bad);
+  PetscCall(Agree(sim->comm, ierr, "the owners of a migration"));
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &bad, 1, MPIU_INT64, MPI_MIN, sim->comm));
+  if (bad != INT64_MAX) {
+    info->bad = bad;
+    PetscCall(PetscFree3(key, dest, tally));
+    PetscFunctionReturn(0);
+  }
+  if (dec->has_cut) { /* what the cut in force would give */
+    PetscCall(Destinations(dec, n0, key, dest, tally));
+    info->imbalance_before = SpamDecompImbalance(P, tally);
+    /* Not below what the last cut itself achieved: with few particles per rank the
+     * granularity of the cells would otherwise ask for a cut at every call. */
+    info->recut = (PetscBool)(info->imbalance_before > PetscMax(dec->recut_above, dec->cut_imbalance));
+  } else { /* no cut yet: the particles as they are placed now */
+    PetscInt64 n = n0;
+    PetscCall(PetscArrayzero(tally, P));
+    PetscCallMPI(MPI_Allgather(&n, 1, MPIU_INT64, tally, 1, MPIU_INT64, sim->comm));
+    info->imbalance_before = SpamDecompImbalance(P, tally);
+    info->recut            = PETSC_TRUE;
+  }
+  if (info->recut) {
+    PetscCall(Recut(dec, n0, key));
+    PetscCall(Destinations(dec, n0, key, dest, tally));
+  }
+  info->moved     = tally[P];
+  info->imbalance = SpamDecompImbalance(P, tally);
+  for (PetscInt i = 0; i < n0; i++) info->sent += dest[i] != dec->rank;
+  if (!info->moved) PetscCall(AllSorted(sim, dec, &sorted));
+  if (!sorted) {
+    PetscCall(Move(sim, dec, dest, info->moved));
+    info->changed  = PETSC_TRUE;
+    info->resized  = (PetscBool)(sim->n != n0);
+    info->received = sim->n - (n0 - info->sent);
+  }
+  dec->imbalance = info->imbalance;
+  dec->migrations++;
+  PetscCall(PetscFree3(key, dest, tally));
+  PetscFunctionReturn(0);
+}
