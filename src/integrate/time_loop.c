@@ -514,7 +514,8 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
     /* Outputs do not steer the run: a list build their density sums or the interpolant's
      * right-hand sides make is undone, so the method's next right-hand sides (and a
      * restart from a checkpoint taken now) see the list the step left. */
-    PetscCall(SpamNeighboursKeep(&sim->nl, L->xref_keep, &L->builds_keep));
+    const PetscBool outputs = (PetscBool)(PetscMin(sp->next_out, sp->next_snap) <= t * (1.0 + SPAM_TIME_ROUNDOFF) || t >= o->t_end);
+    if (outputs) PetscCall(SpamNeighboursKeep(&sim->nl, L->xref_keep, &L->builds_keep)); /* only a step with outputs copies */
     if (dense) PetscCall(InterpolatedOutputs(ts, sim, o, out, pp, sp, r));
     if (Reached(t, PetscMin(sp->next_out, sp->next_snap)) || t >= o->t_end) {
       const PetscBool snap = (PetscBool)(o->snapshot_interval > 0 && (Reached(t, sp->next_snap) || t >= o->t_end));
@@ -524,7 +525,7 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
       if (Reached(t, sp->next_out)) sp->next_out = NextMultiple(t, sp->out_interval, o->t_end);
       if (Reached(t, sp->next_snap)) sp->next_snap = NextMultiple(t, sp->snap_interval, o->t_end);
     }
-    PetscCall(SpamNeighboursRevert(&sim->nl, &sim->box, L->xref_keep, L->builds_keep));
+    if (outputs) PetscCall(SpamNeighboursRevert(&sim->nl, &sim->box, L->xref_keep, L->builds_keep));
     {
       /* Stopped short of the end by -ts_max_steps with checkpoints on: one now (no deferral:
        * the run ends here), before the row and snapshot of the time reached, which are this
