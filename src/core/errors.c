@@ -120,7 +120,9 @@ static PetscErrorCode SpamErrorHandler(MPI_Comm comm, int line, const char *fun,
     if (p == PETSC_ERROR_INITIAL) {
       PetscMPIInt rank = 0;
       char        raw[1024], text[1024];
-      MPI_Comm_rank(comm, &rank);
+      /* Bad input is found alike on every rank (each reads the same options and files):
+       * rank 0 of the run says it, once. A file error is a rank's own. */
+      MPI_Comm_rank(n == PETSC_ERR_USER_INPUT ? PETSC_COMM_WORLD : comm, &rank);
       if (n == PETSC_ERR_USER_INPUT) NameMalformedOption(mess ? mess : "", raw, sizeof raw);
       else (void)snprintf(raw, sizeof raw, "%s", mess ? mess : "file error");
       SpamEscape(raw, text, sizeof text);
