@@ -61,7 +61,7 @@ static PetscErrorCode Session(SpamSim *sim, const SpamRunOptions *o, TS ts, Spam
   const PetscBool owner = DirectoryOwner(sim);
 
   PetscFunctionBeginUser;
-  if (o->initial_csv[0] && !rs && owner) PetscCall(WriteParticles(o->initial_csv, sim, out, "initial_particles"));
+  if (o->initial_csv[0] && !rs) PetscCall(SpamAgree(sim->comm, owner ? WriteParticles(o->initial_csv, sim, out, "initial_particles") : 0));
   PetscCall(SpamRun(sim, o, ts, app, out, rs, r));
   if (o->final_csv[0] && r->status != SPAM_STATUS_UNSTABLE && owner) PetscCall(WriteParticles(o->final_csv, sim, out, "final_particles"));
   if (!owner) PetscFunctionReturn(0);

@@ -68,7 +68,7 @@ static PetscErrorCode OutputOf(Vec X, SpamSim *sim, const SpamRunOptions *o, Spa
   if (p->steps == 0 && p->t == 0.0) r->first = d;
   r->last = d;
   SpamRunUpdateDrifts(&d, r);
-  PetscCall(SpamTimeseriesAppend(out, sim, p, &d, &r->first));
+  PetscCall(SpamAgree(sim->comm, SpamTimeseriesAppend(out, sim, p, &d, &r->first))); /* rank 0 writes */
   if (snapshot && !SpamSimDistributed(sim)) PetscCall(SpamSnapshotWrite(out, sim, y, p->t, NULL)); /* interim: snapshots of one rank only */
   PetscCall(VecRestoreArrayRead(X, &y));
   PetscCall(SpamMonitorProgress(sim, o, p, r));
@@ -518,7 +518,7 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
     PetscCall(VecCopy(sim->X, Xgood));
     if (limit != cut) L->dt_prev = pp->dt;
     r->t = t;
-    PetscCall(SpamStepsAppend(out, pp));
+    PetscCall(SpamAgree(sim->comm, SpamStepsAppend(out, pp))); /* rank 0 writes */
     if (o->monitor) PetscCall(SpamMonitorStep(sim, pp));
     /* TSSolve would call the -ts_monitor monitors; this loop steps the TS itself. */
     PetscCall(TSMonitor(ts, (PetscInt)pp->steps, t, sim->X));
