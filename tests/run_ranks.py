@@ -22,6 +22,8 @@
     injected); the job exits 1 within the timeout, with one error line.
 (e) What runs on one rank only is refused in one line, printed once: the springs model,
     mirror walls, checkpoints.
+(f) Migrations between steps (-migrate_interval 1: after every list build): the run agrees
+    with the one-rank run as in (b), the count is kept, one RHS evaluation per migration.
 """
 import math
 import os
@@ -30,7 +32,7 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from spamrun import Checks, arguments, table  # noqa: E402
+from spamrun import Checks, arguments, summary, table  # noqa: E402
 
 EPS = 2.220446049250313e-16
 a = arguments()
@@ -128,6 +130,28 @@ for name in ("expansion2d", "rotor_tij"):
     for ranks in (2, 3):
         if 1 in runs and ranks in runs:
             compare(name, runs[1], runs[ranks], ranks, 10 * rtol, "adaptive at output times")
+
+# (f) migrations between steps: ERKStep follows the particles (ERKStepResize) and the run is
+#     the same within the adaptive bound; each migration costs one RHS evaluation (ERKStep
+#     evaluates f at the new vector); the particle count is kept.
+t1 = None
+base = args_of("expansion2d") + ["-ts_rtol", rtol, "-ts_atol", 1e-9, "-snapshot_interval", 0]
+code, so, se, out1 = spam(1, "migrate", base)
+if c.check(code == 0, f"expansion2d for migrations on 1 rank: exit {code}"):
+    t1 = table(os.path.join(out1, "timeseries.csv"))
+    s1 = summary(out1)
+    for ranks in (2, 3):
+        code, so, se, out = spam(ranks, "migrate", base + ["-migrate_interval", 1])
+        if not c.check(code == 0, f"expansion2d with -migrate_interval 1 on {ranks} ranks: exit {code} {se.strip()[-300:]}"):
+            continue
+        s = summary(out)
+        c.check(s["migrations"] >= 5 and s["particles_migrated"] > 0 and s["n_particles"] == s1["n_particles"],
+                f"{ranks} ranks: {s['migrations']} migrations moved {s['particles_migrated']:g} particles, {s['n_particles']} particles kept")
+        c.check(s["rhs_evals"] - s1["rhs_evals"] <= s["migrations"] + 0.2 * s1["rhs_evals"],
+                f"{ranks} ranks: {s['rhs_evals']} RHS evaluations against {s1['rhs_evals']} on one rank with {s['migrations']} migrations (one each, and the steps part within rtol)")
+        compare("expansion2d", t1, table(os.path.join(out, "timeseries.csv")), ranks, 10 * rtol, "with migrations, at output times")
+code, so, se, out = spam(1, "migrate_one", base + ["-migrate_interval", 1])
+c.check(code == 2 and "several ranks" in se, f"-migrate_interval on one rank refused: exit {code} {se.strip()[-200:]}")
 
 # (d) a failure on rank 0 ends every rank
 env = dict(ENV, SPAM_TEST_FAIL_WRITE="timeseries.csv:3")

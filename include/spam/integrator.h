@@ -94,6 +94,10 @@ PetscErrorCode SpamTSARKodeSetHistory(TS ts, const SpamArkodeHistory *h);
  * interpolant, not y_n) and no clamp to the stop time is pending for the next step
  * (ERKStep then takes h eta, not the reported step): t + h_next < tstop (1 - 1e-12). */
 PetscErrorCode SpamTSARKodeCheckpointable(TS ts, PetscBool *ok);
+/* After a migration (the particles moved between ranks): the arkode TS continues on the
+ * new solution vector X of another local length, its step and error history kept
+ * (ERKStepResize). */
+PetscErrorCode SpamTSARKodeResize(TS ts, Vec X);
 
 /* ERKStep's built-in controllers (pid, pi, i, expgus, impgus with their default or
  * -arkode_adapt_params gains, order p) as an ARKAdaptFn that carries its own history
