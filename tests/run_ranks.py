@@ -150,6 +150,14 @@ if c.check(code == 0, f"expansion2d for migrations on 1 rank: exit {code}"):
         c.check(s["rhs_evals"] - s1["rhs_evals"] <= s["migrations"] + 0.2 * s1["rhs_evals"],
                 f"{ranks} ranks: {s['rhs_evals']} RHS evaluations against {s1['rhs_evals']} on one rank with {s['migrations']} migrations (one each, and the steps part within rtol)")
         compare("expansion2d", t1, table(os.path.join(out, "timeseries.csv")), ranks, 10 * rtol, "with migrations, at output times")
+# PETSc's rk with fixed steps follows by TSReset + TSSetSolution (its first stage evaluated
+# again): the fixed-step bound of (a) holds.
+rk = args_of("expansion2d") + ["-ts_type", "rk", "-ts_rk_type", "5dp", "-ts_adapt_type", "none", "-ts_dt", 0.05, "-snapshot_interval", 0]
+code, so, se, out1 = spam(1, "migrate_rk", rk)
+code2, so, se, out2 = spam(2, "migrate_rk", rk + ["-migrate_interval", 1])
+if c.check(code == 0 and code2 == 0, f"rk 5dp fixed steps, 1 rank and 2 ranks with migrations: exit {code}, {code2} {se.strip()[-300:]}"):
+    c.check(summary(out2)["migrations"] >= 5, f"rk: {summary(out2)['migrations']} migrations")
+    compare("expansion2d rk 5dp", table(os.path.join(out1, "timeseries.csv")), table(os.path.join(out2, "timeseries.csv")), 2, 1e-11, "fixed steps with migrations")
 code, so, se, out = spam(1, "migrate_one", base + ["-migrate_interval", 1])
 c.check(code == 2 and "several ranks" in se, f"-migrate_interval on one rank refused: exit {code} {se.strip()[-200:]}")
 

@@ -5,7 +5,8 @@
  * error history), the loop's last good state and interpolation scratch, the list's kept
  * reference positions. Without migrations the run stays correct (a rank's halo is taken
  * from the bounding box of its particles wherever they are), only slower as the boxes grow.
- * Only ERKStep can follow today: the other methods keep the first distribution. */
+ * ERKStep, rk, ssp and euler follow (SpamTSFollowParticles); cvode and basicsymplectic
+ * keep the first distribution. */
 #include <spam/integrator.h>
 #include <spam/decompose.h>
 #include "loop_state.h"
@@ -25,16 +26,14 @@ static PetscErrorCode RemakeLoopVectors(SpamSim *sim, SpamLoop *L)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamLoopMigrate(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamLoop *L)
+PetscErrorCode SpamLoopMigrate(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamLoop *L)
 {
   SpamMigrateInfo info;
-  PetscBool       arkode;
+  PetscBool       followed;
 
   PetscFunctionBeginUser;
-  if (!SpamSimDistributed(sim) || o->migrate_interval <= 0) PetscFunctionReturn(0);
+  if (!SpamSimDistributed(sim) || o->migrate_interval <= 0 || !SpamTSCanFollow(ts)) PetscFunctionReturn(0);
   if (sim->nl.builds - L->builds_migrated < o->migrate_interval) PetscFunctionReturn(0);
-  PetscCall(PetscObjectTypeCompare((PetscObject)ts, SPAM_TSARKODE, &arkode));
-  if (!arkode) PetscFunctionReturn(0);
   PetscCall(SpamSimMigrate(sim, sim->dec, &info));
   /* A non-finite position was caught by the step's own checks before this point; a
    * migration that found one changed nothing, and the next step reports it. */
@@ -42,7 +41,7 @@ PetscErrorCode SpamLoopMigrate(SpamSim *sim, const SpamRunOptions *o, TS ts, Spa
   if (!info.changed) PetscFunctionReturn(0);
   sim->migrations_run++;
   sim->migrated += info.moved;
-  PetscCall(SpamTSARKodeResize(ts, sim->X));
+  PetscCall(SpamTSFollowParticles(ts, app, &followed));
   PetscCall(RemakeLoopVectors(sim, L));
   PetscFunctionReturn(0);
 }

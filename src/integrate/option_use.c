@@ -287,8 +287,8 @@ static PetscBool RelevantMethod(Group g, const Run *r, char *why, size_t len, Pe
   switch (g) {
   case G_ALL: return PETSC_TRUE;
   case G_RANKS:
-    if (SpamSimDistributed(r->sim) && arkode) return PETSC_TRUE;
-    (void)snprintf(why, len, "applies to runs on several ranks with -ts_type arkode (this run: %s)", SpamSimDistributed(r->sim) ? r->method : "one rank");
+    if (SpamSimDistributed(r->sim) && SpamTSTypeCanFollow(r->type, r->adapt)) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to runs on several ranks with -ts_type arkode, or rk, ssp, euler with fixed steps (this run: %s)", SpamSimDistributed(r->sim) ? r->method : "one rank");
     return PETSC_FALSE;
   case G_ENTROPY:
     if (r->o->diag.entropy) return PETSC_TRUE;

@@ -159,7 +159,9 @@ PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o)
   PetscCall(CheckCount("-checkpoint_interval", o->checkpoint_interval, o->t_end, MAX_OUTPUT_ROWS, "checkpoints"));
   if (SpamSimDistributed(sim)) { /* the checkpoint file holds one rank's particles and list */
     const char *opt = restart ? "-restart" : o->checkpoint_interval > 0 ? "-checkpoint_interval" : o->checkpoint_wall > 0 ? "-checkpoint_wall" : NULL;
-    if (opt) SPAM_BAD_INPUT(opt, restart ? o->restart : "(given)", "checkpoints and restarts run on one rank in this version (mpiexec -n 1)");
+    char        val[PETSC_MAX_PATH_LEN];
+    if (opt && !restart) PetscCall(SpamOptionText(opt, o->checkpoint_interval > 0 ? o->checkpoint_interval : o->checkpoint_wall, val, sizeof val));
+    if (opt) SPAM_BAD_INPUT(opt, restart ? o->restart : val, "checkpoints and restarts run on one rank in this version (mpiexec -n 1)");
   }
   {
     char     val[32];

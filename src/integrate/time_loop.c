@@ -573,7 +573,7 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
       if (short_stop) PetscCall(FinalOutputs(sim, o, out, pp, (PetscBool)(L->t_row == t), (PetscBool)(L->t_snap == t), r));
     }
     /* Last: the step's outputs read ERKStep's interpolant of the step, which a resize drops. */
-    PetscCall(SpamLoopMigrate(sim, o, ts, L));
+    PetscCall(SpamLoopMigrate(sim, o, ts, app, L));
   }
   if (r->status == SPAM_STATUS_OK && L->t < o->t_end) r->status = SPAM_STATUS_MAX_STEPS;
   r->steps     = pp->steps;
