@@ -24,6 +24,8 @@
     mirror walls, checkpoints.
 (f) Migrations between steps (-migrate_interval 1: after every list build): the run agrees
     with the one-rank run as in (b), the count is kept, one RHS evaluation per migration.
+(g) Every options file on 2 ranks (30 steps): the one-rank energies at the output times both
+    reached within 10 times the file's rtol, or a one-line refusal naming what is serial-only.
 """
 import math
 import os
@@ -160,6 +162,42 @@ if c.check(code == 0 and code2 == 0, f"rk 5dp fixed steps, 1 rank and 2 ranks wi
     compare("expansion2d rk 5dp", table(os.path.join(out1, "timeseries.csv")), table(os.path.join(out2, "timeseries.csv")), 2, 1e-11, "fixed steps with migrations")
 code, so, se, out = spam(1, "migrate_one", base + ["-migrate_interval", 1])
 c.check(code == 2 and "several ranks" in se, f"-migrate_interval on one rank refused: exit {code} {se.strip()[-200:]}")
+
+# (g) every options file on 2 ranks: the one-rank answer at the output times both reached
+#     (energies within 10 rtol of the file's tolerance, as (b)), or refused in one line that
+#     names what is serial-only. 30 steps each.
+REFUSED = {"chain": "springs", "rotor-md": "springs", "couette": "mirror walls", "poiseuille": "mirror walls",
+           "convection": "mirror walls", "expansion-walls": "mirror walls"}
+optdir = os.path.join(OPTS_DIR, "options")
+for fname in sorted(os.listdir(optdir)):
+    if not fname.endswith(".opts"):
+        continue
+    name, path = fname[:-5], os.path.join(optdir, fname)
+    tol = 1e-6
+    for line in open(path):
+        if line.split()[:1] == ["-ts_rtol"]:
+            tol = float(line.split()[1])
+    args = ["-options_file", path, "-ts_max_steps", 30, "-snapshot_interval", 0]
+    code1, so, se1, out1 = spam(1, f"file_{name}", args)
+    code2, so, se2, out2 = spam(2, f"file_{name}", args)
+    lines = [x for x in se2.splitlines() if x.startswith("spam-ark: error:")]
+    if name in REFUSED:
+        c.check(code1 == 0 and code2 == 2 and len(lines) == 1 and REFUSED[name] in lines[0] and "one rank" in lines[0],
+                f"{fname} on 2 ranks refused ({REFUSED[name]}): exit {code2}, {lines}")
+        continue
+    if not c.check(code1 == 0 and code2 == 0, f"{fname} on 1 and 2 ranks: exit {code1}, {code2} {lines}"):
+        continue
+    t1, t2 = table(os.path.join(out1, "timeseries.csv")), table(os.path.join(out2, "timeseries.csv"))
+    common = [(i, t2["t"].index(t)) for i, t in enumerate(t1["t"]) if t in t2["t"]]
+    worst, where = 0.0, ""
+    for col in ("kinetic", "internal", "total"):
+        scale = max(abs(v) for v in t1[col]) or 1.0
+        for i, j in common:
+            d = abs(t1[col][i] - t2[col][j]) / scale
+            if d > worst:
+                worst, where = d, f"{col} at t = {t1['t'][i]:g}"
+    c.check(len(common) >= 2 and worst <= max(10 * tol, 1e-11),
+            f"{fname}: 2 ranks vs 1 at {len(common)} common output times, largest energy difference {worst:.1e} ({where}) <= {max(10 * tol, 1e-11):g}")
 
 # (d) a failure on rank 0 ends every rank
 env = dict(ENV, SPAM_TEST_FAIL_WRITE="timeseries.csv:3")
