@@ -26,6 +26,7 @@
     mirror walls, checkpoints.
 (f) Migrations between steps (-migrate_interval 1: after every list build): the run agrees
     with the one-rank run as in (b), the count is kept, one RHS evaluation per migration.
+(h) SIGTERM to mpiexec: every rank stops after the same step, outputs complete.
 (g) Every options file on 2 ranks (30 steps): the one-rank energies at the output times both
     reached within 10 times the file's rtol, or a one-line refusal naming what is serial-only.
 """
@@ -214,6 +215,23 @@ try:
     c.check(code == 1 and len(lines) == 1 and "timeseries.csv" in lines[0], f"rank 0's failed write on 2 ranks: exit {code}, error lines {lines}")
 except subprocess.TimeoutExpired:
     c.check(False, "rank 0's failed write on 2 ranks: the job hung (timeout 120 s)")
+
+# (h) SIGTERM to mpiexec (which passes it to every rank): the ranks agree to stop after the
+#     same step (SignalAgreed), the outputs are complete and summary.json says so.
+import time  # noqa: E402
+out = os.path.join(a.workdir, "sigterm_np2")
+cmd = [mpiexec, "--oversubscribe", "-n", "2", a.spam_ark] + [str(x) for x in args_of("expansion2d") + ["-ts_max_time", 1e5, "-snapshot_interval", 0, "-output_interval", 1, "-output_dir", out]]
+p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV)
+time.sleep(3.0)  # start-up and some steps (the run would take hours)
+p.terminate()
+try:
+    so, se = p.communicate(timeout=60)
+    s = summary(out)
+    c.check(s["status"] == "interrupted" and "SIGTERM" in s["reason"] and s["steps"] > 0,
+            f"SIGTERM on 2 ranks: status {s['status']} ({s['reason']}) after {s['steps']} steps, mpiexec exit {p.returncode}")
+except subprocess.TimeoutExpired:
+    p.kill()
+    c.check(False, "SIGTERM on 2 ranks: the job hung (timeout 60 s)")
 
 # (e) refusals, once
 for what, args in [("springs", ["-options_file", os.path.join(OPTS_DIR, "options/chain.opts")]),
