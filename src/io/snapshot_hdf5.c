@@ -124,6 +124,9 @@ static PetscErrorCode WriteDataset(H5Out *h, const char *name, hid_t ftype, hid_
 
   PetscFunctionBeginUser;
   PetscCallH5(h, dcpl = SpamH5Untimed(H5P_DATASET_CREATE));
+  /* Parallel HDF5 allocates a dataset when it is created and by default writes the fill
+   * value into all of it first: the whole file twice. Every row is written here. */
+  if (h->size > 1) PetscCallH5(h, H5Pset_fill_time(dcpl, H5D_FILL_TIME_NEVER));
   PetscCallH5(h, space = H5Screate_simple(ncomp > 1 ? 2 : 1, dims, NULL));
   set = H5Dcreate2(h->file, name, ftype, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
   (void)H5Pclose(dcpl);
