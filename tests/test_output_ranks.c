@@ -220,7 +220,7 @@ static PetscErrorCode WriteOutputs(const Case *c, SpamSim *sim, const char *dir)
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(&opt, sizeof opt));
   opt.grid_interval = c->spacing;
-  PetscCall(SpamOutputInit(dir, PETSC_TRUE, PETSC_TRUE, &opt, &o));
+  PetscCall(SpamOutputInit(sim->comm, dir, PETSC_TRUE, PETSC_TRUE, &opt, &o));
   o.step = 17;
   PetscCall(VecGetArrayRead(sim->X, &y));
   PetscCall(SpamSnapshotWrite(&o, sim, y, 0.25, NULL));

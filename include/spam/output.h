@@ -61,9 +61,15 @@ typedef struct {
   PetscBool outside;               /* -initial_csv / -final_csv: a path, not a name      */
 } SpamOutputEntry;
 
+/* On several ranks the run's text files (timeseries, steps, manifest, summary, the lock)
+ * are rank 0's: every rank calls the functions below alike (they are collective on
+ * o->comm and keep the same list of files on every rank), rank 0 alone touches the
+ * directory, and an error there is raised on every rank (SpamRunAgreed). */
 typedef struct {
+  MPI_Comm    comm;            /* the run's ranks: PETSC_COMM_WORLD, the sim's (main.c) */
+  PetscMPIInt rank;
   char      dir[PETSC_MAX_PATH_LEN];
-  SpamFile  timeseries, steps; /* appended during the run, renamed at the end       */
+  SpamFile  timeseries, steps; /* appended during the run, renamed at the end (rank 0) */
   int       nsnap;             /* snapshots written so far                          */
   long      step;              /* step of the last timeseries row (snapshot attribute) */
   double   *snap_times;        /* [capacity] times of the snapshots, for the XDMF index */
@@ -98,17 +104,22 @@ PetscErrorCode SpamOutputPath(const SpamOutput *o, const char *name, char *path,
 PetscErrorCode SpamOutputLock(SpamOutput *o, PetscBool *created);
 PetscErrorCode SpamOutputLockWrite(SpamOutput *o); /* the holder's pid, host and start */
 void           SpamOutputUnlock(SpamOutput *o);   /* removes the lock file, drops the lock */
-/* The manifest (manifest.json): record (or update) an entry; rewrite the file. */
+/* The manifest (manifest.json): record (or update) an entry; rewrite the file
+ * (collective: rank 0 writes it); SpamManifestWriteHere writes it from this rank alone
+ * (rank 0, inside a section of SpamRunAgreed). */
 PetscErrorCode SpamManifestAdd(SpamOutput *o, const char *name, const char *kind, double t, PetscBool outside);
 PetscErrorCode SpamManifestWrite(SpamOutput *o);
+PetscErrorCode SpamManifestWriteHere(SpamOutput *o);
 /* Files of an earlier run (output_clean.c): the first one found, or "" if none. */
 PetscErrorCode SpamOutputFindEarlier(const SpamOutput *o, char *name, size_t len);
 /* Removes an earlier run's files (all = true) or only stale temporaries. */
 PetscErrorCode SpamOutputRemoveEarlier(const SpamOutput *o, PetscBool all);
 /* Removes the run files that o->files does not list, and stale temporaries (a restart). */
 PetscErrorCode SpamOutputRemoveUnlisted(const SpamOutput *o);
-/* o made empty for dir (created with its parents), not yet locked or written. */
-PetscErrorCode SpamOutputInit(const char *dir, PetscBool hdf5, PetscBool csv, const SpamOutputOptions *opt, SpamOutput *o);
+/* o made empty for dir (created with its parents by rank 0 of comm), not yet locked or
+ * written. Collective on comm, the communicator of the sim whose outputs these are;
+ * SpamOutputOpen and SpamOutputResume use PETSC_COMM_WORLD, the program's (main.c). */
+PetscErrorCode SpamOutputInit(MPI_Comm comm, const char *dir, PetscBool hdf5, PetscBool csv, const SpamOutputOptions *opt, SpamOutput *o);
 /* Creates dir and its parents. */
 PetscErrorCode SpamOutputMakeDirs(const char *dir);
 /* What f has written so far (flushed; malloc'd, NUL-terminated, *len bytes). */

@@ -224,11 +224,23 @@ static void Walls(Summary *f, const SpamSim *sim)
   }
 }
 
-/* summary.json is listed in the manifest; the caller rewrites the manifest. */
-PetscErrorCode SpamSummaryWrite(SpamOutput *out, const SpamSim *sim, const SpamRunOptions *o, const SpamRunResult *r)
+typedef struct {
+  SpamOutput           *out;
+  const SpamSim        *sim;
+  const SpamRunOptions *o;
+  const SpamRunResult  *r;
+} SummaryWork;
+
+/* Rank 0 writes the file. */
+static PetscErrorCode WriteOnRoot(void *ctx)
 {
-  char    path[PETSC_MAX_PATH_LEN];
-  Summary f;
+  const SummaryWork    *w   = ctx;
+  SpamOutput           *out = w->out;
+  const SpamSim        *sim = w->sim;
+  const SpamRunOptions *o   = w->o;
+  const SpamRunResult  *r   = w->r;
+  char                  path[PETSC_MAX_PATH_LEN];
+  Summary               f;
 
   PetscFunctionBeginUser;
   PetscCall(SpamOutputPath(out, "summary.json", path, sizeof path));
@@ -260,6 +272,17 @@ PetscErrorCode SpamSummaryWrite(SpamOutput *out, const SpamSim *sim, const SpamR
   NullNote(&f, r);
   SpamFilePrintf(&f.f, "  \"spam_ark_version\": \"%s\"\n}\n", SPAM_VERSION);
   PetscCall(SpamFileCommit(&f.f));
+  PetscFunctionReturn(0);
+}
+
+/* summary.json is listed in the manifest; the caller rewrites the manifest. Collective on
+ * out->comm: rank 0 writes it (the figures are global: the caller reduced them). */
+PetscErrorCode SpamSummaryWrite(SpamOutput *out, const SpamSim *sim, const SpamRunOptions *o, const SpamRunResult *r)
+{
+  SummaryWork w = {out, sim, o, r};
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamRunAgreed(out->comm, PETSC_TRUE, WriteOnRoot, &w));
   PetscCall(SpamManifestAdd(out, "summary.json", "summary", NAN, PETSC_FALSE));
   PetscFunctionReturn(0);
 }
