@@ -30,6 +30,9 @@
  * parts summed, as before this change) differ from the one-rank values by far more than
  * the bounds; a snapshot whose one velocity differs in its last bit is found by the
  * HDF5 and CSV comparisons as exactly one value and a different text.
+ * Then the run's text files (timeseries, steps, manifest) opened and closed by every rank
+ * are written once, by rank 0, and a write failing on rank 0 (or an HDF5 write failing
+ * on all) returns the error on every rank instead of leaving the others waiting.
  * With -time_n N (not in ctest) it prints the time of writing one HDF5 snapshot of N 3D
  * particles on the ranks it runs on, after their migration. */
 #define _XOPEN_SOURCE 700 /* nftw: POSIX, not C11 */
@@ -41,6 +44,7 @@
 #include <spam/scene.h>
 #include <hdf5.h>
 #include <float.h>
+#include <dirent.h>
 #include <ftw.h>
 #include <stdarg.h>
 #include <unistd.h>
@@ -724,14 +728,9 @@ static PetscErrorCode UlpControl(Ctx *t, const Case *c, SpamSim *ref)
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode RunCase(Ctx *t, Case *c)
+/* A periodic box of side^dim lattice sites, lower corner at -2. */
+static void CaseBox(Case *c)
 {
-  SpamSim   ref, sim;
-  SpamModel m;
-  Brute     b;
-  char      dir[PETSC_MAX_PATH_LEN];
-
-  PetscFunctionBeginUser;
   c->N = 1;
   for (int d = 0; d < 3; d++) {
     c->box.lo[d]       = d < c->dim ? -2.0 : 0.0;
@@ -740,6 +739,137 @@ static PetscErrorCode RunCase(Ctx *t, Case *c)
     if (d < c->dim) c->N *= c->side;
   }
   c->box.dim = c->dim;
+}
+
+/* Lock files and temporaries in dir (none once a run has closed its outputs). */
+static long Leftovers(const char *dir)
+{
+  DIR           *dp = opendir(dir);
+  struct dirent *e;
+  long           n = 0;
+  if (!dp) return -1;
+  while ((e = readdir(dp))) {
+    const size_t len = strlen(e->d_name);
+    n += strstr(e->d_name, "lock") != NULL || (len > 4 && !strcmp(e->d_name + len - 4, ".tmp"));
+  }
+  closedir(dp);
+  return n;
+}
+
+/* Lines of a file (rank 0), -1 if missing. */
+static long Lines(const char *path)
+{
+  FILE *f = fopen(path, "r");
+  long  n = 0;
+  int   ch;
+  if (!f) return -1;
+  while ((ch = fgetc(f)) != EOF) n += ch == '\n';
+  fclose(f);
+  return n;
+}
+
+/* The run's text files on P ranks (SpamOutputOpen ... SpamOutputClose, as a run calls
+ * them on every rank): one timeseries and one steps file with one header and one row per
+ * call, the manifest closed "ok", no lock or temporary left. Then a write of the
+ * timeseries that fails on rank 0 (SPAM_TEST_FAIL_WRITE): every rank returns the error
+ * (a rank left waiting would hang the test until its timeout) and the manifest says
+ * "failed". Last, a failed dataset write of an HDF5 snapshot, on every rank at once. */
+static PetscErrorCode TextOutputs(Ctx *t)
+{
+  Case              c = {"text", 2, 6, PETSC_FALSE, 3.0, 1.0, 0, {0}};
+  SpamSim           sim;
+  SpamOutput        o;
+  SpamOutputOptions opt;
+  SpamProgress      pr;
+  SpamDiagnostics   d;
+  char              dir[PETSC_MAX_PATH_LEN], path[PETSC_MAX_PATH_LEN];
+  long              ts = -2, st = -2, leftover = -1;
+  PetscBool         ok_status = PETSC_FALSE, failed_status = PETSC_FALSE;
+  PetscErrorCode    ierr;
+  int               codes[2];
+
+  PetscFunctionBeginUser;
+  CaseBox(&c);
+  PetscCall(MakeSim(t->comm, &c, &sim));
+  PetscCall(PetscMemzero(&opt, sizeof opt));
+  PetscCall(PetscMemzero(&pr, sizeof pr));
+  PetscCall(PetscMemzero(&d, sizeof d));
+  PetscCall(PetscSNPrintf(dir, sizeof dir, "%s/text", t->dir));
+  PetscCall(SpamOutputOpen(dir, PETSC_TRUE, PETSC_FALSE, &opt, &o));
+  for (int k = 1; k <= 3; k++) {
+    pr.steps = k;
+    pr.t = d.t = 0.1 * k;
+    PetscCall(SpamStepsAppend(&o, &pr));
+    PetscCall(SpamTimeseriesAppend(&o, &sim, &pr, &d, &d));
+  }
+  PetscCall(SpamOutputClose(&o, "ok"));
+  if (t->rank == 0) {
+    char  *m;
+    size_t n;
+    PetscCall(PetscSNPrintf(path, sizeof path, "%s/timeseries.csv", dir));
+    ts = Lines(path);
+    PetscCall(PetscSNPrintf(path, sizeof path, "%s/steps.csv", dir));
+    st = Lines(path);
+    PetscCall(PetscSNPrintf(path, sizeof path, "%s/manifest.json", dir));
+    PetscCall(SpamReadWholeFile(path, &m, &n));
+    ok_status = (PetscBool)(m && strstr(m, "\"status\": \"ok\""));
+    PetscCall(PetscFree(m));
+    leftover = Leftovers(dir);
+  }
+  PetscCall(Check(t, t->rank || (ts == 4 && st == 4 && ok_status && leftover == 0), "text outputs on %d ranks: timeseries.csv %ld lines and steps.csv %ld (a header and 3 rows each, written once), manifest status ok: %s, %ld lock or temporary files left", t->size, ts, st, ok_status ? "yes" : "no", leftover));
+
+  PetscCall(PetscSNPrintf(dir, sizeof dir, "%s/text_fail", t->dir));
+  setenv("SPAM_TEST_FAIL_WRITE", "timeseries.csv:2", 1); /* the first row after the header */
+  PetscCall(SpamOutputOpen(dir, PETSC_TRUE, PETSC_FALSE, &opt, &o));
+  PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
+  ierr = SpamTimeseriesAppend(&o, &sim, &pr, &d, &d);
+  PetscCall(PetscPopErrorHandler());
+  SpamOutputAbandon(&o);
+  unsetenv("SPAM_TEST_FAIL_WRITE");
+  codes[0] = (int)ierr;
+  codes[1] = -(int)ierr;
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, codes, 2, MPI_INT, MPI_MAX, t->comm));
+  if (t->rank == 0) {
+    char  *m;
+    size_t n;
+    PetscCall(PetscSNPrintf(path, sizeof path, "%s/manifest.json", dir));
+    PetscCall(SpamReadWholeFile(path, &m, &n));
+    failed_status = (PetscBool)(m && strstr(m, "\"status\": \"failed\""));
+    PetscCall(PetscFree(m));
+  }
+  PetscCall(Check(t, codes[0] == PETSC_ERR_FILE_WRITE && codes[0] == -codes[1] && (t->rank || failed_status), "text outputs on %d ranks: a failed timeseries write on rank 0 returns the file-write error %d on every rank (codes %d..%d), manifest status failed: %s", t->size, PETSC_ERR_FILE_WRITE, -codes[1], codes[0], failed_status ? "yes" : "no"));
+  /* the third dataset write of an HDF5 snapshot fails (on every rank: they write together) */
+  PetscCall(PetscSNPrintf(dir, sizeof dir, "%s/snap_fail", t->dir));
+  if (t->rank == 0) PetscCall(SpamOutputMakeDirs(dir));
+  PetscCall(PetscSNPrintf(path, sizeof path, "%s/fail.h5", dir));
+  setenv("SPAM_TEST_FAIL_WRITE", "fail.h5:3", 1);
+  {
+    const PetscScalar *y;
+    PetscCall(VecGetArrayRead(sim.X, &y));
+    PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
+    ierr = SpamSnapshotHdf5Write(path, &sim, y, 0.0, 0);
+    PetscCall(PetscPopErrorHandler());
+    PetscCall(VecRestoreArrayRead(sim.X, &y));
+  }
+  unsetenv("SPAM_TEST_FAIL_WRITE");
+  codes[0] = (int)ierr;
+  codes[1] = -(int)ierr;
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, codes, 2, MPI_INT, MPI_MAX, t->comm));
+  leftover = t->rank ? 0 : Leftovers(dir) + (access(path, F_OK) == 0);
+  PetscCall(Check(t, codes[0] == PETSC_ERR_FILE_WRITE && codes[0] == -codes[1] && leftover == 0, "HDF5 snapshot on %d ranks: a failed dataset write returns the file-write error on every rank (codes %d..%d), neither the file nor its temporary left (%ld)", t->size, -codes[1], codes[0], leftover));
+  PetscCall(SpamSimDestroy(&sim));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode RunCase(Ctx *t, Case *c)
+{
+  SpamSim   ref, sim;
+  SpamModel m;
+  Brute     b;
+  char      dir[PETSC_MAX_PATH_LEN];
+
+  PetscFunctionBeginUser;
+  CaseBox(c);
   PetscCall(MakeModel(c, &m));
   if (t->rank == 0) {
     PetscCall(BruteForce(c, &m, &b));
@@ -779,12 +909,7 @@ static PetscErrorCode TimeWrite(Ctx *t, PetscInt N)
 
   PetscFunctionBeginUser;
   while ((PetscInt)c.side * c.side * c.side < N) c.side++;
-  c.N = (PetscInt)c.side * c.side * c.side;
-  c.box.dim = 3;
-  for (int d = 0; d < 3; d++) {
-    c.box.len[d]      = c.side;
-    c.box.periodic[d] = PETSC_TRUE;
-  }
+  CaseBox(&c);
   PetscCall(MakeSim(t->comm, &c, &sim));
   PetscCall(PetscSNPrintf(path, sizeof path, "%s/timing.h5", t->dir));
   PetscCall(VecGetArrayRead(sim.X, &y));
@@ -847,8 +972,10 @@ int main(int argc, char **argv)
   }
   PetscCallMPI(MPI_Bcast(t.dir, (int)sizeof t.dir, MPI_CHAR, 0, t.comm));
   if (time_n > 0) PetscCall(TimeWrite(&t, time_n));
-  else
+  else {
     for (size_t k = 0; k < sizeof cases / sizeof *cases; k++) PetscCall(RunCase(&t, &cases[k]));
+    PetscCall(TextOutputs(&t));
+  }
   PetscCallMPI(MPI_Barrier(t.comm));
   if (t.rank == 0 && !keep && !t.count.failed) (void)nftw(t.dir, RemoveEntry, 16, FTW_DEPTH | FTW_PHYS);
   PetscCall(PetscFinalize());
