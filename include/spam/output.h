@@ -61,15 +61,14 @@ typedef struct {
   PetscBool outside;               /* -initial_csv / -final_csv: a path, not a name      */
 } SpamOutputEntry;
 
-/* On several ranks the run's text files (timeseries, steps, manifest, summary, the lock)
- * are rank 0's: every rank calls the functions below alike (they are collective on
- * o->comm and keep the same list of files on every rank), rank 0 alone touches the
- * directory, and an error there is raised on every rank (SpamRunAgreed). */
+/* On several ranks rank 0 of the sim's communicator owns the directory (opens, locks,
+ * closes it; its text series and summary); the other ranks hold an output with dir,
+ * hdf5, csv and opt set and no open file (run_session.c). The snapshot and grid writers
+ * below are called by every rank and keep the same counts and list of files on every
+ * rank; rank 0 writes the text files. */
 typedef struct {
-  MPI_Comm    comm;            /* the run's ranks: PETSC_COMM_WORLD, the sim's (main.c) */
-  PetscMPIInt rank;
   char      dir[PETSC_MAX_PATH_LEN];
-  SpamFile  timeseries, steps; /* appended during the run, renamed at the end (rank 0) */
+  SpamFile  timeseries, steps; /* appended during the run, renamed at the end       */
   int       nsnap;             /* snapshots written so far                          */
   long      step;              /* step of the last timeseries row (snapshot attribute) */
   double   *snap_times;        /* [capacity] times of the snapshots, for the XDMF index */
@@ -104,22 +103,17 @@ PetscErrorCode SpamOutputPath(const SpamOutput *o, const char *name, char *path,
 PetscErrorCode SpamOutputLock(SpamOutput *o, PetscBool *created);
 PetscErrorCode SpamOutputLockWrite(SpamOutput *o); /* the holder's pid, host and start */
 void           SpamOutputUnlock(SpamOutput *o);   /* removes the lock file, drops the lock */
-/* The manifest (manifest.json): record (or update) an entry; rewrite the file
- * (collective: rank 0 writes it); SpamManifestWriteHere writes it from this rank alone
- * (rank 0, inside a section of SpamRunAgreed). */
+/* The manifest (manifest.json): record (or update) an entry; rewrite the file. */
 PetscErrorCode SpamManifestAdd(SpamOutput *o, const char *name, const char *kind, double t, PetscBool outside);
 PetscErrorCode SpamManifestWrite(SpamOutput *o);
-PetscErrorCode SpamManifestWriteHere(SpamOutput *o);
 /* Files of an earlier run (output_clean.c): the first one found, or "" if none. */
 PetscErrorCode SpamOutputFindEarlier(const SpamOutput *o, char *name, size_t len);
 /* Removes an earlier run's files (all = true) or only stale temporaries. */
 PetscErrorCode SpamOutputRemoveEarlier(const SpamOutput *o, PetscBool all);
 /* Removes the run files that o->files does not list, and stale temporaries (a restart). */
 PetscErrorCode SpamOutputRemoveUnlisted(const SpamOutput *o);
-/* o made empty for dir (created with its parents by rank 0 of comm), not yet locked or
- * written. Collective on comm, the communicator of the sim whose outputs these are;
- * SpamOutputOpen and SpamOutputResume use PETSC_COMM_WORLD, the program's (main.c). */
-PetscErrorCode SpamOutputInit(MPI_Comm comm, const char *dir, PetscBool hdf5, PetscBool csv, const SpamOutputOptions *opt, SpamOutput *o);
+/* o made empty for dir (created with its parents), not yet locked or written. */
+PetscErrorCode SpamOutputInit(const char *dir, PetscBool hdf5, PetscBool csv, const SpamOutputOptions *opt, SpamOutput *o);
 /* Creates dir and its parents. */
 PetscErrorCode SpamOutputMakeDirs(const char *dir);
 /* What f has written so far (flushed; malloc'd, NUL-terminated, *len bytes). */
@@ -144,10 +138,10 @@ double SpamSnapshotPosition(const SpamSim *sim, int d, double x);
 void   SpamSnapshotStress6(const SpamSim *sim, const double *y, PetscInt i, double t6[6]);
 /* Particle snapshot: HDF5 + XDMF (ParaView) and/or CSV (positions, velocities, density,
  * and energy and stress where the state has them). Needs sim->rho of state y. All four
- * are collective on sim->comm and write one file each whatever the number of ranks, rows
- * in gid order, the same contents as on one rank: the HDF5 file through MPI-IO by every
- * rank, the CSV, the XDMF index and the manifest by rank 0 (an error on one rank is
- * raised on all, SpamRunAgreed). */
+ * are collective on sim->comm (every rank calls them) and write one file each whatever
+ * the number of ranks, rows in gid order, the same contents as on one rank: the HDF5
+ * file through MPI-IO by every rank, the CSV, the XDMF index and the manifest by rank 0
+ * (an error on one rank is raised on all, SpamRunAgreed). */
 PetscErrorCode SpamSnapshotWrite(SpamOutput *o, SpamSim *sim, const double *y, double t, const char *tag);
 PetscErrorCode SpamSnapshotCsvWrite(const char *path, const SpamSim *sim, const double *y, double t);
 PetscErrorCode SpamSnapshotHdf5Write(const char *path, const SpamSim *sim, const double *y, double t, long step);

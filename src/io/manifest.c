@@ -15,7 +15,7 @@ static void Entry(SpamFile *f, const SpamOutputEntry *e, PetscBool last)
   SpamFilePrintf(f, "}%s\n", last ? "" : ",");
 }
 
-PetscErrorCode SpamManifestWriteHere(SpamOutput *o)
+PetscErrorCode SpamManifestWrite(SpamOutput *o)
 {
   char     path[PETSC_MAX_PATH_LEN], *all = NULL;
   SpamFile f;
@@ -34,20 +34,6 @@ PetscErrorCode SpamManifestWriteHere(SpamOutput *o)
   SpamFilePrintf(&f, "  ]\n}\n");
   PetscCall(PetscFree(all));
   PetscCall(SpamFileCommit(&f));
-  PetscFunctionReturn(0);
-}
-
-static PetscErrorCode WriteOnRoot(void *ctx)
-{
-  PetscFunctionBeginUser;
-  PetscCall(SpamManifestWriteHere(ctx));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode SpamManifestWrite(SpamOutput *o)
-{
-  PetscFunctionBeginUser;
-  PetscCall(SpamRunAgreed(o->comm, PETSC_TRUE, WriteOnRoot, o));
   PetscFunctionReturn(0);
 }
 

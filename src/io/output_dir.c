@@ -29,7 +29,7 @@ PetscErrorCode SpamOutputPath(const SpamOutput *o, const char *name, char *path,
 }
 
 /* Locked, then checked for an earlier run: refused (bad input, nothing left behind: a
- * lock file this run created goes again) or cleared. Rank 0. */
+ * lock file this run created goes again) or cleared. */
 static PetscErrorCode TakeDirectory(SpamOutput *o)
 {
   PetscBool      created;
@@ -51,58 +51,39 @@ static PetscErrorCode TakeDirectory(SpamOutput *o)
   PetscCall(SpamOutputRemoveEarlier(o, o->opt.overwrite));
   o->owned = PETSC_TRUE;
   PetscCall(SpamOutputLockWrite(o));
-  PetscCall(SpamManifestWriteHere(o));
+  PetscCall(SpamManifestWrite(o));
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode MakeDirs(void *ctx)
-{
-  PetscFunctionBeginUser;
-  PetscCall(SpamOutputMakeDirs(ctx));
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode SpamOutputInit(MPI_Comm comm, const char *dir, PetscBool hdf5, PetscBool csv, const SpamOutputOptions *opt, SpamOutput *o)
+PetscErrorCode SpamOutputInit(const char *dir, PetscBool hdf5, PetscBool csv, const SpamOutputOptions *opt, SpamOutput *o)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(o, sizeof *o));
-  o->comm    = comm;
   o->lock_fd = -1;
-  PetscCallMPI(MPI_Comm_rank(comm, &o->rank));
   PetscCall(PetscStrncpy(o->dir, dir, sizeof o->dir));
   PetscCall(PetscStrncpy(o->status, "running", sizeof o->status));
   o->hdf5 = hdf5;
   o->csv  = csv;
   o->opt  = *opt;
-  PetscCall(SpamRunAgreed(comm, PETSC_TRUE, MakeDirs, o->dir));
-  PetscFunctionReturn(0);
-}
-
-/* Rank 0: the directory taken, the series files begun with their headers. */
-static PetscErrorCode OpenOnRoot(void *ctx)
-{
-  SpamOutput *o = ctx;
-  char        path[PETSC_MAX_PATH_LEN];
-
-  PetscFunctionBeginUser;
-  PetscCall(TakeDirectory(o));
-  PetscCall(SpamOutputPath(o, "timeseries.csv", path, sizeof path));
-  PetscCall(SpamFileBegin(path, &o->timeseries));
-  SpamFilePrintf(&o->timeseries, "t,step,rejected,rhs_evals,dt,mass,px,py,pz,lx,ly,lz,kinetic,internal,total,entropy_sum,entropy_grid,dS_sum_ratio,dS_grid_ratio,bound_limited,rhs_s,wall_s,torque_sum,bodies,l_body0,l_body1,gauss_singular,potential%s\n", o->opt.timeseries_more);
-  PetscCall(SpamFileCheck(&o->timeseries));
-  PetscCall(SpamOutputPath(o, "steps.csv", path, sizeof path));
-  PetscCall(SpamFileBegin(path, &o->steps));
-  SpamFilePrintf(&o->steps, "step,t,dt,rejected,rhs_evals,limit\n");
-  PetscCall(SpamFileCheck(&o->steps));
+  PetscCall(SpamOutputMakeDirs(dir));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SpamOutputOpen(const char *dir, PetscBool hdf5, PetscBool csv, const SpamOutputOptions *opt, SpamOutput *o)
 {
+  char path[PETSC_MAX_PATH_LEN];
+
   PetscFunctionBeginUser;
-  PetscCall(SpamOutputInit(PETSC_COMM_WORLD, dir, hdf5, csv, opt, o));
-  PetscCall(SpamRunAgreed(o->comm, PETSC_TRUE, OpenOnRoot, o));
-  o->owned = PETSC_TRUE; /* on every rank: the run has the directory */
+  PetscCall(SpamOutputInit(dir, hdf5, csv, opt, o));
+  PetscCall(TakeDirectory(o));
+  PetscCall(SpamOutputPath(o, "timeseries.csv", path, sizeof path));
+  PetscCall(SpamFileBegin(path, &o->timeseries));
+  SpamFilePrintf(&o->timeseries, "t,step,rejected,rhs_evals,dt,mass,px,py,pz,lx,ly,lz,kinetic,internal,total,entropy_sum,entropy_grid,dS_sum_ratio,dS_grid_ratio,bound_limited,rhs_s,wall_s,torque_sum,bodies,l_body0,l_body1,gauss_singular,potential%s\n", opt->timeseries_more);
+  PetscCall(SpamFileCheck(&o->timeseries));
+  PetscCall(SpamOutputPath(o, "steps.csv", path, sizeof path));
+  PetscCall(SpamFileBegin(path, &o->steps));
+  SpamFilePrintf(&o->steps, "step,t,dt,rejected,rhs_evals,limit\n");
+  PetscCall(SpamFileCheck(&o->steps));
   PetscFunctionReturn(0);
 }
 
@@ -124,40 +105,28 @@ static void FreeLists(SpamOutput *o)
   o->nfiles = o->files_cap = o->snap_cap = 0;
 }
 
-/* Rank 0: the series committed, the final manifest, the lock released. */
-static PetscErrorCode CloseOnRoot(void *ctx)
-{
-  SpamOutput *o = ctx;
-
-  PetscFunctionBeginUser;
-  PetscCall(CommitListed(o, &o->timeseries, "timeseries.csv", "timeseries"));
-  PetscCall(CommitListed(o, &o->steps, "steps.csv", "steps"));
-  PetscCall(SpamManifestWriteHere(o));
-  SpamOutputUnlock(o);
-  PetscFunctionReturn(0);
-}
-
 PetscErrorCode SpamOutputClose(SpamOutput *o, const char *status)
 {
   PetscFunctionBeginUser;
+  PetscCall(CommitListed(o, &o->timeseries, "timeseries.csv", "timeseries"));
+  PetscCall(CommitListed(o, &o->steps, "steps.csv", "steps"));
   PetscCall(PetscStrncpy(o->status, status, sizeof o->status));
-  PetscCall(SpamRunAgreed(o->comm, PETSC_TRUE, CloseOnRoot, o));
+  PetscCall(SpamManifestWrite(o));
+  SpamOutputUnlock(o);
   FreeLists(o);
   PetscFunctionReturn(0);
 }
 
 /* Quiet: the failure that led here has been reported, and a second one (the disk is still
- * full, say) must not add lines. No collective call: the other ranks may be elsewhere (a
- * failure raised on every rank reaches here on every rank, but not necessarily together);
- * rank 0 holds the files. */
+ * full, say) must not add lines. */
 void SpamOutputAbandon(SpamOutput *o)
 {
   if (PetscPushErrorHandler(PetscIgnoreErrorHandler, NULL)) return;
   SpamFileDiscard(&o->timeseries);
   SpamFileDiscard(&o->steps);
-  if (o->owned && o->rank == 0) {
+  if (o->owned) {
     (void)PetscStrncpy(o->status, "failed", sizeof o->status);
-    (void)SpamManifestWriteHere(o);
+    (void)SpamManifestWrite(o);
   }
   SpamOutputUnlock(o);
   FreeLists(o);

@@ -159,8 +159,7 @@ PetscErrorCode SpamOutputResume(const char *dir, PetscBool hdf5, PetscBool csv, 
   int       ns; /* snapshot times: nsnap with HDF5 snapshots, 0 without */
 
   PetscFunctionBeginUser;
-  /* a restart runs on one rank (checkpoints are written by one): rank 0's files */
-  PetscCall(SpamOutputInit(PETSC_COMM_WORLD, dir, hdf5, csv, opt, o));
+  PetscCall(SpamOutputInit(dir, hdf5, csv, opt, o));
   PetscCall(SpamOutputLock(o, &created));
   o->owned = PETSC_TRUE;
   PetscCall(RestoreEntries(c, o));

@@ -73,7 +73,7 @@ static PetscErrorCode WriteXdmfIndex(const SpamOutput *o, const SpamLayout *l, P
   PetscFunctionReturn(0);
 }
 
-/* What rank 0 writes alone: the index. */
+/* What rank 0 writes alone: the index, the manifest. */
 typedef struct {
   SpamOutput    *o;
   const SpamSim *sim;
@@ -85,6 +85,15 @@ static PetscErrorCode WriteIndex(void *ctx)
 
   PetscFunctionBeginUser;
   PetscCall(WriteXdmfIndex(w->o, &w->sim->model.layout, w->sim->nglobal));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode WriteManifest(void *ctx)
+{
+  IndexWork *w = ctx;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamManifestWrite(w->o));
   PetscFunctionReturn(0);
 }
 
@@ -123,6 +132,6 @@ PetscErrorCode SpamSnapshotWrite(SpamOutput *o, SpamSim *sim, const double *y, d
     PetscCall(SpamRunAgreed(sim->comm, PETSC_TRUE, WriteIndex, &w));
     PetscCall(SpamManifestAdd(o, "snapshots.xmf", "xdmf_index", NAN, PETSC_FALSE));
   }
-  PetscCall(SpamManifestWrite(o));
+  PetscCall(SpamRunAgreed(sim->comm, PETSC_TRUE, WriteManifest, &w));
   PetscFunctionReturn(0);
 }

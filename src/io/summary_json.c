@@ -15,19 +15,10 @@ static const char *StatusName(SpamStatus s)
   }
 }
 
-/* Figures each rank measures of its own particles and process, made global before rank 0
- * writes them: the RHS time of the slowest rank (every step waits for it), the pair
- * visits of all ranks, the largest Gauss figures and peak memory of one process. */
-typedef struct {
-  double rhs_time, gauss_accel_max, gauss_residual, peak_rss; /* the largest over the ranks */
-  double pair_visits;                                         /* the sum                    */
-} RankFigures;
-
 /* The summary being written, and the keys written as null (listed at the end). */
 typedef struct {
-  SpamFile    f;
-  char        nulls[2048];
-  RankFigures g;
+  SpamFile f;
+  char     nulls[2048];
 } Summary;
 
 static void NoteNull(Summary *s, const char *key)
@@ -119,8 +110,8 @@ static void Counts(Summary *f, const SpamSim *sim, const SpamRunResult *r)
   Int(f, "interpolated_rows", r->interpolated_rows);
   Int(f, "interpolation_rhs_evals", r->interpolation_rhs_evals);
   /* Gauss's constraint: the largest acceleration it added (0 without it). */
-  Num(f, "gauss_accel_max", f->g.gauss_accel_max);
-  Num(f, "gauss_momentum_residual_max", f->g.gauss_residual);
+  Num(f, "gauss_accel_max", sim->ps ? sim->ps->gauss_accel_max : 0.0);
+  Num(f, "gauss_momentum_residual_max", sim->ps ? sim->ps->gauss_momentum_residual : 0.0);
   Int(f, "neighbour_builds", sim->nl.builds);
   Int(f, "neighbour_list_grows", sim->nl.grows);
 }
@@ -143,39 +134,17 @@ static void Checkpoints(Summary *f, const SpamRunResult *r)
   Int(f, "restart_rhs_evals", r->restart_rhs_evals);
 }
 
-/* On P ranks: the pair rate of all ranks together (their visits over the slowest rank's
- * RHS time) and the peak memory of the largest process. */
-static void Performance(Summary *f, const SpamRunResult *r)
-{
-  const RankFigures *g = &f->g;
-
-  Num(f, "wall_time_s", r->wall);
-  Num(f, "rhs_time_s", g->rhs_time);
-  Num(f, "rhs_time_share", r->wall > 0 ? g->rhs_time / r->wall : 0.0);
-  Num(f, "pair_interactions_per_s", g->rhs_time > 0 ? g->pair_visits / g->rhs_time : 0.0);
-  Num(f, "ns_per_pair", g->pair_visits > 0 ? 1e9 * g->rhs_time / g->pair_visits : 0.0);
-  Int(f, "peak_rss_bytes", (long)g->peak_rss);
-}
-
-/* Collective. */
-static PetscErrorCode GatherFigures(const SpamSim *sim, RankFigures *g)
+static void Performance(Summary *f, const SpamSim *sim, const SpamRunResult *r)
 {
   struct rusage ru;
-  double        mx[4];
 
-  PetscFunctionBeginUser;
   getrusage(RUSAGE_SELF, &ru);
-  mx[0] = sim->stats.rhs_time;
-  mx[1] = sim->ps ? sim->ps->gauss_accel_max : 0.0;
-  mx[2] = sim->ps ? sim->ps->gauss_momentum_residual : 0.0;
-  mx[3] = (double)ru.ru_maxrss * 1024.0;
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, mx, 4, MPI_DOUBLE, MPI_MAX, sim->comm));
-  PetscCallMPI(MPI_Allreduce(&sim->stats.pair_visits, &g->pair_visits, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
-  g->rhs_time        = mx[0];
-  g->gauss_accel_max = mx[1];
-  g->gauss_residual  = mx[2];
-  g->peak_rss        = mx[3];
-  PetscFunctionReturn(0);
+  Num(f, "wall_time_s", r->wall);
+  Num(f, "rhs_time_s", sim->stats.rhs_time);
+  Num(f, "rhs_time_share", r->wall > 0 ? sim->stats.rhs_time / r->wall : 0.0);
+  Num(f, "pair_interactions_per_s", sim->stats.rhs_time > 0 ? sim->stats.pair_visits / sim->stats.rhs_time : 0.0);
+  Num(f, "ns_per_pair", sim->stats.pair_visits > 0 ? 1e9 * sim->stats.rhs_time / sim->stats.pair_visits : 0.0);
+  Int(f, "peak_rss_bytes", (long)ru.ru_maxrss * 1024L);
 }
 
 /* Drifts relative to the initial energy (and the momentum scales built on it) mean
@@ -255,29 +224,15 @@ static void Walls(Summary *f, const SpamSim *sim)
   }
 }
 
-typedef struct {
-  SpamOutput           *out;
-  const SpamSim        *sim;
-  const SpamRunOptions *o;
-  const SpamRunResult  *r;
-  RankFigures           g;
-} SummaryWork;
-
-/* Rank 0 writes the file. */
-static PetscErrorCode WriteOnRoot(void *ctx)
+/* summary.json is listed in the manifest; the caller rewrites the manifest. */
+PetscErrorCode SpamSummaryWrite(SpamOutput *out, const SpamSim *sim, const SpamRunOptions *o, const SpamRunResult *r)
 {
-  const SummaryWork    *w   = ctx;
-  SpamOutput           *out = w->out;
-  const SpamSim        *sim = w->sim;
-  const SpamRunOptions *o   = w->o;
-  const SpamRunResult  *r   = w->r;
-  char                  path[PETSC_MAX_PATH_LEN];
-  Summary               f;
+  char    path[PETSC_MAX_PATH_LEN];
+  Summary f;
 
   PetscFunctionBeginUser;
   PetscCall(SpamOutputPath(out, "summary.json", path, sizeof path));
   PetscCall(PetscMemzero(&f, sizeof f));
-  f.g = w->g;
   PetscCall(SpamFileBegin(path, &f.f));
   SpamFilePrintf(&f.f, "{\n");
   Outcome(&f, o, r);
@@ -299,24 +254,12 @@ static PetscErrorCode WriteOnRoot(void *ctx)
   Num(&f, "atol", o->atol);
   Counts(&f, sim, r);
   Checkpoints(&f, r);
-  Performance(&f, r);
+  Performance(&f, sim, r);
   Conservation(&f, sim, o, r);
   Str(&f, "output_dir", out->dir);
   NullNote(&f, r);
   SpamFilePrintf(&f.f, "  \"spam_ark_version\": \"%s\"\n}\n", SPAM_VERSION);
   PetscCall(SpamFileCommit(&f.f));
-  PetscFunctionReturn(0);
-}
-
-/* summary.json is listed in the manifest; the caller rewrites the manifest. Collective on
- * out->comm: rank 0 writes it (the figures are global: the caller reduced them). */
-PetscErrorCode SpamSummaryWrite(SpamOutput *out, const SpamSim *sim, const SpamRunOptions *o, const SpamRunResult *r)
-{
-  SummaryWork w = {out, sim, o, r, {0, 0, 0, 0, 0}};
-
-  PetscFunctionBeginUser;
-  PetscCall(GatherFigures(sim, &w.g));
-  PetscCall(SpamRunAgreed(out->comm, PETSC_TRUE, WriteOnRoot, &w));
   PetscCall(SpamManifestAdd(out, "summary.json", "summary", NAN, PETSC_FALSE));
   PetscFunctionReturn(0);
 }

@@ -1,19 +1,5 @@
-/* One row of diagnostics per output time, and one row per accepted step. On several
- * ranks rank 0 holds the files (the others' are not open: their writes do nothing); every
- * rank calls these alike, and a failed write on rank 0 ends every rank at the next output
- * row (the check is collective there, not at every step). */
+/* One row of diagnostics per output time, and one row per accepted step. */
 #include <spam/output.h>
-
-/* Rank 0: the timeseries flushed, and any sticky failure of the steps file reported. */
-static PetscErrorCode CheckSeries(void *ctx)
-{
-  SpamOutput *o = ctx;
-
-  PetscFunctionBeginUser;
-  PetscCall(SpamFileCheck(&o->timeseries));
-  if (o->steps.err) PetscCall(SpamFileCheck(&o->steps));
-  PetscFunctionReturn(0);
-}
 
 PetscErrorCode SpamTimeseriesAppend(SpamOutput *o, const SpamSim *sim, const SpamProgress *pr, const SpamDiagnostics *d, const SpamDiagnostics *d0)
 {
@@ -30,7 +16,7 @@ PetscErrorCode SpamTimeseriesAppend(SpamOutput *o, const SpamSim *sim, const Spa
   }
   SpamFilePrintf(&o->timeseries, "%.10g,%ld,%ld,%ld,%.6e,%.10g,%.10e,%.10e,%.10e,%.10e,%.10e,%.10e,%.12e,%.12e,%.12e,%.10e,%.10e,%.8f,%.8f,%ld,%.4f,%.4f,%.12e,%d,%.15e,%.15e,%.0f,%.12e%s\n", d->t, pr->steps, pr->rejected, pr->rhs_evals, pr->dt, d->mass, d->p[0], d->p[1], d->p[2], d->l[0], d->l[1], d->l[2], d->kinetic, d->internal, d->total, d->entropy_sum, d->entropy_grid, rs, rg, pr->limited, pr->rhs_time, pr->wall, d->torque, d->nbody, d->lbody[0], d->lbody[1], d->gauss_singular, d->potential, walls);
   /* Flushed every row: a reader (or a killed run) sees whole rows only. */
-  PetscCall(SpamRunAgreed(o->comm, PETSC_TRUE, CheckSeries, o));
+  PetscCall(SpamFileCheck(&o->timeseries));
   PetscFunctionReturn(0);
 }
 
@@ -39,13 +25,7 @@ PetscErrorCode SpamStepsAppend(SpamOutput *o, const SpamProgress *pr)
   PetscFunctionBeginUser;
   SpamFilePrintf(&o->steps, "%ld,%.17g,%.17g,%ld,%ld,%s\n", pr->steps, pr->t, pr->dt, pr->rejected, pr->rhs_evals, pr->limit ? pr->limit : "");
   /* Not flushed each step (one row per step would cost a system call each); a write
-   * error is sticky and shows here on one rank, on several at the next timeseries row
-   * (a collective check at every step would cost a reduction per step), or at the latest
-   * when the file is committed. */
-  if (o->steps.err) {
-    PetscMPIInt size;
-    PetscCallMPI(MPI_Comm_size(o->comm, &size));
-    if (size == 1) PetscCall(SpamFileCheck(&o->steps));
-  }
+   * error is sticky and shows here or at the latest when the file is committed. */
+  if (o->steps.err) PetscCall(SpamFileCheck(&o->steps));
   PetscFunctionReturn(0);
 }
