@@ -25,7 +25,9 @@
 (e) What runs on one rank only is refused in one line, printed once: the springs model,
     mirror walls, checkpoints.
 (f) Migrations between steps (-migrate_interval 1: after every list build): the run agrees
-    with the one-rank run as in (b), the count is kept, one RHS evaluation per migration.
+    with the one-rank run as in (b), the count is kept, one RHS evaluation per migration;
+    with fixed steps the final particles carry every id once and stand where one rank has
+    them.
 (h) SIGTERM to mpiexec: every rank stops after the same step, outputs complete.
 (g) Every options file on 2 ranks (30 steps): the one-rank energies at the output times both
     reached within 10 times the file's rtol, or a one-line refusal naming what is serial-only.
@@ -168,6 +170,21 @@ code2, so, se, out2 = spam(2, "migrate_rk", rk + ["-migrate_interval", 1])
 if c.check(code == 0 and code2 == 0, f"rk 5dp fixed steps, 1 rank and 2 ranks with migrations: exit {code}, {code2} {se.strip()[-300:]}"):
     c.check(summary(out2)["migrations"] >= 5, f"rk: {summary(out2)['migrations']} migrations")
     compare("expansion2d rk 5dp", table(os.path.join(out1, "timeseries.csv")), table(os.path.join(out2, "timeseries.csv")), 2, 1e-11, "fixed steps with migrations")
+# Ids across migrations: fixed steps, a migration after every list build, the final
+# particles (-final_csv, gathered by id): every id once on 3 ranks, and each particle where
+# the one-rank run has it (fixed steps: within 1e-9 of the box edge; differences are the
+# sums' rounding carried over 120 steps).
+fixed = args_of("expansion2d") + ["-arkode_fixed_step", 0.05, "-snapshot_interval", 0]
+code1, so, se, o1 = spam(1, "ids", fixed + ["-final_csv", os.path.join(a.workdir, "ids_np1.csv")])
+code3, so, se, o3 = spam(3, "ids", fixed + ["-migrate_interval", 1, "-final_csv", os.path.join(a.workdir, "ids_np3.csv")])
+if c.check(code1 == 0 and code3 == 0, f"final particles on 1 and 3 ranks with migrations: exit {code1}, {code3} {se.strip()[-300:]}"):
+    p1, p3 = table(os.path.join(a.workdir, "ids_np1.csv")), table(os.path.join(a.workdir, "ids_np3.csv"))
+    ids = sorted(int(v) for v in p3["id"])
+    c.check(ids == list(range(len(p1["id"]))), f"3 ranks, {summary(o3)['migrations']} migrations: ids 0..{len(ids) - 1} each once ({len(ids)} rows, {len(set(ids))} distinct)")
+    at = {int(v): k for k, v in enumerate(p3["id"])}
+    worst = max(abs(p1[col][k] - p3[col][at[int(p1["id"][k])]]) for col in ("x", "y") for k in range(len(p1["id"])))
+    edge = summary(o1)["box_len"][0]
+    c.check(worst <= 1e-9 * edge, f"3 ranks with migrations: final positions within {worst:.1e} of one rank's (bound 1e-9 x box edge {edge:g})")
 code, so, se, out = spam(1, "migrate_one", base + ["-migrate_interval", 1])
 c.check(code == 2 and "several ranks" in se, f"-migrate_interval on one rank refused: exit {code} {se.strip()[-200:]}")
 
@@ -222,16 +239,22 @@ import time  # noqa: E402
 out = os.path.join(a.workdir, "sigterm_np2")
 cmd = [mpiexec, "--oversubscribe", "-n", "2", a.spam_ark] + [str(x) for x in args_of("expansion2d") + ["-ts_max_time", 1e5, "-snapshot_interval", 0, "-output_interval", 1, "-output_dir", out]]
 p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV)
-time.sleep(3.0)  # start-up and some steps (the run would take hours)
+# Rank 0 prints its first line once every rank has opened the run (the output directory's
+# agreement): from then on each rank has its handler; the steps go on for hours.
+first = p.stdout.readline()
+time.sleep(1.0)
 p.terminate()
 try:
     so, se = p.communicate(timeout=60)
+    so = first + so
     s = summary(out)
     c.check(s["status"] == "interrupted" and "SIGTERM" in s["reason"] and s["steps"] > 0,
             f"SIGTERM on 2 ranks: status {s['status']} ({s['reason']}) after {s['steps']} steps, mpiexec exit {p.returncode}")
 except subprocess.TimeoutExpired:
     p.kill()
     c.check(False, "SIGTERM on 2 ranks: the job hung (timeout 60 s)")
+except FileNotFoundError as e:
+    c.check(False, f"SIGTERM on 2 ranks: no summary ({e}); mpiexec exit {p.returncode}, {se.strip()[-300:]}")
 
 # (e) refusals, once
 for what, args in [("springs", ["-options_file", os.path.join(OPTS_DIR, "options/chain.opts")]),
