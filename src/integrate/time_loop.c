@@ -68,8 +68,8 @@ static PetscErrorCode OutputOf(Vec X, SpamSim *sim, const SpamRunOptions *o, Spa
   if (p->steps == 0 && p->t == 0.0) r->first = d;
   r->last = d;
   SpamRunUpdateDrifts(&d, r);
-  PetscCall(SpamTimeseriesAppend(out, sim, p, &d, &r->first));
-  if (snapshot) PetscCall(SpamSnapshotWrite(out, sim, y, p->t, NULL));
+  PetscCall(SpamAgree(sim->comm, SpamTimeseriesAppend(out, sim, p, &d, &r->first))); /* rank 0 writes */
+  if (snapshot && !SpamSimDistributed(sim)) PetscCall(SpamSnapshotWrite(out, sim, y, p->t, NULL)); /* interim: snapshots of one rank only */
   PetscCall(VecRestoreArrayRead(X, &y));
   PetscCall(SpamMonitorProgress(sim, o, p, r));
   PetscFunctionReturn(0);
@@ -123,7 +123,7 @@ static PetscErrorCode Unstable(SpamSim *sim, SpamOutput *out, Vec Xgood, double 
   /* Keep the last good state as a snapshot tagged last_good. */
   PetscCall(VecGetArrayRead(Xgood, &g));
   PetscCall(SpamDensitySummation(sim, g, &bad));
-  if (bad < 0) PetscCall(SpamSnapshotWrite(out, sim, g, tgood, "last_good"));
+  if (bad < 0 && !SpamSimDistributed(sim)) PetscCall(SpamSnapshotWrite(out, sim, g, tgood, "last_good"));
   PetscCall(VecRestoreArrayRead(Xgood, &g));
   PetscCall(PetscPrintf(sim->comm, "spam-ark: unstable: %s\n", r->reason));
   PetscFunctionReturn(0);
@@ -161,7 +161,7 @@ static PetscErrorCode FinalOutputs(SpamSim *sim, const SpamRunOptions *o, SpamOu
 
   PetscFunctionBeginUser;
   if (!row_done) PetscCall(Output(sim, o, out, p, snap, r));
-  else if (snap) {
+  else if (snap && !SpamSimDistributed(sim)) {
     const PetscScalar *y;
     PetscCall(VecGetArrayRead(sim->X, &y));
     PetscCall(SpamSnapshotWrite(out, sim, y, p->t, NULL));
@@ -176,7 +176,7 @@ static PetscErrorCode Interrupted(SpamSim *sim, const SpamRunOptions *o, SpamOut
 {
   PetscFunctionBeginUser;
   r->status = SPAM_STATUS_INTERRUPTED;
-  r->signal = SpamInterruptSignal();
+  r->signal = SpamInterruptSignal() ? SpamInterruptSignal() : SIGTERM; /* another rank's signal: SignalAgreed */
   (void)snprintf(r->reason, sizeof r->reason, "interrupted by %s at t = %.6g (step %ld)", r->signal == SIGINT ? "SIGINT" : "SIGTERM", p->t, p->steps);
   PetscCall(FinalOutputs(sim, o, out, p, row_done, snap_done, r));
   PetscFunctionReturn(0);
@@ -351,6 +351,17 @@ static PetscErrorCode CheckpointAsked(const SpamRunOptions *o, SpamLoop *L)
   PetscFunctionReturn(0);
 }
 
+/* Whether SIGINT or SIGTERM came, agreed by every rank: a signal reaches the ranks at
+ * different moments, and a rank that stopped alone would leave the others waiting in the
+ * next collective. One small reduction per step on more than one rank. */
+static PetscBool SignalAgreed(const SpamSim *sim)
+{
+  int mine = SpamInterruptSignal() ? 1 : 0, any = mine;
+
+  if (SpamSimDistributed(sim) && MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, sim->comm) != MPI_SUCCESS) return PETSC_TRUE;
+  return (PetscBool)any;
+}
+
 /* The stop of the next step: t_end when interpolating, else the next output time. */
 static double NextStop(const SpamRunOptions *o, const Schedule *s)
 {
@@ -366,7 +377,8 @@ static PetscErrorCode CheckpointServe(SpamSim *sim, const SpamRunOptions *o, TS 
 
   PetscFunctionBeginUser;
   *written = PETSC_FALSE;
-  if (!L->ckpt_due || L->t >= o->t_end) PetscFunctionReturn(0);
+  /* More than one rank: no checkpoint (refused in run_options.c); an interruption stops. */
+  if (!L->ckpt_due || L->t >= o->t_end || SpamSimDistributed(sim)) PetscFunctionReturn(0);
   PetscCall(ClampPending(ts, &pending));
   if (pending && L->ckpt_deferred < SPAM_CKPT_MAX_DEFER) {
     L->ckpt_deferred++;
@@ -458,7 +470,7 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
     PetscReal           tnew;
     double              t = L->t;
 
-    if (SpamInterruptSignal()) {
+    if (SignalAgreed(sim)) {
       /* The checkpoint first, so that it holds the series as a straight run writes them,
        * without the extra row and snapshot of the interruption. */
       PetscBool written;
@@ -506,7 +518,7 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
     PetscCall(VecCopy(sim->X, Xgood));
     if (limit != cut) L->dt_prev = pp->dt;
     r->t = t;
-    PetscCall(SpamStepsAppend(out, pp));
+    PetscCall(SpamAgree(sim->comm, SpamStepsAppend(out, pp))); /* rank 0 writes */
     if (o->monitor) PetscCall(SpamMonitorStep(sim, pp));
     /* TSSolve would call the -ts_monitor monitors; this loop steps the TS itself. */
     PetscCall(TSMonitor(ts, (PetscInt)pp->steps, t, sim->X));

@@ -1,6 +1,7 @@
 /* The simulation object: a DMSwarm holding one packed field, and the scratch of the RHS. */
 #include <spam/sim.h>
 #include <spam/physics.h>
+#include <spam/decompose.h>
 #include <stdint.h>
 
 /* Gids in rank order: this rank's particles follow those of the ranks before it. */
@@ -147,6 +148,7 @@ static PetscErrorCode CreateScratch(SpamSim *sim)
   /* gamma = 2: P/rho^2 = kappa for every particle, set once. */
   for (PetscInt i = 0; i < sim->f.cap; i++) sim->f.q[i] = sim->model.eos.kappa;
   PetscCall(SpamNeighboursCreate((int)sim->n, &sim->box, sim->model.kernel.h, sim->skin, &sim->nl));
+  if (sim->dec) PetscCall(SpamNeighboursSetComm(&sim->nl, sim->comm)); /* other ranks' particles as ghosts */
   if (sim->periodic_ghosts) {
     const PetscBool all[3] = {PETSC_TRUE, PETSC_TRUE, PETSC_TRUE};
     PetscCall(SpamNeighboursSetPeriodicGhosts(&sim->nl, &sim->box, all));
@@ -227,6 +229,8 @@ PetscErrorCode SpamSimDestroy(SpamSim *sim)
     PetscCall(SpamNeighboursDestroy(&sim->nl));
   }
   PetscCall(PetscFree(sim->at_row));
+  if (sim->dec) PetscCall(SpamDecompDestroy(sim->dec));
+  PetscCall(PetscFree(sim->dec));
   if (sim->gid) PetscCall(DMSwarmRestoreField(sim->swarm, SPAM_GID_FIELD, NULL, NULL, (void **)&sim->gid));
   PetscCall(DMDestroy(&sim->swarm));
   PetscFunctionReturn(0);
