@@ -16,7 +16,8 @@
  *     equal count (a uniform gas: every cell holds the same number), each piece's bounding
  *     box and the pieces whose cells lie within h + skin of it (an upper bound on the
  *     ranks a rank hears from: a whole cell is tested, not its particles). This is what
- *     the model uses for N up to 10^8 and P up to 1000.
+ *     the model uses for N up to 10^8 and P up to 1000. Also each piece's surface (the
+ *     cell faces it shares with other pieces), which sets the pairs it has across ranks.
  *
  * Both print one JSON object on standard output (rank 0). */
 #include <spam/decompose.h>
@@ -310,6 +311,22 @@ static void Neighbours(const SpamCellGrid *g, const double w[3], double rc, cons
       }
 }
 
+/* Each piece's surface: the faces between its cells and other pieces' (periodic). */
+static void Surfaces(const SpamCellGrid *g, const double w[3], const int *owner, double *surface)
+{
+  const int nc = g->ncell[0] * g->ncell[1] * g->ncell[2];
+  for (int c = 0; c < nc; c++) {
+    const int ijk[3] = {c % g->ncell[0], (c / g->ncell[0]) % g->ncell[1], c / (g->ncell[0] * g->ncell[1])}, stride[3] = {1, g->ncell[0], g->ncell[0] * g->ncell[1]};
+    for (int d = 0; d < 3; d++) {
+      const int    nb   = c + ((ijk[d] + 1) % g->ncell[d] - ijk[d]) * stride[d];
+      const double area = w[(d + 1) % 3] * w[(d + 2) % 3];
+      if (owner[nb] == owner[c]) continue;
+      surface[owner[c]] += area;
+      surface[owner[nb]] += area;
+    }
+  }
+}
+
 static PetscErrorCode Geometry(const Args *a)
 {
   const SpamBox box = CubeBox(a->side);
@@ -317,6 +334,7 @@ static PetscErrorCode Geometry(const Args *a)
   SpamCellGrid  g;
   double        w[3];
   int          *owner, (*lo)[3], (*hi)[3], *cells, *stamp, *from, *to;
+  double       *surface;
 
   PetscFunctionBeginUser;
   SpamCellGridInit(&box, a->h, &g);
@@ -326,12 +344,15 @@ static PetscErrorCode Geometry(const Args *a)
   PetscCall(CutCells(&g, P, owner, lo, hi, cells));
   for (int r = 0; r < P; r++) stamp[r] = -1, from[r] = to[r] = 0;
   for (int r = 0; r < P; r++) Neighbours(&g, w, a->h + a->skin, owner, r, lo[r], hi[r], stamp, from, to);
+  PetscCall(PetscCalloc1(P, &surface));
+  Surfaces(&g, w, owner, surface);
   printf("{\"mode\": \"geometry\", \"side\": %d, \"N\": %.0f, \"P\": %d, \"h\": %.17g, \"skin\": %.17g, \"cells\": [%d, %d, %d], \"cell_width\": [%.17g, %.17g, %.17g],\n \"pieces\": [\n", (int)a->side, pow((double)a->side, 3), P, (double)a->h, (double)a->skin,
          g.ncell[0], g.ncell[1], g.ncell[2], w[0], w[1], w[2]);
   for (int r = 0; r < P; r++)
-    printf("  {\"cells\": %d, \"lo\": [%.17g, %.17g, %.17g], \"hi\": [%.17g, %.17g, %.17g], \"ranks_from\": %d, \"ranks_to\": %d}%s\n", cells[r], lo[r][0] * w[0], lo[r][1] * w[1], lo[r][2] * w[2], (hi[r][0] + 1) * w[0], (hi[r][1] + 1) * w[1], (hi[r][2] + 1) * w[2], from[r], to[r], r + 1 < P ? "," : "");
+    printf("  {\"cells\": %d, \"lo\": [%.17g, %.17g, %.17g], \"hi\": [%.17g, %.17g, %.17g], \"ranks_from\": %d, \"ranks_to\": %d, \"surface\": %.17g}%s\n", cells[r], lo[r][0] * w[0], lo[r][1] * w[1], lo[r][2] * w[2], (hi[r][0] + 1) * w[0], (hi[r][1] + 1) * w[1], (hi[r][2] + 1) * w[2], from[r], to[r], surface[r], r + 1 < P ? "," : "");
   printf(" ]}\n");
   PetscCall(PetscFree7(owner, lo, hi, cells, stamp, from, to));
+  PetscCall(PetscFree(surface));
   PetscFunctionReturn(0);
 }
 
