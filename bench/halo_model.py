@@ -220,7 +220,7 @@ def chart(rows, census_rows, net, cost, path):
     import matplotlib.pyplot as plt
     fig, ax = plt.subplots(1, 3, figsize=(17, 5.6))
     Ns = sorted({r["N"] for r in rows})
-    for N in Ns:
+    for iN, N in enumerate(Ns):
         rs = sorted((r for r in rows if r["N"] == N), key=lambda r: r["P"])
         P = [r["P"] for r in rs]
         lw = N_WIDTH.get(N, 1.0)
@@ -229,10 +229,10 @@ def chart(rows, census_rows, net, cost, path):
         ax[0].loglog(P, [r["halo_cube"] / r["n_per_rank"] for r in rs], color=st["color"], ls=st["linestyle"], lw=lw)
         st = SOURCE_STYLE["hilbert"]
         ax[0].loglog(P, [r["halo_max"] / r["n_per_rank"] for r in rs], color=st["color"], marker=st["marker"], ls=st["linestyle"], lw=lw, ms=4)
-        ax[0].annotate(tag, (P[-1], rs[-1]["halo_max"] / rs[-1]["n_per_rank"]), fontsize=7, xytext=(3, 0), textcoords="offset points")
+        ax[0].annotate(tag, (P[-1], rs[-1]["halo_max"] / rs[-1]["n_per_rank"]), fontsize=7, xytext=(3, 7 * iN - 10), textcoords="offset points")
         ax[1].semilogx(P, [r["messages_per_rhs_max"] for r in rs], color=st["color"], marker=st["marker"], ls=st["linestyle"], lw=lw, ms=4)
         ax[2].semilogx(P, [r["efficiency"] for r in rs], color=st["color"], marker=st["marker"], ls=st["linestyle"], lw=lw, ms=4)
-        ax[2].annotate(tag, (P[-1], rs[-1]["efficiency"]), fontsize=7, xytext=(3, 0), textcoords="offset points")
+        ax[2].annotate(tag, (P[-1], rs[-1]["efficiency"]), fontsize=7, xytext=(3, 7 * iN - 10), textcoords="offset points")
         for key in ("hilbert_builds", "hilbert_fast"):
             s2 = SOURCE_STYLE[key]
             col = "efficiency_builds" if key == "hilbert_builds" else "efficiency_fast_loops"
