@@ -263,6 +263,31 @@ def chart(rows, census_rows, net, cost, path):
     fig.savefig(path, dpi=110)
 
 
+def markdown(rows, census_rows, cost, box_test_s, net, commit):
+    """The README's tables, as this run computed them."""
+    out = ["Census (commit %s): remote ghosts per rank measured by SpamHalo against the formula on each rank's own "
+           "bounding box and against the -geometry cut (lattice inset %.1f):" % (commit, LATTICE_INSET), "",
+           "| N | cells per edge | P | measured max | formula, own box: max (per-rank ratio) | -geometry: max | measured sum | -geometry sum | ranks heard from (measured / geometry) | ghost pairs: measured / surface estimate |",
+           "|---|---|---|---|---|---|---|---|---|---|"]
+    for c in census_rows:
+        out.append("| %d | %d | %d | %d | %.0f (%.3f-%.3f) | %.0f | %d | %.0f | %d / %d | %.3f |" % (
+            c["N"], c["cells_per_edge"], c["P"], c["measured_max"], c["own_box_formula_max"], c["own_box_best_ratio"],
+            c["own_box_worst_ratio"], c["geometry_max"], c["measured_sum"], c["geometry_sum"], c["ranks_from_measured_max"],
+            c["ranks_from_geometry_max"], c["ghost_pairs_measured_sum"] / c["ghost_pairs_surface_sum"]))
+    out += ["", "Model (commit %s; latency %.1f us, %.1f GB/s, a list build every %d RHS; RHS %.0f ns per particle default loops, "
+            "pair driver %.2fx; box test %.0f ns per (particle, other rank)):" % (
+                commit, net["alpha_s"] * 1e6, net["beta_Bps"] / 1e9, net["build_every"], cost["fast"]["s_per_particle"] * 1e9,
+                cost["driver_over_fast"], box_test_s * 1e9), "",
+            "| N | P | particles per rank | halo, cubes | halo, Hilbert mean / max | max / particles | ranks heard from, mean / max | messages per RHS (max) | MB in per RHS (max) | E | E with builds | E, fast loops | a build in RHS |",
+            "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+    for r in rows:
+        out.append("| 1e%d | %d | %.0f | %.0f | %.0f / %.0f | %.2f | %.1f / %d | %d | %.2f | %.3f | %.3f | %.3f | %.1f |" % (
+            round(math.log10(r["N"])), r["P"], r["n_per_rank"], r["halo_cube"], r["halo_mean"], r["halo_max"],
+            r["halo_max"] / r["n_per_rank"], r["ranks_from_mean"], r["ranks_from_max"], r["messages_per_rhs_max"],
+            r["bytes_in_per_rhs_max"] / 1e6, r["efficiency"], r["efficiency_builds"], r["efficiency_fast_loops"], r["build_over_rhs"]))
+    return "\n".join(out) + "\n"
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
     ap.add_argument("--spam-ark", default=os.path.join(REPO, "build", "spam-ark"))
@@ -316,7 +341,9 @@ def main():
                "exchanges": EXCHANGES, "rhs_cost": cost, "box_test_s": box_test_s, "census": census_rows, "table": rows},
               open(a.out, "w"), indent=1)
     chart(rows, census_rows, net, cost, a.png)
-    print("wrote %s and %s (commit %s)" % (a.out, a.png, commit))
+    with open(os.path.splitext(a.out)[0] + ".md", "w") as f:
+        f.write(markdown(rows, census_rows, cost, box_test_s, net, commit))
+    print("wrote %s, %s.md and %s (commit %s)" % (a.out, os.path.splitext(a.out)[0], a.png, commit))
 
 
 if __name__ == "__main__":

@@ -121,13 +121,16 @@ def print_case(res):
     kind = res["kind"]
     ratio = "speed-up" if kind == "strong" else "weak efficiency"
     print("%s (%dD, %s scaling):" % (res["case"], res["dim"], kind))
-    print("  %-6s %9s %11s %11s %14s %14s %18s" % ("layout", "N", "ms/RHS", "ms/step", ratio + "/RHS", ratio + "/step", "KE final"))
+    print("  %-6s %9s %11s %11s %14s %14s %18s %12s" % ("layout", "N", "ms/RHS", "ms/step", ratio + "/RHS", ratio + "/step", "KE final", "KE vs 1x1"))
+    ke1 = res["layouts"].get("1x1", {}).get("kinetic_final")
     for lay, v in res["layouts"].items():
         f = lambda x, fmt: (fmt % x) if x is not None else "failed"  # noqa: E731
         k1 = "speedup_rhs" if kind == "strong" else "weak_efficiency_rhs"
         k2 = "speedup_step" if kind == "strong" else "weak_efficiency_step"
-        print("  %-6s %9d %11s %11s %14s %14s %18s%s" % (lay, v["N"], f(v["ms_per_rhs"], "%.3f"), f(v["ms_per_step"], "%.2f"),
+        same_n = ke1 is not None and v["kinetic_final"] is not None and v["N"] == res["layouts"]["1x1"]["N"]
+        print("  %-6s %9d %11s %11s %14s %14s %18s %12s%s" % (lay, v["N"], f(v["ms_per_rhs"], "%.3f"), f(v["ms_per_step"], "%.2f"),
                                                        f(v[k1], "%.3f"), f(v[k2], "%.3f"), f(v["kinetic_final"], "%.10g"),
+                                                       ("%.1e" % abs(v["kinetic_final"] / ke1 - 1)) if same_n else "-",
                                                        "  (%d of %d runs failed)" % (v["failed"], v["runs"]) if v["failed"] else ""))
     if kind == "weak" and {"1x1", "2x1"} <= set(res["layouts"]):
         print("  particles on two cores / on one: %.4f" % (res["layouts"]["2x1"]["N"] / res["layouts"]["1x1"]["N"]))
@@ -157,10 +160,9 @@ def chart(results, path, commit, load):
                 ax[1].annotate("%.2f" % v[key], (x, v[key]), fontsize=7, xytext=(4, 3), textcoords="offset points")
             else:
                 ax[1].plot(x, 0, **FAILED_STYLE)
-    ax[1].axhline(2.0, color="gray", ls=":", lw=1)
-    ax[1].axhline(1.0, color="gray", ls="--", lw=1)
-    ax[1].text(-0.45, 2.0, "ideal strong speed-up 2", fontsize=7, ha="left", va="bottom", color="gray")
-    ax[1].text(-0.45, 1.0, "ideal weak efficiency 1 (and the 1x1 reference)", fontsize=7, ha="left", va="bottom", color="gray")
+    ax[1].axhline(2.0, color="gray", ls=":", lw=1, label="ideal strong speed-up on 2 cores")
+    ax[1].axhline(1.0, color="gray", ls="--", lw=1, label="ideal weak efficiency (and the 1x1 reference)")
+    ax[1].legend(fontsize=8, loc="upper right")
     labels = ["%s\nN = %s" % (n, " / ".join(sorted({str(v["N"]) for v in r["layouts"].values()}))) for n, r in zip(names, results)]
     for a in ax:
         a.set_xticks(range(len(results)))
