@@ -22,6 +22,10 @@
     injected); the job exits 1 within the timeout, with one error line.
 (e) What runs on one rank only is refused in one line, printed once: the springs model,
     mirror walls, checkpoints.
+(f) Migrations between steps (-migrate_interval 1: after every list build): the run agrees
+    with the one-rank run as in (b), the count is kept, one RHS evaluation per migration.
+(g) Every options file on 2 ranks (30 steps): the one-rank energies at the output times both
+    reached within 10 times the file's rtol, or a one-line refusal naming what is serial-only.
 """
 import math
 import os
@@ -30,7 +34,7 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from spamrun import Checks, arguments, table  # noqa: E402
+from spamrun import Checks, arguments, summary, table  # noqa: E402
 
 EPS = 2.220446049250313e-16
 a = arguments()
@@ -128,6 +132,72 @@ for name in ("expansion2d", "rotor_tij"):
     for ranks in (2, 3):
         if 1 in runs and ranks in runs:
             compare(name, runs[1], runs[ranks], ranks, 10 * rtol, "adaptive at output times")
+
+# (f) migrations between steps: ERKStep follows the particles (ERKStepResize) and the run is
+#     the same within the adaptive bound; each migration costs one RHS evaluation (ERKStep
+#     evaluates f at the new vector); the particle count is kept.
+t1 = None
+base = args_of("expansion2d") + ["-ts_rtol", rtol, "-ts_atol", 1e-9, "-snapshot_interval", 0]
+code, so, se, out1 = spam(1, "migrate", base)
+if c.check(code == 0, f"expansion2d for migrations on 1 rank: exit {code}"):
+    t1 = table(os.path.join(out1, "timeseries.csv"))
+    s1 = summary(out1)
+    for ranks in (2, 3):
+        code, so, se, out = spam(ranks, "migrate", base + ["-migrate_interval", 1])
+        if not c.check(code == 0, f"expansion2d with -migrate_interval 1 on {ranks} ranks: exit {code} {se.strip()[-300:]}"):
+            continue
+        s = summary(out)
+        c.check(s["migrations"] >= 5 and s["particles_migrated"] > 0 and s["n_particles"] == s1["n_particles"],
+                f"{ranks} ranks: {s['migrations']} migrations moved {s['particles_migrated']:g} particles, {s['n_particles']} particles kept")
+        c.check(s["rhs_evals"] - s1["rhs_evals"] <= s["migrations"] + 0.2 * s1["rhs_evals"],
+                f"{ranks} ranks: {s['rhs_evals']} RHS evaluations against {s1['rhs_evals']} on one rank with {s['migrations']} migrations (one each, and the steps part within rtol)")
+        compare("expansion2d", t1, table(os.path.join(out, "timeseries.csv")), ranks, 10 * rtol, "with migrations, at output times")
+# PETSc's rk with fixed steps follows by TSReset + TSSetSolution (its first stage evaluated
+# again): the fixed-step bound of (a) holds.
+rk = args_of("expansion2d") + ["-ts_type", "rk", "-ts_rk_type", "5dp", "-ts_adapt_type", "none", "-ts_dt", 0.05, "-snapshot_interval", 0]
+code, so, se, out1 = spam(1, "migrate_rk", rk)
+code2, so, se, out2 = spam(2, "migrate_rk", rk + ["-migrate_interval", 1])
+if c.check(code == 0 and code2 == 0, f"rk 5dp fixed steps, 1 rank and 2 ranks with migrations: exit {code}, {code2} {se.strip()[-300:]}"):
+    c.check(summary(out2)["migrations"] >= 5, f"rk: {summary(out2)['migrations']} migrations")
+    compare("expansion2d rk 5dp", table(os.path.join(out1, "timeseries.csv")), table(os.path.join(out2, "timeseries.csv")), 2, 1e-11, "fixed steps with migrations")
+code, so, se, out = spam(1, "migrate_one", base + ["-migrate_interval", 1])
+c.check(code == 2 and "several ranks" in se, f"-migrate_interval on one rank refused: exit {code} {se.strip()[-200:]}")
+
+# (g) every options file on 2 ranks: the one-rank answer at the output times both reached
+#     (energies within 10 rtol of the file's tolerance, as (b)), or refused in one line that
+#     names what is serial-only. 30 steps each.
+REFUSED = {"chain": "springs", "rotor-md": "springs", "couette": "mirror walls", "poiseuille": "mirror walls",
+           "convection": "mirror walls", "expansion-walls": "mirror walls"}
+optdir = os.path.join(OPTS_DIR, "options")
+for fname in sorted(os.listdir(optdir)):
+    if not fname.endswith(".opts"):
+        continue
+    name, path = fname[:-5], os.path.join(optdir, fname)
+    tol = 1e-6
+    for line in open(path):
+        if line.split()[:1] == ["-ts_rtol"]:
+            tol = float(line.split()[1])
+    args = ["-options_file", path, "-ts_max_steps", 30, "-snapshot_interval", 0]
+    code1, so, se1, out1 = spam(1, f"file_{name}", args)
+    code2, so, se2, out2 = spam(2, f"file_{name}", args)
+    lines = [x for x in se2.splitlines() if x.startswith("spam-ark: error:")]
+    if name in REFUSED:
+        c.check(code1 == 0 and code2 == 2 and len(lines) == 1 and REFUSED[name] in lines[0] and "one rank" in lines[0],
+                f"{fname} on 2 ranks refused ({REFUSED[name]}): exit {code2}, {lines}")
+        continue
+    if not c.check(code1 == 0 and code2 == 0, f"{fname} on 1 and 2 ranks: exit {code1}, {code2} {lines}"):
+        continue
+    t1, t2 = table(os.path.join(out1, "timeseries.csv")), table(os.path.join(out2, "timeseries.csv"))
+    common = [(i, t2["t"].index(t)) for i, t in enumerate(t1["t"]) if t in t2["t"]]
+    worst, where = 0.0, ""
+    for col in ("kinetic", "internal", "total"):
+        scale = max(abs(v) for v in t1[col]) or 1.0
+        for i, j in common:
+            d = abs(t1[col][i] - t2[col][j]) / scale
+            if d > worst:
+                worst, where = d, f"{col} at t = {t1['t'][i]:g}"
+    c.check(len(common) >= 2 and worst <= max(10 * tol, 1e-11),
+            f"{fname}: 2 ranks vs 1 at {len(common)} common output times, largest energy difference {worst:.1e} ({where}) <= {max(10 * tol, 1e-11):g}")
 
 # (d) a failure on rank 0 ends every rank
 env = dict(ENV, SPAM_TEST_FAIL_WRITE="timeseries.csv:3")

@@ -98,7 +98,8 @@ PetscErrorCode SpamSimSetUp(SpamSim *sim);
 /* After the local particles changed (a migration): sim->n from the swarm, the fields,
  * thread buffers, body labels and the (empty) neighbour list made to fit it, the masses
  * and body labels taken from the swarm's carried fields. The other per-particle fields
- * (density, accelerations, ...) hold nothing valid until the next right-hand side. Local;
+ * (density, accelerations, ...) hold nothing valid until the next right-hand side.
+ * Collective once distributed (equal masses are decided over every rank), else local;
  * statistics (list builds, RHS counts) go on. SpamSimBuildList must follow once X is
  * re-made. */
 PetscErrorCode SpamSimResize(SpamSim *sim);

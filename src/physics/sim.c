@@ -169,6 +169,19 @@ PetscErrorCode SpamSimSetUp(SpamSim *sim)
   PetscFunctionReturn(0);
 }
 
+/* On several ranks the pair loops of equal masses also take other ranks' particles at the
+ * model's mass: equal masses must hold over every rank, not only this one's. */
+static PetscErrorCode UniformMassEverywhere(SpamSim *sim)
+{
+  const PetscBool have = (PetscBool)(sim->n > 0);
+  double          v[3] = {have && !sim->f.uniform_mass ? 1.0 : 0.0, have ? -sim->f.m[0] : -INFINITY, have ? sim->f.m[0] : -INFINITY}, g[3];
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPIU_Allreduce(v, g, 3, MPI_DOUBLE, MPI_MAX, sim->comm)); /* [any non-uniform, -min m0, max m0] */
+  sim->f.uniform_mass = (int)(g[0] == 0.0 && -g[1] == g[2]);
+  PetscFunctionReturn(0);
+}
+
 /* The carried masses and body labels of the swarm into the re-made fields and labels. */
 static PetscErrorCode TakeCarried(SpamSim *sim)
 {
@@ -179,6 +192,7 @@ static PetscErrorCode TakeCarried(SpamSim *sim)
   PetscCall(DMSwarmGetField(sim->swarm, SPAM_MASS_FIELD, NULL, NULL, (void **)&m));
   SpamFieldsSetMasses(&sim->f, m, 0.0);
   PetscCall(DMSwarmRestoreField(sim->swarm, SPAM_MASS_FIELD, NULL, NULL, (void **)&m));
+  if (sim->dec) PetscCall(UniformMassEverywhere(sim));
   if (sim->ps) {
     PetscCall(PetscFree(sim->ps->body));
     PetscCall(PetscMalloc1(sim->n + 1, &sim->ps->body));
