@@ -10,9 +10,8 @@ efficiency they imply on a stated network, against this machine's measured RHS c
 
 Four parts, in one run:
  1. the RHS cost on this machine: spam-ark's 3D expansion (gamma 5/3, h = 3) on one rank,
-    as the benchmarks run it, with its default pair loops and with every neighbour a ghost
-    slot (-periodic_images ghost: the pair driver, the path every rank with remote ghosts
-    takes), alternating, medians;
+    as the benchmarks run it (the chunked pair loops, which a rank with remote ghosts also
+    runs), medians of --repeats runs;
  2. the census: bench/halo_census on 2, 4 and 8 ranks (mpiexec --oversubscribe) for two
     lattices, against the formula applied to each rank's own bounding box, and against
     the cut computed without particles (-geometry), which the table uses;
@@ -36,13 +35,13 @@ from scaling_style import SOURCE_STYLE, N_WIDTH  # noqa: E402
 H = 3.0             # Lucy range of the expansion scenes, in lattice spacings
 SKIN = 0.1 * H      # the program's default -neighbour_skin
 RC = H + SKIN       # list range: what SpamHalo sends within
-# What one RHS of the gas path (gamma != 2) exchanges with the halo, in the code at the
-# commit this runs on: rhs_isentrope.c SpamAccelIsentrope -> SpamNeighboursUpdate (the
-# ghosts' positions, neighbours_ghost.c SpamNeighboursMoveGhosts; at a rebuild the build
-# sends them instead), ReserveSlots (masses and inverse masses, every RHS),
-# SpamPressureDensityWalk (the summed density, pass_pressure.c), then P/rho^2 before the
-# force walk. Doubles per ghost of each.
-EXCHANGES = (("positions", 3), ("mass", 1), ("inverse mass", 1), ("density", 1), ("P/rho^2", 1))
+# What one RHS of the gas path exchanges with the halo, in the code this was written for
+# (799f9a0): rhs_isentrope.c SpamAccelIsentrope -> SpamNeighboursUpdate (the ghosts'
+# positions, neighbours_ghost.c SpamNeighboursMoveGhosts; at a rebuild the build sends
+# them instead), ReserveSlots (masses and inverse masses, every RHS), then P/rho^2 before
+# the force pass. The chunked density pass walks a remote ghost for the local particle
+# only and gathers no density. Doubles per ghost of each.
+EXCHANGES = (("positions", 3), ("mass", 1), ("inverse mass", 1), ("P/rho^2", 1))
 RHS_ALLREDUCES = 1       # the rebuild decision and non-finite flag (neighbours.c Agree)
 STEP_ALLREDUCES = 3      # per step: ARKODE's error norm, the signal agreement, the step bound
 RHS_PER_STEP = 6         # Dormand-Prince, FSAL
@@ -105,11 +104,10 @@ def geometry(exe, side, P):
 
 def rhs_cost(spam, repeats, side=40):
     """Seconds per particle per RHS, and ns per listed pair (spam-ark's count), of the 3D
-    expansion on one rank: default pair loops ('fast') and every neighbour through the pair
-    driver ('driver'), alternating."""
-    runs = {"fast": [], "driver": []}
+    expansion on one rank with its default pair loops."""
+    runs = {"fast": []}
     for _ in range(repeats):
-        for name, images in (("fast", "minimum"), ("driver", "ghost")):
+        for name, images in (("fast", "minimum"),):
             with tempfile.TemporaryDirectory() as d:
                 cmd = [spam, "-scene", "expansion", "-dim", "3", "-expansion_n", str(side), "-h", "%g" % H,
                        "-arkode_table", "ARKODE_DORMAND_PRINCE_7_4_5", "-arkode_fixed_step", "0.05",
@@ -119,11 +117,10 @@ def rhs_cost(spam, repeats, side=40):
                 subprocess.run(cmd, check=True, capture_output=True, env=env())
                 s = json.load(open(os.path.join(d, "o", "summary.json")))
                 runs[name].append((s["rhs_time_s"] / s["rhs_evals"] / s["n_particles"], s["ns_per_pair"]))
-    out = {"command": " ".join(cmd[:-2]) + " (-periodic_images minimum | ghost)", "N": side ** 3}
+    out = {"command": " ".join(cmd[:-2]), "N": side ** 3}
     for k, v in runs.items():
         out[k] = {"s_per_particle": statistics.median(x[0] for x in v), "ns_per_pair": statistics.median(x[1] for x in v),
                   "runs": v}
-    out["driver_over_fast"] = out["driver"]["s_per_particle"] / out["fast"]["s_per_particle"]
     return out
 
 
@@ -183,14 +180,16 @@ def model_row(N, P, g, cost, net, box_test_s):
         halo = halo_of_box([hi - lo for lo, hi in zip(p["lo"], p["hi"])], L, n, 0.0)
         msgs = max(p["ranks_from"], p["ranks_to"])
         cross = p["surface"] * CROSS_PAIRS_PER_AREA       # pairs with remote ghosts, walked here too
-        work = n + cross / HALF_PAIRS                     # in particles' worth of listed pairs
+        work = n + cross / HALF_PAIRS                     # in particles' worth of listed pairs (a cross
+                                                          # pair costs about a local one: its term is
+                                                          # computed, only particle i's sum taken)
         comm = sum(alpha * msgs + halo * 8 * c / beta for _, c in EXCHANGES)
         comm += RHS_ALLREDUCES * allreduce_s(P, alpha) + STEP_ALLREDUCES * allreduce_s(P, alpha) / RHS_PER_STEP
         build = (box_test_s * n * (P - 1)                      # SpamHaloSelect: every particle against every box
                  + 2 * (P - 1) * alpha + allreduce_s(P, alpha) + 48 * P / beta   # two Alltoall, the Allgather of boxes
                  + 2 * alpha * msgs + halo * 32 / beta)           # PetscSFSetUp, the ghosts' description
         r = {"n": n, "halo": halo, "msgs": msgs, "cross_pairs": cross, "comm_s": comm, "build_s": build,
-             "comp_s": work * cost["driver"]["s_per_particle"], "comp_fast_s": work * cost["fast"]["s_per_particle"]}
+             "comp_s": work * cost["fast"]["s_per_particle"]}
         r["tp_s"] = r["comp_s"] + comm
         if worst is None or r["tp_s"] > worst["tp_s"]:
             worst = r
@@ -209,7 +208,7 @@ def model_row(N, P, g, cost, net, box_test_s):
         "t1_s": t1, "tp_comp_s": worst["comp_s"], "tp_comm_s": worst["comm_s"], "tp_s": tp,
         "efficiency": t1 / (P * tp),
         "efficiency_builds": t1 / (P * (tp + worst["build_s"] / every)),
-        "efficiency_fast_loops": t1 / (P * (worst["comp_fast_s"] + worst["comm_s"])),
+        "efficiency_compute_only": t1 / (P * worst["comp_s"]),
         "build_s": worst["build_s"], "build_over_rhs": worst["build_s"] / tp,
     }
 
@@ -233,10 +232,8 @@ def chart(rows, census_rows, net, cost, path):
         ax[1].semilogx(P, [r["messages_per_rhs_max"] for r in rs], color=st["color"], marker=st["marker"], ls=st["linestyle"], lw=lw, ms=4)
         ax[2].semilogx(P, [r["efficiency"] for r in rs], color=st["color"], marker=st["marker"], ls=st["linestyle"], lw=lw, ms=4)
         ax[2].annotate(tag, (P[-1], rs[-1]["efficiency"]), fontsize=7, xytext=(3, 7 * iN - 10), textcoords="offset points")
-        for key in ("hilbert_builds", "hilbert_fast"):
-            s2 = SOURCE_STYLE[key]
-            col = "efficiency_builds" if key == "hilbert_builds" else "efficiency_fast_loops"
-            ax[2].semilogx(P, [r[col] for r in rs], color=s2["color"], marker=s2["marker"], ls=s2["linestyle"], lw=lw, ms=4)
+        s2 = SOURCE_STYLE["hilbert_builds"]
+        ax[2].semilogx(P, [r["efficiency_builds"] for r in rs], color=s2["color"], marker=s2["marker"], ls=s2["linestyle"], lw=lw, ms=4)
     st = SOURCE_STYLE["census"]
     for c in census_rows:
         ax[0].loglog(c["P"], c["measured_max"] / (c["N"] / c["P"]), color=st["color"], marker=st["marker"], ls="", ms=8)
@@ -250,8 +247,8 @@ def chart(rows, census_rows, net, cost, path):
               title="messages: %d halo exchanges per RHS x neighbour ranks + 1 allreduce" % len(EXCHANGES))
     ax[2].set(xlabel="ranks P", ylabel="parallel efficiency T1 / (P T_P)", ylim=(0, 1.05),
               title="efficiency at latency %.1f us, %.1f GB/s" % (net["alpha_s"] * 1e6, net["beta_Bps"] / 1e9))
-    ax[2].text(0.02, 0.02, "T1: this machine's RHS, %.0f ns per particle (default loops);\nranks with remote ghosts: pair driver, %.2fx that (measured)\n"
-               "dotted: a list build every %d RHS evaluations" % (cost["fast"]["s_per_particle"] * 1e9, cost["driver_over_fast"], net["build_every"]),
+    ax[2].text(0.02, 0.02, "T1: this machine's RHS, %.0f ns per particle (one rank, measured);\nsolid: RHS exchanges; "
+               "dotted: with a list build every %d RHS evaluations" % (cost["fast"]["s_per_particle"] * 1e9, net["build_every"]),
                transform=ax[2].transAxes, fontsize=7, va="bottom")
     handles = [plt.Line2D([], [], color=s["color"], marker=s["marker"], ls=s["linestyle"] or "", label=s["label"])
                for s in SOURCE_STYLE.values()]
@@ -274,17 +271,18 @@ def markdown(rows, census_rows, cost, box_test_s, net, commit):
             c["N"], c["cells_per_edge"], c["P"], c["measured_max"], c["own_box_formula_max"], c["own_box_best_ratio"],
             c["own_box_worst_ratio"], c["geometry_max"], c["measured_sum"], c["geometry_sum"], c["ranks_from_measured_max"],
             c["ranks_from_geometry_max"], c["ghost_pairs_measured_sum"] / c["ghost_pairs_surface_sum"]))
-    out += ["", "Model (commit %s; latency %.1f us, %.1f GB/s, a list build every %d RHS; RHS %.0f ns per particle default loops, "
-            "pair driver %.2fx; box test %.0f ns per (particle, other rank)):" % (
+    out += ["", "Model (commit %s; latency %.1f us, %.1f GB/s, a list build every %d RHS; RHS %.0f ns per particle; "
+            "box test %.0f ns per (particle, other rank)):" % (
                 commit, net["alpha_s"] * 1e6, net["beta_Bps"] / 1e9, net["build_every"], cost["fast"]["s_per_particle"] * 1e9,
-                cost["driver_over_fast"], box_test_s * 1e9), "",
-            "| N | P | particles per rank | halo, cubes | halo, Hilbert mean / max | max / particles | ranks heard from, mean / max | messages per RHS (max) | MB in per RHS (max) | E | E with builds | E, fast loops | a build in RHS |",
-            "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
+                box_test_s * 1e9), "",
+            "| N | P | particles per rank | halo, cubes | halo, Hilbert mean / max | max / particles | ranks heard from, mean / max | messages per RHS (max) | MB in per RHS (max) | comm / T_P | E | E with builds | E, pair work only | a build in RHS |",
+            "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
-        out.append("| 1e%d | %d | %.0f | %.0f | %.0f / %.0f | %.2f | %.1f / %d | %d | %.2f | %.3f | %.3f | %.3f | %.1f |" % (
+        out.append("| 1e%d | %d | %.0f | %.0f | %.0f / %.0f | %.2f | %.1f / %d | %d | %.2f | %.1f %% | %.3f | %.3f | %.3f | %.1f |" % (
             round(math.log10(r["N"])), r["P"], r["n_per_rank"], r["halo_cube"], r["halo_mean"], r["halo_max"],
             r["halo_max"] / r["n_per_rank"], r["ranks_from_mean"], r["ranks_from_max"], r["messages_per_rhs_max"],
-            r["bytes_in_per_rhs_max"] / 1e6, r["efficiency"], r["efficiency_builds"], r["efficiency_fast_loops"], r["build_over_rhs"]))
+            r["bytes_in_per_rhs_max"] / 1e6, 100 * r["tp_comm_s"] / r["tp_s"], r["efficiency"], r["efficiency_builds"],
+            r["efficiency_compute_only"], r["build_over_rhs"]))
     return "\n".join(out) + "\n"
 
 
@@ -304,10 +302,9 @@ def main():
     net = {"alpha_s": a.alpha_us * 1e-6, "beta_Bps": a.beta_gbs * 1e9, "build_every": a.build_every}
 
     cost = rhs_cost(a.spam_ark, a.repeats)
-    print("RHS on this machine, 3D expansion N = %d, one rank: default loops %.1f ns per particle (%.2f ns per pair), "
-          "pair driver %.1f ns per particle (%.2f ns per pair): driver / default %.2f" % (
-              cost["N"], cost["fast"]["s_per_particle"] * 1e9, cost["fast"]["ns_per_pair"], cost["driver"]["s_per_particle"] * 1e9,
-              cost["driver"]["ns_per_pair"], cost["driver_over_fast"]), flush=True)
+    print("RHS on this machine, 3D expansion N = %d, one rank: %.1f ns per particle (%.2f ns per pair); runs %s" % (
+              cost["N"], cost["fast"]["s_per_particle"] * 1e9, cost["fast"]["ns_per_pair"],
+              ", ".join("%.0f" % (x[0] * 1e9) for x in cost["fast"]["runs"])), flush=True)
     census_rows = check_census(a.census, a.repeats)
     # The box tests of a selection cost c n (P - 1) on a rank of n particles. Each census
     # run's whole selection time (slowest rank, its Alltoalls, SF set-up and the
@@ -329,10 +326,10 @@ def main():
             r["N_nominal"] = N
             rows.append(r)
             print("N %.0e P %4d: n/rank %9.0f halo cube %8.0f Hilbert mean %8.0f max %8.0f (max/n %.2f) | ranks heard from mean %.1f max %d | "
-                  "msgs/RHS %d | bytes in/RHS %.2e | T1 %.3e s TP %.3e s (comm %.1f%%) E %.3f, with builds %.3f, fast loops %.3f | build = %.1f RHS" % (
+                  "msgs/RHS %d | bytes in/RHS %.2e | T1 %.3e s TP %.3e s (comm %.1f%%) E %.3f, with builds %.3f, compute only %.3f | build = %.1f RHS" % (
                       N, P, r["n_per_rank"], r["halo_cube"], r["halo_mean"], r["halo_max"], r["halo_max"] / r["n_per_rank"],
                       r["ranks_from_mean"], r["ranks_from_max"], r["messages_per_rhs_max"], r["bytes_in_per_rhs_max"], r["t1_s"], r["tp_s"],
-                      100 * r["tp_comm_s"] / r["tp_s"], r["efficiency"], r["efficiency_builds"], r["efficiency_fast_loops"], r["build_over_rhs"]), flush=True)
+                      100 * r["tp_comm_s"] / r["tp_s"], r["efficiency"], r["efficiency_builds"], r["efficiency_compute_only"], r["build_over_rhs"]), flush=True)
     for r in rows:
         r["N"] = r["N_nominal"]
     commit = subprocess.run(["git", "-C", REPO, "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()

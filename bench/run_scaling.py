@@ -10,7 +10,8 @@ alternating within each repeat, so that a slow spell of the shared machine hits 
 Each run is the expansion scene (isentrope, gamma 1 + 2/D, Lucy's kernel, h = 3) with
 Dormand-Prince at a fixed step of 0.05 and no outputs; the time per RHS evaluation is
 rhs_time_s / rhs_evals of its summary.json (rank 0's on two ranks: every rank waits for
-the others at the halo exchanges inside the RHS), the time per step is wall_time_s / steps.
+the others at the halo exchanges inside the RHS), the time per step is wall_time_s / steps;
+"halo max" is summary.json's halo_ghosts_max_final (remote ghosts of the fullest rank).
 Strong scaling: the same N on every layout, speed-up = T(1x1) / T(layout). Weak scaling: N
 on one core and about 2N on two (the lattices are n^D, so the ratio is printed), efficiency
 = [T(1x1, N1) / N1] / [T(layout, N2) / N2] (1 is perfect). Ratios are of medians measured in
@@ -78,7 +79,8 @@ def one_run(spam, layout, dim, n, steps):
             return run
         s = json.load(open(summ))
         run.update(status=s["status"], rhs_evals=s["rhs_evals"], rhs_time_s=s["rhs_time_s"], wall_time_s=s["wall_time_s"],
-                   run_steps=s["steps"], kinetic_final=s["kinetic_final"], ns_per_pair=s["ns_per_pair"])
+                   run_steps=s["steps"], kinetic_final=s["kinetic_final"], ns_per_pair=s["ns_per_pair"],
+                   ranks=s.get("ranks", 1), migrations=s.get("migrations", 0), halo_max=s.get("halo_ghosts_max_final", 0))
         if s["status"] != "max_steps":
             run["status"] = "failed"
             run["error"] = [s.get("reason", s["status"])]
@@ -103,7 +105,8 @@ def summarise(case, runs):
         res["layouts"][lay] = {"N": rs[0]["N"], "runs": len(rs), "failed": sum(r["status"] != "max_steps" for r in rs),
                                "ms_per_rhs": median_of(rs, "ms_per_rhs"), "ms_per_step": median_of(rs, "ms_per_step"),
                                "ms_per_rhs_all": [r.get("ms_per_rhs") for r in rs],
-                               "kinetic_final": median_of(rs, "kinetic_final"), "ns_per_pair": median_of(rs, "ns_per_pair")}
+                               "kinetic_final": median_of(rs, "kinetic_final"), "ns_per_pair": median_of(rs, "ns_per_pair"),
+                               "halo_max": median_of(rs, "halo_max"), "migrations": median_of(rs, "migrations")}
     base = res["layouts"].get("1x1", {"ms_per_rhs": None, "ms_per_step": None})
     for lay, v in res["layouts"].items():
         for t in ("ms_per_rhs", "ms_per_step"):
@@ -121,16 +124,18 @@ def print_case(res):
     kind = res["kind"]
     ratio = "speed-up" if kind == "strong" else "weak efficiency"
     print("%s (%dD, %s scaling):" % (res["case"], res["dim"], kind))
-    print("  %-6s %9s %11s %11s %14s %14s %18s %12s" % ("layout", "N", "ms/RHS", "ms/step", ratio + "/RHS", ratio + "/step", "KE final", "KE vs 1x1"))
+    print("  %-6s %9s %11s %11s %14s %14s %18s %12s %10s" % ("layout", "N", "ms/RHS", "ms/step", ratio + "/RHS", ratio + "/step", "KE final", "KE vs 1x1",
+                                                         "halo max"))
     ke1 = res["layouts"].get("1x1", {}).get("kinetic_final")
     for lay, v in res["layouts"].items():
         f = lambda x, fmt: (fmt % x) if x is not None else "failed"  # noqa: E731
         k1 = "speedup_rhs" if kind == "strong" else "weak_efficiency_rhs"
         k2 = "speedup_step" if kind == "strong" else "weak_efficiency_step"
         same_n = ke1 is not None and v["kinetic_final"] is not None and v["N"] == res["layouts"]["1x1"]["N"]
-        print("  %-6s %9d %11s %11s %14s %14s %18s %12s%s" % (lay, v["N"], f(v["ms_per_rhs"], "%.3f"), f(v["ms_per_step"], "%.2f"),
+        print("  %-6s %9d %11s %11s %14s %14s %18s %12s %10s%s" % (lay, v["N"], f(v["ms_per_rhs"], "%.3f"), f(v["ms_per_step"], "%.2f"),
                                                        f(v[k1], "%.3f"), f(v[k2], "%.3f"), f(v["kinetic_final"], "%.10g"),
                                                        ("%.1e" % abs(v["kinetic_final"] / ke1 - 1)) if same_n else "-",
+                                                       f(v["halo_max"], "%.0f"),
                                                        "  (%d of %d runs failed)" % (v["failed"], v["runs"]) if v["failed"] else ""))
     if kind == "weak" and {"1x1", "2x1"} <= set(res["layouts"]):
         print("  particles on two cores / on one: %.4f" % (res["layouts"]["2x1"]["N"] / res["layouts"]["1x1"]["N"]))

@@ -11,8 +11,6 @@ SOURCE_STYLE = {
                "label": "SpamHalo on P ranks (measured, halo_census)"},
     "hilbert_builds": {"color": "tab:purple", "marker": "v", "linestyle": ":",
                        "label": "Hilbert cut, list builds included"},
-    "hilbert_fast": {"color": "tab:green", "marker": "^", "linestyle": "-.",
-                     "label": "Hilbert cut, if remote ghosts kept the fast pair loop"},
 }
 
 # Particle counts of the model's table: one line width per N (the colour is the source's).
