@@ -11,7 +11,9 @@
     a factor 100 of growth. A pair lost or counted twice across ranks moves these sums by
     one pair's share of the total, 1/(N * neighbours) ~ 1e-5 and more. (timeseries.csv
     prints 13 significant digits: agreement below that shows as 0.)
-(b) Adaptive steps (rtol 1e-6): the step sizes part once the error norms differ in their
+(b) Adaptive steps (rtol 1e-6; also the rotor pair under Gauss's principle, whose
+    multipliers and per-body angular momenta are sums over every rank): the step sizes part
+    once the error norms differ in their
     last bits, so the runs are compared at output times: energies within 10 rtol relative
     (the design note measured 1.7 rtol for a non-chaotic system).
 (c) Momentum on several ranks stays at round-off: |P| <= eps * steps * sqrt(N) * sqrt(2 M K)
@@ -24,6 +26,7 @@
     mirror walls, checkpoints.
 (f) Migrations between steps (-migrate_interval 1: after every list build): the run agrees
     with the one-rank run as in (b), the count is kept, one RHS evaluation per migration.
+(h) SIGTERM to mpiexec: every rank stops after the same step, outputs complete.
 (g) Every options file on 2 ranks (30 steps): the one-rank energies at the output times both
     reached within 10 times the file's rtol, or a one-line refusal naming what is serial-only.
 """
@@ -63,12 +66,17 @@ SCENES = {
     "rotor_tij": ["-options_file", "options/rotor.opts", "-angmom", "Tij", "-ts_max_time", 12, "-output_interval", 2],
     "planewave": ["-options_file", "options/planewave.opts", "-ts_max_time", 6, "-output_interval", 1],
 }
+# Two bodies held by Gauss's principle (its multipliers are sums over every rank) and the
+# per-body angular momenta (bodies labelled on rank 0 at the start, labels carried).
+GAUSS = ["-options_file", "options/rotor-pair.opts", "-angmom", "gauss", "-ts_max_time", 12, "-output_interval", 2]
+SUMS.extend(["l_body0", "l_body1"])
 FIXED = {"expansion2d": 0.05, "expansion3d": 0.05, "rotor_tij": 0.1, "planewave": 0.05}
 OPTS_DIR = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
 def args_of(name):
-    return [os.path.join(OPTS_DIR, x) if isinstance(x, str) and x.startswith("options/") else x for x in SCENES[name]]
+    args = GAUSS if name == "rotor_pair_gauss" else SCENES[name]
+    return [os.path.join(OPTS_DIR, x) if isinstance(x, str) and x.startswith("options/") else x for x in args]
 
 
 def relative(x, y, scale):
@@ -122,7 +130,7 @@ for name in SCENES:
 
 # (b) adaptive steps
 rtol = 1e-6
-for name in ("expansion2d", "rotor_tij"):
+for name in ("expansion2d", "rotor_tij", "rotor_pair_gauss"):
     base = args_of(name) + ["-ts_rtol", rtol, "-ts_atol", 1e-9, "-snapshot_interval", 0]
     runs = {}
     for ranks in (1, 2, 3):
@@ -207,6 +215,23 @@ try:
     c.check(code == 1 and len(lines) == 1 and "timeseries.csv" in lines[0], f"rank 0's failed write on 2 ranks: exit {code}, error lines {lines}")
 except subprocess.TimeoutExpired:
     c.check(False, "rank 0's failed write on 2 ranks: the job hung (timeout 120 s)")
+
+# (h) SIGTERM to mpiexec (which passes it to every rank): the ranks agree to stop after the
+#     same step (SignalAgreed), the outputs are complete and summary.json says so.
+import time  # noqa: E402
+out = os.path.join(a.workdir, "sigterm_np2")
+cmd = [mpiexec, "--oversubscribe", "-n", "2", a.spam_ark] + [str(x) for x in args_of("expansion2d") + ["-ts_max_time", 1e5, "-snapshot_interval", 0, "-output_interval", 1, "-output_dir", out]]
+p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV)
+time.sleep(3.0)  # start-up and some steps (the run would take hours)
+p.terminate()
+try:
+    so, se = p.communicate(timeout=60)
+    s = summary(out)
+    c.check(s["status"] == "interrupted" and "SIGTERM" in s["reason"] and s["steps"] > 0,
+            f"SIGTERM on 2 ranks: status {s['status']} ({s['reason']}) after {s['steps']} steps, mpiexec exit {p.returncode}")
+except subprocess.TimeoutExpired:
+    p.kill()
+    c.check(False, "SIGTERM on 2 ranks: the job hung (timeout 60 s)")
 
 # (e) refusals, once
 for what, args in [("springs", ["-options_file", os.path.join(OPTS_DIR, "options/chain.opts")]),
