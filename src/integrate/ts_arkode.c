@@ -92,7 +92,7 @@ static PetscErrorCode TSSetUp_SpamARKode(TS ts)
   /* Fused operations: a combination of k vectors is one pass over memory instead of k
    * (clones inherit the setting); the linear combination itself is replaced below. */
   PetscCheck(N_VEnableFusedOps_Petsc(ark->y, SUNTRUE) == 0, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "N_VEnableFusedOps_Petsc failed");
-  PetscCall(SpamErrorNormAttach(ark->y, app->o->error_norm)); /* -error_norm: cloned with y */
+  PetscCall(SpamErrorNormAttach(ark->y, app->o->error_norm, app->sim->reproducible)); /* -error_norm: cloned with y */
   /* Stages and solution summed term by term (det_combination.c): an FSAL table's last
    * stage is then y_n+1 bit for bit, which a restart needs. */
   PetscCall(SpamNVectorDeterministic(ark->y));

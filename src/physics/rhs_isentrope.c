@@ -18,7 +18,9 @@
  *
  * These loops are written for Lucy's kernel, equal masses and no ghost slots: the
  * benchmark's case and every default run. Any other kernel, unequal masses or ghosts go
- * through the pair driver instead (pass_pressure.c: the same pair terms, one loop). */
+ * through the pair driver instead (pass_pressure.c: the same pair terms, one loop), and
+ * -reproducible through the canonical rows (pass_canonical.c: each particle's own sum in
+ * an order fixed by the partners' ids). */
 #include <spam/sim.h>
 #include <omp.h>
 
@@ -200,7 +202,8 @@ SPAM_CLONES static PetscErrorCode Density(SpamSim *sim)
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(sim->ev.density, 0, 0, 0, 0));
-  if (!FastPath(sim)) PetscCall(SpamPressureDensityWalk(sim));
+  if (SpamNeighboursCanonical(&sim->nl)) SpamCanonicalDensity(sim); /* -reproducible */
+  else if (!FastPath(sim)) PetscCall(SpamPressureDensityWalk(sim));
   else if (T == 1) DensityBlock(sim, sim->f.rho, 0, sim->nl.n, 0);
   else {
 #pragma omp parallel num_threads(T)
@@ -225,7 +228,8 @@ SPAM_CLONES static PetscErrorCode Force(SpamSim *sim)
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(sim->ev.force, 0, 0, 0, 0));
-  if (!FastPath(sim)) SpamPressureForceWalk(sim);
+  if (SpamNeighboursCanonical(&sim->nl)) SpamCanonicalForce(sim); /* -reproducible */
+  else if (!FastPath(sim)) SpamPressureForceWalk(sim);
   else if (T == 1) ForceBlock(sim, sim->f.acc, 0, sim->nl.n);
   else {
 #pragma omp parallel num_threads(T)
@@ -271,7 +275,8 @@ PetscErrorCode SpamAccelIsentrope(SpamSim *sim, const double *x, int stride, Pet
   if (m->gravity_on)
     for (PetscInt i = 0; i < sim->n; i++)
       for (int d = 0; d < m->dim; d++) sim->f.acc[(size_t)i * m->dim + d] += m->gravity[d];
-  sim->stats.pair_visits += (double)(sim->nl.npairs + sim->nl.ngpairs);
+  /* Canonical rows list every pair twice, once in each particle's row. */
+  sim->stats.pair_visits += SpamNeighboursCanonical(&sim->nl) ? (double)sim->nl.ncpairs : (double)(sim->nl.npairs + sim->nl.ngpairs);
   PetscFunctionReturn(0);
 }
 

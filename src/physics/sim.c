@@ -147,11 +147,12 @@ static PetscErrorCode CreateScratch(SpamSim *sim)
   /* gamma = 2: P/rho^2 = kappa for every particle, set once. */
   for (PetscInt i = 0; i < sim->f.cap; i++) sim->f.q[i] = sim->model.eos.kappa;
   PetscCall(SpamNeighboursCreate((int)sim->n, &sim->box, sim->model.kernel.h, sim->skin, &sim->nl));
-  if (sim->periodic_ghosts) {
+  if (sim->periodic_ghosts || sim->reproducible) { /* -reproducible: images as ghost slots */
     const PetscBool all[3] = {PETSC_TRUE, PETSC_TRUE, PETSC_TRUE};
     PetscCall(SpamNeighboursSetPeriodicGhosts(&sim->nl, &sim->box, all));
   }
   if (SpamWallsAny(&sim->walls, sim->model.dim)) PetscCall(SpamNeighboursSetWalls(&sim->nl, &sim->walls));
+  if (sim->reproducible) PetscCall(SpamNeighboursSetCanonical(&sim->nl, sim->gid));
   PetscCall(SpamNeighboursSetThreads(&sim->nl, sim->threads));
   PetscFunctionReturn(0);
 }
