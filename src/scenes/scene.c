@@ -358,8 +358,8 @@ static PetscErrorCode CheckBuilt(MPI_Comm comm, const SpamCommonParams *c, const
     PetscCall(PetscSNPrintf(val, sizeof val, "%g", c->skin)); /* tests/run_bad_input.py expects PETSc's '9.' */
     if (p->box.periodic[d] && !(c->skin < 0.5 * p->box.len[d])) SPAM_BAD_INPUT("-neighbour_skin", val, "must be below half the periodic box edge (%g)", p->box.len[d]);
   }
+  PetscCall(CheckReproducible(c, p, solid)); /* before ModelOf's -periodic_images check */
   PetscCall(ModelOf(c, p, solid, model));
-  PetscCall(CheckReproducible(c, p, solid));
   PetscCall(SpamParticlesCheckColumns(p, &model->layout)); /* a file's columns against the model */
   PetscFunctionReturn(0);
 }
