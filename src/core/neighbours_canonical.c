@@ -75,8 +75,24 @@ static PetscErrorCode SlotKeys(SpamNeighbours *nl)
   PetscFunctionReturn(0);
 }
 
-/* Squared separation of local i and slot j (no minimum image: see the top). */
-static inline double Dist2(const SpamNeighbours *nl, int i, int j)
+#define SCAN_CHUNK 256 /* candidates whose distances one loop computes */
+
+/* Squared separations of local i and the cell-ordered candidates k0 .. k0 + m - 1 into
+ * r2[] (i itself, if among them, at infinity): contiguous reads of the positions in cell
+ * order, a loop the compiler vectorises (dim is a literal at each call). */
+static inline __attribute__((always_inline)) void LocalDistances(const int dim, const SpamNeighbours *nl, int i, int k0, int m, double *r2)
+{
+  const double *u0 = nl->ucell[0] + k0, *u1 = dim > 1 ? nl->ucell[1] + k0 : u0, *u2 = dim > 2 ? nl->ucell[2] + k0 : u0;
+  const double  x = nl->u[0][i], y = dim > 1 ? nl->u[1][i] : 0.0, z = dim > 2 ? nl->u[2][i] : 0.0;
+  for (int c = 0; c < m; c++) {
+    const double dx = x - u0[c], dy = dim > 1 ? y - u1[c] : 0.0, dz = dim > 2 ? z - u2[c] : 0.0;
+    r2[c]           = dx * dx + dy * dy + dz * dz;
+  }
+  if (nl->slot[i] >= k0 && nl->slot[i] < k0 + m) r2[nl->slot[i] - k0] = INFINITY;
+}
+
+/* Squared separation of local i and ghost slot j. */
+static inline double GhostDist2(const SpamNeighbours *nl, int i, int j)
 {
   double r2 = 0.0;
   for (int d = 0; d < nl->dim; d++) {
@@ -87,30 +103,46 @@ static inline double Dist2(const SpamNeighbours *nl, int i, int j)
 }
 
 /* The partners of local i within the list range, in cell order (local particles of each
- * adjacent cell, then its ghosts), written to row[] when row is not NULL; returns how
- * many. */
-static int ScanRow(const SpamNeighbours *nl, int i, int *row)
+ * adjacent cell, then its ghosts), written to row[] when row is not NULL (which needs room
+ * for SCAN_CHUNK entries beyond them: the writes are branchless, each candidate is
+ * written and the count moves on for a hit); returns how many. */
+static inline __attribute__((always_inline)) int ScanRowDim(const int dim, const SpamNeighbours *nl, int i, int *row)
 {
-  int adj[27], m = 0;
+  int       adj[27], m = 0;
+  double    r2[SCAN_CHUNK];
   const int na = SpamNeighboursAdjacentCells(nl, &nl->lbox, nl->cell_of[i], adj);
 
   for (int a = 0; a < na; a++) {
     const int c = adj[a];
-    for (int q = nl->cell_start[c]; q < nl->cell_start[c + 1]; q++) {
-      const int j = nl->cell_list[q];
-      if (j == i || !(Dist2(nl, i, j) < nl->rc2)) continue;
-      if (row) row[m] = j;
-      m++;
+    for (int k0 = nl->cell_start[c]; k0 < nl->cell_start[c + 1]; k0 += SCAN_CHUNK) {
+      const int mk = PetscMin(SCAN_CHUNK, nl->cell_start[c + 1] - k0);
+      LocalDistances(dim, nl, i, k0, mk, r2);
+      if (row)
+        for (int q = 0; q < mk; q++) {
+          row[m] = nl->cell_list[k0 + q];
+          m += r2[q] < nl->rc2;
+        }
+      else
+        for (int q = 0; q < mk; q++) m += r2[q] < nl->rc2;
     }
     if (!nl->ghosts.n) continue;
     for (int q = nl->gcell_start[c]; q < nl->gcell_start[c + 1]; q++) {
       const int j = nl->n + nl->gcell_list[q];
-      if (!(Dist2(nl, i, j) < nl->rc2)) continue;
+      if (!(GhostDist2(nl, i, j) < nl->rc2)) continue;
       if (row) row[m] = j;
       m++;
     }
   }
   return m;
+}
+
+static int ScanRow(const SpamNeighbours *nl, int i, int *row)
+{
+  switch (nl->dim) {
+  case 1: return ScanRowDim(1, nl, i, row);
+  case 2: return ScanRowDim(2, nl, i, row);
+  default: return ScanRowDim(3, nl, i, row);
+  }
 }
 
 #define SORT_RUN 8 /* runs of this length are sorted by insertion first */
@@ -151,7 +183,8 @@ static void SortRow(const PetscInt64 *key, int *row, int m, int *tmp)
   if (src != row) memcpy(row, src, (size_t)m * sizeof(int));
 }
 
-/* Room for the rows (total entries) and each thread's sort scratch (longest row). */
+/* Room for the rows (total entries) and each thread's scratch: a row as the scan writes
+ * it (longest + SCAN_CHUNK) and the merge sort's second buffer, csort_row each. */
 static PetscErrorCode ReserveRows(SpamNeighbours *nl, size_t total, int longest)
 {
   PetscFunctionBeginUser;
@@ -162,10 +195,10 @@ static PetscErrorCode ReserveRows(SpamNeighbours *nl, size_t total, int longest)
     PetscCall(PetscMalloc1(nl->ccap, &nl->cnbr));
     nl->grows++;
   }
-  if (longest > nl->csort_row) {
-    nl->csort_row = longest + longest / 4 + 16;
+  if (longest + SCAN_CHUNK > nl->csort_row) {
+    nl->csort_row = longest + longest / 4 + SCAN_CHUNK + 16;
     PetscCall(PetscFree(nl->csort));
-    PetscCall(PetscMalloc1((size_t)nl->threads * nl->csort_row, &nl->csort));
+    PetscCall(PetscMalloc1(2 * (size_t)nl->threads * nl->csort_row, &nl->csort));
   }
   PetscFunctionReturn(0);
 }
@@ -197,12 +230,13 @@ PetscErrorCode SpamNeighboursBuildCanonical(SpamNeighbours *nl)
   }
 #pragma omp parallel num_threads(T) if (T > 1)
   {
-    int *tmp = nl->csort + (size_t)omp_get_thread_num() * nl->csort_row;
+    int *scan = nl->csort + 2 * (size_t)omp_get_thread_num() * nl->csort_row, *tmp = scan + nl->csort_row;
 #pragma omp for schedule(static)
     for (int i = 0; i < n; i++) {
-      int *row = nl->cnbr + nl->cstart[i];
-      (void)ScanRow(nl, i, row);
-      SortRow(nl->key, row, nl->cstart[i + 1] - nl->cstart[i], tmp);
+      const int m = nl->cstart[i + 1] - nl->cstart[i];
+      (void)ScanRow(nl, i, scan);
+      SortRow(nl->key, scan, m, tmp);
+      memcpy(nl->cnbr + nl->cstart[i], scan, (size_t)m * sizeof(int));
     }
   }
   PetscFunctionReturn(0);
