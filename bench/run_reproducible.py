@@ -21,6 +21,7 @@ Usage (spam-ark built in build/):
 import argparse
 import datetime
 import json
+import os
 import statistics
 import sys
 import tempfile
@@ -71,7 +72,9 @@ def main():
     pin = bc.pin_prefix(a.cpu, not a.no_pin)
     work = Path(tempfile.mkdtemp(prefix="spam_repro_"))
     results = {"date": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
-               "steps": a.steps, "repeats": a.repeats, "cases": {}}
+               "steps": a.steps, "repeats": a.repeats, "load_before": os.getloadavg(), "cases": {}}
+    # The machine may be shared: its load (1, 5, 15 min) says how far to trust the times.
+    print("load average before: %.2f %.2f %.2f" % os.getloadavg())
     for dim in [int(d) for d in a.dims.split(",")]:
         runs = {"default": [], "reproducible": []}
         for k in range(a.repeats):  # alternating: a load change hits both modes alike
@@ -86,6 +89,8 @@ def main():
             print("  %-14s %10.3f %13.3f %8.2f" % (e, 1e3 * d, 1e3 * r, r / d if d > 0 else float("nan")))
         results["cases"]["%dd" % dim] = {"args": [str(x) for x in CASES[dim]], "median_s_per_rhs": med,
                                          "ratio_rhs": med["reproducible"]["SpamRHS"] / med["default"]["SpamRHS"], "runs": runs}
+    results["load_after"] = os.getloadavg()
+    print("load average after: %.2f %.2f %.2f" % results["load_after"])
     out = Path(a.out) if a.out else bc.BENCH_DIR / "results" / ("reproducible_%s.json" % datetime.date.today().isoformat())
     out.write_text(json.dumps(results, indent=1) + "\n")
     print("results: %s" % out)
