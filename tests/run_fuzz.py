@@ -307,6 +307,9 @@ OPTION_TABLE = {
     "-checkpoint_interval": ("E", real(zero=O0, big=O0, i31=O0)),
     "-checkpoint_wall": ("E", real(zero=O0, tiny=O0, big=O0, i31=O0, sub=None)),
     "-restart": ("E", {}),
+    # issue 18: migrations apply to runs on several ranks; the fuzz corpus runs on one, where
+    # every value is refused (irrelevant, or not a count); run_ranks covers several ranks
+    "-migrate_interval": ("E", {}),
 }
 for flag in ("-expansion_perturb_velocities", "-arkode_classic_weights", "-snapshot_hdf5", "-snapshot_csv",
              "-monitor", "-diag_entropy", "-sort_particles", "-output_overwrite"):

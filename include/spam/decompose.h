@@ -29,7 +29,7 @@
  * (1 + cmax P / N for cells of cmax particles) when ranks hold few particles. */
 #define SPAM_RECUT_ABOVE_DEFAULT 1.25
 
-typedef struct {
+typedef struct SpamDecomp {
   MPI_Comm     comm;
   PetscMPIInt  nranks, rank;
   SpamBox      box;

@@ -94,6 +94,22 @@ PetscErrorCode SpamTSARKodeSetHistory(TS ts, const SpamArkodeHistory *h);
  * interpolant, not y_n) and no clamp to the stop time is pending for the next step
  * (ERKStep then takes h eta, not the reported step): t + h_next < tstop (1 - 1e-12). */
 PetscErrorCode SpamTSARKodeCheckpointable(TS ts, PetscBool *ok);
+/* After a migration (the particles moved between ranks): the arkode TS continues on the
+ * new solution vector X of another local length, its step and error history kept
+ * (ERKStepResize). */
+PetscErrorCode SpamTSARKodeResize(TS ts, Vec X);
+/* After a migration: the TS continues on app->sim->X (another local length). arkode keeps
+ * its step and error history (SpamTSARKodeResize); rk, ssp and euler with fixed steps are
+ * reset on the new vector with their time, step number and step size (TSReset +
+ * TSSetSolution: PETSc 3.18 has no resize; rk evaluates its first stage again). The
+ * others cannot follow (*followed false) and keep the first distribution: PETSc's
+ * adaptors hold a vector of the old length, CVODE would restart at order 1 with a tiny
+ * step, the Verlet type's split index sets and force cache are made for one length. */
+PetscErrorCode SpamTSFollowParticles(TS ts, SpamTsApp *app, PetscBool *followed);
+/* Whether a TS of this type and adaptor (a TS) can follow a migration: arkode, and rk,
+ * ssp, euler with fixed steps (-ts_adapt_type none). */
+PetscBool SpamTSTypeCanFollow(const char *type, const char *adapt);
+PetscBool SpamTSCanFollow(TS ts);
 
 /* ERKStep's built-in controllers (pid, pi, i, expgus, impgus with their default or
  * -arkode_adapt_params gains, order p) as an ARKAdaptFn that carries its own history

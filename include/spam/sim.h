@@ -64,6 +64,11 @@ typedef struct SpamSim {
   struct SpamPhysicsScratch *ps; /* scratch of the tensor path and bonds (NULL for the gas) */
   PetscInt64    *gid;      /* [n] the swarm's gid field, held open (as X holds the state) */
   PetscInt      *at_row;   /* [n] local particles in increasing gid, NULL when in order */
+  /* On more than one rank (sim_distribute.c): the decomposition the particles migrate by,
+   * and with it the halo of the neighbour list; NULL on one rank. */
+  struct SpamDecomp *dec;
+  long           migrations_run; /* migrations between steps, after the first distribution */
+  PetscInt64     migrated;       /* particles they moved between ranks                   */
 } SpamSim;
 
 /* Input row (file line, lattice site) of particle i, its gid: outputs and messages use
@@ -95,13 +100,24 @@ PetscErrorCode SpamSimSetUp(SpamSim *sim);
 /* After the local particles changed (a migration): sim->n from the swarm, the fields,
  * thread buffers, body labels and the (empty) neighbour list made to fit it, the masses
  * and body labels taken from the swarm's carried fields. The other per-particle fields
- * (density, accelerations, ...) hold nothing valid until the next right-hand side. Local;
+ * (density, accelerations, ...) hold nothing valid until the next right-hand side.
+ * Collective once distributed (equal masses are decided over every rank), else local;
  * statistics (list builds, RHS counts) go on. SpamSimBuildList must follow once X is
  * re-made. */
 PetscErrorCode SpamSimResize(SpamSim *sim);
 /* Builds the neighbour list (and its ghosts) at the positions in X. */
 PetscErrorCode SpamSimBuildList(SpamSim *sim);
 PetscErrorCode SpamSimDestroy(SpamSim *sim);
+/* Collective. On more than one rank: the particles, built on rank 0 and set up there
+ * exactly as on one rank, are cut into equal pieces along a Hilbert curve of the occupied
+ * cells and sent to their owners; the neighbour list then takes other ranks' particles as
+ * remote ghosts (halo.h). The bodies' count is shared. Nothing on one rank. */
+PetscErrorCode SpamSimDistribute(SpamSim *sim);
+/* Whether the run is on more than one rank. */
+static inline PetscBool SpamSimDistributed(const SpamSim *sim)
+{
+  return (PetscBool)(sim->dec != NULL);
+}
 
 /* The right-hand side ydot = f(y) of the sim's model on raw arrays of length n*nvar,
  * timed and counted in sim->stats. *bad is the first particle with a non-finite (or

@@ -120,7 +120,9 @@ static PetscErrorCode SpamErrorHandler(MPI_Comm comm, int line, const char *fun,
     if (p == PETSC_ERROR_INITIAL) {
       PetscMPIInt rank = 0;
       char        raw[1024], text[1024];
-      MPI_Comm_rank(comm, &rank);
+      /* Bad input is found alike on every rank (each reads the same options and files):
+       * rank 0 of the run says it, once. A file error is a rank's own. */
+      MPI_Comm_rank(n == PETSC_ERR_USER_INPUT ? PETSC_COMM_WORLD : comm, &rank);
       if (n == PETSC_ERR_USER_INPUT) NameMalformedOption(mess ? mess : "", raw, sizeof raw);
       else (void)snprintf(raw, sizeof raw, "%s", mess ? mess : "file error");
       SpamEscape(raw, text, sizeof text);
@@ -199,4 +201,12 @@ PetscErrorCode SpamCheckAllowed(const char *opt, const char *val, const char *co
   }
   SpamClip(val, shown, sizeof shown);
   SPAM_BAD_INPUT(opt, shown, "allowed: %s", allowed);
+}
+
+PetscErrorCode SpamAgree(MPI_Comm comm, PetscErrorCode local)
+{
+  int mine = (int)local, most = mine;
+
+  if (MPI_Allreduce(&mine, &most, 1, MPI_INT, MPI_MAX, comm) != MPI_SUCCESS) return PETSC_ERR_MPI;
+  return (PetscErrorCode)most;
 }

@@ -27,7 +27,16 @@ typedef struct {
   double         ckpt_bytes, ckpt_seconds; /* size and write time of the last one        */
   double        *xref_keep;         /* [n*dim] the list's reference positions before the */
   long           builds_keep;       /* outputs of a step, and its build count            */
+  /* several ranks (loop_migrate.c) */
+  Vec            Xgood;             /* the last accepted state                           */
+  long           builds_migrated;   /* list builds at the last migration                 */
 } SpamLoop;
+
+/* Between two steps on several ranks: when the list has been built -migrate_interval
+ * times since the last migration, the particles go to the owners of their cells (a re-cut
+ * when the imbalance has grown) and every vector of the loop and the integrator follows
+ * them. Nothing on one rank, or for a method that cannot follow (integrator.h). */
+PetscErrorCode SpamLoopMigrate(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamLoop *L);
 
 /* Writes OUTPUT_DIR/checkpoint.h5 of the loop at its current step boundary. exact: no
  * stop-time clamp is pending (the restart will be bitwise where the method allows). */

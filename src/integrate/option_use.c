@@ -15,7 +15,7 @@
 typedef enum {
   G_ALL, G_DT, G_ADAPTIVE, G_ARKODE, G_ARKODE_ADAPT, G_CVODE, G_TS, G_TS_ADAPT, G_RK, G_SSP, G_SYMP,
   G_FILE, G_PERIODIC, G_ISENTROPE, G_EXPANSION, G_CHAIN, G_SPRING, G_ROTOR_MD, G_PLANEWAVE, G_ROTOR, G_ROTOR_PAIR, G_TENSILE, G_CONVECTION, G_SOD, G_SEDOV, G_GRESHO, G_TAYLOR_GREEN, G_HEAT_MODE, G_COUETTE, G_POISEUILLE,
-  G_SUNDIALS, G_MODEL, G_WALL, G_SOLID, G_SOLID_GAS, G_SOLID_GAMMA, G_SOLID_ELASTIC, G_SOLID_VISC, G_SOLID_R2, G_SOLID_TORQUE, G_SOLID_CONT, G_ENTROPY
+  G_SUNDIALS, G_MODEL, G_WALL, G_SOLID, G_SOLID_GAS, G_SOLID_GAMMA, G_SOLID_ELASTIC, G_SOLID_VISC, G_SOLID_R2, G_SOLID_TORQUE, G_SOLID_CONT, G_ENTROPY, G_RANKS
 } Group;
 
 typedef struct {
@@ -27,7 +27,7 @@ typedef struct {
 /* Every option spam-ark reads, and the PETSc TS options it documents. */
 static const Known KnownOptions[] = {
   {"dim", PETSC_TRUE, G_ALL}, {"h", PETSC_TRUE, G_ALL}, {"mass", PETSC_TRUE, G_ALL}, {"neighbour_skin", PETSC_TRUE, G_ALL},
-  {"threads", PETSC_TRUE, G_ALL}, {"scene", PETSC_TRUE, G_ALL}, {"scene_translate", PETSC_TRUE, G_ALL}, {"sort_particles", PETSC_FALSE, G_ALL},
+  {"migrate_interval", PETSC_TRUE, G_RANKS}, {"threads", PETSC_TRUE, G_ALL}, {"scene", PETSC_TRUE, G_ALL}, {"scene_translate", PETSC_TRUE, G_ALL}, {"sort_particles", PETSC_FALSE, G_ALL},
   {"ts_type", PETSC_TRUE, G_ALL}, {"ts_max_time", PETSC_TRUE, G_ALL}, {"ts_max_steps", PETSC_TRUE, G_ALL}, {"ts_max_reject", PETSC_TRUE, G_ALL},
   {"unstable_dt_min", PETSC_TRUE, G_ALL}, {"unstable_energy_growth", PETSC_TRUE, G_ALL}, {"output_dir", PETSC_TRUE, G_ALL},
   {"output_interval", PETSC_TRUE, G_ALL}, {"snapshot_interval", PETSC_TRUE, G_ALL}, {"snapshot_hdf5", PETSC_FALSE, G_ALL},
@@ -289,6 +289,10 @@ static PetscBool RelevantMethod(Group g, const Run *r, char *why, size_t len, Pe
   *known = PETSC_TRUE;
   switch (g) {
   case G_ALL: return PETSC_TRUE;
+  case G_RANKS:
+    if (SpamSimDistributed(r->sim) && SpamTSTypeCanFollow(r->type, r->adapt)) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to runs on several ranks with -ts_type arkode, or rk, ssp, euler with fixed steps (this run: %s)", SpamSimDistributed(r->sim) ? r->method : "one rank");
+    return PETSC_FALSE;
   case G_ENTROPY:
     if (r->o->diag.entropy) return PETSC_TRUE;
     (void)snprintf(why, len, "applies to the entropy estimates (this run: -diag_entropy false)");

@@ -98,6 +98,7 @@ PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o)
   o->rtol              = 1e-6;
   o->atol              = 1e-9;
   o->energy_growth     = 10.0;
+  o->migrate_interval  = SPAM_MIGRATE_INTERVAL_DEFAULT;
   o->hdf5              = PETSC_TRUE;
   o->csv               = PETSC_TRUE;
   o->diag.entropy      = PETSC_TRUE;
@@ -129,6 +130,7 @@ PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o)
   PetscCall(PetscOptionsString("-final_csv", "Also write the final particles to this CSV (file-scene format)", "README", o->final_csv, o->final_csv, sizeof o->final_csv, NULL));
   PetscCall(PetscOptionsReal("-checkpoint_interval", "Write OUTPUT_DIR/checkpoint.h5 every this much simulated time (0: off; one is always written on SIGINT/SIGTERM)", "README", o->checkpoint_interval, &o->checkpoint_interval, NULL));
   PetscCall(PetscOptionsReal("-checkpoint_wall", "Write OUTPUT_DIR/checkpoint.h5 every this many wall-clock seconds (0: off)", "README", o->checkpoint_wall, &o->checkpoint_wall, NULL));
+  PetscCall(PetscOptionsInt("-migrate_interval", "On several ranks: neighbour-list builds between migrations of the particles to the owners of their cells (0: only at the start; arkode only)", "README", o->migrate_interval, &o->migrate_interval, NULL));
   PetscCall(PetscOptionsString("-restart", "Continue the run saved in this checkpoint (its options must be the same but for outputs and the end)", "README", o->restart, o->restart, sizeof o->restart, &restart));
   PetscOptionsEnd();
   if (restart && !o->restart[0]) SPAM_BAD_INPUT("-restart", "", "names no file: give the checkpoint to continue from (OUTPUT_DIR/checkpoint.h5)");
@@ -147,9 +149,20 @@ PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o)
     if (o->force > 0 && o->force < MIN_BOUND_FRACTION) SPAM_BAD_INPUT("-step_force", val, "too small: must be 0 (off) or at least %g", MIN_BOUND_FRACTION);
   }
   PetscCall(CheckGrid(sim, o));
+  {
+    char val[32];
+    PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, o->migrate_interval));
+    if (o->migrate_interval < 0) SPAM_BAD_INPUT("-migrate_interval", val, "must be zero (migrate only at the start) or a positive number of list builds");
+  }
   PetscCall(CheckRange("-checkpoint_interval", o->checkpoint_interval, 0.0, PETSC_FALSE, "must be zero (off) or a positive time"));
   PetscCall(CheckRange("-checkpoint_wall", o->checkpoint_wall, 0.0, PETSC_FALSE, "must be zero (off) or a positive number of seconds"));
   PetscCall(CheckCount("-checkpoint_interval", o->checkpoint_interval, o->t_end, MAX_OUTPUT_ROWS, "checkpoints"));
+  if (SpamSimDistributed(sim)) { /* the checkpoint file holds one rank's particles and list */
+    const char *opt = restart ? "-restart" : o->checkpoint_interval > 0 ? "-checkpoint_interval" : o->checkpoint_wall > 0 ? "-checkpoint_wall" : NULL;
+    char        val[PETSC_MAX_PATH_LEN];
+    if (opt && !restart) PetscCall(SpamOptionText(opt, o->checkpoint_interval > 0 ? o->checkpoint_interval : o->checkpoint_wall, val, sizeof val));
+    if (opt) SPAM_BAD_INPUT(opt, restart ? o->restart : val, "checkpoints and restarts run on one rank in this version (mpiexec -n 1)");
+  }
   {
     char     val[32];
     PetscInt reject = 10;

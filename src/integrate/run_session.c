@@ -45,16 +45,50 @@ static PetscErrorCode Report(const SpamSim *sim, const SpamRunOptions *o, const 
   PetscFunctionReturn(0);
 }
 
+/* Rank 0 owns the output directory: its lock, manifest, text series and summary. The
+ * other ranks take part in every collective of the run with an output that has no open
+ * file (appends to it do nothing). */
+static PetscBool DirectoryOwner(const SpamSim *sim)
+{
+  PetscMPIInt rank = 0;
+  (void)MPI_Comm_rank(sim->comm, &rank);
+  return (PetscBool)(rank == 0);
+}
+
 /* Everything that writes, in order; any error returns at once to SpamRunSession. */
 static PetscErrorCode Session(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamOutput *out, SpamRestart *rs, SpamRunResult *r)
 {
+  const PetscBool owner = DirectoryOwner(sim);
+
   PetscFunctionBeginUser;
-  if (o->initial_csv[0] && !rs) PetscCall(WriteParticles(o->initial_csv, sim, out, "initial_particles"));
+  if (o->initial_csv[0] && !rs) PetscCall(SpamAgree(sim->comm, owner ? WriteParticles(o->initial_csv, sim, out, "initial_particles") : 0));
   PetscCall(SpamRun(sim, o, ts, app, out, rs, r));
-  if (o->final_csv[0] && r->status != SPAM_STATUS_UNSTABLE) PetscCall(WriteParticles(o->final_csv, sim, out, "final_particles"));
+  if (o->final_csv[0] && r->status != SPAM_STATUS_UNSTABLE && owner) PetscCall(WriteParticles(o->final_csv, sim, out, "final_particles"));
+  if (!owner) PetscFunctionReturn(0);
   PetscCall(SpamSummaryWrite(out, sim, o, r));
   PetscCall(SpamOutputClose(out, ManifestStatus(r->status)));
   PetscFunctionReturn(0);
+}
+
+/* The directory opened (or resumed) by rank 0, and its result known to every rank: a
+ * refusal (in use, not writable) ends every rank with rank 0's error code, printed once. */
+static PetscErrorCode OpenOutputs(SpamSim *sim, const SpamRunOptions *o, const SpamOutputOptions *more, SpamRestart *rs, SpamOutput *out)
+{
+  PetscErrorCode ierr = 0;
+
+  if (DirectoryOwner(sim)) {
+    if (rs) ierr = SpamOutputResume(o->output_dir, o->hdf5, o->csv, more, &rs->file, out);
+    else ierr = SpamOutputOpen(o->output_dir, o->hdf5, o->csv, more, out);
+  } else {
+    (void)PetscMemzero(out, sizeof *out);
+    out->lock_fd = -1;
+    out->hdf5    = o->hdf5;
+    out->csv     = o->csv;
+    out->opt     = *more;
+    (void)PetscStrncpy(out->dir, o->output_dir, sizeof out->dir);
+  }
+  if (MPI_Bcast(&ierr, 1, MPI_INT, 0, sim->comm) != MPI_SUCCESS) return PETSC_ERR_MPI;
+  return ierr;
 }
 
 /* The failure has been reported (one line); what is left is to leave the directory
@@ -90,8 +124,7 @@ PetscErrorCode SpamRunSession(SpamSim *sim, const SpamRunOptions *o, const SpamO
    * (one during the opening is seen before the first step: outputs at t = 0). */
   PetscCall(SpamInterruptInstall(&sig));
   SpamWallColumns(sim, more.timeseries_more, sizeof more.timeseries_more);
-  if (rs) ierr = SpamOutputResume(o->output_dir, o->hdf5, o->csv, &more, &rs->file, &out);
-  else ierr = SpamOutputOpen(o->output_dir, o->hdf5, o->csv, &more, &out);
+  ierr = OpenOutputs(sim, o, &more, rs, &out);
   if (!ierr) ierr = Session(sim, o, ts, app, &out, rs, &r);
   if (ierr) Failed(sim, o, &out, &r, ierr);
   PetscCall(SpamInterruptRestore(&sig));

@@ -68,8 +68,8 @@ static PetscErrorCode OutputOf(Vec X, SpamSim *sim, const SpamRunOptions *o, Spa
   if (p->steps == 0 && p->t == 0.0) r->first = d;
   r->last = d;
   SpamRunUpdateDrifts(&d, r);
-  PetscCall(SpamTimeseriesAppend(out, sim, p, &d, &r->first));
-  if (snapshot) PetscCall(SpamSnapshotWrite(out, sim, y, p->t, NULL));
+  PetscCall(SpamAgree(sim->comm, SpamTimeseriesAppend(out, sim, p, &d, &r->first))); /* rank 0 writes */
+  if (snapshot && !SpamSimDistributed(sim)) PetscCall(SpamSnapshotWrite(out, sim, y, p->t, NULL)); /* interim: snapshots of one rank only */
   PetscCall(VecRestoreArrayRead(X, &y));
   PetscCall(SpamMonitorProgress(sim, o, p, r));
   PetscFunctionReturn(0);
@@ -123,7 +123,7 @@ static PetscErrorCode Unstable(SpamSim *sim, SpamOutput *out, Vec Xgood, double 
   /* Keep the last good state as a snapshot tagged last_good. */
   PetscCall(VecGetArrayRead(Xgood, &g));
   PetscCall(SpamDensitySummation(sim, g, &bad));
-  if (bad < 0) PetscCall(SpamSnapshotWrite(out, sim, g, tgood, "last_good"));
+  if (bad < 0 && !SpamSimDistributed(sim)) PetscCall(SpamSnapshotWrite(out, sim, g, tgood, "last_good"));
   PetscCall(VecRestoreArrayRead(Xgood, &g));
   PetscCall(PetscPrintf(sim->comm, "spam-ark: unstable: %s\n", r->reason));
   PetscFunctionReturn(0);
@@ -161,7 +161,7 @@ static PetscErrorCode FinalOutputs(SpamSim *sim, const SpamRunOptions *o, SpamOu
 
   PetscFunctionBeginUser;
   if (!row_done) PetscCall(Output(sim, o, out, p, snap, r));
-  else if (snap) {
+  else if (snap && !SpamSimDistributed(sim)) {
     const PetscScalar *y;
     PetscCall(VecGetArrayRead(sim->X, &y));
     PetscCall(SpamSnapshotWrite(out, sim, y, p->t, NULL));
@@ -176,7 +176,7 @@ static PetscErrorCode Interrupted(SpamSim *sim, const SpamRunOptions *o, SpamOut
 {
   PetscFunctionBeginUser;
   r->status = SPAM_STATUS_INTERRUPTED;
-  r->signal = SpamInterruptSignal();
+  r->signal = SpamInterruptSignal() ? SpamInterruptSignal() : SIGTERM; /* another rank's signal: SignalAgreed */
   (void)snprintf(r->reason, sizeof r->reason, "interrupted by %s at t = %.6g (step %ld)", r->signal == SIGINT ? "SIGINT" : "SIGTERM", p->t, p->steps);
   PetscCall(FinalOutputs(sim, o, out, p, row_done, snap_done, r));
   PetscFunctionReturn(0);
@@ -351,6 +351,17 @@ static PetscErrorCode CheckpointAsked(const SpamRunOptions *o, SpamLoop *L)
   PetscFunctionReturn(0);
 }
 
+/* Whether SIGINT or SIGTERM came, agreed by every rank: a signal reaches the ranks at
+ * different moments, and a rank that stopped alone would leave the others waiting in the
+ * next collective. One small reduction per step on more than one rank. */
+static PetscBool SignalAgreed(const SpamSim *sim)
+{
+  int mine = SpamInterruptSignal() ? 1 : 0, any = mine;
+
+  if (SpamSimDistributed(sim) && MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, sim->comm) != MPI_SUCCESS) return PETSC_TRUE;
+  return (PetscBool)any;
+}
+
 /* The stop of the next step: t_end when interpolating, else the next output time. */
 static double NextStop(const SpamRunOptions *o, const Schedule *s)
 {
@@ -366,7 +377,8 @@ static PetscErrorCode CheckpointServe(SpamSim *sim, const SpamRunOptions *o, TS 
 
   PetscFunctionBeginUser;
   *written = PETSC_FALSE;
-  if (!L->ckpt_due || L->t >= o->t_end) PetscFunctionReturn(0);
+  /* More than one rank: no checkpoint (refused in run_options.c); an interruption stops. */
+  if (!L->ckpt_due || L->t >= o->t_end || SpamSimDistributed(sim)) PetscFunctionReturn(0);
   PetscCall(ClampPending(ts, &pending));
   if (pending && L->ckpt_deferred < SPAM_CKPT_MAX_DEFER) {
     L->ckpt_deferred++;
@@ -416,9 +428,26 @@ static PetscErrorCode Reschedule(SpamSim *sim, const SpamRunOptions *o, double f
   PetscFunctionReturn(0);
 }
 
+/* The decomposition's part of the result (summary.json). */
+static PetscErrorCode RanksResult(const SpamSim *sim, SpamRunResult *r)
+{
+  PetscMPIInt size;
+  double      halo = sim->nl.ghosts.n - sim->nl.ghosts.nlocal, n = (double)sim->n, nmax;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(sim->comm, &size));
+  r->ranks      = size;
+  r->migrations = sim->migrations_run;
+  r->migrated   = (double)sim->migrated;
+  PetscCallMPI(MPIU_Allreduce(&halo, &r->halo_max, 1, MPI_DOUBLE, MPI_MAX, sim->comm));
+  PetscCallMPI(MPIU_Allreduce(&n, &nmax, 1, MPI_DOUBLE, MPI_MAX, sim->comm));
+  r->imbalance = nmax * size / PetscMax((double)sim->nglobal, 1.0);
+  PetscFunctionReturn(0);
+}
+
 /* The loop proper; Xgood holds the last accepted state. rs: the checkpoint a restart
  * continues (NULL: a new run). */
-static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamOutput *out, SpamRunResult *r, Vec Xgood, Vec Xout, SpamRestart *rs, SpamLoop *L)
+static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamOutput *out, SpamRunResult *r, SpamRestart *rs, SpamLoop *L)
 {
   SpamProgress  *pp = &L->p;
   Schedule      *sp = &L->s;
@@ -427,9 +456,13 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(r, sizeof *r));
   {
-    double *keep = L->xref_keep; /* allocated by SpamRun */
+    double *keep = L->xref_keep; /* allocated by SpamRun, as are the vectors */
+    Vec     good = L->Xgood, xout = L->s.Xout;
     PetscCall(PetscMemzero(L, sizeof *L));
     L->xref_keep = keep;
+    L->Xgood     = good;
+    L->s.Xout    = xout;
+    L->builds_migrated = sim->nl.builds;
   }
   PetscCall(PetscTime(&L->wall0));
   L->last_ckpt_wall = L->wall0;
@@ -440,14 +473,13 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
     (void)snprintf(line, sizeof line, "spam-ark: scene %s, %ld particles in %dD, h %g, %s, step %s, rtol %g atol %g, to t = %g\n", sim->scene.name, (long)sim->nglobal, sim->model.dim, sim->model.kernel.h, r->method, r->fixed_dt > 0 ? "fixed" : r->adapt, o->rtol, o->atol, o->t_end);
     PetscCall(PetscPrintf(sim->comm, "%s", line));
   }
-  sp->Xout = Xout;
   PetscCall(SpamTSOutputMode(ts, app, r->fixed_dt, &sp->mode, r->output_mode_reason, sizeof r->output_mode_reason));
   PetscCall(PetscStrncpy(r->output_mode, SpamOutputModeNames[sp->mode], sizeof r->output_mode));
   if (rs) {
     PetscCall(SpamRestartApply(sim, o, ts, app, rs, r, L));
     PetscCall(Reschedule(sim, o, r->fixed_dt, rs, L));
   } else PetscCall(Start(sim, o, ts, out, r, L));
-  PetscCall(VecCopy(sim->X, Xgood));
+  PetscCall(VecCopy(sim->X, L->Xgood));
   while (L->t < o->t_end && pp->steps < o->max_steps) {
     /* Interpolating, the only stop is t_end; a step cut there is an "end" step. */
     const PetscBool     dense = (PetscBool)(sp->mode == SPAM_OUTPUT_INTERPOLATED);
@@ -458,7 +490,7 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
     PetscReal           tnew;
     double              t = L->t;
 
-    if (SpamInterruptSignal()) {
+    if (SignalAgreed(sim)) {
       /* The checkpoint first, so that it holds the series as a straight run writes them,
        * without the extra row and snapshot of the interruption. */
       PetscBool written;
@@ -475,7 +507,7 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
     PetscCall(TSStep(ts));
     PetscCall(FailureReason(ts, app, pp->steps + 1, t, why, sizeof why));
     if (why[0]) {
-      PetscCall(Unstable(sim, out, Xgood, t, r, why));
+      PetscCall(Unstable(sim, out, L->Xgood, t, r, why));
       break;
     }
     PetscCall(TSGetTime(ts, &tnew));
@@ -499,14 +531,14 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
      * below the floor fails. */
     if (!why[0] && r->fixed_dt <= 0 && limit != cut && pp->dt < dt_min && pp->dt < L->dt_prev) (void)snprintf(why, sizeof why, "step size %.3e fell below the floor %.3e at t = %.6g (step %ld)", pp->dt, dt_min, t, pp->steps);
     if (why[0]) {
-      PetscCall(Unstable(sim, out, Xgood, r->t, r, why));
+      PetscCall(Unstable(sim, out, L->Xgood, r->t, r, why));
       break;
     }
     PetscCall(PostStep(ts, sim, r));
-    PetscCall(VecCopy(sim->X, Xgood));
+    PetscCall(VecCopy(sim->X, L->Xgood));
     if (limit != cut) L->dt_prev = pp->dt;
     r->t = t;
-    PetscCall(SpamStepsAppend(out, pp));
+    PetscCall(SpamAgree(sim->comm, SpamStepsAppend(out, pp))); /* rank 0 writes */
     if (o->monitor) PetscCall(SpamMonitorStep(sim, pp));
     /* TSSolve would call the -ts_monitor monitors; this loop steps the TS itself. */
     PetscCall(TSMonitor(ts, (PetscInt)pp->steps, t, sim->X));
@@ -540,12 +572,15 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
       PetscCall(CheckpointServe(sim, o, ts, app, out, r, L, &written));
       if (short_stop) PetscCall(FinalOutputs(sim, o, out, pp, (PetscBool)(L->t_row == t), (PetscBool)(L->t_snap == t), r));
     }
+    /* Last: the step's outputs read ERKStep's interpolant of the step, which a resize drops. */
+    PetscCall(SpamLoopMigrate(sim, o, ts, app, L));
   }
   if (r->status == SPAM_STATUS_OK && L->t < o->t_end) r->status = SPAM_STATUS_MAX_STEPS;
   r->steps     = pp->steps;
   r->rejected  = pp->rejected;
   r->attempts  = pp->steps + pp->rejected;
   r->rhs_evals = sim->stats.rhs_evals;
+  PetscCall(RanksResult(sim, r));
   r->checkpoints      = L->ckpt_count;
   r->checkpoint_bytes = L->ckpt_bytes;
   r->checkpoint_write = L->ckpt_seconds;
@@ -557,21 +592,21 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
   PetscFunctionReturn(0);
 }
 
-/* Xgood and Xout are freed on every path: a failed write ends the run with an error, not a leak. */
+/* Xgood and Xout are freed on every path: a failed write ends the run with an error, not a
+ * leak. They live in the loop state, which a migration re-makes (loop_migrate.c). */
 PetscErrorCode SpamRun(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamOutput *out, SpamRestart *rs, SpamRunResult *r)
 {
-  Vec            Xgood, Xout;
   SpamLoop      *L;
   PetscErrorCode ierr;
 
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&L));
   PetscCall(PetscMalloc1((size_t)sim->n * sim->model.dim + 1, &L->xref_keep));
-  PetscCall(VecDuplicate(sim->X, &Xgood));
-  PetscCall(VecDuplicate(sim->X, &Xout));
-  ierr = Loop(sim, o, ts, app, out, r, Xgood, Xout, rs, L);
-  PetscCall(VecDestroy(&Xout));
-  PetscCall(VecDestroy(&Xgood));
+  PetscCall(VecDuplicate(sim->X, &L->Xgood));
+  PetscCall(VecDuplicate(sim->X, &L->s.Xout));
+  ierr = Loop(sim, o, ts, app, out, r, rs, L);
+  PetscCall(VecDestroy(&L->s.Xout));
+  PetscCall(VecDestroy(&L->Xgood));
   PetscCall(PetscFree(L->xref_keep));
   PetscCall(PetscFree(L));
   PetscCall(ierr);

@@ -171,6 +171,30 @@ static PetscErrorCode TSInterpolate_SpamARKode(TS ts, PetscReal t, Vec X)
   PetscFunctionReturn(0);
 }
 
+/* The particles moved between ranks (a migration): the solution is the new X, of another
+ * local length. ERKStepResize re-makes ERKStep's vectors from it and keeps the step, the
+ * error history and the counters; it evaluates f(t, y) again at the next step (the first
+ * stage is not carried over). */
+PetscErrorCode SpamTSARKodeResize(TS ts, Vec X)
+{
+  TS_SpamARKode *ark = (TS_SpamARKode *)ts->data;
+  SpamTsApp     *app;
+  N_Vector       y;
+
+  PetscFunctionBeginUser;
+  PetscCall(TSGetApplicationContext(ts, &app));
+  PetscCall(TSSetSolution(ts, X));
+  y = N_VMake_Petsc(X, ark->sunctx);
+  PetscCheck(y, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "N_VMake_Petsc failed");
+  PetscCheck(N_VEnableFusedOps_Petsc(y, SUNTRUE) == 0, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "N_VEnableFusedOps_Petsc failed");
+  PetscCall(SpamErrorNormAttach(y, app->o->error_norm, app->sim->reproducible));
+  PetscCall(SpamNVectorDeterministic(y));
+  PetscCallARK(ERKStepResize(ark->mem, y, 1.0, ts->ptime, NULL, NULL));
+  N_VDestroy(ark->y);
+  ark->y = y;
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode TSReset_SpamARKode(TS ts)
 {
   TS_SpamARKode *ark = (TS_SpamARKode *)ts->data;

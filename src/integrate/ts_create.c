@@ -253,6 +253,58 @@ PetscErrorCode SpamTSSetVelocityScale(TS ts, SpamTsApp *app, double c0)
   PetscFunctionReturn(0);
 }
 
+/* PETSc's adaptors keep a work vector of the solution's length that TSReset does not
+ * drop (TSAdaptChoose_Basic then copies the new X into the old one): only PETSc's methods
+ * without an adaptor can be reset onto another length. */
+PetscBool SpamTSTypeCanFollow(const char *type, const char *adapt)
+{
+  if (!strcmp(type, SPAM_TSARKODE)) return PETSC_TRUE;
+  return (PetscBool)((!strcmp(type, TSRK) || !strcmp(type, TSSSP) || !strcmp(type, TSEULER)) && !strcmp(adapt, TSADAPTNONE));
+}
+
+PetscBool SpamTSCanFollow(TS ts)
+{
+  TSType      type;
+  TSAdapt     a;
+  TSAdaptType atype;
+
+  if (TSGetType(ts, &type) || !type || TSGetAdapt(ts, &a) || TSAdaptGetType(a, &atype)) return PETSC_FALSE;
+  return SpamTSTypeCanFollow(type, atype ? atype : TSADAPTNONE);
+}
+
+PetscErrorCode SpamTSFollowParticles(TS ts, SpamTsApp *app, PetscBool *followed)
+{
+  TSType    type;
+  PetscReal t, dt;
+  PetscInt  step;
+
+  PetscFunctionBeginUser;
+  *followed = PETSC_FALSE;
+  PetscCall(TSGetType(ts, &type));
+  if (!strcmp(type, SPAM_TSARKODE)) {
+    PetscCall(SpamTSARKodeResize(ts, app->sim->X));
+    *followed = PETSC_TRUE;
+    PetscFunctionReturn(0);
+  }
+  if (!SpamTSCanFollow(ts)) PetscFunctionReturn(0);
+  /* PETSc 3.18 has no TS resize: TSReset drops the work vectors and tolerances, which are
+   * made again for the new X; time, step number and step size stay with the TS. */
+  PetscCall(TSGetTime(ts, &t));
+  PetscCall(TSGetTimeStep(ts, &dt));
+  PetscCall(TSGetStepNumber(ts, &step));
+  PetscCall(TSReset(ts));
+  if (!strcmp(type, TSRK)) PetscCall(SpamVecDeterministicMAXPY(app->sim->X));
+  PetscCall(TSSetSolution(ts, app->sim->X));
+  PetscCall(Tolerances(ts, app));
+  PetscCall(TSSetUp(ts));
+  PetscCall(TSSetTime(ts, t));
+  PetscCall(TSSetTimeStep(ts, dt));
+  PetscCall(TSSetStepNumber(ts, step));
+  PetscCall(TSRestartStep(ts)); /* rk's first stage is evaluated, not taken from the new, empty last stage */
+  *followed = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamTSAppDestroy(SpamTsApp *app)
 {
   PetscFunctionBeginUser;

@@ -224,6 +224,16 @@ static void Walls(Summary *f, const SpamSim *sim)
   }
 }
 
+/* The ranks and what moved between them (issue 18). */
+static void Ranks(Summary *f, const SpamRunResult *r)
+{
+  Int(f, "ranks", r->ranks);
+  Int(f, "migrations", r->migrations);
+  Num(f, "particles_migrated", r->migrated);
+  Num(f, "rank_imbalance_final", r->imbalance);
+  Num(f, "halo_ghosts_max_final", r->halo_max);
+}
+
 /* summary.json is listed in the manifest; the caller rewrites the manifest. */
 PetscErrorCode SpamSummaryWrite(SpamOutput *out, const SpamSim *sim, const SpamRunOptions *o, const SpamRunResult *r)
 {
@@ -253,6 +263,7 @@ PetscErrorCode SpamSummaryWrite(SpamOutput *out, const SpamSim *sim, const SpamR
   Num(&f, "rtol", o->rtol);
   Num(&f, "atol", o->atol);
   Counts(&f, sim, r);
+  Ranks(&f, r);
   Checkpoints(&f, r);
   Performance(&f, sim, r);
   Conservation(&f, sim, o, r);

@@ -16,11 +16,12 @@
  * not depend on the vector width of the clone that runs (SPAM_CLONES below);
  * test_pair_reference bounds it against a plain loop.
  *
- * These loops are written for Lucy's kernel, equal masses and no ghost slots: the
- * benchmark's case and every default run. Any other kernel, unequal masses or ghosts go
- * through the pair driver instead (pass_pressure.c: the same pair terms, one loop), and
- * -reproducible through the canonical rows (pass_canonical.c: each particle's own sum in
- * an order fixed by the partners' ids). */
+ * These loops are written for Lucy's kernel, equal masses and no ghost slots but other
+ * ranks' particles: the benchmark's case and every default run, on any number of ranks.
+ * Any other kernel, unequal masses or periodic and mirror ghosts go through the pair
+ * driver instead (pass_pressure.c: the same pair terms, one loop), and -reproducible
+ * through the canonical rows (pass_canonical.c: each particle's own sum in an order fixed
+ * by the partners' ids). */
 #include <spam/sim.h>
 #include <omp.h>
 
@@ -68,6 +69,15 @@ SPAM_INLINE void DensityRows(const int dim, const SpamNeighbours *nl, const Spam
         ri += wj[c];
         rho[nb[c]] += wj[c];
       }
+    }
+    /* Other ranks' particles (remote ghosts): particle i's share only, the owner computes
+     * its own (newton off across ranks; ghosts.h). */
+    for (int p0 = nl->gstart[i]; p0 < nl->gstart[i + 1]; p0 += SPAM_PAIR_CHUNK) {
+      const int *nb = nl->gnbr + p0, np = PetscMin(SPAM_PAIR_CHUNK, nl->gstart[i + 1] - p0);
+      double     wj[SPAM_PAIR_CHUNK];
+      if (nl->image[i]) DensityChunk(dim, 1, im, nl, k, wm, ui, nb, np, wj);
+      else DensityChunk(dim, 0, im, nl, k, wm, ui, nb, np, wj);
+      for (int c = 0; c < np; c++) ri += wj[c];
     }
     rho[i] += ri;
   }
@@ -117,6 +127,14 @@ SPAM_INLINE void ForceRows(const int dim, const int uniform, const SpamNeighbour
           ai[2] += fd[2][c];
         }
       }
+    }
+    for (int p0 = nl->gstart[i]; p0 < nl->gstart[i + 1]; p0 += SPAM_PAIR_CHUNK) { /* remote ghosts: i's share */
+      const int *nb = nl->gnbr + p0, np = PetscMin(SPAM_PAIR_CHUNK, nl->gstart[i + 1] - p0);
+      double     fd[3][SPAM_PAIR_CHUNK];
+      if (nl->image[i]) ForceChunk(dim, uniform, 1, im, nl, k, coef, q, q[i], ui, nb, np, fd);
+      else ForceChunk(dim, uniform, 0, im, nl, k, coef, q, q[i], ui, nb, np, fd);
+      for (int c = 0; c < np; c++)
+        for (int d = 0; d < dim; d++) ai[d] += fd[d][c];
     }
     for (int d = 0; d < dim; d++) acc[(size_t)i * dim + d] += ai[d];
   }
@@ -178,10 +196,11 @@ static inline void AddThreadBuffers(double *out, const double *scratch, size_t l
     for (int s = 1; s < T; s++) out[k] += scratch[(size_t)(s - 1) * len + k];
 }
 
-/* Whether the chunked loops apply (see the top of this file). */
+/* Whether the chunked loops apply (see the top of this file): no ghost slots but other
+ * ranks' particles, whose pairs the loops walk for the local particle only. */
 static PetscBool FastPath(const SpamSim *sim)
 {
-  return (PetscBool)(sim->model.kernel.kind == SPAM_KERNEL_LUCY && sim->f.uniform_mass && sim->nl.ghosts.n == 0);
+  return (PetscBool)(sim->model.kernel.kind == SPAM_KERNEL_LUCY && sim->f.uniform_mass && sim->nl.ghosts.nlocal == 0);
 }
 
 /* Room for the ghost slots of the current list in the fields (grows only when a list

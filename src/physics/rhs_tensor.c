@@ -30,6 +30,8 @@ typedef struct {
   int                    continuity; /* drho/dt in walk 3                               */
   const SpamPhysicsScratch *ps;      /* bodies and torque sums                          */
   double                 torque;     /* walk 2: sum of the unscaled pair torques        */
+  int                    remote0;    /* first slot of other ranks' particles: a pair with */
+                                     /* one is walked on both ranks, so each adds half    */
 } TensorPass;
 
 /* Walk 1: the gradients and averages that read v, T and rho. */
@@ -58,11 +60,11 @@ static inline __attribute__((always_inline)) void TorquePair(const int dim, Tens
   (void)r2;
   (void)w;
   SpamPairStressForce(dim, c->f, i, j, dx, g, F);
-  const double L = SpamPairTorque(dx, F);
-  c->torque += L;
+  const double L = SpamPairTorque(dx, F), share = j >= c->remote0 ? 0.5 * L : L;
+  c->torque += share;
   if (c->p->angmom == SPAM_ANGMOM_TIJ) {
-    if (L > 0.0) c->ps->bpos[BodyOf(c, i)] += L;
-    else c->ps->bneg[BodyOf(c, i)] += L;
+    if (L > 0.0) c->ps->bpos[BodyOf(c, i)] += share;
+    else c->ps->bneg[BodyOf(c, i)] += share;
   } else {
     c->f->ltorque[i] += 0.5 * L;
     c->f->ltorque[j] += 0.5 * L;
@@ -311,7 +313,7 @@ static void Assemble(const SpamSim *sim, double *ydot)
 static TensorPass PassOf(SpamSim *sim)
 {
   const SpamSolidParams *p = &sim->model.solid;
-  TensorPass             c = {&sim->f, p, sim->model.kernel.h, (int)p->coords, p->conductivity > 0.0, p->angmom == SPAM_ANGMOM_TI || p->angmom == SPAM_ANGMOM_TIJ, p->density != SPAM_DENSITY_SUMMATION, sim->ps, 0.0};
+  TensorPass             c = {&sim->f, p, sim->model.kernel.h, (int)p->coords, p->conductivity > 0.0, p->angmom == SPAM_ANGMOM_TI || p->angmom == SPAM_ANGMOM_TIJ, p->density != SPAM_DENSITY_SUMMATION, sim->ps, 0.0, (int)sim->n + sim->nl.ghosts.nlocal};
   return c;
 }
 

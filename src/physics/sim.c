@@ -1,6 +1,7 @@
 /* The simulation object: a DMSwarm holding one packed field, and the scratch of the RHS. */
 #include <spam/sim.h>
 #include <spam/physics.h>
+#include <spam/decompose.h>
 #include <stdint.h>
 
 /* Gids in rank order: this rank's particles follow those of the ranks before it. */
@@ -147,6 +148,7 @@ static PetscErrorCode CreateScratch(SpamSim *sim)
   /* gamma = 2: P/rho^2 = kappa for every particle, set once. */
   for (PetscInt i = 0; i < sim->f.cap; i++) sim->f.q[i] = sim->model.eos.kappa;
   PetscCall(SpamNeighboursCreate((int)sim->n, &sim->box, sim->model.kernel.h, sim->skin, &sim->nl));
+  if (sim->dec) PetscCall(SpamNeighboursSetComm(&sim->nl, sim->comm)); /* other ranks' particles as ghosts */
   if (sim->periodic_ghosts || sim->reproducible) { /* -reproducible: images as ghost slots */
     const PetscBool all[3] = {PETSC_TRUE, PETSC_TRUE, PETSC_TRUE};
     PetscCall(SpamNeighboursSetPeriodicGhosts(&sim->nl, &sim->box, all));
@@ -168,6 +170,19 @@ PetscErrorCode SpamSimSetUp(SpamSim *sim)
   PetscFunctionReturn(0);
 }
 
+/* On several ranks the pair loops of equal masses also take other ranks' particles at the
+ * model's mass: equal masses must hold over every rank, not only this one's. */
+static PetscErrorCode UniformMassEverywhere(SpamSim *sim)
+{
+  const PetscBool have = (PetscBool)(sim->n > 0);
+  double          v[3] = {have && !sim->f.uniform_mass ? 1.0 : 0.0, have ? -sim->f.m[0] : -INFINITY, have ? sim->f.m[0] : -INFINITY}, g[3];
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPIU_Allreduce(v, g, 3, MPI_DOUBLE, MPI_MAX, sim->comm)); /* [any non-uniform, -min m0, max m0] */
+  sim->f.uniform_mass = (int)(g[0] == 0.0 && -g[1] == g[2]);
+  PetscFunctionReturn(0);
+}
+
 /* The carried masses and body labels of the swarm into the re-made fields and labels. */
 static PetscErrorCode TakeCarried(SpamSim *sim)
 {
@@ -178,6 +193,7 @@ static PetscErrorCode TakeCarried(SpamSim *sim)
   PetscCall(DMSwarmGetField(sim->swarm, SPAM_MASS_FIELD, NULL, NULL, (void **)&m));
   SpamFieldsSetMasses(&sim->f, m, 0.0);
   PetscCall(DMSwarmRestoreField(sim->swarm, SPAM_MASS_FIELD, NULL, NULL, (void **)&m));
+  if (sim->dec) PetscCall(UniformMassEverywhere(sim));
   if (sim->ps) {
     PetscCall(PetscFree(sim->ps->body));
     PetscCall(PetscMalloc1(sim->n + 1, &sim->ps->body));
@@ -228,6 +244,8 @@ PetscErrorCode SpamSimDestroy(SpamSim *sim)
     PetscCall(SpamNeighboursDestroy(&sim->nl));
   }
   PetscCall(PetscFree(sim->at_row));
+  if (sim->dec) PetscCall(SpamDecompDestroy(sim->dec));
+  PetscCall(PetscFree(sim->dec));
   if (sim->gid) PetscCall(DMSwarmRestoreField(sim->swarm, SPAM_GID_FIELD, NULL, NULL, (void **)&sim->gid));
   PetscCall(DMDestroy(&sim->swarm));
   PetscFunctionReturn(0);

@@ -340,6 +340,19 @@ static PetscErrorCode CheckReproducible(const SpamCommonParams *c, const SpamPar
   PetscFunctionReturn(0);
 }
 
+/* What runs on one rank only, refused on more in one line that says why. */
+static PetscErrorCode CheckSerialOnly(PetscMPIInt size, const SpamParticles *p, const SpamModel *model)
+{
+  char val[32];
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscSNPrintf(val, sizeof val, "%d", size));
+  if (!strcmp(model->name, "springs")) SPAM_BAD_INPUT("mpiexec -n", val, "the springs model runs on one rank: its bonds are kept by local particle index, which a migration changes");
+  if (SpamWallsAny(&p->walls, p->dim)) SPAM_BAD_INPUT("mpiexec -n", val, "mirror walls run on one rank: the mirror images of other ranks' particles are not exchanged");
+  if (model->post_step) SPAM_BAD_INPUT("mpiexec -n", val, "-closest_approach runs on one rank: its pair reflections change both particles of a pair, which may sit on two ranks");
+  PetscFunctionReturn(0);
+}
+
 /* The checks of a built scene against the common options, and its model. */
 static PetscErrorCode CheckBuilt(MPI_Comm comm, const SpamCommonParams *c, const char *scene, SpamParticles *p, SpamSolidParams *solid, SpamModel *model)
 {
@@ -347,9 +360,6 @@ static PetscErrorCode CheckBuilt(MPI_Comm comm, const SpamCommonParams *c, const
   char        val[64];
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_size(comm, &size));
-  PetscCall(PetscSNPrintf(val, sizeof val, "%d", size));
-  if (size > 1) SPAM_BAD_INPUT("mpiexec -n", val, "this version runs on one rank; multi-rank halo exchange is not written yet");
   Translate(c->translate, p);
   PetscCall(WallsOfBox(p));
   PetscCall(SpamBoxValidate(&p->box, c->h, !strcmp(scene, "expansion") ? "2 x -expansion_n" : !strcmp(scene, "file") ? "-box_len" : "the lattice size"));
@@ -361,6 +371,8 @@ static PetscErrorCode CheckBuilt(MPI_Comm comm, const SpamCommonParams *c, const
   PetscCall(CheckReproducible(c, p, solid)); /* before ModelOf's -periodic_images check */
   PetscCall(ModelOf(c, p, solid, model));
   PetscCall(SpamParticlesCheckColumns(p, &model->layout)); /* a file's columns against the model */
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  if (size > 1) PetscCall(CheckSerialOnly(size, p, model));
   PetscFunctionReturn(0);
 }
 
@@ -424,8 +436,12 @@ static PetscErrorCode CheckDimension(const SpamCommonParams *c, const SpamSceneO
 /* Swarm, particle order, fields and set-up of the built particles p. */
 static PetscErrorCode CreateSim(MPI_Comm comm, const SpamCommonParams *c, PetscBool sort, const SpamModel *model, SpamParticles *p, SpamSim *sim)
 {
+  PetscMPIInt rank;
+
   PetscFunctionBeginUser;
-  PetscCall(SpamSimCreate(comm, model, &p->box, p->n, c->skin, sim));
+  PetscCallMPI(MPI_Comm_rank(comm, &rank));
+  /* Rank 0 holds the whole scene until SpamSimDistribute (sim_distribute.c says why). */
+  PetscCall(SpamSimCreate(comm, model, &p->box, rank ? 0 : p->n, c->skin, sim));
   sim->scene           = p->info;
   sim->threads         = (int)c->threads;
   sim->periodic_ghosts = c->periodic_ghosts;
@@ -473,5 +489,6 @@ PetscErrorCode SpamSceneCreateSim(MPI_Comm comm, SpamSim *sim)
   PetscCall(SpamParticlesFree(&p));
   PetscCall(SpamSimSetUp(sim));
   if (sim->model.setup) PetscCall(sim->model.setup(sim));
+  PetscCall(SpamSimDistribute(sim));
   PetscFunctionReturn(0);
 }

@@ -1,0 +1,180 @@
+"""Multi-rank runs (issue 18): the same run on 1, 2 and 3 ranks.
+
+(a) Fixed steps (ERKStep, Dormand-Prince 5(4), -arkode_fixed_step), for the 2D and 3D
+    expansion, the rotor with T_ij torque scaling and the elastic plane wave: every
+    diagnostic that is a sum over particles (kinetic, internal and total energy, entropy
+    sum, angular momentum, torque sum) agrees with the one-rank run to 1e-11 relative at every
+    output row. Why 1e-11: the ranks sum a particle's pairs in another order (remote ghosts
+    are walked newton-off), so one RHS differs by a few ulp of the largest pair sum
+    (~1e-15 relative; PARALLEL_RESTART.md section 4 measured 4.3e-15 max|a|), and a short run
+    that is not chaotic carries that through some hundred stage evaluations: 1e-11 leaves
+    a factor 100 of growth. A pair lost or counted twice across ranks moves these sums by
+    one pair's share of the total, 1/(N * neighbours) ~ 1e-5 and more. (timeseries.csv
+    prints 13 significant digits: agreement below that shows as 0.)
+(b) Adaptive steps (rtol 1e-6): the step sizes part once the error norms differ in their
+    last bits, so the runs are compared at output times: energies within 10 rtol relative
+    (the design note measured 1.7 rtol for a non-chaotic system).
+(c) Momentum on several ranks stays at round-off: |P| <= eps * steps * sqrt(N) * sqrt(2 M K)
+    (sum_i m|v_i| <= sqrt(2 M K); each step adds rounding of the per-particle sums, which add
+    up like a random walk over N particles). A cross-rank pair whose two sides differed
+    would leave |P| at about its force times the run time, orders above.
+(d) An error on one rank ends every rank: rank 0's timeseries write fails (disk full,
+    injected); the job exits 1 within the timeout, with one error line.
+(e) What runs on one rank only is refused in one line, printed once: the springs model,
+    mirror walls, checkpoints.
+(f) Migrations between steps (-migrate_interval 1: after every list build): the run agrees
+    with the one-rank run as in (b), the count is kept, one RHS evaluation per migration.
+"""
+import math
+import os
+import shutil
+import subprocess
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from spamrun import Checks, arguments, summary, table  # noqa: E402
+
+EPS = 2.220446049250313e-16
+a = arguments()
+c = Checks()
+mpiexec = shutil.which("mpiexec")
+if not mpiexec:
+    print("mpiexec not found (apt-get install openmpi-bin)")
+    sys.exit(77)
+ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_pml="ob1")
+ENV.pop("OMPI_MCA_ess_singleton_isolated", None)  # set by ctest for one-rank starts
+
+
+def spam(ranks, name, args, env=None, timeout=300):
+    out = os.path.join(a.workdir, f"{name}_np{ranks}")
+    cmd = [mpiexec, "--oversubscribe", "-n", str(ranks), a.spam_ark] + [str(x) for x in args] + ["-output_dir", out]
+    p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env or ENV)
+    return p.returncode, p.stdout, p.stderr, out
+
+
+SUMS = ["kinetic", "internal", "total", "entropy_sum", "lz", "torque_sum"]
+SCENES = {
+    "expansion2d": ["-scene", "expansion", "-dim", 2, "-expansion_n", 24, "-h", 3, "-eos_gamma", 2, "-eos_kappa", 0.5,
+                    "-expansion_amplitude", 0.01, "-expansion_seed", 1, "-ts_max_time", 6, "-output_interval", 1],
+    "expansion3d": ["-scene", "expansion", "-dim", 3, "-expansion_n", 10, "-h", 2.5, "-eos_gamma", 5.0 / 3.0, "-eos_kappa", 0.5,
+                    "-expansion_amplitude", 0.01, "-expansion_seed", 2, "-ts_max_time", 4, "-output_interval", 1],
+    "rotor_tij": ["-options_file", "options/rotor.opts", "-angmom", "Tij", "-ts_max_time", 12, "-output_interval", 2],
+    "planewave": ["-options_file", "options/planewave.opts", "-ts_max_time", 6, "-output_interval", 1],
+}
+FIXED = {"expansion2d": 0.05, "expansion3d": 0.05, "rotor_tij": 0.1, "planewave": 0.05}
+OPTS_DIR = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+
+
+def args_of(name):
+    return [os.path.join(OPTS_DIR, x) if isinstance(x, str) and x.startswith("options/") else x for x in SCENES[name]]
+
+
+def relative(x, y, scale):
+    return abs(x - y) / scale
+
+
+def compare(name, t1, tn, ranks, tol, what):
+    worst, where = 0.0, ""
+    rows = min(len(t1["t"]), len(tn["t"]))
+    energy = max(abs(v) for v in t1["total"][:rows])
+    for col in SUMS:
+        if col not in t1 or any(math.isnan(v) for v in t1[col][:rows]):
+            continue
+        # Each sum at the scale of its largest value over the run. A sum that is round-off
+        # on one rank too (lz of an expansion from rest, the torque sum of a plane wave:
+        # below 1e-9 of the energy in the run's units) has no digits to compare; momentum
+        # and angular momentum at round-off are (c)'s business.
+        scale = max(abs(v) for v in t1[col][:rows])
+        if scale == 0.0 or (col in ("lz", "torque_sum") and scale < 1e-9 * energy):
+            continue
+        for k in range(rows):
+            d = relative(t1[col][k], tn[col][k], scale)
+            if d > worst:
+                worst, where = d, f"{col} at t = {t1['t'][k]:g}"
+    c.check(rows == len(t1["t"]) and worst <= tol, f"{name} {what}, {ranks} ranks vs 1: {rows} rows, largest difference {worst:.2e} ({where}) <= {tol:g}")
+
+
+# (a) fixed steps, (c) momentum
+for name in SCENES:
+    base = args_of(name) + ["-arkode_fixed_step", FIXED[name], "-snapshot_interval", 0]
+    runs = {}
+    for ranks in (1, 2, 3):
+        code, so, se, out = spam(ranks, f"{name}_fixed", base)
+        if not c.check(code == 0, f"{name} fixed steps on {ranks} ranks: exit {code} {se.strip()[-300:]}"):
+            continue
+        runs[ranks] = table(os.path.join(out, "timeseries.csv"))
+    if 1 not in runs:
+        continue
+    for ranks in (2, 3):
+        if ranks in runs:
+            compare(name, runs[1], runs[ranks], ranks, 1e-11, "fixed steps")
+            t = runs[ranks]
+            M, N = t["mass"][-1], t["mass"][-1]  # unit masses in these scenes: N = M
+            steps = t["step"][-1]
+            worst = 0.0
+            for k in range(len(t["t"])):
+                p = math.sqrt(t["px"][k] ** 2 + t["py"][k] ** 2 + t["pz"][k] ** 2)
+                bound = EPS * max(steps, 1) * math.sqrt(N) * math.sqrt(2 * M * max(t["kinetic"][k], 1e-300))
+                worst = max(worst, p / bound if bound > 0 else (0.0 if p == 0 else math.inf))
+            c.check(worst <= 1.0, f"{name} on {ranks} ranks: momentum |P| at most {worst:.2e} of eps*steps*sqrt(N)*sqrt(2MK)")
+
+# (b) adaptive steps
+rtol = 1e-6
+for name in ("expansion2d", "rotor_tij"):
+    base = args_of(name) + ["-ts_rtol", rtol, "-ts_atol", 1e-9, "-snapshot_interval", 0]
+    runs = {}
+    for ranks in (1, 2, 3):
+        code, so, se, out = spam(ranks, f"{name}_adaptive", base)
+        if c.check(code == 0, f"{name} adaptive on {ranks} ranks: exit {code} {se.strip()[-300:]}"):
+            runs[ranks] = table(os.path.join(out, "timeseries.csv"))
+    for ranks in (2, 3):
+        if 1 in runs and ranks in runs:
+            compare(name, runs[1], runs[ranks], ranks, 10 * rtol, "adaptive at output times")
+
+# (f) migrations between steps: ERKStep follows the particles (ERKStepResize) and the run is
+#     the same within the adaptive bound; each migration costs one RHS evaluation (ERKStep
+#     evaluates f at the new vector); the particle count is kept.
+t1 = None
+base = args_of("expansion2d") + ["-ts_rtol", rtol, "-ts_atol", 1e-9, "-snapshot_interval", 0]
+code, so, se, out1 = spam(1, "migrate", base)
+if c.check(code == 0, f"expansion2d for migrations on 1 rank: exit {code}"):
+    t1 = table(os.path.join(out1, "timeseries.csv"))
+    s1 = summary(out1)
+    for ranks in (2, 3):
+        code, so, se, out = spam(ranks, "migrate", base + ["-migrate_interval", 1])
+        if not c.check(code == 0, f"expansion2d with -migrate_interval 1 on {ranks} ranks: exit {code} {se.strip()[-300:]}"):
+            continue
+        s = summary(out)
+        c.check(s["migrations"] >= 5 and s["particles_migrated"] > 0 and s["n_particles"] == s1["n_particles"],
+                f"{ranks} ranks: {s['migrations']} migrations moved {s['particles_migrated']:g} particles, {s['n_particles']} particles kept")
+        c.check(s["rhs_evals"] - s1["rhs_evals"] <= s["migrations"] + 0.2 * s1["rhs_evals"],
+                f"{ranks} ranks: {s['rhs_evals']} RHS evaluations against {s1['rhs_evals']} on one rank with {s['migrations']} migrations (one each, and the steps part within rtol)")
+        compare("expansion2d", t1, table(os.path.join(out, "timeseries.csv")), ranks, 10 * rtol, "with migrations, at output times")
+# PETSc's rk with fixed steps follows by TSReset + TSSetSolution (its first stage evaluated
+# again): the fixed-step bound of (a) holds.
+rk = args_of("expansion2d") + ["-ts_type", "rk", "-ts_rk_type", "5dp", "-ts_adapt_type", "none", "-ts_dt", 0.05, "-snapshot_interval", 0]
+code, so, se, out1 = spam(1, "migrate_rk", rk)
+code2, so, se, out2 = spam(2, "migrate_rk", rk + ["-migrate_interval", 1])
+if c.check(code == 0 and code2 == 0, f"rk 5dp fixed steps, 1 rank and 2 ranks with migrations: exit {code}, {code2} {se.strip()[-300:]}"):
+    c.check(summary(out2)["migrations"] >= 5, f"rk: {summary(out2)['migrations']} migrations")
+    compare("expansion2d rk 5dp", table(os.path.join(out1, "timeseries.csv")), table(os.path.join(out2, "timeseries.csv")), 2, 1e-11, "fixed steps with migrations")
+code, so, se, out = spam(1, "migrate_one", base + ["-migrate_interval", 1])
+c.check(code == 2 and "several ranks" in se, f"-migrate_interval on one rank refused: exit {code} {se.strip()[-200:]}")
+
+# (d) a failure on rank 0 ends every rank
+env = dict(ENV, SPAM_TEST_FAIL_WRITE="timeseries.csv:3")
+try:
+    code, so, se, out = spam(2, "fail", args_of("expansion2d"), env=env, timeout=120)
+    lines = [x for x in se.splitlines() if x.startswith("spam-ark: error:")]
+    c.check(code == 1 and len(lines) == 1 and "timeseries.csv" in lines[0], f"rank 0's failed write on 2 ranks: exit {code}, error lines {lines}")
+except subprocess.TimeoutExpired:
+    c.check(False, "rank 0's failed write on 2 ranks: the job hung (timeout 120 s)")
+
+# (e) refusals, once
+for what, args in [("springs", ["-options_file", os.path.join(OPTS_DIR, "options/chain.opts")]),
+                   ("mirror walls", ["-options_file", os.path.join(OPTS_DIR, "options/couette.opts")]),
+                   ("checkpoints", args_of("expansion2d") + ["-checkpoint_interval", 1])]:
+    code, so, se, out = spam(2, "refused", args)
+    lines = [x for x in se.splitlines() if x.startswith("spam-ark: error:")]
+    c.check(code == 2 and len(lines) == 1 and "one rank" in lines[0], f"{what} on 2 ranks refused once: exit {code}, {lines}")
+c.finish()
