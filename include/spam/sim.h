@@ -17,6 +17,11 @@
  * their particle through a migration (migrate.c): the mass and the body label. */
 #define SPAM_MASS_FIELD "spam_mass"
 #define SPAM_BODY_FIELD "spam_body"
+/* The neighbour list's reference position of the particle (dim reals): a migration carries
+ * it and rebuilds the list there, as the list was built, so that the list's geometry and
+ * the times of its rebuilds do not depend on migrations (-reproducible needs this: a
+ * rebuild at another time can wrap a particle that crossed a periodic face otherwise). */
+#define SPAM_XREF_FIELD "spam_xref"
 
 typedef struct {
   long   rhs_evals;

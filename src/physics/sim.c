@@ -39,6 +39,7 @@ PetscErrorCode SpamSimCreate(MPI_Comm comm, const SpamModel *model, const SpamBo
   PetscCall(DMSwarmRegisterPetscDatatypeField(sim->swarm, SPAM_GID_FIELD, 1, PETSC_INT64));
   PetscCall(DMSwarmRegisterPetscDatatypeField(sim->swarm, SPAM_MASS_FIELD, 1, PETSC_REAL));
   PetscCall(DMSwarmRegisterPetscDatatypeField(sim->swarm, SPAM_BODY_FIELD, 1, PETSC_INT));
+  PetscCall(DMSwarmRegisterPetscDatatypeField(sim->swarm, SPAM_XREF_FIELD, model->dim, PETSC_REAL));
   PetscCall(DMSwarmFinalizeFieldRegister(sim->swarm));
   PetscCall(DMSwarmSetLocalSizes(sim->swarm, n, 0));
   PetscCall(DMSwarmGetField(sim->swarm, SPAM_GID_FIELD, NULL, NULL, (void **)&sim->gid));
