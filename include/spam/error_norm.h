@@ -22,7 +22,7 @@ realtype SpamNVWeightedMaxNorm_Petsc(N_Vector x, N_Vector w);
  * below 2^62 / (N + 1) units, the int64 sums of the ranks are added exactly by an
  * MPI_Allreduce SUM, and the total is scaled back. Two reductions per norm. A term below
  * 2^-(62 - log2(N+1)) of the largest is rounded to the grid: the norm's relative error is
- * below N 2^-(62 - log2(N+1)) (1e-7 for 10^6 components, 1e-11 at N = 10^4), far below
+ * below N 2^-(63 - log2(N+1)) (1e-7 for 10^6 components, 2e-11 at N = 10^4), far below
  * what an error test resolves. NaN when a term is NaN, infinity when one overflows. */
 realtype SpamNVReproducibleWrmsNorm_Petsc(N_Vector x, N_Vector w);
 /* Gives the PETSc N_Vector y (and every vector SUNDIALS clones from it afterwards) the

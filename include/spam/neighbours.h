@@ -1,5 +1,5 @@
 /* Neighbour search: cell binning plus a half Verlet list (each pair once) with a
- * skin. The list is kept while no particle has moved more than half the skin since the
+ * skin, and under -reproducible also full rows sorted by partner id (canonical rows). The list is kept while no particle has moved more than half the skin since the
  * last build, so it serves many RK stages and steps. Positions are read from a strided
  * array (the packed state) and copied, wrapped into the box, into SoA scratch arrays so
  * that the pair loops stream through memory. */
