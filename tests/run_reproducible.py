@@ -15,7 +15,8 @@ right-hand side and the norm; end-to-end runs come with the multi-rank program.)
 - Reproducible against default at a fixed step (only the order of additions differs):
   final positions within 1e-11 h, as -threads is held to in run_threads.py.
 - Refused, one line naming -reproducible (exit 2): the elastic solid, the tensor-path gas,
-  the springs, mirror walls, -periodic_images minimum; -reproducible false on a solid is
+  the springs, mirror walls, -periodic_images minimum, a periodic edge below twice the list
+  range (a particle would need images on both sides); -reproducible false on a solid is
   an option that run does not use.
 """
 import os
@@ -139,7 +140,8 @@ for label, args, word in (
         ("tensor-path gas", gas2 + ["-material", "gas", "-reproducible"], "gas"),
         ("springs", ["-scene", "chain", "-dim", 1, "-reproducible"], "spring"),
         ("mirror wall", gas2 + ["-wall_ylo", "noslip", "-reproducible"], "wall"),
-        ("minimum image", gas2 + ["-periodic_images", "minimum", "-reproducible"], "ghost")):
+        ("minimum image", gas2 + ["-periodic_images", "minimum", "-reproducible"], "ghost"),
+        ("periodic edge 6 below 2 (h + skin) = 6.6", ["-expansion_n", 3, "-h", 3, "-reproducible"], "twice the list range")):
     rc, _, err = run(a.spam_ark, args, os.path.join(a.workdir, "refused"))
     lines = err.strip().splitlines()
     c.check(rc == 2 and len(lines) == 1 and "-reproducible" in lines[0] and word in lines[0],

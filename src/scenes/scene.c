@@ -337,6 +337,10 @@ static PetscErrorCode CheckReproducible(const SpamCommonParams *c, const SpamPar
   if (p->model_set) SPAM_BAD_INPUT("-reproducible", "true", "applies to the isentropic gas (-material isentrope); this scene's spring model sums its bonds in list order");
   if (solid->material != SPAM_MATERIAL_ISENTROPE) SPAM_BAD_INPUT("-reproducible", "true", "applies to the isentropic gas (-material isentrope); the %s model's tensor-path passes sum their pairs in list order", SpamMaterialNames[solid->material]);
   if (SpamWallsAny(&p->walls, p->dim)) SPAM_BAD_INPUT("-reproducible", "true", "does not take mirror walls yet (their images' forces are booked to the wall from both particles of a pair)");
+  /* Its periodic images are ghost slots, one per face a particle is near: an edge below
+   * twice the list range would need images on both sides of some particles. */
+  for (int d = 0; d < p->dim; d++)
+    if (p->box.periodic[d] && p->box.len[d] < 2.0 * (c->h + c->skin)) SPAM_BAD_INPUT("-reproducible", "true", "needs every periodic edge at least twice the list range h + skin = %g (edge %d is %g): its periodic images are ghost slots, one per face", c->h + c->skin, d, p->box.len[d]);
   PetscFunctionReturn(0);
 }
 
