@@ -11,7 +11,9 @@
     a factor 100 of growth. A pair lost or counted twice across ranks moves these sums by
     one pair's share of the total, 1/(N * neighbours) ~ 1e-5 and more. (timeseries.csv
     prints 13 significant digits: agreement below that shows as 0.)
-(b) Adaptive steps (rtol 1e-6): the step sizes part once the error norms differ in their
+(b) Adaptive steps (rtol 1e-6; also the rotor pair under Gauss's principle, whose
+    multipliers and per-body angular momenta are sums over every rank): the step sizes part
+    once the error norms differ in their
     last bits, so the runs are compared at output times: energies within 10 rtol relative
     (the design note measured 1.7 rtol for a non-chaotic system).
 (c) Momentum on several ranks stays at round-off: |P| <= eps * steps * sqrt(N) * sqrt(2 M K)
@@ -23,7 +25,12 @@
 (e) What runs on one rank only is refused in one line, printed once: the springs model,
     mirror walls, checkpoints.
 (f) Migrations between steps (-migrate_interval 1: after every list build): the run agrees
-    with the one-rank run as in (b), the count is kept, one RHS evaluation per migration.
+    with the one-rank run as in (b), the count is kept, one RHS evaluation per migration;
+    with fixed steps the final particles carry every id once and stand where one rank has
+    them.
+(h) SIGTERM to mpiexec: every rank stops after the same step, outputs complete.
+(g) Every options file on 2 ranks (30 steps): the one-rank energies at the output times both
+    reached within 10 times the file's rtol, or a one-line refusal naming what is serial-only.
 """
 import math
 import os
@@ -61,12 +68,17 @@ SCENES = {
     "rotor_tij": ["-options_file", "options/rotor.opts", "-angmom", "Tij", "-ts_max_time", 12, "-output_interval", 2],
     "planewave": ["-options_file", "options/planewave.opts", "-ts_max_time", 6, "-output_interval", 1],
 }
+# Two bodies held by Gauss's principle (its multipliers are sums over every rank) and the
+# per-body angular momenta (bodies labelled on rank 0 at the start, labels carried).
+GAUSS = ["-options_file", "options/rotor-pair.opts", "-angmom", "gauss", "-ts_max_time", 12, "-output_interval", 2]
+SUMS.extend(["l_body0", "l_body1"])
 FIXED = {"expansion2d": 0.05, "expansion3d": 0.05, "rotor_tij": 0.1, "planewave": 0.05}
 OPTS_DIR = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
 def args_of(name):
-    return [os.path.join(OPTS_DIR, x) if isinstance(x, str) and x.startswith("options/") else x for x in SCENES[name]]
+    args = GAUSS if name == "rotor_pair_gauss" else SCENES[name]
+    return [os.path.join(OPTS_DIR, x) if isinstance(x, str) and x.startswith("options/") else x for x in args]
 
 
 def relative(x, y, scale):
@@ -120,7 +132,7 @@ for name in SCENES:
 
 # (b) adaptive steps
 rtol = 1e-6
-for name in ("expansion2d", "rotor_tij"):
+for name in ("expansion2d", "rotor_tij", "rotor_pair_gauss"):
     base = args_of(name) + ["-ts_rtol", rtol, "-ts_atol", 1e-9, "-snapshot_interval", 0]
     runs = {}
     for ranks in (1, 2, 3):
@@ -158,8 +170,59 @@ code2, so, se, out2 = spam(2, "migrate_rk", rk + ["-migrate_interval", 1])
 if c.check(code == 0 and code2 == 0, f"rk 5dp fixed steps, 1 rank and 2 ranks with migrations: exit {code}, {code2} {se.strip()[-300:]}"):
     c.check(summary(out2)["migrations"] >= 5, f"rk: {summary(out2)['migrations']} migrations")
     compare("expansion2d rk 5dp", table(os.path.join(out1, "timeseries.csv")), table(os.path.join(out2, "timeseries.csv")), 2, 1e-11, "fixed steps with migrations")
+# Ids across migrations: fixed steps, a migration after every list build, the final
+# particles (-final_csv, gathered by id): every id once on 3 ranks, and each particle where
+# the one-rank run has it (fixed steps: within 1e-9 of the box edge; differences are the
+# sums' rounding carried over 120 steps).
+fixed = args_of("expansion2d") + ["-arkode_fixed_step", 0.05, "-snapshot_interval", 0]
+code1, so, se, o1 = spam(1, "ids", fixed + ["-final_csv", os.path.join(a.workdir, "ids_np1.csv")])
+code3, so, se, o3 = spam(3, "ids", fixed + ["-migrate_interval", 1, "-final_csv", os.path.join(a.workdir, "ids_np3.csv")])
+if c.check(code1 == 0 and code3 == 0, f"final particles on 1 and 3 ranks with migrations: exit {code1}, {code3} {se.strip()[-300:]}"):
+    p1, p3 = table(os.path.join(a.workdir, "ids_np1.csv")), table(os.path.join(a.workdir, "ids_np3.csv"))
+    ids = sorted(int(v) for v in p3["id"])
+    c.check(ids == list(range(len(p1["id"]))), f"3 ranks, {summary(o3)['migrations']} migrations: ids 0..{len(ids) - 1} each once ({len(ids)} rows, {len(set(ids))} distinct)")
+    at = {int(v): k for k, v in enumerate(p3["id"])}
+    worst = max(abs(p1[col][k] - p3[col][at[int(p1["id"][k])]]) for col in ("x", "y") for k in range(len(p1["id"])))
+    edge = summary(o1)["box_len"][0]
+    c.check(worst <= 1e-9 * edge, f"3 ranks with migrations: final positions within {worst:.1e} of one rank's (bound 1e-9 x box edge {edge:g})")
 code, so, se, out = spam(1, "migrate_one", base + ["-migrate_interval", 1])
 c.check(code == 2 and "several ranks" in se, f"-migrate_interval on one rank refused: exit {code} {se.strip()[-200:]}")
+
+# (g) every options file on 2 ranks: the one-rank answer at the output times both reached
+#     (energies within 10 rtol of the file's tolerance, as (b)), or refused in one line that
+#     names what is serial-only. 30 steps each.
+REFUSED = {"chain": "springs", "rotor-md": "springs", "couette": "mirror walls", "poiseuille": "mirror walls",
+           "convection": "mirror walls", "expansion-walls": "mirror walls"}
+optdir = os.path.join(OPTS_DIR, "options")
+for fname in sorted(os.listdir(optdir)):
+    if not fname.endswith(".opts"):
+        continue
+    name, path = fname[:-5], os.path.join(optdir, fname)
+    tol = 1e-6
+    for line in open(path):
+        if line.split()[:1] == ["-ts_rtol"]:
+            tol = float(line.split()[1])
+    args = ["-options_file", path, "-ts_max_steps", 30, "-snapshot_interval", 0]
+    code1, so, se1, out1 = spam(1, f"file_{name}", args)
+    code2, so, se2, out2 = spam(2, f"file_{name}", args)
+    lines = [x for x in se2.splitlines() if x.startswith("spam-ark: error:")]
+    if name in REFUSED:
+        c.check(code1 == 0 and code2 == 2 and len(lines) == 1 and REFUSED[name] in lines[0] and "one rank" in lines[0],
+                f"{fname} on 2 ranks refused ({REFUSED[name]}): exit {code2}, {lines}")
+        continue
+    if not c.check(code1 == 0 and code2 == 0, f"{fname} on 1 and 2 ranks: exit {code1}, {code2} {lines}"):
+        continue
+    t1, t2 = table(os.path.join(out1, "timeseries.csv")), table(os.path.join(out2, "timeseries.csv"))
+    common = [(i, t2["t"].index(t)) for i, t in enumerate(t1["t"]) if t in t2["t"]]
+    worst, where = 0.0, ""
+    for col in ("kinetic", "internal", "total"):
+        scale = max(abs(v) for v in t1[col]) or 1.0
+        for i, j in common:
+            d = abs(t1[col][i] - t2[col][j]) / scale
+            if d > worst:
+                worst, where = d, f"{col} at t = {t1['t'][i]:g}"
+    c.check(len(common) >= 2 and worst <= max(10 * tol, 1e-11),
+            f"{fname}: 2 ranks vs 1 at {len(common)} common output times, largest energy difference {worst:.1e} ({where}) <= {max(10 * tol, 1e-11):g}")
 
 # (d) a failure on rank 0 ends every rank
 env = dict(ENV, SPAM_TEST_FAIL_WRITE="timeseries.csv:3")
@@ -169,6 +232,29 @@ try:
     c.check(code == 1 and len(lines) == 1 and "timeseries.csv" in lines[0], f"rank 0's failed write on 2 ranks: exit {code}, error lines {lines}")
 except subprocess.TimeoutExpired:
     c.check(False, "rank 0's failed write on 2 ranks: the job hung (timeout 120 s)")
+
+# (h) SIGTERM to mpiexec (which passes it to every rank): the ranks agree to stop after the
+#     same step (SignalAgreed), the outputs are complete and summary.json says so.
+import time  # noqa: E402
+out = os.path.join(a.workdir, "sigterm_np2")
+cmd = [mpiexec, "--oversubscribe", "-n", "2", a.spam_ark] + [str(x) for x in args_of("expansion2d") + ["-ts_max_time", 1e5, "-snapshot_interval", 0, "-output_interval", 1, "-output_dir", out]]
+p = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, env=ENV)
+# Rank 0 prints its first line once every rank has opened the run (the output directory's
+# agreement): from then on each rank has its handler; the steps go on for hours.
+first = p.stdout.readline()
+time.sleep(1.0)
+p.terminate()
+try:
+    so, se = p.communicate(timeout=60)
+    so = first + so
+    s = summary(out)
+    c.check(s["status"] == "interrupted" and "SIGTERM" in s["reason"] and s["steps"] > 0,
+            f"SIGTERM on 2 ranks: status {s['status']} ({s['reason']}) after {s['steps']} steps, mpiexec exit {p.returncode}")
+except subprocess.TimeoutExpired:
+    p.kill()
+    c.check(False, "SIGTERM on 2 ranks: the job hung (timeout 60 s)")
+except FileNotFoundError as e:
+    c.check(False, f"SIGTERM on 2 ranks: no summary ({e}); mpiexec exit {p.returncode}, {se.strip()[-300:]}")
 
 # (e) refusals, once
 for what, args in [("springs", ["-options_file", os.path.join(OPTS_DIR, "options/chain.opts")]),

@@ -4,9 +4,11 @@
  * them, of the energy per unit mass, the temperature (gas: T = (gamma - 1) e) and the
  * stress, and the Shepard sum S(x) = sum_j (m_j / rho_j) w(x - x_j), evaluated at the
  * cell centres of a grid covering the box (grid_fields.c) and written as HDF5 + XDMF and
- * CSV (grid_output.c). The sums run over the local particles with the minimum image in
- * the periodic directions and nothing else: no wall images, so near a wall or a free
- * surface the sums are one-sided and S < 1 says so. */
+ * CSV (grid_output.c). The sums run over the particles (of every rank: each rank sums its
+ * own, one MPI_Allreduce adds the ranks' sums) with the minimum image in the periodic
+ * directions and nothing else: no wall images, so near a wall or a free surface the sums
+ * are one-sided and S < 1 says so. On P ranks a sum is the same terms added in another
+ * order: equal to the one-rank value within round-off, not bitwise. */
 #ifndef SPAM_GRID_H
 #define SPAM_GRID_H
 #include <spam/output.h>
@@ -32,7 +34,8 @@ typedef struct {
 typedef struct {
   int         ncol;
   const char *name[SPAM_GRID_MAX_COLUMNS];
-  double     *col[SPAM_GRID_MAX_COLUMNS];
+  double     *col[SPAM_GRID_MAX_COLUMNS]; /* column c: block + c npoints              */
+  double     *block;
   int         v;  /* column of vx (vy, vz follow)                                       */
 } SpamGridFields;
 
@@ -41,10 +44,12 @@ typedef struct {
 double         SpamGridPointCount(const SpamBox *box, double dx);
 PetscErrorCode SpamGridSetUp(const SpamBox *box, double dx, SpamGrid *g);
 /* Evaluates the fields of state y (sim->f.rho must hold its summed density when the
- * model does not carry the density) at the points of g; allocates f's columns. */
+ * model does not carry the density) at the points of g; allocates f's columns.
+ * Collective on sim->comm: every rank gets the sums over all ranks. */
 PetscErrorCode SpamGridFieldsEvaluate(const SpamSim *sim, const double *y, const SpamGrid *g, SpamGridFields *f);
 PetscErrorCode SpamGridFieldsFree(SpamGridFields *f);
 /* grid_NNNNN.h5 (with -snapshot_hdf5, and the index grid.xmf) and grid_NNNNN.csv (with
- * -snapshot_csv) of state y at time t, numbered like the grid files before them. */
+ * -snapshot_csv) of state y at time t, numbered like the grid files before them.
+ * Collective on sim->comm; rank 0 writes the files. */
 PetscErrorCode SpamGridWrite(SpamOutput *o, const SpamSim *sim, const double *y, double t);
 #endif

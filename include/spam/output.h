@@ -23,6 +23,12 @@ typedef struct {
  * stops the run; it is an environment variable, not an option, so users never see it. */
 long SpamTestFailWriteAt(const char *path);
 
+/* Collective on comm: fn(ctx) on rank 0 alone (root_only: a text file written once) or on
+ * every rank. An error in it on any rank is raised on every rank, with the code and the
+ * message of the lowest rank that failed, and printed once (output_agreed.c): no rank is
+ * left waiting in a collective for one that failed. */
+PetscErrorCode SpamRunAgreed(MPI_Comm comm, PetscBool root_only, PetscErrorCode (*fn)(void *), void *ctx);
+
 /* Creates path.PID.tmp new (O_CREAT | O_EXCL | O_NOFOLLOW); tmp receives its name. */
 PetscErrorCode SpamTempCreate(const char *path, char *tmp, size_t len, int *fd);
 PetscErrorCode SpamFileBegin(const char *path, SpamFile *f);
@@ -55,6 +61,11 @@ typedef struct {
   PetscBool outside;               /* -initial_csv / -final_csv: a path, not a name      */
 } SpamOutputEntry;
 
+/* On several ranks rank 0 of the sim's communicator owns the directory (opens, locks,
+ * closes it; its text series and summary); the other ranks hold an output with dir,
+ * hdf5, csv and opt set and no open file (run_session.c). The snapshot and grid writers
+ * below are called by every rank and keep the same counts and list of files on every
+ * rank; rank 0 writes the text files. */
 typedef struct {
   char      dir[PETSC_MAX_PATH_LEN];
   SpamFile  timeseries, steps; /* appended during the run, renamed at the end       */
@@ -126,14 +137,18 @@ double SpamSnapshotDensity(const SpamSim *sim, const double *y, PetscInt i);
 double SpamSnapshotPosition(const SpamSim *sim, int d, double x);
 void   SpamSnapshotStress6(const SpamSim *sim, const double *y, PetscInt i, double t6[6]);
 /* Particle snapshot: HDF5 + XDMF (ParaView) and/or CSV (positions, velocities, density,
- * and energy and stress where the state has them). Needs sim->rho of state y. */
+ * and energy and stress where the state has them). Needs sim->rho of state y. All four
+ * are collective on sim->comm (every rank calls them) and write one file each whatever
+ * the number of ranks, rows in gid order, the same contents as on one rank: the HDF5
+ * file through MPI-IO by every rank, the CSV, the XDMF index and the manifest by rank 0
+ * (an error on one rank is raised on all, SpamRunAgreed). */
 PetscErrorCode SpamSnapshotWrite(SpamOutput *o, SpamSim *sim, const double *y, double t, const char *tag);
 PetscErrorCode SpamSnapshotCsvWrite(const char *path, const SpamSim *sim, const double *y, double t);
 PetscErrorCode SpamSnapshotHdf5Write(const char *path, const SpamSim *sim, const double *y, double t, long step);
 /* Particles as a file-scene CSV at full precision, the format the file scene reads: a
  * header naming the columns x..,vx..,m, then e, rho (carried density) and the stress where
  * the state holds them, and id (the input row); positions wrapped into the box in its
- * periodic directions. Rows in input order. */
+ * periodic directions. Rows in input order (gid order), written by rank 0; collective. */
 PetscErrorCode SpamParticlesCsvWrite(const char *path, const SpamSim *sim, const double *y);
 /* The model's settings as a JSON object (model_settings.c), for the snapshot attribute
  * "model"; buf of len bytes. */

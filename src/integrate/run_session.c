@@ -21,16 +21,26 @@ static const char *ManifestStatus(SpamStatus s)
   return names[s];
 }
 
+static PetscErrorCode ListParticles(const char *path, SpamOutput *out, const char *kind)
+{
+  PetscFunctionBeginUser;
+  PetscCall(SpamManifestAdd(out, path, kind, NAN, PETSC_TRUE));
+  PetscCall(SpamManifestWrite(out));
+  PetscFunctionReturn(0);
+}
+
+/* Collective: the CSV is gathered to rank 0, which writes it and lists it. */
 static PetscErrorCode WriteParticles(const char *path, SpamSim *sim, SpamOutput *out, const char *kind)
 {
   const PetscScalar *y;
+  PetscMPIInt        rank;
 
   PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(sim->comm, &rank));
   PetscCall(VecGetArrayRead(sim->X, &y));
   PetscCall(SpamParticlesCsvWrite(path, sim, y));
   PetscCall(VecRestoreArrayRead(sim->X, &y));
-  PetscCall(SpamManifestAdd(out, path, kind, NAN, PETSC_TRUE));
-  PetscCall(SpamManifestWrite(out));
+  PetscCall(SpamAgree(sim->comm, rank ? 0 : ListParticles(path, out, kind)));
   PetscFunctionReturn(0);
 }
 
@@ -61,9 +71,9 @@ static PetscErrorCode Session(SpamSim *sim, const SpamRunOptions *o, TS ts, Spam
   const PetscBool owner = DirectoryOwner(sim);
 
   PetscFunctionBeginUser;
-  if (o->initial_csv[0] && !rs) PetscCall(SpamAgree(sim->comm, owner ? WriteParticles(o->initial_csv, sim, out, "initial_particles") : 0));
+  if (o->initial_csv[0] && !rs) PetscCall(WriteParticles(o->initial_csv, sim, out, "initial_particles"));
   PetscCall(SpamRun(sim, o, ts, app, out, rs, r));
-  if (o->final_csv[0] && r->status != SPAM_STATUS_UNSTABLE && owner) PetscCall(WriteParticles(o->final_csv, sim, out, "final_particles"));
+  if (o->final_csv[0] && r->status != SPAM_STATUS_UNSTABLE) PetscCall(WriteParticles(o->final_csv, sim, out, "final_particles"));
   if (!owner) PetscFunctionReturn(0);
   PetscCall(SpamSummaryWrite(out, sim, o, r));
   PetscCall(SpamOutputClose(out, ManifestStatus(r->status)));

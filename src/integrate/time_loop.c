@@ -10,6 +10,7 @@
 #include <spam/integrator.h>
 #include <spam/errors.h>
 #include <spam/interrupt.h>
+#include <spam/physics.h> /* the Gauss maxima of the run figures */
 #include "loop_state.h"
 
 typedef SpamSchedule Schedule;
@@ -69,7 +70,7 @@ static PetscErrorCode OutputOf(Vec X, SpamSim *sim, const SpamRunOptions *o, Spa
   r->last = d;
   SpamRunUpdateDrifts(&d, r);
   PetscCall(SpamAgree(sim->comm, SpamTimeseriesAppend(out, sim, p, &d, &r->first))); /* rank 0 writes */
-  if (snapshot && !SpamSimDistributed(sim)) PetscCall(SpamSnapshotWrite(out, sim, y, p->t, NULL)); /* interim: snapshots of one rank only */
+  if (snapshot) PetscCall(SpamSnapshotWrite(out, sim, y, p->t, NULL)); /* collective */
   PetscCall(VecRestoreArrayRead(X, &y));
   PetscCall(SpamMonitorProgress(sim, o, p, r));
   PetscFunctionReturn(0);
@@ -123,7 +124,7 @@ static PetscErrorCode Unstable(SpamSim *sim, SpamOutput *out, Vec Xgood, double 
   /* Keep the last good state as a snapshot tagged last_good. */
   PetscCall(VecGetArrayRead(Xgood, &g));
   PetscCall(SpamDensitySummation(sim, g, &bad));
-  if (bad < 0 && !SpamSimDistributed(sim)) PetscCall(SpamSnapshotWrite(out, sim, g, tgood, "last_good"));
+  if (bad < 0) PetscCall(SpamSnapshotWrite(out, sim, g, tgood, "last_good"));
   PetscCall(VecRestoreArrayRead(Xgood, &g));
   PetscCall(PetscPrintf(sim->comm, "spam-ark: unstable: %s\n", r->reason));
   PetscFunctionReturn(0);
@@ -161,7 +162,7 @@ static PetscErrorCode FinalOutputs(SpamSim *sim, const SpamRunOptions *o, SpamOu
 
   PetscFunctionBeginUser;
   if (!row_done) PetscCall(Output(sim, o, out, p, snap, r));
-  else if (snap && !SpamSimDistributed(sim)) {
+  else if (snap) {
     const PetscScalar *y;
     PetscCall(VecGetArrayRead(sim->X, &y));
     PetscCall(SpamSnapshotWrite(out, sim, y, p->t, NULL));
@@ -428,8 +429,28 @@ static PetscErrorCode Reschedule(SpamSim *sim, const SpamRunOptions *o, double f
   PetscFunctionReturn(0);
 }
 
+/* Once the loop is over, the figures each rank kept of its own become the run's, which
+ * rank 0 writes to summary.json: the slowest rank's RHS time, every rank's pairs, the
+ * largest list growth count and Gauss maxima. */
+static PetscErrorCode RunFigures(SpamSim *sim)
+{
+  double mx[4] = {sim->stats.rhs_time, (double)sim->nl.grows, sim->ps ? sim->ps->gauss_accel_max : 0.0, sim->ps ? sim->ps->gauss_momentum_residual : 0.0}, visits = sim->stats.pair_visits;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, mx, 4, MPI_DOUBLE, MPI_MAX, sim->comm));
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &visits, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
+  sim->stats.rhs_time    = mx[0];
+  sim->nl.grows          = (long)mx[1];
+  sim->stats.pair_visits = visits;
+  if (sim->ps) {
+    sim->ps->gauss_accel_max         = mx[2];
+    sim->ps->gauss_momentum_residual = mx[3];
+  }
+  PetscFunctionReturn(0);
+}
+
 /* The decomposition's part of the result (summary.json). */
-static PetscErrorCode RanksResult(const SpamSim *sim, SpamRunResult *r)
+static PetscErrorCode RanksResult(SpamSim *sim, SpamRunResult *r)
 {
   PetscMPIInt size;
   double      halo = sim->nl.ghosts.n - sim->nl.ghosts.nlocal, n = (double)sim->n, nmax;
@@ -442,6 +463,7 @@ static PetscErrorCode RanksResult(const SpamSim *sim, SpamRunResult *r)
   PetscCallMPI(MPIU_Allreduce(&halo, &r->halo_max, 1, MPI_DOUBLE, MPI_MAX, sim->comm));
   PetscCallMPI(MPIU_Allreduce(&n, &nmax, 1, MPI_DOUBLE, MPI_MAX, sim->comm));
   r->imbalance = nmax * size / PetscMax((double)sim->nglobal, 1.0);
+  if (size > 1) PetscCall(RunFigures(sim));
   PetscFunctionReturn(0);
 }
 

@@ -1,6 +1,7 @@
 /* Conserved and monitored quantities of a state, reduced over all ranks. */
 #include <spam/diagnostics.h>
 #include <spam/entropy.h>
+#include <stdint.h>
 
 /* Internal energy, spurious torque and bodies, as the model computes them. */
 static PetscErrorCode ModelDiagnostics(SpamSim *sim, const double *y, SpamDiagnostics *d)
@@ -36,7 +37,15 @@ PetscErrorCode SpamDiagnosticsCompute(SpamSim *sim, const SpamDiagnosticsOptions
   PetscCall(PetscMemzero(d, sizeof *d));
   d->t = t;
   PetscCall(SpamDensitySummation(sim, y, &bad));
-  PetscCheck(bad < 0, PETSC_COMM_SELF, PETSC_ERR_FP, "non-finite position of particle %" PetscInt_FMT " at t = %g", bad, t);
+  {
+    /* the input row of the first bad particle over all ranks (a rank whose own are all
+     * finite learns it here): every rank stops, with one message */
+    PetscInt64 row = bad >= 0 && bad < sim->n ? (PetscInt64)SpamSimRowOf(sim, bad) : INT64_MAX;
+    PetscInt   any = bad >= 0;
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &row, 1, MPIU_INT64, MPI_MIN, sim->comm));
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPIU_INT, MPI_MAX, sim->comm));
+    PetscCheck(!any, sim->comm, PETSC_ERR_FP, "non-finite position of particle %" PetscInt64_FMT " at t = %g", row, t);
+  }
   for (PetscInt i = 0; i < sim->n; i++) {
     const double *p = y + (size_t)i * l->nvar, mi = sim->f.m[i];
     double        v2 = 0.0;

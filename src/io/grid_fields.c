@@ -3,6 +3,7 @@
  * neighbour list's cells belong to the right-hand side and may be built for another state)
  * and visits, for each point, the particles of its cell and the adjacent ones. */
 #include <spam/grid.h>
+#include <limits.h>
 
 double SpamGridPointCount(const SpamBox *box, double dx)
 {
@@ -215,7 +216,9 @@ static PetscErrorCode Columns(const SpamSim *sim, const SpamGrid *g, SpamGridFie
   if (lc->nstress) lc->ns = f->ncol;
   for (int k = 0; k < lc->nstress; k++) f->name[f->ncol++] = sn[k];
   f->name[f->ncol++] = "S";
-  for (int c = 0; c < f->ncol; c++) PetscCall(PetscCalloc1(g->npoints, &f->col[c]));
+  /* one block, so that one reduction sums every column over the ranks */
+  PetscCall(PetscCalloc1((size_t)f->ncol * g->npoints, &f->block));
+  for (int c = 0; c < f->ncol; c++) f->col[c] = f->block + (size_t)c * g->npoints;
   PetscFunctionReturn(0);
 }
 
@@ -236,13 +239,18 @@ PetscErrorCode SpamGridFieldsEvaluate(const SpamSim *sim, const double *y, const
     for (int c = 0; c < f->ncol; c++) f->col[c][p] = sum[c];
   }
   PetscCall(BinsFree(&b));
+  /* Every column is a sum over particles, linear in each particle's part: the ranks'
+   * partial sums add up to the whole (nothing nonlinear has been applied yet). */
+  PetscCheck((double)f->ncol * g->npoints <= INT_MAX, sim->comm, PETSC_ERR_SUP, "grid of %" PetscInt_FMT " points: too many to reduce in one call", g->npoints);
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, f->block, f->ncol * (int)g->npoints, MPI_DOUBLE, MPI_SUM, sim->comm));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SpamGridFieldsFree(SpamGridFields *f)
 {
   PetscFunctionBeginUser;
-  for (int c = 0; c < f->ncol; c++) PetscCall(PetscFree(f->col[c]));
+  PetscCall(PetscFree(f->block));
+  for (int c = 0; c < f->ncol; c++) f->col[c] = NULL;
   f->ncol = 0;
   PetscFunctionReturn(0);
 }

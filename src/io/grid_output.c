@@ -3,7 +3,8 @@
  * the velocity as [..][3] for ParaView, the index grid.xmf over all of them (a temporal
  * collection of 2DCoRectMesh/3DCoRectMesh grids, values at the nodes), and
  * grid_NNNNN.csv with columns x,y,(z) and the fields, one row per point in the same order.
- * Every file is written to a new temporary and renamed when complete, as the snapshots. */
+ * Every file is written to a new temporary and renamed when complete, as the snapshots.
+ * On several ranks rank 0 writes them all, from the fields reduced over the ranks. */
 #define _DEFAULT_SOURCE /* lstat: POSIX, not C11 */
 #include <spam/grid.h>
 #include "snapshot_hdf5.h"
@@ -216,35 +217,80 @@ static PetscErrorCode WriteXdmfIndex(SpamOutput *o, const SpamGrid *g, const Spa
   PetscFunctionReturn(0);
 }
 
+/* What rank 0 writes alone: the grid file(s) of this time, then the index. */
+typedef struct {
+  SpamOutput           *o;
+  const SpamSim        *sim;
+  const SpamGrid       *g;
+  const SpamGridFields *f;
+  double                t;
+} GridWork;
+
+static PetscErrorCode GridFileName(const SpamOutput *o, const char *ext, char *name, size_t len)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscSNPrintf(name, len, "grid_%05d.%s", o->grid.n, ext));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode WriteGridFiles(void *ctx)
+{
+  GridWork *w = ctx;
+  char      name[64], path[PETSC_MAX_PATH_LEN];
+
+  PetscFunctionBeginUser;
+  if (w->o->hdf5) {
+    PetscCall(GridFileName(w->o, "h5", name, sizeof name));
+    PetscCall(SpamOutputPath(w->o, name, path, sizeof path));
+    PetscCall(WriteHdf5(path, w->sim, w->g, w->f, w->t, w->o->step));
+  }
+  if (w->o->csv) {
+    PetscCall(GridFileName(w->o, "csv", name, sizeof name));
+    PetscCall(SpamOutputPath(w->o, name, path, sizeof path));
+    PetscCall(WriteCsv(path, w->g, w->f, w->t, w->o->step));
+  }
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode WriteGridIndex(void *ctx)
+{
+  GridWork *w = ctx;
+
+  PetscFunctionBeginUser;
+  PetscCall(WriteXdmfIndex(w->o, w->g, w->f));
+  PetscFunctionReturn(0);
+}
+
+/* Collective: every rank keeps the same list of files, rank 0 writes them. */
 static PetscErrorCode WriteFiles(SpamOutput *o, const SpamSim *sim, const SpamGrid *g, const SpamGridFields *f, double t)
 {
-  char name[64], path[PETSC_MAX_PATH_LEN];
+  char     name[64];
+  GridWork w = {o, sim, g, f, t};
 
   PetscFunctionBeginUser;
   if (o->grid.n == o->grid.cap) {
     o->grid.cap = 2 * o->grid.cap + 16;
     PetscCall(PetscRealloc(sizeof(double) * o->grid.cap, &o->grid.times));
   }
+  PetscCall(SpamRunAgreed(sim->comm, PETSC_TRUE, WriteGridFiles, &w));
   if (o->hdf5) {
-    PetscCall(PetscSNPrintf(name, sizeof name, "grid_%05d.h5", o->grid.n));
-    PetscCall(SpamOutputPath(o, name, path, sizeof path));
-    PetscCall(WriteHdf5(path, sim, g, f, t, o->step));
+    PetscCall(GridFileName(o, "h5", name, sizeof name));
     PetscCall(SpamManifestAdd(o, name, "grid_h5", t, PETSC_FALSE));
   }
   if (o->csv) {
-    PetscCall(PetscSNPrintf(name, sizeof name, "grid_%05d.csv", o->grid.n));
-    PetscCall(SpamOutputPath(o, name, path, sizeof path));
-    PetscCall(WriteCsv(path, g, f, t, o->step));
+    PetscCall(GridFileName(o, "csv", name, sizeof name));
     PetscCall(SpamManifestAdd(o, name, "grid_csv", t, PETSC_FALSE));
   }
   o->grid.times[o->grid.n++] = t;
   if (o->hdf5) {
-    PetscCall(WriteXdmfIndex(o, g, f));
+    PetscCall(SpamRunAgreed(sim->comm, PETSC_TRUE, WriteGridIndex, &w));
     PetscCall(SpamManifestAdd(o, "grid.xmf", "grid_xdmf_index", NAN, PETSC_FALSE));
   }
   PetscFunctionReturn(0);
 }
 
+/* Collective on sim->comm: the fields are sums over every rank's particles
+ * (SpamGridFieldsEvaluate reduces them); rank 0 writes the files. */
 PetscErrorCode SpamGridWrite(SpamOutput *o, const SpamSim *sim, const double *y, double t)
 {
   SpamGrid       g;

@@ -81,18 +81,18 @@ PetscErrorCode SpamEntropySum(SpamSim *sim, const double *y, double *S)
   PetscFunctionReturn(0);
 }
 
-/* Density, mean velocity and mean square speed at a box-local point u. */
-static double SampleAt(SpamSim *sim, const double *y, const double *u, double *vmean, double *v2mean)
+/* The kernel-weighted sums of this rank's particles at a box-local point u, into
+ * mom[0 .. dim + 1]: rho = sum m w, sum m w v_d, sum m w |v|^2. Sums, not means: the
+ * ranks' sums are added before any division or logarithm. */
+static void SampleAt(const SpamSim *sim, const double *y, const double *u, double *mom)
 {
   const SpamModel      *m  = &sim->model;
   const SpamNeighbours *nl = &sim->nl;
   const int             dim = m->dim;
   const SpamImage       im = SpamBoxImage(&sim->box);
   int                   adj[27];
-  double                rho = 0.0, v2 = 0.0;
   const int             na  = SpamNeighboursAdjacentCells(nl, &sim->box, SpamNeighboursCellOf(nl, &sim->box, u), adj);
 
-  for (int d = 0; d < dim; d++) vmean[d] = 0.0;
   for (int a = 0; a < na; a++) {
     for (int k = nl->cell_start[adj[a]]; k < nl->cell_start[adj[a] + 1]; k++) {
       const int     j  = nl->cell_list[k];
@@ -104,21 +104,19 @@ static double SampleAt(SpamSim *sim, const double *y, const double *u, double *v
         vj2 += vj[d] * vj[d];
       }
       const double w = m->mass * SpamKernelW(&m->kernel, r2);
-      rho += w;
-      v2 += w * vj2;
-      for (int d = 0; d < dim; d++) vmean[d] += w * vj[d];
+      mom[0] += w;
+      for (int d = 0; d < dim; d++) mom[1 + d] += w * vj[d];
+      mom[1 + dim] += w * vj2;
     }
   }
-  if (rho > 0.0) {
-    for (int d = 0; d < dim; d++) vmean[d] /= rho;
-    *v2mean = v2 / rho;
-  }
-  return rho;
 }
 
 /* Most points of the grid: the index is an int. The set-up refuses far fewer
  * (-diag_grid_spacing, run_options.c); this bound only keeps the count in range. */
 #define SPAM_GRID_MAX 1073741824.0
+/* Points whose sums one reduction adds: the moments of a chunk (dim + 2 doubles a point,
+ * 5 MB in 3D) rather than of the whole grid, which may hold 10^8 points. */
+#define SPAM_GRID_CHUNK 131072
 
 /* Points per direction at this spacing, and their product, all in double: a tiny
  * spacing gives a count that no integer holds. */
@@ -132,33 +130,50 @@ static double GridPoints(const SpamBox *box, double spacing, double ng[3])
   return total;
 }
 
+/* Collective. The entropy is a nonlinear function of the sums at a point (a logarithm of
+ * their ratios), so on several ranks the sums of the ranks' particles are added first,
+ * chunk by chunk with one MPI_Allreduce each, and every rank then evaluates every point
+ * of the chunk alike: all ranks get the same S. */
 PetscErrorCode SpamEntropyGrid(SpamSim *sim, const double *y, double spacing, double *S)
 {
   const SpamModel *m   = &sim->model;
-  const int        dim = m->dim;
+  const int        dim = m->dim, nm = dim + 2;
   PetscInt         ng[3] = {1, 1, 1}, total;
-  double           g[3]  = {1, 1, 1}, nd[3], cellvol = 1.0, sum = 0.0;
+  double           g[3]  = {1, 1, 1}, nd[3], cellvol = 1.0, sum = 0.0, *mom;
   /* Below this density the point is empty space: s -> 0 as rho -> 0. */
   const double rho_min = 1e-12 * m->mass * m->kernel.wnorm;
   const double points  = GridPoints(&sim->box, spacing, nd);
 
   PetscFunctionBeginUser;
-  PetscCheck(spacing > 0.0 && isfinite(spacing) && points <= SPAM_GRID_MAX, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "entropy grid spacing %g gives %g points; at most 2^30", spacing, points);
+  PetscCheck(spacing > 0.0 && isfinite(spacing) && points <= SPAM_GRID_MAX, sim->comm, PETSC_ERR_ARG_OUTOFRANGE, "entropy grid spacing %g gives %g points; at most 2^30", spacing, points);
   total = (PetscInt)points;
   for (int d = 0; d < dim; d++) {
     ng[d] = (PetscInt)nd[d];
     g[d]  = sim->box.len[d] / ng[d];
     cellvol *= g[d];
   }
-  for (PetscInt k = 0; k < total; k++) {
-    double u[3] = {0, 0, 0}, vmean[3] = {0, 0, 0}, v2mean = 0.0;
-    for (int d = 0, rem = (int)k; d < dim; d++) {
-      u[d] = (rem % ng[d] + 0.5) * g[d];
-      rem /= (int)ng[d];
+  PetscCall(PetscMalloc1((size_t)nm * SPAM_GRID_CHUNK, &mom));
+  for (PetscInt k0 = 0; k0 < total; k0 += SPAM_GRID_CHUNK) {
+    const PetscInt nk = PetscMin(total - k0, SPAM_GRID_CHUNK);
+    PetscCall(PetscArrayzero(mom, (size_t)nm * nk));
+    for (PetscInt k = k0; k < k0 + nk && sim->n > 0; k++) {
+      double u[3] = {0, 0, 0};
+      for (int d = 0, rem = (int)k; d < dim; d++) {
+        u[d] = (rem % ng[d] + 0.5) * g[d];
+        rem /= (int)ng[d];
+      }
+      SampleAt(sim, y, u, mom + (size_t)nm * (k - k0));
     }
-    const double rho = SampleAt(sim, y, u, vmean, &v2mean);
-    if (rho > rho_min) sum += (rho / m->mass) * EntropyPerMass(m, rho, v2mean, vmean) * cellvol;
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, mom, nm * (int)nk, MPI_DOUBLE, MPI_SUM, sim->comm));
+    for (PetscInt k = 0; k < nk; k++) {
+      const double *p   = mom + (size_t)nm * k, rho = p[0];
+      double        vmean[3] = {0, 0, 0};
+      if (!(rho > rho_min)) continue;
+      for (int d = 0; d < dim; d++) vmean[d] = p[1 + d] / rho;
+      sum += (rho / m->mass) * EntropyPerMass(m, rho, p[1 + dim] / rho, vmean) * cellvol;
+    }
   }
-  PetscCallMPI(MPIU_Allreduce(&sum, S, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
+  PetscCall(PetscFree(mom));
+  *S = sum;
   PetscFunctionReturn(0);
 }

@@ -274,6 +274,9 @@ PetscErrorCode SpamDensitySummation(SpamSim *sim, const double *y, PetscInt *bad
   if (*bad >= 0) PetscFunctionReturn(0);
   PetscCall(ReserveSlots(sim));
   PetscCall(Density(sim));
+  /* The callers (the tensor path, diagnostics) read the ghosts' densities too; the pair
+   * driver has gathered them, the chunked loops (other ranks' particles only) have not. */
+  if (FastPath(sim) && sim->nl.ghosts.n) PetscCall(SpamGhostsGather(&sim->nl.ghosts, sim->model.dim, (int)sim->n, 1, SPAM_GHOST_SCALAR, sim->f.rho));
   PetscFunctionReturn(0);
 }
 
