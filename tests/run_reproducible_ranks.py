@@ -1,5 +1,5 @@
 """-reproducible across rank counts, end to end (issue 18 point 5): the same adaptive run on
-1, 2 and 3 ranks takes the same steps to the bit.
+1, 2 and 3 ranks takes the same steps and writes the same particles, to the bit.
 
 The 2D expansion (24^2 particles, gamma 1.7) and the 3D expansion (8^3), Dormand-Prince at
 rtol 1e-6 for about 2 sound crossings of the gas's start, with migrations after every list
@@ -10,12 +10,11 @@ list at the carried reference positions) and at the default interval; cvode on 2
   significant digits, so bit for bit): an adaptive controller turns any difference in the
   last bit of a state or an error norm into other step sizes within a few steps;
 - timeseries.csv: the integrator's columns identical; the sums over particles (energies,
-  momenta, entropy sum: diagnostics, reduced over the ranks in another order) within 1e-12
-  of their scale (the grid entropy is left out: on several ranks it is not yet reduced
-  before its logarithm, issue 18 point 3);
-- control: the default mode on 2 ranks takes other step sizes than on one.
-(The particles themselves are not compared: on several ranks the program does not yet
-write snapshots or a whole final CSV.)
+  momenta, entropies: diagnostics, reduced over the ranks in another order) within 1e-12
+  of their scale;
+- every CSV snapshot (positions, velocities, summed densities: gathered by gid on rank 0
+  and printed to 17 significant digits) byte for byte the one-rank run's;
+- control: the default mode on 2 ranks takes other step sizes and writes other snapshots.
 PETSc's rk under its adaptor with -reproducible on several ranks is refused (PETSc sums its
 rms error norm rank by rank), printed once.
 """
@@ -37,15 +36,12 @@ ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIR
 ENV.pop("OMPI_MCA_ess_singleton_isolated", None)  # set by ctest for one-rank starts
 SCENES = {
     "2D": ["-scene", "expansion", "-dim", 2, "-expansion_n", 24, "-h", 3, "-eos_gamma", 1.7, "-expansion_amplitude", 0.1,
-           "-ts_max_time", 40, "-output_interval", 2, "-snapshot_interval", 0],
+           "-ts_max_time", 40, "-output_interval", 2, "-snapshot_interval", 10],
     "3D": ["-scene", "expansion", "-dim", 3, "-expansion_n", 8, "-h", 2.5, "-expansion_amplitude", 0.1,
-           "-ts_max_time", 12, "-output_interval", 1, "-snapshot_interval", 0],
+           "-ts_max_time", 12, "-output_interval", 1, "-snapshot_interval", 3],
 }
 STEP_COLUMNS = ("t", "step", "rejected", "dt", "bound_limited")
 TIMING = ("rhs_s", "wall_s", "rhs_evals")  # rhs_evals: a migration's resize evaluates f again
-# The grid entropy is taken per rank on several ranks (its grid sums are not yet reduced
-# before the logarithm: issue 18 point 3), 1% off the one-rank value: not compared here.
-GRID = ("entropy_grid", "dS_grid_ratio")
 
 
 def spam(ranks, name, args, expect=0):
@@ -62,6 +58,12 @@ def steps(out):
         return [ln.split(",")[:4] for ln in f]  # step, t, dt, rejected
 
 
+def particles(out):
+    """The bytes of every CSV snapshot (gathered by gid on rank 0, 17 significant digits)."""
+    files = sorted(f for f in os.listdir(out) if f.startswith("particles_"))
+    return {f: open(os.path.join(out, f), "rb").read() for f in files}
+
+
 def series(out):
     with open(os.path.join(out, "timeseries.csv")) as f:
         rows = [ln.rstrip("\n").split(",") for ln in f]
@@ -76,7 +78,7 @@ def series_match(ref, other):
         return False, "columns or rows differ"
     worst = 0.0
     for k, name in enumerate(head):
-        if name in TIMING or name in GRID:
+        if name in TIMING:
             continue
         col, col2 = [r[k] for r in x], [r[k] for r in y]
         if name in STEP_COLUMNS:
@@ -105,6 +107,10 @@ for scene, args in SCENES.items():
             sn = steps(out)
             c.check(sn == s1, f"{scene}, -reproducible, {ranks} ranks, migrations every {mi} list builds: "
                               f"{len(sn) - 1} steps, every t and dt identical to one rank's ({len(s1) - 1} steps)")
+            p1, pn = particles(ref), particles(out)
+            differ = [f for f in p1 if p1[f] != pn.get(f)]
+            c.check(len(p1) >= 4 and p1.keys() == pn.keys() and not differ,
+                    f"{scene}, {ranks} ranks, every {mi}: {len(pn)} particle snapshots byte for byte those of one rank (differing: {differ or 'none'})")
             ok, why = series_match(ref, out)
             c.check(ok, f"{scene}, {ranks} ranks, every {mi}: timeseries, integrator columns identical; {why} (bound 1e-12)")
     rc, _, dref = spam(1, f"{scene}_default", args)
@@ -113,6 +119,8 @@ for scene, args in SCENES.items():
         d1, d2 = steps(dref), steps(dout)
         first = next((k for k, (p, q) in enumerate(zip(d1, d2)) if p != q), None)
         c.check(first is not None, f"{scene}, control: the default mode on 2 ranks takes other step sizes (from step {first})")
+        p1, p2 = particles(dref), particles(dout)
+        c.check(any(p1[f] != p2.get(f) for f in p1 if not f.endswith("00000.csv")), f"{scene}, control: the default mode's snapshots on 2 ranks differ from one rank's")
 
 cv = SCENES["2D"] + ["-ts_type", "cvode", "-reproducible"]
 rc, _, ref = spam(1, "cvode", cv)

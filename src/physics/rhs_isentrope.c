@@ -276,7 +276,9 @@ PetscErrorCode SpamDensitySummation(SpamSim *sim, const double *y, PetscInt *bad
   PetscCall(Density(sim));
   /* The callers (the tensor path, diagnostics) read the ghosts' densities too; the pair
    * driver has gathered them, the chunked loops (other ranks' particles only) have not. */
-  if (FastPath(sim) && sim->nl.ghosts.n) PetscCall(SpamGhostsGather(&sim->nl.ghosts, sim->model.dim, (int)sim->n, 1, SPAM_GHOST_SCALAR, sim->f.rho));
+  if (SpamNeighboursCanonical(&sim->nl)) { /* on every rank (-reproducible is every rank's): a collective */
+    PetscCall(SpamGhostsGather(&sim->nl.ghosts, sim->model.dim, (int)sim->n, 1, SPAM_GHOST_SCALAR, sim->f.rho));
+  } else if (FastPath(sim) && sim->nl.ghosts.n) PetscCall(SpamGhostsGather(&sim->nl.ghosts, sim->model.dim, (int)sim->n, 1, SPAM_GHOST_SCALAR, sim->f.rho));
   PetscFunctionReturn(0);
 }
 
