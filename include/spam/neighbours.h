@@ -62,6 +62,7 @@ typedef struct {
   double     *gidbuf;            /* [kcap] gids as doubles: sent to remote ghost slots  */
   int         kcap;
   int        *cstart, *cnbr;     /* [n+1], [ccap]: the rows, slot indices               */
+  int        *ccur;              /* [n+1] build scratch: a row's next free entry        */
   size_t      ncpairs, ccap;
   int        *csort;             /* [threads * csort_row] merge-sort scratch of a build */
   int         csort_row;

@@ -101,7 +101,7 @@ PetscErrorCode SpamNeighboursDestroy(SpamNeighbours *nl)
   PetscCall(PetscFree(nl->gnbr));
   PetscCall(PetscFree2(nl->gcell_start, nl->gcell_list));
   PetscCall(SpamGhostsDestroy(&nl->ghosts));
-  PetscCall(PetscFree(nl->cstart));
+  PetscCall(PetscFree2(nl->cstart, nl->ccur));
   PetscCall(PetscFree(nl->cnbr));
   PetscCall(PetscFree(nl->csort));
   PetscCall(PetscFree2(nl->key, nl->gidbuf));

@@ -8,10 +8,8 @@
  * minimum image (periodic directions are ghost images), the same expression on every
  * rank count (the remote slots hold the owner's u plus s L, as a local image does).
  *
- * The rows are built in two passes over the cells (count, then fill and sort), each row
- * by one thread, so the list is the same for any thread count; the second pass sorts a
- * row by a bottom-up merge sort (rows hold 25-30 partners in 2D, 150 in 3D: an insertion
- * sort of a row in random order would cost ~n^2/4 moves). */
+ * A row is sorted by a bottom-up merge sort (rows hold 30-35 partners in 2D, about 90 in
+ * 3D: an insertion sort of a row in random order would cost ~n^2/4 moves). */
 #include <spam/neighbours.h>
 #include <limits.h>
 #include <string.h>
@@ -24,7 +22,7 @@ PetscErrorCode SpamNeighboursSetCanonical(SpamNeighbours *nl, const PetscInt64 *
   PetscCheck(gid || nl->n == 0, PETSC_COMM_SELF, PETSC_ERR_ARG_NULL, "canonical rows need the particles' global ids");
   nl->canonical = PETSC_TRUE;
   nl->gid       = gid;
-  PetscCall(PetscMalloc1(nl->n + 1, &nl->cstart));
+  PetscCall(PetscMalloc2(nl->n + 1, &nl->cstart, nl->n + 1, &nl->ccur));
   nl->cstart[0] = 0;
   PetscFunctionReturn(0);
 }
@@ -75,24 +73,8 @@ static PetscErrorCode SlotKeys(SpamNeighbours *nl)
   PetscFunctionReturn(0);
 }
 
-#define SCAN_CHUNK 256 /* candidates whose distances one loop computes */
-
-/* Squared separations of local i and the cell-ordered candidates k0 .. k0 + m - 1 into
- * r2[] (i itself, if among them, at infinity): contiguous reads of the positions in cell
- * order, a loop the compiler vectorises (dim is a literal at each call). */
-static inline __attribute__((always_inline)) void LocalDistances(const int dim, const SpamNeighbours *nl, int i, int k0, int m, double *r2)
-{
-  const double *u0 = nl->ucell[0] + k0, *u1 = dim > 1 ? nl->ucell[1] + k0 : u0, *u2 = dim > 2 ? nl->ucell[2] + k0 : u0;
-  const double  x = nl->u[0][i], y = dim > 1 ? nl->u[1][i] : 0.0, z = dim > 2 ? nl->u[2][i] : 0.0;
-  for (int c = 0; c < m; c++) {
-    const double dx = x - u0[c], dy = dim > 1 ? y - u1[c] : 0.0, dz = dim > 2 ? z - u2[c] : 0.0;
-    r2[c]           = dx * dx + dy * dy + dz * dz;
-  }
-  if (nl->slot[i] >= k0 && nl->slot[i] < k0 + m) r2[nl->slot[i] - k0] = INFINITY;
-}
-
-/* Squared separation of local i and ghost slot j. */
-static inline double GhostDist2(const SpamNeighbours *nl, int i, int j)
+/* Squared separation of local i and slot j (no minimum image: see the top). */
+static inline double Dist2(const SpamNeighbours *nl, int i, int j)
 {
   double r2 = 0.0;
   for (int d = 0; d < nl->dim; d++) {
@@ -102,56 +84,22 @@ static inline double GhostDist2(const SpamNeighbours *nl, int i, int j)
   return r2;
 }
 
-/* The partners of local i within the list range, in cell order (local particles of each
- * run of adjacent cells, then its ghosts), written to row[] when row is not NULL (which needs room
- * for SCAN_CHUNK entries beyond them: the writes are branchless, each candidate is
- * written and the count moves on for a hit); returns how many. */
-static inline __attribute__((always_inline)) int ScanRowDim(const int dim, const SpamNeighbours *nl, int i, int *row)
+/* The ghost slots within the list range of local i, from the ghosts binned in its
+ * adjacent cells, written to row[] when row is not NULL; returns how many. */
+static int GhostPartners(const SpamNeighbours *nl, int i, int *row)
 {
-  int       adj[27], r0[27], r1[27], nr = 0, m = 0;
-  double    r2[SCAN_CHUNK];
-  const int na = SpamNeighboursAdjacentCells(nl, &nl->lbox, nl->cell_of[i], adj);
+  int adj[27], m = 0;
 
-  /* Cells of consecutive indices are contiguous in cell_list (and in the ghosts' list):
-   * one range each (3 in 2D, 9 in 3D instead of 9 and 27 cells). */
-  for (int a = 0; a < na; a++) {
-    if (nr > 0 && adj[a] == adj[a - 1] + 1) r1[nr - 1] = adj[a] + 1;
-    else {
-      r0[nr]   = adj[a];
-      r1[nr++] = adj[a] + 1;
-    }
-  }
-  for (int a = 0; a < nr; a++) {
-    const int kend = nl->cell_start[r1[a]];
-    for (int k0 = nl->cell_start[r0[a]]; k0 < kend; k0 += SCAN_CHUNK) {
-      const int mk = PetscMin(SCAN_CHUNK, kend - k0);
-      LocalDistances(dim, nl, i, k0, mk, r2);
-      if (row)
-        for (int q = 0; q < mk; q++) {
-          row[m] = nl->cell_list[k0 + q];
-          m += r2[q] < nl->rc2;
-        }
-      else
-        for (int q = 0; q < mk; q++) m += r2[q] < nl->rc2;
-    }
-    if (!nl->ghosts.n) continue;
-    for (int q = nl->gcell_start[r0[a]]; q < nl->gcell_start[r1[a]]; q++) {
+  if (!nl->ghosts.n) return 0;
+  const int na = SpamNeighboursAdjacentCells(nl, &nl->lbox, nl->cell_of[i], adj);
+  for (int a = 0; a < na; a++)
+    for (int q = nl->gcell_start[adj[a]]; q < nl->gcell_start[adj[a] + 1]; q++) {
       const int j = nl->n + nl->gcell_list[q];
-      if (!(GhostDist2(nl, i, j) < nl->rc2)) continue;
+      if (!(Dist2(nl, i, j) < nl->rc2)) continue;
       if (row) row[m] = j;
       m++;
     }
-  }
   return m;
-}
-
-static int ScanRow(const SpamNeighbours *nl, int i, int *row)
-{
-  switch (nl->dim) {
-  case 1: return ScanRowDim(1, nl, i, row);
-  case 2: return ScanRowDim(2, nl, i, row);
-  default: return ScanRowDim(3, nl, i, row);
-  }
 }
 
 #define SORT_RUN 8 /* runs of this length are sorted by insertion first */
@@ -192,8 +140,7 @@ static void SortRow(const PetscInt64 *key, int *row, int m, int *tmp)
   if (src != row) memcpy(row, src, (size_t)m * sizeof(int));
 }
 
-/* Room for the rows (total entries) and each thread's scratch: a row as the scan writes
- * it (longest + SCAN_CHUNK) and the merge sort's second buffer, csort_row each. */
+/* Room for the rows (total entries) and each thread's merge-sort scratch (longest row). */
 static PetscErrorCode ReserveRows(SpamNeighbours *nl, size_t total, int longest)
 {
   PetscFunctionBeginUser;
@@ -204,48 +151,63 @@ static PetscErrorCode ReserveRows(SpamNeighbours *nl, size_t total, int longest)
     PetscCall(PetscMalloc1(nl->ccap, &nl->cnbr));
     nl->grows++;
   }
-  if (longest + SCAN_CHUNK > nl->csort_row) {
-    nl->csort_row = longest + longest / 4 + SCAN_CHUNK + 16;
+  if (longest > nl->csort_row) {
+    nl->csort_row = longest + longest / 4 + 16;
     PetscCall(PetscFree(nl->csort));
-    PetscCall(PetscMalloc1(2 * (size_t)nl->threads * nl->csort_row, &nl->csort));
+    PetscCall(PetscMalloc1((size_t)nl->threads * nl->csort_row, &nl->csort));
   }
   PetscFunctionReturn(0);
 }
 
+/* The rows in three parts: the local partners are the half list's pairs (found once, at
+ * the same positions with the same rc test) entered in both rows -- a scan of the cells
+ * would test every local candidate twice over, four times the half list's work in 3D --,
+ * then each row's ghost partners from the binned ghosts, then each row sorted by key. Row
+ * i's entries before sorting depend on the half list only, which is the same for any
+ * thread count; after sorting they are unique (a partner image occurs once). */
 PetscErrorCode SpamNeighboursBuildCanonical(SpamNeighbours *nl)
 {
   const int n = nl->n, T = nl->threads;
-  int       longest = 0;
+  int      *at = nl->ccur, longest = 0;
 
   PetscFunctionBeginUser;
   if (!SpamNeighboursCanonical(nl)) PetscFunctionReturn(0);
   for (int d = 0; d < nl->dim; d++) PetscCheck(!nl->lbox.periodic[d], PETSC_COMM_SELF, PETSC_ERR_ORDER, "canonical rows need every periodic direction as ghost images (direction %d is the minimum image's)", d);
   PetscCall(SlotKeys(nl));
-#pragma omp parallel for if (T > 1) num_threads(T) schedule(static) reduction(max : longest)
-  for (int i = 0; i < n; i++) {
-    nl->cstart[i + 1] = ScanRow(nl, i, NULL);
-    longest           = PetscMax(longest, nl->cstart[i + 1]);
-  }
+  /* Counts: ghost partners (at[i]), own half row, and the half rows i appears in. */
+#pragma omp parallel for if (T > 1) num_threads(T) schedule(static)
+  for (int i = 0; i < n; i++) at[i] = GhostPartners(nl, i, NULL);
+  for (int i = 0; i < n; i++) nl->cstart[i + 1] = at[i] + nl->start[i + 1] - nl->start[i];
+  for (size_t p = 0; p < nl->npairs; p++) nl->cstart[nl->nbr[p] + 1]++;
   nl->cstart[0] = 0;
   {
     size_t total = 0;
     for (int i = 0; i < n; i++) {
-      total += (size_t)nl->cstart[i + 1];
+      const int m = nl->cstart[i + 1];
+      longest     = PetscMax(longest, m);
+      total += (size_t)m;
       PetscCheck(total <= (size_t)INT_MAX, PETSC_COMM_SELF, PETSC_ERR_MEM, "the canonical rows would hold more than %d entries", INT_MAX);
       nl->cstart[i + 1] = (int)total;
     }
     PetscCall(ReserveRows(nl, total, longest));
     nl->ncpairs = total;
   }
+  /* Local partners: each half-list pair into both rows (serial: rows receive from others). */
+  for (int i = 0; i < n; i++) at[i] = nl->cstart[i];
+  for (int i = 0; i < n; i++)
+    for (int p = nl->start[i]; p < nl->start[i + 1]; p++) {
+      const int j = nl->nbr[p];
+      nl->cnbr[at[i]++] = j;
+      nl->cnbr[at[j]++] = i;
+    }
 #pragma omp parallel num_threads(T) if (T > 1)
   {
-    int *scan = nl->csort + 2 * (size_t)omp_get_thread_num() * nl->csort_row, *tmp = scan + nl->csort_row;
+    int *tmp = nl->csort + (size_t)omp_get_thread_num() * nl->csort_row;
 #pragma omp for schedule(static)
     for (int i = 0; i < n; i++) {
-      const int m = nl->cstart[i + 1] - nl->cstart[i];
-      (void)ScanRow(nl, i, scan);
-      SortRow(nl->key, scan, m, tmp);
-      memcpy(nl->cnbr + nl->cstart[i], scan, (size_t)m * sizeof(int));
+      int *row = nl->cnbr + nl->cstart[i];
+      (void)GhostPartners(nl, i, nl->cnbr + at[i]);
+      SortRow(nl->key, row, nl->cstart[i + 1] - nl->cstart[i], tmp);
     }
   }
   PetscFunctionReturn(0);
