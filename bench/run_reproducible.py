@@ -11,9 +11,10 @@ the sorted full rows). Printed: medians over --repeats pairs of runs and the rat
 reproducible / default of each, measured in the same invocation.
 
 What the ratio holds: the default mode visits each pair once (a half list, vectorised
-chunked loops for Lucy's kernel) and the reproducible mode twice (each row its own sum,
-the pair driver's scalar loop, periodic images as ghost slots); its list build adds a
-scan of the full rows and a sort of each.
+chunked loops for Lucy's kernel) and the reproducible mode twice (each row its own sum in
+vectorised chunks summed in row order, periodic images as ghost slots); its list build
+adds the full rows (the half list's pairs entered in both rows, the ghost partners) and a
+sort of each row by partner id.
 
 Usage (spam-ark built in build/):
     /usr/bin/python3 bench/run_reproducible.py [--steps 20] [--repeats 5] [--dims 2,3]

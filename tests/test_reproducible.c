@@ -118,9 +118,9 @@ static PetscErrorCode MakeSim(MPI_Comm comm, const Case *c, PetscBool reproducib
   PetscFunctionReturn(0);
 }
 
-/* The list made anew with the other ranks' particles as remote ghosts (halo.h), as the
- * sim's set-up makes it otherwise. (The program's multi-rank wiring sets the halo in the
- * sim itself; until then the test does it here.) */
+/* The list made anew with the other ranks' particles as remote ghosts (halo.h). The
+ * program's set-up attaches its decomposition to the sim (sim->dec), which sets the halo;
+ * this test distributes with a decomposition of its own, so it sets the halo here. */
 static PetscErrorCode UseHalo(SpamSim *sim)
 {
   const PetscBool all[3] = {PETSC_TRUE, PETSC_TRUE, PETSC_TRUE};
