@@ -2,7 +2,7 @@
 """Cost of -reproducible against the default mode, on one rank and one thread.
 
 The same run twice in alternation, -reproducible and not: the expansion scene (2D: 128^2
-particles at h = 3; 3D: 24^3 at h = 2.5; gamma = 1 + 2/D, so the density pass runs), Dormand-
+particles at h = 3, gamma 1.7; 3D: 24^3 at h = 2.5, gamma 5/3: the density pass runs), Dormand-
 Prince at a fixed step for --steps steps (the same RHS evaluations in both modes),
 snapshots and entropy off. From each run's -log_view: the time in the RHS (SpamRHS, list
 builds included) per evaluation, and its parts -- the density pass (SpamDensity), the force
