@@ -224,7 +224,7 @@ static PetscErrorCode Consistent(Ctx *t, const Scene *s, const SpamSim *sim, con
     wrong_mass += sim->f.m[i] != MassOf(g) || sim->f.minv[i] != 1.0 / MassOf(g);
     misplaced += SpamDecompOwner(dec, SpamDecompKey(dec, p + l->x)) != t->rank;
     SpamCellOf(&dec->grid, &sim->box, p + l->x, c);
-    key = SpamCellOrderKey(&dec->grid, c);
+    key = SpamCellHilbertKey(&dec->grid, c);
     if (i > 0) unsorted += key < prev || (key == prev && g <= sim->gid[i - 1]);
     prev = key;
     if (i > 0) at_row += sim->gid[SpamSimAtRow(sim, i)] <= sim->gid[SpamSimAtRow(sim, i - 1)];

@@ -124,6 +124,7 @@ static PetscErrorCode MakeSim(MPI_Comm comm, const Case *c, PetscBool reproducib
 static PetscErrorCode UseHalo(SpamSim *sim)
 {
   const PetscBool all[3] = {PETSC_TRUE, PETSC_TRUE, PETSC_TRUE};
+  const long      builds = sim->nl.builds;
 
   PetscFunctionBeginUser;
   PetscCall(SpamNeighboursDestroy(&sim->nl));
@@ -133,6 +134,7 @@ static PetscErrorCode UseHalo(SpamSim *sim)
   PetscCall(SpamNeighboursSetComm(&sim->nl, sim->comm));
   PetscCall(SpamNeighboursSetThreads(&sim->nl, sim->threads));
   PetscCall(SpamSimBuildList(sim));
+  sim->nl.builds = builds + 1; /* the count goes on: what is kept per build (ghost masses) is made again */
   PetscFunctionReturn(0);
 }
 

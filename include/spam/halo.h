@@ -2,9 +2,10 @@
  * range of this rank's particles, as remote ghost slots, exchanged through one PetscSF
  * (roots: the ghost slots on the receiver; leaves: the (particle, image shift) items on the
  * sender, one leaf per root). Chosen at every list build, which is collective: each rank
- * all-gathers the bounding box of its particles' box-local positions, and sends particle i
- * with shift s (s in {-1,0,1} along the directions whose periodicity is made by ghost
- * images, 0 along the others) to rank r when dist(u_i + s L, box_r) < rc; along a periodic
+ * all-gathers the bounding box of its particles' box-local positions (and of
+ * SPAM_HALO_PARTS parts of them), and sends particle i with shift s (s in {-1,0,1} along
+ * the directions whose periodicity is made by ghost images, 0 along the others) to rank r
+ * when dist(u_i + s L, box_r) < rc and the same holds for one of r's parts; along a periodic
  * direction kept by the minimum image the distance is the periodic one and s = 0. Items in
  * (rank, particle, shift) order; a receiver lays its ghost slots out by sender rank, then
  * in the sender's item order. A rank sends itself nothing: its own periodic and mirror
@@ -19,6 +20,11 @@
 #define SPAM_HALO_H
 #include <petscsf.h>
 #include <spam/box.h>
+
+/* Parts of a rank's particles (consecutive in its local order, which after a migration
+ * follows the cells: rows in 2D, a Morton curve in 3D) whose bounding boxes refine the
+ * rank's one box in the choice of what to send it (halo.c says why). */
+#define SPAM_HALO_PARTS 32
 
 /* The widest value a forward exchange carries: a 3 x 3 tensor. */
 #define SPAM_HALO_MAX_COMP 9
@@ -42,6 +48,8 @@ typedef struct {
   double       *recvbuf;     /* [gcap * 4] positions (or build data) as they arrive        */
   /* Per rank (size): bounding boxes, counts and block offsets of a build. */
   double       *boxes;       /* [size * 6] lo[3], hi[3] of every rank's particles         */
+  double       *parts;       /* [size * SPAM_HALO_PARTS * 6] the boxes of the parts of    */
+                             /* every rank's particles in local order (see halo.c)      */
   PetscMPIInt  *scount, *rcount, *roff, *soff;
   MPI_Datatype  unit[SPAM_HALO_MAX_COMP + 1]; /* unit[c]: c contiguous doubles            */
   long          builds;      /* statistics                                               */

@@ -72,6 +72,7 @@ typedef struct SpamSim {
   /* On more than one rank (sim_distribute.c): the decomposition the particles migrate by,
    * and with it the halo of the neighbour list; NULL on one rank. */
   struct SpamDecomp *dec;
+  long           ghost_mass_build; /* the list build whose ghost slots hold their masses */
   long           migrations_run; /* migrations between steps, after the first distribution */
   PetscInt64     migrated;       /* particles they moved between ranks                   */
 } SpamSim;
@@ -118,6 +119,11 @@ PetscErrorCode SpamSimDestroy(SpamSim *sim);
  * cells and sent to their owners; the neighbour list then takes other ranks' particles as
  * remote ghosts (halo.h). The bodies' count is shared. Nothing on one rank. */
 PetscErrorCode SpamSimDistribute(SpamSim *sim);
+/* The masses (and inverse masses, and the gas's P/rho^2 when gamma = 2 makes it the same
+ * for every particle) of the ghost slots: gathered once after each list build, since a
+ * particle's mass never changes and the slots change only at builds. Collective on more
+ * than one rank (the build count is the same on every rank). */
+PetscErrorCode SpamSimGhostMasses(SpamSim *sim);
 /* Whether the run is on more than one rank. */
 static inline PetscBool SpamSimDistributed(const SpamSim *sim)
 {

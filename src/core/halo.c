@@ -15,6 +15,7 @@ PetscErrorCode SpamHaloSetComm(SpamHalo *h, MPI_Comm comm)
   h->size   = size;
   PetscCallMPI(MPI_Comm_rank(comm, &h->rank));
   PetscCall(PetscMalloc5(6 * (size_t)size, &h->boxes, size, &h->scount, size, &h->rcount, size, &h->roff, size, &h->soff));
+  PetscCall(PetscMalloc1(6 * (size_t)size * SPAM_HALO_PARTS, &h->parts));
   h->unit[0] = MPI_DATATYPE_NULL;
   h->unit[1] = MPI_DOUBLE;
   for (int c = 2; c <= SPAM_HALO_MAX_COMP; c++) {
@@ -31,6 +32,7 @@ PetscErrorCode SpamHaloDestroy(SpamHalo *h)
   PetscCall(PetscSFDestroy(&h->sf));
   for (int c = 2; c <= SPAM_HALO_MAX_COMP; c++) PetscCallMPI(MPI_Type_free(&h->unit[c]));
   PetscCall(PetscFree5(h->boxes, h->scount, h->rcount, h->roff, h->soff));
+  PetscCall(PetscFree(h->parts));
   PetscCall(PetscFree(h->item_src));
   PetscCall(PetscFree(h->item_shift));
   PetscCall(PetscFree(h->sendbuf));
@@ -62,24 +64,40 @@ static PetscErrorCode GrowGhosts(SpamHalo *h, int need)
   PetscFunctionReturn(0);
 }
 
-/* This rank's bounding box of box-local positions, all-gathered. An empty rank sends an
- * empty box (lo = +inf, hi = -inf): every distance to it is infinite. Unused directions
- * are [0, 0]. */
+/* The bounding box of particles [i0, i1) into lo[0..2], hi[0..2]: empty (lo = +inf,
+ * hi = -inf, so that every distance to it is infinite) when there are none; unused
+ * directions are [0, 0]. */
+static void BoxOf(int dim, int i0, int i1, double *const u[3], double *lo, double *hi)
+{
+  for (int d = 0; d < 3; d++) {
+    lo[d] = d < dim ? INFINITY : 0.0;
+    hi[d] = d < dim ? -INFINITY : 0.0;
+  }
+  for (int d = 0; d < dim; d++)
+    for (int i = i0; i < i1; i++) {
+      lo[d] = PetscMin(lo[d], u[d][i]);
+      hi[d] = PetscMax(hi[d], u[d][i]);
+    }
+}
+
+/* This rank's bounding box of box-local positions, and those of its SPAM_HALO_PARTS parts,
+ * all-gathered. One box is loose: a piece of a Hilbert curve cut on a grid whose edge is
+ * no power of two is no box, and its bounding box can take in most of another rank's
+ * particles (bench/README.md: on 2 ranks each rank received the whole other rank). The
+ * parts follow the local order, which a migration sorts by cell, so their boxes hug the
+ * piece; the one box stays the first, cheap test. */
 static PetscErrorCode GatherBoxes(SpamHalo *h, int dim, int n, double *const u[3])
 {
-  double mine[6] = {0, 0, 0, 0, 0, 0};
+  double mine[6], parts[6 * SPAM_HALO_PARTS];
 
   PetscFunctionBeginUser;
-  for (int d = 0; d < dim; d++) {
-    double lo = INFINITY, hi = -INFINITY;
-    for (int i = 0; i < n; i++) {
-      lo = PetscMin(lo, u[d][i]);
-      hi = PetscMax(hi, u[d][i]);
-    }
-    mine[d]     = lo;
-    mine[3 + d] = hi;
+  BoxOf(dim, 0, n, u, mine, mine + 3);
+  for (int k = 0; k < SPAM_HALO_PARTS; k++) {
+    const int i0 = (int)((long)n * k / SPAM_HALO_PARTS), i1 = (int)((long)n * (k + 1) / SPAM_HALO_PARTS);
+    BoxOf(dim, i0, i1, u, parts + 6 * k, parts + 6 * k + 3);
   }
   PetscCallMPI(MPI_Allgather(mine, 6, MPI_DOUBLE, h->boxes, 6, MPI_DOUBLE, h->comm));
+  PetscCallMPI(MPI_Allgather(parts, 6 * SPAM_HALO_PARTS, MPI_DOUBLE, h->parts, 6 * SPAM_HALO_PARTS, MPI_DOUBLE, h->comm));
   PetscFunctionReturn(0);
 }
 
@@ -110,23 +128,44 @@ static void Gaps(const SpamBox *box, const PetscBool gper[3], const double *lo, 
   }
 }
 
+/* Squared distance of the image shift sh of a point at x to the box [lo, hi]. */
+static double ShiftDistance(const SpamBox *box, const PetscBool gper[3], const double *lo, const double *hi, const double x[3], const int sh[3])
+{
+  double r2 = 0.0;
+
+  for (int d = 0; d < box->dim; d++) {
+    double g[3];
+    Gaps(box, gper, lo, hi, d, x[d], g);
+    r2 += g[sh[d] + 1] * g[sh[d] + 1];
+  }
+  return r2;
+}
+
 /* Appends particle i's items for rank r: every image shift whose distance to r's box is
- * below rc, in (z, y, x) shift order. */
+ * below rc and to one of r's parts too, in (z, y, x) shift order. The parts are tested
+ * only for the shifts that pass the box (almost always one, or none). */
 static void AppendItems(SpamHalo *h, const SpamBox *box, const PetscBool gper[3], int r, int i, double *const u[3], double rc2)
 {
+  const double  x[3] = {u[0][i], box->dim > 1 ? u[1][i] : 0.0, box->dim > 2 ? u[2][i] : 0.0};
   const double *lo = h->boxes + 6 * (size_t)r, *hi = lo + 3;
   double        gap[3][3];
 
-  for (int d = 0; d < 3; d++) Gaps(box, gper, lo, hi, d, d < box->dim ? u[d][i] : 0.0, gap[d]);
+  for (int d = 0; d < 3; d++) Gaps(box, gper, lo, hi, d, x[d], gap[d]);
   for (int c = 0; c < 3; c++)
     for (int b = 0; b < 3; b++)
       for (int a = 0; a < 3; a++) {
-        const double r2 = gap[0][a] * gap[0][a] + gap[1][b] * gap[1][b] + gap[2][c] * gap[2][c];
-        if (!(r2 < rc2)) continue;
+        const int sh[3] = {a - 1, b - 1, c - 1};
+        PetscBool near  = PETSC_FALSE;
+        if (!(gap[0][a] * gap[0][a] + gap[1][b] * gap[1][b] + gap[2][c] * gap[2][c] < rc2)) continue;
+        for (int k = 0; k < SPAM_HALO_PARTS && !near; k++) {
+          const double *plo = h->parts + 6 * ((size_t)r * SPAM_HALO_PARTS + k);
+          near = (PetscBool)(ShiftDistance(box, gper, plo, plo + 3, x, sh) < rc2);
+        }
+        if (!near) continue;
         h->item_src[h->nitems]      = i;
-        h->item_shift[h->nitems][0] = (signed char)(a - 1);
-        h->item_shift[h->nitems][1] = (signed char)(b - 1);
-        h->item_shift[h->nitems][2] = (signed char)(c - 1);
+        h->item_shift[h->nitems][0] = (signed char)sh[0];
+        h->item_shift[h->nitems][1] = (signed char)sh[1];
+        h->item_shift[h->nitems][2] = (signed char)sh[2];
         h->nitems++;
         h->scount[r]++;
       }

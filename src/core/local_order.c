@@ -1,5 +1,7 @@
-/* The local order after a migration: by the cell of the set-up sort (cell_keys.c), then
- * by gid. A migration appends what arrives, so without this the order would depend on
+/* The local order after a migration: by the cell's place on the Hilbert curve of the cut
+ * (cell_keys.c), then by gid. (Not the set-up sort's rows or Morton curve: a piece of the
+ * local order along the Hilbert curve has no jumps, so the boxes of its parts, which
+ * decide the halo (halo.c), hug the rank's particles.) A migration appends what arrives, so without this the order would depend on
  * the history of migrations; with it, it depends only on which particles a rank holds and
  * where they are, and particles near in space stay near in memory (what the set-up sort
  * is for). The same pass drops the particles that were sent away (their DMSwarm_rank is
@@ -29,7 +31,7 @@ static uint64_t OrderKeyOf(const SpamCellGrid *g, const SpamBox *box, const doub
 {
   int c[3];
   SpamCellOf(g, box, x, c);
-  return SpamCellOrderKey(g, c);
+  return SpamCellHilbertKey(g, c);
 }
 
 PetscBool SpamSimIsSortedLocal(const SpamSim *sim, const SpamCellGrid *grid, const double *y)

@@ -164,7 +164,8 @@ static PetscErrorCode ApplyParticles(SpamSim *sim, const SpamCkFile *c)
   PetscCall(PetscArraycpy(y, state, n * sim->model.layout.nvar));
   PetscCall(VecRestoreArrayWrite(sim->X, &y));
   PetscCall(SpamNeighboursRestore(&sim->nl, &sim->box, xref));
-  sim->nl.builds = builds;
+  sim->nl.builds        = builds;
+  sim->ghost_mass_build = -1; /* the slots were laid out anew: their masses with them */
   PetscCall(SpamFieldsReserve(&sim->f, SpamNeighboursSlots(&sim->nl)));
   PetscCall(PetscArraycpy(sim->f.acc, acc, n * dim));
   sim->stats.rhs_evals   = (long)stats[0];

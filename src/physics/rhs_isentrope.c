@@ -204,13 +204,12 @@ static PetscBool FastPath(const SpamSim *sim)
 }
 
 /* Room for the ghost slots of the current list in the fields (grows only when a list
- * build found more ghosts than ever before). */
+ * build found more ghosts than ever before), and their masses after a build. */
 static PetscErrorCode ReserveSlots(SpamSim *sim)
 {
   PetscFunctionBeginUser;
   PetscCall(SpamFieldsReserve(&sim->f, SpamNeighboursSlots(&sim->nl)));
-  PetscCall(SpamGhostsGather(&sim->nl.ghosts, sim->model.dim, (int)sim->n, 1, SPAM_GHOST_SCALAR, sim->f.m));
-  PetscCall(SpamGhostsGather(&sim->nl.ghosts, sim->model.dim, (int)sim->n, 1, SPAM_GHOST_SCALAR, sim->f.minv));
+  PetscCall(SpamSimGhostMasses(sim));
   PetscFunctionReturn(0);
 }
 
@@ -290,11 +289,11 @@ PetscErrorCode SpamAccelIsentrope(SpamSim *sim, const double *x, int stride, Pet
   PetscCall(SpamNeighboursUpdate(&sim->nl, &sim->box, x, stride, PETSC_FALSE, bad));
   if (*bad >= 0) PetscFunctionReturn(0);
   PetscCall(ReserveSlots(sim));
-  if (!m->density_free) {
+  if (!m->density_free) { /* gamma = 2: P/rho^2 is the same constant everywhere, ghosts included (ReserveSlots) */
     PetscCall(Density(sim));
     for (PetscInt i = 0; i < sim->n; i++) sim->f.q[i] = SpamEosPOverRho2(&m->eos, sim->f.rho[i]);
+    PetscCall(SpamGhostsGather(&sim->nl.ghosts, m->dim, (int)sim->n, 1, SPAM_GHOST_SCALAR, sim->f.q));
   }
-  PetscCall(SpamGhostsGather(&sim->nl.ghosts, m->dim, (int)sim->n, 1, SPAM_GHOST_SCALAR, sim->f.q));
   PetscCall(Force(sim));
   if (m->gravity_on)
     for (PetscInt i = 0; i < sim->n; i++)

@@ -145,8 +145,7 @@ static PetscErrorCode FillFields(SpamSim *sim, const double *y, PetscInt *bad)
     f->e[i] = yi[l->e];
     f->T[i] = (p->gamma - 1.0) * yi[l->e];
   }
-  PetscCall(SpamGhostsGather(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->m));
-  PetscCall(SpamGhostsGather(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->minv));
+  PetscCall(SpamSimGhostMasses(sim));
   PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_VELOCITY, f->v));
   PetscCall(SpamGhostsGather(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->e));
   PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_TEMPERATURE, f->T));

@@ -30,6 +30,7 @@ PetscErrorCode SpamSimCreate(MPI_Comm comm, const SpamModel *model, const SpamBo
   sim->n     = n;
   sim->skin  = skin;
   sim->threads = 1;
+  sim->ghost_mass_build = -1;
   PetscCall(DMCreate(comm, &sim->swarm));
   PetscCall(DMSetType(sim->swarm, DMSWARM));
   PetscCall(DMSetDimension(sim->swarm, model->dim));
@@ -223,8 +224,24 @@ PetscErrorCode SpamSimResize(SpamSim *sim)
   PetscCall(SpamNeighboursDestroy(&sim->nl));
   PetscCall(CreateScratch(sim));
   sim->nl.builds   = builds;
+  sim->ghost_mass_build = -1;
   sim->nl.grows    = grows;
   sim->nl.ev_build = ev;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamSimGhostMasses(SpamSim *sim)
+{
+  const SpamGhosts *g = &sim->nl.ghosts;
+  const int         dim = sim->model.dim, n = (int)sim->n;
+
+  PetscFunctionBeginUser;
+  if (sim->ghost_mass_build == sim->nl.builds) PetscFunctionReturn(0);
+  PetscCall(SpamFieldsReserve(&sim->f, SpamNeighboursSlots(&sim->nl)));
+  PetscCall(SpamGhostsGather(g, dim, n, 1, SPAM_GHOST_SCALAR, sim->f.m));
+  PetscCall(SpamGhostsGather(g, dim, n, 1, SPAM_GHOST_SCALAR, sim->f.minv));
+  if (!sim->model.tensor && sim->model.density_free) PetscCall(SpamGhostsGather(g, dim, n, 1, SPAM_GHOST_SCALAR, sim->f.q));
+  sim->ghost_mass_build = sim->nl.builds;
   PetscFunctionReturn(0);
 }
 
