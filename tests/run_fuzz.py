@@ -318,6 +318,8 @@ for flag in ("-expansion_perturb_velocities", "-arkode_classic_weights", "-snaps
 # (the expansion context runs arkode, for which -sundials_stats is relevant).
 for flag in ("-output_stop", "-sundials_stats"):
     OPTION_TABLE[flag] = ("E", BOOL)
+# Issue 18 point 5: canonical pair sums for the isentropic gas (the expansion context's model).
+OPTION_TABLE["-reproducible"] = ("E", BOOL)
 
 
 def help_options():

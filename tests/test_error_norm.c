@@ -45,7 +45,7 @@ int main(int argc, char **argv)
   for (int i = 0; i < L; i++) wa[i] = pow(10.0, 3.0 * TestUniform(&seed));
   PetscCall(Fill(w, wa));
 
-  PetscCall(SpamErrorNormAttach(x, SPAM_ERROR_NORM_RMS));
+  PetscCall(SpamErrorNormAttach(x, SPAM_ERROR_NORM_RMS, PETSC_FALSE));
   TestCheck(&c, x->ops->nvwrmsnorm == N_VWrmsNorm_Petsc, "-error_norm rms keeps SUNDIALS' own WRMS norm");
 
   /* One component: e at i = 1234, in units of its weight. */
@@ -53,7 +53,7 @@ int main(int argc, char **argv)
   xa[1234] = -2.5 / wa[1234];
   PetscCall(Fill(x, xa));
   rms = N_VWrmsNorm(x, w);
-  PetscCall(SpamErrorNormAttach(x, SPAM_ERROR_NORM_MAX));
+  PetscCall(SpamErrorNormAttach(x, SPAM_ERROR_NORM_MAX, PETSC_FALSE));
   max = N_VWrmsNorm(x, w);
   TestCheck(&c, Close(max, 2.5) && Close(rms * sqrt((double)L), max), "error at one component: max %.17g = 2.5, rms sqrt(L) %.17g = max (the rms norm sees it sqrt(%d) times smaller)", max, rms * sqrt((double)L), L);
 

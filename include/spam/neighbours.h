@@ -1,5 +1,5 @@
 /* Neighbour search: cell binning plus a half Verlet list (each pair once) with a
- * skin. The list is kept while no particle has moved more than half the skin since the
+ * skin, and under -reproducible also full rows sorted by partner id (canonical rows). The list is kept while no particle has moved more than half the skin since the
  * last build, so it serves many RK stages and steps. Positions are read from a strided
  * array (the packed state) and copied, wrapped into the box, into SoA scratch arrays so
  * that the pair loops stream through memory. */
@@ -49,6 +49,23 @@ typedef struct {
   SpamPairBuffer *tbuf;          /* [threads] each thread's rows of a threaded build */
   int     bad_rank;              /* lowest rank holding a non-finite position at the */
                                  /* last update, -1 if none (halo.h: all ranks agree) */
+  /* Canonical full rows (-reproducible; neighbours_canonical.c): every local particle's
+   * partners within the list range, local and ghost slots alike (periodic images and
+   * other ranks' particles), each row sorted by the partner's (gid, image) key, so that a
+   * sum over a row in row order has the same bits whichever rank or thread holds the
+   * partners. Built at every list build after the half list and the ghost rows, which
+   * stay as they are for the passes that use them (entropy, bodies). */
+  PetscBool   canonical;         /* the rows are made (SpamNeighboursSetCanonical)       */
+  const PetscInt64 *gid;         /* [n] global ids of the local particles (the caller's */
+                                 /* array, read at every build)                          */
+  PetscInt64 *key;               /* [kcap] key of every slot: gid * 27 + image code      */
+  double     *gidbuf;            /* [kcap] gids as doubles: sent to remote ghost slots  */
+  int         kcap;
+  int        *cstart, *cnbr;     /* [n+1], [ccap]: the rows, slot indices               */
+  int        *ccur;              /* [n+1] build scratch: a row's next free entry        */
+  size_t      ncpairs, ccap;
+  int        *csort;             /* [threads * csort_row] merge-sort scratch of a build */
+  int         csort_row;
   long    builds, grows;         /* statistics                                       */
   PetscLogEvent ev_build;        /* -log_view event of a list build (0: none)         */
 } SpamNeighbours;
@@ -90,6 +107,24 @@ PetscErrorCode SpamNeighboursSetWalls(SpamNeighbours *nl, const SpamWalls *walls
  * Both collective when a halo is set (SpamNeighboursSetComm). */
 PetscErrorCode SpamNeighboursBuildGhosts(SpamNeighbours *nl, const SpamBox *box);
 PetscErrorCode SpamNeighboursMoveGhosts(SpamNeighbours *nl);
+/* Canonical full rows for -reproducible (before the first build; periodic directions
+ * must all be ghost images, SpamNeighboursSetPeriodicGhosts, and no mirror walls): gid[i]
+ * is local particle i's global id, read at every build, so the array must live as long
+ * as the list (the sim's gid field: a migration re-makes the list). */
+PetscErrorCode SpamNeighboursSetCanonical(SpamNeighbours *nl, const PetscInt64 *gid);
+static inline PetscBool SpamNeighboursCanonical(const SpamNeighbours *nl)
+{
+  return nl->canonical;
+}
+/* After the ghosts of a build: the slots' keys and the sorted full rows (collective when
+ * a halo is set: the remote slots' gids arrive through it). Nothing without SetCanonical. */
+PetscErrorCode SpamNeighboursBuildCanonical(SpamNeighbours *nl);
+/* The image code of shifts s_d in {-1, 0, 1}: (s0 + 1) + 3 (s1 + 1) + 9 (s2 + 1); 13 is
+ * the particle itself. */
+static inline int SpamImageCode(int s0, int s1, int s2)
+{
+  return (s0 + 1) + 3 * (s1 + 1) + 9 * (s2 + 1);
+}
 /* Local plus ghost slots (remote ones included): the length every per-particle array of
  * a pass needs. */
 static inline int SpamNeighboursSlots(const SpamNeighbours *nl)

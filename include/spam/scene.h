@@ -71,6 +71,7 @@ typedef struct {
   PetscBool gravity_given; /* -gravity was given (else a scene may set its own default) */
   SpamWalls walls;       /* -wall_* (walls.h)                                         */
   PetscBool periodic_ghosts; /* -periodic_images ghost                               */
+  PetscBool reproducible;    /* -reproducible (the isentropic gas only)               */
 } SpamCommonParams;
 
 typedef struct {

@@ -17,6 +17,11 @@
  * their particle through a migration (migrate.c): the mass and the body label. */
 #define SPAM_MASS_FIELD "spam_mass"
 #define SPAM_BODY_FIELD "spam_body"
+/* The neighbour list's reference position of the particle (dim reals): a migration carries
+ * it and rebuilds the list there, as the list was built, so that the list's geometry and
+ * the times of its rebuilds do not depend on migrations (-reproducible needs this: a
+ * rebuild at another time can wrap a particle that crossed a periodic face otherwise). */
+#define SPAM_XREF_FIELD "spam_xref"
 
 typedef struct {
   long   rhs_evals;
@@ -54,6 +59,8 @@ typedef struct SpamSim {
   int            threads;  /* OpenMP threads of the pair passes (-threads; 1: none)   */
   double        *tacc, *trho; /* per-thread sums of threads 1..T-1 (NULL for T = 1)  */
   PetscBool      periodic_ghosts; /* periodic images as ghost slots (-periodic_images) */
+  PetscBool      reproducible;    /* -reproducible: canonical pair sums (the list's      */
+                                  /* canonical rows) and a partition-independent norm  */
   SpamWalls      walls;           /* mirror walls of the box faces (walls.h)           */
   SpamWallRates  wall_rates;      /* what the walls gave the fluid at the last RHS     */
   SpamRhsStats   stats;
@@ -141,6 +148,10 @@ PetscErrorCode SpamGravityEnergy(SpamSim *sim, const double *y, double *pot);
  * unequal masses, ghost slots; pass_pressure.c). */
 PetscErrorCode SpamPressureDensityWalk(SpamSim *sim);
 void SpamPressureForceWalk(SpamSim *sim);
+/* -reproducible: the isentropic gas's density and force passes over the canonical rows
+ * (pass_canonical.c): each particle's own sums in its row's order, no Newton update. */
+void SpamCanonicalDensity(SpamSim *sim);
+void SpamCanonicalForce(SpamSim *sim);
 /* Summation density of state y into sim->f.rho (diagnostics, or the density pass). */
 PetscErrorCode SpamDensitySummation(SpamSim *sim, const double *y, PetscInt *bad);
 /* Particles beyond a mirror wall after a step reflected back into the box (wall_reflect.c):

@@ -49,7 +49,7 @@ PetscBool SpamSimIsSortedLocal(const SpamSim *sim, const SpamCellGrid *grid, con
 
 /* Every field that belongs to a particle; PETSc's DMSwarm_pid (unused) and DMSwarm_rank
  * (set before each migration) need no order. */
-static const char *const particle_fields[] = {SPAM_STATE_FIELD, SPAM_GID_FIELD, SPAM_MASS_FIELD, SPAM_BODY_FIELD};
+static const char *const particle_fields[] = {SPAM_STATE_FIELD, SPAM_GID_FIELD, SPAM_MASS_FIELD, SPAM_BODY_FIELD, SPAM_XREF_FIELD};
 
 /* a[i] = old a[order[i].i] for i < keep, for the field's whole block of bytes; tmp holds
  * n blocks. */

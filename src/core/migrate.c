@@ -89,13 +89,17 @@ static PetscErrorCode Destinations(const SpamDecomp *dec, PetscInt n, const uint
  * closed, so that the swarm may resize. */
 static PetscErrorCode Detach(SpamSim *sim, const PetscInt *dest)
 {
-  PetscReal *m;
+  PetscReal *m, *xref;
   PetscInt  *body, *rank;
 
   PetscFunctionBeginUser;
   PetscCall(DMSwarmGetField(sim->swarm, SPAM_MASS_FIELD, NULL, NULL, (void **)&m));
   PetscCall(PetscArraycpy(m, sim->f.m, sim->n));
   PetscCall(DMSwarmRestoreField(sim->swarm, SPAM_MASS_FIELD, NULL, NULL, (void **)&m));
+  PetscCall(DMSwarmGetField(sim->swarm, SPAM_XREF_FIELD, NULL, NULL, (void **)&xref));
+  for (PetscInt i = 0; i < sim->n; i++)
+    for (int d = 0; d < sim->model.dim; d++) xref[(size_t)i * sim->model.dim + d] = sim->nl.builds ? sim->nl.xref[d][i] : 0.0;
+  PetscCall(DMSwarmRestoreField(sim->swarm, SPAM_XREF_FIELD, NULL, NULL, (void **)&xref));
   if (sim->ps) {
     PetscCall(DMSwarmGetField(sim->swarm, SPAM_BODY_FIELD, NULL, NULL, (void **)&body));
     for (PetscInt i = 0; i < sim->n; i++) body[i] = sim->ps->body[i];
@@ -138,6 +142,24 @@ static PetscErrorCode AllSorted(const SpamSim *sim, const SpamDecomp *dec, Petsc
   PetscFunctionReturn(0);
 }
 
+/* The list of the migrated particles, built at the reference positions they carried (the
+ * positions of the last build, as if no migration had happened: same shifts, same rebuild
+ * times); at the current positions when no list was built yet (collective). */
+static PetscErrorCode RebuildList(SpamSim *sim)
+{
+  PetscReal *xref;
+
+  PetscFunctionBeginUser;
+  if (!sim->nl.builds) {
+    PetscCall(SpamSimBuildList(sim));
+    PetscFunctionReturn(0);
+  }
+  PetscCall(DMSwarmGetField(sim->swarm, SPAM_XREF_FIELD, NULL, NULL, (void **)&xref));
+  PetscCall(SpamNeighboursRestore(&sim->nl, &sim->box, xref));
+  PetscCall(DMSwarmRestoreField(sim->swarm, SPAM_XREF_FIELD, NULL, NULL, (void **)&xref));
+  PetscFunctionReturn(0);
+}
+
 /* Sends the particles by dest, sorts and re-makes X and the scratch (collective). */
 static PetscErrorCode Move(SpamSim *sim, const SpamDecomp *dec, const PetscInt *dest, PetscInt64 moved)
 {
@@ -148,7 +170,7 @@ static PetscErrorCode Move(SpamSim *sim, const SpamDecomp *dec, const PetscInt *
   PetscCall(Agree(sim->comm, Reorder(sim, dec), "the local sort after a migration"));
   PetscCall(DMSwarmCreateGlobalVectorFromField(sim->swarm, SPAM_STATE_FIELD, &sim->X));
   PetscCall(Agree(sim->comm, SpamSimResize(sim), "re-making the scratch after a migration"));
-  PetscCall(SpamSimBuildList(sim));
+  PetscCall(RebuildList(sim));
   PetscFunctionReturn(0);
 }
 

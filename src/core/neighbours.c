@@ -101,6 +101,10 @@ PetscErrorCode SpamNeighboursDestroy(SpamNeighbours *nl)
   PetscCall(PetscFree(nl->gnbr));
   PetscCall(PetscFree2(nl->gcell_start, nl->gcell_list));
   PetscCall(SpamGhostsDestroy(&nl->ghosts));
+  PetscCall(PetscFree2(nl->cstart, nl->ccur));
+  PetscCall(PetscFree(nl->cnbr));
+  PetscCall(PetscFree(nl->csort));
+  PetscCall(PetscFree2(nl->key, nl->gidbuf));
   for (int d = 0; d < 3; d++) PetscCall(PetscFree(nl->ucell[d]));
   for (int d = 0; d < 3; d++) {
     PetscCall(PetscFree(nl->u[d]));
@@ -480,6 +484,7 @@ static PetscErrorCode BuildList(SpamNeighbours *nl, const SpamBox *box)
   if (nl->threads > 1) PetscCall(BuildRowsThreaded(nl, lbox, &im));
   else PetscCall(BuildRows(nl, lbox, &im));
   PetscCall(SpamNeighboursBuildGhosts(nl, box));
+  PetscCall(SpamNeighboursBuildCanonical(nl)); /* -reproducible: the sorted full rows */
   nl->builds++;
   if (nl->ev_build) PetscCall(PetscLogEventEnd(nl->ev_build, 0, 0, 0, 0));
   PetscFunctionReturn(0);

@@ -1,11 +1,15 @@
 /* -error_norm: the norm of the weighted error estimate, the same for every adaptive
  * method. ARKODE and CVODE compute it as N_VWrmsNorm(error, weights), so the max norm is
- * that vector operation replaced; PETSc's adaptor has it as its weighted norm type. */
+ * that vector operation replaced; PETSc's adaptor has it as its weighted norm type.
+ * Under -reproducible the rms norm is replaced too, by one whose bits do not depend on
+ * how the vector is split over ranks (SUNDIALS' sums each rank's part, then adds the
+ * partial sums: another split, other roundings, other step sizes). */
 #include <petsc/private/tsimpl.h>
 #include <spam/error_norm.h>
 #include <spam/errors.h>
 #include <spam/integrator.h>
 #include <nvector/nvector_petsc.h>
+#include <stdint.h>
 
 const char *const SpamErrorNormNames[] = {"rms", "max"};
 
@@ -42,11 +46,66 @@ realtype SpamNVWeightedMaxNorm_Petsc(N_Vector x, N_Vector w)
   return global;
 }
 
-PetscErrorCode SpamErrorNormAttach(N_Vector y, SpamErrorNorm norm)
+/* Local maximum of the terms t_i = (x_i w_i)^2, and whether one is NaN (2) or infinite (1). */
+static void LargestTerm(PetscInt n, const PetscScalar *xa, const PetscScalar *wa, double mx[2])
+{
+  mx[0] = mx[1] = 0.0;
+  for (PetscInt i = 0; i < n; i++) {
+    const double t = xa[i] * wa[i], t2 = t * t;
+    if (isnan(t2)) mx[1] = 2.0;
+    else if (isinf(t2)) mx[1] = PetscMax(mx[1], 1.0);
+    else mx[0] = PetscMax(mx[0], t2);
+  }
+}
+
+/* The shift that puts the largest term tmax (> 0) of N at under 2^62 / (N + 1) units: N
+ * rounded terms then sum below 2^62, so the int64 sum cannot overflow. */
+static int FixedPointShift(double tmax, PetscInt N)
+{
+  int e;
+  (void)frexp(tmax, &e); /* tmax < 2^e */
+  return 62 - e - (int)ceil(log2((double)N + 1.0));
+}
+
+realtype SpamNVReproducibleWrmsNorm_Petsc(N_Vector x, N_Vector w)
+{
+  Vec                X = N_VGetVector_Petsc(x), W = N_VGetVector_Petsc(w);
+  MPI_Comm           comm = PetscObjectComm((PetscObject)X);
+  const PetscScalar *xa, *wa;
+  PetscInt           n, N;
+  double             mx[2], all[2];
+  int64_t            sum[2] = {0, 0}, total[2]; /* the fixed-point sum, failed ranks */
+  int                shift;
+
+  /* No error return, as for the max norm: NaN makes the error test reject the step. */
+  if (VecGetLocalSize(X, &n) || VecGetSize(X, &N) || VecGetArrayRead(X, &xa)) return NAN;
+  if (VecGetArrayRead(W, &wa)) {
+    (void)VecRestoreArrayRead(X, &xa);
+    return NAN;
+  }
+  LargestTerm(n, xa, wa, mx);
+  /* Collective calls below are made on every rank whatever it found, so none waits. */
+  if (MPI_Allreduce(mx, all, 2, MPI_DOUBLE, MPI_MAX, comm) != MPI_SUCCESS) all[1] = 2.0;
+  shift = all[0] > 0.0 ? FixedPointShift(all[0], N) : 0;
+  for (PetscInt i = 0; i < n && all[0] > 0.0 && all[1] == 0.0; i++) {
+    const double t = xa[i] * wa[i];
+    sum[0] += (int64_t)llrint(ldexp(t * t, shift));
+  }
+  if (VecRestoreArrayRead(W, &wa) || VecRestoreArrayRead(X, &xa)) sum[1] = 1;
+  /* Integer addition is exact and associative: the same total in any order and split. */
+  if (MPI_Allreduce(sum, total, 2, MPI_INT64_T, MPI_SUM, comm) != MPI_SUCCESS || total[1] > 0) return NAN;
+  if (all[1] > 1.0) return NAN;
+  if (all[1] > 0.0) return INFINITY;
+  if (all[0] == 0.0 || N == 0) return 0.0;
+  return sqrt(ldexp((double)total[0], -shift) / (double)N);
+}
+
+PetscErrorCode SpamErrorNormAttach(N_Vector y, SpamErrorNorm norm, PetscBool reproducible)
 {
   PetscFunctionBeginUser;
-  if (norm == SPAM_ERROR_NORM_RMS) PetscFunctionReturn(0); /* SUNDIALS' own */
-  y->ops->nvwrmsnorm = SpamNVWeightedMaxNorm_Petsc;
+  if (norm == SPAM_ERROR_NORM_RMS && !reproducible) PetscFunctionReturn(0); /* SUNDIALS' own */
+  /* The max norm is partition-independent as it is (a max is exact in any order). */
+  y->ops->nvwrmsnorm = norm == SPAM_ERROR_NORM_MAX ? SpamNVWeightedMaxNorm_Petsc : SpamNVReproducibleWrmsNorm_Petsc;
   /* Without the fused array form SUNDIALS applies nvwrmsnorm to each vector in turn. */
   y->ops->nvwrmsnormvectorarray = NULL;
   PetscFunctionReturn(0);

@@ -90,6 +90,9 @@ static const Known KnownOptions[] = {
   {"output_stop", PETSC_FALSE, G_ALL}, {"sundials_stats", PETSC_FALSE, G_SUNDIALS},
   /* Issue 17 points 1-2: checkpoints and restart (checkpoint_*.c, restart_*.c). */
   {"checkpoint_interval", PETSC_TRUE, G_ALL}, {"checkpoint_wall", PETSC_TRUE, G_ALL}, {"restart", PETSC_TRUE, G_ALL},
+  /* Issue 18 point 5: canonical pair sums and a partition-independent norm (scene.c reads
+   * it and refuses the other models, pass_canonical.c, error_norm.c). */
+  {"reproducible", PETSC_FALSE, G_ISENTROPE},
 };
 #define NKNOWN ((int)(sizeof KnownOptions / sizeof KnownOptions[0]))
 
@@ -576,6 +579,22 @@ static PetscErrorCode CheckOne(const char *name, const char *value, const Run *r
   PetscFunctionReturn(0);
 }
 
+/* -reproducible with a PETSc method under an active adaptor on more than one rank: PETSc
+ * 3.18's weighted rms norm (TSErrorWeightedNorm2) sums each rank's part and then the
+ * parts, with no hook to replace it, so the step sizes would depend on the split. The max
+ * norm is a max, exact in any split. */
+static PetscErrorCode CheckReproducibleMethod(const Run *r)
+{
+  PetscMPIInt size;
+
+  PetscFunctionBeginUser;
+  if (!r->sim->reproducible || !r->adaptive || r->o->error_norm == SPAM_ERROR_NORM_MAX) PetscFunctionReturn(0);
+  if (!strcmp(r->type, SPAM_TSARKODE) || !strcmp(r->type, SPAM_TSCVODE)) PetscFunctionReturn(0);
+  PetscCallMPI(MPI_Comm_size(r->sim->comm, &size));
+  if (size > 1) SPAM_BAD_INPUT("-reproducible", "true", "PETSc's step adaptor (this run: %s) sums its rms error norm rank by rank: on more than one rank use -ts_type arkode or cvode, or -error_norm max", r->method);
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamOptionsCheckUse(const SpamSim *sim, const SpamRunOptions *o, TS ts)
 {
   Given          g;
@@ -592,5 +611,6 @@ PetscErrorCode SpamOptionsCheckUse(const SpamSim *sim, const SpamRunOptions *o, 
   PetscCall(GivenFree(&g));
   PetscCall(PetscOptionsLeftRestore(NULL, &nleft, &left, &lvalues));
   PetscCall(ierr); /* the refusal, reported once already, after the clean-up */
+  PetscCall(CheckReproducibleMethod(&r));
   PetscFunctionReturn(0);
 }

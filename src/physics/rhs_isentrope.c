@@ -19,7 +19,9 @@
  * These loops are written for Lucy's kernel, equal masses and no ghost slots but other
  * ranks' particles: the benchmark's case and every default run, on any number of ranks.
  * Any other kernel, unequal masses or periodic and mirror ghosts go through the pair
- * driver instead (pass_pressure.c: the same pair terms, one loop). */
+ * driver instead (pass_pressure.c: the same pair terms, one loop), and -reproducible
+ * through the canonical rows (pass_canonical.c: each particle's own sum in an order fixed
+ * by the partners' ids). */
 #include <spam/sim.h>
 #include <omp.h>
 
@@ -218,7 +220,8 @@ SPAM_CLONES static PetscErrorCode Density(SpamSim *sim)
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(sim->ev.density, 0, 0, 0, 0));
-  if (!FastPath(sim)) PetscCall(SpamPressureDensityWalk(sim));
+  if (SpamNeighboursCanonical(&sim->nl)) SpamCanonicalDensity(sim); /* -reproducible */
+  else if (!FastPath(sim)) PetscCall(SpamPressureDensityWalk(sim));
   else if (T == 1) DensityBlock(sim, sim->f.rho, 0, sim->nl.n, 0);
   else {
 #pragma omp parallel num_threads(T)
@@ -243,7 +246,8 @@ SPAM_CLONES static PetscErrorCode Force(SpamSim *sim)
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(sim->ev.force, 0, 0, 0, 0));
-  if (!FastPath(sim)) SpamPressureForceWalk(sim);
+  if (SpamNeighboursCanonical(&sim->nl)) SpamCanonicalForce(sim); /* -reproducible */
+  else if (!FastPath(sim)) SpamPressureForceWalk(sim);
   else if (T == 1) ForceBlock(sim, sim->f.acc, 0, sim->nl.n);
   else {
 #pragma omp parallel num_threads(T)
@@ -271,7 +275,9 @@ PetscErrorCode SpamDensitySummation(SpamSim *sim, const double *y, PetscInt *bad
   PetscCall(Density(sim));
   /* The callers (the tensor path, diagnostics) read the ghosts' densities too; the pair
    * driver has gathered them, the chunked loops (other ranks' particles only) have not. */
-  if (FastPath(sim) && sim->nl.ghosts.n) PetscCall(SpamGhostsGather(&sim->nl.ghosts, sim->model.dim, (int)sim->n, 1, SPAM_GHOST_SCALAR, sim->f.rho));
+  if (SpamNeighboursCanonical(&sim->nl)) { /* on every rank (-reproducible is every rank's): a collective */
+    PetscCall(SpamGhostsGather(&sim->nl.ghosts, sim->model.dim, (int)sim->n, 1, SPAM_GHOST_SCALAR, sim->f.rho));
+  } else if (FastPath(sim) && sim->nl.ghosts.n) PetscCall(SpamGhostsGather(&sim->nl.ghosts, sim->model.dim, (int)sim->n, 1, SPAM_GHOST_SCALAR, sim->f.rho));
   PetscFunctionReturn(0);
 }
 
@@ -292,7 +298,8 @@ PetscErrorCode SpamAccelIsentrope(SpamSim *sim, const double *x, int stride, Pet
   if (m->gravity_on)
     for (PetscInt i = 0; i < sim->n; i++)
       for (int d = 0; d < m->dim; d++) sim->f.acc[(size_t)i * m->dim + d] += m->gravity[d];
-  sim->stats.pair_visits += (double)(sim->nl.npairs + sim->nl.ngpairs);
+  /* Canonical rows list every pair twice, once in each particle's row. */
+  sim->stats.pair_visits += SpamNeighboursCanonical(&sim->nl) ? (double)sim->nl.ncpairs : (double)(sim->nl.npairs + sim->nl.ngpairs);
   PetscFunctionReturn(0);
 }
 

@@ -40,6 +40,7 @@ PetscErrorCode SpamSimCreate(MPI_Comm comm, const SpamModel *model, const SpamBo
   PetscCall(DMSwarmRegisterPetscDatatypeField(sim->swarm, SPAM_GID_FIELD, 1, PETSC_INT64));
   PetscCall(DMSwarmRegisterPetscDatatypeField(sim->swarm, SPAM_MASS_FIELD, 1, PETSC_REAL));
   PetscCall(DMSwarmRegisterPetscDatatypeField(sim->swarm, SPAM_BODY_FIELD, 1, PETSC_INT));
+  PetscCall(DMSwarmRegisterPetscDatatypeField(sim->swarm, SPAM_XREF_FIELD, model->dim, PETSC_REAL));
   PetscCall(DMSwarmFinalizeFieldRegister(sim->swarm));
   PetscCall(DMSwarmSetLocalSizes(sim->swarm, n, 0));
   PetscCall(DMSwarmGetField(sim->swarm, SPAM_GID_FIELD, NULL, NULL, (void **)&sim->gid));
@@ -150,11 +151,12 @@ static PetscErrorCode CreateScratch(SpamSim *sim)
   for (PetscInt i = 0; i < sim->f.cap; i++) sim->f.q[i] = sim->model.eos.kappa;
   PetscCall(SpamNeighboursCreate((int)sim->n, &sim->box, sim->model.kernel.h, sim->skin, &sim->nl));
   if (sim->dec) PetscCall(SpamNeighboursSetComm(&sim->nl, sim->comm)); /* other ranks' particles as ghosts */
-  if (sim->periodic_ghosts) {
+  if (sim->periodic_ghosts || sim->reproducible) { /* -reproducible: images as ghost slots */
     const PetscBool all[3] = {PETSC_TRUE, PETSC_TRUE, PETSC_TRUE};
     PetscCall(SpamNeighboursSetPeriodicGhosts(&sim->nl, &sim->box, all));
   }
   if (SpamWallsAny(&sim->walls, sim->model.dim)) PetscCall(SpamNeighboursSetWalls(&sim->nl, &sim->walls));
+  if (sim->reproducible) PetscCall(SpamNeighboursSetCanonical(&sim->nl, sim->gid));
   PetscCall(SpamNeighboursSetThreads(&sim->nl, sim->threads));
   PetscFunctionReturn(0);
 }

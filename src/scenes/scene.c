@@ -176,11 +176,13 @@ static PetscErrorCode ModelCommonOptions(SpamCommonParams *c)
   PetscInt  ng    = 16;
   PetscBool set;
   char      images[32] = "minimum", val[128];
+  PetscBool images_set;
 
   PetscFunctionBeginUser;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Model and list", "spam-ark");
   PetscCall(PetscOptionsRealArray("-gravity", "Uniform acceleration g: -dim values, or 1 value along the last direction (default 0)", "README", g, &ng, &set));
-  PetscCall(PetscOptionsString("-periodic_images", "Periodic neighbours by the minimum image (minimum) or as ghost slots (ghost: the path of walls and halos)", "README", images, images, sizeof images, NULL));
+  PetscCall(PetscOptionsString("-periodic_images", "Periodic neighbours by the minimum image (minimum) or as ghost slots (ghost: the path of walls and halos)", "README", images, images, sizeof images, &images_set));
+  PetscCall(PetscOptionsBool("-reproducible", "Bit-identical trajectories on any number of ranks and -threads: canonical pair sums (sorted full rows, periodic images as ghost slots) and a partition-independent error norm; the isentropic gas only", "README", c->reproducible, &c->reproducible, NULL));
   PetscOptionsEnd();
   c->gravity_given = set;
   PetscCall(SpamWallsOptions(c->dim, &c->walls));
@@ -193,6 +195,8 @@ static PetscErrorCode ModelCommonOptions(SpamCommonParams *c)
   }
   if (strcmp(images, "minimum") && strcmp(images, "ghost")) SPAM_BAD_INPUT("-periodic_images", images, "allowed: minimum, ghost");
   c->periodic_ghosts = (PetscBool)!strcmp(images, "ghost");
+  if (c->reproducible && images_set && !c->periodic_ghosts) SPAM_BAD_INPUT("-periodic_images", images, "-reproducible takes the periodic images as ghost slots (the same separation on every rank count): give -periodic_images ghost or leave it out");
+  c->periodic_ghosts = (PetscBool)(c->periodic_ghosts || c->reproducible);
   PetscFunctionReturn(0);
 }
 
@@ -323,6 +327,23 @@ static PetscErrorCode WallsOfBox(SpamParticles *p)
   PetscFunctionReturn(0);
 }
 
+/* -reproducible: the isentropic gas's passes have canonical rows (pass_canonical.c);
+ * the tensor path and the springs sum their pairs in list order with Newton updates, and
+ * a mirror wall's images book forces to the wall from both particles of a pair. */
+static PetscErrorCode CheckReproducible(const SpamCommonParams *c, const SpamParticles *p, const SpamSolidParams *solid)
+{
+  PetscFunctionBeginUser;
+  if (!c->reproducible) PetscFunctionReturn(0);
+  if (p->model_set) SPAM_BAD_INPUT("-reproducible", "true", "applies to the isentropic gas (-material isentrope); this scene's spring model sums its bonds in list order");
+  if (solid->material != SPAM_MATERIAL_ISENTROPE) SPAM_BAD_INPUT("-reproducible", "true", "applies to the isentropic gas (-material isentrope); the %s model's tensor-path passes sum their pairs in list order", SpamMaterialNames[solid->material]);
+  if (SpamWallsAny(&p->walls, p->dim)) SPAM_BAD_INPUT("-reproducible", "true", "does not take mirror walls yet (their images' forces are booked to the wall from both particles of a pair)");
+  /* Its periodic images are ghost slots, one per face a particle is near: an edge below
+   * twice the list range would need images on both sides of some particles. */
+  for (int d = 0; d < p->dim; d++)
+    if (p->box.periodic[d] && p->box.len[d] < 2.0 * (c->h + c->skin)) SPAM_BAD_INPUT("-reproducible", "true", "needs every periodic edge at least twice the list range h + skin = %g (edge %d is %g): its periodic images are ghost slots, one per face", c->h + c->skin, d, p->box.len[d]);
+  PetscFunctionReturn(0);
+}
+
 /* What runs on one rank only, refused on more in one line that says why. */
 static PetscErrorCode CheckSerialOnly(PetscMPIInt size, const SpamParticles *p, const SpamModel *model)
 {
@@ -351,6 +372,7 @@ static PetscErrorCode CheckBuilt(MPI_Comm comm, const SpamCommonParams *c, const
     PetscCall(PetscSNPrintf(val, sizeof val, "%g", c->skin)); /* tests/run_bad_input.py expects PETSc's '9.' */
     if (p->box.periodic[d] && !(c->skin < 0.5 * p->box.len[d])) SPAM_BAD_INPUT("-neighbour_skin", val, "must be below half the periodic box edge (%g)", p->box.len[d]);
   }
+  PetscCall(CheckReproducible(c, p, solid)); /* before ModelOf's -periodic_images check */
   PetscCall(ModelOf(c, p, solid, model));
   PetscCall(SpamParticlesCheckColumns(p, &model->layout)); /* a file's columns against the model */
   PetscCallMPI(MPI_Comm_size(comm, &size));
@@ -427,6 +449,7 @@ static PetscErrorCode CreateSim(MPI_Comm comm, const SpamCommonParams *c, PetscB
   sim->scene           = p->info;
   sim->threads         = (int)c->threads;
   sim->periodic_ghosts = c->periodic_ghosts;
+  sim->reproducible    = c->reproducible;
   sim->walls           = p->walls;
   if (sort) {
     PetscInt *row_of;
