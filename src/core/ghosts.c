@@ -42,7 +42,7 @@ static int ImagesAlong(const SpamGhosts *g, const SpamBox *box, int d, double u,
   if (d >= box->dim) return k;
   if (g->periodic[d]) {
     if (u < range) img[k++] = IMG_PERIODIC_UP;
-    else if (u > box->len[d] - range) img[k++] = IMG_PERIODIC_DOWN;
+    if (u > box->len[d] - range) img[k++] = IMG_PERIODIC_DOWN; /* both, in an edge below 2 range */
     return k;
   }
   if (SpamWallOn(&g->walls, 2 * d) && u < range) img[k++] = IMG_MIRROR_LO;

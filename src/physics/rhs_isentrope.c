@@ -274,10 +274,12 @@ PetscErrorCode SpamDensitySummation(SpamSim *sim, const double *y, PetscInt *bad
   PetscCall(ReserveSlots(sim));
   PetscCall(Density(sim));
   /* The callers (the tensor path, diagnostics) read the ghosts' densities too; the pair
-   * driver has gathered them, the chunked loops (other ranks' particles only) have not. */
-  if (SpamNeighboursCanonical(&sim->nl)) { /* on every rank (-reproducible is every rank's): a collective */
+   * driver has gathered them, the chunked loops (other ranks' particles only) and the
+   * canonical passes have not. The gather is a collective on several ranks, and whether a
+   * rank's own loops are the chunked ones depends on its own local ghosts: each rank makes
+   * exactly one gather here or in the pair driver, even a rank without ghosts. */
+  if (SpamNeighboursCanonical(&sim->nl) || (FastPath(sim) && (sim->nl.ghosts.n || SpamSimDistributed(sim))))
     PetscCall(SpamGhostsGather(&sim->nl.ghosts, sim->model.dim, (int)sim->n, 1, SPAM_GHOST_SCALAR, sim->f.rho));
-  } else if (FastPath(sim) && sim->nl.ghosts.n) PetscCall(SpamGhostsGather(&sim->nl.ghosts, sim->model.dim, (int)sim->n, 1, SPAM_GHOST_SCALAR, sim->f.rho));
   PetscFunctionReturn(0);
 }
 
