@@ -35,13 +35,14 @@ from scaling_style import SOURCE_STYLE, N_WIDTH  # noqa: E402
 H = 3.0             # Lucy range of the expansion scenes, in lattice spacings
 SKIN = 0.1 * H      # the program's default -neighbour_skin
 RC = H + SKIN       # list range: what SpamHalo sends within
-# What one RHS of the gas path exchanges with the halo, in the code this was written for
-# (799f9a0): rhs_isentrope.c SpamAccelIsentrope -> SpamNeighboursUpdate (the ghosts'
+# What one RHS of the gas path (gamma != 2) exchanges with the halo, in the code since
+# dfdefa1: rhs_isentrope.c SpamAccelIsentrope -> SpamNeighboursUpdate (the ghosts'
 # positions, neighbours_ghost.c SpamNeighboursMoveGhosts; at a rebuild the build sends
-# them instead), ReserveSlots (masses and inverse masses, every RHS), then P/rho^2 before
-# the force pass. The chunked density pass walks a remote ghost for the local particle
-# only and gathers no density. Doubles per ghost of each.
-EXCHANGES = (("positions", 3), ("mass", 1), ("inverse mass", 1), ("P/rho^2", 1))
+# them instead), then P/rho^2 before the force pass. Masses and inverse masses go once per
+# list build (SpamSimGhostMasses), and with gamma = 2 P/rho^2 too. The chunked density
+# pass walks a remote ghost for the local particle only and gathers no density. Doubles
+# per ghost of each.
+EXCHANGES = (("positions", 3), ("P/rho^2", 1))
 RHS_ALLREDUCES = 1       # the rebuild decision and non-finite flag (neighbours.c Agree)
 STEP_ALLREDUCES = 3      # per step: ARKODE's error norm, the signal agreement, the step bound
 RHS_PER_STEP = 6         # Dormand-Prince, FSAL

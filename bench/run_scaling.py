@@ -14,7 +14,7 @@ the others at the halo exchanges inside the RHS), the time per step is wall_time
 "halo max" is summary.json's halo_ghosts_max_final (remote ghosts of the fullest rank).
 Strong scaling: the same N on every layout, speed-up = T(1x1) / T(layout). Weak scaling: N
 on one core and about 2N on two (the lattices are n^D, so the ratio is printed), efficiency
-= [T(1x1, N1) / N1] / [T(layout, N2) / N2] (1 is perfect). Ratios are of medians measured in
+= [T(1x1, N1) / N1] / [T(layout, N2) / N2] / cores (1 is perfect). Ratios are of medians measured in
 this run. The final kinetic energies of the layouts are printed beside, as a check that the
 runs integrate the same gas (they differ in the last bits: the order of the pair sums).
 Writes OUT.json, OUT.csv and the chart; exit code 1 if a run failed (drawn as a red X).
@@ -115,8 +115,9 @@ def summarise(case, runs):
                 v[key] = None
             elif kind == "strong":
                 v[key] = base[t] / v[t]
-            else:
-                v[key] = (base[t] / base["N"]) / (v[t] / v["N"])
+            else:  # per core: a layout on c cores is perfect when each core does what one did
+                cores = int(lay.split("x")[0]) * int(lay.split("x")[1])
+                v[key] = (base[t] / base["N"]) / (v[t] / v["N"]) / cores
     return res
 
 
