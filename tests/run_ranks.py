@@ -34,22 +34,16 @@
 """
 import math
 import os
-import shutil
 import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from spamrun import Checks, arguments, summary, table  # noqa: E402
+from spamrun import Checks, arguments, mpiexec_env, summary, table  # noqa: E402
 
 EPS = 2.220446049250313e-16
 a = arguments()
 c = Checks()
-mpiexec = shutil.which("mpiexec")
-if not mpiexec:
-    print("mpiexec not found (apt-get install openmpi-bin)")
-    sys.exit(77)
-ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_pml="ob1")
-ENV.pop("OMPI_MCA_ess_singleton_isolated", None)  # set by ctest for one-rank starts
+mpiexec, ENV = mpiexec_env()
 
 
 def spam(ranks, name, args, env=None, timeout=300):

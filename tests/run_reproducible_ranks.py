@@ -19,21 +19,15 @@ PETSc's rk under its adaptor with -reproducible on several ranks is refused (PET
 rms error norm rank by rank), printed once.
 """
 import os
-import shutil
 import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from spamrun import Checks, arguments  # noqa: E402
+from spamrun import Checks, arguments, mpiexec_env  # noqa: E402
 
 a = arguments()
 c = Checks()
-mpiexec = shutil.which("mpiexec")
-if not mpiexec:
-    print("mpiexec not found (apt-get install openmpi-bin)")
-    sys.exit(77)
-ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_pml="ob1")
-ENV.pop("OMPI_MCA_ess_singleton_isolated", None)  # set by ctest for one-rank starts
+mpiexec, ENV = mpiexec_env()
 SCENES = {
     "2D": ["-scene", "expansion", "-dim", 2, "-expansion_n", 24, "-h", 3, "-eos_gamma", 1.7, "-expansion_amplitude", 0.1,
            "-ts_max_time", 40, "-output_interval", 2, "-snapshot_interval", 10],

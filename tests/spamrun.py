@@ -86,3 +86,16 @@ def manifest_files(outdir, kind):
     """Paths of the files of one kind the manifest lists (snapshot_csv, snapshot_h5,
     snapshot_csv_last_good, summary, ...): what the run wrote, never a glob."""
     return [os.path.join(outdir, e["name"]) for e in manifest(outdir)["files"] if e.get("kind") == kind and "name" in e]
+
+
+def mpiexec_env():
+    """mpiexec and the environment to start spam-ark on several ranks as root (exit 77,
+    ctest's skip, when OpenMPI's launcher is missing)."""
+    import shutil
+    mpiexec = shutil.which("mpiexec")
+    if not mpiexec:
+        print("mpiexec not found (apt-get install openmpi-bin)")
+        sys.exit(77)
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_pml="ob1")
+    env.pop("OMPI_MCA_ess_singleton_isolated", None)  # set by ctest for one-rank starts
+    return mpiexec, env

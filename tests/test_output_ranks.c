@@ -68,16 +68,9 @@ static PetscErrorCode Check(Ctx *t, int ok_here, const char *fmt, ...)
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Allreduce(&ok_here, &ok, 1, MPI_INT, MPI_LAND, t->comm));
-  if (ok) t->count.passed++;
-  else t->count.failed++;
-  if (t->rank == 0) {
-    printf("%s: ", ok ? "ok  " : "FAIL");
-    va_start(ap, fmt);
-    vprintf(fmt, ap);
-    va_end(ap);
-    printf("\n");
-    fflush(stdout);
-  }
+  va_start(ap, fmt);
+  TestCheckAgreed(t->comm, &t->count, ok, fmt, ap);
+  va_end(ap);
   PetscFunctionReturn(0);
 }
 

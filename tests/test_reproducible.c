@@ -40,16 +40,9 @@ static PetscErrorCode Check(Ctx *t, int ok, const char *fmt, ...)
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Bcast(&ok, 1, MPI_INT, 0, t->comm));
-  if (ok) t->count.passed++;
-  else t->count.failed++;
-  if (t->rank == 0) {
-    printf("%s: ", ok ? "ok  " : "FAIL");
-    va_start(ap, fmt);
-    vprintf(fmt, ap);
-    va_end(ap);
-    printf("\n");
-    fflush(stdout);
-  }
+  va_start(ap, fmt);
+  TestCheckAgreed(t->comm, &t->count, ok, fmt, ap);
+  va_end(ap);
   PetscFunctionReturn(0);
 }
 

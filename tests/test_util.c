@@ -13,6 +13,19 @@ void TestCheck(TestCount *c, int ok, const char *fmt, ...)
   else c->failed++;
 }
 
+void TestCheckAgreed(MPI_Comm comm, TestCount *c, int ok, const char *fmt, va_list ap)
+{
+  int rank = 0;
+  (void)MPI_Comm_rank(comm, &rank);
+  if (ok) c->passed++;
+  else c->failed++;
+  if (rank) return;
+  printf("%s: ", ok ? "ok  " : "FAIL");
+  vprintf(fmt, ap);
+  printf("\n");
+  fflush(stdout);
+}
+
 int TestFinish(const TestCount *c)
 {
   printf("%d passed, %d failed\n", c->passed, c->failed);

@@ -4,6 +4,7 @@
 #define SPAM_TEST_UTIL_H
 #include <spam/sim.h>
 #include <stdint.h>
+#include <stdarg.h>
 
 typedef struct {
   int passed, failed;
@@ -11,6 +12,10 @@ typedef struct {
 
 /* Records one check and prints it; the message says what was compared. */
 void TestCheck(TestCount *c, int ok, const char *fmt, ...);
+/* On several ranks: records a check whose outcome every rank already agrees on (each
+ * test agrees on it its own way: all ranks' parts, or rank 0's verdict), printed once by
+ * rank 0. */
+void TestCheckAgreed(MPI_Comm comm, TestCount *c, int ok, const char *fmt, va_list ap);
 /* Prints the closing line "N passed, N failed" and returns the exit code. */
 int TestFinish(const TestCount *c);
 /* Uniform in [0, 1) from a splitmix64 stream. */
