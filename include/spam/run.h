@@ -14,6 +14,9 @@ typedef enum { SPAM_STATUS_OK, SPAM_STATUS_MAX_STEPS, SPAM_STATUS_UNSTABLE, SPAM
  * while the fastest particles have moved at most 10 skins (each build follows a move of
  * skin/2), a few cells, so the halo of a rank's bounding box grows by little. */
 #define SPAM_MIGRATE_INTERVAL_DEFAULT 20
+/* A migration comes sooner, at a list build, once the largest halo has grown by this
+ * factor since the last one (loop_migrate.c). */
+#define SPAM_MIGRATE_HALO_GROWTH 1.5
 
 typedef struct {
   /* time */

@@ -1,5 +1,6 @@
 /* Migrations during a multi-rank run. Between two accepted steps, after -migrate_interval
- * list builds, every particle goes to the owner of its cell (SpamSimMigrate: a re-cut when
+ * list builds (or sooner when the halo has grown: MigrationDue), every particle goes to the
+ * owner of its cell (SpamSimMigrate: a re-cut when
  * the imbalance has grown past its threshold), and whatever holds one value per particle
  * follows: the TS solution and ERKStep's vectors (SpamTSARKodeResize keeps the step and
  * error history), the loop's last good state and interpolation scratch, the list's kept
@@ -26,18 +27,50 @@ static PetscErrorCode RemakeLoopVectors(SpamSim *sim, SpamLoop *L)
   PetscFunctionReturn(0);
 }
 
+/* The largest halo of any rank: other ranks' particles it holds as ghosts (collective). */
+static PetscErrorCode HaloMax(const SpamSim *sim, double *halo)
+{
+  const double mine = sim->nl.ghosts.n - sim->nl.ghosts.nlocal;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPIU_Allreduce(&mine, halo, 1, MPI_DOUBLE, MPI_MAX, sim->comm));
+  *halo = PetscMax(*halo, 1.0); /* a halo of none grows by no factor */
+  PetscFunctionReturn(0);
+}
+
+/* Whether a migration is due: -migrate_interval builds since the last, or sooner, at a
+ * build, when the largest halo has grown by SPAM_MIGRATE_HALO_GROWTH since it (the parts of
+ * a rank's particles spread as they move, and its halo with them: the 3D expansion's grew
+ * 4.4-fold in 20 builds). The build count is the same on every rank, so is the decision. */
+static PetscErrorCode MigrationDue(const SpamSim *sim, const SpamRunOptions *o, SpamLoop *L, PetscBool *due)
+{
+  const long since = sim->nl.builds - L->builds_migrated;
+  double     halo;
+
+  PetscFunctionBeginUser;
+  *due = (PetscBool)(since >= o->migrate_interval);
+  if (*due || since == 0 || sim->nl.builds == L->builds_checked) PetscFunctionReturn(0);
+  L->builds_checked = sim->nl.builds;
+  PetscCall(HaloMax(sim, &halo));
+  *due = (PetscBool)(halo > SPAM_MIGRATE_HALO_GROWTH * L->halo_migrated);
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamLoopMigrate(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamLoop *L)
 {
   SpamMigrateInfo info;
-  PetscBool       followed;
+  PetscBool       followed, due;
 
   PetscFunctionBeginUser;
   if (!SpamSimDistributed(sim) || o->migrate_interval <= 0 || !SpamTSCanFollow(ts)) PetscFunctionReturn(0);
-  if (sim->nl.builds - L->builds_migrated < o->migrate_interval) PetscFunctionReturn(0);
+  if (L->halo_migrated <= 0) PetscCall(HaloMax(sim, &L->halo_migrated)); /* the first distribution's */
+  PetscCall(MigrationDue(sim, o, L, &due));
+  if (!due) PetscFunctionReturn(0);
   PetscCall(SpamSimMigrate(sim, sim->dec, &info));
   /* A non-finite position was caught by the step's own checks before this point; a
    * migration that found one changed nothing, and the next step reports it. */
   L->builds_migrated = sim->nl.builds;
+  PetscCall(HaloMax(sim, &L->halo_migrated));
   if (!info.changed) PetscFunctionReturn(0);
   sim->migrations_run++;
   sim->migrated += info.moved;

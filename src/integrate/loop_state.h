@@ -30,6 +30,8 @@ typedef struct {
   /* several ranks (loop_migrate.c) */
   Vec            Xgood;             /* the last accepted state                           */
   long           builds_migrated;   /* list builds at the last migration                 */
+  long           builds_checked;    /* list builds when the halo was last looked at       */
+  double         halo_migrated;     /* the largest halo after the last migration (0: unknown) */
 } SpamLoop;
 
 /* Between two steps on several ranks: when the list has been built -migrate_interval

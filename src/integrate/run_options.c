@@ -130,7 +130,7 @@ PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o)
   PetscCall(PetscOptionsString("-final_csv", "Also write the final particles to this CSV (file-scene format)", "README", o->final_csv, o->final_csv, sizeof o->final_csv, NULL));
   PetscCall(PetscOptionsReal("-checkpoint_interval", "Write OUTPUT_DIR/checkpoint.h5 every this much simulated time (0: off; one is always written on SIGINT/SIGTERM)", "README", o->checkpoint_interval, &o->checkpoint_interval, NULL));
   PetscCall(PetscOptionsReal("-checkpoint_wall", "Write OUTPUT_DIR/checkpoint.h5 every this many wall-clock seconds (0: off)", "README", o->checkpoint_wall, &o->checkpoint_wall, NULL));
-  PetscCall(PetscOptionsInt("-migrate_interval", "On several ranks: neighbour-list builds between migrations of the particles to the owners of their cells (0: only at the start; arkode only)", "README", o->migrate_interval, &o->migrate_interval, NULL));
+  PetscCall(PetscOptionsInt("-migrate_interval", "On several ranks: neighbour-list builds between migrations of the particles to the owners of their cells, sooner when the halo grew by half (0: only at the start)", "README", o->migrate_interval, &o->migrate_interval, NULL));
   PetscCall(PetscOptionsString("-restart", "Continue the run saved in this checkpoint (its options must be the same but for outputs and the end)", "README", o->restart, o->restart, sizeof o->restart, &restart));
   PetscOptionsEnd();
   if (restart && !o->restart[0]) SPAM_BAD_INPUT("-restart", "", "names no file: give the checkpoint to continue from (OUTPUT_DIR/checkpoint.h5)");
