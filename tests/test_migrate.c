@@ -19,20 +19,8 @@ typedef struct {
   PetscMPIInt rank, size;
 } Ctx;
 
-/* One check of a condition that holds on every rank (ok_here is this rank's part);
- * printed once, by rank 0. */
-static PetscErrorCode Check(Ctx *t, int ok_here, const char *fmt, ...)
-{
-  int     ok;
-  va_list ap;
-
-  PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Allreduce(&ok_here, &ok, 1, MPI_INT, MPI_LAND, t->comm));
-  va_start(ap, fmt);
-  TestCheckAgreed(t->comm, &t->count, ok, fmt, ap);
-  va_end(ap);
-  PetscFunctionReturn(0);
-}
+/* A check that holds on every rank (ok_here is this rank's part), printed once by rank 0. */
+#define Check(t, ok_here, ...) TestCheckAll((t)->comm, &(t)->count, (ok_here), __VA_ARGS__)
 
 /* ---- The curve: a bijection of the 2^bits cube onto 0 .. 2^(dim bits) - 1 whose
  * consecutive cells share a face. */

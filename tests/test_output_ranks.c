@@ -60,19 +60,8 @@ typedef struct {
   char        dir[PETSC_MAX_PATH_LEN];
 } Ctx;
 
-/* A check decided on rank 0 (ok_here of the other ranks is 1) or by all: printed once. */
-static PetscErrorCode Check(Ctx *t, int ok_here, const char *fmt, ...)
-{
-  int     ok;
-  va_list ap;
-
-  PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Allreduce(&ok_here, &ok, 1, MPI_INT, MPI_LAND, t->comm));
-  va_start(ap, fmt);
-  TestCheckAgreed(t->comm, &t->count, ok, fmt, ap);
-  va_end(ap);
-  PetscFunctionReturn(0);
-}
+/* A check that holds on every rank (ok_here is this rank's part), printed once by rank 0. */
+#define Check(t, ok_here, ...) TestCheckAll((t)->comm, &(t)->count, (ok_here), __VA_ARGS__)
 
 /* ---- The particles: functions of the gid. */
 typedef struct {

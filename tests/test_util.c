@@ -26,6 +26,19 @@ void TestCheckAgreed(MPI_Comm comm, TestCount *c, int ok, const char *fmt, va_li
   fflush(stdout);
 }
 
+PetscErrorCode TestCheckAll(MPI_Comm comm, TestCount *c, int ok_here, const char *fmt, ...)
+{
+  int     ok;
+  va_list ap;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Allreduce(&ok_here, &ok, 1, MPI_INT, MPI_LAND, comm));
+  va_start(ap, fmt);
+  TestCheckAgreed(comm, c, ok, fmt, ap);
+  va_end(ap);
+  PetscFunctionReturn(0);
+}
+
 int TestFinish(const TestCount *c)
 {
   printf("%d passed, %d failed\n", c->passed, c->failed);

@@ -16,6 +16,8 @@ void TestCheck(TestCount *c, int ok, const char *fmt, ...);
  * test agrees on it its own way: all ranks' parts, or rank 0's verdict), printed once by
  * rank 0. */
 void TestCheckAgreed(MPI_Comm comm, TestCount *c, int ok, const char *fmt, va_list ap);
+/* On several ranks: a check that passes when ok_here holds on every rank (MPI_LAND). */
+PetscErrorCode TestCheckAll(MPI_Comm comm, TestCount *c, int ok_here, const char *fmt, ...) PETSC_ATTRIBUTE_FORMAT(4, 5);
 /* Prints the closing line "N passed, N failed" and returns the exit code. */
 int TestFinish(const TestCount *c);
 /* Uniform in [0, 1) from a splitmix64 stream. */

@@ -14,12 +14,6 @@
 #define SPAM_BAD_INPUT(what, value, fmt, ...) \
   SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "%s = '%s': " fmt, what, value, ##__VA_ARGS__)
 
-/* Collective: the result of a call some ranks make alone (rank 0's text outputs), known
- * to every rank, so that a failure there ends every rank instead of leaving the others in
- * the next collective. The failing rank has reported it; each rank returns the largest
- * code of any rank, the others without a message of their own for bad input and file
- * errors (errors.c's handler is quiet while such a code travels up). */
-PetscErrorCode SpamAgree(MPI_Comm comm, PetscErrorCode local);
 /* Installs the handler that prints bad input (PETSC_ERR_USER_INPUT) and file-system
  * failures (PETSC_ERR_FILE_OPEN, _WRITE, _READ, _UNEXPECTED) as one line
  * "spam-ark: error: <message>", bytes outside printable ASCII escaped as \xNN; main exits

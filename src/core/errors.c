@@ -202,11 +202,3 @@ PetscErrorCode SpamCheckAllowed(const char *opt, const char *val, const char *co
   SpamClip(val, shown, sizeof shown);
   SPAM_BAD_INPUT(opt, shown, "allowed: %s", allowed);
 }
-
-PetscErrorCode SpamAgree(MPI_Comm comm, PetscErrorCode local)
-{
-  int mine = (int)local, most = mine;
-
-  if (MPI_Allreduce(&mine, &most, 1, MPI_INT, MPI_MAX, comm) != MPI_SUCCESS) return PETSC_ERR_MPI;
-  return (PetscErrorCode)most;
-}

@@ -21,11 +21,19 @@ static const char *ManifestStatus(SpamStatus s)
   return names[s];
 }
 
-static PetscErrorCode ListParticles(const char *path, SpamOutput *out, const char *kind)
+typedef struct {
+  const char *path, *kind;
+  SpamOutput *out;
+} Listed;
+
+/* Rank 0 lists the file in the manifest (through SpamRunAgreed). */
+static PetscErrorCode ListParticles(void *ctx)
 {
+  Listed *w = ctx;
+
   PetscFunctionBeginUser;
-  PetscCall(SpamManifestAdd(out, path, kind, NAN, PETSC_TRUE));
-  PetscCall(SpamManifestWrite(out));
+  PetscCall(SpamManifestAdd(w->out, w->path, w->kind, NAN, PETSC_TRUE));
+  PetscCall(SpamManifestWrite(w->out));
   PetscFunctionReturn(0);
 }
 
@@ -33,14 +41,13 @@ static PetscErrorCode ListParticles(const char *path, SpamOutput *out, const cha
 static PetscErrorCode WriteParticles(const char *path, SpamSim *sim, SpamOutput *out, const char *kind)
 {
   const PetscScalar *y;
-  PetscMPIInt        rank;
+  Listed             w = {path, kind, out};
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(sim->comm, &rank));
   PetscCall(VecGetArrayRead(sim->X, &y));
   PetscCall(SpamParticlesCsvWrite(path, sim, y));
   PetscCall(VecRestoreArrayRead(sim->X, &y));
-  PetscCall(SpamAgree(sim->comm, rank ? 0 : ListParticles(path, out, kind)));
+  PetscCall(SpamRunAgreed(sim->comm, PETSC_TRUE, ListParticles, &w));
   PetscFunctionReturn(0);
 }
 

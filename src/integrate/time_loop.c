@@ -58,6 +58,27 @@ static void ScheduleInit(const SpamRunOptions *o, double fixed_dt, Schedule *s)
 /* Diagnostics row (and snapshot when due) of state X at time p->t: sim->X, or an
  * interpolated state. The writers read the state only through y; the density summation
  * they start from checks the neighbour list against y's own positions. */
+/* Rank 0's rows of the text series, run through SpamRunAgreed: a failed write there ends
+ * every rank. */
+typedef struct {
+  SpamOutput            *out;
+  const SpamSim         *sim;
+  const SpamProgress    *p;
+  const SpamDiagnostics *d, *first;
+} SeriesRow;
+
+static PetscErrorCode AppendTimeseries(void *ctx)
+{
+  SeriesRow *w = ctx;
+  return SpamTimeseriesAppend(w->out, w->sim, w->p, w->d, w->first);
+}
+
+static PetscErrorCode AppendSteps(void *ctx)
+{
+  SeriesRow *w = ctx;
+  return SpamStepsAppend(w->out, w->p);
+}
+
 static PetscErrorCode OutputOf(Vec X, SpamSim *sim, const SpamRunOptions *o, SpamOutput *out, const SpamProgress *p, PetscBool snapshot, SpamRunResult *r)
 {
   const PetscScalar *y;
@@ -69,7 +90,10 @@ static PetscErrorCode OutputOf(Vec X, SpamSim *sim, const SpamRunOptions *o, Spa
   if (p->steps == 0 && p->t == 0.0) r->first = d;
   r->last = d;
   SpamRunUpdateDrifts(&d, r);
-  PetscCall(SpamAgree(sim->comm, SpamTimeseriesAppend(out, sim, p, &d, &r->first))); /* rank 0 writes */
+  {
+    SeriesRow w = {out, sim, p, &d, &r->first};
+    PetscCall(SpamRunAgreed(sim->comm, PETSC_TRUE, AppendTimeseries, &w));
+  }
   if (snapshot) PetscCall(SpamSnapshotWrite(out, sim, y, p->t, NULL)); /* collective */
   PetscCall(VecRestoreArrayRead(X, &y));
   PetscCall(SpamMonitorProgress(sim, o, p, r));
@@ -560,7 +584,10 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
     PetscCall(VecCopy(sim->X, L->Xgood));
     if (limit != cut) L->dt_prev = pp->dt;
     r->t = t;
-    PetscCall(SpamAgree(sim->comm, SpamStepsAppend(out, pp))); /* rank 0 writes */
+    {
+      SeriesRow w = {out, sim, pp, NULL, NULL};
+      PetscCall(SpamRunAgreed(sim->comm, PETSC_TRUE, AppendSteps, &w));
+    }
     if (o->monitor) PetscCall(SpamMonitorStep(sim, pp));
     /* TSSolve would call the -ts_monitor monitors; this loop steps the TS itself. */
     PetscCall(TSMonitor(ts, (PetscInt)pp->steps, t, sim->X));
