@@ -3,7 +3,9 @@
 set -euo pipefail
 export DEBIAN_FRONTEND=noninteractive
 packages=(build-essential cmake pkg-config libsundials-dev petsc-dev libhdf5-openmpi-dev hdf5-tools
-          python3 python3-matplotlib python3-numpy)
+          openmpi-bin python3 python3-matplotlib python3-numpy)
+# openmpi-bin: mpiexec for multi-rank runs and their tests (petsc-dev pulls it in through
+# libopenmpi-dev today; named here because the tests call it).
 # gcc's sanitizer runtimes for tools/sanitize.sh (libasan8, libubsan1) come with gcc-12
 # (libgcc-12-dev depends on them): nothing more to install.
 # Optional, each large: --bench adds the benchmark's peer (no test needs it); --paraview adds
