@@ -8,7 +8,9 @@
  * the wall takes the reaction). Other ranks' particles (halo.h) are the remote ghosts,
  * after the local ones: their source is on another rank (src = -1), gather fills them
  * through the halo's PetscSF, and fold drops them (each rank computes its own particles'
- * pairs with them: no reverse communication). */
+ * pairs with them: no reverse communication). A remote ghost may be the mirror image of
+ * another rank's particle (kind SPAM_GHOST_MIRROR, src = -1): the owner sends the source's
+ * values and the receiver applies the mirror and the walls' rules to them. */
 #ifndef SPAM_GHOSTS_H
 #define SPAM_GHOSTS_H
 #include <spam/box.h>
@@ -23,6 +25,8 @@ typedef struct {
                            /* nlocal .. n-1 remote (halo.ghost_owner/_index/_shift    */
                            /* [k - nlocal] say whose particle and which image)         */
   int           *src;      /* [cap] local source of each ghost (-1: remote)           */
+  double        *rbook;    /* [bcap * 5] the walls' books of remote mirror images      */
+  int            bcap;
   double        *shift[3]; /* [cap] per direction: x_g = flip x_src + shift            */
   unsigned char *flip;     /* [cap] bit d set: direction d mirrored                    */
   unsigned char *kind;     /* [cap] SpamGhostKind                                      */
@@ -59,8 +63,8 @@ typedef enum { SPAM_GHOST_SCALAR, SPAM_GHOST_VECTOR, SPAM_GHOST_TENSOR } SpamGho
  * ones follow the temperature. Stress (D x D): continued through a no-slip wall (the
  * shear it transmits), mirrored at a free-slip one (no shear). */
 typedef enum { SPAM_WALL_FIELD_VELOCITY, SPAM_WALL_FIELD_TEMPERATURE, SPAM_WALL_FIELD_HEAT_FLUX, SPAM_WALL_FIELD_STRESS } SpamWallField;
-/* Both gathers fill the remote slots from their owners (unchanged: a remote ghost is never
- * mirrored); collective on more than one rank, every rank must call them. */
+/* Both gathers fill the remote slots from their owners, mirrored as local ghosts are;
+ * collective on more than one rank, every rank must call them. */
 PetscErrorCode SpamGhostsGatherWall(const SpamGhosts *g, int dim, int n, SpamWallField what, double *field);
 PetscErrorCode SpamGhostsGather(const SpamGhosts *g, int dim, int n, int ncomp, SpamGhostParity parity, double *field);
 /* Fold: adds each periodic ghost's ncomp accumulated values to its source, and zeroes

@@ -11,9 +11,10 @@
  * in the sender's item order. A rank sends itself nothing: its own periodic and mirror
  * images are the local ghosts of ghosts.h.
  *
- * The exchange is forward only (owner -> ghost slot, PetscSFReduce with MPI_REPLACE): a
- * rank computes its own particles' pairs with remote ghosts (newton off across ranks) and
- * sends nothing back. On one rank (or a communicator of size one) nothing is set up and
+ * The exchange of fields is forward (owner -> ghost slot, PetscSFReduce with MPI_REPLACE):
+ * a rank computes its own particles' pairs with remote ghosts (newton off across ranks).
+ * Only the walls' per-particle books go back (SpamHaloReverseAdd): a mirror image's share
+ * belongs to its source, on the owner. On one rank (or a communicator of size one) nothing is set up and
  * every call returns at once. Cost of a build: O(n * ranks) box tests, two MPI_Alltoall
  * (PetscCommBuildTwoSided would scale to many ranks). */
 #ifndef SPAM_HALO_H
@@ -29,23 +30,35 @@
 /* The widest value a forward exchange carries: a 3 x 3 tensor. */
 #define SPAM_HALO_MAX_COMP 9
 
+/* Image codes of a direction besides the periodic shifts -1, 0, 1: the mirror image in the
+ * lower face's wall (-u) and in the upper face's (2L - u). */
+#define SPAM_HALO_MIRROR_LO 2
+#define SPAM_HALO_MIRROR_HI 3
+
+/* The coordinate of image code s of a box-local coordinate u along an edge L. */
+static inline double SpamHaloImage(int s, double u, double L)
+{
+  return s == SPAM_HALO_MIRROR_LO ? -u : s == SPAM_HALO_MIRROR_HI ? 2.0 * L - u : u + s * L;
+}
+
 typedef struct {
   PetscBool     active;      /* a communicator of two ranks or more was set               */
   MPI_Comm      comm;
   PetscMPIInt   size, rank;
   double        len[3];      /* box edges of the last build: a shift s is s * len          */
+  unsigned      walls;       /* bit f: face f has a mirror wall (set before a build)       */
   PetscSF       sf;          /* NULL until the first build                               */
   /* Items this rank sends, in (rank, particle, shift) order. */
   int           nitems, icap;
   int          *item_src;    /* [icap] local particle                                    */
-  signed char (*item_shift)[3]; /* [icap] image shift s per direction                    */
+  signed char (*item_shift)[3]; /* [icap] image code s per direction                     */
   double       *sendbuf;     /* [icap * SPAM_HALO_MAX_COMP] packed values of one exchange */
   /* Remote ghost slots this rank receives, by sender rank. */
   int           nghost, gcap;
   int          *ghost_owner; /* [gcap] owner rank                                        */
   int          *ghost_index; /* [gcap] the owner's local index at the build              */
-  signed char (*ghost_shift)[3]; /* [gcap] image shift s (the slot holds u + s L)        */
-  double       *recvbuf;     /* [gcap * 4] positions (or build data) as they arrive        */
+  signed char (*ghost_shift)[3]; /* [gcap] image code s (the slot holds SpamHaloImage)    */
+  double       *recvbuf;     /* [gcap * SPAM_HALO_MAX_COMP] positions, build data, books   */
   /* Per rank (size): bounding boxes, counts and block offsets of a build. */
   double       *boxes;       /* [size * 6] lo[3], hi[3] of every rank's particles         */
   double       *parts;       /* [size * SPAM_HALO_PARTS * 6] the boxes of the parts of    */
@@ -68,10 +81,13 @@ static inline PetscBool SpamHaloActive(const SpamHalo *h)
  * with list range rc. ghost_periodic[d]: direction d's periodicity is made by ghost images
  * (shifts s = -1, 0, 1), otherwise a periodic direction of box uses the minimum image. */
 PetscErrorCode SpamHaloSelect(SpamHalo *h, const SpamBox *box, const PetscBool ghost_periodic[3], int n, double *const u[3], double rc);
-/* Collective. Positions of the remote ghost slots: dst[d][k] = u_owner[d] + s_d L_d for the
- * remote slot k (the caller passes its arrays offset to the first remote slot). */
+/* Collective. Positions of the remote ghost slots: dst[d][k] = SpamHaloImage(s_d, u_owner[d],
+ * L_d) for the remote slot k (the caller passes its arrays offset to the first remote slot). */
 PetscErrorCode SpamHaloForwardPositions(const SpamHalo *h, int dim, double *const u[3], double *const dst[3]);
 /* Collective. ncomp values per particle (1 .. SPAM_HALO_MAX_COMP) from each owner's field
  * to the remote slots: dst[k * ncomp + c] = field_owner[i_k * ncomp + c]. */
 PetscErrorCode SpamHaloForward(const SpamHalo *h, int ncomp, const double *field, double *dst);
+/* Collective. The reverse: ncomp values of each remote slot k (slots[k * ncomp + c]) are
+ * added on its owner to base[i_k * stride + c], in the owner's item order. */
+PetscErrorCode SpamHaloReverseAdd(const SpamHalo *h, int ncomp, const double *slots, double *base, size_t stride);
 #endif

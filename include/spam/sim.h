@@ -147,7 +147,7 @@ PetscErrorCode SpamGravityEnergy(SpamSim *sim, const double *y, double *pot);
 /* The isentropic gas's density and force passes through the pair driver (any kernel,
  * unequal masses, ghost slots; pass_pressure.c). */
 PetscErrorCode SpamPressureDensityWalk(SpamSim *sim);
-void SpamPressureForceWalk(SpamSim *sim);
+PetscErrorCode SpamPressureForceWalk(SpamSim *sim);
 /* -reproducible: the isentropic gas's density and force passes over the canonical rows
  * (pass_canonical.c): each particle's own sums in its row's order, no Newton update. */
 void SpamCanonicalDensity(SpamSim *sim);

@@ -19,9 +19,11 @@ typedef struct {
   PetscBool energy;               /* work and heat are booked (the energy equation's models) */
 } SpamWallRates;
 
-/* The rates of the last pass into r, and where the layout carries books (l->wb >= 0)
- * each ghost's share into its source's rows of ydot (work, heat, impulse): their sum over
- * particles integrates to the walls' totals. f holds the pass's accumulations on the
- * ghost slots: acc always, and with the energy equation v, edot (work) and qdot. */
-void SpamWallBooks(const SpamGhosts *g, const SpamFields *f, const SpamLayout *l, int n, PetscBool energy, SpamWallRates *r, double *ydot);
+/* This rank's rates of the last pass into r (its mirror images' share: the rates of the
+ * walls are their sum over ranks), and where the layout carries books (l->wb >= 0) each
+ * ghost's share into its source's rows of ydot (work, heat, impulse), on the source's
+ * owner: their sum over particles integrates to the walls' totals. f holds the pass's
+ * accumulations on the ghost slots: acc always, and with the energy equation v, edot
+ * (work) and qdot. Collective where the state carries books. */
+PetscErrorCode SpamWallBooks(const SpamGhosts *g, const SpamFields *f, const SpamLayout *l, int n, PetscBool energy, SpamWallRates *r, double *ydot);
 #endif

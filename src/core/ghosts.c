@@ -10,8 +10,9 @@ PetscErrorCode SpamGhostsDestroy(SpamGhosts *g)
   PetscCall(PetscFree(g->flip));
   PetscCall(PetscFree(g->kind));
   PetscCall(PetscFree(g->face));
+  PetscCall(PetscFree(g->rbook));
   PetscCall(SpamHaloDestroy(&g->halo));
-  g->n = g->cap = g->nlocal = 0;
+  g->n = g->cap = g->nlocal = g->bcap = 0;
   PetscFunctionReturn(0);
 }
 
@@ -88,6 +89,31 @@ PetscErrorCode SpamGhostsSelect(SpamGhosts *g, const SpamBox *box, int n, double
   PetscFunctionReturn(0);
 }
 
+/* The faces with a mirror wall as bits (halo.h). */
+static unsigned WallBits(const SpamWalls *w)
+{
+  unsigned bits = 0;
+  for (int f = 0; f < SPAM_FACES; f++)
+    if (SpamWallOn(w, f)) bits |= 1u << f;
+  return bits;
+}
+
+/* Remote slot k from the halo's image codes s: x_g = flip x_owner + shift as for a local
+ * ghost; mirrored in some wall, it stands for the boundary (SPAM_GHOST_MIRROR), otherwise
+ * for the owner's particle. */
+static void DescribeRemote(SpamGhosts *g, int k, const signed char s[3], const double len[3])
+{
+  g->src[k]  = -1;
+  g->flip[k] = g->face[k] = 0;
+  for (int d = 0; d < 3; d++) {
+    const PetscBool mirror = (PetscBool)(s[d] == SPAM_HALO_MIRROR_LO || s[d] == SPAM_HALO_MIRROR_HI);
+    g->shift[d][k]         = mirror ? (s[d] == SPAM_HALO_MIRROR_HI ? 2.0 * len[d] : 0.0) : s[d] * len[d];
+    if (mirror) g->flip[k] |= (unsigned char)(1u << d);
+    if (s[d] == SPAM_HALO_MIRROR_HI) g->face[k] |= (unsigned char)(1u << d);
+  }
+  g->kind[k] = g->flip[k] ? SPAM_GHOST_MIRROR : SPAM_GHOST_REMOTE;
+}
+
 PetscErrorCode SpamGhostsSelectRemote(SpamGhosts *g, const SpamBox *box, int n, double *const u[3], double range)
 {
   SpamHalo *h = &g->halo;
@@ -95,16 +121,16 @@ PetscErrorCode SpamGhostsSelectRemote(SpamGhosts *g, const SpamBox *box, int n, 
   PetscFunctionBeginUser;
   g->nlocal = g->n;
   if (!h->active) PetscFunctionReturn(0);
+  h->walls = WallBits(&g->walls);
   PetscCall(SpamHaloSelect(h, box, g->periodic, n, u, range));
   PetscCall(Grow(g, g->nlocal + h->nghost));
-  for (int q = 0; q < h->nghost; q++) {
-    const int k = g->nlocal + q;
-    g->src[k]  = -1;
-    g->flip[k] = g->face[k] = 0;
-    g->kind[k] = SPAM_GHOST_REMOTE;
-    for (int d = 0; d < 3; d++) g->shift[d][k] = h->ghost_shift[q][d] * h->len[d];
-  }
+  for (int q = 0; q < h->nghost; q++) DescribeRemote(g, g->nlocal + q, h->ghost_shift[q], h->len);
   g->n = g->nlocal + h->nghost;
+  if (g->mirror && h->nghost > g->bcap) { /* the walls' books of remote images (wall_books.c) */
+    g->bcap = h->nghost + h->nghost / 2 + 16;
+    PetscCall(PetscFree(g->rbook));
+    PetscCall(PetscMalloc1((size_t)g->bcap * (2 + 3), &g->rbook));
+  }
   PetscFunctionReturn(0);
 }
 
@@ -145,6 +171,12 @@ PetscErrorCode SpamGhostsGather(const SpamGhosts *g, int dim, int n, int ncomp, 
     for (int c = 0; c < ncomp; c++) t[c] = Sign(g, k, dim, ncomp, parity, c) * s[c];
   }
   PetscCall(SpamHaloForward(&g->halo, ncomp, field, field + (size_t)(n + g->nlocal) * ncomp));
+  if (g->mirror && parity != SPAM_GHOST_SCALAR) /* other ranks' mirror images arrive as their sources */
+    for (int k = g->nlocal; k < g->n; k++) {
+      double *t = field + (size_t)(n + k) * ncomp;
+      if (!g->flip[k]) continue;
+      for (int c = 0; c < ncomp; c++) t[c] *= Sign(g, k, dim, ncomp, parity, c);
+    }
   PetscFunctionReturn(0);
 }
 
@@ -187,6 +219,13 @@ static void WallRule(const SpamWalls *w, int f, int dim, SpamWallField what, dou
   }
 }
 
+/* Every wall that mirrors ghost k, in turn: a corner ghost is mirrored twice. */
+static void WallRules(const SpamGhosts *g, int k, int dim, SpamWallField what, double *t)
+{
+  for (int d = 0; d < dim; d++)
+    if ((g->flip[k] >> d) & 1) WallRule(&g->walls, 2 * d + ((g->face[k] >> d) & 1), dim, what, t);
+}
+
 PetscErrorCode SpamGhostsGatherWall(const SpamGhosts *g, int dim, int n, SpamWallField what, double *field)
 {
   const int ncomp = what == SPAM_WALL_FIELD_TEMPERATURE ? 1 : what == SPAM_WALL_FIELD_STRESS ? dim * dim : dim;
@@ -196,9 +235,11 @@ PetscErrorCode SpamGhostsGatherWall(const SpamGhosts *g, int dim, int n, SpamWal
     const double *s = field + (size_t)g->src[k] * ncomp;
     double       *t = field + (size_t)(n + k) * ncomp;
     for (int c = 0; c < ncomp; c++) t[c] = s[c];
-    for (int d = 0; d < dim; d++) /* each mirror in turn: a corner ghost is mirrored twice */
-      if ((g->flip[k] >> d) & 1) WallRule(&g->walls, 2 * d + ((g->face[k] >> d) & 1), dim, what, t);
+    WallRules(g, k, dim, what, t);
   }
   PetscCall(SpamHaloForward(&g->halo, ncomp, field, field + (size_t)(n + g->nlocal) * ncomp));
+  if (g->mirror) /* other ranks' mirror images arrive as their sources */
+    for (int k = g->nlocal; k < g->n; k++)
+      if (g->flip[k]) WallRules(g, k, dim, what, field + (size_t)(n + k) * ncomp);
   PetscFunctionReturn(0);
 }

@@ -60,7 +60,7 @@ static PetscErrorCode GrowGhosts(SpamHalo *h, int need)
   if (need <= h->gcap) PetscFunctionReturn(0);
   PetscCall(PetscFree4(h->ghost_owner, h->ghost_index, h->ghost_shift, h->recvbuf));
   h->gcap = need + need / 2 + 64;
-  PetscCall(PetscMalloc4(h->gcap, &h->ghost_owner, h->gcap, &h->ghost_index, h->gcap, &h->ghost_shift, (size_t)h->gcap * 4, &h->recvbuf));
+  PetscCall(PetscMalloc4(h->gcap, &h->ghost_owner, h->gcap, &h->ghost_index, h->gcap, &h->ghost_shift, (size_t)h->gcap * SPAM_HALO_MAX_COMP, &h->recvbuf));
   PetscFunctionReturn(0);
 }
 
@@ -107,17 +107,24 @@ static double Gap(double x, double lo, double hi)
   return PetscMax(0.0, PetscMax(lo - x, x - hi));
 }
 
-/* Along direction d, the gap of each image shift s = -1, 0, 1 (gap[s + 1]) of a point at
- * u to rank r's interval; infinite for a shift the direction does not make. A periodic
- * direction kept by the minimum image makes only s = 0, at the periodic distance. */
-static void Gaps(const SpamBox *box, const PetscBool gper[3], const double *lo, const double *hi, int d, double u, double gap[3])
+/* Number of image codes of a direction: the shifts -1, 0, 1 and the two mirrors; gap
+ * arrays are indexed by code + 1. */
+#define NCODES 5
+
+/* Along direction d, the gap of each image code s (gap[s + 1]) of a point at u to rank r's
+ * interval; infinite for an image the direction does not make. A periodic direction kept
+ * by the minimum image makes only s = 0, at the periodic distance; a face with a wall
+ * makes its mirror image. */
+static void Gaps(const SpamBox *box, const PetscBool gper[3], unsigned walls, const double *lo, const double *hi, int d, double u, double gap[NCODES])
 {
-  gap[0] = gap[2] = INFINITY;
+  for (int e = 0; e < NCODES; e++) gap[e] = INFINITY;
   if (d >= box->dim) {
     gap[1] = 0.0;
     return;
   }
   gap[1] = Gap(u, lo[d], hi[d]);
+  if ((walls >> (2 * d)) & 1) gap[SPAM_HALO_MIRROR_LO + 1] = Gap(SpamHaloImage(SPAM_HALO_MIRROR_LO, u, box->len[d]), lo[d], hi[d]);
+  if ((walls >> (2 * d + 1)) & 1) gap[SPAM_HALO_MIRROR_HI + 1] = Gap(SpamHaloImage(SPAM_HALO_MIRROR_HI, u, box->len[d]), lo[d], hi[d]);
   if (!box->periodic[d]) return;
   {
     const double L = box->len[d], dn = Gap(u - L, lo[d], hi[d]), up = Gap(u + L, lo[d], hi[d]);
@@ -128,38 +135,51 @@ static void Gaps(const SpamBox *box, const PetscBool gper[3], const double *lo, 
   }
 }
 
-/* Squared distance of the image shift sh of a point at x to the box [lo, hi]. */
-static double ShiftDistance(const SpamBox *box, const PetscBool gper[3], const double *lo, const double *hi, const double x[3], const int sh[3])
+/* Squared distance of the image codes sh of a point at x to the box [lo, hi]. */
+static double ImageDistance(const SpamHalo *h, const SpamBox *box, const PetscBool gper[3], const double *lo, const double *hi, const double x[3], const int sh[3])
 {
   double r2 = 0.0;
 
   for (int d = 0; d < box->dim; d++) {
-    double g[3];
-    Gaps(box, gper, lo, hi, d, x[d], g);
+    double g[NCODES];
+    Gaps(box, gper, h->walls, lo, hi, d, x[d], g);
     r2 += g[sh[d] + 1] * g[sh[d] + 1];
   }
   return r2;
 }
 
-/* Appends particle i's items for rank r: every image shift whose distance to r's box is
- * below rc and to one of r's parts too, in (z, y, x) shift order. The parts are tested
- * only for the shifts that pass the box (almost always one, or none). */
+/* The codes along each direction whose gap is below rc (at most three: a direction is
+ * periodic or walled), in ascending order, into e[d][0 .. ne[d]-1] (as code + 1). */
+static void NearCodes(const double gap[3][NCODES], double rc2, int e[3][NCODES], int ne[3])
+{
+  for (int d = 0; d < 3; d++) {
+    ne[d] = 0;
+    for (int k = 0; k < NCODES; k++)
+      if (gap[d][k] * gap[d][k] < rc2) e[d][ne[d]++] = k;
+  }
+}
+
+/* Appends particle i's items for rank r: every image whose distance to r's box is below
+ * rc and to one of r's parts too, in (z, y, x) code order. The parts are tested only for
+ * the images that pass the box (almost always one, or none). */
 static void AppendItems(SpamHalo *h, const SpamBox *box, const PetscBool gper[3], int r, int i, double *const u[3], double rc2)
 {
   const double  x[3] = {u[0][i], box->dim > 1 ? u[1][i] : 0.0, box->dim > 2 ? u[2][i] : 0.0};
   const double *lo = h->boxes + 6 * (size_t)r, *hi = lo + 3;
-  double        gap[3][3];
+  double        gap[3][NCODES];
+  int           e[3][NCODES], ne[3];
 
-  for (int d = 0; d < 3; d++) Gaps(box, gper, lo, hi, d, x[d], gap[d]);
-  for (int c = 0; c < 3; c++)
-    for (int b = 0; b < 3; b++)
-      for (int a = 0; a < 3; a++) {
-        const int sh[3] = {a - 1, b - 1, c - 1};
+  for (int d = 0; d < 3; d++) Gaps(box, gper, h->walls, lo, hi, d, x[d], gap[d]);
+  NearCodes(gap, rc2, e, ne);
+  for (int c = 0; c < ne[2]; c++)
+    for (int b = 0; b < ne[1]; b++)
+      for (int a = 0; a < ne[0]; a++) {
+        const int sh[3] = {e[0][a] - 1, e[1][b] - 1, e[2][c] - 1};
         PetscBool near  = PETSC_FALSE;
-        if (!(gap[0][a] * gap[0][a] + gap[1][b] * gap[1][b] + gap[2][c] * gap[2][c] < rc2)) continue;
+        if (!(gap[0][e[0][a]] * gap[0][e[0][a]] + gap[1][e[1][b]] * gap[1][e[1][b]] + gap[2][e[2][c]] * gap[2][e[2][c]] < rc2)) continue;
         for (int k = 0; k < SPAM_HALO_PARTS && !near; k++) {
           const double *plo = h->parts + 6 * ((size_t)r * SPAM_HALO_PARTS + k);
-          near = (PetscBool)(ShiftDistance(box, gper, plo, plo + 3, x, sh) < rc2);
+          near = (PetscBool)(ImageDistance(h, box, gper, plo, plo + 3, x, sh) < rc2);
         }
         if (!near) continue;
         h->item_src[h->nitems]      = i;
@@ -257,7 +277,7 @@ PetscErrorCode SpamHaloForwardPositions(const SpamHalo *h, int dim, double *cons
   PetscFunctionBeginUser;
   if (!h->active || !h->sf) PetscFunctionReturn(0);
   for (int k = 0; k < h->nitems; k++)
-    for (int d = 0; d < dim; d++) h->sendbuf[(size_t)k * dim + d] = u[d][h->item_src[k]] + h->item_shift[k][d] * h->len[d];
+    for (int d = 0; d < dim; d++) h->sendbuf[(size_t)k * dim + d] = SpamHaloImage(h->item_shift[k][d], u[d][h->item_src[k]], h->len[d]);
   PetscCall(PetscSFReduceBegin(h->sf, h->unit[dim], h->sendbuf, h->recvbuf, MPI_REPLACE));
   PetscCall(PetscSFReduceEnd(h->sf, h->unit[dim], h->sendbuf, h->recvbuf, MPI_REPLACE));
   for (int d = 0; d < dim; d++)
@@ -274,5 +294,17 @@ PetscErrorCode SpamHaloForward(const SpamHalo *h, int ncomp, const double *field
     for (int c = 0; c < ncomp; c++) h->sendbuf[(size_t)k * ncomp + c] = field[(size_t)h->item_src[k] * ncomp + c];
   PetscCall(PetscSFReduceBegin(h->sf, h->unit[ncomp], h->sendbuf, dst, MPI_REPLACE));
   PetscCall(PetscSFReduceEnd(h->sf, h->unit[ncomp], h->sendbuf, dst, MPI_REPLACE));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamHaloReverseAdd(const SpamHalo *h, int ncomp, const double *slots, double *base, size_t stride)
+{
+  PetscFunctionBeginUser;
+  if (!h->active || !h->sf) PetscFunctionReturn(0);
+  PetscCheck(ncomp >= 1 && ncomp <= SPAM_HALO_MAX_COMP, PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "a halo exchange carries 1 to %d values per particle, not %d", SPAM_HALO_MAX_COMP, ncomp);
+  PetscCall(PetscSFBcastBegin(h->sf, h->unit[ncomp], slots, h->sendbuf, MPI_REPLACE));
+  PetscCall(PetscSFBcastEnd(h->sf, h->unit[ncomp], slots, h->sendbuf, MPI_REPLACE));
+  for (int k = 0; k < h->nitems; k++)
+    for (int c = 0; c < ncomp; c++) base[(size_t)h->item_src[k] * stride + c] += h->sendbuf[(size_t)k * ncomp + c];
   PetscFunctionReturn(0);
 }

@@ -134,9 +134,6 @@ PetscErrorCode SpamNeighboursBuildGhosts(SpamNeighbours *nl, const SpamBox *box)
   nl->ngpairs = 0;
   for (int i = 0; i <= nl->n; i++) nl->gstart[i] = 0;
   if (!local && !SpamHaloActive(&g->halo)) PetscFunctionReturn(0);
-  /* Every rank has the same walls: all refuse together. A remote particle's mirror image
-   * would have to be sent too (not done yet). */
-  PetscCheck(!(g->mirror && SpamHaloActive(&g->halo)), PETSC_COMM_SELF, PETSC_ERR_SUP, "mirror walls are not supported across ranks yet (their images of other ranks' particles are not sent)");
   /* At the build every particle is inside the box, so only an image within the list
    * range rc of a face can be within rc of a local particle. */
   g->n = 0;

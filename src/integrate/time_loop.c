@@ -325,6 +325,8 @@ static PetscErrorCode PostStep(TS ts, SpamSim *sim, SpamRunResult *r)
   if (sim->model.post_step) PetscCall(sim->model.post_step(sim, y, &changed));
   PetscCall(VecRestoreArray(sim->X, &y));
   changed += crossed;
+  /* Every rank restarts its method together (TSRestartStep is collective), and the counts are the run's. */
+  if (SpamSimDistributed(sim)) PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &changed, 1, MPIU_INT, MPI_SUM, sim->comm));
   if (changed > 0) {
     r->jumps += changed;
     r->jump_steps++;

@@ -4,6 +4,29 @@
 
 static const char *const Axis[3] = {"x", "y", "z"};
 
+/* The walls' rates are the sums of every rank's mirror images' shares. */
+static PetscErrorCode SumOverRanks(MPI_Comm comm, SpamWallRates *r)
+{
+  double      v[SPAM_FACES * 5];
+  PetscMPIInt size;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  if (size == 1) PetscFunctionReturn(0);
+  for (int f = 0; f < SPAM_FACES; f++) {
+    for (int d = 0; d < 3; d++) v[5 * f + d] = r->force[f][d];
+    v[5 * f + 3] = r->work[f];
+    v[5 * f + 4] = r->heat[f];
+  }
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, v, SPAM_FACES * 5, MPI_DOUBLE, MPI_SUM, comm));
+  for (int f = 0; f < SPAM_FACES; f++) {
+    for (int d = 0; d < 3; d++) r->force[f][d] = v[5 * f + d];
+    r->work[f] = v[5 * f + 3];
+    r->heat[f] = v[5 * f + 4];
+  }
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamWallDiagnostics(SpamSim *sim, const double *y, SpamDiagnostics *d)
 {
   const SpamLayout *l = &sim->model.layout;
@@ -26,6 +49,7 @@ PetscErrorCode SpamWallDiagnostics(SpamSim *sim, const double *y, SpamDiagnostic
   PetscCall(PetscFree(scratch));
   sim->stats = keep;
   d->wall    = sim->wall_rates;
+  PetscCall(SumOverRanks(sim->comm, &d->wall));
   PetscFunctionReturn(0);
 }
 

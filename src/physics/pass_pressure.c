@@ -38,14 +38,16 @@ PetscErrorCode SpamPressureDensityWalk(SpamSim *sim)
   PetscFunctionReturn(0);
 }
 
-void SpamPressureForceWalk(SpamSim *sim)
+PetscErrorCode SpamPressureForceWalk(SpamSim *sim)
 {
   SpamFields  *f   = &sim->f;
   const size_t len = (size_t)SpamNeighboursSlots(&sim->nl) * f->dim;
 
+  PetscFunctionBeginUser;
   for (size_t k = 0; k < len; k++) f->acc[k] = 0.0;
   WalkForce(&sim->nl, &sim->model.kernel, f);
   SpamGhostsFold(&sim->nl.ghosts, f->dim, (int)sim->n, f->dim, SPAM_GHOST_VECTOR, f->acc);
   /* The isentrope's walls: their forces only (its energy has no equation to book work in). */
-  if (sim->nl.ghosts.mirror) SpamWallBooks(&sim->nl.ghosts, f, &sim->model.layout, (int)sim->n, PETSC_FALSE, &sim->wall_rates, NULL);
+  if (sim->nl.ghosts.mirror) PetscCall(SpamWallBooks(&sim->nl.ghosts, f, &sim->model.layout, (int)sim->n, PETSC_FALSE, &sim->wall_rates, NULL));
+  PetscFunctionReturn(0);
 }

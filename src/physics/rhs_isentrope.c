@@ -197,10 +197,12 @@ static inline void AddThreadBuffers(double *out, const double *scratch, size_t l
 }
 
 /* Whether the chunked loops apply (see the top of this file): no ghost slots but other
- * ranks' particles, whose pairs the loops walk for the local particle only. */
+ * ranks' particles, whose pairs the loops walk for the local particle only. Not with
+ * walls: another rank's particle may come as a mirror image, whose slot must take the
+ * pair's reaction for the walls' books, and the books must be made at every pass. */
 static PetscBool FastPath(const SpamSim *sim)
 {
-  return (PetscBool)(sim->model.kernel.kind == SPAM_KERNEL_LUCY && sim->f.uniform_mass && sim->nl.ghosts.nlocal == 0);
+  return (PetscBool)(sim->model.kernel.kind == SPAM_KERNEL_LUCY && sim->f.uniform_mass && sim->nl.ghosts.nlocal == 0 && !sim->nl.ghosts.mirror);
 }
 
 /* Room for the ghost slots of the current list in the fields (grows only when a list
@@ -247,7 +249,7 @@ SPAM_CLONES static PetscErrorCode Force(SpamSim *sim)
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(sim->ev.force, 0, 0, 0, 0));
   if (SpamNeighboursCanonical(&sim->nl)) SpamCanonicalForce(sim); /* -reproducible */
-  else if (!FastPath(sim)) SpamPressureForceWalk(sim);
+  else if (!FastPath(sim)) PetscCall(SpamPressureForceWalk(sim));
   else if (T == 1) ForceBlock(sim, sim->f.acc, 0, sim->nl.n);
   else {
 #pragma omp parallel num_threads(T)

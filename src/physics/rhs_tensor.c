@@ -32,6 +32,8 @@ typedef struct {
   double                 torque;     /* walk 2: sum of the unscaled pair torques        */
   int                    remote0;    /* first slot of other ranks' particles: a pair with */
                                      /* one is walked on both ranks, so each adds half    */
+                                     /* (not a mirror image's: it pairs on this rank only) */
+  const unsigned char   *rkind;      /* SpamGhostKind of slots remote0 ..                */
 } TensorPass;
 
 /* Walk 1: the gradients and averages that read v, T and rho. */
@@ -60,7 +62,7 @@ static inline __attribute__((always_inline)) void TorquePair(const int dim, Tens
   (void)r2;
   (void)w;
   SpamPairStressForce(dim, c->f, i, j, dx, g, F);
-  const double L = SpamPairTorque(dx, F), share = j >= c->remote0 ? 0.5 * L : L;
+  const double L = SpamPairTorque(dx, F), share = j >= c->remote0 && c->rkind[j - c->remote0] == SPAM_GHOST_REMOTE ? 0.5 * L : L;
   c->torque += share;
   if (c->p->angmom == SPAM_ANGMOM_TIJ) {
     if (L > 0.0) c->ps->bpos[BodyOf(c, i)] += share;
@@ -111,6 +113,15 @@ static void Zero(double *a, size_t len)
  * column at rest is in balance at the wall as in its interior: sigma_g/rho^2 loses
  * g.(x_g - x_i)/rho on its diagonal (the gas's; a solid's images keep their stress). (Without it the image's pressure equals its source's
  * and the bottom layer lacks the push that holds up the column.) */
+/* The source's position along d of mirror ghost k: read from it on this rank, from the
+ * ghost's own position (the image undone) for another rank's particle. */
+static double SourcePosition(const SpamGhosts *gh, double *const u[3], int n, int k, int d)
+{
+  const double x = u[d][n + k];
+  if (gh->src[k] >= 0) return u[d][gh->src[k]];
+  return (gh->flip[k] >> d) & 1 ? gh->shift[d][k] - x : x - gh->shift[d][k]; /* another rank's: undo the image */
+}
+
 static void HydrostaticImages(SpamSim *sim)
 {
   const SpamGhosts *gh  = &sim->nl.ghosts;
@@ -120,7 +131,7 @@ static void HydrostaticImages(SpamSim *sim)
   for (int k = 0; k < gh->n; k++) {
     double dphi = 0.0; /* g.(x_g - x_i) */
     if (gh->kind[k] != SPAM_GHOST_MIRROR) continue;
-    for (int d = 0; d < dim; d++) dphi += sim->model.gravity[d] * (sim->nl.u[d][n + k] - sim->nl.u[d][gh->src[k]]);
+    for (int d = 0; d < dim; d++) dphi += sim->model.gravity[d] * (sim->nl.u[d][n + k] - SourcePosition(gh, sim->nl.u, n, k, d));
     for (int a = 0; a < dim; a++) f->qs[(size_t)(n + k) * dim * dim + a * dim + a] -= dphi / f->rho[n + k];
   }
 }
@@ -312,7 +323,7 @@ static void Assemble(const SpamSim *sim, double *ydot)
 static TensorPass PassOf(SpamSim *sim)
 {
   const SpamSolidParams *p = &sim->model.solid;
-  TensorPass             c = {&sim->f, p, sim->model.kernel.h, (int)p->coords, p->conductivity > 0.0, p->angmom == SPAM_ANGMOM_TI || p->angmom == SPAM_ANGMOM_TIJ, p->density != SPAM_DENSITY_SUMMATION, sim->ps, 0.0, (int)sim->n + sim->nl.ghosts.nlocal};
+  TensorPass             c = {&sim->f, p, sim->model.kernel.h, (int)p->coords, p->conductivity > 0.0, p->angmom == SPAM_ANGMOM_TI || p->angmom == SPAM_ANGMOM_TIJ, p->density != SPAM_DENSITY_SUMMATION, sim->ps, 0.0, (int)sim->n + sim->nl.ghosts.nlocal, sim->nl.ghosts.kind ? sim->nl.ghosts.kind + sim->nl.ghosts.nlocal : NULL};
   return c;
 }
 
@@ -332,7 +343,7 @@ PetscErrorCode SpamRhsSolid(SpamSim *sim, const double *y, double *ydot, PetscIn
   PetscCall(PetscLogEventEnd(sim->ev.force, 0, 0, 0, 0));
   if (sim->model.solid.angmom == SPAM_ANGMOM_GAUSS) PetscCall(SpamGaussConstraint(sim, y));
   Assemble(sim, ydot);
-  if (sim->nl.ghosts.mirror) SpamWallBooks(&sim->nl.ghosts, &sim->f, &sim->model.layout, (int)sim->n, PETSC_TRUE, &sim->wall_rates, ydot);
+  if (sim->nl.ghosts.mirror) PetscCall(SpamWallBooks(&sim->nl.ghosts, &sim->f, &sim->model.layout, (int)sim->n, PETSC_TRUE, &sim->wall_rates, ydot));
   sim->stats.pair_visits += (2.0 + (c.scale ? 1.0 : 0.0)) * (double)(sim->nl.npairs + sim->nl.ngpairs);
   PetscFunctionReturn(0);
 }

@@ -21,10 +21,23 @@ static int FaceOf(const SpamGhosts *g, int k)
   return best;
 }
 
-void SpamWallBooks(const SpamGhosts *g, const SpamFields *f, const SpamLayout *l, int n, PetscBool energy, SpamWallRates *r, double *ydot)
+/* Sends the books of other ranks' particles' mirror images to their owners, who add them
+ * to the sources' rows (collective, where the state carries books). */
+static PetscErrorCode RemoteBooks(const SpamGhosts *g, const SpamLayout *l, double *ydot)
 {
-  const int dim = l->dim, nv = l->nvar;
+  const int nb = 2 + l->dim;
 
+  PetscFunctionBeginUser;
+  if (!SpamHaloActive(&g->halo)) PetscFunctionReturn(0);
+  PetscCall(SpamHaloReverseAdd(&g->halo, nb, g->rbook, ydot + l->wb, (size_t)l->nvar));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamWallBooks(const SpamGhosts *g, const SpamFields *f, const SpamLayout *l, int n, PetscBool energy, SpamWallRates *r, double *ydot)
+{
+  const int dim = l->dim, nv = l->nvar, nb = 2 + dim;
+
+  PetscFunctionBeginUser;
   for (int s = 0; s < SPAM_FACES; s++) {
     r->work[s] = r->heat[s] = 0.0;
     for (int d = 0; d < 3; d++) r->force[s][d] = 0.0;
@@ -32,11 +45,13 @@ void SpamWallBooks(const SpamGhosts *g, const SpamFields *f, const SpamLayout *l
   r->energy = energy;
   if (l->wb >= 0)
     for (int i = 0; i < n; i++)
-      for (int c = 0; c < 2 + dim; c++) ydot[(size_t)i * nv + l->wb + c] = 0.0;
+      for (int c = 0; c < nb; c++) ydot[(size_t)i * nv + l->wb + c] = 0.0;
   for (int k = 0; k < g->n; k++) {
     const int     j = n + k, s = FaceOf(g, k);
     const double *a = f->acc + (size_t)j * dim;
-    double        work = 0.0, heat = 0.0;
+    double        work = 0.0, heat = 0.0, *b;
+    if (k >= g->nlocal && l->wb >= 0) /* a remote slot's books, zero unless a mirror image */
+      for (int c = 0; c < nb; c++) g->rbook[(size_t)(k - g->nlocal) * nb + c] = 0.0;
     if (g->kind[k] != SPAM_GHOST_MIRROR) continue;
     for (int d = 0; d < dim; d++) r->force[s][d] -= f->m[j] * a[d];
     if (energy) {
@@ -46,11 +61,12 @@ void SpamWallBooks(const SpamGhosts *g, const SpamFields *f, const SpamLayout *l
       r->work[s] += work;
       r->heat[s] += heat;
     }
-    if (l->wb >= 0) {
-      double *b = ydot + (size_t)g->src[k] * nv + l->wb;
-      b[0] += work;
-      b[1] += heat;
-      for (int d = 0; d < dim; d++) b[2 + d] -= f->m[j] * a[d];
-    }
+    if (l->wb < 0) continue;
+    b = g->src[k] >= 0 ? ydot + (size_t)g->src[k] * nv + l->wb : g->rbook + (size_t)(k - g->nlocal) * nb;
+    b[0] += work;
+    b[1] += heat;
+    for (int d = 0; d < dim; d++) b[2 + d] -= f->m[j] * a[d];
   }
+  if (l->wb >= 0) PetscCall(RemoteBooks(g, l, ydot));
+  PetscFunctionReturn(0);
 }

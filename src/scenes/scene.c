@@ -345,14 +345,13 @@ static PetscErrorCode CheckReproducible(const SpamCommonParams *c, const SpamPar
 }
 
 /* What runs on one rank only, refused on more in one line that says why. */
-static PetscErrorCode CheckSerialOnly(PetscMPIInt size, const SpamParticles *p, const SpamModel *model)
+static PetscErrorCode CheckSerialOnly(PetscMPIInt size, const SpamModel *model)
 {
   char val[32];
 
   PetscFunctionBeginUser;
   PetscCall(PetscSNPrintf(val, sizeof val, "%d", size));
   if (!strcmp(model->name, "springs")) SPAM_BAD_INPUT("mpiexec -n", val, "the springs model runs on one rank: its bonds are kept by local particle index, which a migration changes");
-  if (SpamWallsAny(&p->walls, p->dim)) SPAM_BAD_INPUT("mpiexec -n", val, "mirror walls run on one rank: the mirror images of other ranks' particles are not exchanged");
   if (model->post_step) SPAM_BAD_INPUT("mpiexec -n", val, "-closest_approach runs on one rank: its pair reflections change both particles of a pair, which may sit on two ranks");
   PetscFunctionReturn(0);
 }
@@ -376,7 +375,7 @@ static PetscErrorCode CheckBuilt(MPI_Comm comm, const SpamCommonParams *c, const
   PetscCall(ModelOf(c, p, solid, model));
   PetscCall(SpamParticlesCheckColumns(p, &model->layout)); /* a file's columns against the model */
   PetscCallMPI(MPI_Comm_size(comm, &size));
-  if (size > 1) PetscCall(CheckSerialOnly(size, p, model));
+  if (size > 1) PetscCall(CheckSerialOnly(size, model));
   PetscFunctionReturn(0);
 }
 
