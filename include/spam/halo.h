@@ -1,31 +1,29 @@
-/* Halo of a rank: the other ranks' particles (and their periodic images) within the list
- * range of this rank's particles, as remote ghost slots, exchanged through one PetscSF
- * (roots: the ghost slots on the receiver; leaves: the (particle, image shift) items on the
- * sender, one leaf per root). Chosen at every list build, which is collective: each rank
- * all-gathers the bounding box of its particles' box-local positions (and of
- * SPAM_HALO_PARTS parts of them), and sends particle i with shift s (s in {-1,0,1} along
- * the directions whose periodicity is made by ghost images, 0 along the others) to rank r
- * when dist(u_i + s L, box_r) < rc and the same holds for one of r's parts; along a periodic
- * direction kept by the minimum image the distance is the periodic one and s = 0. Items in
- * (rank, particle, shift) order; a receiver lays its ghost slots out by sender rank, then
- * in the sender's item order. A rank sends itself nothing: its own periodic and mirror
- * images are the local ghosts of ghosts.h.
+/* Halo of a rank: the other ranks' particles (and their images) within the list range of
+ * this rank's particles, as remote ghost slots, exchanged through one PetscSF (roots: the
+ * ghost slots on the receiver; leaves: the (particle, image) items on the sender, one leaf
+ * per root). Chosen at every list build, which is collective (halo_select.c): every rank
+ * sends each other rank the cells of a grid (at least rc wide) that its particles occupy
+ * near that rank's bounding box, and sends particle i as image code s per direction to rank
+ * r when the image lies within rc of a cell r occupies. The codes: s in {-1,0,1} is the
+ * periodic image u + s L along a direction whose periodicity is made by ghost images (0
+ * along the others; along a periodic direction kept by the minimum image the distance is
+ * the periodic one); SPAM_HALO_MIRROR_LO and _HI are the mirror images -u and 2L - u in a
+ * wall of the lower or upper face (walls.h), for the faces in `walls`. Items in (rank,
+ * particle, code) order; a receiver lays its ghost slots out by sender rank, then in the
+ * sender's item order. A rank sends itself nothing: its own periodic and mirror images are
+ * the local ghosts of ghosts.h.
  *
  * The exchange of fields is forward (owner -> ghost slot, PetscSFReduce with MPI_REPLACE):
  * a rank computes its own particles' pairs with remote ghosts (newton off across ranks).
  * Only the walls' per-particle books go back (SpamHaloReverseAdd): a mirror image's share
- * belongs to its source, on the owner. On one rank (or a communicator of size one) nothing is set up and
- * every call returns at once. Cost of a build: O(n * ranks) box tests, two MPI_Alltoall
- * (PetscCommBuildTwoSided would scale to many ranks). */
+ * belongs to its source, on the owner. On one rank (or a communicator of size one) nothing
+ * is set up and every call returns at once. Cost of a build: O(n) cell lookups, O(cells x
+ * ranks) box tests of occupied cells, three MPI_Alltoall(v) (PetscCommBuildTwoSided would
+ * scale to many ranks). */
 #ifndef SPAM_HALO_H
 #define SPAM_HALO_H
 #include <petscsf.h>
 #include <spam/box.h>
-
-/* Parts of a rank's particles (consecutive in its local order, which after a migration
- * follows the cells: rows in 2D, a Morton curve in 3D) whose bounding boxes refine the
- * rank's one box in the choice of what to send it (halo.c says why). */
-#define SPAM_HALO_PARTS 32
 
 /* The widest value a forward exchange carries: a 3 x 3 tensor. */
 #define SPAM_HALO_MAX_COMP 9
@@ -41,6 +39,22 @@ static inline double SpamHaloImage(int s, double u, double L)
   return s == SPAM_HALO_MIRROR_LO ? -u : s == SPAM_HALO_MIRROR_HI ? 2.0 * L - u : u + s * L;
 }
 
+/* What the choice of a build keeps (halo_select.c): maps over the cells of the grid,
+ * -1 and 0 between builds, and the cells each rank occupies. */
+typedef struct {
+  long           ncells;           /* room in the maps                                    */
+  int           *head;             /* [ncells] first pool entry of a cell's ranks, or -1  */
+  unsigned char *near;             /* [ncells] another rank's cell is within one cell     */
+  int           *pool_rank, *pool_next, poolcap; /* the received cells' (rank, next)      */
+  long          *occ;              /* this rank's occupied cells                          */
+  double        *obox;             /* [occcap * 6] the box of this rank's particles in each */
+  int            nocc, occcap;
+  double        *scells, *rcells;  /* cells sent to / received from the other ranks: key, box */
+  int            skcap, rkcap;
+  PetscMPIInt   *scnt, *rcnt, *soff, *rcoff; /* per rank; rcoff[size] the total           */
+  long          *stamp;            /* [size] the last image sent to each rank             */
+} SpamHaloCells;
+
 typedef struct {
   PetscBool     active;      /* a communicator of two ranks or more was set               */
   MPI_Comm      comm;
@@ -51,6 +65,7 @@ typedef struct {
   /* Items this rank sends, in (rank, particle, shift) order. */
   int           nitems, icap;
   int          *item_src;    /* [icap] local particle                                    */
+  int          *item_rank;   /* [icap] destination (while the items are chosen)          */
   signed char (*item_shift)[3]; /* [icap] image code s per direction                     */
   double       *sendbuf;     /* [icap * SPAM_HALO_MAX_COMP] packed values of one exchange */
   /* Remote ghost slots this rank receives, by sender rank. */
@@ -61,10 +76,10 @@ typedef struct {
   double       *recvbuf;     /* [gcap * SPAM_HALO_MAX_COMP] positions, build data, books   */
   /* Per rank (size): bounding boxes, counts and block offsets of a build. */
   double       *boxes;       /* [size * 6] lo[3], hi[3] of every rank's particles         */
-  double       *parts;       /* [size * SPAM_HALO_PARTS * 6] the boxes of the parts of    */
-                             /* every rank's particles in local order (see halo.c)      */
+  SpamHaloCells sel;         /* the choice's cells                                       */
   PetscMPIInt  *scount, *rcount, *roff, *soff;
   MPI_Datatype  unit[SPAM_HALO_MAX_COMP + 1]; /* unit[c]: c contiguous doubles            */
+  MPI_Datatype  unit_cell;   /* a cell of the choice: key and box, 7 doubles             */
   long          builds;      /* statistics                                               */
 } SpamHalo;
 
