@@ -237,6 +237,9 @@ for name, (args, dt) in SPRINGS.items():
         cols = [col for col in ("x", "y", "z") if col in p1]
         worst = max(abs(p1[col][k] - pn[col][at[int(p1["id"][k])]]) for col in cols for k in range(len(p1["id"])) if int(p1["id"][k]) in at)
         c.check(worst <= 1e-11 * edge, f"{name} on {ranks} ranks: final positions within {worst:.1e} of one rank's (bound 1e-11 x box edge {edge:g})")
+code, so, se, out = spam(2, "springs_migrate", SPRINGS["rotor-md"][0] + ["-migrate_interval", 1])
+lines = [x for x in se.splitlines() if x.startswith("spam-ark: error:")]
+c.check(code == 2 and len(lines) == 1 and "-migrate_interval" in lines[0] and "springs" in lines[0], f"-migrate_interval with the springs on 2 ranks refused once: exit {code}, {lines}")
 
 # (g) every options file on 2 ranks: the one-rank answer at the output times both reached
 #     (energies within 10 rtol of the file's tolerance, as (b)), or refused in one line that
