@@ -26,7 +26,7 @@
     would leave |P| at about its force times the run time, orders above.
 (d) An error on one rank ends every rank: rank 0's timeseries write fails (disk full,
     injected); the job exits 1 within the timeout, with one error line.
-(e) What runs on one rank only is refused in one line, printed once: the springs model,
+(e) What runs on one rank only is refused in one line, printed once: -closest_approach,
     checkpoints.
 (f) Migrations between steps (-migrate_interval 1: after every list build): the run agrees
     with the one-rank run as in (b), the count is kept, one RHS evaluation per migration;
@@ -243,10 +243,68 @@ if c.check(code1 == 0 and code3 == 0, f"final particles on 1 and 3 ranks with mi
 code, so, se, out = spam(1, "migrate_one", base + ["-migrate_interval", 1])
 c.check(code == 2 and "several ranks" in se, f"-migrate_interval on one rank refused: exit {code} {se.strip()[-200:]}")
 
+# (i) The springs model (chain, rotor-md) on 1, 2 and 3 ranks. Its bonds are made once, at
+#     set-up on rank 0, and travel by gid through the first distribution; a bond whose
+#     partner another rank holds is computed on both ranks (newton off), its energy half on
+#     each. The model never rebuilds its neighbour list, so it never migrates after the first
+#     distribution (-migrate_interval is refused for it): what is checked is that the first
+#     distribution keeps every bond and every particle. Fixed-step DP5 as (a): energies and L
+#     within 1e-11 of one rank at every output row, by (a)'s argument (a bond lost or counted
+#     twice moves the spring energy by one bond's share, ~1/(3N) of it, at once), and
+#     momentum at round-off by (c)'s bound. Then the final particles on 3 ranks: every id
+#     once, each where one rank has it within 1e-11 x box edge (the same rounding argument
+#     for positions; a lost bond moves a particle by its displacement amplitude, 1e-2).
+SPRINGS = {"chain": (["-scene", "chain", "-dim", 1, "-chain_n", 64, "-spring_k", 1, "-chain_amplitude", 0.01,
+                      "-ts_max_time", 8, "-output_interval", 1], 0.1),
+           "rotor-md": (["-scene", "rotor-md", "-dim", 2, "-rotor_n", 8, "-rotor_speed", 0.1, "-spring_k", 1, "-spring_range", 1.1,
+                         "-ts_max_time", 12, "-output_interval", 2], 0.1)}
+
+
+def momentum_roundoff(t):
+    """Largest |P| over the run as a fraction of (c)'s eps * steps * sqrt(N) * sqrt(2MK)."""
+    M = t["mass"][-1]  # unit masses: N = M
+    worst = 0.0
+    for k in range(len(t["t"])):
+        p = math.sqrt(t["px"][k] ** 2 + t["py"][k] ** 2 + t["pz"][k] ** 2)
+        bound = EPS * max(t["step"][-1], 1) * math.sqrt(M) * math.sqrt(2 * M * max(t["kinetic"][k], 0.0))
+        worst = max(worst, p / bound if bound > 0 else (0.0 if p == 0 else math.inf))
+    return worst
+
+
+for name, (args, dt) in SPRINGS.items():
+    runs, finals = {}, {}
+    for ranks in (1, 2, 3):
+        final = os.path.join(a.workdir, f"springs_{name}_np{ranks}.csv")
+        code, so, se, out = spam(ranks, f"springs_{name}", args + ["-arkode_fixed_step", dt, "-snapshot_interval", 0, "-final_csv", final])
+        if not c.check(code == 0, f"{name} fixed steps on {ranks} ranks: exit {code} {se.strip()[-300:]}"):
+            continue
+        runs[ranks], finals[ranks], s = table(os.path.join(out, "timeseries.csv")), table(final), summary(out)
+        edge = s["box_len"][0]
+        if ranks > 1:  # every rank holds a piece (imbalance P: one rank holds all, no bond crosses)
+            c.check(s["ranks"] == ranks and s["rank_imbalance_final"] <= 1.25, f"{name} on {ranks} ranks: imbalance {s['rank_imbalance_final']:.3f} (fullest rank / mean)")
+    if 1 not in runs:
+        continue
+    for ranks in (2, 3):
+        if ranks not in runs:
+            continue
+        compare(name, runs[1], runs[ranks], ranks, 1e-11, "fixed steps")
+        worst = momentum_roundoff(runs[ranks])
+        c.check(worst <= 1.0, f"{name} on {ranks} ranks: momentum |P| at most {worst:.2e} of eps*steps*sqrt(N)*sqrt(2MK)")
+        p1, pn = finals[1], finals[ranks]
+        ids = sorted(int(v) for v in pn["id"])
+        c.check(ids == list(range(len(p1["id"]))), f"{name} on {ranks} ranks: final ids 0..{len(p1['id']) - 1} each once ({len(ids)} rows, {len(set(ids))} distinct)")
+        at = {int(v): k for k, v in enumerate(pn["id"])}
+        cols = [col for col in ("x", "y", "z") if col in p1]
+        worst = max(abs(p1[col][k] - pn[col][at[int(p1["id"][k])]]) for col in cols for k in range(len(p1["id"])) if int(p1["id"][k]) in at)
+        c.check(worst <= 1e-11 * edge, f"{name} on {ranks} ranks: final positions within {worst:.1e} of one rank's (bound 1e-11 x box edge {edge:g})")
+code, so, se, out = spam(2, "springs_migrate", SPRINGS["rotor-md"][0] + ["-migrate_interval", 1])
+lines = [x for x in se.splitlines() if x.startswith("spam-ark: error:")]
+c.check(code == 2 and len(lines) == 1 and "-migrate_interval" in lines[0] and "springs" in lines[0], f"-migrate_interval with the springs on 2 ranks refused once: exit {code}, {lines}")
+
 # (g) every options file on 2 ranks: the one-rank answer at the output times both reached
 #     (energies within 10 rtol of the file's tolerance, as (b)), or refused in one line that
 #     names what is serial-only. 30 steps each.
-REFUSED = {"chain": "springs", "rotor-md": "springs"}
+REFUSED = {}
 optdir = os.path.join(OPTS_DIR, "options")
 for fname in sorted(os.listdir(optdir)):
     if not fname.endswith(".opts"):
@@ -320,7 +378,7 @@ except FileNotFoundError as e:
     c.check(False, f"SIGTERM to one rank: no summary ({e}); exit {p.returncode}")
 
 # (e) refusals, once
-for what, args in [("springs", ["-options_file", os.path.join(OPTS_DIR, "options/chain.opts")]),
+for what, args in [("closest approach", args_of("rotor_tij") + ["-closest_approach", 0.5]),
                    ("checkpoints", args_of("expansion2d") + ["-checkpoint_interval", 1])]:
     code, so, se, out = spam(2, "refused", args)
     lines = [x for x in se.splitlines() if x.startswith("spam-ark: error:")]

@@ -6,12 +6,29 @@
 #define SPAM_PHYSICS_H
 #include <spam/sim.h>
 
+/* The spring bonds of a rank whose partner another rank holds (springs_bonds.c): the
+ * partners' positions arrive through a PetscSF made by matching gids, made anew whenever
+ * the local order changes (a migration). Empty on one rank. */
+typedef struct {
+  int          nremote;  /* remote partner slots                                    */
+  PetscInt64  *gid;      /* [nremote] their gids, increasing                          */
+  PetscSF      sf;       /* roots: the local particles; leaves: the remote slots      */
+  MPI_Datatype unit;     /* dim doubles: one position                                  */
+  double      *xlocal;   /* [n * dim] local positions packed for the exchange         */
+  double      *xremote;  /* [nremote * dim] the remote partners' positions            */
+  DM           carrier;  /* during a migration only: the bonds in transit              */
+} SpamBondHalo;
+
 typedef struct SpamPhysicsScratch {
   PetscInt n;
   int     *body, nbody;    /* connected body of each particle at set-up              */
   double  *bpos, *bneg, *bfac; /* [nbody] positive / negative torque sums, factor     */
-  int     *bond_start, *bond_nbr; /* CSR half list of spring bonds (each pair once)  */
+  /* Spring bonds, CSR by local particle: a partner j < n is local (each local pair once,
+   * the force added to both), j >= n the remote slot j - n of bond_halo (the bond is kept
+   * by both ranks, each adding the force to its own particle only).                  */
+  int     *bond_start, *bond_nbr;
   int      nbonds;
+  SpamBondHalo bond_halo;
   /* Gauss's principle: evaluations found singular, and whether that was reported.     */
   long     gauss_singular;
   PetscBool gauss_reported;
@@ -38,6 +55,24 @@ PetscErrorCode SpamBodiesLabel(SpamSim *sim, const double *y, double range);
  * a model's diagnostics (count, Lz of bodies 0 and 1, Gauss's singular evaluations). */
 PetscErrorCode SpamBodyAngularMomentum(SpamSim *sim, const double *y, double *lbody);
 PetscErrorCode SpamBodiesDiag(SpamSim *sim, const double *y, SpamModelDiag *d);
+/* Whether the model keeps spring bonds (set up by the springs model). */
+static inline PetscBool SpamBondsAny(const SpamSim *sim)
+{
+  return (PetscBool)(sim->ps && sim->ps->bond_start);
+}
+/* Spring bonds through a migration (springs_bonds.c). Collective, both. Depart, before
+ * the particles leave (gids and local order still the old ones): every bond, as one
+ * record (holder gid, partner gid) per particle that keeps it, goes to the rank its
+ * holder goes to (dest[i], by DMSwarmMigrate of a swarm of such records). Arrive, once
+ * the arrived particles are in their new local order: the CSR rebuilt from the records,
+ * and the PetscSF of the remote partners. */
+PetscErrorCode SpamBondsDepart(SpamSim *sim, const PetscInt *dest);
+PetscErrorCode SpamBondsArrive(SpamSim *sim);
+/* Collective once distributed (nothing on one rank): the remote partners' positions into
+ * bond_halo.xremote from the positions x (stride doubles per particle) of their owners. */
+PetscErrorCode SpamBondsGather(SpamSim *sim, const double *x, int stride);
+/* Frees what the bonds across ranks hold. */
+PetscErrorCode SpamBondHaloDestroy(SpamBondHalo *bh);
 /* Gauss's principle: adds -alpha (v - v_cm) + beta z x (r - r_cm) to the accelerations
  * so that the total L and E are constant; skipped (and counted) when singular. */
 PetscErrorCode SpamGaussConstraint(SpamSim *sim, const double *y);

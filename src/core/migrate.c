@@ -8,7 +8,8 @@
  * others waiting in the next collective call for ever (the design note's t2 hung so).
  * The swarm may only resize while no field is open, so X (which holds the state field)
  * and the gid field are closed around DMSwarmMigrate; the masses and body labels, which
- * live outside the swarm, ride in its carried fields. */
+ * live outside the swarm, ride in its carried fields; spring bonds travel by gid in a
+ * swarm of their own (springs_bonds.c). */
 #include <spam/decompose.h>
 #include <spam/physics.h>
 #include <stdint.h>
@@ -164,12 +165,14 @@ static PetscErrorCode RebuildList(SpamSim *sim)
 static PetscErrorCode Move(SpamSim *sim, const SpamDecomp *dec, const PetscInt *dest, PetscInt64 moved)
 {
   PetscFunctionBeginUser;
+  if (SpamBondsAny(sim)) PetscCall(SpamBondsDepart(sim, dest)); /* by the old gids and order */
   PetscCall(Agree(sim->comm, Detach(sim, dest), "closing the swarm for a migration"));
   /* Sent particles stay until the sort drops them all at once (local_order.c says why). */
   if (moved) PetscCall(DMSwarmMigrate(sim->swarm, PETSC_FALSE));
   PetscCall(Agree(sim->comm, Reorder(sim, dec), "the local sort after a migration"));
   PetscCall(DMSwarmCreateGlobalVectorFromField(sim->swarm, SPAM_STATE_FIELD, &sim->X));
   PetscCall(Agree(sim->comm, SpamSimResize(sim), "re-making the scratch after a migration"));
+  if (SpamBondsAny(sim)) PetscCall(SpamBondsArrive(sim));
   PetscCall(RebuildList(sim));
   PetscFunctionReturn(0);
 }
@@ -187,8 +190,6 @@ PetscErrorCode SpamSimMigrate(SpamSim *sim, SpamDecomp *dec, SpamMigrateInfo *in
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(info, sizeof *info));
   info->bad = -1;
-  /* The model is the same on every rank, so this refusal is too. */
-  PetscCheck(!(sim->ps && sim->ps->bond_start), sim->comm, PETSC_ERR_SUP, "the spring model's bonds are kept by local particle index: its particles cannot migrate");
   ierr = PetscMalloc3(n0 + 1, &key, n0 + 1, &dest, P + 1, &tally);
   if (!ierr) ierr = CurveKeys(sim, dec, key, &bad);
   PetscCall(Agree(sim->comm, ierr, "the owners of a migration"));

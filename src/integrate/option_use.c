@@ -10,6 +10,7 @@
 #include <errno.h>
 #include <spam/errors.h>
 #include <spam/integrator.h>
+#include <spam/physics.h>
 
 /* What an option of spam-ark applies to. */
 typedef enum {
@@ -290,6 +291,12 @@ static PetscBool RelevantMethod(Group g, const Run *r, char *why, size_t len, Pe
   switch (g) {
   case G_ALL: return PETSC_TRUE;
   case G_RANKS:
+    /* Migrations come after list builds; the springs model builds none after set-up (its
+     * bonds are fixed), so its particles stay where the first distribution put them. */
+    if (SpamSimDistributed(r->sim) && SpamBondsAny(r->sim)) {
+      (void)snprintf(why, len, "applies to models that rebuild their neighbour list (this run: the springs model, whose bonds are fixed at set-up, builds none and never migrates)");
+      return PETSC_FALSE;
+    }
     if (SpamSimDistributed(r->sim) && SpamTSTypeCanFollow(r->type, r->adapt)) return PETSC_TRUE;
     (void)snprintf(why, len, "applies to runs on several ranks with -ts_type arkode, or rk, ssp, euler with fixed steps (this run: %s)", SpamSimDistributed(r->sim) ? r->method : "one rank");
     return PETSC_FALSE;

@@ -12,4 +12,11 @@ static inline __attribute__((always_inline)) void SpamPairSpring(const int dim, 
     f->acc[(size_t)j * dim + d] -= c * dx[d] * f->minv[j];
   }
 }
+/* The force on i alone, for a partner that another rank holds: that rank keeps the same
+ * bond and adds -F to its own particle. The same arithmetic as SpamPairSpring's i half. */
+static inline __attribute__((always_inline)) void SpamPairSpringOne(const int dim, SpamFields *f, double k, double r0, int i, const double dx[3], double r)
+{
+  const double c = k * (r0 - r) / r;
+  for (int d = 0; d < dim; d++) f->acc[(size_t)i * dim + d] += c * dx[d] * f->minv[i];
+}
 #endif

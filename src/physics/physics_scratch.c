@@ -11,6 +11,7 @@ static PetscErrorCode ScratchDestroy(void *ctx)
   PetscCall(PetscFree3(ps->bpos, ps->bneg, ps->bfac));
   PetscCall(PetscFree(ps->bond_start));
   PetscCall(PetscFree(ps->bond_nbr));
+  PetscCall(SpamBondHaloDestroy(&ps->bond_halo));
   PetscCall(PetscFree(ps));
   PetscFunctionReturn(0);
 }

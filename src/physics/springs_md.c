@@ -44,15 +44,22 @@ static PetscErrorCode SetUpSprings(SpamSim *sim)
   PetscFunctionReturn(0);
 }
 
-/* Separation of particles i and j of positions x (stride), minimum image; returns r. */
-static double BondDelta(const SpamSim *sim, const SpamImage *im, const double *x, int stride, int i, int j, double dx[3])
+/* Separation of the points xi and xj, minimum image; returns r. */
+static double BondDelta(const SpamSim *sim, const SpamImage *im, const double *xi, const double *xj, double dx[3])
 {
   double r2 = 0.0;
   for (int d = 0; d < sim->model.dim; d++) {
-    dx[d] = SpamImageDelta(im, d, SpamBoxLocal(&sim->box, d, x[(size_t)i * stride + d]) - SpamBoxLocal(&sim->box, d, x[(size_t)j * stride + d]));
+    dx[d] = SpamImageDelta(im, d, SpamBoxLocal(&sim->box, d, xi[d]) - SpamBoxLocal(&sim->box, d, xj[d]));
     r2 += dx[d] * dx[d];
   }
   return sqrt(r2);
+}
+
+/* Position of bond partner j: a local particle of x (stride), or a remote slot, whose
+ * position SpamBondsGather brought. */
+static const double *PartnerAt(const SpamSim *sim, const double *x, int stride, int j)
+{
+  return j < sim->n ? x + (size_t)j * stride : sim->ps->bond_halo.xremote + (size_t)(j - sim->n) * sim->model.dim;
 }
 
 static PetscErrorCode AccelSprings(SpamSim *sim, const double *x, int stride, PetscInt *bad)
@@ -64,17 +71,21 @@ static PetscErrorCode AccelSprings(SpamSim *sim, const double *x, int stride, Pe
 
   PetscFunctionBeginUser;
   *bad = -1;
+  PetscCall(SpamBondsGather(sim, x, stride)); /* before any return: it is collective */
   for (PetscInt k = 0; k < sim->n * dim; k++) sim->f.acc[k] = 0.0;
   for (PetscInt i = 0; i < sim->n; i++) {
     for (int b = ps->bond_start[i]; b < ps->bond_start[i + 1]; b++) {
       const int    j = ps->bond_nbr[b];
       double       dx[3];
-      const double r = BondDelta(sim, &im, x, stride, (int)i, j, dx);
+      const double r = BondDelta(sim, &im, x + (size_t)i * stride, PartnerAt(sim, x, stride, j), dx);
       if (!isfinite(r) || r == 0.0) {
         *bad = i;
         PetscFunctionReturn(0);
       }
-      SpamPairSpring(dim, &sim->f, sp->k, sp->r0, (int)i, j, dx, r);
+      /* A remote partner's rank keeps this bond too and adds the opposite force to its
+       * own particle (newton off across ranks, as the gas's remote pairs). */
+      if (j < sim->n) SpamPairSpring(dim, &sim->f, sp->k, sp->r0, (int)i, j, dx, r);
+      else SpamPairSpringOne(dim, &sim->f, sp->k, sp->r0, (int)i, dx, r);
     }
   }
   sim->stats.pair_visits += (double)ps->nbonds;
@@ -96,19 +107,24 @@ static PetscErrorCode RhsSprings(SpamSim *sim, const double *y, double *ydot, Pe
   PetscFunctionReturn(0);
 }
 
-/* Potential energy sum k/2 (r0 - r)^2; the forces are central, so no spurious torque. */
+/* Potential energy sum k/2 (r0 - r)^2; the forces are central, so no spurious torque.
+ * A bond with a remote partner is kept by both ranks: half of it on each. */
 static PetscErrorCode DiagSprings(SpamSim *sim, const double *y, SpamModelDiag *d)
 {
   const SpamPhysicsScratch *ps = sim->ps;
   const SpamImage           im = SpamBoxImage(&sim->box);
+  const SpamLayout         *l  = &sim->model.layout;
   double                    pe = 0.0;
 
   PetscFunctionBeginUser;
+  PetscCall(SpamBondsGather(sim, y + l->x, l->nvar));
   for (PetscInt i = 0; i < sim->n; i++)
     for (int b = ps->bond_start[i]; b < ps->bond_start[i + 1]; b++) {
+      const int    j = ps->bond_nbr[b];
       double       dx[3];
-      const double r = BondDelta(sim, &im, y + sim->model.layout.x, sim->model.layout.nvar, (int)i, ps->bond_nbr[b], dx);
-      pe += 0.5 * sim->model.springs.k * (sim->model.springs.r0 - r) * (sim->model.springs.r0 - r);
+      const double r = BondDelta(sim, &im, y + (size_t)i * l->nvar + l->x, PartnerAt(sim, y + l->x, l->nvar, j), dx);
+      const double share = j < sim->n ? 0.5 : 0.25;
+      pe += share * sim->model.springs.k * (sim->model.springs.r0 - r) * (sim->model.springs.r0 - r);
     }
   PetscCallMPI(MPIU_Allreduce(&pe, &d->internal, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
   d->torque = 0.0;

@@ -351,7 +351,6 @@ static PetscErrorCode CheckSerialOnly(PetscMPIInt size, const SpamModel *model)
 
   PetscFunctionBeginUser;
   PetscCall(PetscSNPrintf(val, sizeof val, "%d", size));
-  if (!strcmp(model->name, "springs")) SPAM_BAD_INPUT("mpiexec -n", val, "the springs model runs on one rank: its bonds are kept by local particle index, which a migration changes");
   if (model->post_step) SPAM_BAD_INPUT("mpiexec -n", val, "-closest_approach runs on one rank: its pair reflections change both particles of a pair, which may sit on two ranks");
   PetscFunctionReturn(0);
 }
