@@ -94,6 +94,9 @@ typedef struct {
 PetscErrorCode SpamOutputOpen(const char *dir, PetscBool hdf5, PetscBool csv, const SpamOutputOptions *opt, SpamOutput *o);
 /* Commits timeseries and steps, writes the manifest with the final status, releases the lock. */
 PetscErrorCode SpamOutputClose(SpamOutput *o, const char *status);
+/* On a rank that does not own the directory (every rank keeps the list of files written,
+ * rank 0 writes them): frees that list at the end of a run. */
+void SpamOutputRelease(SpamOutput *o);
 /* After a failure: removes the open temporaries, writes the manifest with status failed
  * when possible and releases the lock; reports nothing (the failure has been reported). */
 void SpamOutputAbandon(SpamOutput *o);

@@ -105,6 +105,11 @@ static void FreeLists(SpamOutput *o)
   o->nfiles = o->files_cap = o->snap_cap = 0;
 }
 
+void SpamOutputRelease(SpamOutput *o)
+{
+  FreeLists(o);
+}
+
 PetscErrorCode SpamOutputClose(SpamOutput *o, const char *status)
 {
   PetscFunctionBeginUser;
