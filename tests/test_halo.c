@@ -5,7 +5,10 @@
  * slot; moves below skin/2 keep the list and the exchange keeps the ghosts right; a larger
  * move on one rank rebuilds on every rank; a non-finite position on one rank is reported on
  * every rank. Perturbed lattices in 2D and 3D, periodic directions by the minimum image and
- * by ghost images, one open direction, owners by slabs and at random. */
+ * by ghost images, one open direction, mirror walls (some particles a little beyond a wall,
+ * as within a step; corners of two and three walls), owners by slabs and at random. A
+ * partner is a particle and its image: a mirror image of a particle (its own included) is
+ * a partner of its own. */
 #include <spam/neighbours.h>
 #include "test_util.h"
 
@@ -18,7 +21,15 @@ typedef struct {
   PetscBool   periodic[3];
   PetscBool   ghost_periodic;  /* periodic images as ghost slots (else min image)   */
   PetscBool   random_owner;    /* else slabs along x                                */
+  PetscBool   walls[3];        /* mirror walls on both faces of the direction       */
 } Case;
+
+/* A partner's key: its global id and its mirror image (flip bits, face bits << 3). */
+#define IMAGES 64
+static int KeyOf(int gid, int flip, int face)
+{
+  return gid * IMAGES + flip + (face << 3);
+}
 
 typedef struct {
   MPI_Comm    comm;
@@ -75,8 +86,9 @@ static PetscErrorCode MakeParticles(const World *w, const Case *c, Particles *p)
     int rem = g;
     for (int d = 0; d < c->dim; d++) {
       /* lattice sites at lo + 0.5 + k, moved by up to 0.3: across the lower face of a
-       * periodic direction (wrapped by the list), inside an open one */
-      p->X[(size_t)g * c->dim + d] = p->box.lo[d] + 0.5 + (rem % c->side) + 0.6 * (TestUniform(&seed) - 0.5) - (c->periodic[d] && rem % c->side == 0 ? 0.6 : 0.0);
+       * periodic direction (wrapped by the list) or a wall (up to 0.4 beyond it), inside an
+       * open one */
+      p->X[(size_t)g * c->dim + d] = p->box.lo[d] + 0.5 + (rem % c->side) + 0.6 * (TestUniform(&seed) - 0.5) - ((c->periodic[d] || c->walls[d]) && rem % c->side == 0 ? 0.6 : 0.0);
       rem /= c->side;
     }
     if (c->random_owner) p->owner[g] = (int)(TestUniform(&seed) * w->size);
@@ -129,23 +141,34 @@ static PetscErrorCode GatherU(const World *w, const SpamNeighbours *nl, Particle
 static int GhostGid(const SpamNeighbours *nl, const Particles *p, int k)
 {
   const SpamGhosts *g = &nl->ghosts;
-  if (g->kind[k] != SPAM_GHOST_REMOTE) return p->gid[g->src[k]];
+  if (g->src[k] >= 0) return p->gid[g->src[k]];
   return p->gid_at[p->start_of[g->halo.ghost_owner[k - g->nlocal]] + g->halo.ghost_index[k - g->nlocal]];
 }
 
-/* The slot's position the ghost must hold: its owner's u plus its shift. */
+/* Ghost slot k as a partner: its particle and, for a mirror image, which. */
+static int GhostKey(const SpamNeighbours *nl, const Particles *p, int k)
+{
+  const SpamGhosts *g = &nl->ghosts;
+  return KeyOf(GhostGid(nl, p, k), g->kind[k] == SPAM_GHOST_MIRROR ? g->flip[k] : 0, g->kind[k] == SPAM_GHOST_MIRROR ? g->face[k] : 0);
+}
+
+/* The slot's position the ghost must hold: its owner's u, mirrored where it is a mirror
+ * image, plus its shift. */
 static double GhostExpected(const SpamNeighbours *nl, const Particles *p, int k, int d)
 {
   const SpamGhosts *g = &nl->ghosts;
-  if (g->kind[k] != SPAM_GHOST_REMOTE) return nl->u[d][g->src[k]] + g->shift[d][k];
-  return p->uall[d][p->start_of[g->halo.ghost_owner[k - g->nlocal]] + g->halo.ghost_index[k - g->nlocal]] + g->shift[d][k];
+  const double      u = g->src[k] >= 0 ? nl->u[d][g->src[k]] : p->uall[d][p->start_of[g->halo.ghost_owner[k - g->nlocal]] + g->halo.ghost_index[k - g->nlocal]];
+  return ((g->flip[k] >> d) & 1 ? -u : u) + g->shift[d][k];
 }
 
-static double Dist2(const SpamBox *b, const double *xi, const double *xj)
+/* Squared distance from x_i to image (flip, face) of x_j: mirrored in the walls of the
+ * flipped directions (box-local -u or 2L - u), the minimum image along periodic ones. */
+static double Dist2(const SpamBox *b, const double *xi, const double *xj, int flip, int face)
 {
   double r2 = 0.0;
   for (int d = 0; d < b->dim; d++) {
-    const double dx = SpamBoxMinImage(SpamBoxLocal(b, d, xi[d]) - SpamBoxLocal(b, d, xj[d]), b->len[d], 0.5 * b->len[d], b->periodic[d]);
+    const double ui = SpamBoxLocal(b, d, xi[d]), uj = SpamBoxLocal(b, d, xj[d]);
+    const double dx = (flip >> d) & 1 ? ui - ((face >> d) & 1 ? 2.0 * b->len[d] - uj : -uj) : SpamBoxMinImage(ui - uj, b->len[d], 0.5 * b->len[d], b->periodic[d]);
     r2 += dx * dx;
   }
   return r2;
@@ -169,8 +192,8 @@ static PetscErrorCode Partners(const SpamNeighbours *nl, const Particles *p, int
       for (int q = nl->start[i]; q < nl->start[i + 1]; q++) {
         const int j = nl->nbr[q];
         if (pass) {
-          (*part)[fill[i]++] = p->gid[j];
-          (*part)[fill[j]++] = p->gid[i];
+          (*part)[fill[i]++] = KeyOf(p->gid[j], 0, 0);
+          (*part)[fill[j]++] = KeyOf(p->gid[i], 0, 0);
         } else {
           (*start)[i + 1]++;
           (*start)[j + 1]++;
@@ -179,8 +202,8 @@ static PetscErrorCode Partners(const SpamNeighbours *nl, const Particles *p, int
       for (int q = nl->gstart[i]; q < nl->gstart[i + 1]; q++) {
         const int k = nl->gnbr[q] - n, s = nl->ghosts.src[k];
         if (pass) {
-          (*part)[fill[i]++] = GhostGid(nl, p, k);
-          if (nl->ghosts.kind[k] == SPAM_GHOST_PERIODIC) (*part)[fill[s]++] = p->gid[i];
+          (*part)[fill[i]++] = GhostKey(nl, p, k);
+          if (nl->ghosts.kind[k] == SPAM_GHOST_PERIODIC) (*part)[fill[s]++] = KeyOf(p->gid[i], 0, 0);
         } else {
           (*start)[i + 1]++;
           if (nl->ghosts.kind[k] == SPAM_GHOST_PERIODIC) (*start)[s + 1]++;
@@ -196,9 +219,17 @@ static PetscErrorCode Partners(const SpamNeighbours *nl, const Particles *p, int
   PetscFunctionReturn(0);
 }
 
+/* Whether image (flip, face) exists: mirrored only in walled directions. */
+static int ImageExists(const Case *c, int flip, int face)
+{
+  for (int d = 0; d < 3; d++)
+    if ((((flip >> d) & 1) && !c->walls[d]) || (((face >> d) & 1) && !((flip >> d) & 1))) return 0;
+  return 1;
+}
+
 /* Every pair within the cutoff of a local particle listed exactly once; no partner listed
- * twice, no particle its own partner. */
-static PetscErrorCode CheckPairs(World *w, const char *name, const char *when, const SpamNeighbours *nl, const Particles *p)
+ * twice, no particle its own partner (its mirror images are). */
+static PetscErrorCode CheckPairs(World *w, const Case *c, const char *when, const SpamNeighbours *nl, const Particles *p)
 {
   const int dim = p->box.dim;
   int      *start, *part, *seen;
@@ -207,22 +238,24 @@ static PetscErrorCode CheckPairs(World *w, const char *name, const char *when, c
 
   PetscFunctionBeginUser;
   PetscCall(Partners(nl, p, &start, &part));
-  PetscCall(PetscCalloc1(p->N, &seen));
+  PetscCall(PetscCalloc1((size_t)p->N * IMAGES, &seen));
   for (int i = 0; i < p->n; i++) {
     const double *xi = p->X + (size_t)p->gid[i] * dim;
     for (int q = start[i]; q < start[i + 1]; q++) {
-      if (part[q] == p->gid[i]) self++;
+      if (part[q] == KeyOf(p->gid[i], 0, 0)) self++;
       else if (seen[part[q]]++) dup++;
     }
-    for (int j = 0; j < p->N; j++) {
-      if (j == p->gid[i] || Dist2(&p->box, xi, p->X + (size_t)j * dim) >= H * H) continue;
-      want++;
-      if (seen[j] != 1) missing++;
-    }
+    for (int j = 0; j < p->N; j++)
+      for (int flip = 0; flip < 8; flip++)
+        for (int face = 0; face < 8; face++) {
+          if (!ImageExists(c, flip, face) || (j == p->gid[i] && !flip) || Dist2(&p->box, xi, p->X + (size_t)j * dim, flip, face) >= H * H) continue;
+          want++;
+          if (seen[KeyOf(j, flip, face)] != 1) missing++;
+        }
     for (int q = start[i]; q < start[i + 1]; q++) seen[part[q]] = 0;
   }
   want = SumAll(w, want), missing = SumAll(w, missing), dup = SumAll(w, dup), self = SumAll(w, self);
-  snprintf(msg, sizeof msg, "%s, %s: %ld (local particle, partner) pairs within h by brute force; missing %ld, listed twice %ld, self %ld", name, when, want, missing, dup, self);
+  snprintf(msg, sizeof msg, "%s, %s: %ld (local particle, partner) pairs within h by brute force; missing %ld, listed twice %ld, self %ld", c->name, when, want, missing, dup, self);
   Check(w, want > 0 && missing == 0 && dup == 0 && self == 0, msg);
   PetscCall(PetscFree(seen));
   PetscCall(PetscFree(start));
@@ -239,7 +272,7 @@ static PetscErrorCode CheckPositions(World *w, const char *name, const char *whe
   PetscFunctionBeginUser;
   PetscCall(GatherU(w, nl, p));
   for (int k = 0; k < nl->ghosts.n; k++) {
-    remote += nl->ghosts.kind[k] == SPAM_GHOST_REMOTE;
+    remote += nl->ghosts.src[k] < 0;
     for (int d = 0; d < p->box.dim; d++) bad += !(nl->u[d][nl->n + k] == GhostExpected(nl, p, k, d));
   }
   slots = SumAll(w, nl->ghosts.n), remote = SumAll(w, remote), bad = SumAll(w, bad);
@@ -248,7 +281,16 @@ static PetscErrorCode CheckPositions(World *w, const char *name, const char *whe
   PetscFunctionReturn(0);
 }
 
-/* A field of ncomp values 1000 gid + c gathered into every ghost slot. */
+/* The sign of component c of a field in a mirror image of flip bits f: a vector's mirrored
+ * components, a tensor's components with exactly one mirrored index, change sign. */
+static double Parity(int f, int dim, SpamGhostParity par, int c)
+{
+  if (par == SPAM_GHOST_SCALAR) return 1.0;
+  if (par == SPAM_GHOST_VECTOR) return (f >> c) & 1 ? -1.0 : 1.0;
+  return ((f >> (c / dim)) ^ (f >> (c % dim))) & 1 ? -1.0 : 1.0;
+}
+
+/* A field of ncomp values 1000 gid + c gathered into every ghost slot (signs mirrored). */
 static PetscErrorCode CheckGather(World *w, const char *name, SpamNeighbours *nl, const Particles *p)
 {
   const int  dim = p->box.dim, slots = SpamNeighboursSlots(nl);
@@ -266,7 +308,7 @@ static PetscErrorCode CheckGather(World *w, const char *name, SpamNeighbours *nl
       for (int c = 0; c < nc; c++) f[(size_t)i * nc + c] = i < nl->n ? 1000.0 * p->gid[i] + c : -1.0;
     PetscCall(SpamGhostsGather(&nl->ghosts, dim, nl->n, nc, par[t], f));
     for (int k = 0; k < nl->ghosts.n; k++)
-      for (int c = 0; c < nc; c++, values++) bad += f[(size_t)(nl->n + k) * nc + c] != 1000.0 * GhostGid(nl, p, k) + c;
+      for (int c = 0; c < nc; c++, values++) bad += f[(size_t)(nl->n + k) * nc + c] != Parity(nl->ghosts.flip[k], dim, par[t], c) * (1000.0 * GhostGid(nl, p, k) + c);
   }
   bad = SumAll(w, bad), values = SumAll(w, values);
   snprintf(msg, sizeof msg, "%s: gather of 1000 gid + component (1, dim, dim^2 values): %ld of %ld ghost values wrong", name, bad, values);
@@ -323,10 +365,17 @@ static PetscErrorCode RunCase(World *w, const Case *c)
   PetscCall(MakeParticles(w, c, &p));
   PetscCall(SpamNeighboursCreate(p.n, &p.box, H, SKIN, &nl));
   if (c->ghost_periodic) PetscCall(SpamNeighboursSetPeriodicGhosts(&nl, &p.box, c->periodic));
+  if (c->walls[0] || c->walls[1] || c->walls[2]) {
+    SpamWalls walls;
+    PetscCall(PetscMemzero(&walls, sizeof walls));
+    for (int d = 0; d < dim; d++)
+      if (c->walls[d]) walls.slip[2 * d] = walls.slip[2 * d + 1] = SPAM_WALL_NOSLIP;
+    PetscCall(SpamNeighboursSetWalls(&nl, &walls));
+  }
   PetscCall(SpamNeighboursSetComm(&nl, w->comm));
   PetscCall(SpamNeighboursUpdate(&nl, &p.box, p.x, dim, PETSC_TRUE, &bad));
   PetscCall(PrintCounts(w, c->name, &nl, &p));
-  PetscCall(CheckPairs(w, c->name, "at the build", &nl, &p));
+  PetscCall(CheckPairs(w, c, "at the build", &nl, &p));
   PetscCall(CheckPositions(w, c->name, "at the build", &nl, &p));
   PetscCall(CheckGather(w, c->name, &nl, &p));
 
@@ -337,7 +386,7 @@ static PetscErrorCode RunCase(World *w, const Case *c)
   snprintf(msg, sizeof msg, "%s: moves below skin/2: builds since %ld (min over ranks) to %ld (max), no non-finite flag", c->name, MinAll(w, nl.builds - builds), -MinAll(w, builds - nl.builds));
   Check(w, MinAll(w, nl.builds - builds) == 0 && MinAll(w, builds - nl.builds) == 0 && MinAll(w, bad < 0) == 1, msg);
   PetscCall(CheckPositions(w, c->name, "after moves below skin/2", &nl, &p));
-  PetscCall(CheckPairs(w, c->name, "after moves below skin/2", &nl, &p));
+  PetscCall(CheckPairs(w, c, "after moves below skin/2", &nl, &p));
 
   /* one particle of the last rank moves 1.5 skin (at least one skin from the last build,
    * after the move above): every rank rebuilds */
@@ -349,7 +398,7 @@ static PetscErrorCode RunCase(World *w, const Case *c)
   PetscCall(SpamNeighboursUpdate(&nl, &p.box, p.x, dim, PETSC_FALSE, &bad));
   snprintf(msg, sizeof msg, "%s: one particle of rank %d moved 1.5 skin: every rank rebuilt once (%ld to %ld builds since)", c->name, last, MinAll(w, nl.builds - builds), -MinAll(w, builds - nl.builds));
   Check(w, MinAll(w, nl.builds - builds) == 1 && MinAll(w, builds - nl.builds) == -1, msg);
-  PetscCall(CheckPairs(w, c->name, "after the rebuild", &nl, &p));
+  PetscCall(CheckPairs(w, c, "after the rebuild", &nl, &p));
   PetscCall(CheckPositions(w, c->name, "after the rebuild", &nl, &p));
 
   /* a non-finite position on the last rank: every rank returns and says where */
@@ -368,12 +417,16 @@ static PetscErrorCode RunCase(World *w, const Case *c)
 int main(int argc, char **argv)
 {
   const Case cases[] = {
-    {"2D periodic, minimum image, slabs", 2, 24, {PETSC_TRUE, PETSC_TRUE, PETSC_FALSE}, PETSC_FALSE, PETSC_FALSE},
-    {"2D periodic x, open y, ghost images, slabs", 2, 24, {PETSC_TRUE, PETSC_FALSE, PETSC_FALSE}, PETSC_TRUE, PETSC_FALSE},
-    {"2D periodic, ghost images, random owners", 2, 24, {PETSC_TRUE, PETSC_TRUE, PETSC_FALSE}, PETSC_TRUE, PETSC_TRUE},
-    {"3D periodic x y, open z, minimum image, slabs", 3, 12, {PETSC_TRUE, PETSC_TRUE, PETSC_FALSE}, PETSC_FALSE, PETSC_FALSE},
-    {"3D periodic, ghost images, slabs", 3, 12, {PETSC_TRUE, PETSC_TRUE, PETSC_TRUE}, PETSC_TRUE, PETSC_FALSE},
-    {"3D periodic x y, open z, ghost images, random owners", 3, 12, {PETSC_TRUE, PETSC_TRUE, PETSC_FALSE}, PETSC_TRUE, PETSC_TRUE},
+    {"2D periodic, minimum image, slabs", 2, 24, {PETSC_TRUE, PETSC_TRUE, PETSC_FALSE}, PETSC_FALSE, PETSC_FALSE, {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE}},
+    {"2D periodic x, open y, ghost images, slabs", 2, 24, {PETSC_TRUE, PETSC_FALSE, PETSC_FALSE}, PETSC_TRUE, PETSC_FALSE, {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE}},
+    {"2D periodic, ghost images, random owners", 2, 24, {PETSC_TRUE, PETSC_TRUE, PETSC_FALSE}, PETSC_TRUE, PETSC_TRUE, {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE}},
+    {"3D periodic x y, open z, minimum image, slabs", 3, 12, {PETSC_TRUE, PETSC_TRUE, PETSC_FALSE}, PETSC_FALSE, PETSC_FALSE, {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE}},
+    {"3D periodic, ghost images, slabs", 3, 12, {PETSC_TRUE, PETSC_TRUE, PETSC_TRUE}, PETSC_TRUE, PETSC_FALSE, {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE}},
+    {"3D periodic x y, open z, ghost images, random owners", 3, 12, {PETSC_TRUE, PETSC_TRUE, PETSC_FALSE}, PETSC_TRUE, PETSC_TRUE, {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE}},
+    {"2D periodic x, walls y, minimum image, slabs", 2, 24, {PETSC_TRUE, PETSC_FALSE, PETSC_FALSE}, PETSC_FALSE, PETSC_FALSE, {PETSC_FALSE, PETSC_TRUE, PETSC_FALSE}},
+    {"2D periodic x, walls y, ghost images, random owners", 2, 24, {PETSC_TRUE, PETSC_FALSE, PETSC_FALSE}, PETSC_TRUE, PETSC_TRUE, {PETSC_FALSE, PETSC_TRUE, PETSC_FALSE}},
+    {"2D walls on every face, random owners", 2, 16, {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE}, PETSC_FALSE, PETSC_TRUE, {PETSC_TRUE, PETSC_TRUE, PETSC_FALSE}},
+    {"3D walls on every face, random owners", 3, 10, {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE}, PETSC_FALSE, PETSC_TRUE, {PETSC_TRUE, PETSC_TRUE, PETSC_TRUE}},
   };
   World w = {0};
 

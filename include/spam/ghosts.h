@@ -33,6 +33,9 @@ typedef struct {
   unsigned char *face;     /* [cap] bit d set: mirrored in the upper face of direction d */
   PetscBool      periodic[3]; /* periodic directions made by ghosts (not minimum image) */
   SpamWalls      walls;    /* the mirror walls of the box faces (walls.h)              */
+  double         depth[SPAM_FACES]; /* how far beyond each wall the farthest particle of */
+                           /* any rank stood at the last build (0 if none): a particle */
+                           /* out there pairs with images from deeper in the box       */
   PetscBool      mirror;   /* some face has a wall                                     */
   SpamHalo       halo;     /* other ranks' particles (inactive on one rank)            */
 } SpamGhosts;
@@ -41,7 +44,8 @@ PetscErrorCode SpamGhostsDestroy(SpamGhosts *g);
 /* Chooses the ghosts of the n local particles at box-local positions u[d][i] (wrapped
  * into the box at a list build): the periodic images, along the directions in
  * g->periodic, and the mirror images in the walls of g->walls, of every particle within
- * `range` of a face (corner images, periodic or mirrored in two or three faces, included).
+ * `range` of a face (of a wall: range + g->depth; corner images, periodic or mirrored in
+ * two or three faces, included).
  * Grows the arrays when needed (at list builds only). */
 PetscErrorCode SpamGhostsSelect(SpamGhosts *g, const SpamBox *box, int n, double *const u[3], double range);
 /* Collective (halo.h). Appends the remote ghosts of the n local particles at u (wrapped at

@@ -61,6 +61,7 @@ typedef struct {
   PetscMPIInt   size, rank;
   double        len[3];      /* box edges of the last build: a shift s is s * len          */
   unsigned      walls;       /* bit f: face f has a mirror wall (set before a build)       */
+  double        depth[6];    /* how far beyond face f a particle may stand (ghosts.h)      */
   PetscSF       sf;          /* NULL until the first build                               */
   /* Items this rank sends, in (rank, particle, shift) order. */
   int           nitems, icap;

@@ -46,8 +46,8 @@ static int ImagesAlong(const SpamGhosts *g, const SpamBox *box, int d, double u,
     if (u > box->len[d] - range) img[k++] = IMG_PERIODIC_DOWN; /* both, in an edge below 2 range */
     return k;
   }
-  if (SpamWallOn(&g->walls, 2 * d) && u < range) img[k++] = IMG_MIRROR_LO;
-  if (SpamWallOn(&g->walls, 2 * d + 1) && u > box->len[d] - range) img[k++] = IMG_MIRROR_HI;
+  if (SpamWallOn(&g->walls, 2 * d) && u < range + g->depth[2 * d]) img[k++] = IMG_MIRROR_LO;
+  if (SpamWallOn(&g->walls, 2 * d + 1) && u > box->len[d] - range - g->depth[2 * d + 1]) img[k++] = IMG_MIRROR_HI;
   return k;
 }
 
@@ -122,6 +122,7 @@ PetscErrorCode SpamGhostsSelectRemote(SpamGhosts *g, const SpamBox *box, int n, 
   g->nlocal = g->n;
   if (!h->active) PetscFunctionReturn(0);
   h->walls = WallBits(&g->walls);
+  for (int f = 0; f < SPAM_FACES; f++) h->depth[f] = g->depth[f];
   PetscCall(SpamHaloSelect(h, box, g->periodic, n, u, range));
   PetscCall(Grow(g, g->nlocal + h->nghost));
   for (int q = 0; q < h->nghost; q++) DescribeRemote(g, g->nlocal + q, h->ghost_shift[q], h->len);

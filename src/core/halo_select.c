@@ -28,6 +28,7 @@ typedef struct {
   PetscBool    per[3];   /* periodic by the minimum image: cell indices wrap           */
   PetscBool    gper[3];  /* periodic by ghost images: the image codes -1, 1             */
   unsigned     walls;    /* bit f: face f has a mirror wall                              */
+  double       depth[6]; /* how far beyond face f any particle stands                   */
 } Grid;
 
 /* The grid over the box, or along a direction that is not periodic over every rank's
@@ -39,6 +40,7 @@ static void MakeGrid(const SpamHalo *h, const SpamBox *box, const PetscBool gper
   g->dim   = box->dim;
   g->rc    = rc;
   g->walls = h->walls;
+  for (int f = 0; f < 6; f++) g->depth[f] = h->depth[f];
   for (int d = 0; d < 3; d++) {
     double lo = 0.0, hi = d < box->dim ? box->len[d] : 1.0;
     g->len[d]  = hi;
@@ -289,7 +291,8 @@ static PetscErrorCode MapCells(SpamHalo *h, const Grid *g, PetscBool undo)
 
 /* The image codes along d of a particle at u that could reach another rank's cells: itself,
  * a periodic image within rc of the box (ghost-image directions), a mirror in a wall it is
- * within rc of. In ascending code order; returns the count. */
+ * within rc of (rc + the wall's depth: a particle beyond the wall pairs with images from
+ * deeper in the box). In ascending code order; returns the count. */
 static int CodesAlong(const Grid *g, int d, double u, int code[3])
 {
   int k = 0;
@@ -301,8 +304,8 @@ static int CodesAlong(const Grid *g, int d, double u, int code[3])
   if (g->gper[d] && u > g->len[d] - g->rc) code[k++] = -1;
   code[k++] = 0;
   if (g->gper[d] && u < g->rc) code[k++] = 1;
-  if (((g->walls >> (2 * d)) & 1) && u < g->rc) code[k++] = SPAM_HALO_MIRROR_LO;
-  if (((g->walls >> (2 * d + 1)) & 1) && u > g->len[d] - g->rc) code[k++] = SPAM_HALO_MIRROR_HI;
+  if (((g->walls >> (2 * d)) & 1) && u < g->rc + g->depth[2 * d]) code[k++] = SPAM_HALO_MIRROR_LO;
+  if (((g->walls >> (2 * d + 1)) & 1) && u > g->len[d] - g->rc - g->depth[2 * d + 1]) code[k++] = SPAM_HALO_MIRROR_HI;
   return k;
 }
 

@@ -78,6 +78,22 @@ static PetscErrorCode BinGhosts(SpamNeighbours *nl)
   PetscFunctionReturn(0);
 }
 
+/* How far beyond each wall the farthest particle of any rank stands (collective on several
+ * ranks): a particle at -a beyond a wall pairs with the image of one at u when u + a < rc,
+ * so the images of particles up to rc + a from the wall are needed. */
+static PetscErrorCode WallDepths(SpamGhosts *g, const SpamBox *box, int n, double *const u[3])
+{
+  PetscFunctionBeginUser;
+  for (int f = 0; f < SPAM_FACES; f++) g->depth[f] = 0.0;
+  for (int d = 0; d < box->dim; d++)
+    for (int i = 0; i < n; i++) {
+      g->depth[2 * d]     = PetscMax(g->depth[2 * d], -u[d][i]);
+      g->depth[2 * d + 1] = PetscMax(g->depth[2 * d + 1], u[d][i] - box->len[d]);
+    }
+  if (SpamHaloActive(&g->halo)) PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, g->depth, SPAM_FACES, MPI_DOUBLE, MPI_MAX, g->halo.comm));
+  PetscFunctionReturn(0);
+}
+
 /* Whether ghost k pairs with local i in i's row: a periodic image only when its source
  * is above i (the pair's other copy, in the source's row, is skipped); a mirror or a
  * remote ghost always. */
@@ -137,6 +153,7 @@ PetscErrorCode SpamNeighboursBuildGhosts(SpamNeighbours *nl, const SpamBox *box)
   /* At the build every particle is inside the box, so only an image within the list
    * range rc of a face can be within rc of a local particle. */
   g->n = 0;
+  if (g->mirror) PetscCall(WallDepths(g, box, nl->n, nl->u));
   if (local) PetscCall(SpamGhostsSelect(g, box, nl->n, nl->u, sqrt(nl->rc2)));
   PetscCall(SpamGhostsSelectRemote(g, box, nl->n, nl->u, sqrt(nl->rc2)));
   PetscCall(GrowSlots(nl));
