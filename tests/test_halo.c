@@ -235,10 +235,14 @@ static PetscErrorCode CheckPairs(World *w, const Case *c, const char *when, cons
   int      *start, *part, *seen;
   long      want = 0, missing = 0, dup = 0, self = 0;
   char      msg[256];
+  int       img[IMAGES][2], nimg = 0; /* the images that exist: (flip, face) */
 
   PetscFunctionBeginUser;
   PetscCall(Partners(nl, p, &start, &part));
   PetscCall(PetscCalloc1((size_t)p->N * IMAGES, &seen));
+  for (int flip = 0; flip < 8; flip++)
+    for (int face = 0; face < 8; face++)
+      if (ImageExists(c, flip, face)) img[nimg][0] = flip, img[nimg++][1] = face;
   for (int i = 0; i < p->n; i++) {
     const double *xi = p->X + (size_t)p->gid[i] * dim;
     for (int q = start[i]; q < start[i + 1]; q++) {
@@ -246,12 +250,12 @@ static PetscErrorCode CheckPairs(World *w, const Case *c, const char *when, cons
       else if (seen[part[q]]++) dup++;
     }
     for (int j = 0; j < p->N; j++)
-      for (int flip = 0; flip < 8; flip++)
-        for (int face = 0; face < 8; face++) {
-          if (!ImageExists(c, flip, face) || (j == p->gid[i] && !flip) || Dist2(&p->box, xi, p->X + (size_t)j * dim, flip, face) >= H * H) continue;
-          want++;
-          if (seen[KeyOf(j, flip, face)] != 1) missing++;
-        }
+      for (int m = 0; m < nimg; m++) {
+        const int flip = img[m][0], face = img[m][1];
+        if ((j == p->gid[i] && !flip) || Dist2(&p->box, xi, p->X + (size_t)j * dim, flip, face) >= H * H) continue;
+        want++;
+        if (seen[KeyOf(j, flip, face)] != 1) missing++;
+      }
     for (int q = start[i]; q < start[i + 1]; q++) seen[part[q]] = 0;
   }
   want = SumAll(w, want), missing = SumAll(w, missing), dup = SumAll(w, dup), self = SumAll(w, self);
