@@ -7,10 +7,10 @@
  * within rc of the other rank's bounding box. A rank then sends particle i (as image code s)
  * to rank r when the image lies within rc of one of r's cell boxes, which it finds among
  * the cells next to the image's. So r receives what lies within rc of the boxes of its
- * particles' cells (a few per cent more than the partners), whatever shape its piece has: bounding boxes alone (one per rank, or one per run of the
- * local order) take in whole other ranks once a few fast particles stretch them (the 3D
- * expansion on 2 ranks: 57398 ghosts for a rank of ~48700 with 32 part boxes, of which at
- * most ~15000 had a pair). The cost of a build is O(n) lookups and O(cells * ranks) box
+ * particles' cells (a few per cent more than the partners), whatever shape its piece has.
+ * Bounding boxes alone (one per rank, or one per run of the local order) take in whole
+ * other ranks once a few fast particles stretch them (the 3D expansion on 2 ranks: 57398
+ * ghosts for a rank of ~48700 with 32 part boxes, of which at most ~15000 had a pair). The cost of a build is O(n) lookups and O(cells * ranks) box
  * tests, not O(n * ranks).
  *
  * Along a periodic direction the grid is the box (every particle is wrapped into it at a
@@ -60,7 +60,7 @@ static void MakeGrid(const SpamHalo *h, const SpamBox *box, const PetscBool gper
     int m = 0;
     for (int d = 1; d < 3; d++)
       if (g->nc[d] > g->nc[m]) m = d;
-    total       = total / g->nc[m] * ((g->nc[m] + 1) / 2);
+    total    = total / g->nc[m] * ((g->nc[m] + 1) / 2);
     g->nc[m] = (g->nc[m] + 1) / 2;
   }
   for (int d = 0; d < 3; d++) g->w[d] /= g->nc[d];
