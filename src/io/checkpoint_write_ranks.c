@@ -107,9 +107,12 @@ static PetscErrorCode WriteBlock(RanksWriter *w, hid_t group, hid_t dxpl, int b,
   if (dcpl >= 0 && H5Pset_fill_time(dcpl, H5D_FILL_TIME_NEVER) >= 0 && (space = H5Screate_simple(1, &total, NULL)) >= 0) {
     set = H5Dcreate2(group, e->name, ftype, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
     if (set >= 0 && (mem = H5Screate_simple(1, &count, NULL)) >= 0) {
-      const herr_t sel = count ? H5Sselect_hyperslab(space, H5S_SELECT_SET, &off, NULL, &count, NULL) : (H5Sselect_none(space) < 0 || H5Sselect_none(mem) < 0 ? -1 : 0);
+      /* The injected failure still joins the collective write, with nothing selected. */
+      const PetscBool fail = (PetscBool)(++*writes == w->fail_at);
+      const herr_t    sel  = count && !fail ? H5Sselect_hyperslab(space, H5S_SELECT_SET, &off, NULL, &count, NULL) : (H5Sselect_none(space) < 0 || H5Sselect_none(mem) < 0 ? -1 : 0);
       errno = 0;
-      if (sel >= 0) *mine = ++*writes == w->fail_at ? (errno = ENOSPC, -1) : H5Dwrite(set, mtype, mem, space, dxpl, e->data);
+      if (sel >= 0) *mine = H5Dwrite(set, mtype, mem, space, dxpl, e->data);
+      if (fail) *mine = -1, errno = ENOSPC;
     }
     (void)H5Sclose(space);
   }
