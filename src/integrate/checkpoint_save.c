@@ -120,7 +120,7 @@ static PetscErrorCode PutRanks(const SpamSim *sim, const SpamLoop *L, SpamCkFile
 }
 
 /* The integrator: the step it proposes next, and ERKStep's controller history. */
-static PetscErrorCode PutIntegrator(TS ts, const SpamTsApp *app, SpamCkFile *c)
+static PetscErrorCode PutIntegrator(TS ts, const SpamTsApp *app, PetscBool followed, SpamCkFile *c)
 {
   PetscBool arkode;
   PetscReal dt;
@@ -155,7 +155,10 @@ static PetscErrorCode PutIntegrator(TS ts, const SpamTsApp *app, SpamCkFile *c)
     if (SpamSimDistributed(sim)) PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &cached, 1, MPIU_BOOL, MPI_LAND, sim->comm));
     PetscCall(SpamCkPutLong(c, "kick_cached", cached));
   }
-  PetscCall(SpamCkPutLong(c, "step_restart_pending", ts->steprestart && ts->steps > 0));
+  /* A PETSc method that followed a migration was reset onto the new vector (TSReset, then
+   * its first stage evaluated anew): it keeps nothing a restart could miss, a jump before
+   * it included. */
+  PetscCall(SpamCkPutLong(c, "step_restart_pending", ts->steprestart && ts->steps > 0 && !(followed && !arkode)));
   PetscFunctionReturn(0);
 }
 
@@ -200,7 +203,7 @@ PetscErrorCode SpamCheckpointWrite(SpamSim *sim, const SpamRunOptions *o, TS ts,
   if (!ierr) ierr = SpamCkPutLong(&c, "exact", exact);
   if (!ierr) ierr = PutParticles(sim, ranks ? &mine : &c, &c);
   if (!ierr && ranks) ierr = PutRanks(sim, L, &c);
-  if (!ierr) ierr = PutIntegrator(ts, app, &c);
+  if (!ierr) ierr = PutIntegrator(ts, app, L->followed, &c);
   if (!ierr) ierr = PutLoop(o, L, r, &c);
   if (!ierr && out->owned) ierr = SpamOutputSave(out, &c); /* rank 0's files; rank 0 writes the shared entries */
   if (!ierr) ierr = SpamOutputPath(out, SPAM_CHECKPOINT_FILE, path, sizeof path);

@@ -354,13 +354,16 @@ static PetscErrorCode FailureReason(TS ts, const SpamTsApp *app, long step, doub
  * cannot resume bit for bit from a checkpoint (after a clamp the next step is h*(h'/h),
  * not h'), and a state jump (TSRestartStep) waits to drop the history. Other methods have
  * their step cut by this loop, from a proposal the checkpoint keeps. */
-static PetscErrorCode ClampPending(TS ts, PetscBool *pending)
+static PetscErrorCode ClampPending(TS ts, PetscBool followed, PetscBool *pending)
 {
-  PetscBool ok;
+  PetscBool ok, arkode;
 
   PetscFunctionBeginUser;
   PetscCall(SpamTSARKodeCheckpointable(ts, &ok));
-  *pending = (PetscBool)(!ok || (ts->steprestart && ts->steps > 0));
+  PetscCall(PetscObjectTypeCompare((PetscObject)ts, SPAM_TSARKODE, &arkode));
+  /* A PETSc method reset onto a migration's vector holds nothing a restart would miss:
+   * its restart flag then asks for no deferral (checkpoint_save.c). */
+  *pending = (PetscBool)(!ok || (ts->steprestart && ts->steps > 0 && !(followed && !arkode)));
   PetscFunctionReturn(0);
 }
 
@@ -411,7 +414,7 @@ static PetscErrorCode CheckpointServe(SpamSim *sim, const SpamRunOptions *o, TS 
   PetscFunctionBeginUser;
   *written = PETSC_FALSE;
   if (!L->ckpt_due || L->t >= o->t_end) PetscFunctionReturn(0);
-  PetscCall(ClampPending(ts, &pending));
+  PetscCall(ClampPending(ts, L->followed, &pending));
   if (pending && L->ckpt_deferred < SPAM_CKPT_MAX_DEFER) {
     L->ckpt_deferred++;
     PetscFunctionReturn(0);
