@@ -50,11 +50,11 @@ static PetscErrorCode DescribeBlocks(RanksWriter *w)
 
   PetscFunctionBeginUser;
   memcpy(&sum, &hash, sizeof sum); /* the hash's bits as an integer entry */
+  for (int b = 0; b < nb; b++) PetscCheck(w->mine->e[b].kind != SPAM_CK_TEXT, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG, "checkpoint entry '%s': a rank's entries are reals or integers", w->mine->e[b].name);
   PetscCall(PetscMalloc1(nb + 1, &mylen));
   PetscCall(PetscMalloc1((size_t)w->size * nb + 1, &w->len));
   PetscCall(PetscMalloc1(w->size, &sums));
   for (int b = 0; b < nb; b++) {
-    PetscCheck(w->mine->e[b].kind != SPAM_CK_TEXT, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG, "checkpoint entry '%s': a rank's entries are reals or integers", w->mine->e[b].name);
     mylen[b] = (int64_t)w->mine->e[b].n;
     chars += strlen(w->mine->e[b].name) + 1;
   }
@@ -204,8 +204,8 @@ PetscErrorCode SpamCkFileWriteRanks(MPI_Comm comm, SpamCkFile *shared, const Spa
   PetscCallMPI(MPI_Comm_rank(comm, &w.rank));
   PetscCallMPI(MPI_Comm_size(comm, &w.size));
   InjectedFailure(&w);
-  PetscCall(DescribeBlocks(&w));
-  ierr = SpamRunAgreed(comm, PETSC_TRUE, CreateTemp, &w);
+  ierr = DescribeBlocks(&w); /* the same entries on every rank: fails alike on all, if at all */
+  if (!ierr) ierr = SpamRunAgreed(comm, PETSC_TRUE, CreateTemp, &w);
   if (!ierr) {
     PetscCallMPI(MPI_Bcast(w.t.tmp, (int)sizeof w.t.tmp, MPI_CHAR, 0, comm));
     ierr = SpamRunAgreed(comm, PETSC_FALSE, WriteBlocks, &w);
