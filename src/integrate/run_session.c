@@ -81,7 +81,10 @@ static PetscErrorCode Session(SpamSim *sim, const SpamRunOptions *o, TS ts, Spam
   if (o->initial_csv[0] && !rs) PetscCall(WriteParticles(o->initial_csv, sim, out, "initial_particles"));
   PetscCall(SpamRun(sim, o, ts, app, out, rs, r));
   if (o->final_csv[0] && r->status != SPAM_STATUS_UNSTABLE) PetscCall(WriteParticles(o->final_csv, sim, out, "final_particles"));
-  if (!owner) PetscFunctionReturn(0);
+  if (!owner) { /* no file of its own: only the lists every rank keeps are freed */
+    SpamOutputAbandon(out);
+    PetscFunctionReturn(0);
+  }
   PetscCall(SpamSummaryWrite(out, sim, o, r));
   PetscCall(SpamOutputClose(out, ManifestStatus(r->status)));
   PetscFunctionReturn(0);
