@@ -8,7 +8,9 @@
  * Written every -checkpoint_interval of simulated time, every -checkpoint_wall seconds and
  * when SIGINT or SIGTERM ends the run; always at a step boundary where no stop-time clamp
  * is pending (ERKStep cannot resume a clamped step bit for bit), which may defer a request
- * by a step. `-restart FILE` continues it: bitwise for arkode (every table, fixed or
+ * by a step. On P ranks the one file holds every rank's particles in its local order, the
+ * cut and the migration state; a restart takes them back on P ranks (another rank count is
+ * refused) and goes on as if uninterrupted. `-restart FILE` continues it: bitwise for arkode (every table, fixed or
  * adaptive), PETSc rk with the basic adaptor (or fixed steps), euler, ssp with fixed steps
  * and basicsymplectic; approximately (the state is exact, the method's history is not) for
  * cvode and PETSc's dsp adaptor. The restarted run appends to the series in the same
@@ -21,6 +23,8 @@
 /* What a run reads from a checkpoint before it touches its output directory. */
 struct SpamRestart {
   SpamCkFile file;
+  SpamCkFile mine;       /* several ranks: this rank's particles (the file's otherwise)    */
+  PetscMPIInt ranks;     /* the ranks that wrote it (this run's: others are refused)      */
   char       path[PETSC_MAX_PATH_LEN];
   PetscBool  exact;      /* the method continues bit for bit (see above)                */
   char       why[160];   /* why not, when not                                           */

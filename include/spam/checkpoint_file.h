@@ -20,7 +20,18 @@
  * The file uses the HDF5 1.8 object format, whose metadata carries checksums that the
  * library verifies; HDF5 1.8 or later reads it.
  *
- * Names: 1 to 63 bytes of letters, digits, '_', '-' and '.', not starting with '.'. */
+ * Names: 1 to 63 bytes of letters, digits, '_', '-' and '.', not starting with '.'.
+ *
+ * Written on P > 1 ranks (SpamCkFileWriteRanks) the file holds, besides the entries
+ * above (rank 0's: the same on every rank), each rank's own entries (its particles):
+ *   /particles           one dataset per entry name, every rank's values in rank order:
+ *     NAME               [sum of the ranks' lengths] 64-bit reals or integers as above
+ *   /checkpoint/rank_blocks     TEXT: the names of /particles, comma-separated, in order
+ *   /checkpoint/rank_lengths    INT [P * blocks]: rank r's length of block b at r*blocks + b
+ *   /checkpoint/rank_checksums  INT [P]: each rank's entries hashed as the root checksum
+ *                               hashes /checkpoint (the 64 bits as a signed integer)
+ * The root checksum covers the table, each rank's checksum its block: one damaged byte
+ * anywhere is refused. A file without rank_checksums was written on one rank. */
 #ifndef SPAM_CHECKPOINT_FILE_H
 #define SPAM_CHECKPOINT_FILE_H
 #include <petscsys.h>
@@ -74,6 +85,26 @@ PetscErrorCode SpamCkFileWrite(MPI_Comm comm, const SpamCkFile *c, const char *p
  * damaged files, see checkpoint_read.c). On failure c is left empty (Destroy is still
  * allowed). Every rank of comm reads the file; if one fails, all fail. */
 PetscErrorCode SpamCkFileRead(MPI_Comm comm, const char *path, SpamCkFile *c);
+
+#define SPAM_CK_RANK_BLOCKS    "rank_blocks"
+#define SPAM_CK_RANK_LENGTHS   "rank_lengths"
+#define SPAM_CK_RANK_CHECKSUMS "rank_checksums"
+
+/* A checkpoint of several ranks: shared's entries (the same on every rank; rank 0 writes
+ * them, with the table above added to shared) and each rank's own entries, mine (the same
+ * names and kinds on every rank, reals or integers, any lengths), written collectively
+ * through MPI-IO into /particles. Atomic as SpamCkFileWrite: one temporary, renamed by
+ * rank 0 once every rank has written. A failure on any rank ends every rank with that
+ * rank's one line (PETSC_ERR_FILE_WRITE) and leaves the previous checkpoint. Test only:
+ * SPAM_TEST_FAIL_WRITE=NAME:K with SPAM_TEST_FAIL_RANK=r fails rank r's K-th write
+ * (its blocks, then on rank 0 the shared entries). Collective. */
+PetscErrorCode SpamCkFileWriteRanks(MPI_Comm comm, SpamCkFile *shared, const SpamCkFile *mine, const char *path, size_t *bytes);
+/* The number of ranks that wrote a checkpoint read by SpamCkFileRead (1: one rank). */
+PetscErrorCode SpamCkFileRanks(const SpamCkFile *shared, PetscMPIInt *ranks);
+/* This rank's own entries of a checkpoint of as many ranks as comm has, into mine (which
+ * this initialises); shared: the file as SpamCkFileRead read it. A damaged block or table
+ * is refused as SpamCkFileRead refuses; if one rank fails, all fail. Collective. */
+PetscErrorCode SpamCkFileReadRank(MPI_Comm comm, const SpamCkFile *shared, SpamCkFile *mine);
 
 /* The entry of that name and kind. Missing, of another kind, or (n > 0) of another length:
  * PETSC_ERR_USER_INPUT, one line naming the file and the entry. The pointers stay valid

@@ -87,6 +87,22 @@ PetscErrorCode SpamSimMigrate(SpamSim *sim, SpamDecomp *dec, SpamMigrateInfo *in
  * those whose DMSwarm_rank names another rank (sent by a migration) dropped. *permuted
  * tells whether the order or the count changed (local_order.c). */
 PetscErrorCode SpamSwarmSortLocal(SpamSim *sim, const SpamCellGrid *grid, PetscBool *permuted);
+/* The local particles sorted as the gids of gids[n] (a checkpoint's local order), those
+ * sent away dropped, as SpamSwarmSortLocal does; a particle whose gid is not in gids goes
+ * last (the caller finds it by the count). */
+PetscErrorCode SpamSwarmSortLocalAs(SpamSim *sim, PetscInt n, const PetscInt64 *gids, PetscBool *permuted);
+/* The migration's first half: the carried data (mass, reference positions, body labels)
+ * into the swarm, dest[i] into DMSwarm_rank, X and the gid field closed so that the swarm
+ * may resize (local). */
+PetscErrorCode SpamSimDetach(SpamSim *sim, const PetscInt *dest);
+/* A restart on the rank count of its checkpoint (restart_load.c): each particle sent to
+ * the rank whose block of the checkpoint holds its gid, and the local order made that of
+ * the block, gids[n] (this rank's, in the checkpoint's order); X, the gid field and the
+ * scratch re-made as after a migration, the list left to the caller (built at the
+ * checkpoint's reference positions). *changed (the same on every rank): something moved or
+ * was re-ordered. A gid outside the scene, one the checkpoint lacks, or another count
+ * than the block's is refused (PETSC_ERR_USER_INPUT) on every rank. Collective. */
+PetscErrorCode SpamSimPlace(SpamSim *sim, PetscInt n, const PetscInt64 *gids, PetscBool *changed);
 /* Whether the local particles are in that order; x: the state (X's array). */
 PetscBool SpamSimIsSortedLocal(const SpamSim *sim, const SpamCellGrid *grid, const double *y);
 #endif

@@ -7,11 +7,17 @@
 /* The checkpoint's name in the output directory. */
 #define SPAM_CHECKPOINT_FILE "checkpoint.h5"
 
-/* Puts the series as they stand (texts, indexes, times, manifest list) into c. */
+/* Puts the series as they stand (texts, indexes, times, manifest list) into c: on the
+ * rank that owns the directory (the texts are read back from its files). */
 PetscErrorCode SpamOutputSave(SpamOutput *o, SpamCkFile *c);
 /* Takes dir for a run continuing checkpoint c: locks it, removes the files written after
  * the checkpoint, writes back its indexes and opens timeseries.csv and steps.csv holding
  * the checkpoint's rows. (The checkpoint's options were checked: the directory's earlier
  * run is the one being continued, not refused.) */
 PetscErrorCode SpamOutputResume(const char *dir, PetscBool hdf5, PetscBool csv, const SpamOutputOptions *opt, const SpamCkFile *c, SpamOutput *o);
+/* What every rank keeps of the series (the manifest's list, snapshot and grid counts and
+ * times, the step), as checkpoint c holds it: a rank that does not own the directory
+ * needs it to name and list the files a restart goes on writing. SpamOutputResume does
+ * this for the owner. */
+PetscErrorCode SpamOutputResumeLists(const SpamCkFile *c, SpamOutput *o);
 #endif

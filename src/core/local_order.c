@@ -70,9 +70,40 @@ static PetscErrorCode PermuteField(DM sw, const char *name, PetscInt n, PetscInt
   PetscFunctionReturn(0);
 }
 
-/* The sort keys of the n local particles, straight from the swarm's fields; *keep
- * counts those whose DMSwarm_rank is this rank. */
-static PetscErrorCode MakeKeys(SpamSim *sim, const SpamCellGrid *grid, PetscInt n, LocalKey *key, PetscInt *keep)
+/* The place of gid in a checkpoint's local order (SpamSwarmSortLocalAs): the gids sorted,
+ * with their places. */
+typedef struct {
+  PetscInt64 gid;
+  PetscInt   at;
+} Place;
+
+typedef struct {
+  PetscInt n;
+  Place   *p; /* by gid */
+} Places;
+
+static int ComparePlaces(const void *a, const void *b)
+{
+  const PetscInt64 p = ((const Place *)a)->gid, q = ((const Place *)b)->gid;
+  return (p > q) - (p < q);
+}
+
+/* A gid not among the places sorts after all that are (the caller counts them). */
+static uint64_t PlaceOf(const Places *p, PetscInt64 gid)
+{
+  PetscInt lo = 0, hi = p->n;
+  while (lo < hi) {
+    const PetscInt mid = lo + (hi - lo) / 2;
+    if (p->p[mid].gid < gid) lo = mid + 1;
+    else hi = mid;
+  }
+  return lo < p->n && p->p[lo].gid == gid ? (uint64_t)p->p[lo].at : UINT64_MAX;
+}
+
+/* The sort keys of the n local particles, straight from the swarm's fields: the order
+ * key of the cell, or (places given) the particle's place; *keep counts those whose
+ * DMSwarm_rank is this rank. */
+static PetscErrorCode MakeKeys(SpamSim *sim, const SpamCellGrid *grid, const Places *places, PetscInt n, LocalKey *key, PetscInt *keep)
 {
   const SpamLayout *l = &sim->model.layout;
   PetscReal        *s;
@@ -87,7 +118,8 @@ static PetscErrorCode MakeKeys(SpamSim *sim, const SpamCellGrid *grid, PetscInt 
   PetscCall(DMSwarmGetField(sim->swarm, DMSwarmField_rank, NULL, NULL, (void **)&rank));
   *keep = 0;
   for (PetscInt i = 0; i < n; i++) {
-    key[i] = (LocalKey){rank[i] != me, OrderKeyOf(grid, &sim->box, s + (size_t)i * l->nvar + l->x), gid[i], i};
+    const uint64_t k = places ? PlaceOf(places, gid[i]) : OrderKeyOf(grid, &sim->box, s + (size_t)i * l->nvar + l->x);
+    key[i]           = (LocalKey){rank[i] != me, k, gid[i], i};
     *keep += rank[i] == me;
   }
   PetscCall(DMSwarmRestoreField(sim->swarm, DMSwarmField_rank, NULL, NULL, (void **)&rank));
@@ -96,7 +128,7 @@ static PetscErrorCode MakeKeys(SpamSim *sim, const SpamCellGrid *grid, PetscInt 
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamSwarmSortLocal(SpamSim *sim, const SpamCellGrid *grid, PetscBool *permuted)
+static PetscErrorCode SortBy(SpamSim *sim, const SpamCellGrid *grid, const Places *places, PetscBool *permuted)
 {
   PetscInt  n, keep;
   LocalKey *key;
@@ -105,7 +137,7 @@ PetscErrorCode SpamSwarmSortLocal(SpamSim *sim, const SpamCellGrid *grid, PetscB
   PetscFunctionBeginUser;
   PetscCall(DMSwarmGetLocalSize(sim->swarm, &n));
   PetscCall(PetscMalloc1(n + 1, &key));
-  PetscCall(MakeKeys(sim, grid, n, key, &keep));
+  PetscCall(MakeKeys(sim, grid, places, n, key, &keep));
   qsort(key, (size_t)n, sizeof *key, CompareLocal);
   *permuted = (PetscBool)(keep < n);
   for (PetscInt i = 0; i < keep && !*permuted; i++) *permuted = (PetscBool)(key[i].i != i);
@@ -117,5 +149,25 @@ PetscErrorCode SpamSwarmSortLocal(SpamSim *sim, const SpamCellGrid *grid, PetscB
   }
   PetscCall(PetscFree(key));
   if (keep < n) PetscCall(DMSwarmSetLocalSizes(sim->swarm, keep, 0));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamSwarmSortLocal(SpamSim *sim, const SpamCellGrid *grid, PetscBool *permuted)
+{
+  PetscFunctionBeginUser;
+  PetscCall(SortBy(sim, grid, NULL, permuted));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamSwarmSortLocalAs(SpamSim *sim, PetscInt n, const PetscInt64 *gids, PetscBool *permuted)
+{
+  Places p = {n, NULL};
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1(n + 1, &p.p));
+  for (PetscInt i = 0; i < n; i++) p.p[i] = (Place){gids[i], i};
+  qsort(p.p, (size_t)n, sizeof *p.p, ComparePlaces);
+  PetscCall(SortBy(sim, NULL, &p, permuted));
+  PetscCall(PetscFree(p.p));
   PetscFunctionReturn(0);
 }

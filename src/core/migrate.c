@@ -86,9 +86,7 @@ static PetscErrorCode Destinations(const SpamDecomp *dec, PetscInt n, const uint
   PetscFunctionReturn(0);
 }
 
-/* Carried data into the swarm, destinations into DMSwarm_rank, and X and the gid field
- * closed, so that the swarm may resize. */
-static PetscErrorCode Detach(SpamSim *sim, const PetscInt *dest)
+PetscErrorCode SpamSimDetach(SpamSim *sim, const PetscInt *dest)
 {
   PetscReal *m, *xref;
   PetscInt  *body, *rank;
@@ -166,7 +164,7 @@ static PetscErrorCode Move(SpamSim *sim, const SpamDecomp *dec, const PetscInt *
 {
   PetscFunctionBeginUser;
   if (SpamBondsAny(sim)) PetscCall(SpamBondsDepart(sim, dest)); /* by the old gids and order */
-  PetscCall(Agree(sim->comm, Detach(sim, dest), "closing the swarm for a migration"));
+  PetscCall(Agree(sim->comm, SpamSimDetach(sim, dest), "closing the swarm for a migration"));
   /* Sent particles stay until the sort drops them all at once (local_order.c says why). */
   if (moved) PetscCall(DMSwarmMigrate(sim->swarm, PETSC_FALSE));
   PetscCall(Agree(sim->comm, Reorder(sim, dec), "the local sort after a migration"));

@@ -15,9 +15,19 @@
  *   progress [6], limit                 counters of the last step and what limited it
  *   rhs_stats [3], list_builds          the RHS's counters
  *   run_result                          the run's result so far (same build only)
- *   out_*                               the output series (output_resume.c) */
+ *   out_*                               the output series (output_resume.c)
+ * On P > 1 ranks (checkpoint_file.h: one file, each rank's block in rank order) the
+ * per-particle entries state, id, xref, mass, acc and the rank's own rhs_stats are each
+ * rank's, in its local order, and the shared entries add
+ *   decomposition_cut [P+1]             the curve keys of the cut in force (bits as int64)
+ *   decomposition_count [P]             what each rank got at that cut
+ *   decomposition [5]                   has_cut, cut imbalance, imbalance, cuts, migrations
+ *   migration_loop [6]                  builds at the last migration and halo check, the
+ *                                       halo then, migrations run, particles moved, and
+ *                                       whether the integrator was re-made since the step */
 #include <petsc/private/tsimpl.h> /* ts->steprestart: a state jump waiting to restart the method */
 #include "loop_state.h"
+#include <spam/decompose.h>
 #include <spam/version.h>
 #include <sundials/sundials_config.h>
 
@@ -53,9 +63,10 @@ static PetscErrorCode PutIdentity(SpamSim *sim, const SpamRunResult *r, SpamCkFi
   PetscFunctionReturn(0);
 }
 
-/* Per-particle arrays in the run's particle order (a restart builds the same order from
- * the same options, and checks it by id). */
-static PetscErrorCode PutParticles(SpamSim *sim, SpamCkFile *c)
+/* Per-particle arrays in the run's particle order into pc (a restart builds the same
+ * order from the same options, and checks it by id; on several ranks each rank's own),
+ * the list's build count into c. */
+static PetscErrorCode PutParticles(SpamSim *sim, SpamCkFile *pc, SpamCkFile *c)
 {
   const int          dim = sim->model.dim, n = (int)sim->n;
   const PetscScalar *y;
@@ -64,28 +75,52 @@ static PetscErrorCode PutParticles(SpamSim *sim, SpamCkFile *c)
 
   PetscFunctionBeginUser;
   PetscCall(VecGetArrayRead(sim->X, &y));
-  PetscCall(SpamCkPutReal(c, "state", (size_t)n * sim->model.layout.nvar, y));
+  PetscCall(SpamCkPutReal(pc, "state", (size_t)n * sim->model.layout.nvar, y));
   PetscCall(VecRestoreArrayRead(sim->X, &y));
   PetscCall(PetscMalloc2((size_t)n * dim + 1, &xref, (size_t)n + 1, &id));
   for (int i = 0; i < n; i++) {
     id[i] = SpamSimRowOf(sim, i);
     for (int d = 0; d < dim; d++) xref[(size_t)i * dim + d] = sim->nl.xref[d][i];
   }
-  PetscCall(SpamCkPutInt(c, "id", (size_t)n, id));
-  PetscCall(SpamCkPutReal(c, "xref", (size_t)n * dim, xref));
-  PetscCall(SpamCkPutReal(c, "mass", (size_t)n, sim->f.m));
-  PetscCall(SpamCkPutReal(c, "acc", (size_t)n * dim, sim->f.acc));
+  PetscCall(SpamCkPutInt(pc, "id", (size_t)n, id));
+  PetscCall(SpamCkPutReal(pc, "xref", (size_t)n * dim, xref));
+  PetscCall(SpamCkPutReal(pc, "mass", (size_t)n, sim->f.m));
+  PetscCall(SpamCkPutReal(pc, "acc", (size_t)n * dim, sim->f.acc));
   PetscCall(SpamCkPutLong(c, "list_builds", sim->nl.builds));
   {
     const double stats[3] = {(double)sim->stats.rhs_evals, sim->stats.rhs_time, sim->stats.pair_visits};
-    PetscCall(SpamCkPutReal(c, "rhs_stats", 3, stats));
+    PetscCall(SpamCkPutReal(pc, "rhs_stats", 3, stats));
   }
   PetscCall(PetscFree2(xref, id));
   PetscFunctionReturn(0);
 }
 
+/* Several ranks: the cut the next migration decides by, and the loop's migration state,
+ * so that a restart migrates when and as the uninterrupted run does. */
+static PetscErrorCode PutRanks(const SpamSim *sim, const SpamLoop *L, SpamCkFile *c)
+{
+  const SpamDecomp *dec = sim->dec;
+  int64_t          *cut;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1(dec->nranks + 1, &cut));
+  memcpy(cut, dec->cut, sizeof *cut * (size_t)(dec->nranks + 1));
+  PetscCall(SpamCkPutInt(c, "decomposition_cut", (size_t)dec->nranks + 1, cut));
+  PetscCall(PetscFree(cut));
+  PetscCall(SpamCkPutInt(c, "decomposition_count", (size_t)dec->nranks, dec->count));
+  {
+    const double v[5] = {dec->has_cut, dec->cut_imbalance, dec->imbalance, (double)dec->cuts, (double)dec->migrations};
+    PetscCall(SpamCkPutReal(c, "decomposition", 5, v));
+  }
+  {
+    const double v[6] = {(double)L->builds_migrated, (double)L->builds_checked, L->halo_migrated, (double)sim->migrations_run, (double)sim->migrated, L->followed};
+    PetscCall(SpamCkPutReal(c, "migration_loop", 6, v));
+  }
+  PetscFunctionReturn(0);
+}
+
 /* The integrator: the step it proposes next, and ERKStep's controller history. */
-static PetscErrorCode PutIntegrator(TS ts, const SpamTsApp *app, SpamCkFile *c)
+static PetscErrorCode PutIntegrator(TS ts, const SpamTsApp *app, PetscBool followed, SpamCkFile *c)
 {
   PetscBool arkode;
   PetscReal dt;
@@ -117,9 +152,13 @@ static PetscErrorCode PutIntegrator(TS ts, const SpamTsApp *app, SpamCkFile *c)
           if (memcmp(&y[(size_t)i * sim->model.layout.nvar + sim->model.layout.x + d], &app->xcache[(size_t)i * sim->model.dim + d], sizeof(double))) cached = PETSC_FALSE;
       PetscCall(VecRestoreArrayRead(sim->X, &y));
     }
+    if (SpamSimDistributed(sim)) PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &cached, 1, MPIU_BOOL, MPI_LAND, sim->comm));
     PetscCall(SpamCkPutLong(c, "kick_cached", cached));
   }
-  PetscCall(SpamCkPutLong(c, "step_restart_pending", ts->steprestart && ts->steps > 0));
+  /* A PETSc method that followed a migration was reset onto the new vector (TSReset, then
+   * its first stage evaluated anew): it keeps nothing a restart could miss, a jump before
+   * it included. */
+  PetscCall(SpamCkPutLong(c, "step_restart_pending", ts->steprestart && ts->steps > 0 && !(followed && !arkode)));
   PetscFunctionReturn(0);
 }
 
@@ -149,7 +188,8 @@ static PetscErrorCode PutLoop(const SpamRunOptions *o, const SpamLoop *L, const 
 
 PetscErrorCode SpamCheckpointWrite(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamOutput *out, const SpamRunResult *r, SpamLoop *L, PetscBool exact)
 {
-  SpamCkFile     c;
+  SpamCkFile     c, mine;
+  const PetscBool ranks = SpamSimDistributed(sim);
   char           path[PETSC_MAX_PATH_LEN];
   size_t         bytes = 0;
   PetscLogDouble t0, t1;
@@ -158,14 +198,22 @@ PetscErrorCode SpamCheckpointWrite(SpamSim *sim, const SpamRunOptions *o, TS ts,
   PetscFunctionBeginUser;
   PetscCall(PetscTime(&t0));
   PetscCall(SpamCkFileInit(&c));
+  PetscCall(SpamCkFileInit(&mine));
   ierr = PutIdentity(sim, r, &c);
   if (!ierr) ierr = SpamCkPutLong(&c, "exact", exact);
-  if (!ierr) ierr = PutParticles(sim, &c);
-  if (!ierr) ierr = PutIntegrator(ts, app, &c);
+  if (!ierr) ierr = PutParticles(sim, ranks ? &mine : &c, &c);
+  if (!ierr && ranks) ierr = PutRanks(sim, L, &c);
+  if (!ierr) ierr = PutIntegrator(ts, app, L->followed, &c);
   if (!ierr) ierr = PutLoop(o, L, r, &c);
-  if (!ierr) ierr = SpamOutputSave(out, &c);
+  if (!ierr && out->owned) ierr = SpamOutputSave(out, &c); /* rank 0's files; rank 0 writes the shared entries */
   if (!ierr) ierr = SpamOutputPath(out, SPAM_CHECKPOINT_FILE, path, sizeof path);
-  if (!ierr) ierr = SpamCkFileWrite(sim->comm, &c, path, &bytes);
+  if (ranks) { /* a rank that failed to gather its part must not leave the others in the write */
+    int bad = ierr != 0;
+    PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &bad, 1, MPI_INT, MPI_MAX, sim->comm));
+    if (bad && !ierr) ierr = PetscError(PETSC_COMM_SELF, __LINE__, PETSC_FUNCTION_NAME, __FILE__, PETSC_ERR_FILE_WRITE, PETSC_ERROR_INITIAL, "cannot write the checkpoint: another rank failed to gather its part");
+  }
+  if (!ierr) ierr = ranks ? SpamCkFileWriteRanks(sim->comm, &c, &mine, path, &bytes) : SpamCkFileWrite(sim->comm, &c, path, &bytes);
+  PetscCall(SpamCkFileDestroy(&mine));
   PetscCall(SpamCkFileDestroy(&c));
   PetscCall(ierr);
   PetscCall(PetscTime(&t1));

@@ -12,7 +12,7 @@
 #include <spam/decompose.h>
 #include "loop_state.h"
 
-static PetscErrorCode RemakeLoopVectors(SpamSim *sim, SpamLoop *L)
+PetscErrorCode SpamLoopRemakeVectors(SpamSim *sim, SpamLoop *L)
 {
   PetscFunctionBeginUser;
   PetscCall(VecDestroy(&L->Xgood));
@@ -75,6 +75,7 @@ PetscErrorCode SpamLoopMigrate(SpamSim *sim, const SpamRunOptions *o, TS ts, Spa
   sim->migrations_run++;
   sim->migrated += info.moved;
   PetscCall(SpamTSFollowParticles(ts, app, &followed));
-  PetscCall(RemakeLoopVectors(sim, L));
+  L->followed = followed;
+  PetscCall(SpamLoopRemakeVectors(sim, L));
   PetscFunctionReturn(0);
 }

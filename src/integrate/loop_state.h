@@ -32,6 +32,8 @@ typedef struct {
   long           builds_migrated;   /* list builds at the last migration                 */
   long           builds_checked;    /* list builds when the halo was last looked at       */
   double         halo_migrated;     /* the largest halo after the last migration (0: unknown) */
+  PetscBool      followed;          /* a migration re-made the integrator's vectors since */
+                                    /* the last step: its next step evaluates f anew      */
 } SpamLoop;
 
 /* Between two steps on several ranks: when the list has been built -migrate_interval
@@ -39,6 +41,10 @@ typedef struct {
  * when the imbalance has grown) and every vector of the loop and the integrator follows
  * them. Nothing on one rank, or for a method that cannot follow (integrator.h). */
 PetscErrorCode SpamLoopMigrate(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamLoop *L);
+
+/* Xgood, Xout and the kept reference positions made anew for the sim's particles (after
+ * a migration, or a restart's placement). */
+PetscErrorCode SpamLoopRemakeVectors(SpamSim *sim, SpamLoop *L);
 
 /* Writes OUTPUT_DIR/checkpoint.h5 of the loop at its current step boundary. exact: no
  * stop-time clamp is pending (the restart will be bitwise where the method allows). */

@@ -4,6 +4,7 @@
 #define _DEFAULT_SOURCE /* realpath */
 #include <petsc/private/tsimpl.h> /* ts->steprestart: ERKStep is made anew at a restart */
 #include "loop_state.h"
+#include <spam/decompose.h>
 #include <spam/errors.h>
 #include <stdlib.h>
 #include <libgen.h>
@@ -64,8 +65,22 @@ static PetscErrorCode CheckOptions(const SpamRestart *rs)
   PetscFunctionReturn(0);
 }
 
-/* The same particles in the same order with the same masses. */
-static PetscErrorCode CheckParticles(SpamSim *sim, const SpamRestart *rs)
+/* The checkpoint continues on the rank count that wrote it: each rank takes back its own
+ * block in its own order (another count would need a new cut and other pair orders). */
+static PetscErrorCode CheckRanks(const SpamSim *sim, SpamRestart *rs)
+{
+  PetscMPIInt size;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(sim->comm, &size));
+  PetscCall(SpamCkFileRanks(&rs->file, &rs->ranks));
+  if (rs->ranks != size) SPAM_BAD_INPUT("-restart", rs->path, "was written on %d rank%s and this run has %d: a checkpoint continues on the rank count that wrote it (mpiexec -n %d)", (int)rs->ranks, rs->ranks == 1 ? "" : "s", (int)size, (int)rs->ranks);
+  PetscFunctionReturn(0);
+}
+
+/* The same particles in the same order with the same masses (on several ranks the order
+ * is each rank's block's, put back by SpamSimPlace, and the masses are checked then). */
+static PetscErrorCode CheckParticles(SpamSim *sim, SpamRestart *rs)
 {
   long           ng, nvar, dim;
   const int64_t *id;
@@ -76,6 +91,10 @@ static PetscErrorCode CheckParticles(SpamSim *sim, const SpamRestart *rs)
   PetscCall(SpamCkGetLong(&rs->file, "nvar", &nvar));
   PetscCall(SpamCkGetLong(&rs->file, "dim", &dim));
   if (ng != (long)sim->nglobal || nvar != sim->model.layout.nvar || dim != sim->model.dim) SPAM_BAD_INPUT("-restart", rs->path, "holds %ld particles of %ld variables in %ldD; these options make %ld of %d in %dD", ng, nvar, dim, (long)sim->nglobal, sim->model.layout.nvar, sim->model.dim);
+  if (rs->ranks > 1) {
+    PetscCall(SpamCkFileReadRank(sim->comm, &rs->file, &rs->mine));
+    PetscFunctionReturn(0);
+  }
   PetscCall(SpamCkGetInt(&rs->file, "id", (size_t)sim->n, &id));
   PetscCall(SpamCkGetReal(&rs->file, "mass", (size_t)sim->n, &m));
   for (PetscInt i = 0; i < sim->n; i++) {
@@ -125,9 +144,11 @@ PetscErrorCode SpamRestartLoad(SpamSim *sim, SpamRunOptions *o, TS ts, SpamResta
   PetscCall(PetscMemzero(rs, sizeof *rs));
   PetscCall(PetscStrncpy(rs->path, o->restart, sizeof rs->path));
   PetscCall(SpamCkFileInit(&rs->file));
+  PetscCall(SpamCkFileInit(&rs->mine));
   if (access(rs->path, R_OK)) SPAM_BAD_INPUT("-restart", rs->path, "cannot be read: %s", strerror(errno));
   PetscCall(SpamCkFileRead(sim->comm, rs->path, &rs->file));
   PetscCall(CheckVersion(rs));
+  PetscCall(CheckRanks(sim, rs));
   PetscCall(CheckOptions(rs));
   PetscCall(CheckParticles(sim, rs));
   PetscCall(SpamCkGetScalar(&rs->file, "time", &rs->t));
@@ -142,24 +163,98 @@ PetscErrorCode SpamRestartDestroy(SpamRestart *rs)
 {
   PetscFunctionBeginUser;
   PetscCall(SpamCkFileDestroy(&rs->file));
+  PetscCall(SpamCkFileDestroy(&rs->mine));
+  PetscFunctionReturn(0);
+}
+
+/* Several ranks: the integrator and the loop on the vectors of the placed particles.
+ * ERKStep is made anew below (ApplyIntegrator): it only needs the new solution (a resize
+ * of an ERKStep that never stepped fails inside ARKODE). A method that cannot follow
+ * particles never migrated them, so its checkpoint's blocks are the start's distribution
+ * and nothing was moved. */
+static PetscErrorCode FollowPlaced(TS ts, SpamTsApp *app, SpamLoop *L)
+{
+  PetscBool arkode, followed = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectTypeCompare((PetscObject)ts, SPAM_TSARKODE, &arkode));
+  if (arkode) {
+    if (ts->setupcalled) PetscCall(TSReset(ts));
+    PetscCall(TSSetSolution(ts, app->sim->X));
+    followed = PETSC_TRUE;
+  } else PetscCall(SpamTSFollowParticles(ts, app, &followed));
+  PetscCheck(followed, app->sim->comm, PETSC_ERR_PLIB, "the checkpoint's particles moved, but this method keeps the start's distribution");
+  PetscCall(SpamLoopRemakeVectors(app->sim, L));
+  PetscFunctionReturn(0);
+}
+
+/* Several ranks: the cut in force and the migration state at the checkpoint. */
+static PetscErrorCode ApplyRanks(SpamSim *sim, const SpamCkFile *c, SpamLoop *L)
+{
+  SpamDecomp    *dec = sim->dec;
+  const int64_t *cut, *count;
+  const double  *d, *m;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamCkGetInt(c, "decomposition_cut", (size_t)dec->nranks + 1, &cut));
+  PetscCall(SpamCkGetInt(c, "decomposition_count", (size_t)dec->nranks, &count));
+  PetscCall(SpamCkGetReal(c, "decomposition", 5, &d));
+  PetscCall(SpamCkGetReal(c, "migration_loop", 6, &m));
+  memcpy(dec->cut, cut, sizeof *cut * (size_t)(dec->nranks + 1));
+  for (PetscMPIInt r = 0; r < dec->nranks; r++) dec->count[r] = count[r];
+  dec->has_cut       = (PetscBool)(d[0] != 0);
+  dec->cut_imbalance = d[1];
+  dec->imbalance     = d[2];
+  dec->cuts          = (long)d[3];
+  dec->migrations    = (long)d[4];
+  L->builds_migrated = (long)m[0];
+  L->builds_checked  = (long)m[1];
+  L->halo_migrated   = m[2];
+  sim->migrations_run = (long)m[3];
+  sim->migrated      = (PetscInt64)m[4];
+  L->followed        = (PetscBool)(m[5] != 0);
+  PetscFunctionReturn(0);
+}
+
+/* Several ranks: each rank's block back in its order, the masses checked as on one rank. */
+static PetscErrorCode PlaceParticles(SpamSim *sim, TS ts, SpamTsApp *app, const SpamRestart *rs, SpamLoop *L)
+{
+  size_t         n;
+  const int64_t *id;
+  const double  *m;
+  PetscBool      changed;
+  PetscInt64     bad = -1;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamCkGetLength(&rs->mine, "id", &n));
+  PetscCall(SpamCkGetInt(&rs->mine, "id", n, &id));
+  PetscCall(SpamSimPlace(sim, (PetscInt)n, id, &changed));
+  if (changed) PetscCall(FollowPlaced(ts, app, L));
+  PetscCall(SpamCkGetReal(&rs->mine, "mass", n, &m));
+  for (PetscInt i = 0; i < sim->n && bad < 0; i++)
+    if (memcmp(&m[i], &sim->f.m[i], sizeof m[i])) bad = SpamSimRowOf(sim, i);
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &bad, 1, MPIU_INT64, MPI_MAX, sim->comm));
+  if (bad >= 0) SPAM_BAD_INPUT("-restart", rs->path, "particle %lld has another mass in the checkpoint than here (the scene or its input file changed)", (long long)bad);
+  PetscCall(ApplyRanks(sim, &rs->file, L));
   PetscFunctionReturn(0);
 }
 
 /* Particles, their list at the checkpoint's reference positions, the last forces. */
-static PetscErrorCode ApplyParticles(SpamSim *sim, const SpamCkFile *c)
+static PetscErrorCode ApplyParticles(SpamSim *sim, const SpamRestart *rs)
 {
-  const int     dim = sim->model.dim;
-  const size_t  n   = (size_t)sim->n;
-  const double *state, *xref, *acc, *stats;
-  PetscScalar  *y;
-  long          builds;
+  const SpamCkFile *pc  = rs->ranks > 1 ? &rs->mine : &rs->file; /* the particles' entries */
+  const int         dim = sim->model.dim;
+  const size_t      n   = (size_t)sim->n;
+  const double     *state, *xref, *acc, *stats;
+  PetscScalar      *y;
+  long              builds;
 
   PetscFunctionBeginUser;
-  PetscCall(SpamCkGetReal(c, "state", n * sim->model.layout.nvar, &state));
-  PetscCall(SpamCkGetReal(c, "xref", n * dim, &xref));
-  PetscCall(SpamCkGetReal(c, "acc", n * dim, &acc));
-  PetscCall(SpamCkGetReal(c, "rhs_stats", 3, &stats));
-  PetscCall(SpamCkGetLong(c, "list_builds", &builds));
+  PetscCall(SpamCkGetReal(pc, "state", n * sim->model.layout.nvar, &state));
+  PetscCall(SpamCkGetReal(pc, "xref", n * dim, &xref));
+  PetscCall(SpamCkGetReal(pc, "acc", n * dim, &acc));
+  PetscCall(SpamCkGetReal(pc, "rhs_stats", 3, &stats));
+  PetscCall(SpamCkGetLong(&rs->file, "list_builds", &builds));
   PetscCall(VecGetArrayWrite(sim->X, &y));
   PetscCall(PetscArraycpy(y, state, n * sim->model.layout.nvar));
   PetscCall(VecRestoreArrayWrite(sim->X, &y));
@@ -185,6 +280,11 @@ static PetscErrorCode ReusedDerivative(TS ts, const SpamCkFile *c, PetscBool *re
   PetscFunctionBeginUser;
   PetscCall(TSGetType(ts, &type));
   *reused = PETSC_FALSE;
+  if (SpamCkHas(c, "migration_loop")) { /* a migration re-made the method's vectors: f is due anew */
+    const double *m;
+    PetscCall(SpamCkGetReal(c, "migration_loop", 6, &m));
+    if (m[5] != 0) PetscFunctionReturn(0);
+  }
   if (!strcmp(type, SPAM_TSARKODE)) *reused = PETSC_TRUE;
   else if (!strcmp(type, TSRK)) PetscCall(TSRKGetTableau(ts, NULL, NULL, NULL, NULL, NULL, NULL, NULL, reused));
   else if (!strcmp(type, TSBASICSYMPLECTIC)) {
@@ -281,7 +381,8 @@ PetscErrorCode SpamRestartApply(SpamSim *sim, const SpamRunOptions *o, TS ts, Sp
   SpamRunResult now = *r; /* what this run has set: method, output mode */
 
   PetscFunctionBeginUser;
-  PetscCall(ApplyParticles(sim, &rs->file));
+  if (rs->ranks > 1) PetscCall(PlaceParticles(sim, ts, app, rs, L));
+  PetscCall(ApplyParticles(sim, rs));
   PetscCall(ApplyIntegrator(ts, app, rs));
   PetscCall(ApplyLoop(&rs->file, L));
   PetscCall(SpamCkGetText(&rs->file, "run_result", &blob, &len));

@@ -157,12 +157,6 @@ PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o)
   PetscCall(CheckRange("-checkpoint_interval", o->checkpoint_interval, 0.0, PETSC_FALSE, "must be zero (off) or a positive time"));
   PetscCall(CheckRange("-checkpoint_wall", o->checkpoint_wall, 0.0, PETSC_FALSE, "must be zero (off) or a positive number of seconds"));
   PetscCall(CheckCount("-checkpoint_interval", o->checkpoint_interval, o->t_end, MAX_OUTPUT_ROWS, "checkpoints"));
-  if (SpamSimDistributed(sim)) { /* the checkpoint file holds one rank's particles and list */
-    const char *opt = restart ? "-restart" : o->checkpoint_interval > 0 ? "-checkpoint_interval" : o->checkpoint_wall > 0 ? "-checkpoint_wall" : NULL;
-    char        val[PETSC_MAX_PATH_LEN];
-    if (opt && !restart) PetscCall(SpamOptionText(opt, o->checkpoint_interval > 0 ? o->checkpoint_interval : o->checkpoint_wall, val, sizeof val));
-    if (opt) SPAM_BAD_INPUT(opt, restart ? o->restart : val, "checkpoints and restarts run on one rank in this version (mpiexec -n 1)");
-  }
   {
     char     val[32];
     PetscInt reject = 10;

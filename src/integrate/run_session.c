@@ -106,6 +106,7 @@ static PetscErrorCode OpenOutputs(SpamSim *sim, const SpamRunOptions *o, const S
     out->csv     = o->csv;
     out->opt     = *more;
     (void)PetscStrncpy(out->dir, o->output_dir, sizeof out->dir);
+    if (rs) ierr = SpamOutputResumeLists(&rs->file, out); /* the same list of files as rank 0 */
   }
   if (MPI_Bcast(&ierr, 1, MPI_INT, 0, sim->comm) != MPI_SUCCESS) return PETSC_ERR_MPI;
   return ierr;

@@ -94,6 +94,9 @@ static PetscErrorCode OutputOf(Vec X, SpamSim *sim, const SpamRunOptions *o, Spa
     SeriesRow w = {out, sim, p, &d, &r->first};
     PetscCall(SpamRunAgreed(sim->comm, PETSC_TRUE, AppendTimeseries, &w));
   }
+  /* Every rank's: the snapshot's step attribute is written collectively (rank 0's row set
+   * it there only, and the other ranks wrote 0 into P-rank snapshots). */
+  out->step = p->steps;
   if (snapshot) PetscCall(SpamSnapshotWrite(out, sim, y, p->t, NULL)); /* collective */
   PetscCall(VecRestoreArrayRead(X, &y));
   PetscCall(SpamMonitorProgress(sim, o, p, r));
@@ -351,18 +354,21 @@ static PetscErrorCode FailureReason(TS ts, const SpamTsApp *app, long step, doub
  * cannot resume bit for bit from a checkpoint (after a clamp the next step is h*(h'/h),
  * not h'), and a state jump (TSRestartStep) waits to drop the history. Other methods have
  * their step cut by this loop, from a proposal the checkpoint keeps. */
-static PetscErrorCode ClampPending(TS ts, PetscBool *pending)
+static PetscErrorCode ClampPending(TS ts, PetscBool followed, PetscBool *pending)
 {
-  PetscBool ok;
+  PetscBool ok, arkode;
 
   PetscFunctionBeginUser;
   PetscCall(SpamTSARKodeCheckpointable(ts, &ok));
-  *pending = (PetscBool)(!ok || (ts->steprestart && ts->steps > 0));
+  PetscCall(PetscObjectTypeCompare((PetscObject)ts, SPAM_TSARKODE, &arkode));
+  /* A PETSc method reset onto a migration's vector holds nothing a restart would miss:
+   * its restart flag then asks for no deferral (checkpoint_save.c). */
+  *pending = (PetscBool)(!ok || (ts->steprestart && ts->steps > 0 && !(followed && !arkode)));
   PetscFunctionReturn(0);
 }
 
 /* A checkpoint is asked for by the simulated-time interval or the wall clock. */
-static PetscErrorCode CheckpointAsked(const SpamRunOptions *o, SpamLoop *L)
+static PetscErrorCode CheckpointAsked(const SpamSim *sim, const SpamRunOptions *o, SpamLoop *L)
 {
   PetscLogDouble now;
 
@@ -374,6 +380,9 @@ static PetscErrorCode CheckpointAsked(const SpamRunOptions *o, SpamLoop *L)
   if (o->checkpoint_wall > 0) {
     PetscCall(PetscTime(&now));
     if (now - L->last_ckpt_wall >= o->checkpoint_wall) L->ckpt_due = PETSC_TRUE;
+    /* Each rank has its own clock: one rank's due checkpoint is every rank's, or the
+     * others would never join its collective write. */
+    if (SpamSimDistributed(sim)) PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &L->ckpt_due, 1, MPIU_BOOL, MPI_LOR, sim->comm));
   }
   PetscFunctionReturn(0);
 }
@@ -404,9 +413,8 @@ static PetscErrorCode CheckpointServe(SpamSim *sim, const SpamRunOptions *o, TS 
 
   PetscFunctionBeginUser;
   *written = PETSC_FALSE;
-  /* More than one rank: no checkpoint (refused in run_options.c); an interruption stops. */
-  if (!L->ckpt_due || L->t >= o->t_end || SpamSimDistributed(sim)) PetscFunctionReturn(0);
-  PetscCall(ClampPending(ts, &pending));
+  if (!L->ckpt_due || L->t >= o->t_end) PetscFunctionReturn(0);
+  PetscCall(ClampPending(ts, L->followed, &pending));
   if (pending && L->ckpt_deferred < SPAM_CKPT_MAX_DEFER) {
     L->ckpt_deferred++;
     PetscFunctionReturn(0);
@@ -553,6 +561,7 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
     if (!app->self_stepping) PetscCall(ChooseStep(ts, app, r->fixed_dt, tstop, cut, &limit));
     else PetscCall(SelfSteppingBound(ts, app));
     PetscCall(TSStep(ts));
+    L->followed = PETSC_FALSE; /* the step evaluated f on the vectors a migration re-made */
     PetscCall(FailureReason(ts, app, pp->steps + 1, t, why, sizeof why));
     if (why[0]) {
       PetscCall(Unstable(sim, out, L->Xgood, t, r, why));
@@ -609,13 +618,17 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
       if (Reached(t, sp->next_snap)) sp->next_snap = NextMultiple(t, sp->snap_interval, o->t_end);
     }
     if (outputs) PetscCall(SpamNeighboursRevert(&sim->nl, &sim->box, L->xref_keep, L->builds_keep));
+    /* After the step's outputs, which read ERKStep's interpolant of the step (a resize drops
+     * it); before a checkpoint, which then holds the particles where the next step finds
+     * them, so that a restart on the same ranks needs no migration of its own. */
+    PetscCall(SpamLoopMigrate(sim, o, ts, app, L));
     {
       /* Stopped short of the end by -ts_max_steps with checkpoints on: one now (no deferral:
        * the run ends here), before the row and snapshot of the time reached, which are this
        * run's own ending, not part of the series a continued run writes. */
       const PetscBool short_stop = (PetscBool)(pp->steps >= o->max_steps && t < o->t_end);
       PetscBool       written;
-      PetscCall(CheckpointAsked(o, L));
+      PetscCall(CheckpointAsked(sim, o, L));
       if (short_stop && (o->checkpoint_interval > 0 || o->checkpoint_wall > 0)) {
         L->ckpt_due      = PETSC_TRUE;
         L->ckpt_deferred = SPAM_CKPT_MAX_DEFER;
@@ -623,8 +636,6 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
       PetscCall(CheckpointServe(sim, o, ts, app, out, r, L, &written));
       if (short_stop) PetscCall(FinalOutputs(sim, o, out, pp, (PetscBool)(L->t_row == t), (PetscBool)(L->t_snap == t), r));
     }
-    /* Last: the step's outputs read ERKStep's interpolant of the step, which a resize drops. */
-    PetscCall(SpamLoopMigrate(sim, o, ts, app, L));
   }
   if (r->status == SPAM_STATUS_OK && L->t < o->t_end) r->status = SPAM_STATUS_MAX_STEPS;
   r->steps     = pp->steps;

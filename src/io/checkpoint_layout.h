@@ -4,8 +4,11 @@
 #define SPAM_CHECKPOINT_LAYOUT_H
 #include <spam/checkpoint_file.h>
 #include <hdf5.h>
+#include <sys/stat.h>
 
 #define SPAM_CK_GROUP "/checkpoint"
+/* A checkpoint of several ranks: their per-particle entries (checkpoint_file.h) */
+#define SPAM_CK_RANKS_GROUP "/particles"
 
 /* The layout's name rule (checkpoint_file.h): also a valid HDF5 link name. */
 PetscBool SpamCkNameValid(const char *name);
@@ -30,4 +33,19 @@ void SpamH5Reason(char *buf, size_t len);
 /* File access of a checkpoint: the HDF5 1.8 object format (checksummed metadata) and every
  * object closed with the file. Negative on failure. */
 hid_t SpamCkFileAccess(void);
+
+/* The temporary a checkpoint is written into (rank 0 makes it, renames it when complete). */
+typedef struct {
+  char        tmp[PETSC_MAX_PATH_LEN + 32];
+  int         fd;
+  struct stat made; /* what was created: checked again before the rename */
+} SpamCkTemp;
+/* path.PID.tmp created new (O_EXCL | O_NOFOLLOW); a failure names path. */
+PetscErrorCode SpamCkTempCreate(const char *path, SpamCkTemp *t);
+/* c's entries written into the temporary (append: joining the HDF5 file it holds
+ * already), synced, renamed over path, the directory synced; on failure the temporary is
+ * removed. fail_at: the test's injected failure at that entry (0: none). */
+PetscErrorCode SpamCkTempFinish(const SpamCkFile *c, const char *path, SpamCkTemp *t, PetscBool append, long fail_at, size_t *bytes);
+/* Closed and removed (a failure elsewhere). */
+void SpamCkTempDiscard(SpamCkTemp *t);
 #endif

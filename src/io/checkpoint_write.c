@@ -109,16 +109,18 @@ static PetscErrorCode WriteContents(CkWriter *w, const SpamCkFile *c)
   PetscFunctionReturn(0);
 }
 
-/* The HDF5 file written into the temporary tmp (already created, open as fd) and closed. */
-static PetscErrorCode WriteHdf5(const SpamCkFile *c, const char *path, const char *tmp)
+/* The HDF5 file written into the temporary tmp (already created, open as fd) and closed;
+ * append: tmp already holds an HDF5 file (the particles of a checkpoint of several ranks,
+ * checkpoint_write_ranks.c) which the entries join. */
+static PetscErrorCode WriteHdf5(const SpamCkFile *c, const char *path, const char *tmp, PetscBool append, long fail_at)
 {
-  CkWriter       w    = {path, -1, 0, SpamTestFailWriteAt(path), 0};
+  CkWriter       w    = {path, -1, 0, fail_at, 0};
   hid_t          fapl = SpamCkFileAccess();
   PetscErrorCode ierr = 0;
 
   PetscFunctionBeginUser;
   errno = 0;
-  if (fapl >= 0) w.file = H5Fcreate(tmp, H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
+  if (fapl >= 0) w.file = append ? H5Fopen(tmp, H5F_ACC_RDWR, fapl) : H5Fcreate(tmp, H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
   if (w.file < 0) ierr = SpamH5Failed(path);
   else {
     ierr  = WriteContents(&w, c);
@@ -161,40 +163,53 @@ static PetscErrorCode SyncDirectory(const char *path)
 
 /* As SpamTempCreate (path.PID.tmp, O_EXCL | O_NOFOLLOW), but a failure is the checkpoint's
  * write error, naming the checkpoint. */
-static PetscErrorCode CreateTemporary(const char *path, char *tmp, size_t len, int *fd, struct stat *made)
+PetscErrorCode SpamCkTempCreate(const char *path, SpamCkTemp *t)
 {
   PetscFunctionBeginUser;
-  PetscCall(PetscSNPrintf(tmp, len, "%s.%ld.tmp", path, (long)getpid()));
-  *fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
-  PetscCheck(*fd >= 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write %s: %s", path, strerror(errno));
-  if (fstat(*fd, made)) {
+  PetscCall(PetscSNPrintf(t->tmp, sizeof t->tmp, "%s.%ld.tmp", path, (long)getpid()));
+  t->fd = open(t->tmp, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+  PetscCheck(t->fd >= 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write %s: %s", path, strerror(errno));
+  if (fstat(t->fd, &t->made)) {
     const int e = errno;
-    (void)close(*fd);
-    (void)unlink(tmp);
+    SpamCkTempDiscard(t);
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write %s: %s", path, strerror(e));
   }
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode WriteHere(const SpamCkFile *c, const char *path, size_t *bytes)
+void SpamCkTempDiscard(SpamCkTemp *t)
 {
-  char           tmp[PETSC_MAX_PATH_LEN + 32];
-  struct stat    made;
-  int            fd = -1;
+  if (t->fd >= 0) (void)close(t->fd);
+  t->fd = -1;
+  (void)unlink(t->tmp);
+}
+
+PetscErrorCode SpamCkTempFinish(const SpamCkFile *c, const char *path, SpamCkTemp *t, PetscBool append, long fail_at, size_t *bytes)
+{
   PetscErrorCode ierr;
   SpamH5Quiet    quiet;
 
   PetscFunctionBeginUser;
-  PetscCall(CreateTemporary(path, tmp, sizeof tmp, &fd, &made));
   SpamH5QuietBegin(&quiet);
-  ierr = WriteHdf5(c, path, tmp);
+  ierr = WriteHdf5(c, path, t->tmp, append, fail_at);
   SpamH5QuietEnd(&quiet);
-  if (!ierr) ierr = SyncTemporary(fd, &made, path, tmp, bytes);
-  if (close(fd) && !ierr) ierr = WRITE_ERROR("cannot write %s: %s", path, strerror(errno));
-  if (!ierr && rename(tmp, path)) ierr = WRITE_ERROR("cannot rename %s to %s: %s", tmp, path, strerror(errno));
-  if (ierr) (void)unlink(tmp);
+  if (!ierr) ierr = SyncTemporary(t->fd, &t->made, path, t->tmp, bytes);
+  if (close(t->fd) && !ierr) ierr = WRITE_ERROR("cannot write %s: %s", path, strerror(errno));
+  t->fd = -1;
+  if (!ierr && rename(t->tmp, path)) ierr = WRITE_ERROR("cannot rename %s to %s: %s", t->tmp, path, strerror(errno));
+  if (ierr) (void)unlink(t->tmp);
   PetscCall(ierr);
   PetscCall(SyncDirectory(path));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode WriteHere(const SpamCkFile *c, const char *path, size_t *bytes)
+{
+  SpamCkTemp t;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamCkTempCreate(path, &t));
+  PetscCall(SpamCkTempFinish(c, path, &t, PETSC_FALSE, SpamTestFailWriteAt(path), bytes));
   PetscFunctionReturn(0);
 }
 

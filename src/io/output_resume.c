@@ -152,16 +152,12 @@ static PetscErrorCode RestoreSeries(SpamOutput *o, const SpamCkFile *c, const ch
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamOutputResume(const char *dir, PetscBool hdf5, PetscBool csv, const SpamOutputOptions *opt, const SpamCkFile *c, SpamOutput *o)
+PetscErrorCode SpamOutputResumeLists(const SpamCkFile *c, SpamOutput *o)
 {
-  PetscBool created;
-  long      nsnap, step;
-  int       ns; /* snapshot times: nsnap with HDF5 snapshots, 0 without */
+  long nsnap, step;
+  int  ns; /* snapshot times: nsnap with HDF5 snapshots, 0 without */
 
   PetscFunctionBeginUser;
-  PetscCall(SpamOutputInit(dir, hdf5, csv, opt, o));
-  PetscCall(SpamOutputLock(o, &created));
-  o->owned = PETSC_TRUE;
   PetscCall(RestoreEntries(c, o));
   PetscCall(SpamCkGetLong(c, "out_nsnap", &nsnap));
   PetscCall(SpamCkGetLong(c, "out_step", &step));
@@ -169,6 +165,18 @@ PetscErrorCode SpamOutputResume(const char *dir, PetscBool hdf5, PetscBool csv, 
   o->step  = step;
   PetscCall(RestoreTimes(c, "out_snap_times", &o->snap_times, &ns, &o->snap_cap));
   PetscCall(RestoreTimes(c, "out_grid_times", &o->grid.times, &o->grid.n, &o->grid.cap));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamOutputResume(const char *dir, PetscBool hdf5, PetscBool csv, const SpamOutputOptions *opt, const SpamCkFile *c, SpamOutput *o)
+{
+  PetscBool created;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamOutputInit(dir, hdf5, csv, opt, o));
+  PetscCall(SpamOutputLock(o, &created));
+  o->owned = PETSC_TRUE;
+  PetscCall(SpamOutputResumeLists(c, o));
   PetscCall(SpamOutputRemoveUnlisted(o));
   PetscCall(RestoreFile(o, c, "out_snapshots_xmf", "snapshots.xmf"));
   PetscCall(RestoreFile(o, c, "out_grid_xmf", "grid.xmf"));
