@@ -8,16 +8,24 @@
  *     decompose.c), then a neighbour list with the halo of SpamHalo over the ranks, as the
  *     gas path of the program builds it. Per rank: particles, remote ghosts (received per
  *     exchange), items sent, the ranks it receives from and sends to (one message each per
- *     exchange), its bounding box, pairs; and the medians over -reps of the slowest rank's
- *     time of a halo selection (the list build's share) and of one forward exchange of 3
- *     and of 1 value per ghost.
- *   ./build/bench/halo_census -geometry -side n -pieces P [-h 3] [-skin 0.3]
+ *     exchange), its bounding box, pairs; the selection's cells (halo_select.c: the cells it
+ *     occupies, each tested against every other rank's box; the cells it sent, to how many
+ *     ranks; the cells it received) and its CPU time of a selection (median over -reps);
+ *     and the medians over -reps of the slowest rank's time of a halo selection (the list
+ *     build's share) and of one forward exchange of 3 and of 1 value per ghost.
+ *   ./build/bench/halo_census -geometry -side n -pieces P [-h 3] [-skin 0.3] [-inset 0] [-samples 3]
  *     one process, no particles: the same cut of the cells of that cube into P pieces of
- *     equal count (a uniform gas: every cell holds the same number), each piece's bounding
- *     box and the pieces whose cells lie within h + skin of it (an upper bound on the
- *     ranks a rank hears from: a whole cell is tested, not its particles). This is what
- *     the model uses for N up to 10^8 and P up to 1000. Also each piece's surface (the
- *     cell faces it shares with other pieces), which sets the pairs it has across ranks.
+ *     equal count (a uniform gas: every cell holds the same number). Per piece: its
+ *     bounding box and the pieces with a cell within rc = h + skin of that box (ranks_from,
+ *     ranks_to: what a selection by bounding boxes would use); its surface (the cell faces
+ *     it shares with other pieces, which sets the pairs it has across ranks); the halo of
+ *     the selection by cells, halo_cells: the volume of the other pieces within rc - inset
+ *     of the piece (sampled at -samples^3 points per cell near a cut; at density 1 the
+ *     remote ghosts), and the pieces that volume lies in (ranks_from_cells, ranks_to_cells);
+ *     and the selection's cells on its grid (cells at least rc wide): those the piece
+ *     occupies, those it sends (its cells clipped to its box, within rc of another piece's
+ *     box), to how many ranks, and those it receives. This is what the model uses for N up
+ *     to 10^8 and P up to 1000.
  *
  * Both print one JSON object on standard output (rank 0). */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
