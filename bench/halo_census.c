@@ -11,6 +11,8 @@
  *     exchange), its bounding box, pairs; the selection's cells (halo_select.c: the cells it
  *     occupies, each tested against every other rank's box; the cells it sent, to how many
  *     ranks; the cells it received) and its CPU time of a selection (median over -reps);
+ *     the halo formula on the ranks' cut, halo_cells_formula (as halo_cells of -geometry
+ *     below, with the cut's own keys, within h + skin - inset, -inset 0.4 for this lattice);
  *     and the medians over -reps of the slowest rank's time of a halo selection (the list
  *     build's share) and of one forward exchange of 3 and of 1 value per ghost.
  *   ./build/bench/halo_census -geometry -side n -pieces P [-h 3] [-skin 0.3] [-inset 0] [-samples 3]
@@ -51,8 +53,8 @@ static PetscErrorCode ReadArgs(Args *a)
   PetscCall(PetscOptionsInt("-reps", "timed repetitions (median reported)", NULL, a->reps, &a->reps, NULL));
   PetscCall(PetscOptionsBool("-geometry", "cut the cells only, in one process, into -pieces pieces", NULL, a->geometry, &a->geometry, NULL));
   PetscCall(PetscOptionsInt("-pieces", "pieces of the -geometry cut", NULL, a->pieces, &a->pieces, NULL));
-  PetscCall(PetscOptionsInt("-samples", "-geometry: sample points per cell edge of the halo volume", NULL, a->samples, &a->samples, NULL));
-  PetscCall(PetscOptionsReal("-inset", "-geometry: how far inside its cells' faces a piece's outermost particles sit (the halo volume is within h + skin - inset)", NULL, a->inset, &a->inset, NULL));
+  PetscCall(PetscOptionsInt("-samples", "sample points per cell edge of the halo formula's volume", NULL, a->samples, &a->samples, NULL));
+  PetscCall(PetscOptionsReal("-inset", "how far inside its cells' faces a piece's outermost particles sit: the halo formula counts the volume within h + skin - inset", NULL, a->inset, &a->inset, NULL));
   PetscOptionsEnd();
   PetscCheck(a->side >= 2 && a->side <= 2000 && a->h > 0 && a->skin >= 0 && a->reps >= 1 && a->pieces >= 1 && a->samples >= 1 && a->samples <= 16 && a->inset >= 0 && a->inset < a->h + a->skin, PETSC_COMM_WORLD, PETSC_ERR_ARG_OUTOFRANGE,
              "need 2 <= -side <= 2000, -h > 0, -skin >= 0, -reps >= 1, -pieces >= 1, 1 <= -samples <= 16, 0 <= -inset < h + skin");
@@ -211,7 +213,7 @@ static void Record(const SpamNeighbours *nl, double cpu_s, double rec[NREC])
   rec[19] = cpu_s, rec[20] = h->active ? PetscMax(1.0, PetscFloorReal(h->len[0] / (nl->cutoff + nl->skin))) : 0; /* as MakeGrid */
 }
 
-static PetscErrorCode PrintRanks(MPI_Comm comm, const Args *a, const SpamNeighbours *nl, const double t[4], double imbalance)
+static PetscErrorCode PrintRanks(MPI_Comm comm, const Args *a, const SpamNeighbours *nl, const double t[4], double imbalance, const double *formula)
 {
   static const char *key[NREC] = {"n", "remote_ghosts", "items_sent", "ranks_from", "ranks_to", "pairs", "ghost_pairs", "lo_x", "lo_y", "lo_z", "hi_x", "hi_y", "hi_z", "local_ghosts", "builds",
                                   "occupied_cells", "cells_sent", "ranks_sent_cells", "cells_received", "select_cpu_s", "select_cells_per_edge"};
@@ -229,11 +231,36 @@ static PetscErrorCode PrintRanks(MPI_Comm comm, const Args *a, const SpamNeighbo
   printf(" \"select_s\": %.6e, \"forward3_s\": %.6e, \"forward1_s\": %.6e, \"reps\": %d,\n \"ranks\": [\n", t[0], t[1], t[2], (int)a->reps);
   for (int r = 0; r < size; r++) {
     printf("  {");
-    for (int k = 0; k < NREC; k++) printf("\"%s\": %.17g%s", key[k], all[(size_t)NREC * r + k], k + 1 < NREC ? ", " : "");
-    printf("}%s\n", r + 1 < size ? "," : "");
+    for (int k = 0; k < NREC; k++) printf("\"%s\": %.17g, ", key[k], all[(size_t)NREC * r + k]);
+    printf("\"halo_cells_formula\": %.17g}%s\n", formula[r], r + 1 < size ? "," : "");
   }
   printf(" ]}\n");
   PetscCall(PetscFree(all));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode SampledHalo(const SpamCellGrid *g, double w, double rs, int k, const int *owner, int P, double *halo, unsigned char *near);
+
+/* The halo the selection by cells makes for the cut the ranks hold (dec's keys), at
+ * density 1: each piece's cells dilated by rc - inset (SampledHalo), on every rank. */
+static PetscErrorCode CutHalo(const SpamDecomp *dec, const Args *a, double *halo)
+{
+  const SpamCellGrid *g  = &dec->grid;
+  const int           nc = g->ncell[0] * g->ncell[1] * g->ncell[2], P = dec->nranks;
+  int                *owner;
+  unsigned char      *near;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc2(nc, &owner, (size_t)P * P, &near));
+  for (int c = 0; c < nc; c++) {
+    const int      ijk[3] = {c % g->ncell[0], (c / g->ncell[0]) % g->ncell[1], c / (g->ncell[0] * g->ncell[1])};
+    const uint64_t key    = SpamCellHilbertKey(g, ijk);
+    int            r      = 0;
+    while (r + 1 < P && dec->cut[r + 1] <= key) r++;
+    owner[c] = r;
+  }
+  PetscCall(SampledHalo(g, a->side / (double)g->ncell[0], a->h + a->skin - a->inset, (int)a->samples, owner, P, halo, near));
+  PetscCall(PetscFree2(owner, near));
   PetscFunctionReturn(0);
 }
 
@@ -245,19 +272,22 @@ static PetscErrorCode Ranks(MPI_Comm comm, const Args *a)
   SpamMigrateInfo info;
   SpamNeighbours  nl;
   PetscInt        bad;
-  double         *x, t[4];
+  double         *x, t[4], *halo;
 
   PetscFunctionBeginUser;
   PetscCall(MakeSim(comm, a, &sim));
   PetscCall(SpamDecompCreate(&sim, 0.0, &dec));
   PetscCall(SpamSimMigrate(&sim, &dec, &info));
+  PetscCall(PetscMalloc1(dec.nranks, &halo));
+  PetscCall(CutHalo(&dec, a, halo));
   PetscCall(LocalPositions(&sim, &x));
   PetscCall(SpamNeighboursCreate((int)sim.n, &box, a->h, a->skin, &nl));
   PetscCall(SpamNeighboursSetComm(&nl, comm));
   PetscCall(SpamNeighboursUpdate(&nl, &box, x, 3, PETSC_TRUE, &bad));
   PetscCheck(bad < 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "non-finite position in the census lattice");
   PetscCall(TimeHalo(comm, a, &nl, t));
-  PetscCall(PrintRanks(comm, a, &nl, t, info.imbalance));
+  PetscCall(PrintRanks(comm, a, &nl, t, info.imbalance, halo));
+  PetscCall(PetscFree(halo));
   PetscCall(SpamNeighboursDestroy(&nl));
   PetscCall(PetscFree(x));
   PetscCall(SpamDecompDestroy(&dec));

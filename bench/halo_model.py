@@ -105,7 +105,7 @@ def run_json(cmd, timeout=600):
 
 def census(exe, P, side, reps, h=H):
     return run_json(["mpiexec", "--oversubscribe", "-n", str(P), exe, "-side", str(side), "-reps", str(reps),
-                     "-h", "%g" % h, "-skin", "%g" % (0.1 * h)])
+                     "-h", "%g" % h, "-skin", "%g" % (0.1 * h), "-inset", "%g" % min(LATTICE_INSET, 0.5 * h)])
 
 
 def geometry(exe, side, P, inset=0.0):
@@ -134,45 +134,30 @@ def rhs_cost(spam, repeats, side=40):
     return out
 
 
-def match_pieces(ranks, pieces, cell_width):
-    """The -geometry piece of each measured rank: the one whose cells' box holds the rank's
-    particles' box. None when the cut differs (cells of unequal counts: the program cuts
-    by particles, -geometry by cells)."""
-    out = []
-    for r in ranks:
-        fit = [k for k, p in enumerate(pieces)
-               if all(p["lo"][d] - 1e-9 <= r["lo_" + a] and r["hi_" + a] <= p["hi"][d] + 1e-9 for d, a in enumerate("xyz"))
-               and abs(p["cells"] * math.prod(cell_width) - r["n"]) < 0.5]
-        if len(fit) != 1:
-            return None
-        out.append(fit[0])
-    return out if len(set(out)) == len(out) else None
-
-
 def check_census(exe, reps):
     """Per rank: the measured remote ghosts against the formula on the selection's halo
-    (its piece dilated by rc - inset, from -geometry) and against the one on its own
-    particles' bounding box; the selection's cells against -geometry's."""
+    (its piece of the ranks' own cut dilated by rc - inset, computed by the census) and
+    against the one on its own particles' bounding box; the selection's cells against
+    those of -geometry's cut (of equal cell counts: the ranks' own where the cells hold
+    equal counts, 16 per edge)."""
     rows = []
     for side in (48, 40):
         for P in (2, 4, 8):
             c = census(exe, P, side, reps)
-            g = geometry(exe, side, P, LATTICE_INSET)
+            g = geometry(exe, side, P)
             L = (side,) * 3
             boxf = []
             for r in c["ranks"]:
                 ext = [r["hi_" + a] - r["lo_" + a] + 2 * LATTICE_INSET for a in "xyz"]
                 boxf.append(halo_of_box(ext, L, r["n"], LATTICE_INSET))
             meas = [r["remote_ghosts"] for r in c["ranks"]]
-            match = match_pieces(c["ranks"], g["pieces"], g["cell_width"])
-            cellf = [g["pieces"][k]["halo_cells"] for k in match] if match else None
+            cellf = [r["halo_cells_formula"] for r in c["ranks"]]
             cpu = min(c["ranks"], key=lambda r: r["select_cpu_s"])
             row = {
                 "side": side, "N": c["N"], "P": P, "h": H, "cells_per_edge": g["cells"][0], "select_cells_per_edge": g["select_cells"],
                 "measured_max": max(meas), "measured_sum": sum(meas),
-                "cells_formula_max": max(p["halo_cells"] for p in g["pieces"]),
-                "cells_formula_sum": sum(p["halo_cells"] for p in g["pieces"]),
-                "cells_ratio": [min(f / m for f, m in zip(cellf, meas)), max(f / m for f, m in zip(cellf, meas))] if cellf else None,
+                "cells_formula_max": max(cellf), "cells_formula_sum": sum(cellf),
+                "cells_ratio": [min(f / m for f, m in zip(cellf, meas)), max(f / m for f, m in zip(cellf, meas))],
                 "box_formula_max": max(boxf), "box_formula_sum": sum(boxf),
                 "box_ratio": [min(f / m for f, m in zip(boxf, meas)), max(f / m for f, m in zip(boxf, meas))],
                 "ranks_from_measured_max": max(r["ranks_from"] for r in c["ranks"]),
@@ -194,7 +179,7 @@ def check_census(exe, reps):
                   "estimate %.0f | selection %.2f ms wall, least-loaded rank %.2f ms CPU" % (
                       side, row["cells_per_edge"], row["select_cells_per_edge"], P, row["measured_max"], row["measured_sum"],
                       row["cells_formula_max"], row["cells_formula_sum"],
-                      "%.3f-%.3f" % tuple(row["cells_ratio"]) if row["cells_ratio"] else "(cut differs)",
+                      "%.3f-%.3f" % tuple(row["cells_ratio"]),
                       row["box_formula_max"], row["box_formula_sum"], row["box_ratio"][0], row["box_ratio"][1],
                       row["ranks_from_measured_max"], row["ranks_from_cells_max"], row["occupied_measured_max"],
                       row["occupied_geometry_max"], row["cells_sent_measured_sum"], row["cells_sent_geometry_sum"],
@@ -384,9 +369,9 @@ def chart(rows, census_rows, net, cost, sel, path):
 
 def markdown(rows, census_rows, cost, sel, net, stamp):
     """The README's tables, as this run computed them."""
-    ratio = lambda r: "%.3f-%.3f" % tuple(r) if r else "cut differs"
+    ratio = lambda r: "%.3f-%.3f" % tuple(r)
     out = ["Census (%s): remote ghosts per rank measured (SpamHalo, selection by occupied cells) against the selection's halo "
-           "computed by `-geometry` (each piece dilated by rc - %.1f, the lattice's inset) and against the formula on each rank's own "
+           "(each rank's piece of the cut dilated by rc - %.1f, the lattice's inset) and against the formula on each rank's own "
            "bounding box (an upper bound); the selection's cells measured and computed:" % (stamp, LATTICE_INSET), "",
            "| N | cells per edge (cut / selection) | P | measured max | cells formula: max (per-rank ratio) | box bound: max (per-rank ratio) | measured sum | cells formula sum | ranks heard from (measured / cells) | occupied cells max (measured / geometry) | cells sent, sum (measured / geometry) | ghost pairs: measured / surface estimate |",
            "|---|---|---|---|---|---|---|---|---|---|---|---|"]
@@ -413,7 +398,48 @@ def markdown(rows, census_rows, cost, sel, net, stamp):
             r["halo_max"] / r["n_per_rank"], r["halo_box_max"], r["ranks_from_mean"], r["ranks_from_max"], r["messages_per_rhs_max"],
             r["bytes_in_per_rhs_max"] / 1e6, 100 * r["tp_comm_s"] / r["tp_s"], r["efficiency"], r["efficiency_builds"],
             r["efficiency_box"], r["efficiency_compute_only"], r["build_over_rhs"]))
+    out += [""] + readings(rows, census_rows, sel)
     return "\n".join(out) + "\n"
+
+
+def readings(rows, census_rows, sel):
+    """The figures the README's findings quote, computed here from the tables above."""
+    def at(N, P):
+        return next((r for r in rows if r["N"] == N and r["P"] == P), None)
+    out = ["Readings (computed from the tables above):", ""]
+    out.append("- census, the cells formula over the measured halo, rank by rank: %.3f-%.3f (sums %.3f-%.3f); the bounding-box "
+               "formula: %.3f-%.3f" % (
+                   min(c["cells_ratio"][0] for c in census_rows), max(c["cells_ratio"][1] for c in census_rows),
+                   min(c["cells_formula_sum"] / c["measured_sum"] for c in census_rows),
+                   max(c["cells_formula_sum"] / c["measured_sum"] for c in census_rows),
+                   min(c["box_ratio"][0] for c in census_rows), max(c["box_ratio"][1] for c in census_rows)))
+    out.append("- the selection's cells, measured / -geometry: occupied (largest rank) %s; sent (sum over ranks) %s" % (
+        ", ".join("%d/%d" % (c["occupied_measured_max"], c["occupied_geometry_max"]) for c in census_rows),
+        ", ".join("%d/%d" % (c["cells_sent_measured_sum"], c["cells_sent_geometry_sum"]) for c in census_rows)))
+    big = at(10 ** 8, 1000)
+    if big:
+        out.append("- N = 1e8, P = 1000: E %.3f, with builds %.3f (a build costs %.1f RHS evaluations of the slowest rank: %d box "
+                   "tests at %.1f ns, %.0f particles at %.0f ns); with the bounding-box halo E %.3f; halo max %.0f (cells) against "
+                   "%.0f (box bound), %.2f and %.2f times the particles per rank; ranks heard from max %d (box: %d)" % (
+                       big["efficiency"], big["efficiency_builds"], big["build_over_rhs"], big["box_tests_max"], sel["c_box_s"] * 1e9,
+                       big["n_per_rank"], sel["c_look_s"] * 1e9, big["efficiency_box"], big["halo_max"], big["halo_box_max"],
+                       big["halo_max"] / big["n_per_rank"], big["halo_box_max"] / big["n_per_rank"], big["ranks_from_max"],
+                       big["ranks_from_box_max"]))
+    worst = max(rows, key=lambda r: r["build_over_rhs"])
+    out.append("- a build costs at most %.1f RHS evaluations (N = 1e%d, P = %d); E with builds is within %.3f of E everywhere "
+               "(largest gap at N = 1e%d, P = %d)" % (
+                   worst["build_over_rhs"], round(math.log10(worst["N"])), worst["P"],
+                   max(r["efficiency"] - r["efficiency_builds"] for r in rows),
+                   round(math.log10(max(rows, key=lambda r: r["efficiency"] - r["efficiency_builds"])["N"])),
+                   max(rows, key=lambda r: r["efficiency"] - r["efficiency_builds"])["P"]))
+    small = [r for r in rows if r["tp_comm_s"] / r["tp_s"] < 0.10]
+    if small:
+        out.append("- communication under 10 %% of T_P down to %.0f particles per rank (the smallest such row: N = 1e%d, P = %d)" % (
+            min(r["n_per_rank"] for r in small), round(math.log10(min(small, key=lambda r: r["n_per_rank"])["N"])),
+            min(small, key=lambda r: r["n_per_rank"])["P"]))
+    hb = [r["halo_box_max"] / r["halo_max"] for r in rows if r["P"] >= 8]
+    out.append("- the bounding-box bound over the cells halo (largest rank), P >= 8: %.1f-%.1f times" % (min(hb), max(hb)))
+    return out
 
 
 def main():
