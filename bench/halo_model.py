@@ -338,8 +338,8 @@ def chart(rows, census_rows, net, cost, sel, path):
     st = SOURCE_STYLE["census"]
     for c in census_rows:
         ax[0].loglog(c["P"], c["measured_max"] / (c["N"] / c["P"]), color=st["color"], marker=st["marker"], ls="", ms=8)
-        ax[0].annotate("N = %d (%d cells/edge)" % (c["N"], c["cells_per_edge"]), (c["P"], c["measured_max"] / (c["N"] / c["P"])),
-                       fontsize=6, color=st["color"], xytext=(4, -3 - 7 * (c["side"] == 40)), textcoords="offset points")
+        ax[0].annotate("%d, %d cells/edge" % (c["N"], c["cells_per_edge"]), (c["P"], c["measured_max"] / (c["N"] / c["P"])),
+                       fontsize=6, color=st["color"], xytext=(5, 2 if c["side"] == 40 else -8), textcoords="offset points")
         ax[1].semilogx(c["P"], len(EXCHANGES) * c["ranks_from_measured_max"] + RHS_ALLREDUCES, color=st["color"], marker=st["marker"], ls="", ms=8)
     ax[1].axhline(len(EXCHANGES) * 26 + RHS_ALLREDUCES, color=SOURCE_STYLE["cube"]["color"], ls=SOURCE_STYLE["cube"]["linestyle"])
     ax[0].set(xlabel="ranks P", ylabel="remote ghosts per rank / particles per rank (largest rank)",
@@ -421,6 +421,12 @@ def readings(rows, census_rows, sel):
                        big["n_per_rank"], sel["c_look_s"] * 1e9, big["efficiency_box"], big["halo_max"], big["halo_box_max"],
                        big["halo_max"] / big["n_per_rank"], big["halo_box_max"] / big["n_per_rank"], big["ranks_from_max"],
                        big["ranks_from_box_max"]))
+    if big:
+        out.append("- N = 1e8, P = 1000: the cells halo is %.2f (mean) and %.2f (largest rank) times the ideal cube's %.0f; the "
+                   "bounding-box bound %.1f times; messages per RHS (largest rank) %d, %d with the bounding boxes, %d for cubes" % (
+                       big["halo_mean"] / big["halo_cube"], big["halo_max"] / big["halo_cube"], big["halo_cube"],
+                       big["halo_box_max"] / big["halo_cube"], big["messages_per_rhs_max"], big["messages_per_rhs_box_max"],
+                       len(EXCHANGES) * 26 + RHS_ALLREDUCES))
     worst = max(rows, key=lambda r: r["build_over_rhs"])
     out.append("- a build costs at most %.1f RHS evaluations (N = 1e%d, P = %d); E with builds is within %.3f of E everywhere "
                "(largest gap at N = 1e%d, P = %d)" % (
