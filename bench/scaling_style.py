@@ -5,12 +5,14 @@ and run_scaling.py, so that a layout or a source looks the same in every panel."
 SOURCE_STYLE = {
     "cube": {"color": "tab:gray", "marker": "", "linestyle": "--",
              "label": "ideal cubes of N/P (formula)"},
-    "hilbert": {"color": "tab:blue", "marker": "o", "linestyle": "-",
-                "label": "Hilbert cut of the cells (computed, -geometry)"},
+    "cells": {"color": "tab:green", "marker": "s", "linestyle": "-",
+              "label": "Hilbert cut, halo of the selection by cells (-geometry)"},
+    "cells_builds": {"color": "tab:purple", "marker": "v", "linestyle": ":",
+                     "label": "the same, list builds included"},
+    "hilbert": {"color": "tab:blue", "marker": "o", "linestyle": "-.",
+                "label": "Hilbert cut, bounding-box halo (upper bound)"},
     "census": {"color": "tab:red", "marker": "x", "linestyle": "",
                "label": "SpamHalo on P ranks (measured, halo_census)"},
-    "hilbert_builds": {"color": "tab:purple", "marker": "v", "linestyle": ":",
-                       "label": "Hilbert cut, list builds included"},
 }
 
 # Particle counts of the model's table: one line width per N (the colour is the source's).
