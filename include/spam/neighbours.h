@@ -42,6 +42,7 @@ typedef struct {
   int    *gstart, *gnbr;         /* [n+1], [gcap]: ghost rows, j = n + k              */
   size_t  ngpairs, gcap;
   int    *gcell_start, *gcell_list, gcell_cap; /* ghosts binned into the cells       */
+  unsigned char *gcell_near; /* [ncells] a ghost lies in this cell or one adjacent to it */
   SpamBox lbox;                  /* the box of the list: ghost-periodic directions    */
                                  /* are open here (their images are ghosts)          */
   SpamImage im;                  /* minimum image of the list's pairs (from lbox)     */

@@ -240,21 +240,23 @@ static PetscErrorCode ExchangeCells(SpamHalo *h, const Grid *g)
  * the grid's edges elsewhere, into keys. Returns the count. */
 static int Neighbourhood(const Grid *g, const int c[3], long keys[27])
 {
-  int lo[3], hi[3], m = 0;
+  int  idx[3][3], k[3], m = 0;
+  long stride[3] = {1, g->nc[0], (long)g->nc[0] * g->nc[1]};
 
-  for (int d = 0; d < 3; d++) {
-    lo[d] = d < g->dim ? c[d] - 1 : 0;
-    hi[d] = d < g->dim ? c[d] + 1 : 0;
-    if (!g->per[d]) lo[d] = PetscMax(lo[d], 0), hi[d] = PetscMin(hi[d], g->nc[d] - 1);
-    else if (g->nc[d] < 3) lo[d] = 0, hi[d] = g->nc[d] - 1; /* every cell, once */
-  }
-  for (int z = lo[2]; z <= hi[2]; z++)
-    for (int y = lo[1]; y <= hi[1]; y++)
-      for (int x = lo[0]; x <= hi[0]; x++) {
-        int q[3] = {x, y, z};
-        for (int d = 0; d < 3; d++) q[d] = (q[d] % g->nc[d] + g->nc[d]) % g->nc[d];
-        keys[m++] = KeyOf(g, q);
+  for (int d = 0; d < 3; d++) { /* the indices along d, each once (a few per key: no modulo per cell) */
+    k[d] = 0;
+    if (d >= g->dim) idx[d][k[d]++] = 0;
+    else if (g->per[d] && g->nc[d] < 3)
+      for (int q = 0; q < g->nc[d]; q++) idx[d][k[d]++] = q;
+    else
+      for (int q = c[d] - 1; q <= c[d] + 1; q++) {
+        if (g->per[d]) idx[d][k[d]++] = q < 0 ? q + g->nc[d] : q >= g->nc[d] ? q - g->nc[d] : q;
+        else if (q >= 0 && q < g->nc[d]) idx[d][k[d]++] = q;
       }
+  }
+  for (int z = 0; z < k[2]; z++)
+    for (int y = 0; y < k[1]; y++)
+      for (int x = 0; x < k[0]; x++) keys[m++] = idx[0][x] + stride[1] * idx[1][y] + stride[2] * idx[2][z];
   return m;
 }
 

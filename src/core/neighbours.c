@@ -100,6 +100,7 @@ PetscErrorCode SpamNeighboursDestroy(SpamNeighbours *nl)
   PetscCall(PetscFree(nl->gstart));
   PetscCall(PetscFree(nl->gnbr));
   PetscCall(PetscFree2(nl->gcell_start, nl->gcell_list));
+  PetscCall(PetscFree(nl->gcell_near));
   PetscCall(SpamGhostsDestroy(&nl->ghosts));
   PetscCall(PetscFree2(nl->cstart, nl->ccur));
   PetscCall(PetscFree(nl->cnbr));
