@@ -12,13 +12,11 @@ rejected). CVODE restarts approximately: its error against a tight reference mus
 within a small factor of the uninterrupted run's. Checkpoints of another version, other
 physics options, truncated or corrupt files, and a restart outside the checkpoint's own
 directory are refused with exit 2 and one line."""
-import csv
 import os
-import shutil
 import signal
 import subprocess
 import time
-from spamrun import Checks, arguments, run, summary
+from spamrun import Checks, arguments, run, same_outputs, steps_table, summary
 
 a = arguments()
 c = Checks()
@@ -35,40 +33,14 @@ METHODS = {
     "rk 5dp": ["-ts_type", "rk", "-ts_rk_type", "5dp", "-ts_adapt_type", "basic", "-ts_rtol", 1e-7, "-ts_atol", 1e-10],
     "verlet": ["-ts_type", "basicsymplectic", "-ts_basicsymplectic_type", "kdk", "-ts_dt", 0.05],
 }
-TIMING = ("rhs_s", "wall_s")
 
 
-def outputs(d):
-    """The files a run leaves, by name, minus the run's own bookkeeping."""
-    skip = {"manifest.json", "summary.json", "checkpoint.h5", "spam-ark.lock"}
-    return sorted(n for n in os.listdir(d) if n not in skip)
 
 
-def timeseries_without_timing(path):
-    with open(path) as f:
-        rows = list(csv.reader(f))
-    keep = [k for k, name in enumerate(rows[0]) if name not in TIMING]
-    return [[r[k] for k in keep] for r in rows]
 
 
-def same_outputs(ref, got):
-    """The first difference between two run directories' outputs, or ''."""
-    names = outputs(ref)
-    if names != outputs(got):
-        return f"files differ: {sorted(set(names) ^ set(outputs(got)))}"
-    for n in names:
-        p, q = os.path.join(ref, n), os.path.join(got, n)
-        if n == "timeseries.csv":
-            if timeseries_without_timing(p) != timeseries_without_timing(q):
-                return "timeseries.csv differs (timing columns aside)"
-        elif open(p, "rb").read() != open(q, "rb").read():
-            return f"{n} differs"
-    return ""
 
 
-def steps_table(d):
-    with open(os.path.join(d, "steps.csv")) as f:
-        return list(csv.DictReader(f))
 
 
 def points(steps):

@@ -16,20 +16,18 @@ time unit is the same run. Another rank count is refused in one line
 naming both counts (3 -> 2, 3 -> 1, 1 -> 2); a write failure injected on rank 1 or 2 ends
 every rank with exit 1 and one line naming that rank, leaving no temporary; a damaged byte
 in a rank's particles is refused by that rank's checksum."""
-import csv
 import os
 import struct
 import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from spamrun import Checks, arguments, mpiexec_env, summary  # noqa: E402
+from spamrun import Checks, arguments, mpiexec_env, same_outputs, steps_table, summary  # noqa: E402
 
 a = arguments()
 c = Checks()
 mpiexec, ENV = mpiexec_env()
 OPTS_DIR = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-TIMING = ("rhs_s", "wall_s")
 DP5 = ["-ts_type", "arkode", "-arkode_table", "ARKODE_DORMAND_PRINCE_7_4_5", "-ts_rtol", 1e-7, "-ts_atol", 1e-10,
        "-migrate_interval", 1]
 SCENES = {
@@ -65,36 +63,12 @@ def errors(stderr):
     return [x for x in stderr.splitlines() if x.startswith("spam-ark: error:")]
 
 
-def outputs(d):
-    skip = {"manifest.json", "summary.json", "checkpoint.h5", "spam-ark.lock"}
-    return sorted(n for n in os.listdir(d) if n not in skip)
 
 
-def timeseries_without_timing(path):
-    with open(path) as f:
-        rows = list(csv.reader(f))
-    keep = [k for k, name in enumerate(rows[0]) if name not in TIMING]
-    return [[r[k] for k in keep] for r in rows]
 
 
-def same_outputs(ref, got):
-    """The first difference between two run directories' outputs, or ''."""
-    names = outputs(ref)
-    if names != outputs(got):
-        return f"files differ: {sorted(set(names) ^ set(outputs(got)))}"
-    for n in names:
-        p, q = os.path.join(ref, n), os.path.join(got, n)
-        if n == "timeseries.csv":
-            if timeseries_without_timing(p) != timeseries_without_timing(q):
-                return "timeseries.csv differs (timing columns aside)"
-        elif open(p, "rb").read() != open(q, "rb").read():
-            return f"{n} differs"
-    return ""
 
 
-def steps_table(d):
-    with open(os.path.join(d, "steps.csv")) as f:
-        return list(csv.DictReader(f))
 
 
 def stops(steps, count):

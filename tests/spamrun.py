@@ -99,3 +99,41 @@ def mpiexec_env():
     env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_pml="ob1")
     env.pop("OMPI_MCA_ess_singleton_isolated", None)  # set by ctest for one-rank starts
     return mpiexec, env
+
+
+# Comparing two run directories (the restart tests: a restarted run against the
+# uninterrupted one).
+TIMING = ("rhs_s", "wall_s")
+
+
+def outputs(d):
+    """The files a run leaves, by name, minus the run's own bookkeeping."""
+    skip = {"manifest.json", "summary.json", "checkpoint.h5", "spam-ark.lock"}
+    return sorted(n for n in os.listdir(d) if n not in skip)
+
+
+def timeseries_without_timing(path):
+    with open(path) as f:
+        rows = list(csv.reader(f))
+    keep = [k for k, name in enumerate(rows[0]) if name not in TIMING]
+    return [[r[k] for k in keep] for r in rows]
+
+
+def same_outputs(ref, got):
+    """The first difference between two run directories' outputs, or ''."""
+    names = outputs(ref)
+    if names != outputs(got):
+        return f"files differ: {sorted(set(names) ^ set(outputs(got)))}"
+    for n in names:
+        p, q = os.path.join(ref, n), os.path.join(got, n)
+        if n == "timeseries.csv":
+            if timeseries_without_timing(p) != timeseries_without_timing(q):
+                return "timeseries.csv differs (timing columns aside)"
+        elif open(p, "rb").read() != open(q, "rb").read():
+            return f"{n} differs"
+    return ""
+
+
+def steps_table(d):
+    with open(os.path.join(d, "steps.csv")) as f:
+        return list(csv.DictReader(f))

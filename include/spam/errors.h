@@ -32,6 +32,10 @@ PetscErrorCode SpamOptionText(const char *opt, double v, char *buf, size_t len);
 /* Bad input unless val is one of names[0..n-1]; the message lists them. */
 PetscErrorCode SpamCheckAllowed(const char *opt, const char *val, const char *const *names, int n);
 
+/* Collective: every rank learns whether a local phase (its error code `local`) failed on
+ * any rank, and all of them raise: the failing rank its own error, the others one naming
+ * `what` (so that one rank's failure inside a collective sequence never hangs the others). */
+PetscErrorCode SpamAgreeOnFailure(MPI_Comm comm, PetscErrorCode local, const char *what);
 /* SUNDIALS return codes: a negative flag becomes a PETSc error carrying the flag name. */
 PetscErrorCode SpamCheckArkode(int flag, const char *call);
 #define PetscCallARK(call) PetscCall(SpamCheckArkode((call), #call))

@@ -12,19 +12,8 @@
  * swarm of their own (springs_bonds.c). */
 #include <spam/decompose.h>
 #include <spam/physics.h>
+#include <spam/errors.h>
 #include <stdint.h>
-
-/* Every rank learns whether a local phase failed anywhere, and all of them raise. */
-static PetscErrorCode Agree(MPI_Comm comm, PetscErrorCode local, const char *what)
-{
-  int mine = local != 0, any = 0;
-
-  PetscFunctionBeginUser;
-  PetscCallMPI(MPIU_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, comm));
-  PetscCall(local);
-  PetscCheck(!any, PETSC_COMM_SELF, PETSC_ERR_LIB, "%s failed on another rank", what);
-  PetscFunctionReturn(0);
-}
 
 /* Curve key of each particle's cell; *bad: the smallest gid with a non-finite position
  * (INT64_MAX if none), whose owner cannot be known. */
@@ -63,7 +52,7 @@ static PetscErrorCode Recut(SpamDecomp *dec, PetscInt n, const uint64_t *key)
     PetscCall(PetscArraycpy(sorted, key, n));
     qsort(sorted, (size_t)n, sizeof *sorted, CompareKeys);
   }
-  PetscCall(Agree(dec->comm, ierr, "a re-cut"));
+  PetscCall(SpamAgreeOnFailure(dec->comm, ierr, "a re-cut"));
   PetscCall(SpamDecompCut(dec, n, sorted));
   PetscCall(PetscFree(sorted));
   PetscFunctionReturn(0);
@@ -164,12 +153,12 @@ static PetscErrorCode Move(SpamSim *sim, const SpamDecomp *dec, const PetscInt *
 {
   PetscFunctionBeginUser;
   if (SpamBondsAny(sim)) PetscCall(SpamBondsDepart(sim, dest)); /* by the old gids and order */
-  PetscCall(Agree(sim->comm, SpamSimDetach(sim, dest), "closing the swarm for a migration"));
+  PetscCall(SpamAgreeOnFailure(sim->comm, SpamSimDetach(sim, dest), "closing the swarm for a migration"));
   /* Sent particles stay until the sort drops them all at once (local_order.c says why). */
   if (moved) PetscCall(DMSwarmMigrate(sim->swarm, PETSC_FALSE));
-  PetscCall(Agree(sim->comm, Reorder(sim, dec), "the local sort after a migration"));
+  PetscCall(SpamAgreeOnFailure(sim->comm, Reorder(sim, dec), "the local sort after a migration"));
   PetscCall(DMSwarmCreateGlobalVectorFromField(sim->swarm, SPAM_STATE_FIELD, &sim->X));
-  PetscCall(Agree(sim->comm, SpamSimResize(sim), "re-making the scratch after a migration"));
+  PetscCall(SpamAgreeOnFailure(sim->comm, SpamSimResize(sim), "re-making the scratch after a migration"));
   if (SpamBondsAny(sim)) PetscCall(SpamBondsArrive(sim));
   PetscCall(RebuildList(sim));
   PetscFunctionReturn(0);
@@ -190,7 +179,7 @@ PetscErrorCode SpamSimMigrate(SpamSim *sim, SpamDecomp *dec, SpamMigrateInfo *in
   info->bad = -1;
   ierr = PetscMalloc3(n0 + 1, &key, n0 + 1, &dest, P + 1, &tally);
   if (!ierr) ierr = CurveKeys(sim, dec, key, &bad);
-  PetscCall(Agree(sim->comm, ierr, "the owners of a migration"));
+  PetscCall(SpamAgreeOnFailure(sim->comm, ierr, "the owners of a migration"));
   PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &bad, 1, MPIU_INT64, MPI_MIN, sim->comm));
   if (bad != INT64_MAX) {
     info->bad = bad;

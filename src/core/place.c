@@ -8,18 +8,7 @@
  * to, and a second one tells each particle's present holder. */
 #include <spam/decompose.h>
 #include <spam/physics.h>
-
-/* Every rank learns whether a local phase failed anywhere, and all of them raise. */
-static PetscErrorCode Agree(MPI_Comm comm, PetscErrorCode local, const char *what)
-{
-  int mine = local != 0, any = 0;
-
-  PetscFunctionBeginUser;
-  PetscCallMPI(MPIU_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, comm));
-  PetscCall(local);
-  PetscCheck(!any, PETSC_COMM_SELF, PETSC_ERR_LIB, "%s failed on another rank", what);
-  PetscFunctionReturn(0);
-}
+#include <spam/errors.h>
 
 /* An SF from n leaves (gids) to the rows of the gids' block layout. */
 static PetscErrorCode GidGraph(const SpamSim *sim, PetscLayout layout, PetscInt n, const PetscInt64 *gids, PetscSF *sf)
@@ -135,13 +124,13 @@ PetscErrorCode SpamSimPlace(SpamSim *sim, PetscInt n, const PetscInt64 *gids, Pe
   }
   *changed = PETSC_TRUE;
   if (SpamBondsAny(sim)) PetscCall(SpamBondsDepart(sim, dest)); /* as a migration carries them */
-  PetscCall(Agree(sim->comm, SpamSimDetach(sim, dest), "closing the swarm to place the particles"));
+  PetscCall(SpamAgreeOnFailure(sim->comm, SpamSimDetach(sim, dest), "closing the swarm to place the particles"));
   PetscCall(PetscFree(dest));
   PetscCall(DMSwarmMigrate(sim->swarm, PETSC_FALSE));
-  PetscCall(Agree(sim->comm, Reorder(sim, n, gids), "the local order of a checkpoint"));
+  PetscCall(SpamAgreeOnFailure(sim->comm, Reorder(sim, n, gids), "the local order of a checkpoint"));
   if (SpamBondsAny(sim)) PetscCall(SpamBondsArrive(sim));
   PetscCall(DMSwarmCreateGlobalVectorFromField(sim->swarm, SPAM_STATE_FIELD, &sim->X));
-  PetscCall(Agree(sim->comm, SpamSimResize(sim), "re-making the scratch for the checkpoint's particles"));
+  PetscCall(SpamAgreeOnFailure(sim->comm, SpamSimResize(sim), "re-making the scratch for the checkpoint's particles"));
   wrong = sim->n != n;
   for (PetscInt i = 0; i < sim->n && !wrong; i++) wrong = sim->gid[i] != gids[i];
   PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &wrong, 1, MPI_INT, MPI_MAX, sim->comm));
