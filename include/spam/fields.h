@@ -19,6 +19,8 @@ typedef struct {
   double *gradv;           /* [cap*dim*dim] (grad v)^{ab} = dv^b/dx^a at a*dim + b     */
   double *heat;            /* [cap*dim] grad T, then Q/rho^2                           */
   double *xdot;            /* [cap*dim] dr/dt                                           */
+  double *shift;           /* [cap*dim] the transport shift's pair sum, then its velocity (gas_flow.h) */
+  double *edrift;          /* [cap] de/dt of the shift's drift, dv . grad e (gas_flow.h) */
   double *uc;              /* [cap*dim] velocity of the continuity equation            */
   double *acc;             /* [cap*dim] acceleration                                    */
   double *edot, *rhodot;   /* [cap] de/dt (work), drho/dt                               */

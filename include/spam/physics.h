@@ -5,6 +5,7 @@
 #ifndef SPAM_PHYSICS_H
 #define SPAM_PHYSICS_H
 #include <spam/sim.h>
+#include <spam/gas_flow.h>
 
 /* The spring bonds of a rank whose partner another rank holds (springs_bonds.c): the
  * partners' positions arrive through a PetscSF made by matching gids, made anew whenever
@@ -45,6 +46,11 @@ static inline double SpamPairDelta2(const SpamNeighbours *nl, const SpamImage *i
   dx[1] = SpamImageDelta(im, 1, nl->u[1][i] - nl->u[1][j]);
   return dx[0] * dx[0] + dx[1] * dx[1];
 }
+
+/* The flow scheme of the gas (gas_flow.h, gas_flow.c), called by the tensor path. */
+PetscErrorCode SpamGasFlowFit(SpamSim *sim, const double *y, SpamBackground *b);
+void           SpamGasFlowShift(SpamSim *sim);
+void           SpamGasFlowCorrect(SpamSim *sim, const double *y, const SpamBackground *b);
 
 /* Allocates sim->ps for sim->n particles; it is freed with the swarm. */
 PetscErrorCode SpamPhysicsScratchCreate(SpamSim *sim);

@@ -11,6 +11,10 @@ typedef enum { SPAM_COORDS_R0, SPAM_COORDS_R1, SPAM_COORDS_R2 } SpamCoordsMode;
 typedef enum { SPAM_MATERIAL_ELASTIC, SPAM_MATERIAL_GAS, SPAM_MATERIAL_ISENTROPE } SpamMaterial;
 typedef enum { SPAM_VISCOSITY_NONE, SPAM_VISCOSITY_MONAGHAN, SPAM_VISCOSITY_VON_NEUMANN } SpamViscosityMode;
 typedef enum { SPAM_ANGMOM_NONE, SPAM_ANGMOM_GAUSS, SPAM_ANGMOM_TI, SPAM_ANGMOM_TIJ } SpamAngmomMode;
+/* The gas's pair scheme: the papers' plain equations, or the flowing-fluid scheme of
+ * gas_flow.c (background pressure out of the momentum equation, transport shifting). */
+typedef enum { SPAM_GAS_PLAIN, SPAM_GAS_FLOW } SpamGasScheme;
+typedef enum { SPAM_BACKGROUND_NONE, SPAM_BACKGROUND_MEAN } SpamBackgroundMode;
 
 extern const char *const SpamDensityModeNames[];
 extern const char *const SpamDensityInitialNames[];
@@ -18,6 +22,8 @@ extern const char *const SpamCoordsModeNames[];
 extern const char *const SpamAngmomModeNames[];
 extern const char *const SpamViscosityModeNames[];
 extern const char *const SpamMaterialNames[];
+extern const char *const SpamGasSchemeNames[];
+extern const char *const SpamBackgroundModeNames[];
 
 typedef struct {
   SpamMaterial       material;      /* elastic (stress in the state), ideal gas with  */
@@ -38,7 +44,13 @@ typedef struct {
   double             visc_alpha, visc_beta; /* its linear and quadratic coefficients   */
   double             sound_speed;   /* c of the linear term: c_L at rho0 (set-up)      */
   double             closest_approach; /* reflect approaching pairs nearer (0: off)  */
+  SpamGasScheme      scheme;        /* gas: plain or flow (gas_flow.c)                 */
+  SpamBackgroundMode background;    /* flow: pressure taken out of the momentum eq.   */
+  double             shift_coef;    /* flow: transport shifting coefficient (0: off)  */
 } SpamSolidParams;
+
+/* The flow scheme's default transport shifting coefficient (gas_flow.c). */
+#define SPAM_SHIFT_COEF_DEFAULT 0.1
 
 /* Reads the -solid_*, -density*, -coordinates, -xsph_eps and -angmom* options (with
  * -help lists them with their defaults) into p, whose fields hold the defaults. */

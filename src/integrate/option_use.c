@@ -16,7 +16,7 @@
 typedef enum {
   G_ALL, G_DT, G_ADAPTIVE, G_ARKODE, G_ARKODE_ADAPT, G_CVODE, G_TS, G_TS_ADAPT, G_RK, G_SSP, G_SYMP,
   G_FILE, G_PERIODIC, G_ISENTROPE, G_EXPANSION, G_CHAIN, G_SPRING, G_ROTOR_MD, G_PLANEWAVE, G_ROTOR, G_ROTOR_PAIR, G_TENSILE, G_CONVECTION, G_SOD, G_SEDOV, G_GRESHO, G_TAYLOR_GREEN, G_HEAT_MODE, G_COUETTE, G_POISEUILLE,
-  G_SUNDIALS, G_MODEL, G_WALL, G_SOLID, G_SOLID_GAS, G_SOLID_GAMMA, G_SOLID_ELASTIC, G_SOLID_VISC, G_SOLID_R2, G_SOLID_TORQUE, G_SOLID_CONT, G_ENTROPY, G_RANKS
+  G_SUNDIALS, G_MODEL, G_WALL, G_SOLID, G_SOLID_GAS, G_SOLID_GAMMA, G_SOLID_ELASTIC, G_SOLID_VISC, G_SOLID_R2, G_SOLID_TORQUE, G_SOLID_CONT, G_SOLID_FLOW, G_ENTROPY, G_RANKS
 } Group;
 
 typedef struct {
@@ -58,6 +58,7 @@ static const Known KnownOptions[] = {
   {"gas_gamma", PETSC_TRUE, G_SOLID_GAMMA}, {"solid_lambda", PETSC_TRUE, G_SOLID_ELASTIC}, {"solid_eta", PETSC_TRUE, G_SOLID_ELASTIC},
   {"viscosity_alpha", PETSC_TRUE, G_SOLID_VISC}, {"viscosity_beta", PETSC_TRUE, G_SOLID_VISC}, {"xsph_eps", PETSC_TRUE, G_SOLID_R2},
   {"angmom_scope", PETSC_TRUE, G_SOLID_TORQUE}, {"density_initial", PETSC_TRUE, G_SOLID_CONT},
+  {"gas_scheme", PETSC_TRUE, G_SOLID_GAS}, {"background_pressure", PETSC_TRUE, G_SOLID_FLOW}, {"shift_coefficient", PETSC_TRUE, G_SOLID_FLOW},
   /* the pair layer: kernel, gravity, periodic images as ghosts (scene.c) */
   {"kernel", PETSC_TRUE, G_MODEL}, {"gravity", PETSC_TRUE, G_MODEL}, {"periodic_images", PETSC_TRUE, G_ALL},
   /* Issue 14 point 6: the plane wave's initial stress (scenes/planewave_stress.c). */
@@ -415,6 +416,10 @@ static PetscBool RelevantSolid(Group g, const Run *r, char *why, size_t len)
   case G_SOLID_TORQUE:
     if (s->angmom == SPAM_ANGMOM_TI || s->angmom == SPAM_ANGMOM_TIJ) return PETSC_TRUE;
     (void)snprintf(why, len, "applies to -angmom Ti and Tij (this run: -angmom %s)", SpamAngmomModeNames[s->angmom]);
+    return PETSC_FALSE;
+  case G_SOLID_FLOW:
+    if (s->material == SPAM_MATERIAL_GAS && s->scheme == SPAM_GAS_FLOW) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to the gas's -gas_scheme flow (this run: -material %s%s)", SpamMaterialNames[s->material], s->material == SPAM_MATERIAL_GAS ? ", -gas_scheme plain" : "");
     return PETSC_FALSE;
   case G_SOLID_CONT:
     if (s->density != SPAM_DENSITY_SUMMATION) return PETSC_TRUE;

@@ -2,7 +2,7 @@
 #include <spam/fields.h>
 
 /* Every array with its number of values per slot (0: not allocated for this model). */
-static int Arrays(SpamFields *f, double **a[20], int per[20])
+static int Arrays(SpamFields *f, double **a[24], int per[24])
 {
   const int d = f->dim, t = f->tensor ? 1 : 0;
   int       k = 0;
@@ -19,6 +19,8 @@ static int Arrays(SpamFields *f, double **a[20], int per[20])
   SPAM_ARRAY(f->gradv, t * d * d);
   SPAM_ARRAY(f->heat, t * d);
   SPAM_ARRAY(f->xdot, t * d);
+  SPAM_ARRAY(f->shift, t * d);
+  SPAM_ARRAY(f->edrift, t);
   SPAM_ARRAY(f->uc, t * d);
   SPAM_ARRAY(f->edot, t);
   SPAM_ARRAY(f->qdot, t);
@@ -31,8 +33,8 @@ static int Arrays(SpamFields *f, double **a[20], int per[20])
 
 PetscErrorCode SpamFieldsCreate(int dim, int n, int cap, PetscBool tensor, SpamFields *f)
 {
-  double **a[20];
-  int      per[20], na;
+  double **a[24];
+  int      per[24], na;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(f, sizeof *f));
@@ -49,8 +51,8 @@ PetscErrorCode SpamFieldsCreate(int dim, int n, int cap, PetscBool tensor, SpamF
 
 PetscErrorCode SpamFieldsReserve(SpamFields *f, int slots)
 {
-  double **a[20];
-  int      per[20], na, old = f->cap;
+  double **a[24];
+  int      per[24], na, old = f->cap;
 
   PetscFunctionBeginUser;
   if (slots + 1 <= f->cap) PetscFunctionReturn(0);
@@ -67,8 +69,8 @@ PetscErrorCode SpamFieldsReserve(SpamFields *f, int slots)
 
 PetscErrorCode SpamFieldsDestroy(SpamFields *f)
 {
-  double **a[20];
-  int      per[20], na = Arrays(f, a, per);
+  double **a[24];
+  int      per[24], na = Arrays(f, a, per);
 
   PetscFunctionBeginUser;
   for (int k = 0; k < na; k++) PetscCall(PetscFree(*a[k]));

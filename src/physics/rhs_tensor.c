@@ -13,21 +13,27 @@
 #include <spam/physics.h>
 #include <spam/stress.h>
 #include <spam/wall_books.h>
+#include <spam/gas_flow.h>
 #include "../pair/pair_walk.h"
 #include "../pair/pair_gradients.h"
 #include "../pair/pair_coordinates.h"
 #include "../pair/pair_stress_force.h"
 #include "../pair/pair_heat_flux.h"
 #include "../pair/pair_torque.h"
+#include "../pair/pair_shift.h"
 
 typedef struct {
   SpamFields            *f;
   const SpamSolidParams *p;
   double                 h;
   int                    coords;     /* SpamCoordsMode                                  */
-  int                    conduction; /* grad T in walk 1, heat flux in walk 3          */
+  int                    conduction; /* heat flux in walk 3                            */
+  int                    gradT;      /* grad T in walk 1 (conduction, the shift's drift) */
+  int                    shift;      /* the transport shift's pair sum in walk 1       */
+  int                    flow;       /* the flow scheme's corrections after walk 3     */
   int                    scale;      /* torque scaling (Ti or Tij) in walk 3           */
-  int                    continuity; /* drho/dt in walk 3                               */
+  int                    continuity; /* drho/dt in walk 3 (the state's, or B's work)    */
+  SpamBackground         bg;         /* the flow scheme's background pressure         */
   const SpamPhysicsScratch *ps;      /* bodies and torque sums                          */
   double                 torque;     /* walk 2: sum of the unscaled pair torques        */
   int                    remote0;    /* first slot of other ranks' particles: a pair with */
@@ -45,7 +51,8 @@ static inline __attribute__((always_inline)) void GradientPair(const int dim, Te
   SpamPairVelocityGradient(dim, f, i, j, dx, g / rho_ij);
   if (c->coords == SPAM_COORDS_R1) SpamPairAverageVelocity(dim, f, i, j, w);
   else if (c->coords == SPAM_COORDS_R2) SpamPairXsph(dim, f, i, j, c->p->xsph_eps * w / rho_ij);
-  if (c->conduction) SpamPairTemperatureGradient(dim, f, i, j, dx, g / rho_ij);
+  if (c->gradT) SpamPairTemperatureGradient(dim, f, i, j, dx, g / rho_ij);
+  if (c->shift) SpamPairShift(dim, f, i, j, dx, g);
 }
 SPAM_PAIR_WALK(WalkGradients, TensorPass, GradientPair)
 
@@ -122,7 +129,7 @@ static double SourcePosition(const SpamGhosts *gh, double *const u[3], int n, in
   return (gh->flip[k] >> d) & 1 ? gh->shift[d][k] - x : x - gh->shift[d][k]; /* another rank's: undo the image */
 }
 
-static void HydrostaticImages(SpamSim *sim)
+static void HydrostaticImages(SpamSim *sim, const SpamBackground *bg)
 {
   const SpamGhosts *gh  = &sim->nl.ghosts;
   SpamFields       *f   = &sim->f;
@@ -131,8 +138,15 @@ static void HydrostaticImages(SpamSim *sim)
   for (int k = 0; k < gh->n; k++) {
     double dphi = 0.0; /* g.(x_g - x_i) */
     if (gh->kind[k] != SPAM_GHOST_MIRROR) continue;
-    for (int d = 0; d < dim; d++) dphi += sim->model.gravity[d] * (sim->nl.u[d][n + k] - SourcePosition(gh, sim->nl.u, n, k, d));
-    for (int a = 0; a < dim; a++) f->qs[(size_t)(n + k) * dim * dim + a * dim + a] -= dphi / f->rho[n + k];
+    double xg[3] = {0, 0, 0}, xs[3] = {0, 0, 0};
+    for (int d = 0; d < dim; d++) {
+      xg[d] = sim->nl.u[d][n + k] + sim->box.lo[d];
+      xs[d] = SourcePosition(gh, sim->nl.u, n, k, d) + sim->box.lo[d];
+      dphi += sim->model.gravity[d] * (xg[d] - xs[d]);
+    }
+    /* The flow scheme's background is a function of place: the image takes B at its own. */
+    const double dB = SpamBackgroundAt(bg, dim, xg) - SpamBackgroundAt(bg, dim, xs), r = f->rho[n + k];
+    for (int a = 0; a < dim; a++) f->qs[(size_t)(n + k) * dim * dim + a * dim + a] += -dphi / r + dB / (r * r);
   }
 }
 
@@ -186,6 +200,7 @@ static void Gradients(SpamSim *sim, TensorPass *c)
 
   Zero(f->gradv, (size_t)slots * dim * dim);
   Zero(f->heat, (size_t)slots * dim);
+  if (c->shift) Zero(f->shift, (size_t)slots * dim);
   for (int i = 0; i < slots; i++) {
     const double self = c->coords == SPAM_COORDS_R1 ? (i < n ? w0 : 0.0) : (i < n ? 1.0 : 0.0);
     for (int d = 0; d < dim; d++) f->xdot[(size_t)i * dim + d] = self * f->v[(size_t)i * dim + d];
@@ -196,14 +211,16 @@ static void Gradients(SpamSim *sim, TensorPass *c)
   SpamGhostsFold(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->xdot);
   SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->wsum);
   SpamGhostsFold(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->heat);
+  if (c->shift) SpamGhostsFold(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->shift);
   if (c->coords == SPAM_COORDS_R1)
     for (int i = 0; i < n; i++)
       for (int d = 0; d < dim; d++) f->xdot[(size_t)i * dim + d] /= f->wsum[i];
+  if (c->shift) SpamGasFlowShift(sim);
 }
 
 /* sigma/rho^2 of particle i into q (D x D): the state's stress (elastic) or -P/rho^2 I
  * with P = (gamma - 1) rho e (gas), plus the viscous stresses. */
-static void StressOverRho2(const SpamSim *sim, const double *yi, int i, double *q)
+static void StressOverRho2(const SpamSim *sim, const SpamBackground *bg, const double *yi, int i, double *q)
 {
   const SpamLayout      *l   = &sim->model.layout;
   const SpamSolidParams *p   = &sim->model.solid;
@@ -212,8 +229,10 @@ static void StressOverRho2(const SpamSim *sim, const double *yi, int i, double *
   const double           rho = f->rho[i], *g = f->gradv + (size_t)i * dim * dim;
 
   for (int k = 0; k < dim * dim; k++) q[k] = 0.0;
-  if (p->material == SPAM_MATERIAL_GAS)
-    for (int a = 0; a < dim; a++) q[a * dim + a] = -(p->gamma - 1.0) * yi[l->e] / rho;
+  if (p->material == SPAM_MATERIAL_GAS) {
+    const double B = p->background != SPAM_BACKGROUND_NONE ? SpamBackgroundAt(bg, dim, yi + l->x) / (rho * rho) : 0.0;
+    for (int a = 0; a < dim; a++) q[a * dim + a] = -(p->gamma - 1.0) * yi[l->e] / rho + B;
+  }
   else {
     SpamStressUnpack(dim, yi + l->s, q);
     for (int k = 0; k < dim * dim; k++) q[k] /= rho * rho;
@@ -224,7 +243,7 @@ static void StressOverRho2(const SpamSim *sim, const double *yi, int i, double *
 
 /* The particle laws: Q, the stress rate (into ydot), the heat flux Q/rho^2 and the
  * velocity of the continuity equation; then gathered into the ghosts. */
-static PetscErrorCode ParticleLaws(SpamSim *sim, const double *y, double *ydot)
+static PetscErrorCode ParticleLaws(SpamSim *sim, const TensorPass *c, const double *y, double *ydot)
 {
   const SpamLayout      *l   = &sim->model.layout;
   const SpamSolidParams *p   = &sim->model.solid;
@@ -235,7 +254,7 @@ static PetscErrorCode ParticleLaws(SpamSim *sim, const double *y, double *ydot)
   PetscFunctionBeginUser;
   for (int i = 0; i < n; i++) {
     const double *yi = y + (size_t)i * nv, *g = f->gradv + (size_t)i * dim * dim;
-    StressOverRho2(sim, yi, i, f->qs + (size_t)i * dim * dim);
+    StressOverRho2(sim, &c->bg, yi, i, f->qs + (size_t)i * dim * dim);
     if (p->material == SPAM_MATERIAL_ELASTIC) SpamHookeStressRate(dim, p->lambda, p->eta, g, yi + l->s, ydot + (size_t)i * nv + l->s);
     for (int d = 0; d < dim; d++) {
       f->heat[(size_t)i * dim + d] *= -p->conductivity / (f->rho[i] * f->rho[i]);
@@ -243,7 +262,7 @@ static PetscErrorCode ParticleLaws(SpamSim *sim, const double *y, double *ydot)
     }
   }
   PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_STRESS, f->qs));
-  if (gh->mirror && sim->model.gravity_on && p->material == SPAM_MATERIAL_GAS) HydrostaticImages(sim);
+  if (gh->mirror && sim->model.gravity_on && p->material == SPAM_MATERIAL_GAS) HydrostaticImages(sim, &c->bg);
   PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_HEAT_FLUX, f->heat));
   PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_VELOCITY, f->uc));
   PetscFunctionReturn(0);
@@ -285,7 +304,7 @@ static PetscErrorCode TorqueFactors(SpamSim *sim, TensorPass *c)
 
 /* Walk 3 and its folds: accelerations, de/dt (work, then plus heat), drho/dt. The heat
  * rate stays apart on the ghost slots, where the walls' books read it. */
-static void Forces(SpamSim *sim, TensorPass *c)
+static void Forces(SpamSim *sim, TensorPass *c, const double *y)
 {
   SpamFields       *f   = c->f;
   const SpamGhosts *gh  = &sim->nl.ghosts;
@@ -301,6 +320,7 @@ static void Forces(SpamSim *sim, TensorPass *c)
   SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->qdot);
   SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->rhodot);
   for (int i = 0; i < n; i++) f->edot[i] += f->qdot[i];
+  if (c->flow) SpamGasFlowCorrect(sim, y, &c->bg);
 }
 
 static void Assemble(const SpamSim *sim, double *ydot)
@@ -322,8 +342,23 @@ static void Assemble(const SpamSim *sim, double *ydot)
 
 static TensorPass PassOf(SpamSim *sim)
 {
-  const SpamSolidParams *p = &sim->model.solid;
-  TensorPass             c = {&sim->f, p, sim->model.kernel.h, (int)p->coords, p->conductivity > 0.0, p->angmom == SPAM_ANGMOM_TI || p->angmom == SPAM_ANGMOM_TIJ, p->density != SPAM_DENSITY_SUMMATION, sim->ps, 0.0, (int)sim->n + sim->nl.ghosts.nlocal, sim->nl.ghosts.kind ? sim->nl.ghosts.kind + sim->nl.ghosts.nlocal : NULL};
+  const SpamSolidParams *p    = &sim->model.solid;
+  const int              gas  = p->material == SPAM_MATERIAL_GAS && p->scheme == SPAM_GAS_FLOW;
+  const int              bg   = gas && p->background != SPAM_BACKGROUND_NONE, shift = gas && p->shift_coef > 0.0;
+  TensorPass             c    = {0};
+  c.f                         = &sim->f;
+  c.p                         = p;
+  c.h                         = sim->model.kernel.h;
+  c.coords                    = (int)p->coords;
+  c.conduction                = p->conductivity > 0.0;
+  c.gradT                     = c.conduction || shift;
+  c.shift                     = shift;
+  c.flow                      = bg || shift;
+  c.scale                     = p->angmom == SPAM_ANGMOM_TI || p->angmom == SPAM_ANGMOM_TIJ;
+  c.continuity                = p->density != SPAM_DENSITY_SUMMATION || bg; /* B's compression work reads drho/dt */
+  c.ps                        = sim->ps;
+  c.remote0                   = (int)sim->n + sim->nl.ghosts.nlocal;
+  c.rkind                     = sim->nl.ghosts.kind ? sim->nl.ghosts.kind + sim->nl.ghosts.nlocal : NULL;
   return c;
 }
 
@@ -335,11 +370,12 @@ PetscErrorCode SpamRhsSolid(SpamSim *sim, const double *y, double *ydot, PetscIn
   PetscCall(FillFields(sim, y, bad));
   if (*bad >= 0) PetscFunctionReturn(0);
   c = PassOf(sim);
+  if (c.flow) PetscCall(SpamGasFlowFit(sim, y, &c.bg));
   PetscCall(PetscLogEventBegin(sim->ev.force, 0, 0, 0, 0));
   Gradients(sim, &c);
-  PetscCall(ParticleLaws(sim, y, ydot));
+  PetscCall(ParticleLaws(sim, &c, y, ydot));
   if (c.scale) PetscCall(TorqueFactors(sim, &c));
-  Forces(sim, &c);
+  Forces(sim, &c, y);
   PetscCall(PetscLogEventEnd(sim->ev.force, 0, 0, 0, 0));
   if (sim->model.solid.angmom == SPAM_ANGMOM_GAUSS) PetscCall(SpamGaussConstraint(sim, y));
   Assemble(sim, ydot);
@@ -360,9 +396,10 @@ PetscErrorCode SpamTensorTorqueSum(SpamSim *sim, const double *y, double *total)
   PetscCall(FillFields(sim, y, &bad));
   if (bad >= 0 || sim->model.dim != 2) PetscFunctionReturn(0);
   c = PassOf(sim);
+  if (c.flow) PetscCall(SpamGasFlowFit(sim, y, &c.bg));
   PetscCall(PetscMalloc1((size_t)sim->n * sim->model.layout.nvar + 1, &scratch)); /* the stress rate, unused */
   Gradients(sim, &c);
-  PetscCall(ParticleLaws(sim, y, scratch));
+  PetscCall(ParticleLaws(sim, &c, y, scratch));
   PetscCall(PetscFree(scratch));
   for (int b = 0; b < sim->ps->nbody; b++) sim->ps->bpos[b] = sim->ps->bneg[b] = 0.0;
   Zero(sim->f.ltorque, (size_t)SpamNeighboursSlots(&sim->nl));

@@ -11,6 +11,8 @@ const char *const SpamCoordsModeNames[]     = {"R0", "R1", "R2"};
 const char *const SpamAngmomModeNames[]     = {"none", "gauss", "Ti", "Tij"};
 const char *const SpamViscosityModeNames[]  = {"none", "monaghan", "vonneumann"};
 const char *const SpamMaterialNames[]       = {"elastic", "gas", "isentrope"};
+const char *const SpamGasSchemeNames[]      = {"plain", "flow"};
+const char *const SpamBackgroundModeNames[] = {"none", "mean"};
 
 /* Index of val in names, or a bad-input error listing them. */
 static PetscErrorCode Choice(const char *opt, const char *val, const char *const *names, int n, int *k)
@@ -39,9 +41,30 @@ static PetscErrorCode Positive(const char *opt, double v, PetscBool zero_ok)
   PetscFunctionReturn(0);
 }
 
+/* The gas's scheme and its laws (gas_flow.c). A gas that has viscosity or conduction is a
+ * fluid whose flow the plain equations get wrong where pressure dominates viscosity (the
+ * pair force's error in the absolute pressure acts as a shear stiffness), so the flow
+ * scheme is its default; an inviscid gas keeps the papers' plain equations. The laws'
+ * options are read only with the flow scheme, so that the plain scheme refuses them. */
+static PetscErrorCode GasSchemeOptions(PetscOptionItems *PetscOptionsObject, PetscBool help, const char *mat, SpamSolidParams *p, char *scheme, size_t ls, char *bg, size_t lb)
+{
+  const PetscBool fluid = (PetscBool)(!strcmp(mat, "gas") && (p->shear_visc > 0.0 || p->bulk_visc > 0.0 || p->conductivity > 0.0));
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscStrncpy(scheme, fluid ? "flow" : "plain", ls));
+  PetscCall(PetscStrncpy(bg, "mean", lb));
+  if (p->shift_coef == 0.0) p->shift_coef = SPAM_SHIFT_COEF_DEFAULT;
+  if (help || !strcmp(mat, "gas")) PetscCall(PetscOptionsString("-gas_scheme", "Gas pair scheme: plain (the papers' equations) or flow (background pressure out of the momentum equation, transport shifting); default flow for a gas with viscosity or conduction, else plain", "README", scheme, scheme, ls, NULL));
+  if (help || !strcmp(scheme, "flow")) {
+    PetscCall(PetscOptionsString("-background_pressure", "Flow scheme: pressure taken out of the momentum equation: mean (the particles' mean pressure, fitted along gravity where there is gravity) or none", "README", bg, bg, lb, NULL));
+    PetscCall(PetscOptionsReal("-shift_coefficient", "Flow scheme: transport shifting coefficient C (shift velocity C c h times the particle-volume gradient; 0: off)", "README", p->shift_coef, &p->shift_coef, NULL));
+  }
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamSolidOptions(SpamSolidParams *p)
 {
-  char      dens[32], init[32], mean[32] = "arithmetic", coords[32], angm[32], scope[32] = "global", visc[32], mat[32];
+  char      dens[32], init[32], mean[32] = "arithmetic", coords[32], angm[32], scope[32] = "global", visc[32], mat[32], scheme[32], bg[32];
   int       k;
   PetscBool help;
 
@@ -62,6 +85,7 @@ PetscErrorCode SpamSolidOptions(SpamSolidParams *p)
   PetscCall(PetscOptionsReal("-viscosity_bulk", "Newtonian bulk viscosity eta_b (0: off)", "README", p->bulk_visc, &p->bulk_visc, NULL));
   PetscCall(PetscOptionsReal("-conductivity", "Fourier heat conductivity kappa, Q = -kappa grad T (0: off)", "README", p->conductivity, &p->conductivity, NULL));
   if (help || !strcmp(mat, "gas") || p->conductivity != 0.0) PetscCall(PetscOptionsReal("-gas_gamma", "Gas: gamma of P = (gamma - 1) rho e (2 in 2D); also sets T = (gamma - 1) e (-material gas or -conductivity)", "README", p->gamma, &p->gamma, NULL));
+  PetscCall(GasSchemeOptions(PetscOptionsObject, help, mat, p, scheme, sizeof scheme, bg, sizeof bg));
   if (help || !strcmp(mat, "elastic")) {
     PetscCall(PetscOptionsReal("-solid_lambda", "Lame constant lambda (default sqrt(3)/4: springs k = 1; -material elastic)", "README", p->lambda, &p->lambda, NULL));
     PetscCall(PetscOptionsReal("-solid_eta", "Lame constant eta, the shear modulus (default sqrt(3)/4; -material elastic)", "README", p->eta, &p->eta, NULL));
@@ -94,6 +118,20 @@ PetscErrorCode SpamSolidOptions(SpamSolidParams *p)
   PetscCall(Positive("-viscosity_alpha", p->visc_alpha, PETSC_TRUE));
   PetscCall(Positive("-viscosity_beta", p->visc_beta, PETSC_TRUE));
   PetscCall(Positive("-closest_approach", p->closest_approach, PETSC_TRUE));
+  PetscCall(Choice("-gas_scheme", scheme, SpamGasSchemeNames, 2, &k));
+  p->scheme = (SpamGasScheme)k;
+  PetscCall(Choice("-background_pressure", bg, SpamBackgroundModeNames, 2, &k));
+  p->background = (SpamBackgroundMode)k;
+  PetscCall(Positive("-shift_coefficient", p->shift_coef, PETSC_TRUE));
+  if (p->shift_coef > 10.0) {
+    char val[128];
+    PetscCall(SpamOptionText("-shift_coefficient", p->shift_coef, val, sizeof val));
+    SPAM_BAD_INPUT("-shift_coefficient", val, "allowed: 0 <= C <= 10 (the shift is a diffusion of coefficient C c h: beyond that it outruns sound)");
+  }
+  if (p->scheme == SPAM_GAS_PLAIN) { /* the flow scheme's laws are off in the plain scheme */
+    p->background = SPAM_BACKGROUND_NONE;
+    p->shift_coef = 0.0;
+  }
   PetscCall(Choice("-viscosity", visc, SpamViscosityModeNames, 3, &k));
   p->viscosity = (SpamViscosityMode)k;
   PetscCall(Positive("-solid_lambda", p->lambda, PETSC_TRUE));
