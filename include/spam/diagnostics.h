@@ -24,6 +24,9 @@ typedef struct {
   /* What the outside gave the system since t = 0: energy (the walls' work and heat) and
    * momentum (their impulse and gravity's M g t). The drifts are measured net of them. */
   double        energy_in, momentum_in[3];
+  /* The energy the gas flow scheme's laws gave the particles (gas_flow.h: its book in the
+   * state, 0 without), counted in energy_in so that the drift measures the integration. */
+  double        scheme_energy;
 } SpamDiagnostics;
 
 typedef struct {

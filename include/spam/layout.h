@@ -11,6 +11,7 @@ typedef struct {
   int x, v, e, rho; /* offsets of position, velocity, energy, density (or -1)          */
   int s;            /* offset of the stress, D(D+1)/2 components: the upper triangle     */
                     /* row by row (2D: xx xy yy; 3D: xx xy xz yy yz zz), or -1           */
+  int fb;           /* offset of the flow scheme's energy book (gas_flow.h), or -1     */
   int wb;           /* offset of the wall books (walls.h), or -1: the work and heat the  */
                     /* walls gave this particle's ghosts' partners and their impulse (D) */
   /* Error-weight scale of every component other than x and v: a component y is weighed
@@ -29,6 +30,9 @@ PetscErrorCode SpamLayoutSolid(int dim, PetscBool with_rho, PetscBool with_stres
  * the state, so that E(t) - E(0) = work + heat to the integrator's accuracy; they take no
  * part in the error control (their weight is zero). */
 PetscErrorCode SpamLayoutAddWallBooks(SpamLayout *l);
+/* Appends the gas flow scheme's energy book (one value: the energy its laws gave the
+ * particle per unit mass), integrated with the state like the wall books. */
+PetscErrorCode SpamLayoutAddFlowBook(SpamLayout *l);
 PetscErrorCode SpamLayoutDescribe(const SpamLayout *l, char *buf, size_t len);
 /* Sets the error weights w of the fields other than x and v of one particle's block p. */
 void SpamLayoutFieldWeights(const SpamLayout *l, const double *p, double rtol, double atol, double *w);

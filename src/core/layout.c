@@ -12,6 +12,7 @@ PetscErrorCode SpamLayoutPositionsVelocities(int dim, SpamLayout *l)
   l->rho  = -1;
   l->s    = -1;
   l->wb   = -1;
+  l->fb   = -1;
   l->nvar = 2 * dim;
   PetscFunctionReturn(0);
 }
@@ -41,6 +42,15 @@ PetscErrorCode SpamLayoutAddWallBooks(SpamLayout *l)
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode SpamLayoutAddFlowBook(SpamLayout *l)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(l->nvar + 1 <= SPAM_MAX_NVAR, PETSC_COMM_SELF, PETSC_ERR_SUP, "the state of %d values per particle has no room for the flow book", l->nvar);
+  l->fb           = l->nvar++;
+  l->scale[l->fb] = INFINITY; /* a book takes no part in the error control */
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamLayoutDescribe(const SpamLayout *l, char *buf, size_t len)
 {
   static const char *ax[3] = {"x", "y", "z"};
@@ -56,6 +66,7 @@ PetscErrorCode SpamLayoutDescribe(const SpamLayout *l, char *buf, size_t len)
   if (l->rho >= 0) used += (size_t)snprintf(buf + used, len - used, " rho");
   for (int k = 0; l->s >= 0 && k < l->dim * (l->dim + 1) / 2; k++) used += (size_t)snprintf(buf + used, len - used, " %s", st[k]);
   if (l->wb >= 0) used += (size_t)snprintf(buf + used, len - used, " wall_books");
+  if (l->fb >= 0) used += (size_t)snprintf(buf + used, len - used, " flow_book");
   PetscFunctionReturn(0);
 }
 

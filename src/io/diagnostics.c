@@ -22,6 +22,20 @@ static PetscErrorCode ModelDiagnostics(SpamSim *sim, const double *y, SpamDiagno
   PetscFunctionReturn(0);
 }
 
+/* sum m b of the flow scheme's book b (0 where the layout has none). */
+static PetscErrorCode SchemeEnergy(SpamSim *sim, const double *y, double *e)
+{
+  const SpamLayout *l   = &sim->model.layout;
+  double            loc = 0.0;
+
+  PetscFunctionBeginUser;
+  *e = 0.0;
+  if (l->fb < 0) PetscFunctionReturn(0);
+  for (PetscInt i = 0; i < sim->n; i++) loc += sim->f.m[i] * y[(size_t)i * l->nvar + l->fb];
+  PetscCallMPI(MPIU_Allreduce(&loc, e, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
+  PetscFunctionReturn(0);
+}
+
 /* Sums over particles of m, m v, m x and the energies; angular momentum needs the centre
  * of mass first, so it is a second pass. Positions are taken relative to the box corner
  * (unwrapped), which keeps every figure independent of where the box sits. */
@@ -89,7 +103,8 @@ PetscErrorCode SpamDiagnosticsCompute(SpamSim *sim, const SpamDiagnosticsOptions
     if (o->grid_spacing > 0) PetscCall(SpamEntropyGrid(sim, y, o->grid_spacing, &d->entropy_grid));
   }
   PetscCall(SpamWallDiagnostics(sim, y, d));
-  d->energy_in = d->wall_work + d->wall_heat;
+  PetscCall(SchemeEnergy(sim, y, &d->scheme_energy));
+  d->energy_in = d->wall_work + d->wall_heat + d->scheme_energy;
   /* Walls without books (the isentrope's: its state is [x v]) exchange momentum unmeasured:
    * its drift is then not defined (null in summary.json). */
   for (int k = 0; k < dim; k++) d->momentum_in[k] = sim->nl.ghosts.mirror && l->wb < 0 ? NAN : d->wall_impulse[k] + d->mass * m->gravity[k] * t;

@@ -78,7 +78,7 @@ PetscErrorCode SpamOutputOpen(const char *dir, PetscBool hdf5, PetscBool csv, co
   PetscCall(TakeDirectory(o));
   PetscCall(SpamOutputPath(o, "timeseries.csv", path, sizeof path));
   PetscCall(SpamFileBegin(path, &o->timeseries));
-  SpamFilePrintf(&o->timeseries, "t,step,rejected,rhs_evals,dt,mass,px,py,pz,lx,ly,lz,kinetic,internal,total,entropy_sum,entropy_grid,dS_sum_ratio,dS_grid_ratio,bound_limited,rhs_s,wall_s,torque_sum,bodies,l_body0,l_body1,gauss_singular,potential%s\n", opt->timeseries_more);
+  SpamFilePrintf(&o->timeseries, "t,step,rejected,rhs_evals,dt,mass,px,py,pz,lx,ly,lz,kinetic,internal,total,entropy_sum,entropy_grid,dS_sum_ratio,dS_grid_ratio,bound_limited,rhs_s,wall_s,torque_sum,bodies,l_body0,l_body1,gauss_singular,potential,scheme_energy%s\n", opt->timeseries_more);
   PetscCall(SpamFileCheck(&o->timeseries));
   PetscCall(SpamOutputPath(o, "steps.csv", path, sizeof path));
   PetscCall(SpamFileBegin(path, &o->steps));

@@ -14,4 +14,18 @@ static inline __attribute__((always_inline)) void SpamPairShift(const int dim, S
     f->shift[(size_t)j * dim + d] -= f->m[i] * c * dx[d];
   }
 }
+
+/* The moment of the SPAM gradient, M_i = sum_j m_j g dx dx^T / rho_ij (-I on a regular
+ * arrangement in the continuum limit): a linear field's SPAM gradient is -M G^T, so
+ * -M^-1 undoes the arrangement's error (Bonet and Lok's correction). The same for i and j. */
+static inline __attribute__((always_inline)) void SpamPairGradientMoment(const int dim, SpamFields *f, int i, int j, const double dx[3], double c)
+{
+  double *mi = f->gmom + (size_t)i * dim * dim, *mj = f->gmom + (size_t)j * dim * dim;
+  for (int a = 0; a < dim; a++)
+    for (int b = 0; b < dim; b++) {
+      const double t = c * dx[a] * dx[b];
+      mi[a * dim + b] += f->m[j] * t;
+      mj[a * dim + b] += f->m[i] * t;
+    }
+}
 #endif

@@ -30,6 +30,7 @@ PetscErrorCode SpamSetUpSolid(SpamSim *sim)
   PetscCall(SpamBodiesLabel(sim, y, sim->model.kernel.h));
   if (sim->model.solid.material == SPAM_MATERIAL_GAS && !sim->model.energy_given)
     for (PetscInt i = 0; i < sim->n; i++) y[(size_t)i * l->nvar + l->e] = sim->model.solid.gas_e0;
+  for (PetscInt i = 0; l->fb >= 0 && i < sim->n; i++) y[(size_t)i * l->nvar + l->fb] = 0.0;
   for (PetscInt i = 0; l->wb >= 0 && i < sim->n; i++) /* the walls' books start empty */
     for (int c = 0; c < 2 + l->dim; c++) y[(size_t)i * l->nvar + l->wb + c] = 0.0;
   if (l->rho >= 0 && sim->model.solid.density_initial == SPAM_DENSITY_INITIAL_SUMMED) {

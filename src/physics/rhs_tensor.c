@@ -53,6 +53,7 @@ static inline __attribute__((always_inline)) void GradientPair(const int dim, Te
   else if (c->coords == SPAM_COORDS_R2) SpamPairXsph(dim, f, i, j, c->p->xsph_eps * w / rho_ij);
   if (c->gradT) SpamPairTemperatureGradient(dim, f, i, j, dx, g / rho_ij);
   if (c->shift) SpamPairShift(dim, f, i, j, dx, g);
+  if (c->flow) SpamPairGradientMoment(dim, f, i, j, dx, g / rho_ij);
 }
 SPAM_PAIR_WALK(WalkGradients, TensorPass, GradientPair)
 
@@ -201,6 +202,7 @@ static void Gradients(SpamSim *sim, TensorPass *c)
   Zero(f->gradv, (size_t)slots * dim * dim);
   Zero(f->heat, (size_t)slots * dim);
   if (c->shift) Zero(f->shift, (size_t)slots * dim);
+  if (c->flow) Zero(f->gmom, (size_t)slots * dim * dim);
   for (int i = 0; i < slots; i++) {
     const double self = c->coords == SPAM_COORDS_R1 ? (i < n ? w0 : 0.0) : (i < n ? 1.0 : 0.0);
     for (int d = 0; d < dim; d++) f->xdot[(size_t)i * dim + d] = self * f->v[(size_t)i * dim + d];
@@ -212,6 +214,7 @@ static void Gradients(SpamSim *sim, TensorPass *c)
   SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->wsum);
   SpamGhostsFold(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->heat);
   if (c->shift) SpamGhostsFold(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->shift);
+  if (c->flow) SpamGhostsFold(gh, dim, n, dim * dim, SPAM_GHOST_TENSOR, f->gmom);
   if (c->coords == SPAM_COORDS_R1)
     for (int i = 0; i < n; i++)
       for (int d = 0; d < dim; d++) f->xdot[(size_t)i * dim + d] /= f->wsum[i];
@@ -337,6 +340,7 @@ static void Assemble(const SpamSim *sim, double *ydot)
     }
     r[l->e] = f->edot[i];
     if (l->rho >= 0) r[l->rho] = f->rhodot[i];
+    if (l->fb >= 0) r[l->fb] = f->edrift[i]; /* the flow scheme's power per unit mass */
   }
 }
 
@@ -355,7 +359,7 @@ static TensorPass PassOf(SpamSim *sim)
   c.shift                     = shift;
   c.flow                      = bg || shift;
   c.scale                     = p->angmom == SPAM_ANGMOM_TI || p->angmom == SPAM_ANGMOM_TIJ;
-  c.continuity                = p->density != SPAM_DENSITY_SUMMATION || bg; /* B's compression work reads drho/dt */
+  c.continuity                = p->density != SPAM_DENSITY_SUMMATION;
   c.ps                        = sim->ps;
   c.remote0                   = (int)sim->n + sim->nl.ghosts.nlocal;
   c.rkind                     = sim->nl.ghosts.kind ? sim->nl.ghosts.kind + sim->nl.ghosts.nlocal : NULL;

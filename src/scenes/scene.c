@@ -301,6 +301,7 @@ static PetscErrorCode ModelOf(const SpamCommonParams *c, SpamParticles *p, SpamS
     if (solid->density != SPAM_DENSITY_SUMMATION && (!p->rho || (p->columns && !(p->columns & SPAM_COLUMN_RHO)))) solid->density_initial = SPAM_DENSITY_INITIAL_SUMMED;
     PetscCall(SpamModelSolidSetUp(p->dim, &c->kernel, p->mass, solid, model));
     if (SpamWallsAny(&p->walls, p->dim)) PetscCall(SpamLayoutAddWallBooks(&model->layout));
+    if (solid->material == SPAM_MATERIAL_GAS && solid->scheme == SPAM_GAS_FLOW && (solid->background != SPAM_BACKGROUND_NONE || solid->shift_coef > 0.0)) PetscCall(SpamLayoutAddFlowBook(&model->layout));
   }
   /* The spring scenes' own model takes no gravity: -gravity is then refused as unused
    * (option_use.c), so it is only set on the smooth-particle models. */
