@@ -12,9 +12,10 @@
  *    equations are unchanged and only the stiffness goes;
  *  - transport shifting: without that stiffness nothing keeps the particles ordered, and
  *    where P < B they clump (the tensile instability). The particles move with
- *    v + dv, dv_i = -C h c_i rho_i sum_j m_j (1/rho_i^2 + 1/rho_j^2) grad_i w_ij: the
- *    plain force of a unit pressure, which vanishes on a regular arrangement and pushes
- *    each particle towards more room, scaled into a diffusion of coefficient ~ C c h; the
+ *    v + dv, dv_i = -(C h c_i / V_i) sum_j (V_i^2 + V_j^2) grad_i w_ij, V = m / rho: the
+ *    pair force of a unit pressure in volumes (Adami, Hu and Adams's transport velocity),
+ *    which vanishes on a lattice of equal volumes and pushes each particle towards more
+ *    room, scaled into a diffusion of coefficient ~ C c h; the
  *    fields a particle carries are corrected for its drift relative to the fluid
  *    (dv/dt += (dv . grad) v, de/dt += dv . grad e), as in ALE shifting schemes.
  * What each gives up: the background's body force is external where B varies (under

@@ -47,6 +47,8 @@ typedef struct {
   SpamGasScheme      scheme;        /* gas: plain or flow (gas_flow.c)                 */
   SpamBackgroundMode background;    /* flow: pressure taken out of the momentum eq.   */
   double             shift_coef;    /* flow: transport shifting coefficient (0: off)  */
+  PetscBool          free_surface;  /* the scene's gas expands into vacuum: its default */
+                                    /* scheme is plain (no background pressure exists) */
 } SpamSolidParams;
 
 /* The flow scheme's default transport shifting coefficient (gas_flow.c). */

@@ -1,20 +1,22 @@
-/* The transport shift's pair sum (gas_flow.h): the plain pair force of a unit pressure,
- *   S_i = sum_j m_j (1/rho_i^2 + 1/rho_j^2) grad_i w_ij,
- * antisymmetric in the pair, so each particle's share is the other's with the sign
- * changed (grad_i w_ij = g dx). */
+/* The transport shift's pair sum (gas_flow.h), in particle volumes V = m / rho:
+ *   S_i = sum_j (V_i^2 + V_j^2) grad_i w_ij,
+ * the pair force of a uniform pressure in the form of Adami, Hu and Adams's transport
+ * velocity: zero on a lattice of equal volumes whatever the masses (a layer whose density
+ * is made by the masses stays put), and zero to first order in a smooth density field.
+ * Antisymmetric in the pair: each particle's share is the other's with the sign changed
+ * (grad_i w_ij = g dx). */
 #ifndef SPAM_PAIR_SHIFT_H
 #define SPAM_PAIR_SHIFT_H
 #include <spam/fields.h>
 
 static inline __attribute__((always_inline)) void SpamPairShift(const int dim, SpamFields *f, int i, int j, const double dx[3], double g)
 {
-  const double c = g * (1.0 / (f->rho[i] * f->rho[i]) + 1.0 / (f->rho[j] * f->rho[j]));
+  const double vi = f->m[i] / f->rho[i], vj = f->m[j] / f->rho[j], c = g * (vi * vi + vj * vj);
   for (int d = 0; d < dim; d++) {
-    f->shift[(size_t)i * dim + d] += f->m[j] * c * dx[d];
-    f->shift[(size_t)j * dim + d] -= f->m[i] * c * dx[d];
+    f->shift[(size_t)i * dim + d] += c * dx[d];
+    f->shift[(size_t)j * dim + d] -= c * dx[d];
   }
 }
-
 /* The moment of the SPAM gradient, M_i = sum_j m_j g dx dx^T / rho_ij (-I on a regular
  * arrangement in the continuum limit): a linear field's SPAM gradient is -M G^T, so
  * -M^-1 undoes the arrangement's error (Bonet and Lok's correction). The same for i and j. */

@@ -80,7 +80,7 @@ PetscErrorCode SpamGasFlowFit(SpamSim *sim, const double *y, SpamBackground *b)
   PetscFunctionReturn(0);
 }
 
-/* The shift velocity dv_i = -C h c_i rho_i S_i from the folded pair sums S (f->shift, which
+/* The shift velocity dv_i = -C h c_i S_i / V_i from the folded pair sums S (f->shift, which
  * then holds dv), added to dr/dt; and the energy rate of the drift, dv . grad e, from
  * grad T = (gamma - 1) grad e (f->heat, before it becomes the heat flux). c_i is the
  * particle's own sound speed, so the shift is a diffusion of coefficient ~ C c h wherever
@@ -94,7 +94,7 @@ void SpamGasFlowShift(SpamSim *sim)
 
   for (PetscInt i = 0; i < sim->n; i++) {
     const double c  = sqrt(p->gamma * (p->gamma - 1.0) * PetscMax(f->e[i], 0.0));
-    const double k  = -ch * c * f->rho[i];
+    const double k  = -ch * c * f->rho[i] / f->m[i]; /* 1 / V_i */
     double      *dv = f->shift + (size_t)i * dim, de = 0.0;
     for (int d = 0; d < dim; d++) {
       dv[d] *= k;
