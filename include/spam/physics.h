@@ -50,6 +50,7 @@ static inline double SpamPairDelta2(const SpamNeighbours *nl, const SpamImage *i
 /* The flow scheme of the gas (gas_flow.h, gas_flow.c), called by the tensor path. */
 PetscErrorCode SpamGasFlowFit(SpamSim *sim, const double *y, SpamBackground *b);
 void           SpamGasFlowShift(SpamSim *sim);
+PetscErrorCode SpamGasFlowDivergence(SpamSim *sim);
 void           SpamGasFlowCorrect(SpamSim *sim, const double *y, const SpamBackground *b);
 
 /* Allocates sim->ps for sim->n particles; it is freed with the swarm. */

@@ -134,12 +134,35 @@ static double CorrectedDivergence(int dim, const double *M, const double *G)
   return -tr / det;
 }
 
+/* The velocity divergence that B's compression work reads: the corrected one, less its
+ * volume-weighted mean over all particles. In a closed box (periodic faces, walls that do
+ * not move along their normals) the volume does not change, so the mean of div v is zero
+ * in the continuum; the SPAM sum is not, and B times it would heat or cool the gas for
+ * nothing (a constant B's work then cancels exactly, so the pair force's rearrangements
+ * cost no energy). One reduction of two sums over the ranks. */
+PetscErrorCode SpamGasFlowDivergence(SpamSim *sim)
+{
+  SpamFields *f   = &sim->f;
+  const int   dim = f->dim;
+  double      s[2] = {0.0, 0.0};
+
+  PetscFunctionBeginUser;
+  for (PetscInt i = 0; i < sim->n; i++) {
+    const double V = f->m[i] / f->rho[i];
+    f->divv[i]     = CorrectedDivergence(dim, f->gmom + (size_t)i * dim * dim, f->gradv + (size_t)i * dim * dim);
+    s[0] += V * f->divv[i];
+    s[1] += V;
+  }
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, s, 2, MPI_DOUBLE, MPI_SUM, sim->comm));
+  for (PetscInt i = 0; i < sim->n && s[1] > 0.0; i++) f->divv[i] -= s[0] / s[1];
+  PetscFunctionReturn(0);
+}
+
 /* After the force walk: the drift corrections (dv . grad) v and dv . grad e, the body
  * force -grad B / rho that gives back the background's gradient, and B's compression
- * work -B div v / rho, so that the internal energy follows the full pressure. The
- * divergence is the corrected one: the summed density's own rate would also count the
- * volume that the particles' rearrangement takes and the shift gives back, and book
- * B times it as heat at every cycle (a pump of several KE0 in a Taylor-Green vortex). */
+ * work -B div v / rho (SpamGasFlowDivergence), so that the internal energy follows the
+ * full pressure. The book's rate is what these give the particle's energy, with the
+ * gravitational energy the drift moves it through (-g . dv). */
 void SpamGasFlowCorrect(SpamSim *sim, const double *y, const SpamBackground *b)
 {
   const SpamLayout      *l     = &sim->model.layout;
@@ -153,14 +176,16 @@ void SpamGasFlowCorrect(SpamSim *sim, const double *y, const SpamBackground *b)
     double        da[3] = {0, 0, 0}, de = 0.0, power = 0.0;
     if (shift) {
       const double *dv = f->shift + (size_t)i * dim;
-      for (int c = 0; c < dim; c++)
+      for (int c = 0; c < dim; c++) {
         for (int d = 0; d < dim; d++) da[c] += dv[d] * g[d * dim + c];
+        power -= sim->model.gravity[c] * dv[c];
+      }
       de += f->edrift[i];
     }
     if (bg) {
       const double slope = SpamBackgroundSlope(b, dim, x);
       for (int d = 0; d < dim; d++) da[d] -= slope * b->up[d] / rho;
-      de -= SpamBackgroundAt(b, dim, x) * CorrectedDivergence(dim, f->gmom + (size_t)i * dim * dim, g) / rho;
+      de -= SpamBackgroundAt(b, dim, x) * f->divv[i] / rho;
     }
     for (int d = 0; d < dim; d++) {
       f->acc[(size_t)i * dim + d] += da[d];

@@ -377,6 +377,7 @@ PetscErrorCode SpamRhsSolid(SpamSim *sim, const double *y, double *ydot, PetscIn
   if (c.flow) PetscCall(SpamGasFlowFit(sim, y, &c.bg));
   PetscCall(PetscLogEventBegin(sim->ev.force, 0, 0, 0, 0));
   Gradients(sim, &c);
+  if (c.flow && sim->model.solid.background != SPAM_BACKGROUND_NONE) PetscCall(SpamGasFlowDivergence(sim));
   PetscCall(ParticleLaws(sim, &c, y, ydot));
   if (c.scale) PetscCall(TorqueFactors(sim, &c));
   Forces(sim, &c, y);
