@@ -126,9 +126,10 @@ def grid(n, H):
     return _GRIDS[key]
 
 
-def spectrum(cell, k, ra, n=24):
-    """All eigenvalues s of the collocated problem at wavenumber k (1/length) and Rayleigh
-    number ra, the rest of the parameters from cell."""
+def operator(cell, k, ra, n=24):
+    """The collocated matrix M (s q = M q) at wavenumber k (1/length) and Rayleigh number
+    ra, the rest of the parameters from cell, with the indices of its unknowns in the
+    full list [rho'(y_0..y_n), u(...), v(...), T'(...)]."""
     y, D1, D2 = grid(n, cell.H)
     T0, dT0, r0, dr0 = cell.base(y)
     eta, kappa = cell.transport(ra)
@@ -161,7 +162,28 @@ def spectrum(cell, k, ra, n=24):
     # u, v, T' vanish at the walls: drop their wall unknowns and wall equations
     walls = [b * m + j for b in (1, 2, 3) for j in (0, n)]
     keep = np.setdiff1d(np.arange(4 * m), walls)
-    return np.linalg.eigvals(A[np.ix_(keep, keep)])
+    return A[np.ix_(keep, keep)], keep
+
+
+def spectrum(cell, k, ra, n=24):
+    """All eigenvalues s at wavenumber k and Rayleigh number ra."""
+    return np.linalg.eigvals(operator(cell, k, ra, n)[0])
+
+
+def mode(cell, k, ra, n=24):
+    """The fastest-growing mode at (k, ra): (s, y, fields) with fields a dict of the
+    complex profiles rho', u, v, T' on the collocation points y (zero at the walls for
+    u, v, T'), scaled so that max |v| = 1."""
+    M, keep = operator(cell, k, ra, n)
+    s, vec = np.linalg.eig(M)
+    i = np.argmax(s.real)
+    full = np.zeros(4 * (n + 1), complex)
+    full[keep] = vec[:, i]
+    m = n + 1
+    f = {name: full[b * m:(b + 1) * m] for b, name in enumerate(("rho", "u", "v", "T"))}
+    scale = f["v"][np.argmax(abs(f["v"]))]
+    f = {name: v / scale for name, v in f.items()}
+    return s[i], grid(n, cell.H)[0], f
 
 
 def growth(cell, k, ra, n=24):
