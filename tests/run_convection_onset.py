@@ -1,0 +1,220 @@
+"""Onset of convection in the scene's cell: SPAM against linear theory.
+
+Runs spam-ark -options_file options/convection.opts (32 x 16, Pr = 1, g = 0.0125,
+T_b = 1.25, T_t = 0.75) at Ra = f Ra_c for each f of --ra and each seed amplitude
+(-convection_amplitude) of --seeds, Ra_c from tests/convection_linear.py for the same cell
+(the options file plus --extra), and measures
+(a) the growth rate of the roll the periodic cell holds nearest onset (k = 2 pi / L, L = 2H:
+    the linear theory's fastest mode of the cell at every Ra here). Its amplitude in each
+    CSV snapshot is the mass-weighted projection of T - T0(y) on T'(y) exp(i k x), T' the
+    linear eigenfunction's temperature (real: the onset is stationary), scaled to the
+    roll's peak vertical velocity; the temperature weighs the roll about 10 x more than
+    the sound that fills the cell (the projection of v_y, also printed, is noisier).
+    ln(amplitude) is fitted by a line over its exponential phase: from where it first
+    exceeds 3 x its minimum (the seed's decaying modes have gone) to where it reaches
+    0.2 x its saturated value (the mean over the last three e-folding times): with
+    dA/dt = s A - g A^3 the rate there is still 0.96 s, so the fit is low by about 2 %.
+    Goal of the project: within 20 %.
+(b) the onset: Nu - 1 of the saturated state (Nu over the last three e-folding times of the
+    linear rate, from the wall heat rates as examples/plot_convection.py computes it)
+    against Ra, fitted by a line through the two lowest Ra (weakly nonlinear theory:
+    Nu - 1 is linear in Ra - Ra_c near onset; the higher points curve) and extrapolated to
+    Nu - 1 = 0. Goal: within 10 % of Ra_c and the same for every seed (spread below 10 % of
+    Ra_c): a supercritical onset does not depend on the seed.
+
+Each run's end time is sized from the linear rate s of its Ra: the seed's projection on the
+roll is about 0.05 of -convection_amplitude (512 random velocities), the saturated roll's
+vertical velocity about 10 chi / H (Boussinesq rolls near onset), so growth takes
+ln(0.5 / amplitude) e-foldings; then 3 e-foldings to saturate and 3 to average Nu:
+t_end = (ln(0.5 / amplitude) + 6) / s (1.2 Ra_c, amplitude 1e-4: s = 9.8e-4, t_end = 14,800).
+--t-scale multiplies it, --t-end replaces it. Snapshots every 1/(8 s)
+(about 18 points per decade of growth).
+
+Usage (from the repository's root):
+  /usr/bin/python3 tests/run_convection_onset.py --spam-ark build/spam-ark --workdir /tmp/onset \\
+      [--ra 1.2,1.5,2,3] [--seeds 1e-4,1e-3,1e-2,1e-1] [--t-end T | --t-scale F] \\
+      [--extra "-spam_option value ..."] [-o results.json] [--report-only]
+Exit status 1 when a goal is missed (0 with --report-only)."""
+import argparse
+import json
+import math
+import os
+import shlex
+import shutil
+import sys
+import time
+
+import numpy as np
+
+from spamrun import Checks, run, table, summary, manifest_files
+import convection_linear as cl
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, "..", "examples"))
+import plot_convection as pc  # noqa: E402
+
+OPTIONS = os.path.join(HERE, "..", "options", "convection.opts")
+
+ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+ap.add_argument("--spam-ark", required=True)
+ap.add_argument("--workdir", required=True)
+ap.add_argument("--ra", default="1.2,1.5,2,3", help="Ra / Ra_c of the runs (comma separated)")
+ap.add_argument("--seeds", default="1e-4,1e-3,1e-2,1e-1", help="-convection_amplitude of the runs (comma separated)")
+ap.add_argument("--t-end", type=float, default=None, help="end time of every run (default: sized from the linear rate)")
+ap.add_argument("--t-scale", type=float, default=1.0, help="multiplies the sized end time")
+ap.add_argument("--extra", default="", help="options passed to every run (and to the linear theory's cell)")
+ap.add_argument("-o", "--output", default=None, help="results as JSON")
+ap.add_argument("--report-only", action="store_true", help="exit 0 whatever the goals")
+a = ap.parse_args()
+shutil.rmtree(a.workdir, ignore_errors=True)
+os.makedirs(a.workdir)
+factors = [float(x) for x in a.ra.split(",")]
+seeds = [float(x) for x in a.seeds.split(",")]
+extra = shlex.split(a.extra)
+c = Checks()
+
+# The linear theory of the cell the runs see: the options file, then --extra.
+cell, _, _ = cl.parse(["-options_file", OPTIONS] + extra)
+t0 = time.time()
+ra_c, kc = cl.critical(cell)
+k1 = 2 * math.pi / cell.L
+print(f"linear theory ({time.time() - t0:.1f} s): Ra_c = {ra_c:.4f}, k_c H = {kc:.4f}; the runs' roll k H = {k1 * cell.H:.4f}; "
+      f"cell {cell.nx} x {cell.ny}, g = {cell.g:g}, T_b = {cell.t_bottom:g}, T_t = {cell.t_top:g}, Pr = {cell.prandtl:g}")
+
+
+def roll_amplitudes(out, k, y, fields):
+    """(t, A_T, A_v) in every CSV snapshot: the roll's amplitude (its peak vertical velocity,
+    the eigenfunction's scale) from the projection of T - T0(y) on T'(y) exp(i k x), and from
+    that of v_y on v(y) exp(i k x), both mass-weighted. The temperature carries the roll
+    about 10 x more than the sound waves that fill the cell (a roll's T' ~ beta v /
+    (chi (k^2 + pi^2 / H^2)) ~ 6 v here, a sound wave's (gamma - 1) T v / c_s ~ 0.7 v), so
+    A_T is the measure fitted; A_v is noisier (the cell's sound at the same k)."""
+    wT, wv = fields["T"].real, fields["v"].real
+    beta = (cell.t_bottom - cell.t_top) / cell.H
+    ts, aT, av = [], [], []
+    for path in manifest_files(out, "snapshot_csv"):
+        with open(path) as f:
+            first = f.readline()
+        t = float(first.split("=")[1])
+        d = np.genfromtxt(path, delimiter=",", names=True, skip_header=1)
+        ph = np.exp(-1j * k * d["x"])
+        dT = (cell.gamma - 1.0) * d["e"] - (cell.t_bottom - beta * d["y"])
+        pT, pv = np.interp(d["y"], y, wT), np.interp(d["y"], y, wv)
+        ts.append(t)
+        aT.append(2 * abs(np.sum(d["m"] * dT * pT * ph)) / np.sum(d["m"] * pT * pT))
+        av.append(2 * abs(np.sum(d["m"] * d["vy"] * pv * ph)) / np.sum(d["m"] * pv * pv))
+    order = np.argsort(ts)
+    return np.array(ts)[order], np.array(aT)[order], np.array(av)[order]
+
+
+def exponential_fit(t, A, t_sat):
+    """(rate, t_from, t_to, note) of the line through ln A over the exponential phase:
+    from where A first exceeds 3 x its minimum to where it reaches 0.2 x its saturated
+    value. A seed within 10 x of saturation leaves no such phase: then from the minimum to
+    0.5 x saturation ("short"). No growth (saturation below 3 x the minimum): the slope of
+    ln A from the minimum to the end ("none": the decay rate when negative)."""
+    pos = t > 0
+    t, A = t[pos], A[pos]
+    sat = np.mean(A[t >= t_sat]) if np.any(t >= t_sat) else A[-1]
+    i_min = int(np.argmin(A[: int(np.argmax(A)) + 1]))
+    first = lambda cond: next((i for i in range(i_min, len(A)) if cond(A[i])), len(A) - 1)
+    if sat < 3 * A[i_min]:
+        i0, i1, note = i_min, len(A) - 1, "none"
+    else:
+        i0, i1, note = first(lambda x: x > 3 * A[i_min]), first(lambda x: x >= 0.2 * sat), "exponential"
+        if i1 - i0 < 2:
+            i0, i1, note = i_min, first(lambda x: x >= 0.5 * sat), "short"
+    if i1 - i0 < 1:
+        return float("nan"), float(t[i0]), float(t[i1]), note + " (too few snapshots)"
+    p = np.polyfit(t[i0:i1 + 1], np.log(A[i0:i1 + 1]), 1)
+    return float(p[0]), float(t[i0]), float(t[i1]), note
+
+
+results = {"ra_c": ra_c, "k_c_H": kc, "k_roll_H": k1 * cell.H, "extra": a.extra, "runs": []}
+for f in factors:
+    ra = f * ra_c
+    s_theory, y, fields = cl.mode(cell, k1, ra)
+    s_theory = s_theory.real
+    for amp in seeds:
+        if a.t_end is not None:
+            t_end = a.t_end
+        elif s_theory > 0:
+            t_end = a.t_scale * (math.log(0.5 / amp) + 6.0) / s_theory
+        else:
+            t_end = a.t_scale * 5.0 * cell.H ** 2 / (cell.transport(ra)[1] / (cell.mass * cell.cp))
+        dt_out = 0.125 / s_theory if s_theory > 0 else t_end / 40.0
+        dt_out = min(dt_out, t_end / 20.0)
+        name = f"ra{f:g}_amp{amp:g}"
+        out = os.path.join(a.workdir, name)
+        args = ["-options_file", OPTIONS, "-convection_ra", ra, "-convection_amplitude", amp, "-ts_max_time", t_end,
+                "-snapshot_interval", dt_out, "-snapshot_hdf5", 0, "-output_interval", dt_out / 2] + extra
+        w0 = time.time()
+        code, so, err = run(a.spam_ark, args, out, timeout=6 * 3600)
+        wall = time.time() - w0
+        if not c.check(code == 0, f"{name}: run completes (exit {code}, {wall:.1f} s) {err.strip()[-300:]}"):
+            continue
+        sm, ts = summary(out), table(os.path.join(out, "timeseries.csv"))
+        t_avg = t_end - 3.0 / s_theory if s_theory > 0 else 0.5 * t_end
+        nu, nub, nut, (qb, qt) = pc.nusselt(sm, ts, cell.t_bottom, cell.t_top, t_avg)
+        tt, A, Av = roll_amplitudes(out, k1, y, fields)
+        rate, fa, fb, note = exponential_fit(tt, A, t_avg)
+        rate_v = exponential_fit(tt, Av, t_avg)[0]
+        # saturation: the roll's amplitude over the last 1.5 e-folding times against the 1.5 before
+        last = A[tt >= t_end - 1.5 / s_theory] if s_theory > 0 else A[-3:]
+        prev = A[(tt >= t_end - 3.0 / s_theory) & (tt < t_end - 1.5 / s_theory)] if s_theory > 0 else A[-6:-3]
+        drift = float(np.mean(last) / np.mean(prev)) if len(last) and len(prev) else float("nan")
+        ke = ts["kinetic"]
+        r = {"ra_over_ra_c": f, "ra": ra, "amplitude": amp, "t_end": t_end, "wall_s": wall, "rhs_evals": sm["rhs_evals"],
+             "post_step_jumps": sm.get("post_step_jumps"), "s_theory": s_theory, "s_measured": rate, "s_measured_vy": rate_v, "fit_from": fa, "fit_to": fb,
+             "fit": note, "roll_amplitude_min": float(A[1:].min()), "roll_amplitude_end": float(A[-1]),
+             "roll_amplitude_vy_end": float(Av[-1]),
+             "saturation_drift": drift, "nu": nu, "nu_hot": nub, "nu_cold": nut, "nu_start": 0.5 * (qb[0] + qt[0]),
+             "nu_from_t": t_avg, "ke_start": ke[0], "ke_max": max(ke), "ke_end": ke[-1], "dir": out}
+        results["runs"].append(r)
+        print(f"{name}: t_end {t_end:.0f}, {wall:.1f} s wall, {sm['rhs_evals']} RHS; roll amplitude (T') min {A[1:].min():.3g} -> "
+              f"end {A[-1]:.3g} (v_y: {Av[-1]:.3g}); s = {rate:.4g} ({note}, t {fa:.0f}-{fb:.0f}; from v_y {rate_v:.4g}) against {s_theory:.4g}; Nu = {nu:.4f} "
+              f"(hot {nub:.4f}, cold {nut:.4f}, start {r['nu_start']:.4f}); KE {ke[0]:.3g} -> {ke[-1]:.3g}", flush=True)
+
+# (a) growth rates
+print("\nRa/Ra_c  amplitude  t_end    wall s  s theory    s measured  ratio   fit           s from v_y  Nu       Nu start  sat. drift")
+for r in results["runs"]:
+    ratio = r["s_measured"] / r["s_theory"] if r["s_theory"] else float("nan")
+    r["s_ratio"] = ratio
+    print(f"{r['ra_over_ra_c']:<7.3g}  {r['amplitude']:<9.0e}  {r['t_end']:<7.0f}  {r['wall_s']:<6.1f}  {r['s_theory']:<10.4g}  "
+          f"{r['s_measured']:<10.4g}  {ratio:<6.3f}  {r['fit'][:12]:<12}  {r['s_measured_vy']:<10.4g}  {r['nu']:.4f}   {r['nu_start']:.4f}    {r['saturation_drift']:.3f}")
+for r in results["runs"]:
+    c.check(r["fit"] == "exponential" and abs(r["s_ratio"] - 1) < 0.2,
+            f"Ra = {r['ra_over_ra_c']:g} Ra_c, amplitude {r['amplitude']:g}: growth rate {r['s_measured']:.4g} against linear "
+            f"{r['s_theory']:.4g} (ratio {r['s_ratio']:.3f}; goal within 20 %; {r['fit']})")
+
+# (b) onset from Nu - 1 against Ra, per seed
+results["onset"] = {}
+for amp in seeds:
+    pts = sorted((r["ra"], r["nu"] - 1.0) for r in results["runs"] if r["amplitude"] == amp)
+    if len(pts) < 2:
+        continue
+    x, yv = np.array([p[0] for p in pts]), np.array([p[1] for p in pts])
+    fits = {}
+    for label, sel in (("lowest two", slice(0, 2)), ("all", slice(None))):
+        slope, icpt = np.polyfit(x[sel], yv[sel], 1)
+        fits[label] = -icpt / slope if slope > 0 else float("nan")
+    results["onset"][f"{amp:g}"] = {"ra_onset": fits["lowest two"], "ra_onset_all": fits["all"], "points": pts}
+    on = fits["lowest two"]
+    c.check(math.isfinite(on) and abs(on / ra_c - 1) < 0.1,
+            f"amplitude {amp:g}: onset extrapolated from Nu - 1 = {', '.join(f'{v:.4f}' for v in yv)} at Ra/Ra_c = "
+            f"{', '.join(f'{v / ra_c:g}' for v in x)}: Ra = {on:.5g} = {on / ra_c:.4g} Ra_c (all points: {fits['all'] / ra_c:.4g} Ra_c; "
+            "goal within 10 % of Ra_c; nan: Nu does not rise with Ra)")
+ons = [v["ra_onset"] for v in results["onset"].values()]
+if len(ons) > 1:
+    spread = (max(ons) - min(ons)) / ra_c if all(math.isfinite(v) for v in ons) else float("nan")
+    c.check(spread < 0.1, f"onset independent of the seed: spread {spread:.4g} Ra_c (goal below 0.1)")
+results["total_wall_s"] = sum(r["wall_s"] for r in results["runs"])
+print(f"total run time {results['total_wall_s']:.1f} s over {len(results['runs'])} runs")
+if a.output:
+    with open(a.output, "w") as f:
+        json.dump(results, f, indent=1)
+    print(f"results in {a.output}")
+if a.report_only:
+    print(f"{c.passed} passed, {c.failed} failed (report only)")
+    sys.exit(0)
+c.finish()
