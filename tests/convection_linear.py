@@ -29,6 +29,19 @@ the unknowns (and their equations' wall rows); rho' has no boundary condition an
 its wall rows. The left side is then diagonal, so s are the eigenvalues of one matrix
 (numpy.linalg.eig), about 4N unknowns.
 
+Verified (--check): in the Boussinesq limit (dT = 1e-3 T_mean, g H / c_p = dT / 5)
+Ra_c = 1707.7617 at k_c H = 3.1163 (the accurate rigid-rigid values are 1707.762 and
+3.1163; the usual 3.117 is rounded up), and just above onset the growth rate is
+(Ra / Ra_c - 1) / tau0 with Cross & Hohenberg's rigid-wall
+tau0 = (Pr + 0.5117) / (19.65 Pr) H^2 / chi to 2e-4 (Pr = 0.5, 1, 7). Resolution: Ra_c of
+the scene's cell 1700.96188 (N = 6), 1700.78569 (8), 1700.78925 (10), 1700.788860 (12),
+1700.788851 (16, 24, 32, 48): spectral convergence, 1e-8 relative from N = 16; N = 24 is the
+default. Ra_c takes about 0.5 s.
+
+The scene's cell (options/convection.opts, 32 x 16, T_b = 1.25, T_t = 0.75, g = 0.0125,
+Pr = 1): Ra_c = 1700.789 (-0.41 % from the Boussinesq 1707.76) at k_c H = 3.1209; the
+periodic cell's own roll (k = 2 pi / L, k H = pi) sets in at 1700.896.
+
 Usage: /usr/bin/python3 tests/convection_linear.py [scene options] [--n N] [--check]
   scene options as spam-ark takes them: -convection_ra, -convection_prandtl, -convection_g,
   -convection_nx, -convection_ny, -wall_ylo_temperature, -wall_yhi_temperature,
@@ -41,8 +54,8 @@ import sys
 
 import numpy as np
 
-RA_BOUSSINESQ = 1707.76   # rigid-rigid onset, Boussinesq (Chandrasekhar; Reid & Harris 1958: 1707.762)
-K_BOUSSINESQ = 3.117      # k_c H there (3.1163)
+RA_BOUSSINESQ = 1707.76   # rigid-rigid onset, Boussinesq (Chandrasekhar; accurately 1707.762)
+K_BOUSSINESQ = 3.117      # k_c H there (accurately 3.1163)
 
 
 class Cell:
@@ -375,6 +388,13 @@ def main():
             b = boussinesq_cell(eps)
             ra, kc = critical(b, n)
             print(f"  eps = {eps:g}: Ra_c = {ra:.6f}, k_c H = {kc:.5f}")
+        b = boussinesq_cell(1e-3)
+        ra, kc = critical(b, n)
+        for eps in (1e-2, 1e-3):
+            sg = growth(b, kc / b.H, ra * (1 + eps), n)[0]
+            chi = b.transport(ra * (1 + eps))[1] / (b.mass * b.cp)
+            print(f"  growth at Ra = {1 + eps:g} Ra_c: s H^2 / (chi eps) = {sg * b.H ** 2 / (chi * eps):.5f} "
+                  f"(Cross & Hohenberg's 1 / tau0 = 19.65 Pr / (Pr + 0.5117) = {19.65 * b.prandtl / (b.prandtl + 0.5117):.5f})")
         print("resolution (the scene's cell):")
         for nn, ra, kc in convergence(cell):
             print(f"  N = {nn}: Ra_c = {ra:.8f}, k_c H = {kc:.6f}")

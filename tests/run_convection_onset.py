@@ -115,22 +115,33 @@ def roll_amplitudes(out, k, y, fields):
 
 def exponential_fit(t, A, t_sat, t_start=0.0):
     """(rate, t_from, t_to, note) of the line through ln A over the exponential phase:
-    after t_start, from where A first exceeds 3 x its minimum to where it reaches 0.2 x its
-    saturated value. A seed within 10 x of saturation leaves no such phase: then from the minimum to
-    0.5 x saturation ("short"). No growth (saturation below 3 x the minimum): the slope of
-    ln A from its peak to the end ("none": how fast what the seed and the start's
-    transient put into the roll decays)."""
+    after t_start, from where A first exceeds 3 x its minimum there to where it reaches
+    0.2 x its saturated value ("exponential"). A seed that grows to within 10 x of
+    saturation before t_start leaves no such phase: then from the minimum after t = 0 to
+    0.5 x saturation ("short": the rate mixes the seed's transient in). No growth
+    (saturation below 3 x the minimum): the slope of ln A from its peak to the end ("none":
+    how fast what the seed and the start's transient put into the roll decays)."""
     sat = np.mean(A[t >= t_sat]) if np.any(t >= t_sat) else A[-1]
-    pos = (t > 0) & (t >= min(t_start, t[-1]))
+    pos = t > 0
     t, A = t[pos], A[pos]
-    i_min = int(np.argmin(A[: int(np.argmax(A)) + 1]))
-    first = lambda cond: next((i for i in range(i_min, len(A)) if cond(A[i])), len(A) - 1)
-    if sat < 3 * A[i_min]:
+
+    def first(i_from, cond):
+        return next((i for i in range(i_from, len(A)) if cond(A[i])), len(A) - 1)
+
+    def lowest(i_from):
+        """The minimum from i_from up to the peak after it."""
+        return i_from + int(np.argmin(A[i_from: i_from + int(np.argmax(A[i_from:])) + 1]))
+
+    i_all = lowest(0)
+    i_late = next((i for i in range(len(t)) if t[i] >= t_start), len(t) - 1)
+    i_min = lowest(i_late)
+    i0, i1 = first(i_min, lambda x: x > 3 * A[i_min]), first(i_min, lambda x: x >= 0.2 * sat)
+    if sat < 3 * A[i_all]:
         i0, i1, note = int(np.argmax(A)), len(A) - 1, "none"
+    elif sat > 10 * A[i_min] and i1 - i0 >= 2:
+        note = "exponential"
     else:
-        i0, i1, note = first(lambda x: x > 3 * A[i_min]), first(lambda x: x >= 0.2 * sat), "exponential"
-        if i1 - i0 < 2:
-            i0, i1, note = i_min, first(lambda x: x >= 0.5 * sat), "short"
+        i0, i1, note = i_all, first(i_all, lambda x: x >= 0.5 * sat), "short"
     if i1 - i0 < 1:
         return float("nan"), float(t[i0]), float(t[i1]), note + " (too few snapshots)"
     p = np.polyfit(t[i0:i1 + 1], np.log(A[i0:i1 + 1]), 1)
