@@ -8,8 +8,8 @@ T_b = 1.25, T_t = 0.75) at Ra = f Ra_c for each f of --ra and each seed amplitud
     the linear theory's fastest mode of the cell at every Ra here). Its amplitude in each
     CSV snapshot is the mass-weighted projection of T - T0(y) on T'(y) exp(i k x), T' the
     linear eigenfunction's temperature (real: the onset is stationary), scaled to the
-    roll's peak vertical velocity; the temperature weighs the roll about 10 x more than
-    the sound that fills the cell (the projection of v_y, also printed, is noisier).
+    roll's peak vertical velocity: its noise floor from the sound that fills the cell is
+    about 10 x below that of the projection of v_y (also printed).
     ln(amplitude) is fitted by a line over its exponential phase: after the seed's other
     modes have decayed relative to the roll (2 / (s + chi q^2), q^2 = k^2 + (pi/H)^2, the
     slowest thermal decay: 230 at 1.2 Ra_c, where 1/s = 1020), from where it first exceeds
@@ -104,9 +104,10 @@ def roll_amplitudes(out, k, y, fields):
     """(t, A_T, A_v) in every CSV snapshot: the roll's amplitude (its peak vertical velocity,
     the eigenfunction's scale) from the projection of T - T0(y) on T'(y) exp(i k x), and from
     that of v_y on v(y) exp(i k x), both mass-weighted. The temperature carries the roll
-    about 10 x more than the sound waves that fill the cell (a roll's T' ~ beta v /
-    (chi (k^2 + pi^2 / H^2)) ~ 6 v here, a sound wave's (gamma - 1) T v / c_s ~ 0.7 v), so
-    A_T is the measure fitted; A_v is noisier (the cell's sound at the same k)."""
+    more than the sound waves that fill the cell (the eigenfunction's T' peaks at 2.4 x
+    its v at 3 Ra_c, a sound wave's T' is (gamma - 1) T v / c_s ~ 0.7 v), and the runs
+    show it: A_T's noise floor is about 1e-4, A_v's 1e-3 (the cell's sound at the same k).
+    A_T is the measure fitted."""
     wT, wv = fields["T"].real, fields["v"].real
     beta = (cell.t_bottom - cell.t_top) / cell.H
     ts, aT, av = [], [], []
