@@ -87,5 +87,5 @@ def compare(parts, L, U, h, re, fine=128):
     g = ghia1982.extrema(re)
     ext = {"u_min": min(uf), "v_max": max(vf), "v_min": min(vf)}
     rel = {k: (ext[k] - g[k]) / abs(g[k]) for k in ext}
-    return dict(u=u, v=v, line=line, u_line=uf, v_line=vf, linf_u=linf_u, linf_v=linf_v,
+    return dict(u=u, v=v, line=line, ghia_u_top=ghia1982.U[re][-2], u_line=uf, v_line=vf, linf_u=linf_u, linf_v=linf_v,
                 extrema=ext, ghia_extrema=g, rel=rel)
