@@ -7,7 +7,7 @@
  * (nu = eta / rho, rho = m on the unit lattice), and the Mach number U / c of the lid,
  * which sets how far the gas is from that problem (density changes of order Ma^2): the
  * scene gives the model the eta and e0 that make them. Ghia's centreline profiles are
- * steady; the vortex spins up in a few L/U at Re = 100 (tests/run_cavity.py). */
+ * those of the steady flow; docs/scenes/cavity.md compares a run with them. */
 #include <spam/scene.h>
 #include <spam/errors.h>
 
@@ -113,8 +113,8 @@ static PetscErrorCode Report(const SpamCommonParams *c, const SpamCavityParams *
   PetscCall(PetscPrintf(PETSC_COMM_WORLD, "%s", line));
   PetscCall(PetscStrncpy(out->info.name, "cavity", sizeof out->info.name));
   out->info.sound_traversal_time = L / cs;
-  /* Ghia's Re = 100 profiles are reached to about 1 % by t = 10 L/U (tests/run_cavity.py
-   * measures the change of kinetic energy over the last L/U). */
+  /* Ten lid transits: the primary vortex turns over several times. Whether the run is
+   * steady shows in its kinetic energy (tests/run_cavity.py: its change over the last L/U). */
   out->info.t_end_default = 10.0 * L / fabs(U);
   /* Measured (docs/scenes/couette.md): this gas's square lattice is unstable under Lucy at h = 3. */
   if (c->kernel.kind == SPAM_KERNEL_LUCY) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "cavity: note: the gas's square lattice is unstable under the Lucy kernel (it rearranges by t ~ 100 at h = 3); -kernel wendland_c2 keeps it\n"));
