@@ -99,6 +99,7 @@ CONTEXTS = {
     "CONV": [("-scene", "convection"), ("-convection_nx", "6"), ("-convection_ny", "4"), ("-h", "1.5")] + TINY,
     "CO": [("-scene", "couette"), ("-couette_n", "4"), ("-h", "1.5")] + TINY,
     "PO": [("-scene", "poiseuille"), ("-poiseuille_n", "4"), ("-h", "1.5")] + TINY,
+    "CAV": [("-scene", "cavity"), ("-cavity_n", "4"), ("-h", "1.5")] + TINY,
     # snapshots on (at t = 0 and 0.5): the grid fields are written at the snapshot times
     "EG": [("-expansion_n", "4"), ("-h", "1.5")] + TINY[:2] + [("-snapshot_interval", "0.5"), ("-output_interval", "0.25")],
     "SOD": [("-scene", "sod"), ("-dim", "1"), ("-sod_n", "10")] + TINY,
@@ -300,6 +301,9 @@ OPTION_TABLE = {
     "-couette_speed": ("CO", real(m1=O0, zero=O0, tiny=O0)),
     "-poiseuille_n": ("PO", {}), "-poiseuille_nx": ("PO", {"0": O0}), "-poiseuille_start": ("PO", {}),
     "-poiseuille_speed": ("PO", real(m1=O0, zero=O0, tiny=O0)),
+    # the lid-driven cavity: n >= max(2, h); U from 1e-6 to 1e6, Re from 1e-6 to 1e6, Mach in
+    # [1e-3, 1): every hostile value out
+    "-cavity_n": ("CAV", {}), "-cavity_lid_velocity": ("CAV", {}), "-cavity_re": ("CAV", {}), "-cavity_mach": ("CAV", {}),
     # issue 16 point 4: rms or max, names only (every hostile value refused)
     "-error_norm": ("E", {}),
     # issue 17 points 1-2: checkpoints (1e300: none before the end; 1e-300: too many) and

@@ -161,6 +161,14 @@ typedef struct {
   PetscBool steady_start; /* start on the exact steady profile instead of at rest        */
 } SpamShearParams;
 
+/* The lid-driven cavity: the unit square lattice of n x n points between no-slip walls,
+ * the top one (the lid) sliding at U along x; Re and Mach set the gas's eta and e0. */
+typedef struct {
+  PetscInt n;         /* lattice points per side: L = n                               */
+  double   speed;     /* U of the lid                                                 */
+  double   re, mach;  /* Reynolds number U L / nu and Mach number U / c              */
+} SpamCavityParams;
+
 /* Every scene's parameters (a new scene adds its struct here). */
 typedef union {
   SpamExpansionParams expansion;
@@ -177,6 +185,7 @@ typedef union {
   SpamTaylorGreenParams taylor_green;
   SpamHeatModeParams    heat_mode;
   SpamShearParams     couette, poiseuille;
+  SpamCavityParams    cavity;
 } SpamSceneParams;
 
 /* A scene, registered by name (scene_list.c): it reads its own options into p and the
@@ -210,6 +219,7 @@ PetscErrorCode SpamSceneTaylorGreen(SpamSceneOps *ops);
 PetscErrorCode SpamSceneHeatMode(SpamSceneOps *ops);
 PetscErrorCode SpamSceneCouette(SpamSceneOps *ops);
 PetscErrorCode SpamScenePoiseuille(SpamSceneOps *ops);
+PetscErrorCode SpamSceneCavity(SpamSceneOps *ops);
 
 /* The shear channels' common part (shear_channel.c): the gas model's defaults (shear
  * viscosity 1, summed density of the unit lattice), the options -NAME_speed (speed_help

@@ -15,7 +15,7 @@
 /* What an option of spam-ark applies to. */
 typedef enum {
   G_ALL, G_DT, G_ADAPTIVE, G_ARKODE, G_ARKODE_ADAPT, G_CVODE, G_TS, G_TS_ADAPT, G_RK, G_SSP, G_SYMP,
-  G_FILE, G_PERIODIC, G_ISENTROPE, G_EXPANSION, G_CHAIN, G_SPRING, G_ROTOR_MD, G_PLANEWAVE, G_ROTOR, G_ROTOR_PAIR, G_TENSILE, G_CONVECTION, G_SOD, G_SEDOV, G_GRESHO, G_TAYLOR_GREEN, G_HEAT_MODE, G_COUETTE, G_POISEUILLE,
+  G_FILE, G_PERIODIC, G_ISENTROPE, G_EXPANSION, G_CHAIN, G_SPRING, G_ROTOR_MD, G_PLANEWAVE, G_ROTOR, G_ROTOR_PAIR, G_TENSILE, G_CONVECTION, G_SOD, G_SEDOV, G_GRESHO, G_TAYLOR_GREEN, G_HEAT_MODE, G_COUETTE, G_POISEUILLE, G_CAVITY,
   G_SUNDIALS, G_MODEL, G_WALL, G_SOLID, G_SOLID_GAS, G_SOLID_GAMMA, G_SOLID_ELASTIC, G_SOLID_VISC, G_SOLID_R2, G_SOLID_TORQUE, G_SOLID_CONT, G_SOLID_FLOW, G_ENTROPY, G_RANKS
 } Group;
 
@@ -85,6 +85,9 @@ static const Known KnownOptions[] = {
   {"couette_n", PETSC_TRUE, G_COUETTE}, {"couette_nx", PETSC_TRUE, G_COUETTE}, {"couette_speed", PETSC_TRUE, G_COUETTE},
   {"couette_start", PETSC_TRUE, G_COUETTE}, {"poiseuille_n", PETSC_TRUE, G_POISEUILLE}, {"poiseuille_nx", PETSC_TRUE, G_POISEUILLE},
   {"poiseuille_speed", PETSC_TRUE, G_POISEUILLE}, {"poiseuille_start", PETSC_TRUE, G_POISEUILLE},
+  /* The lid-driven cavity (scenes/scene_cavity.c). */
+  {"cavity_n", PETSC_TRUE, G_CAVITY}, {"cavity_lid_velocity", PETSC_TRUE, G_CAVITY}, {"cavity_re", PETSC_TRUE, G_CAVITY},
+  {"cavity_mach", PETSC_TRUE, G_CAVITY},
   /* Issue 16 point 4: the norm of the weighted error (error_norm.c); a fixed step has none. */
   {"error_norm", PETSC_TRUE, G_ADAPTIVE},
   /* Issue 16 point 1/6: outputs from the interpolant unless -output_stop (time_loop.c,
@@ -159,7 +162,7 @@ static PetscErrorCode GivenFree(Given *g)
  * longer number as whatever its low bits say: check the text itself first. */
 static const char *const IntegerOptions[] = {"dim", "threads", "ts_max_steps", "ts_max_reject", "ts_ssp_nstages", "cvode_max_order", "snapshot_max", "expansion_n",
                                              "expansion_seed", "chain_n", "planewave_nx", "planewave_ny", "rotor_n", "tensile_nx", "tensile_ny", "sod_n", "sod_width", "sedov_n",
-                                             "gresho_n", "taylorgreen_n", "heatmode_n", "heatmode_ny", "couette_n", "couette_nx", "poiseuille_n", "poiseuille_nx",
+                                             "gresho_n", "taylorgreen_n", "heatmode_n", "heatmode_ny", "couette_n", "couette_nx", "poiseuille_n", "poiseuille_nx", "cavity_n",
                                              "convection_nx", "convection_ny", "convection_seed"};
 
 static PetscErrorCode CheckIntegerRange(const char *name, const char *value)
@@ -280,6 +283,7 @@ static const struct {
   {G_HEAT_MODE, {"heat-mode"}, "heat-mode", ""},
   {G_COUETTE, {"couette"}, "couette", ""},
   {G_POISEUILLE, {"poiseuille"}, "poiseuille", ""},
+  {G_CAVITY, {"cavity"}, "cavity", ""},
 };
 
 /* The groups of the method and the outputs: whether g applies to run r (*known: g is one

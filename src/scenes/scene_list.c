@@ -20,5 +20,6 @@ PetscErrorCode SpamSceneRegisterAll(PetscFunctionList *list)
   PetscCall(PetscFunctionListAdd(list, "heat-mode", SpamSceneHeatMode));
   PetscCall(PetscFunctionListAdd(list, "couette", SpamSceneCouette));
   PetscCall(PetscFunctionListAdd(list, "poiseuille", SpamScenePoiseuille));
+  PetscCall(PetscFunctionListAdd(list, "cavity", SpamSceneCavity));
   PetscFunctionReturn(0);
 }
