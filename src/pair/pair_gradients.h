@@ -3,7 +3,9 @@
  *   velocity (CiSE Eq. 18, PRE sign fixed):
  *     (grad v)_i^{ab} = dv^b/dx^a = sum_j m_j (v_j - v_i)^b (grad_i w_ij)^a / rho_ij,
  *   temperature (CiSE Eq. 19):  (grad T)_i = sum_j m_j (T_j - T_i) grad_i w_ij / rho_ij,
- * with grad_i w_ij = g dx and rho_ij the arithmetic or geometric pair mean. */
+ * with grad_i w_ij = g dx and rho_ij the arithmetic or geometric pair mean. The velocity
+ * gradient takes a factor per side (c_i = g / rho_i, c_j = g / rho_j for the form over each
+ * particle's own density). */
 #ifndef SPAM_PAIR_GRADIENTS_H
 #define SPAM_PAIR_GRADIENTS_H
 #include <spam/fields.h>
@@ -14,15 +16,15 @@ static inline __attribute__((always_inline)) double SpamPairMeanDensity(int geom
   return geometric ? sqrt(ri * rj) : 0.5 * (ri + rj);
 }
 
-static inline __attribute__((always_inline)) void SpamPairVelocityGradient(const int dim, SpamFields *f, int i, int j, const double dx[3], double c)
+static inline __attribute__((always_inline)) void SpamPairVelocityGradient(const int dim, SpamFields *f, int i, int j, const double dx[3], double ci, double cj)
 {
   const double *vi = f->v + (size_t)i * dim, *vj = f->v + (size_t)j * dim;
   double       *gi = f->gradv + (size_t)i * dim * dim, *gj = f->gradv + (size_t)j * dim * dim;
   for (int a = 0; a < dim; a++)
     for (int b = 0; b < dim; b++) {
-      const double t = c * (vj[b] - vi[b]) * dx[a];
-      gi[a * dim + b] += f->m[j] * t;
-      gj[a * dim + b] += f->m[i] * t;
+      const double ti = ci * (vj[b] - vi[b]) * dx[a], tj = cj * (vj[b] - vi[b]) * dx[a]; /* ci == cj: the one-factor sums, bit for bit */
+      gi[a * dim + b] += f->m[j] * ti;
+      gj[a * dim + b] += f->m[i] * tj;
     }
 }
 
