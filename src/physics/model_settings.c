@@ -14,8 +14,14 @@ static void Str(SpamSetting *s, int *n, const char *key, const char *v)
 /* The tensor path's choices (gas or elastic). */
 static void TensorSettings(const SpamSolidParams *p, SpamSetting *s, int *n)
 {
-  if (p->material == SPAM_MATERIAL_GAS) Num(s, n, "gas_gamma", p->gamma);
-  else {
+  if (p->material == SPAM_MATERIAL_GAS) {
+    Num(s, n, "gas_gamma", p->gamma);
+    Str(s, n, "gas_scheme", SpamGasSchemeNames[p->scheme]);
+    if (p->scheme == SPAM_GAS_FLOW) {
+      Str(s, n, "background_pressure", SpamBackgroundModeNames[p->background]);
+      Num(s, n, "shift_coefficient", p->shift_coef);
+    }
+  } else {
     Num(s, n, "solid_lambda", p->lambda);
     Num(s, n, "solid_eta", p->eta);
   }

@@ -1,0 +1,55 @@
+#!/usr/bin/env python3
+"""What the gas flow scheme costs per right-hand-side evaluation, against the plain scheme
+in the same run.
+
+The Taylor-Green vortex at Re = 100, Mach 0.1 (options/taylor-green-re100.opts) and the
+convection cell (options/convection.opts: walls and gravity) at each size, for a fixed
+number of steps, alternately with `-gas_scheme plain` and with the default flow scheme
+(background pressure, transport shift and their corrections: one more pair sum and a
+moment in the gradient walk, two reductions over the ranks), `--repeats` times; the best
+time of each is kept. Printed per case: ms per RHS (rhs_time_s / rhs_evals from
+summary.json) of each scheme and the ratio flow / plain.
+
+This is a measurement, not a test. Usage (spam-ark built in build/):
+    /usr/bin/python3 bench/run_gas_flow.py [--steps 40] [--repeats 3]
+"""
+import argparse
+import json
+import subprocess
+import tempfile
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+CASES = {
+    "taylor-green 96^2": ["-options_file", "options/taylor-green-re100.opts"],
+    "taylor-green 192^2": ["-options_file", "options/taylor-green-re100.opts", "-taylorgreen_n", "192"],
+    "convection 64x32": ["-options_file", "options/convection.opts", "-convection_nx", "64", "-convection_ny", "32"],
+}
+
+
+def ms_per_rhs(exe, case, scheme, steps, out):
+    args = [str(exe), *CASES[case], "-gas_scheme", scheme, "-ts_max_steps", str(steps), "-snapshot_interval", "0",
+            "-output_dir", str(out), "-output_overwrite"]
+    subprocess.run(args, check=True, capture_output=True, cwd=str(ROOT))
+    s = json.loads((out / "summary.json").read_text())
+    return 1e3 * s["rhs_time_s"] / s["rhs_evals"]
+
+
+def main():
+    ap = argparse.ArgumentParser()
+    ap.add_argument("--exe", default=str(ROOT / "build/spam-ark"))
+    ap.add_argument("--steps", type=int, default=40)
+    ap.add_argument("--repeats", type=int, default=3)
+    a = ap.parse_args()
+    print(f"{'case':<22} {'plain ms/RHS':>13} {'flow ms/RHS':>12} {'flow/plain':>11}")
+    with tempfile.TemporaryDirectory() as tmp:
+        for case in CASES:
+            best = {"plain": float("inf"), "flow": float("inf")}
+            for _ in range(a.repeats):
+                for scheme in best:
+                    best[scheme] = min(best[scheme], ms_per_rhs(a.exe, case, scheme, a.steps, Path(tmp) / scheme))
+            print(f"{case:<22} {best['plain']:>13.3f} {best['flow']:>12.3f} {best['flow'] / best['plain']:>11.3f}")
+
+
+if __name__ == "__main__":
+    main()
