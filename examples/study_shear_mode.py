@@ -65,6 +65,7 @@ import re
 import shutil
 import subprocess
 import sys
+import textwrap
 import time
 
 try:
@@ -90,6 +91,8 @@ KERNELS = ["lucy", "cubic_spline", "quintic_spline", "wendland_c2", "wendland_c4
 DEFAULT_RATIOS = [1e-2, 1e-1, 1.0, 10.0, 31.6227766, 1e2, 316.227766, 1e3]
 QUICK = dict(kernels=["wendland_c4"], ratios=[1e-2, 1.0, 1e2], lattices=["ordered"])
 GROW, DISORDER = 1.05, 0.2
+# Decay ratios at or below zero (a growing mode) are drawn at this floor of the log axis.
+FLOOR = 0.03
 JITTER, SEED = 0.1, 1
 
 
@@ -287,7 +290,14 @@ def glass(a, kernel):
 # --- one case
 
 def case_name(lat, kernel, variant, X):
-    return f"{lat}_{kernel}_{re.sub(r'[^A-Za-z0-9_.-]', '_', variant)}_X{X:.4g}"
+    return f"{lat}_{kernel}_{re.sub(r'[^A-Za-z0-9_.-]', '_', variant)}_X{X:.4g}" + ("" if U == 0.01 else f"_U{U:g}")
+
+
+def run_key(args, out, binary, x, y):
+    """What makes a stored run reusable: its options (the study's directory left out, so a
+    moved study is still reused), the spam-ark build and the start's positions."""
+    start = hashlib.sha1(np.ascontiguousarray(x).tobytes() + np.ascontiguousarray(y).tobytes()).hexdigest() + repr(U)
+    return hashlib.sha1((args.replace(out, "OUT") + spam_manifest.binary_id(binary) + start).encode()).hexdigest()
 
 
 def run_case(a, lat, kernel, variant, opts, X):
@@ -313,7 +323,7 @@ def run_case(a, lat, kernel, variant, opts, X):
                                 "-conductivity", repr(KAPPA_PER_ETA * eta), "-ts_max_time", repr(t_end),
                                 "-output_interval", repr(dt_snap), "-snapshot_interval", repr(dt_snap),
                                 "-snapshot_hdf5", 0, "-snapshot_csv", 1, "-snapshot_max", nsnap + 5] + opts
-    key = hashlib.sha1((" ".join(map(str, args)) + spam_manifest.binary_id(a.spam_ark) + lat).encode()).hexdigest()
+    key = run_key(" ".join(map(str, args)), a.out, a.spam_ark, x, y)
     mode_path = os.path.join(d, "mode.json")
     rec = None
     if os.path.exists(mode_path):
@@ -378,8 +388,11 @@ def variant_style(i):
     return VARIANT_MARKERS[i % len(VARIANT_MARKERS)], VARIANT_LINES[i % len(VARIANT_LINES)]
 
 
-def chart(rows, path, readings, lattices, variants, kernels):
-    fig, axes = plt.subplots(2, len(lattices), figsize=(6.2 * len(lattices) + 1.2, 9.6), squeeze=False)
+def chart(rows, path, readings, lattices, variants, kernels, efolds):
+    width = max(11.0, 6.5 * len(lattices))
+    text = [piece for line in readings for piece in textwrap.wrap(line, int(width * 15), subsequent_indent="    ")]
+    height = 9.6 + 0.16 * len(text)
+    fig, axes = plt.subplots(2, len(lattices), figsize=(width, height), squeeze=False)
     for col, lat in enumerate(lattices):
         axd, axw = axes[0, col], axes[1, col]
         for ax in (axd, axw):
@@ -401,7 +414,7 @@ def chart(rows, path, readings, lattices, variants, kernels):
                 for ax, key in ((axd, "decay_ratio"), (axw, "ringing_ratio")):
                     Y = np.array([r[key] for r in rs], float)
                     if key == "decay_ratio":
-                        Y = np.clip(np.where(np.isfinite(Y) & (Y > 0), Y, 1e-3), 1e-3, 1e3)
+                        Y = np.clip(np.where(np.isfinite(Y) & (Y > 0), Y, FLOOR), FLOOR, 1e3)
                     ax.plot(X, Y, ls, color=colour, lw=1.2)
                     good = [i for i, r in enumerate(rs) if not r["flag"]]
                     bad = [i for i, r in enumerate(rs) if r["flag"]]
@@ -409,8 +422,12 @@ def chart(rows, path, readings, lattices, variants, kernels):
                     ax.plot([X[i] for i in bad], Y[bad], marker, color=colour, mfc="none", ms=6, linestyle="none")
                     ax.plot([X[i] for i in bad], Y[bad], **UNSTABLE)
                     if lat == "ordered" and vi == 0:
+                        # Where the theory's mode grows (a negative stiffness: the square
+                        # lattice itself is unstable) its rate is drawn at the axis floor.
                         th = np.array([r["theory_" + key] for r in rs], float)
-                        ax.plot(X, th, ":", color=colour, lw=0.8, alpha=0.8)
+                        if key == "decay_ratio":
+                            th = np.clip(np.where(th > 0, th, FLOOR), FLOOR, 1e3)
+                        ax.plot(X, th, ":", color=colour, lw=0.9, alpha=0.9)
         axd.set_title(f"{lat} start: decay rate of the shear mode", fontsize=10)
         axw.set_title(f"{lat} start: ringing frequency of the shear mode", fontsize=10)
         axd.set_ylabel("decay rate s / (nu k^2)  (1 = Navier-Stokes)")
@@ -420,14 +437,17 @@ def chart(rows, path, readings, lattices, variants, kernels):
     handles = [Line2D([], [], color=style(k)["color"], lw=2, label=k) for k in kernels]
     handles += [Line2D([], [], color="grey", marker=variant_style(i)[0], linestyle=variant_style(i)[1],
                        label=f"variant {v}") for i, v in enumerate(variants)]
-    handles += [Line2D([], [], **UNSTABLE, label="flagged: failed, grew or disordered"),
+    handles += [Line2D([], [], **UNSTABLE, label="flagged: failed, grew or disordered (kernel marker hollow)"),
                 Line2D([], [], color="grey", linestyle=":", lw=0.8, label="linear theory, perfect lattice"),
                 matplotlib.patches.Patch(color="green", alpha=0.15, label="goal: within 5 % of nu k^2")]
-    fig.legend(handles=handles, loc="upper center", ncol=min(len(handles), 6), fontsize=8, bbox_to_anchor=(0.5, 0.955))
-    fig.suptitle("Shear mode vx = U sin(ky) of the viscous SPAM gas: 32 x 32 lattice, periodic box 32, h = 3, "
-                 "gamma = 2, e = 1, U = 0.01 (Mach 0.007), one e-folding 1/(nu k^2)", fontsize=10)
-    fig.text(0.01, 0.005, "\n".join(readings), fontsize=8, family="monospace", va="bottom")
-    fig.tight_layout(rect=(0, 0.03 + 0.018 * len(readings), 1, 0.91))
+    top = 1 - 1.05 / height
+    fig.legend(handles=handles, loc="lower center", ncol=4, fontsize=8, bbox_to_anchor=(0.5, top))
+    fig.suptitle("Shear mode vx = U sin(k y) of the viscous SPAM gas (file scene): 32 x 32 particles, periodic box 32,\n"
+                 f"h = 3, gamma = 2, e = 1, U = {U:g} (Mach {U / C:.2g}), k = 2 pi/32; each run {efolds:g} "
+                 "e-folding(s) 1/(nu k^2) of the exact decay",
+                 fontsize=10, y=1 - 0.08 / height)
+    fig.text(0.01, 0.08 / height, "\n".join(text), fontsize=7.5, family="monospace", va="bottom")
+    fig.tight_layout(rect=(0, (0.3 + 0.16 * len(text)) / height, 1, top))
     fig.savefig(path, dpi=100)
     plt.close(fig)
 
@@ -513,7 +533,11 @@ def main():
     p.add_argument("--max-snapshots", type=int, default=300)
     p.add_argument("--relax-cycles", type=int, default=6, help="viscous relaxation runs of the disordered start")
     p.add_argument("--keep-snapshots", action="store_true")
+    p.add_argument("--amplitude", type=float, default=U, help="U (default 0.01): the rows' slide, about "
+                   "0.06 (U / 0.01) (c h / nu) spacings over an e-folding, is linear only well under 1/(2 pi)")
     a = p.parse_args()
+    global U
+    U = a.amplitude
     a.out = os.path.abspath(a.out)
     a.spam_ark = os.path.abspath(a.spam_ark)
     kernels = a.kernel or (QUICK["kernels"] if a.quick else KERNELS)
@@ -547,7 +571,7 @@ def main():
     readings = readings_of(rows, vnames, lattices)
     readings.append(f"runs: {len(rows)}, spam-ark wall time {sum(r['wall_s'] for r in rows):.0f} s in all")
     chart_path = a.chart or os.path.join(a.out, "shear_mode.png")
-    chart(rows, chart_path, readings, lattices, vnames, kernels)
+    chart(rows, chart_path, readings, lattices, vnames, kernels, a.efolds)
     md = markdown(rows, vnames, lattices, kernels, ratios, readings, made_line(sys.argv[1:]))
     with open(os.path.join(a.out, "shear_mode.md"), "w") as f:
         f.write(md)
