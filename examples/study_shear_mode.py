@@ -239,7 +239,8 @@ def write_particles(path, x, y, vx, vy=None, e=None):
 def read_particles(path):
     with open(path) as f:
         rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
-    rows.sort(key=lambda r: int(float(r["id"])))
+    if rows and "id" in rows[0]:
+        rows.sort(key=lambda r: int(float(r["id"])))
     return np.array([float(r["x"]) for r in rows]), np.array([float(r["y"]) for r in rows])
 
 
@@ -362,6 +363,8 @@ def run_case(a, lat, kernel, variant, opts, X):
     At = theory_amplitude(ath, w2, tt)
     s_th, _ = envelope_rate(tt, At)
     w_th, _ = ringing(tt, At)
+    if lat != "ordered":  # the linear theory is that of the perfect lattice
+        s_th = w_th = float("nan")
     failed = rec["exit_code"] != 0 or len(t) < 2
     grew = bool(len(A) and (np.max(np.abs(A)) > GROW * U or not (s > 0)))
     disordered = bool(len(rec["dy"]) and max(rec["dy"]) > DISORDER)
@@ -428,6 +431,13 @@ def chart(rows, path, readings, lattices, variants, kernels, efolds):
                         if key == "decay_ratio":
                             th = np.clip(np.where(th > 0, th, FLOOR), FLOOR, 1e3)
                         ax.plot(X, th, ":", color=colour, lw=0.9, alpha=0.9)
+        finite = [r["decay_ratio"] for r in rows if math.isfinite(r["decay_ratio"])]
+        axd.set_ylim(FLOOR * 0.7, max([10.0] + [min(v, 1e3) * 1.4 for v in finite]))
+        axd.axhline(FLOOR, color="grey", lw=0.6, ls="--")
+        axd.text(0.012, FLOOR * 1.08, "s <= 0 (the mode grew) drawn here", fontsize=7, color="grey")
+        wmax = max([1.0] + [r["ringing_ratio"] for r in rows if math.isfinite(r["ringing_ratio"])]
+                   + [r["theory_ringing_ratio"] for r in rows if math.isfinite(r["theory_ringing_ratio"])])
+        axw.set_ylim(-0.05, wmax * 2)
         axd.set_title(f"{lat} start: decay rate of the shear mode", fontsize=10)
         axw.set_title(f"{lat} start: ringing frequency of the shear mode", fontsize=10)
         axd.set_ylabel("decay rate s / (nu k^2)  (1 = Navier-Stokes)")
@@ -440,14 +450,14 @@ def chart(rows, path, readings, lattices, variants, kernels, efolds):
     handles += [Line2D([], [], **UNSTABLE, label="flagged: failed, grew or disordered (kernel marker hollow)"),
                 Line2D([], [], color="grey", linestyle=":", lw=0.8, label="linear theory, perfect lattice"),
                 matplotlib.patches.Patch(color="green", alpha=0.15, label="goal: within 5 % of nu k^2")]
-    top = 1 - 1.05 / height
-    fig.legend(handles=handles, loc="lower center", ncol=4, fontsize=8, bbox_to_anchor=(0.5, top))
+    fig.legend(handles=handles, loc="upper center", ncol=4, fontsize=8, bbox_to_anchor=(0.5, 1 - 0.5 / height))
     fig.suptitle("Shear mode vx = U sin(k y) of the viscous SPAM gas (file scene): 32 x 32 particles, periodic box 32,\n"
                  f"h = 3, gamma = 2, e = 1, U = {U:g} (Mach {U / C:.2g}), k = 2 pi/32; each run {efolds:g} "
                  "e-folding(s) 1/(nu k^2) of the exact decay",
-                 fontsize=10, y=1 - 0.08 / height)
+                 fontsize=10, y=1 - 0.06 / height, va="top")
     fig.text(0.01, 0.08 / height, "\n".join(text), fontsize=7.5, family="monospace", va="bottom")
-    fig.tight_layout(rect=(0, (0.3 + 0.16 * len(text)) / height, 1, top))
+    fig.subplots_adjust(top=1 - 1.55 / height, bottom=(0.85 + 0.16 * len(text)) / height, left=0.07, right=0.98,
+                        hspace=0.32, wspace=0.2)
     fig.savefig(path, dpi=100)
     plt.close(fig)
 
@@ -480,6 +490,22 @@ def readings_of(rows, variants, lattices):
 def markdown(rows, variants, lattices, kernels, ratios, readings, made):
     mark = {"failed": "F", "grew": "G", "disordered": "D"}
     lines = [made, ""]
+    pick = [X for X in (1e-2, 1.0, 1e2, 1e3) if any(abs(X / r - 1) < 1e-9 for r in ratios)]
+    if pick:
+        lines += ["**Summary: s / (nu k^2) and, in brackets, w / (nu k^2)** (flags: F failed, G grew, D disordered)", "",
+                  "| start | kernel | variant | " + " | ".join(f"c h/nu = {fmt(X)}" for X in pick) + " |",
+                  "|---|---|---|" + "---|" * len(pick)]
+        for lat in lattices:
+            for kernel in kernels:
+                for v in variants:
+                    cells = []
+                    for X in pick:
+                        r = next((r for r in rows if r["lattice"] == lat and r["kernel"] == kernel and r["variant"] == v
+                                  and abs(r["ch_over_nu"] / X - 1) < 1e-9), None)
+                        f = "".join(mark[x] for x in r["flag"].split(",") if x) if r else ""
+                        cells.append(f"{fmt(r['decay_ratio'])} ({fmt(r['ringing_ratio'])}){' ' + f if f else ''}" if r else "")
+                    lines.append(f"| {lat} | {kernel} | {v} | " + " | ".join(cells) + " |")
+        lines.append("")
     for key, title in (("decay_ratio", "Decay rate s / (nu k^2)"), ("ringing_ratio", "Ringing frequency w / (nu k^2)")):
         for lat in lattices:
             lines += [f"**{title}, {lat} start** (flags: F failed, G grew, D disordered; "
@@ -518,6 +544,7 @@ def made_line(argv):
 
 
 def main():
+    global U
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--spam-ark", default=os.path.join(REPO, "build", "spam-ark"))
     p.add_argument("--out", default=os.path.join(REPO, "build", "shear_mode"))
@@ -536,7 +563,6 @@ def main():
     p.add_argument("--amplitude", type=float, default=U, help="U (default 0.01): the rows' slide, about "
                    "0.06 (U / 0.01) (c h / nu) spacings over an e-folding, is linear only well under 1/(2 pi)")
     a = p.parse_args()
-    global U
     U = a.amplitude
     a.out = os.path.abspath(a.out)
     a.spam_ark = os.path.abspath(a.spam_ark)
