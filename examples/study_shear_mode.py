@@ -384,7 +384,7 @@ def run_case(a, lat, kernel, variant, opts, X):
 # --- chart and tables
 
 VARIANT_MARKERS = "osD^v<>ph*"
-VARIANT_LINES = ["-", "--", ":", "-."]
+VARIANT_LINES = ["-", "--", "-.", (0, (6, 2, 1, 2, 1, 2))]  # ":" is the linear theory
 
 
 def variant_style(i):
@@ -418,7 +418,7 @@ def chart(rows, path, readings, lattices, variants, kernels, efolds):
                     Y = np.array([r[key] for r in rs], float)
                     if key == "decay_ratio":
                         Y = np.clip(np.where(np.isfinite(Y) & (Y > 0), Y, FLOOR), FLOOR, 1e3)
-                    ax.plot(X, Y, ls, color=colour, lw=1.2)
+                    ax.plot(X, Y, linestyle=ls, color=colour, lw=1.2)
                     good = [i for i, r in enumerate(rs) if not r["flag"]]
                     bad = [i for i, r in enumerate(rs) if r["flag"]]
                     ax.plot([X[i] for i in good], Y[good], marker, color=colour, ms=6, linestyle="none")

@@ -22,7 +22,7 @@ under Wendland C4 has a negative shear stiffness (the linear theory's mode grows
 run's amplitude passes 1.05 U (flag "grew") and then rings. A scheme that fixes the shear
 mode is to tighten this: decay within 5 % of nu k^2 at every c h / nu.
 
-Measured run time: 8-10 s on an idle core, 32 s with the machine's 2 cores at load 5."""
+Measured run time: 6-9 s (machine load 2-5), 32 s beside a run of the full study."""
 import json
 import math
 import os
