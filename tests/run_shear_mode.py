@@ -24,8 +24,8 @@ mode is to tighten this: decay within 5 % of nu k^2 at every c h / nu.
 
 Measured run time: 6-9 s (machine load 2-5), 32 s beside a run of the full study."""
 import json
-import math
 import os
+import subprocess
 import sys
 
 import numpy as np
@@ -59,7 +59,6 @@ def main():
     out = os.path.join(a.workdir, "study")
     argv = [sys.executable, os.path.join(os.path.dirname(HERE), "examples", "study_shear_mode.py"), "--quick",
             "--spam-ark", a.spam_ark, "--out", out]
-    import subprocess
     p = subprocess.run(argv, capture_output=True, text=True, timeout=600)
     print(p.stdout)
     if not c.check(p.returncode == 0, f"the quick study completes (exit {p.returncode}) {p.stderr.strip()[-2000:]}"):
