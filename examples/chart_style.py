@@ -12,7 +12,7 @@ method: a hollow red X.
 import hashlib
 
 # Adaptive pairs, then the fixed-step methods (symplectic, then Runge-Kutta), then the
-# step controllers and the tensile variants. Colours are distinct within each chart's set.
+# step controllers, the tensile variants and the kernels. Colours are distinct within each chart's set.
 STYLES = {
     # adaptive (precision, drift)
     "BS3": ("#1f77b4", "o"),
@@ -40,6 +40,13 @@ STYLES = {
     "R0": ("#1f77b4", "o"),
     "R2": ("#ff7f0e", "s"),
     "R0 + viscosity": ("#2ca02c", "D"),
+    # kernels (examples/study_shear_mode.py: colour per kernel, marker per variant)
+    "lucy": ("#1f77b4", "o"),
+    "cubic_spline": ("#ff7f0e", "s"),
+    "quintic_spline": ("#2ca02c", "D"),
+    "wendland_c2": ("#d62728", "^"),
+    "wendland_c4": ("#9467bd", "v"),
+    "wendland_c6": ("#8c564b", "<"),
 }
 _FALLBACK_COLOURS = ["#1f77b4", "#ff7f0e", "#2ca02c", "#d62728", "#9467bd", "#8c564b", "#e377c2", "#7f7f7f",
                      "#bcbd22", "#17becf"]
