@@ -31,7 +31,8 @@
  * kernel, random positions, velocities, energies, densities and stresses (D(D+1)/2
  * components, upper triangle row by row), evaluated at E0, E1, E2 as above:
  *   rho_i summed, or the state's (continuity, chain rule);  T = (gamma - 1) e;
- *   G_i^{ab} = dv^b/dx^a = sum_j m_j (v_j - v_i)^b (grad_i w_ij)^a / rho_ij,
+ *   G_i^{ab} = dv^b/dx^a = sum_j m_j (v_j - v_i)^b (grad_i w_ij)^a / rho_ij (/ rho_i for an
+ *   elastic solid with summed density),
  *   grad T_i = sum_j m_j (T_j - T_i) grad_i w_ij / rho_ij,  rho_ij = mean or sqrt(rho_i rho_j);
  *   dr/dt: R0 v_i; R1 sum_j v_j w_ij / sum_j w_ij (j = i included);
  *          R2 v_i + eps sum_j m_j (v_j - v_i) w_ij / rho_ij;
@@ -446,9 +447,11 @@ static void TensorGradients(const Spoil *spoil, const SpamModel *m, const SpamBo
       if (j == i || r2 >= m->kernel.h2) continue;
       const double g   = SpamKernelDWOverR(&m->kernel, r2);
       const double rij = p->rho_geometric ? sqrt(w->rho[i] * w->rho[j]) : 0.5 * (w->rho[i] + w->rho[j]);
+      /* An elastic solid with summed density divides by its own density (rhs_tensor.c). */
+      const double rg = p->material == SPAM_MATERIAL_ELASTIC && p->density == SPAM_DENSITY_SUMMATION ? w->rho[i] : rij;
       for (int a = 0; a < D; a++)
         for (int bb = 0; bb < D; bb++) {
-          const double t = mass[j] * dv[bb] * g * dx[a] / rij;
+          const double t = mass[j] * dv[bb] * g * dx[a] / rg;
           G[a * D + bb] += t;
           Gs[a * D + bb] += fabs(t);
         }
