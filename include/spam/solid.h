@@ -47,8 +47,9 @@ typedef struct {
   SpamGasScheme      scheme;        /* gas: plain or flow (gas_flow.c)                 */
   SpamBackgroundMode background;    /* flow: pressure taken out of the momentum eq.   */
   double             shift_coef;    /* flow: transport shifting coefficient (0: off)  */
-  PetscBool          free_surface;  /* the scene's gas expands into vacuum: its default */
-                                    /* scheme is plain (no background pressure exists) */
+  PetscBool          plain_default; /* the scene's gas keeps the plain scheme unless  */
+                                    /* asked (gas_flow.h: expansion into vacuum, and  */
+                                    /* the convection cell, whose onset it moves)      */
 } SpamSolidParams;
 
 /* The flow scheme's default transport shifting coefficient (gas_flow.c). */

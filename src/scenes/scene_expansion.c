@@ -71,7 +71,7 @@ static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, Spa
   solid->density         = SPAM_DENSITY_SUMMATION;
   solid->density_initial = SPAM_DENSITY_INITIAL_SUMMED;
   solid->rho0            = c->mass;
-  solid->free_surface    = PETSC_TRUE;
+  solid->plain_default   = PETSC_TRUE; /* a gas expanding into vacuum has no background pressure */
   PetscCall(SpamExpansionOptions(c, &p->expansion));
   PetscFunctionReturn(0);
 }

@@ -45,17 +45,17 @@ static PetscErrorCode Positive(const char *opt, double v, PetscBool zero_ok)
  * fluid whose flow the plain equations get wrong where pressure dominates viscosity (the
  * pair force's error in the absolute pressure acts as a shear stiffness), so the flow
  * scheme is its default; an inviscid gas keeps the papers' plain equations, and so does a
- * gas expanding into vacuum (the expansion scene), whose pressure has no background. The laws'
+ * scene that asks for them (solid.h: plain_default). The laws'
  * options are read only with the flow scheme, so that the plain scheme refuses them. */
 static PetscErrorCode GasSchemeOptions(PetscOptionItems *PetscOptionsObject, PetscBool help, const char *mat, SpamSolidParams *p, char *scheme, size_t ls, char *bg, size_t lb)
 {
-  const PetscBool fluid = (PetscBool)(!strcmp(mat, "gas") && !p->free_surface && (p->shear_visc > 0.0 || p->bulk_visc > 0.0 || p->conductivity > 0.0));
+  const PetscBool fluid = (PetscBool)(!strcmp(mat, "gas") && !p->plain_default && (p->shear_visc > 0.0 || p->bulk_visc > 0.0 || p->conductivity > 0.0));
 
   PetscFunctionBeginUser;
   PetscCall(PetscStrncpy(scheme, fluid ? "flow" : "plain", ls));
   PetscCall(PetscStrncpy(bg, "mean", lb));
   if (p->shift_coef == 0.0) p->shift_coef = SPAM_SHIFT_COEF_DEFAULT;
-  if (help || !strcmp(mat, "gas")) PetscCall(PetscOptionsString("-gas_scheme", "Gas pair scheme: plain (the papers' equations) or flow (background pressure out of the momentum equation, transport shifting); default flow for a gas with viscosity or conduction that fills its box, else plain", "README", scheme, scheme, ls, NULL));
+  if (help || !strcmp(mat, "gas")) PetscCall(PetscOptionsString("-gas_scheme", "Gas pair scheme: plain (the papers' equations) or flow (background pressure out of the momentum equation, transport shifting); default flow for a gas with viscosity or conduction, else plain (and in the expansion and convection scenes)", "README", scheme, scheme, ls, NULL));
   if (help || !strcmp(scheme, "flow")) {
     PetscCall(PetscOptionsString("-background_pressure", "Flow scheme: pressure taken out of the momentum equation: mean (the particles' mean pressure, fitted along gravity where there is gravity) or none", "README", bg, bg, lb, NULL));
     PetscCall(PetscOptionsReal("-shift_coefficient", "Flow scheme: transport shifting coefficient C (shift velocity C c h times the particle-volume gradient; 0: off)", "README", p->shift_coef, &p->shift_coef, NULL));
