@@ -11,7 +11,7 @@
 
 static inline __attribute__((always_inline)) void SpamPairShift(const int dim, SpamFields *f, int i, int j, const double dx[3], double g)
 {
-  const double vi = f->m[i] / f->rho[i], vj = f->m[j] / f->rho[j], c = g * (vi * vi + vj * vj);
+  const double c = g * (f->vol2[i] + f->vol2[j]);
   for (int d = 0; d < dim; d++) {
     f->shift[(size_t)i * dim + d] += c * dx[d];
     f->shift[(size_t)j * dim + d] -= c * dx[d];

@@ -22,6 +22,7 @@ static int Arrays(SpamFields *f, double **a[24], int per[24])
   SPAM_ARRAY(f->shift, t * d);
   SPAM_ARRAY(f->edrift, t);
   SPAM_ARRAY(f->divv, t);
+  SPAM_ARRAY(f->vol2, t);
   SPAM_ARRAY(f->gmom, t * d * d);
   SPAM_ARRAY(f->uc, t * d);
   SPAM_ARRAY(f->edot, t);

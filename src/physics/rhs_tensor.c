@@ -203,7 +203,10 @@ static void Gradients(SpamSim *sim, TensorPass *c)
 
   Zero(f->gradv, (size_t)slots * dim * dim);
   Zero(f->heat, (size_t)slots * dim);
-  if (c->shift) Zero(f->shift, (size_t)slots * dim);
+  if (c->shift) {
+    Zero(f->shift, (size_t)slots * dim);
+    for (int i = 0; i < slots; i++) f->vol2[i] = (f->m[i] / f->rho[i]) * (f->m[i] / f->rho[i]); /* no division per pair */
+  }
   if (c->flow) Zero(f->gmom, (size_t)slots * dim * dim);
   for (int i = 0; i < slots; i++) {
     const double self = c->coords == SPAM_COORDS_R1 ? (i < n ? w0 : 0.0) : (i < n ? 1.0 : 0.0);
