@@ -104,6 +104,11 @@ cases = [
     ("solid option on the isentrope", ["-viscosity", "monaghan"], ["-viscosity", "'monaghan'", "-material gas and elastic", "isentrope"]),
     ("gas energy of an elastic solid", ["-scene", "rotor", "-gas_e0", 2], ["-gas_e0", "'2'", "-material gas"]),
     ("XSPH epsilon under R0", ["-scene", "rotor", "-xsph_eps", 0.5], ["-xsph_eps", "'0.5'", "-coordinates R2", "R0"]),
+    ("gas scheme of an elastic solid", ["-scene", "rotor", "-gas_scheme", "flow"], ["-gas_scheme", "'flow'", "-material gas", "elastic"]),
+    ("shift under the plain gas scheme", ["-scene", "taylor-green", "-material", "gas", "-viscosity_shear", 1, "-gas_scheme", "plain",
+                                         "-shift_coefficient", 0.2], ["-shift_coefficient", "'0.2'", "-gas_scheme flow", "plain"]),
+    ("background of an inviscid gas", ["-scene", "sod", "-background_pressure", "none"],
+     ["-background_pressure", "'none'", "-gas_scheme flow", "plain"]),
     ("viscosity gains without viscosity", ["-scene", "tensile", "-viscosity_alpha", 2], ["-viscosity_alpha", "'2'", "monaghan"]),
     ("torque scope without torque scaling", ["-scene", "rotor", "-angmom_scope", "body"], ["-angmom_scope", "'body'", "Ti and Tij"]),
     ("initial density under summation", ["-scene", "rotor", "-density", "summation", "-density_initial", "summed"],
@@ -174,7 +179,8 @@ for flag in ("-help", "--help"):
     code, out, err = run(a.spam_ark, [flag])
     want = ["-arkode_table", "-cvode_max_order", "-box_len", "-periodic", "-eos_gamma", "-expansion_n", "-tensile_nx",
             "-rotor_gap", "-chain_n", "-spring_range", "-planewave_mode", "-xsph_eps", "-gas_e0", "-solid_lambda",
-            "-viscosity_alpha", "-angmom_scope", "-density_initial", "-diag_grid_spacing"]
+            "-viscosity_alpha", "-angmom_scope", "-density_initial", "-diag_grid_spacing", "-gas_scheme",
+            "-background_pressure", "-shift_coefficient"]
     missing = [w for w in want if not re.search(r"^\s+" + re.escape(w) + r" <", out, re.M)]
     c.check(code == 0 and not missing and not os.path.exists("out_help_should_not_exist"), f"{flag}: exit {code}, missing {missing}")
 # Every option of spam-ark in -help is known to the check of unused options (src/integrate/
