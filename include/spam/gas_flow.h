@@ -8,8 +8,9 @@
  *  - background pressure: the momentum equation takes P - B(x), B the particles' mean
  *    pressure (without gravity) or its quadratic fit along gravity (a hydrostatic layer),
  *    refitted at every evaluation; B's gradient is put back as a body force, and B's
- *    compression work B drho/rho^2 stays in the energy equation, so the continuum
- *    equations are unchanged and only the stiffness goes;
+ *    compression work -B div v / rho stays in the energy equation (div v corrected for the
+ *    arrangement, less its volume mean), so the continuum equations are unchanged and
+ *    only the stiffness goes;
  *  - transport shifting: without that stiffness nothing keeps the particles ordered, and
  *    where P < B they clump (the tensile instability). The particles move with
  *    v + dv, dv_i = -(C h c_i / V_i) sum_j (V_i^2 + V_j^2) grad_i w_ij, V = m / rho: the
