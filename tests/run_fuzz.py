@@ -251,7 +251,10 @@ OPTION_TABLE = {
     "-gas_e0": ("PG", real(zero=O02, tiny=O02, big=O23, i31=O023)),
     "-viscosity_shear": ("PG", real(zero=O0, tiny=O0, big=O23, i31=O023, sub=None)),
     "-viscosity_bulk": ("PG", real(zero=O0, tiny=O0, big=O23, i31=O023, sub=None)),
-    "-conductivity": ("PG", real(zero=O0, tiny=O0, big=O23, i31=O023, sub=None)),
+    # big: the flow scheme (a conducting gas's default) keeps this transverse wave's e exactly
+    # uniform, so 1e300 times a zero gradient runs to the end (0); the plain scheme's work
+    # term makes a gradient and the run ends unstable (3).
+    "-conductivity": ("PG", real(zero=O0, tiny=O0, big=O023, i31=O023, sub=None)),
     "-solid_lambda": ("P", real(m1=O023, zero=O02, tiny=O02, big=O23, i31=O023)),
     "-solid_eta": ("P", real(zero=O02, tiny=O02, big=O23, i31=O023)),
     "-xsph_eps": ("PR2", real(zero=O0, tiny=O0, big=O23, i31=O023, sub=None)),
