@@ -2,12 +2,13 @@
 """Chart the lid-driven cavity (scene cavity) against Ghia, Ghia & Shin (1982).
 
 Usage:
-    python3 examples/plot_cavity.py DIR [-o OUT.png] [--csv FILE]
+    python3 examples/plot_cavity.py DIR [-o OUT.png] [--csv FILE] [--average L/U]
 
 DIR is the output directory of one run, e.g.
     spam-ark -options_file options/cavity.opts -output_dir DIR
-with CSV snapshots (-snapshot_csv): the last one the manifest lists is compared, or FILE
-(a -final_csv) when given. L (box edge), U (the lid's velocity, wall_yhi_velocity), h, eta,
+with CSV snapshots (-snapshot_csv): the mean profiles of those the manifest lists over the
+last --average L/U (default 2: the lid's sound moves one snapshot's extrema by several per
+cent) are compared, or FILE (a -final_csv) when given. L (box edge), U (the lid's velocity, wall_yhi_velocity), h, eta,
 m and the sound speed (L / sound_traversal_time) come from summary.json; Re = U L m / eta
 (rho = m on the unit lattice) picks Ghia's column (100 or 1000, the nearer).
 
@@ -41,15 +42,19 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
 
-def snapshot(d, given):
-    """(path, t) of the snapshot to compare: the given CSV (at the run's final time), else
-    the last CSV snapshot the manifest lists."""
+def snapshots(d, given, average):
+    """(paths, t) of the snapshots to compare: the given CSV (at the run's final time), else
+    the CSV snapshots the manifest lists from average L/U before the last one to it; t is
+    the last one's time."""
     if given:
-        return given, summary(d)["t_final"]
+        return [given], summary(d)["t_final"]
     snaps = [e for e in manifest(d)["files"] if e.get("kind") == "snapshot_csv"]
     if not snaps:
         sys.exit(f"plot_cavity: error: {d} has no CSV snapshot (run with -snapshot_csv, or give --csv)")
-    return os.path.join(d, snaps[-1]["name"]), float(snaps[-1]["t"])
+    s = summary(d)
+    t_last, lu = float(snaps[-1]["t"]), s["box_len"][0] / s["wall_yhi_velocity"][0]
+    late = [e for e in snaps if float(e["t"]) >= t_last - average * lu - 1e-9]
+    return [os.path.join(d, e["name"]) for e in late], t_last
 
 
 def ke_change(d, lu):
@@ -62,7 +67,7 @@ def ke_change(d, lu):
     return abs(ke[-1] - ke[k]) / ke[-1] if ke[-1] > 0 else math.nan
 
 
-def load(d, given):
+def load(d, given, average):
     s = summary(d)
     if s["scene"] != "cavity":
         sys.exit(f"plot_cavity: error: {d} is a run of -scene {s['scene']}, not cavity")
@@ -71,10 +76,11 @@ def load(d, given):
     c = L / s["sound_traversal_time"]
     re = U * L / nu
     ghia_re = min(ghia1982.U, key=lambda r: abs(math.log(r / re)))
-    path, t = snapshot(d, given)
-    parts = read_particles(path)
+    paths, t = snapshots(d, given, average)
+    snaps = [read_particles(p) for p in paths]
+    parts = snaps[-1]
     return dict(L=L, U=U, h=h, nu=nu, c=c, re=re, ghia_re=ghia_re, t=t, parts=parts, n=round(math.sqrt(len(parts))),
-                cmp=compare(parts, L, U, h, ghia_re), dke=ke_change(d, L / U))
+                cmp=compare(snaps, L, U, h, ghia_re), dke=ke_change(d, L / U), average=average if not given else 0.0)
 
 
 def reading(r):
@@ -83,6 +89,7 @@ def reading(r):
     e, g, rel = m["extrema"], m["ghia_extrema"], m["rel"]
     return [f"Re = U L / nu = {r['re']:.4g}", f"Mach U / c = {r['U'] / r['c']:.3g}", f"c h / nu = {r['c'] * r['h'] / r['nu']:.3g}",
             f"n = {r['n']} (L = {r['L']:g}), h = {r['h']:g}", f"t = {r['t'] * r['U'] / r['L']:.3g} L/U", "",
+            f"profiles: mean of {r['cmp']['snapshots']} snapshot(s)", f"  over the last {r['average']:g} L/U", "",
             f"Ghia column: Re = {r['ghia_re']}", "L-inf error at Ghia's points:", f"  u {m['linf_u']:.3f} U, v {m['linf_v']:.3f} U", "",
             "extrema (SPAM, Ghia, error):", f"  min u {e['u_min']:+.3f} {g['u_min']:+.4f} {rel['u_min']:+.0%}",
             f"  max v {e['v_max']:+.3f} {g['v_max']:+.4f} {rel['v_max']:+.0%}", f"  min v {e['v_min']:+.3f} {g['v_min']:+.4f} {rel['v_min']:+.0%}", "",
@@ -99,9 +106,12 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("dir")
     ap.add_argument("-o", "--out", default=None)
-    ap.add_argument("--csv", default=None, help="a -final_csv of the run, instead of its last CSV snapshot")
+    ap.add_argument("--csv", default=None, help="a -final_csv of the run, instead of its CSV snapshots")
+    ap.add_argument("--average", type=float, default=2.0, help="average the profiles over the CSV snapshots of the last AVERAGE L/U (default 2; 0: the last one)")
     a = ap.parse_args()
-    r = load(a.dir, a.csv)
+    if not (a.average >= 0.0):
+        sys.exit("plot_cavity: error: --average must be >= 0")
+    r = load(a.dir, a.csv, a.average)
     m, re = r["cmp"], r["ghia_re"]
     out = a.out or os.path.join(a.dir, "cavity.png")
     fig, (ax1, ax2, ax3) = plt.subplots(1, 3, figsize=(14, 5), gridspec_kw={"width_ratios": [1, 1, 0.6]})

@@ -72,20 +72,30 @@ def centrelines(parts, L, U, h, ys, xs):
     return u, v
 
 
-def compare(parts, L, U, h, re, fine=128):
-    """The profiles at Ghia's points and their errors against Ghia at this Re:
+def compare(snapshots, L, U, h, re, fine=128):
+    """The profiles at Ghia's points and their errors against Ghia at this Re, averaged
+    over the snapshots (a list of particle lists; one particle list is one snapshot):
     linf_u, linf_v: the largest |SPAM - Ghia| (units of U) over Ghia's points off the walls
     (the walls' values are the boundary conditions); u_min, v_max, v_min: the extrema of
-    the SPAM profiles on a fine line (fine + 1 points, walls excluded) and their relative
-    errors (SPAM - Ghia) / |Ghia| against the extrema of Ghia's points."""
-    u, v = centrelines(parts, L, U, h, ghia1982.U_Y, ghia1982.V_X)
+    the mean SPAM profiles on a fine line (fine + 1 points, walls excluded) and their
+    relative errors (SPAM - Ghia) / |Ghia| against the extrema of Ghia's points. The mean
+    over snapshots takes out the flow's own unsteadiness (the sound the lid keeps
+    launching at Mach 0.1 moves a single snapshot's extrema by several per cent)."""
+    if snapshots and isinstance(snapshots[0], tuple):
+        snapshots = [snapshots]
+    line = [k / fine for k in range(1, fine)]
+
+    def mean_profiles(ys, xs):
+        us, vs = zip(*(centrelines(parts, L, U, h, ys, xs) for parts in snapshots))
+        return [sum(c) / len(us) for c in zip(*us)], [sum(c) / len(vs) for c in zip(*vs)]
+
+    u, v = mean_profiles(ghia1982.U_Y, ghia1982.V_X)
     inner = range(1, len(ghia1982.U_Y) - 1)
     linf_u = max(abs(u[k] - ghia1982.U[re][k]) for k in inner)
     linf_v = max(abs(v[k] - ghia1982.V[re][k]) for k in inner)
-    line = [k / fine for k in range(1, fine)]
-    uf, vf = centrelines(parts, L, U, h, line, line)
+    uf, vf = mean_profiles(line, line)
     g = ghia1982.extrema(re)
     ext = {"u_min": min(uf), "v_max": max(vf), "v_min": min(vf)}
     rel = {k: (ext[k] - g[k]) / abs(g[k]) for k in ext}
     return dict(u=u, v=v, line=line, ghia_u_top=ghia1982.U[re][-2], u_line=uf, v_line=vf, linf_u=linf_u, linf_v=linf_v,
-                extrema=ext, ghia_extrema=g, rel=rel)
+                extrema=ext, ghia_extrema=g, rel=rel, snapshots=len(snapshots))
