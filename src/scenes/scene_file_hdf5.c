@@ -140,10 +140,10 @@ static PetscErrorCode CheckValues(const char *path, const SpamParticles *p)
       const double x = p->x[i * p->dim + d];
       ok             = (PetscBool)(ok && x >= p->box.lo[d] && x <= p->box.lo[d] + p->box.len[d] && isfinite(p->v[i * p->dim + d]));
     }
-    if (p->m) ok = (PetscBool)(ok && p->m[i] > 0.0 && isfinite(p->m[i]));
+    if (p->m && SpamPositiveNormalProblem(p->m[i])) SPAM_BAD_INPUT("-file_path", path, "particle %" PetscInt_FMT ": mass %.17g: %s", i + 1, p->m[i], SpamPositiveNormalProblem(p->m[i]));
     if (p->e) ok = (PetscBool)(ok && isfinite(p->e[i]) && (!(p->columns & SPAM_COLUMN_RHO) || (p->rho[i] > 0.0 && isfinite(p->rho[i]))));
     for (int k = 0; p->sigma && k < SpamStressComponents(p->dim); k++) ok = (PetscBool)(ok && isfinite(p->sigma[(size_t)i * SpamStressComponents(p->dim) + k]));
-    if (!ok) SPAM_BAD_INPUT("-file_path", path, "particle %" PetscInt_FMT " lies outside the snapshot's box or has a value that is not finite (or a mass or density that is not positive)", i + 1);
+    if (!ok) SPAM_BAD_INPUT("-file_path", path, "particle %" PetscInt_FMT " lies outside the snapshot's box or has a value that is not finite (or a density that is not positive)", i + 1);
   }
   PetscFunctionReturn(0);
 }
