@@ -1,6 +1,7 @@
 /* Error reporting: bad input, file-system failures and memory exhaustion print one line
- * each; other errors (a bug) keep PETSc's traceback. Every printed byte outside printable ASCII is escaped as \xNN, so
- * a hostile file name or value can neither break the line nor reach the terminal raw. */
+ * each; other errors (a bug) keep PETSc's traceback. Every printed byte outside printable
+ * ASCII is escaped as \xNN, so a hostile file name or value can neither break the line nor
+ * reach the terminal raw. */
 #include <spam/errors.h>
 #include <arkode/arkode_erkstep.h>
 #include <cvode/cvode.h>
@@ -112,7 +113,8 @@ static PetscBool IsSystemError(PetscErrorCode n)
 }
 
 /* PETSc's allocators: a failure there is the system refusing memory, whatever code PETSc
- * 3.18 attaches to it (Debian's build reports 54 with the caller's name as the message). */
+ * 3.18 attaches to it (Debian's 3.18.5 was seen to report code 54, with the caller's name
+ * as the message). */
 static PetscBool IsAllocator(const char *fun)
 {
   return (PetscBool)(fun && (!strncmp(fun, "PetscMalloc", 11) || !strncmp(fun, "PetscCalloc", 11) || !strncmp(fun, "PetscRealloc", 12) || !strncmp(fun, "PetscTrMalloc", 13)));
