@@ -201,11 +201,11 @@ forged = [("dim 2.7", "/", "dim", [2.7], True, "attribute dim is not a whole num
           ("periodic 1,0.5", "/", "periodic", [1.0, 0.5], True, "attribute periodic holds a value that is not a whole number"),
           ("carried 0.5", "/density", "carried", [0.5], True, "attribute carried of /density is not a whole number"),
           ("subnormal mass", "/", "mass", [1.0] * 63 + [4.9e-324], False, "particle 64: mass 4.9406564584124654e-324: too small (subnormal)")]
-for name, obj, attr, values, attribute, want in forged:
-    bad = os.path.join(w, "forged.h5")
+for k, (name, obj, attr, values, attribute, want) in enumerate(forged):
+    bad = os.path.join(w, f"forged{k}.h5")
     made = os.path.exists(h5) and shutil.copyfile(h5, bad) and h5_set(bad, obj, attr, values, attribute)
-    code, _, err = read_back("forged", bad)
-    c.check(made and code == 2 and err.count("\n") == 0 and want in err and not os.path.exists(os.path.join(w, "forged")),
+    code, _, err = read_back(f"forged{k}", bad)
+    c.check(made and code == 2 and err.count("\n") == 0 and want in err and not os.path.exists(os.path.join(w, f"forged{k}")),
             f"snapshot with {name}: refused in one line, nothing written (forged {made}, exit {code}): {err[:200]}")
 made = os.path.exists(h5) and shutil.copyfile(h5, os.path.join(w, "whole.h5")) and h5_set(os.path.join(w, "whole.h5"), "/", "dim", [2.0])
 code, got, err = read_back("whole", os.path.join(w, "whole.h5"))
