@@ -141,6 +141,17 @@ if "ASAN_OPTIONS" not in os.environ:
         c.check(p.returncode == 1 and len(lines) == 1 and lines[0].startswith("spam-ark: error: out of memory") and (not s or "out of memory" in s["reason"]),
                 f"out of memory under a {limit / 1e6:.0f} MB address space: exit {p.returncode}, stderr {[ln[:200] for ln in lines[:3]]} ({len(lines)} lines), summary {s.get('reason', 'not written')!r}")
 
+# PETSc reads ./.petscrc by itself (unless -skip_petscrc): the same check as -options_file.
+rc_dir = os.path.join(w, "petscrc")
+os.makedirs(rc_dir)
+write(os.path.join("petscrc", ".petscrc"), "-h 3\n--\n")
+for extra, want in ([], 2), (["-skip_petscrc"], 0):
+    p = subprocess.run([a.spam_ark, "-expansion_n", "4", "-ts_max_time", "0.1", "-output_dir", "out"] + extra, cwd=rc_dir, capture_output=True, text=True, timeout=120)
+    lines = p.stderr.strip().splitlines()
+    ok = p.returncode == want and (len(lines) == 1 and ".petscrc:2" in lines[0] and not os.path.exists(os.path.join(rc_dir, "out")) if want else not lines)
+    c.check(ok, f"./.petscrc holding a line '--'{' with -skip_petscrc (not read)' if extra else ''}: exit {p.returncode} (want {want}), stderr {[ln[:200] for ln in lines[:3]]}")
+    shutil.rmtree(os.path.join(rc_dir, "out"), ignore_errors=True)
+
 # An options file missing on 2 ranks: said once, not once per rank.
 if shutil.which("mpiexec"):
     mpiexec, env = mpiexec_env()

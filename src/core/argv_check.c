@@ -9,6 +9,7 @@
 #include <spam/version.h>
 #include <ctype.h>
 #include <errno.h>
+#include <strings.h>
 #include <stdarg.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -209,6 +210,34 @@ static int ScanArgs(Scan *s, int argc, char **argv)
   return -1;
 }
 
+/* PETSc also reads ~/.petscrc, ./.petscrc and ./petscrc when they exist (unless
+ * -skip_petscrc), and the option names in the environment variable PETSC_OPTIONS: the same
+ * rules, the same table. */
+static int ScanPetscDefaults(Scan *s, int argc, char **argv)
+{
+  const char *home = getenv("HOME"), *env = getenv("PETSC_OPTIONS");
+  const char *files[3] = {NULL, ".petscrc", "petscrc"};
+  char        path[4096];
+  int         rc = -1;
+
+  for (int i = 1; i < argc; i++)
+    if (!strcmp(argv[i], "-skip_petscrc") && !(i + 1 < argc && (!strcmp(argv[i + 1], "0") || !strcasecmp(argv[i + 1], "false") || !strcasecmp(argv[i + 1], "no")))) files[1] = files[2] = NULL;
+  if (files[1] && home && (size_t)snprintf(path, sizeof path, "%s/.petscrc", home) < sizeof path) files[0] = path;
+  for (int k = 0; k < 3 && rc < 0; k++) {
+    struct stat st;
+    if (files[k] && !stat(files[k], &st) && S_ISREG(st.st_mode)) rc = CheckFile(s, files[k], 0);
+  }
+  if (rc >= 0 || !env) return rc;
+  {
+    char *copy = strdup(env), *save = NULL;
+    if (!copy) return Refuse(s, "PETSC_OPTIONS: out of memory");
+    for (char *t = strtok_r(copy, " \t\n", &save); t && rc < 0; t = strtok_r(NULL, " \t\n", &save))
+      if (ValidKey(t)) rc = AddName(s, t, "PETSC_OPTIONS");
+    free(copy);
+  }
+  return rc;
+}
+
 /* Every rank reads the same command line and files and finds the same fault: the lowest
  * rank that found one prints it, once (rank 0 unless its file system disagrees), and every
  * rank returns the bad-input code. */
@@ -224,7 +253,8 @@ int SpamArgvCheck(MPI_Comm comm, int argc, char **argv)
     return SPAM_EXIT_ERROR;
   }
   s->speak = rank == 0;
-  rc       = ScanArgs(s, argc, argv);
+  rc       = ScanPetscDefaults(s, argc, argv);
+  if (rc < 0) rc = ScanArgs(s, argc, argv);
   mine     = rc >= 0 ? rank : size;
   if (MPI_Allreduce(&mine, &first, 1, MPI_INT, MPI_MIN, comm) != MPI_SUCCESS) first = mine;
   if (first < size && rank == first) fprintf(stderr, "spam-ark: error: %s\n", s->msg);
