@@ -3,8 +3,9 @@ allowed; exit code 2; no output directory, no crash. A run that blows up is a re
 status "unstable", exit code 3, the particle and time named, the last good state kept."""
 import json
 import os
+import shutil
 import subprocess
-from spamrun import Checks, arguments, run
+from spamrun import Checks, arguments, mpiexec_env, run
 
 a = arguments()
 c = Checks()
@@ -45,7 +46,9 @@ cases = [
     ("short line", file_scene + ["-file_path", write("s.csv", "x,y,vx,vy\n1,2,0,0\n1,2,3\n")], ["s.csv:3", "'1,2,3'", "expected 4", "found 3"]),
     ("not a number", file_scene + ["-file_path", write("n.csv", "x,y,vx,vy\n1,2,0,0\n1,two,0,0\n")], ["n.csv:3", "'1,two,0,0'", "field 2"]),
     ("infinite value", file_scene + ["-file_path", write("i.csv", "x,y,vx,vy\n1,2,inf,0\n")], ["i.csv:2", "field 3", "finite"]),
-    ("non-positive mass", file_scene + ["-file_path", write("m.csv", "x,y,vx,vy,m\n1,2,0,0,1\n3,2,0,0,0\n")], ["m.csv:3", "mass must be positive"]),
+    ("non-positive mass", file_scene + ["-file_path", write("m.csv", "x,y,vx,vy,m\n1,2,0,0,1\n3,2,0,0,0\n")], ["m.csv:3", "mass m = 0", "positive"]),
+    # A subnormal mass ran "ok" with zero energies and a NaN entropy: refused as -mass 4.9e-324 is.
+    ("subnormal mass", file_scene + ["-file_path", write("sm.csv", "x,y,vx,vy,m\n1,2,0,0,1\n3,2,0,0,4.9e-324\n")], ["sm.csv:3", "mass m = 4.9406564584124654e-324", "subnormal"]),
     ("unknown -ts_type", ["-ts_type", "leapfrog"], ["-ts_type", "'leapfrog'", "arkode, cvode, rk, ssp, euler, basicsymplectic"]),
     ("implicit -ts_type", ["-ts_type", "beuler"], ["-ts_type", "'beuler'", "allowed"]),
     ("unknown RK scheme", ["-ts_type", "rk", "-ts_rk_type", "9x"], ["-ts_rk_type", "'9x'", "5dp"]),
@@ -91,6 +94,26 @@ cases += [
     ("rotor_gap 1e-300", ["-scene", "rotor-pair", "-rotor_gap", 1e-300], ["-rotor_gap", "'1e-300'", "1e-6 to 1e4"]),
     ("rotor_gap 1e300", ["-scene", "rotor-pair", "-rotor_gap", 1e300], ["-rotor_gap", "'1e+300'", "1e-6 to 1e4"]),
 ]
+# List options with an empty element: PETSc's parser skips it ("-box_lo 1,,2" read as 1,2).
+cases += [
+    ("-box_lo 1,,2", file_scene + ["-box_lo", "1,,2", "-file_path", good], ["-box_lo", "'1,,2'", "element 2 is empty"]),
+    ("-box_len 8,8,", file_scene[:-1] + ["8,8,", "-file_path", good], ["-box_len", "'8,8,'", "element 3 is empty"]),
+    ("-periodic ,1", file_scene + ["-periodic", ",1", "-file_path", good], ["-periodic", "element 1 is empty"]),
+    ("-scene_translate 1,,", ["-scene_translate", "1,,"], ["-scene_translate", "element 2 is empty"]),
+    ("-gravity 0,,-1", ["-gravity", "0,,-1"], ["-gravity", "element 2 is empty"]),
+    ("-arkode_adapt_params 0.5,,0.1,0.2", ["-arkode_adapt_params", "0.5,,0.1,0.2"], ["-arkode_adapt_params", "element 2 is empty"]),
+]
+# Options files PETSc would abort on (a traceback, exit 55 or 62): a line whose option name
+# PETSc cannot read, more distinct options than its table holds (512), more aliases (25).
+many = write("many.opts", "".join(f"-zz_option{i} 1\n" for i in range(520)))
+cases += [
+    ("options file line '--'", ["-options_file", write("dd.opts", "-expansion_n 4\n--\n")], ["dd.opts:2", "'--'", "not an option name"]),
+    ("options file line '-1 2'", ["-options_file", write("num.opts", "-1 2\n")], ["num.opts:1", "not an option name"]),
+    ("options file line '-inf'", ["-options_file", write("inf.opts", "-inf\n")], ["inf.opts:1", "not an option name"]),
+    ("options file starting '---' (read as YAML)", ["-options_file", write("yaml.opts", "---\n-h 3\n")], ["yaml.opts:1", "not an option name"]),
+    ("520 distinct options", ["-options_file", many], ["many.opts:511", "more than 510 distinct options"]),
+    ("26 aliases", ["-options_file", write("alias.opts", "".join(f"alias -a{i} -h\n" for i in range(26)))], ["alias.opts:26", "more than 25 aliases"]),
+]
 for k, (name, args, needles) in enumerate(cases):
     out = os.path.join(w, f"out{k}")
     try:  # a FIFO must not block: well under the test's own timeout
@@ -102,6 +125,43 @@ for k, (name, args, needles) in enumerate(cases):
     ok = (code == 2 and len(lines) == 1 and lines[0].startswith("spam-ark: error: ") and len(lines[0]) < 600
           and all(n in lines[0] for n in needles) and not os.path.exists(out))
     c.check(ok, f"{name}: exit {code}, stderr {[ln[:300] for ln in lines]}, output dir {'absent' if not os.path.exists(out) else 'PRESENT'}")
+
+# Out of memory (issue 28 point 6, was a 19-line PETSc traceback): one line and exit 1, by
+# the error handler, wherever the allocation failed. An address-space limit makes it fail
+# within a second (the 2.25M-particle scene needs more); not under ASan, whose shadow memory
+# alone is terabytes of address space.
+if "ASAN_OPTIONS" not in os.environ:
+    import resource
+    for limit in (300_000_000, 800_000_000):
+        out = os.path.join(w, f"oom{limit}")
+        p = subprocess.run([a.spam_ark, "-expansion_n", "1500", "-ts_max_steps", "1", "-output_dir", out], capture_output=True, text=True, timeout=120,
+                           preexec_fn=lambda n=limit: resource.setrlimit(resource.RLIMIT_AS, (n, n)))
+        lines = p.stderr.strip().splitlines()
+        s = json.load(open(os.path.join(out, "summary.json"))) if os.path.exists(os.path.join(out, "summary.json")) else {}
+        c.check(p.returncode == 1 and len(lines) == 1 and lines[0].startswith("spam-ark: error: out of memory") and (not s or "out of memory" in s["reason"]),
+                f"out of memory under a {limit / 1e6:.0f} MB address space: exit {p.returncode}, stderr {[ln[:200] for ln in lines[:3]]} ({len(lines)} lines), summary {s.get('reason', 'not written')!r}")
+
+# PETSc reads ./.petscrc by itself (unless -skip_petscrc): the same check as -options_file.
+rc_dir = os.path.join(w, "petscrc")
+os.makedirs(rc_dir)
+write(os.path.join("petscrc", ".petscrc"), "-h 3\n--\n")
+for extra, want in ([], 2), (["-skip_petscrc"], 0):
+    p = subprocess.run([a.spam_ark, "-expansion_n", "4", "-ts_max_time", "0.1", "-output_dir", "out"] + extra, cwd=rc_dir, capture_output=True, text=True, timeout=120)
+    lines = p.stderr.strip().splitlines()
+    ok = p.returncode == want and (len(lines) == 1 and ".petscrc:2" in lines[0] and not os.path.exists(os.path.join(rc_dir, "out")) if want else not lines)
+    c.check(ok, f"./.petscrc holding a line '--'{' with -skip_petscrc (not read)' if extra else ''}: exit {p.returncode} (want {want}), stderr {[ln[:200] for ln in lines[:3]]}")
+    shutil.rmtree(os.path.join(rc_dir, "out"), ignore_errors=True)
+
+# An options file missing on 2 ranks: said once, not once per rank.
+if shutil.which("mpiexec"):
+    mpiexec, env = mpiexec_env()
+    p = subprocess.run([mpiexec, "--oversubscribe", "-n", "2", a.spam_ark, "-options_file", os.path.join(w, "missing.opts"), "-output_dir", os.path.join(w, "np2")],
+                       capture_output=True, text=True, env=env, timeout=120)
+    lines = [ln for ln in p.stderr.splitlines() if ln.startswith("spam-ark:")]
+    c.check(p.returncode == 2 and len(lines) == 1 and "missing.opts" in lines[0] and not os.path.exists(os.path.join(w, "np2")),
+            f"-options_file missing.opts on 2 ranks: exit {p.returncode}, spam-ark lines {lines}")
+else:
+    print("mpiexec not found: the two-rank case skipped")
 
 # What the reader must still accept: CRLF line ends, a header with trailing spaces, a
 # comment, a blank line, no end on the last line, a value that underflows to zero.

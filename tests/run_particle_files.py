@@ -165,6 +165,51 @@ code, _, err = read_back("h5_box_same", h5, ["-box_len", 16, "-periodic", 1])
 c.check(code == 0, f"-box_len and -periodic equal to the snapshot's accepted {err[:160]}")
 code, _, err = read_back("h5_dim", h5, ["-dim", 3])
 c.check(code == 2 and "add -dim 2" in err, f"-dim other than the snapshot's refused: {err[:160]}")
+
+
+def h5_set(path, obj, name, values, attribute=True):
+    """Rewrites a snapshot in place through libhdf5 (ctypes; h5py is not installed):
+    attribute name of obj replaced by float64 values, or (attribute=False) dataset
+    obj/name overwritten with values. True when every call succeeded."""
+    import ctypes
+    h5 = ctypes.CDLL("libhdf5_openmpi.so.103")
+    hid = ctypes.c_int64
+    for f in ("H5Fopen", "H5Oopen", "H5Screate_simple", "H5Acreate2", "H5Dopen2"):
+        getattr(h5, f).restype = hid
+    h5.H5open()
+    dbl = hid.in_dll(h5, "H5T_NATIVE_DOUBLE_g").value
+    buf = (ctypes.c_double * len(values))(*values)
+    f = h5.H5Fopen(path.encode(), ctypes.c_uint(1), hid(0))  # H5F_ACC_RDWR, H5P_DEFAULT
+    ok = f >= 0
+    if attribute:
+        o = h5.H5Oopen(hid(f), obj.encode(), hid(0))
+        h5.H5Adelete(hid(o), name.encode())
+        space = h5.H5Screate_simple(1, (ctypes.c_uint64 * 1)(len(values)), None)
+        at = h5.H5Acreate2(hid(o), name.encode(), hid(dbl), hid(space), hid(0), hid(0))
+        ok = ok and o >= 0 and at >= 0 and h5.H5Awrite(hid(at), hid(dbl), buf) >= 0
+        h5.H5Aclose(hid(at)), h5.H5Sclose(hid(space)), h5.H5Oclose(hid(o))
+    else:
+        d = h5.H5Dopen2(hid(f), (obj + name).encode(), hid(0))
+        ok = ok and d >= 0 and h5.H5Dwrite(hid(d), hid(dbl), hid(0), hid(0), hid(0), buf) >= 0  # H5S_ALL
+        h5.H5Dclose(hid(d))
+    return ok and h5.H5Fclose(hid(f)) >= 0
+
+
+# Values a snapshot holds as integers or positive normal numbers, forged: refused in one
+# line, nothing written (issue 28 point 7: dim = 2.7 was read as 2, a subnormal mass ran).
+forged = [("dim 2.7", "/", "dim", [2.7], True, "attribute dim is not a whole number"),
+          ("periodic 1,0.5", "/", "periodic", [1.0, 0.5], True, "attribute periodic holds a value that is not a whole number"),
+          ("carried 0.5", "/density", "carried", [0.5], True, "attribute carried of /density is not a whole number"),
+          ("subnormal mass", "/", "mass", [1.0] * 63 + [4.9e-324], False, "particle 64: mass 4.9406564584124654e-324: too small (subnormal)")]
+for k, (name, obj, attr, values, attribute, want) in enumerate(forged):
+    bad = os.path.join(w, f"forged{k}.h5")
+    made = os.path.exists(h5) and shutil.copyfile(h5, bad) and h5_set(bad, obj, attr, values, attribute)
+    code, _, err = read_back(f"forged{k}", bad)
+    c.check(made and code == 2 and err.count("\n") == 0 and want in err and not os.path.exists(os.path.join(w, f"forged{k}")),
+            f"snapshot with {name}: refused in one line, nothing written (forged {made}, exit {code}): {err[:200]}")
+made = os.path.exists(h5) and shutil.copyfile(h5, os.path.join(w, "whole.h5")) and h5_set(os.path.join(w, "whole.h5"), "/", "dim", [2.0])
+code, got, err = read_back("whole", os.path.join(w, "whole.h5"))
+c.check(made and code == 0 and len(got) == 64, f"snapshot with dim stored as the float 2.0: a whole number, read (exit {code}) {err[:160]}")
 if shutil.which("h5dump"):
     dump = subprocess.run(["h5dump", "-A", h5], capture_output=True, text=True).stdout
     names = ("time", "step", "dim", "box_lo", "box_len", "periodic", "kernel_h", "units", "units_convention", "version", "model")

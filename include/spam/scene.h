@@ -202,6 +202,10 @@ typedef struct {
 typedef PetscErrorCode (*SpamSceneOpsFn)(SpamSceneOps *ops);
 
 /* The registered scenes (one line each in scene_list.c). */
+/* Why v cannot be a particle mass or a length such as h: NULL when it is a positive, finite,
+ * normal number. A subnormal one is refused as too small: a mass of 4.9e-324 gives zero
+ * energies and a NaN entropy. -mass and the particle files (CSV and HDF5) share it. */
+const char *SpamPositiveNormalProblem(double v);
 PetscErrorCode SpamSceneRegisterAll(PetscFunctionList *list);
 PetscErrorCode SpamSceneExpansion(SpamSceneOps *ops);
 PetscErrorCode SpamSceneFile(SpamSceneOps *ops);

@@ -49,14 +49,33 @@ static PetscErrorCode Run(int *exit_code)
   PetscFunctionReturn(ierr);
 }
 
+/* MPI is started here, before PETSc, so that the command line and the options files can be
+ * checked (SpamArgvCheck) knowing the rank: a refusal is printed once, not by every rank,
+ * and PETSc never meets a file it would abort on. PETSc then leaves MPI_Finalize to us. */
+static int StartMpi(int *argc, char ***argv)
+{
+  int provided;
+
+  SpamMpiSingletonDefaults(); /* alone: no singleton daemon, no UCX probe (mpi_start.c) */
+  if (MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS) {
+    fprintf(stderr, "spam-ark: error: MPI_Init failed\n");
+    return SPAM_EXIT_ERROR;
+  }
+  return -1;
+}
+
 int main(int argc, char **argv)
 {
   PetscErrorCode ierr;
-  int            code = SpamArgvCheck(argc, argv); /* -version, --help, options files */
+  int            code = SpamArgvEarly(argc, argv); /* -version, --help */
 
   if (code >= 0) return code;
+  if ((code = StartMpi(&argc, &argv)) >= 0) return code;
+  if ((code = SpamArgvCheck(MPI_COMM_WORLD, argc, argv)) >= 0) { /* options files */
+    (void)MPI_Finalize();
+    return code;
+  }
   code = SPAM_EXIT_OK;
-  SpamMpiSingletonDefaults(); /* alone: no singleton daemon, no UCX probe (mpi_start.c) */
   PetscCall(PetscInitialize(&argc, &argv, NULL, help));
   /* A reader that closes the pipe early (spam-ark -monitor | head) ends our output, not the
    * program with PETSc's signal trace: writes to it then fail quietly. (PETSc's own help
@@ -70,5 +89,6 @@ int main(int argc, char **argv)
   if (ierr) code = ierr == PETSC_ERR_USER_INPUT ? SPAM_EXIT_BAD_INPUT : SPAM_EXIT_ERROR;
   /* Finalize quietly after an error: the message has been printed already. */
   PetscFinalize();
+  (void)MPI_Finalize();
   return code;
 }

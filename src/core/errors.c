@@ -1,6 +1,7 @@
-/* Error reporting: bad input and file-system failures print one line each; other errors
- * keep PETSc's traceback. Every printed byte outside printable ASCII is escaped as \xNN, so
- * a hostile file name or value can neither break the line nor reach the terminal raw. */
+/* Error reporting: bad input, file-system failures and memory exhaustion print one line
+ * each; other errors (a bug) keep PETSc's traceback. Every printed byte outside printable
+ * ASCII is escaped as \xNN, so a hostile file name or value can neither break the line nor
+ * reach the terminal raw. */
 #include <spam/errors.h>
 #include <arkode/arkode_erkstep.h>
 #include <cvode/cvode.h>
@@ -103,28 +104,51 @@ static void NameMalformedOption(const char *mess, char *out, size_t len)
   (void)PetscFree(all);
 }
 
-static PetscBool IsFileError(PetscErrorCode n)
+/* Failures of the system rather than of the program: a file that cannot be opened, read
+ * or written, and memory the system refused (an allocation failed, or a size past what
+ * an array can index). The user can act on them: one line, exit 1, no traceback. */
+static PetscBool IsSystemError(PetscErrorCode n)
 {
-  return (PetscBool)(n == PETSC_ERR_FILE_OPEN || n == PETSC_ERR_FILE_WRITE || n == PETSC_ERR_FILE_READ || n == PETSC_ERR_FILE_UNEXPECTED);
+  return (PetscBool)(n == PETSC_ERR_FILE_OPEN || n == PETSC_ERR_FILE_WRITE || n == PETSC_ERR_FILE_READ || n == PETSC_ERR_FILE_UNEXPECTED || n == PETSC_ERR_MEM);
 }
 
-/* The first report of a bad-input or file error is the user's message: print it alone, as
- * one escaped line, and stay silent while the error travels up the call stack. */
+/* PETSc's allocators: a failure there is the system refusing memory, whatever code PETSc
+ * 3.18 attaches to it (Debian's 3.18.5 was seen to report code 54, with the caller's name
+ * as the message). */
+static PetscBool IsAllocator(const char *fun)
+{
+  return (PetscBool)(fun && (!strncmp(fun, "PetscMalloc", 11) || !strncmp(fun, "PetscCalloc", 11) || !strncmp(fun, "PetscRealloc", 12) || !strncmp(fun, "PetscTrMalloc", 13)));
+}
+
+/* The line of a system failure. An allocator's own message names no size the user could act
+ * on: say what ran out, and where. */
+static void SystemErrorText(PetscErrorCode n, const char *fun, const char *mess, char *out, size_t len)
+{
+  const char *m = mess && mess[0] ? mess : NULL;
+
+  if (n == PETSC_ERR_MEM && IsAllocator(fun)) (void)snprintf(out, len, "out of memory: %s failed (%s); the run needs more memory than the system gives it", fun, m ? m : "no detail");
+  else (void)snprintf(out, len, "%s", m ? m : n == PETSC_ERR_MEM ? "out of memory" : "file error");
+}
+
+/* The first report of a bad-input, file or memory error is the user's message: print it
+ * alone, as one escaped line, and stay silent while the error travels up the call stack. */
 static PetscErrorCode SpamErrorHandler(MPI_Comm comm, int line, const char *fun, const char *file, PetscErrorCode n, PetscErrorType p, const char *mess, void *ctx)
 {
   (void)ctx;
   /* A malformed option value (say -h abc) is detected inside PetscOptions*: report it as
-   * bad input too, and pass the bad-input code up from here on. */
+   * bad input too, and pass the bad-input code up from here on. Likewise a failed
+   * allocation goes up as PETSC_ERR_MEM. */
   if (p == PETSC_ERROR_INITIAL && fun && !strncmp(fun, "PetscOptions", 12)) n = PETSC_ERR_USER_INPUT;
-  if (n == PETSC_ERR_USER_INPUT || IsFileError(n)) {
+  else if (p == PETSC_ERROR_INITIAL && IsAllocator(fun)) n = PETSC_ERR_MEM;
+  if (n == PETSC_ERR_USER_INPUT || IsSystemError(n)) {
     if (p == PETSC_ERROR_INITIAL) {
       PetscMPIInt rank = 0;
       char        raw[1024], text[1024];
       /* Bad input is found alike on every rank (each reads the same options and files):
-       * rank 0 of the run says it, once. A file error is a rank's own. */
+       * rank 0 of the run says it, once. A file or memory error is a rank's own. */
       MPI_Comm_rank(n == PETSC_ERR_USER_INPUT ? PETSC_COMM_WORLD : comm, &rank);
       if (n == PETSC_ERR_USER_INPUT) NameMalformedOption(mess ? mess : "", raw, sizeof raw);
-      else (void)snprintf(raw, sizeof raw, "%s", mess ? mess : "file error");
+      else SystemErrorText(n, fun, mess, raw, sizeof raw);
       SpamEscape(raw, text, sizeof text);
       if (!rank) fprintf(stderr, "spam-ark: error: %s\n", text);
     }

@@ -186,6 +186,42 @@ static PetscErrorCode CheckIntegerRange(const char *name, const char *value)
   PetscFunctionReturn(0);
 }
 
+/* The options read as lists (PetscOptions*Array): PETSc's parser skips an empty element,
+ * so "-box_lo 1,,2" would read as 1,2 in silence. Ours, and PETSc's TS adaptor lists. */
+static const char *const ListOptions[] = {"box_lo", "box_len", "periodic", "scene_translate", "gravity", "arkode_adapt_params", "ts_adapt_clip", "ts_adapt_dsp_pid", "ts_adapt_dsp_kbeta", "ts_adapt_dsp_alpha"};
+
+static PetscBool IsListOption(const char *name)
+{
+  const size_t n = strlen(name);
+
+  if (!strncasecmp(name, "wall_", 5) && n > 9 && !strcasecmp(name + n - 9, "_velocity")) return PETSC_TRUE;
+  for (size_t k = 0; k < sizeof ListOptions / sizeof ListOptions[0]; k++)
+    if (!strcasecmp(name, ListOptions[k])) return PETSC_TRUE;
+  return PETSC_FALSE;
+}
+
+/* A list option's value with an empty element (a leading, trailing or doubled comma) is
+ * refused, naming the element. */
+static PetscErrorCode CheckListElements(const char *name, const char *value)
+{
+  int k = 1;
+
+  PetscFunctionBeginUser;
+  if (!IsListOption(name)) PetscFunctionReturn(0);
+  for (const char *p = value;; p++, k++) {
+    const char *end = strchr(p, ',');
+    if (end == p || (!end && !*p)) {
+      char shown[100], opt[64];
+      SpamClip(value, shown, sizeof shown);
+      (void)snprintf(opt, sizeof opt, "-%s", name);
+      SPAM_BAD_INPUT(opt, shown, "element %d is empty: a list is values separated by single commas", k);
+    }
+    if (!end) break;
+    p = end;
+  }
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamOptionsCheckValues(void)
 {
   Given g;
@@ -196,6 +232,7 @@ PetscErrorCode SpamOptionsCheckValues(void)
     const Known *k = Find(g.names[i]);
     if (g.values[i]) {
       PetscErrorCode ierr = CheckIntegerRange(g.names[i], g.values[i]);
+      if (!ierr) ierr = CheckListElements(g.names[i], g.values[i]);
       if (ierr) {
         PetscCall(GivenFree(&g));
         return ierr; /* reported already, as one line */

@@ -198,13 +198,13 @@ static PetscErrorCode FinalOutputs(SpamSim *sim, const SpamRunOptions *o, SpamOu
   PetscFunctionReturn(0);
 }
 
-/* SIGINT or SIGTERM came: the step in progress has been completed and accepted; write the
- * outputs of the time reached and end. */
-static PetscErrorCode Interrupted(SpamSim *sim, const SpamRunOptions *o, SpamOutput *out, const SpamProgress *p, PetscBool row_done, PetscBool snap_done, SpamRunResult *r)
+/* Signal sig (SIGINT or SIGTERM, as agreed by every rank) came: the step in progress has
+ * been completed and accepted; write the outputs of the time reached and end. */
+static PetscErrorCode Interrupted(SpamSim *sim, const SpamRunOptions *o, SpamOutput *out, const SpamProgress *p, int sig, PetscBool row_done, PetscBool snap_done, SpamRunResult *r)
 {
   PetscFunctionBeginUser;
   r->status = SPAM_STATUS_INTERRUPTED;
-  r->signal = SpamInterruptSignal() ? SpamInterruptSignal() : SIGTERM; /* another rank's signal: SignalAgreed */
+  r->signal = sig;
   (void)snprintf(r->reason, sizeof r->reason, "interrupted by %s at t = %.6g (step %ld)", r->signal == SIGINT ? "SIGINT" : "SIGTERM", p->t, p->steps);
   PetscCall(FinalOutputs(sim, o, out, p, row_done, snap_done, r));
   PetscFunctionReturn(0);
@@ -387,15 +387,18 @@ static PetscErrorCode CheckpointAsked(const SpamSim *sim, const SpamRunOptions *
   PetscFunctionReturn(0);
 }
 
-/* Whether SIGINT or SIGTERM came, agreed by every rank: a signal reaches the ranks at
- * different moments, and a rank that stopped alone would leave the others waiting in the
- * next collective. One small reduction per step on more than one rank. */
-static PetscBool SignalAgreed(const SpamSim *sim)
+/* The signal that came (SIGINT or SIGTERM; 0: none), agreed by every rank: a signal reaches
+ * the ranks at different moments, and a rank that stopped alone would leave the others
+ * waiting in the next collective. The number itself is reduced, not a flag, so that every
+ * rank reports the signal a single rank received (SIGINT to rank 1 is SIGINT on rank 0);
+ * if different ranks received different ones, the largest (SIGTERM) wins. One small
+ * reduction per step on more than one rank; a failed one stops the run as SIGTERM would. */
+static int SignalAgreed(const SpamSim *sim)
 {
-  int mine = SpamInterruptSignal() ? 1 : 0, any = mine;
+  int mine = SpamInterruptSignal(), agreed = mine;
 
-  if (SpamSimDistributed(sim) && MPI_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, sim->comm) != MPI_SUCCESS) return PETSC_TRUE;
-  return (PetscBool)any;
+  if (SpamSimDistributed(sim) && MPI_Allreduce(&mine, &agreed, 1, MPI_INT, MPI_MAX, sim->comm) != MPI_SUCCESS) return SIGTERM;
+  return agreed;
 }
 
 /* The stop of the next step: t_end when interpolating, else the next output time. */
@@ -544,16 +547,17 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
     SpamStepLimit       limit = r->fixed_dt > 0 ? SPAM_LIMIT_FIXED : SPAM_LIMIT_ACCURACY;
     char                why[256];
     PetscReal           tnew;
-    double              t = L->t;
+    double              t   = L->t;
+    const int           sig = SignalAgreed(sim);
 
-    if (SignalAgreed(sim)) {
+    if (sig) {
       /* The checkpoint first, so that it holds the series as a straight run writes them,
        * without the extra row and snapshot of the interruption. */
       PetscBool written;
       L->ckpt_due = PETSC_TRUE;
       PetscCall(CheckpointServe(sim, o, ts, app, out, r, L, &written));
       if (written || L->t >= o->t_end || L->ckpt_deferred == 0) {
-        PetscCall(Interrupted(sim, o, out, pp, (PetscBool)(L->t_row == t), (PetscBool)(L->t_snap == t), r));
+        PetscCall(Interrupted(sim, o, out, pp, sig, (PetscBool)(L->t_row == t), (PetscBool)(L->t_snap == t), r));
         break;
       }
     }

@@ -31,13 +31,21 @@ PetscErrorCode SpamParticlesFree(SpamParticles *p)
 /* Box corners and translated coordinates stay below this size (as the particle file's). */
 #define MAX_COORDINATE 1e15
 
+const char *SpamPositiveNormalProblem(double v)
+{
+  if (!(v > 0.0) || !isfinite(v)) return "must be a positive finite number";
+  if (v < DBL_MIN) return "too small (subnormal): must be at least 2.22507e-308";
+  return NULL;
+}
+
 static PetscErrorCode CheckPositive(const char *opt, double v)
 {
-  char val[128];
+  const char *why = SpamPositiveNormalProblem(v);
+  char        val[128];
+
   PetscFunctionBeginUser;
   PetscCall(SpamOptionText(opt, v, val, sizeof val));
-  if (!(v > 0.0) || !isfinite(v)) SPAM_BAD_INPUT(opt, val, "must be a positive finite number");
-  if (v < DBL_MIN) SPAM_BAD_INPUT(opt, val, "too small (subnormal): must be at least %g", DBL_MIN);
+  if (why) SPAM_BAD_INPUT(opt, val, "%s", why);
   PetscFunctionReturn(0);
 }
 

@@ -205,7 +205,7 @@ static PetscErrorCode ParseParticle(CsvReader *r, const SpamCommonParams *c, con
   for (int s = 0; s < NSLOTS; s++) slots[s] = 0.0; /* velocities default to rest */
   for (int j = 0; j < k; j++) slots[map->slot[j]] = vals[j];
   PetscCall(CheckInBox(r, c, slots + SLOT_X));
-  if ((map->columns & SPAM_COLUMN_M) && !(slots[SLOT_M] > 0.0)) CSV_BAD_LINE(r, "mass must be positive");
+  if ((map->columns & SPAM_COLUMN_M) && SpamPositiveNormalProblem(slots[SLOT_M])) CSV_BAD_LINE(r, "mass m = %.17g: %s", slots[SLOT_M], SpamPositiveNormalProblem(slots[SLOT_M]));
   if ((map->columns & SPAM_COLUMN_RHO) && !(slots[SLOT_RHO] > 0.0)) CSV_BAD_LINE(r, "density rho must be positive");
   if ((map->columns & SPAM_COLUMN_ID) && !(slots[SLOT_ID] >= 0.0 && slots[SLOT_ID] < r->max_particles && slots[SLOT_ID] == floor(slots[SLOT_ID]))) CSV_BAD_LINE(r, "id must be a whole number from 0 to the particle count - 1");
   PetscFunctionReturn(0);

@@ -25,6 +25,30 @@ static PetscBool ReadAttribute(hid_t file, const char *name, hid_t type, void *b
   return ok;
 }
 
+/* Reads attribute name of obj (the root group or a dataset) as n <= 3 whole numbers:
+ * through double, so that a value stored as floating point (dim = 2.7) is seen, not
+ * truncated by HDF5's conversion to int. 1: read; 0: no such attribute of n values; -1:
+ * a value that is not a whole number in int's range. */
+static int ReadIntAttribute(hid_t obj, const char *name, int *buf, hssize_t n)
+{
+  double v[3];
+  hid_t  a, space;
+  int    ok = 0;
+
+  if (n < 1 || n > 3 || H5Aexists(obj, name) <= 0) return 0;
+  if ((a = H5Aopen(obj, name, H5P_DEFAULT)) < 0) return 0;
+  if ((space = H5Aget_space(a)) >= 0) {
+    ok = H5Sget_simple_extent_npoints(space) == n && H5Aread(a, H5T_NATIVE_DOUBLE, v) >= 0;
+    (void)H5Sclose(space);
+  }
+  (void)H5Aclose(a);
+  for (hssize_t k = 0; ok && k < n; k++) {
+    if (!(v[k] == floor(v[k]) && fabs(v[k]) <= INT_MAX)) return -1; /* NaN fails too */
+    buf[k] = (int)v[k];
+  }
+  return ok;
+}
+
 /* Reads dataset name as n rows of ncomp values of the native type into buf; *found is
  * false if the file has no such dataset. A dataset of another shape is bad input. HDF5
  * converts the stored type (a snapshot's little-endian doubles) to the native one. */
@@ -51,16 +75,19 @@ static PetscErrorCode ReadDataset(hid_t file, const char *path, const char *name
 /* The snapshot's box; options given as well must agree with it. */
 static PetscErrorCode ReadBox(hid_t file, const SpamCommonParams *c, const char *path, SpamBox *box)
 {
-  int       dim = 0, per[3] = {0, 0, 0};
+  int       dim = 0, per[3] = {0, 0, 0}, got;
   PetscBool set_lo, set_per;
   char      val[32];
 
   PetscFunctionBeginUser;
-  if (!ReadAttribute(file, "dim", H5T_NATIVE_INT, &dim, 1) || dim < 1 || dim > 3) SPAM_BAD_INPUT("-file_path", path, "is an HDF5 file without the snapshot attribute dim (1, 2 or 3): not a snapshot of this program (0.2 or later)");
+  got = ReadIntAttribute(file, "dim", &dim, 1);
+  if (got < 0) SPAM_BAD_INPUT("-file_path", path, "the snapshot attribute dim is not a whole number (1, 2 or 3)");
+  if (got == 0 || dim < 1 || dim > 3) SPAM_BAD_INPUT("-file_path", path, "is an HDF5 file without the snapshot attribute dim (1, 2 or 3): not a snapshot of this program (0.2 or later)");
   (void)snprintf(val, sizeof val, "%d", c->dim);
   if (dim != c->dim) SPAM_BAD_INPUT("-dim", val, "the snapshot %s is %d-dimensional: add -dim %d", path, dim, dim);
   box->dim = dim;
-  if (!ReadAttribute(file, "box_lo", H5T_NATIVE_DOUBLE, box->lo, dim) || !ReadAttribute(file, "box_len", H5T_NATIVE_DOUBLE, box->len, dim) || !ReadAttribute(file, "periodic", H5T_NATIVE_INT, per, dim)) SPAM_BAD_INPUT("-file_path", path, "the snapshot lacks its box (attributes box_lo, box_len, periodic of %d values)", dim);
+  if (!ReadAttribute(file, "box_lo", H5T_NATIVE_DOUBLE, box->lo, dim) || !ReadAttribute(file, "box_len", H5T_NATIVE_DOUBLE, box->len, dim) || ReadIntAttribute(file, "periodic", per, dim) == 0) SPAM_BAD_INPUT("-file_path", path, "the snapshot lacks its box (attributes box_lo, box_len, periodic of %d values)", dim);
+  if (ReadIntAttribute(file, "periodic", per, dim) < 0) SPAM_BAD_INPUT("-file_path", path, "the snapshot attribute periodic holds a value that is not a whole number (0 or 1)");
   for (int d = 0; d < dim; d++) box->periodic[d] = (PetscBool)(per[d] != 0);
   PetscCall(PetscOptionsHasName(NULL, NULL, "-box_lo", &set_lo));
   PetscCall(PetscOptionsHasName(NULL, NULL, "-periodic", &set_per));
@@ -100,9 +127,9 @@ static PetscErrorCode CountParticles(hid_t file, const char *path, PetscInt *n)
 
 /* Which optional datasets the snapshot has: the density only where the model carried it
  * (attribute carried = 1); a summed density is derived from positions, not state. */
-static PetscErrorCode Columns(hid_t file, unsigned *columns)
+static PetscErrorCode Columns(hid_t file, const char *path, unsigned *columns)
 {
-  int carried = 0;
+  int carried = 0, got = 0;
 
   PetscFunctionBeginUser;
   *columns = SPAM_COLUMN_X | SPAM_COLUMN_V;
@@ -111,10 +138,11 @@ static PetscErrorCode Columns(hid_t file, unsigned *columns)
   if (H5Lexists(file, "/energy", H5P_DEFAULT) > 0) *columns |= SPAM_COLUMN_E;
   if (H5Lexists(file, "/stress", H5P_DEFAULT) > 0) *columns |= SPAM_COLUMN_STRESS;
   if (H5Lexists(file, "/density", H5P_DEFAULT) > 0 && H5Aexists_by_name(file, "/density", "carried", H5P_DEFAULT) > 0) {
-    hid_t set = H5Dopen2(file, "/density", H5P_DEFAULT), a = set >= 0 ? H5Aopen(set, "carried", H5P_DEFAULT) : -1;
-    if (a >= 0 && H5Aread(a, H5T_NATIVE_INT, &carried) < 0) carried = 0;
-    if (a >= 0) (void)H5Aclose(a);
+    hid_t set = H5Dopen2(file, "/density", H5P_DEFAULT);
+    if (set >= 0) got = ReadIntAttribute(set, "carried", &carried, 1);
     if (set >= 0) (void)H5Dclose(set);
+    if (got < 0) SPAM_BAD_INPUT("-file_path", path, "the attribute carried of /density is not a whole number (0 or 1)");
+    if (got == 0) carried = 0;
   }
   if (carried) *columns |= SPAM_COLUMN_RHO;
   PetscFunctionReturn(0);
@@ -140,10 +168,10 @@ static PetscErrorCode CheckValues(const char *path, const SpamParticles *p)
       const double x = p->x[i * p->dim + d];
       ok             = (PetscBool)(ok && x >= p->box.lo[d] && x <= p->box.lo[d] + p->box.len[d] && isfinite(p->v[i * p->dim + d]));
     }
-    if (p->m) ok = (PetscBool)(ok && p->m[i] > 0.0 && isfinite(p->m[i]));
+    if (p->m && SpamPositiveNormalProblem(p->m[i])) SPAM_BAD_INPUT("-file_path", path, "particle %" PetscInt_FMT ": mass %.17g: %s", i + 1, p->m[i], SpamPositiveNormalProblem(p->m[i]));
     if (p->e) ok = (PetscBool)(ok && isfinite(p->e[i]) && (!(p->columns & SPAM_COLUMN_RHO) || (p->rho[i] > 0.0 && isfinite(p->rho[i]))));
     for (int k = 0; p->sigma && k < SpamStressComponents(p->dim); k++) ok = (PetscBool)(ok && isfinite(p->sigma[(size_t)i * SpamStressComponents(p->dim) + k]));
-    if (!ok) SPAM_BAD_INPUT("-file_path", path, "particle %" PetscInt_FMT " lies outside the snapshot's box or has a value that is not finite (or a mass or density that is not positive)", i + 1);
+    if (!ok) SPAM_BAD_INPUT("-file_path", path, "particle %" PetscInt_FMT " lies outside the snapshot's box or has a value that is not finite (or a density that is not positive)", i + 1);
   }
   PetscFunctionReturn(0);
 }
@@ -214,7 +242,7 @@ PetscErrorCode SpamFileReadHdf5(const SpamCommonParams *c, const char *path, Spa
   if (file < 0) SPAM_BAD_INPUT("-file_path", path, "has the HDF5 signature but HDF5 cannot open it");
   ierr = ReadBox(file, c, path, &box);
   if (!ierr) ierr = CountParticles(file, path, &n);
-  if (!ierr) ierr = Columns(file, &columns);
+  if (!ierr) ierr = Columns(file, path, &columns);
   if (!ierr) ierr = ReadParticles(file, path, c->dim, n, columns, out);
   (void)H5Fclose(file);
   PetscCall(ierr);
