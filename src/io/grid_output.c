@@ -5,12 +5,11 @@
  * grid_NNNNN.csv with columns x,y,(z) and the fields, one row per point in the same order.
  * Every file is written to a new temporary and renamed when complete, as the snapshots.
  * On several ranks rank 0 writes them all, from the fields reduced over the ranks. */
-#define _DEFAULT_SOURCE /* lstat: POSIX, not C11 */
+#define _DEFAULT_SOURCE /* close, unlink: POSIX, not C11 */
 #include <spam/grid.h>
 #include "snapshot_hdf5.h"
 
 #include <errno.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 typedef struct {
@@ -108,40 +107,36 @@ static PetscErrorCode WriteContents(GridH5 *h, const SpamSim *sim, const SpamGri
   PetscFunctionReturn(0);
 }
 
-/* HDF5 opens the temporary by name: before the rename it must still be the file we made. */
+/* The file built in memory and written through the temporary's own descriptor (h5_image.c):
+ * nothing is opened by name after the temporary's exclusive create. */
 static PetscErrorCode WriteHdf5(const char *path, const SpamSim *sim, const SpamGrid *g, const SpamGridFields *f, double t, long step)
 {
   char           tmp[PETSC_MAX_PATH_LEN + 32];
-  GridH5         h = {-1, path, 0, SpamTestFailWriteAt(path)};
-  struct stat    made, now;
+  GridH5         h     = {-1, path, 0, SpamTestFailWriteAt(path)};
+  unsigned char *image = NULL;
+  size_t         len   = 0;
   int            fd;
   PetscErrorCode ierr = 0;
 
   PetscFunctionBeginUser;
   PetscCall(SpamTempCreate(path, tmp, sizeof tmp, &fd));
-  if (fstat(fd, &made)) {
-    const int e = errno;
-    (void)close(fd);
-    (void)unlink(tmp);
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write %s: %s", path, strerror(e));
-  }
-  (void)close(fd);
   (void)H5Eset_auto2(H5E_DEFAULT, NULL, NULL); /* no error-stack dump: one line instead */
-  errno  = 0;
+  errno = 0;
   {
     const hid_t fcpl = SpamH5Untimed(H5P_FILE_CREATE);
-    h.file           = fcpl < 0 ? -1 : H5Fcreate(tmp, H5F_ACC_TRUNC, fcpl, H5P_DEFAULT);
+    h.file           = fcpl < 0 ? -1 : SpamH5MemoryCreate(tmp, fcpl, H5P_DEFAULT);
     if (fcpl >= 0) (void)H5Pclose(fcpl);
   }
   if (h.file < 0) ierr = SpamH5Failed(h.path);
+  if (!ierr) ierr = WriteContents(&h, sim, g, f, t, step);
+  if (!ierr) ierr = SpamH5ImageTake(&h.file, path, 0, &image, &len);
+  SpamH5MemoryClose(&h.file);
+  if (!ierr) ierr = SpamTempCommitImage(fd, tmp, path, image, len);
   else {
-    ierr  = WriteContents(&h, sim, g, f, t, step);
-    errno = 0;
-    if (H5Fclose(h.file) < 0 && !ierr) ierr = SpamH5Failed(h.path);
+    (void)close(fd);
+    (void)unlink(tmp);
   }
-  if (!ierr && (lstat(tmp, &now) || !S_ISREG(now.st_mode) || now.st_ino != made.st_ino || now.st_dev != made.st_dev)) ierr = PetscError(PETSC_COMM_SELF, __LINE__, PETSC_FUNCTION_NAME, __FILE__, PETSC_ERR_FILE_WRITE, PETSC_ERROR_INITIAL, "cannot write %s: its temporary %s was replaced during the write", path, tmp);
-  if (!ierr && rename(tmp, path)) ierr = PetscError(PETSC_COMM_SELF, __LINE__, PETSC_FUNCTION_NAME, __FILE__, PETSC_ERR_FILE_WRITE, PETSC_ERROR_INITIAL, "cannot rename %s to %s: %s", tmp, path, strerror(errno));
-  if (ierr) (void)unlink(tmp);
+  PetscCall(PetscFree(image));
   PetscCall(ierr);
   PetscFunctionReturn(0);
 }

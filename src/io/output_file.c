@@ -4,6 +4,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <stdarg.h>
+#include <time.h>
 #include <unistd.h>
 
 long SpamTestFailWriteAt(const char *path)
@@ -19,6 +20,17 @@ long SpamTestFailWriteAt(const char *path)
   return *end || n < 1 ? 0 : n;
 }
 
+void SpamTestPauseAfterTemp(const char *path)
+{
+  const char           *env = getenv("SPAM_TEST_PAUSE_TEMP"), *base = strrchr(path, '/'), *colon;
+  const struct timespec tick = {0, 10000000}; /* 10 ms */
+
+  if (!env || !(colon = strchr(env, ':')) || !colon[1]) return;
+  base = base ? base + 1 : path;
+  if ((size_t)(colon - env) != strlen(base) || strncmp(env, base, (size_t)(colon - env))) return;
+  for (int k = 0; k < 6000 && access(colon + 1, F_OK); k++) (void)nanosleep(&tick, NULL); /* at most 60 s */
+}
+
 /* The temporary's name carries the pid, so a name left by someone else (a symlink, say)
  * is never opened; O_EXCL | O_NOFOLLOW refuses it even if the pid repeats. */
 PetscErrorCode SpamTempCreate(const char *path, char *tmp, size_t len, int *fd)
@@ -27,6 +39,7 @@ PetscErrorCode SpamTempCreate(const char *path, char *tmp, size_t len, int *fd)
   PetscCall(PetscSNPrintf(tmp, len, "%s.%ld.tmp", path, (long)getpid()));
   *fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
   PetscCheck(*fd >= 0, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot create %s: %s", tmp, strerror(errno));
+  SpamTestPauseAfterTemp(path);
   PetscFunctionReturn(0);
 }
 
