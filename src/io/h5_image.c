@@ -35,6 +35,60 @@ void SpamH5MemoryClose(hid_t *file)
   *file = -1;
 }
 
+/* Jenkins' lookup3 (hashlittle, bytes read one at a time), HDF5's metadata checksum. */
+static uint32_t Rot(uint32_t x, int k) { return (x << k) | (x >> (32 - k)); }
+
+static void Mix(uint32_t *a, uint32_t *b, uint32_t *c)
+{
+  *a -= *c, *a ^= Rot(*c, 4), *c += *b;
+  *b -= *a, *b ^= Rot(*a, 6), *a += *c;
+  *c -= *b, *c ^= Rot(*b, 8), *b += *a;
+  *a -= *c, *a ^= Rot(*c, 16), *c += *b;
+  *b -= *a, *b ^= Rot(*a, 19), *a += *c;
+  *c -= *b, *c ^= Rot(*b, 4), *b += *a;
+}
+
+static void Final(uint32_t *a, uint32_t *b, uint32_t *c)
+{
+  *c ^= *b, *c -= Rot(*b, 14);
+  *a ^= *c, *a -= Rot(*c, 11);
+  *b ^= *a, *b -= Rot(*a, 25);
+  *c ^= *b, *c -= Rot(*b, 16);
+  *a ^= *c, *a -= Rot(*c, 4);
+  *b ^= *a, *b -= Rot(*a, 14);
+  *c ^= *b, *c -= Rot(*b, 24);
+}
+
+static uint32_t Lookup3(const unsigned char *k, size_t len)
+{
+  uint32_t abc[3];
+
+  abc[0] = abc[1] = abc[2] = 0xdeadbeefu + (uint32_t)len;
+  for (; len > 12; len -= 12, k += 12) {
+    for (int i = 0; i < 12; i++) abc[i / 4] += (uint32_t)k[i] << (8 * (i % 4));
+    Mix(&abc[0], &abc[1], &abc[2]);
+  }
+  if (!len) return abc[2];
+  for (size_t i = 0; i < len; i++) abc[i / 4] += (uint32_t)k[i] << (8 * (i % 4));
+  Final(&abc[0], &abc[1], &abc[2]);
+  return abc[2];
+}
+
+/* HDF5 1.10's file image clears the superblock's status flags (the file is open for
+ * writing) without computing the superblock's checksum again (version 2 and later, the
+ * checkpoint's 1.8 format): the library would then refuse the file it wrote. */
+static void FixSuperblock(unsigned char *sb, size_t len)
+{
+  size_t   n;
+  uint32_t sum;
+
+  if (len < 12 || sb[8] < 2) return; /* versions 0 and 1 carry no checksum */
+  n = 12 + 4 * (size_t)sb[9];        /* signature, versions, sizes, flags, four addresses */
+  if (len < n + 4) return;
+  sum = Lookup3(sb, n);
+  for (int b = 0; b < 4; b++) sb[n + b] = (unsigned char)(sum >> (8 * b));
+}
+
 PetscErrorCode SpamH5ImageTake(hid_t *file, const char *path, size_t lead, unsigned char **image, size_t *len)
 {
   ssize_t        n = -1;
@@ -58,6 +112,7 @@ PetscErrorCode SpamH5ImageTake(hid_t *file, const char *path, size_t lead, unsig
   }
   SpamH5MemoryClose(file);
   PetscCall(ierr);
+  FixSuperblock(*image + lead, (size_t)n);
   *len = lead + (size_t)n;
   PetscFunctionReturn(0);
 }
