@@ -95,7 +95,7 @@ static herr_t WriteGathered(RanksWriter *w, int b, hsize_t total, const void *da
 }
 
 /* Entry b of every rank gathered on rank 0 (counts from w->len) into buf, [total] values. */
-static PetscErrorCode GatherEntry(RanksWriter *w, int b, PetscBool send, void *buf, hsize_t *total)
+static PetscErrorCode GatherEntry(RanksWriter *w, int b, void *buf, hsize_t *total)
 {
   const SpamCkEntry *e  = &w->mine->e[b];
   const int          nb = w->mine->n;
@@ -112,8 +112,8 @@ static PetscErrorCode GatherEntry(RanksWriter *w, int b, PetscBool send, void *b
       *total += (hsize_t)counts[r];
     }
   }
-  /* a rank whose injected failure fired still joins the gather, with nothing sent */
-  PetscCallMPI(MPI_Gatherv(e->data, send ? (PetscMPIInt)e->n : 0, type, buf, counts, displs, type, 0, w->comm));
+  /* a rank whose own part failed still sends its block: the counts must match */
+  PetscCallMPI(MPI_Gatherv(e->data, (PetscMPIInt)e->n, type, buf, counts, displs, type, 0, w->comm));
   PetscCall(PetscFree2(counts, displs));
   PetscFunctionReturn(0);
 }
@@ -137,7 +137,7 @@ static PetscErrorCode GatherBlocks(void *ctx)
     if (fail && !err) err = ENOSPC;
     for (PetscMPIInt r = 0; !w->rank && r < w->size; r++) total += (size_t)w->len[(size_t)r * w->mine->n + b];
     if (!w->rank) PetscCall(PetscMalloc(8 * total + 1, &buf));
-    PetscCall(GatherEntry(w, b, (PetscBool)!fail, buf, &got));
+    PetscCall(GatherEntry(w, b, buf, &got));
     errno = 0;
     if (!w->rank && !err && !fail && WriteGathered(w, b, got, buf) < 0) err = errno ? errno : EIO;
     PetscCall(PetscFree(buf));
