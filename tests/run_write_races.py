@@ -11,7 +11,9 @@
    victim file. HDF5 never opens the temporary by name, so the victim is untouched; the
    writer then sees its temporary was replaced and refuses in one line (exit 1), leaving no
    temporary and no link. For an HDF5 snapshot, a grid file and a checkpoint on one rank,
-   and a snapshot and a checkpoint on two ranks (rank 0 writes the file for all)."""
+   and a snapshot and a checkpoint on two ranks (rank 0 writes the file for all); and the
+   text series timeseries.csv, which each checkpoint reads back: no file of the run may
+   hold the target's bytes."""
 import os
 import resource
 import shutil
@@ -131,6 +133,8 @@ def race(label, name, args, ranks=1):
     line = one_line("\n".join(x for x in err.splitlines() if x.startswith("spam-ark:")) if ranks > 1 else err)
     c.check(swapped, f"{label}: the run paused with its temporary {tmp} and the test swapped it for a symlink")
     c.check(open(victim).read() == "untouched\n", f"{label}: the symlink's target is untouched")
+    leaked = [n for n in listing(d) if os.path.isfile(os.path.join(d, n)) and b"untouched" in open(os.path.join(d, n), "rb").read()]
+    c.check(not leaked, f"{label}: no file of the run holds the target's bytes (read back through the link): {leaked}")
     refused = p.returncode == 1 and line and f"cannot write {os.path.join(d, name)}: its temporary" in line and "was replaced during the write" in line
     c.check(refused, f"{label}: the write is refused in one line (exit {p.returncode}): {brief(err)}")
     final = os.path.join(d, name)
@@ -142,6 +146,9 @@ SNAP = ["-expansion_n", 8, "-h", 1.5, "-ts_max_time", 1, "-snapshot_interval", 0
 race("HDF5 snapshot", "snap_00001.h5", SNAP)
 race("grid file", "grid_00001.h5", SNAP + ["-grid_interval", 1])
 race("checkpoint", "checkpoint.h5", ["-expansion_n", 8, "-h", 1.5, "-ts_max_time", 1, "-checkpoint_interval", 0.5, "-diag_entropy", 0])
+# The text series: its temporary is read back into each checkpoint (through its descriptor,
+# so the link's target never reaches the checkpoint) and renamed at the end.
+race("timeseries", "timeseries.csv", ["-expansion_n", 8, "-h", 1.5, "-ts_max_time", 1, "-checkpoint_interval", 0.25, "-diag_entropy", 0])
 race("HDF5 snapshot on 2 ranks", "snap_00001.h5", SNAP, ranks=2)
 race("checkpoint on 2 ranks", "checkpoint.h5", ["-expansion_n", 8, "-h", 1.5, "-ts_max_time", 1, "-checkpoint_interval", 0.5, "-diag_entropy", 0], ranks=2)
 c.finish()

@@ -28,27 +28,25 @@ static int Shape(const SpamGrid *g, hsize_t shape[4])
   return rank;
 }
 
+/* Every id made here is closed also when a call fails. */
 static PetscErrorCode WriteDataset(GridH5 *h, const SpamGrid *g, const char *name, const double *data, int ncomp)
 {
-  hsize_t shape[4];
-  int     rank = Shape(g, shape);
-  hid_t   space, set, dcpl;
-  herr_t  w;
+  hsize_t     shape[4];
+  int         rank = Shape(g, shape), e;
+  const hid_t dcpl = SpamH5Untimed(H5P_DATASET_CREATE);
+  hid_t       space = -1, set = -1;
+  herr_t      w = -1;
 
   PetscFunctionBeginUser;
   if (ncomp > 1) shape[rank++] = (hsize_t)ncomp;
-  PetscCallGridH5(h, dcpl = SpamH5Untimed(H5P_DATASET_CREATE));
-  PetscCallGridH5(h, space = H5Screate_simple(rank, shape, NULL));
-  set = H5Dcreate2(h->file, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
-  (void)H5Pclose(dcpl);
-  if (set < 0) {
-    (void)H5Sclose(space);
-    PetscCall(SpamH5Failed(h->path));
-  }
   errno = 0;
-  w     = ++h->writes == h->fail_at ? (errno = ENOSPC, -1) : H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data);
-  if (H5Dclose(set) < 0) w = -1;
-  if (H5Sclose(space) < 0) w = -1;
+  if (dcpl >= 0 && (space = H5Screate_simple(rank, shape, NULL)) >= 0) set = H5Dcreate2(h->file, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+  if (set >= 0) w = ++h->writes == h->fail_at ? (errno = ENOSPC, -1) : H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data);
+  e = errno; /* the failure's reason, before the closes */
+  if (set >= 0 && H5Dclose(set) < 0) w = -1;
+  if (space >= 0) (void)H5Sclose(space);
+  if (dcpl >= 0) (void)H5Pclose(dcpl);
+  errno = e;
   if (w < 0) PetscCall(SpamH5Failed(h->path));
   PetscFunctionReturn(0);
 }

@@ -4,6 +4,7 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <stdarg.h>
+#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -37,7 +38,8 @@ PetscErrorCode SpamTempCreate(const char *path, char *tmp, size_t len, int *fd)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscSNPrintf(tmp, len, "%s.%ld.tmp", path, (long)getpid()));
-  *fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+  /* read-write: what was written is read back through this descriptor (SpamFileContents) */
+  *fd = open(tmp, O_RDWR | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
   PetscCheck(*fd >= 0, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot create %s: %s", tmp, strerror(errno));
   SpamTestPauseAfterTemp(path);
   PetscFunctionReturn(0);
@@ -104,6 +106,15 @@ PetscErrorCode SpamFileCheck(SpamFile *f)
   PetscFunctionReturn(0);
 }
 
+/* Whether the name f->tmp is still the file f writes: else the rename would put in place
+ * whatever someone left at that name (a symlink, say). */
+static PetscBool StillOurs(const SpamFile *f)
+{
+  struct stat mine, now;
+
+  return (PetscBool)(!fstat(fileno(f->f), &mine) && !lstat(f->tmp, &now) && S_ISREG(now.st_mode) && now.st_ino == mine.st_ino && now.st_dev == mine.st_dev);
+}
+
 PetscErrorCode SpamFileCommit(SpamFile *f)
 {
   int e;
@@ -111,6 +122,10 @@ PetscErrorCode SpamFileCommit(SpamFile *f)
   PetscFunctionBeginUser;
   PetscCheck(f->f, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONGSTATE, "%s is not open", f->path);
   PetscCall(SpamFileCheck(f));
+  if (!StillOurs(f)) {
+    SpamFileDiscard(f); /* removes the name only: a link is not followed */
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write %s: its temporary %s was replaced during the write", f->path, f->tmp);
+  }
   e = fclose(f->f);
   f->f = NULL;
   if (e) {
@@ -156,11 +171,31 @@ PetscErrorCode SpamReadWholeFile(const char *path, char **buf, size_t *len)
   PetscFunctionReturn(0);
 }
 
+/* Through the temporary's own descriptor, not its name: a name swapped for a symlink would
+ * put the link target's bytes into the checkpoint. */
 PetscErrorCode SpamFileContents(SpamFile *f, char **buf, size_t *len)
 {
+  struct stat st;
+  size_t      got = 0;
+  int         fd;
+
   PetscFunctionBeginUser;
   PetscCall(SpamFileCheck(f));
-  PetscCall(SpamReadWholeFile(f->tmp, buf, len));
-  PetscCheck(*buf, PETSC_COMM_SELF, PETSC_ERR_FILE_READ, "cannot read back %s: it has gone", f->tmp);
+  PetscCheck(f->f, PETSC_COMM_SELF, PETSC_ERR_FILE_READ, "cannot read back %s: it is not open", f->tmp);
+  fd = fileno(f->f);
+  PetscCheck(!fstat(fd, &st), PETSC_COMM_SELF, PETSC_ERR_FILE_READ, "cannot read back %s: %s", f->tmp, strerror(errno));
+  PetscCall(PetscMalloc1((size_t)st.st_size + 1, buf));
+  while (got < (size_t)st.st_size) {
+    const ssize_t r = pread(fd, *buf + got, (size_t)st.st_size - got, (off_t)got);
+    if (r < 0 && errno == EINTR) continue;
+    if (r <= 0) {
+      const int e = r < 0 ? errno : EIO;
+      PetscCall(PetscFree(*buf));
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_READ, "cannot read back %s: %s", f->tmp, strerror(e));
+    }
+    got += (size_t)r;
+  }
+  (*buf)[got] = 0;
+  *len        = got;
   PetscFunctionReturn(0);
 }
