@@ -5,7 +5,7 @@
    open and closed it again at its shutdown, after MPI: SIGSEGV), no temporary, no lock.
    Two ways: a 1 MiB tmpfs filled to several levels (needs mount: root in CI; skipped with
    the reason otherwise), and a file-size limit (RLIMIT_FSIZE, SIGXFSZ ignored: write()
-   fails with EFBIG), which needs no privilege and always runs.
+   fails with EFBIG), which needs no privilege and always runs; and on two ranks (tmpfs).
 2. The symlink race: while the writer is paused right after creating NAME.PID.tmp (the test
    hook SPAM_TEST_PAUSE_TEMP=NAME:GOFILE), the temporary is replaced by a symlink to a
    victim file. HDF5 never opens the temporary by name, so the victim is untouched; the
@@ -55,6 +55,13 @@ def full_disk_case(label, p, d, reason):
     c.check(clean(d) and "checkpoint.h5" not in listing(d), f"{label}: no partial checkpoint, no temporary, no lock ({listing(d)})")
 
 
+def mpiexec_env():
+    mpiexec = shutil.which("mpiexec")
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_pml="ob1")
+    env.pop("OMPI_MCA_ess_singleton_isolated", None)
+    return mpiexec, env
+
+
 # 1. Full disk during a checkpoint write.
 mnt = os.path.join(w, "tmpfs")
 os.makedirs(mnt)
@@ -73,6 +80,16 @@ else:
             p = subprocess.run([a.spam_ark] + [str(x) for x in CK] + ["-output_dir", d], capture_output=True, text=True, timeout=120)
             full_disk_case(f"tmpfs filled to {kib} KiB of 1024", p, d, "No space left on device")
             os.remove(os.path.join(mnt, "filler"))
+        # Two ranks: rank 0 writes the whole checkpoint; every rank ends, one line in all.
+        mpiexec, menv = mpiexec_env()
+        if mpiexec:
+            d = os.path.join(mnt, "out2")
+            with open(os.path.join(mnt, "filler"), "wb") as f:
+                f.write(b"\0" * (800 * 1024))
+            p = subprocess.run([mpiexec, "--oversubscribe", "-n", "2", a.spam_ark] + [str(x) for x in CK] + ["-output_dir", d], capture_output=True, text=True, timeout=120, env=menv)
+            p.stderr = "\n".join(x for x in p.stderr.splitlines() if x.startswith("spam-ark:"))  # without mpiexec's own lines
+            full_disk_case("tmpfs filled to 800 KiB, 2 ranks", p, d, "No space left on device")
+            os.remove(os.path.join(mnt, "filler"))
     finally:
         subprocess.run(["umount", mnt])
 
@@ -90,13 +107,6 @@ full_disk_case("a 200 kB file-size limit", p, d, "File too large")
 
 
 # 2. The symlink race.
-def mpiexec_env():
-    mpiexec = shutil.which("mpiexec")
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_pml="ob1")
-    env.pop("OMPI_MCA_ess_singleton_isolated", None)
-    return mpiexec, env
-
-
 def race(label, name, args, ranks=1):
     d = os.path.join(w, "race_" + label.replace(" ", "_"))
     victim = os.path.join(w, "victim_" + label.replace(" ", "_"))
