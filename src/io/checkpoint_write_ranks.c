@@ -13,6 +13,7 @@
 #include "snapshot_hdf5.h"
 #include <spam/output.h>
 #include <errno.h>
+#include <limits.h>
 #include <stdlib.h>
 
 typedef struct {
@@ -130,16 +131,25 @@ static PetscErrorCode GatherBlocks(void *ctx)
   PetscFunctionBeginUser;
   for (int b = 0; b < w->mine->n; b++) {
     const PetscBool fail  = (PetscBool)(++writes == w->fail_at);
-    size_t          total = 0;
+    int64_t         total = 0;
     hsize_t         got;
-    void           *buf = NULL;
+    void           *buf  = NULL;
+    PetscErrorCode  ierr = 0;
+    int             ready;
 
     if (fail && !err) err = ENOSPC;
-    for (PetscMPIInt r = 0; !w->rank && r < w->size; r++) total += (size_t)w->len[(size_t)r * w->mine->n + b];
-    if (!w->rank) PetscCall(PetscMalloc(8 * total + 1, &buf));
+    /* the lengths are known on every rank: a count past MPI's int fails on all alike */
+    for (PetscMPIInt r = 0; r < w->size; r++) total += w->len[(size_t)r * w->mine->n + b];
+    PetscCheck(total <= INT_MAX, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write %s: entry '%s' holds %lld values, more than one gather carries", w->path, w->mine->e[b].name, (long long)total);
+    if (!w->rank) ierr = PetscMalloc((size_t)total * 8 + 1, &buf);
+    /* rank 0 without its buffer: no rank enters the gather (none would leave it) */
+    ready = !ierr;
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &ready, 1, MPI_INT, MPI_LAND, w->comm));
+    PetscCall(ierr);
+    PetscCheck(ready, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write %s: rank 0 has no memory for the particles", w->path);
     PetscCall(GatherEntry(w, b, buf, &got));
     errno = 0;
-    if (!w->rank && !err && !fail && WriteGathered(w, b, got, buf) < 0) err = errno ? errno : EIO;
+    if (!w->rank && !err && WriteGathered(w, b, got, buf) < 0) err = errno ? errno : EIO;
     PetscCall(PetscFree(buf));
   }
   PetscCheck(!err, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write %s (rank %d's particles): %s", w->path, (int)w->rank, strerror(err));
