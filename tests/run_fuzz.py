@@ -27,6 +27,13 @@ The corpus (see tests/fuzz/cases.txt for the curated part):
   files    mutations of a good 8x8 CSV (fixed seed): hostile fields, structure, bytes; the
            expected code comes from a strict reference reader (reference_expect); cases it
            cannot decide accept 0 or 2 and are counted as "open".
+  snapshots  an HDF5 snapshot written by a tiny run, used as the file scene's input (fixed
+           seed): bit flips anywhere (its checksum refuses each, exit 2), truncations, bytes
+           appended, its checksum block zeroed or taken from another snapshot; and forged
+           (tests/snapshot_forge.c edits a dataset and stamps the checksum again): ids stored
+           as doubles (0.5 is refused, not truncated), as text, duplicated; a NaN position, a
+           negative mass, no velocities, positions n x 2. Forged and control cases run at
+           every stride.
 SPAM_FUZZ_STRIDE=k (tools/sanitize.sh: 16) runs every curated case and every k-th generated one;
 SPAM_FUZZ_ONLY=regex only the cases whose name matches it (a development aid).
 """
@@ -557,6 +564,60 @@ for name, path, expect in (("FIFO", FIFO, {2}), ("a directory", FILES, {2}), ("m
 file_cases.append(Case("files", "2D file under -dim 3", argv("F", [("-dim", "3"), ("-box_len", "8,8,8")]) + ["-output_dir", "out"], {2}))
 file_cases.append(Case("files", "2D file under -dim 1", argv("F", [("-dim", "1"), ("-box_len", "8")]) + ["-output_dir", "out"], {2}))
 
+
+
+# ------------------------------------------------------------------------ snapshots (iv) ----
+def snapshot_cases():
+    """The snapshot family: (cases run at every stride, generated cases). The source is the
+    snapshot at t = 0.5 of a tiny run of the file scene (64 particles, about 9 kB)."""
+    src_dir = os.path.join(w, "snapshot_source")
+    p = subprocess.run([SPAM] + argv("F", [("-snapshot_interval", "0.5")]) + ["-output_dir", src_dir], capture_output=True, env=ENV, timeout=60)
+    src = os.path.join(src_dir, "snap_00001.h5")
+    if not c.check(p.returncode == 0 and os.path.exists(src), f"the snapshot family's source run: exit {p.returncode}, {p.stderr.decode(errors='replace')[:200]}"):
+        return [], []
+    good, other = open(src, "rb").read(), open(os.path.join(src_dir, "snap_00000.h5"), "rb").read()
+    block = 512  # the checksum's user block (snapshot_checksum.c)
+
+    def case(name, path, expect):
+        return Case("snapshots", "snapshot " + name, argv("F", [("-file_path", path)]) + ["-output_dir", "out"], expect)
+
+    def mutated(k, name, data, expect):
+        return case(name, fpath(f"s{k:04d}.h5", data), expect)
+
+    always = [mutated(0, "as written", good, {0}), mutated(1, "without its checksum block (an earlier version's file)", good[block:], {0})]
+    srng = random.Random(28)
+    more = []
+    # One bit flipped: 16 in the checksum's block, 80 in the HDF5 file after it.
+    for k in range(96):
+        pos = srng.randrange(block) if k < 16 else srng.randrange(block, len(good))
+        bit = srng.randrange(8)
+        data = bytearray(good)
+        data[pos] ^= 1 << bit
+        more.append(mutated(10 + k, f"bit {bit} of byte {pos} flipped", bytes(data), {2}))
+    for k, n in enumerate((len(good) - 1, len(good) // 2, block + 8, block, block - 1, 8)):
+        more.append(mutated(200 + k, f"truncated to {n} bytes", good[:n], {2}))
+    more.append(mutated(210, "one byte appended", good + b"\0", {2}))
+    more.append(mutated(211, "its checksum block zeroed", bytes(block) + good[block:], {2}))
+    more.append(mutated(212, "the checksum block of another snapshot", other[:block] + good[block:], {2}))
+    forge = os.environ.get("SPAM_SNAPSHOT_FORGE")
+    if not forge or not os.access(forge, os.X_OK):
+        print("SKIP: forged snapshots: SPAM_SNAPSHOT_FORGE (the snapshot_forge tool, set by ctest) is not set")
+        return always, more
+    forged = (("restamp", {0}), ("int32_ids", {0}), ("float_ids_half", {2}), ("float_ids_whole", {2}), ("string_ids", {2}), ("dup_ids", {2}),
+              ("nan_position", {2}), ("negative_mass", {2}), ("no_velocities", {2}), ("positions_2col", {2}))
+    for k, (op, expect) in enumerate(forged):
+        out = os.path.join(FILES, f"forged_{op}.h5")
+        f = subprocess.run([forge, src, out, op], capture_output=True, text=True, timeout=60)
+        if c.check(f.returncode == 0, f"snapshot_forge {op}: {f.stderr.strip()[:200]}"):
+            always.append(case(f"forged: {op}, checksum stamped again", out, expect))
+            if op == "float_ids_half":  # the same without the block: no checksum, still refused
+                always.append(mutated(300 + k, "forged: float_ids_half, no checksum block", open(out, "rb").read()[block:], expect))
+    return always, more
+
+
+snapshot_always, snapshot_generated = snapshot_cases()
+cases += snapshot_always
+generated += snapshot_generated
 generated += file_cases
 cases += generated[::STRIDE] if STRIDE > 1 else generated
 # SPAM_FUZZ_ONLY=regex: only the cases whose name matches (say "^-sod_|^-sedov_" for the

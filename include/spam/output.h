@@ -22,12 +22,25 @@ typedef struct {
  * snapshot or checkpoint (checkpoint_file.h) the N-th dataset write. It exists so the tests can prove that a failed write
  * stops the run; it is an environment variable, not an option, so users never see it. */
 long SpamTestFailWriteAt(const char *path);
+/* Test only: SPAM_TEST_PAUSE_TEMP=NAME:GOFILE makes the writer of the output file whose base
+ * name is NAME wait, right after creating its temporary, until the file GOFILE exists (at
+ * most 60 s), so that a test can replace the temporary meanwhile (a symlink race). */
+void SpamTestPauseAfterTemp(const char *path);
 
 /* Collective on comm: fn(ctx) on rank 0 alone (root_only: a text file written once) or on
  * every rank. An error in it on any rank is raised on every rank, with the code and the
  * message of the lowest rank that failed, and printed once (output_agreed.c): no rank is
  * left waiting in a collective for one that failed. */
 PetscErrorCode SpamRunAgreed(MPI_Comm comm, PetscBool root_only, PetscErrorCode (*fn)(void *), void *ctx);
+
+/* The HDF5 snapshot's checksum (snapshot_checksum.c): its first SPAM_SNAPSHOT_USERBLOCK
+ * bytes, an HDF5 user block, hold the hash of the rest. SpamSnapshotStamp fills the block
+ * of a complete file image; SpamSnapshotVerify refuses (exit 2, naming -file_path = path) a
+ * file whose block does not match its bytes. A file with HDF5's signature at its start has
+ * no block (a snapshot of an earlier version): nothing to verify. f is rewound. */
+#define SPAM_SNAPSHOT_USERBLOCK 512
+void           SpamSnapshotStamp(unsigned char *image, size_t len);
+PetscErrorCode SpamSnapshotVerify(FILE *f, const char *path);
 
 /* Creates path.PID.tmp new (O_CREAT | O_EXCL | O_NOFOLLOW); tmp receives its name. */
 PetscErrorCode SpamTempCreate(const char *path, char *tmp, size_t len, int *fd);

@@ -40,12 +40,13 @@ typedef struct {
   int         fd;
   struct stat made; /* what was created: checked again before the rename */
 } SpamCkTemp;
-/* path.PID.tmp created new (O_EXCL | O_NOFOLLOW); a failure names path. */
+/* path.PID.tmp created new (O_EXCL | O_NOFOLLOW) and kept open; a failure names path. */
 PetscErrorCode SpamCkTempCreate(const char *path, SpamCkTemp *t);
-/* c's entries written into the temporary (append: joining the HDF5 file it holds
- * already), synced, renamed over path, the directory synced; on failure the temporary is
- * removed. fail_at: the test's injected failure at that entry (0: none). */
-PetscErrorCode SpamCkTempFinish(const SpamCkFile *c, const char *path, SpamCkTemp *t, PetscBool append, long fail_at, size_t *bytes);
+/* c's entries written into *file, an in-memory file (SpamH5MemoryCreate; -1: created here),
+ * which is then closed, its image written through the temporary's descriptor, synced,
+ * renamed over path, the directory synced; on failure the temporary is removed. fail_at:
+ * the test's injected failure at that entry (0: none). */
+PetscErrorCode SpamCkTempFinish(const SpamCkFile *c, const char *path, SpamCkTemp *t, hid_t *file, long fail_at, size_t *bytes);
 /* Closed and removed (a failure elsewhere). */
 void SpamCkTempDiscard(SpamCkTemp *t);
 #endif

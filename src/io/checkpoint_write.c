@@ -1,7 +1,8 @@
 /* Writes a checkpoint (layout in checkpoint_file.h) so that a crash at any moment leaves
  * either the previous checkpoint or the new one at path, both whole: the new one goes to a
  * fresh temporary, is flushed to disk, and only then renamed over path; the directory is
- * synced so that the rename itself survives a power loss. */
+ * synced so that the rename itself survives a power loss. The file is built in memory and
+ * written through the temporary's own descriptor (h5_image.c): no name is opened twice. */
 #define _DEFAULT_SOURCE /* fsync, lstat, O_NOFOLLOW, O_DIRECTORY: POSIX, not C11 */
 #include "checkpoint_layout.h"
 #include "snapshot_hdf5.h"
@@ -109,31 +110,33 @@ static PetscErrorCode WriteContents(CkWriter *w, const SpamCkFile *c)
   PetscFunctionReturn(0);
 }
 
-/* The HDF5 file written into the temporary tmp (already created, open as fd) and closed;
- * append: tmp already holds an HDF5 file (the particles of a checkpoint of several ranks,
- * checkpoint_write_ranks.c) which the entries join. */
-static PetscErrorCode WriteHdf5(const SpamCkFile *c, const char *path, const char *tmp, PetscBool append, long fail_at)
+/* c's entries into *file, an in-memory file (created here, named name, when it is -1; the
+ * particles of a checkpoint of several ranks are already in it, checkpoint_write_ranks.c),
+ * and its image taken. The file is closed in every case. */
+static PetscErrorCode WriteHdf5(const SpamCkFile *c, const char *path, const char *name, hid_t *file, long fail_at, unsigned char **image, size_t *len)
 {
-  CkWriter       w    = {path, -1, 0, fail_at, 0};
-  hid_t          fapl = SpamCkFileAccess();
-  PetscErrorCode ierr = 0;
+  CkWriter       w = {path, *file, 0, fail_at, 0};
+  PetscErrorCode ierr;
 
   PetscFunctionBeginUser;
   errno = 0;
-  if (fapl >= 0) w.file = append ? H5Fopen(tmp, H5F_ACC_RDWR, fapl) : H5Fcreate(tmp, H5F_ACC_TRUNC, H5P_DEFAULT, fapl);
-  if (w.file < 0) ierr = SpamH5Failed(path);
-  else {
-    ierr  = WriteContents(&w, c);
-    errno = 0;
-    if (H5Fclose(w.file) < 0 && !ierr) ierr = SpamH5Failed(path);
+  if (w.file < 0) {
+    const hid_t fapl = SpamCkFileAccess();
+    if (fapl >= 0) w.file = SpamH5MemoryCreate(name, H5P_DEFAULT, fapl);
+    if (fapl >= 0) (void)H5Pclose(fapl);
+    *file = w.file;
   }
-  if (fapl >= 0) (void)H5Pclose(fapl);
+  if (*file < 0) PetscCall(SpamH5Failed(path));
+  ierr = WriteContents(&w, c);
+  if (ierr) SpamH5MemoryClose(file);
   PetscCall(ierr);
+  PetscCall(SpamH5ImageTake(file, path, 0, image, len));
   PetscFunctionReturn(0);
 }
 
-/* HDF5 wrote through its own descriptor, by name: the temporary must still be the file we
- * created (nobody replaced it), and its data must be on disk before the rename. */
+/* The image was written through fd: the name must still be the file we created (nobody
+ * replaced it, or the rename would put their file in place), and its data must be on disk
+ * before the rename. */
 static PetscErrorCode SyncTemporary(int fd, const struct stat *made, const char *path, const char *tmp, size_t *bytes)
 {
   struct stat now, done;
@@ -174,6 +177,7 @@ PetscErrorCode SpamCkTempCreate(const char *path, SpamCkTemp *t)
     SpamCkTempDiscard(t);
     SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write %s: %s", path, strerror(e));
   }
+  SpamTestPauseAfterTemp(path);
   PetscFunctionReturn(0);
 }
 
@@ -184,20 +188,24 @@ void SpamCkTempDiscard(SpamCkTemp *t)
   (void)unlink(t->tmp);
 }
 
-PetscErrorCode SpamCkTempFinish(const SpamCkFile *c, const char *path, SpamCkTemp *t, PetscBool append, long fail_at, size_t *bytes)
+PetscErrorCode SpamCkTempFinish(const SpamCkFile *c, const char *path, SpamCkTemp *t, hid_t *file, long fail_at, size_t *bytes)
 {
   PetscErrorCode ierr;
   SpamH5Quiet    quiet;
+  unsigned char *image = NULL;
+  size_t         len   = 0;
 
   PetscFunctionBeginUser;
   SpamH5QuietBegin(&quiet);
-  ierr = WriteHdf5(c, path, t->tmp, append, fail_at);
+  ierr = WriteHdf5(c, path, t->tmp, file, fail_at, &image, &len);
   SpamH5QuietEnd(&quiet);
+  if (!ierr) ierr = SpamWriteAll(t->fd, image, len, path);
   if (!ierr) ierr = SyncTemporary(t->fd, &t->made, path, t->tmp, bytes);
   if (close(t->fd) && !ierr) ierr = WRITE_ERROR("cannot write %s: %s", path, strerror(errno));
   t->fd = -1;
   if (!ierr && rename(t->tmp, path)) ierr = WRITE_ERROR("cannot rename %s to %s: %s", t->tmp, path, strerror(errno));
   if (ierr) (void)unlink(t->tmp);
+  PetscCall(PetscFree(image));
   PetscCall(ierr);
   PetscCall(SyncDirectory(path));
   PetscFunctionReturn(0);
@@ -206,10 +214,11 @@ PetscErrorCode SpamCkTempFinish(const SpamCkFile *c, const char *path, SpamCkTem
 static PetscErrorCode WriteHere(const SpamCkFile *c, const char *path, size_t *bytes)
 {
   SpamCkTemp t;
+  hid_t      file = -1;
 
   PetscFunctionBeginUser;
   PetscCall(SpamCkTempCreate(path, &t));
-  PetscCall(SpamCkTempFinish(c, path, &t, PETSC_FALSE, SpamTestFailWriteAt(path), bytes));
+  PetscCall(SpamCkTempFinish(c, path, &t, &file, SpamTestFailWriteAt(path), bytes));
   PetscFunctionReturn(0);
 }
 

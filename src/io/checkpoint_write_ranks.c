@@ -1,8 +1,10 @@
 /* A checkpoint of several ranks (checkpoint_file.h): each rank's per-particle entries go
- * into one dataset per entry, /particles/NAME, every rank writing its own block at its
- * offset, collectively through MPI-IO as the snapshots are written (snapshot_hdf5.c);
- * then rank 0 adds the shared entries and the table that says where each rank's block is,
- * and renames the temporary as a one-rank checkpoint is renamed (checkpoint_write.c).
+ * into one dataset per entry, /particles/NAME, every rank's block at its offset in rank
+ * order; rank 0 gathers the blocks one entry at a time into the file it builds in memory,
+ * adds the shared entries and the table that says where each rank's block is, and writes
+ * and renames the temporary as a one-rank checkpoint (checkpoint_write.c). Why rank 0 and
+ * not every rank through MPI-IO: MPI-IO opens the temporary by name on every rank, and a
+ * name opened again after its exclusive create can be swapped for a symlink in between.
  * Why blocks in rank order and not rows by gid: a restart on the same ranks takes each
  * rank's particles back in their local order, which is what makes it bitwise, and each
  * rank then reads one contiguous piece of each dataset. */
@@ -11,6 +13,7 @@
 #include "snapshot_hdf5.h"
 #include <spam/output.h>
 #include <errno.h>
+#include <limits.h>
 #include <stdlib.h>
 
 typedef struct {
@@ -23,6 +26,7 @@ typedef struct {
   long              fail_at;  /* test only: this rank's block write that fails (0: none)    */
   long              fail_root; /* test only: rank 0's entry write that fails (0: none)      */
   SpamCkTemp        t;
+  hid_t             file, group; /* rank 0: the file in memory and its /particles        */
   size_t            bytes;
 } RanksWriter;
 
@@ -74,99 +78,102 @@ static PetscErrorCode DescribeBlocks(RanksWriter *w)
   PetscFunctionReturn(0);
 }
 
-/* Whether a write succeeded on every rank (a failure on one rank must send all of them
- * down the failure path together, or the others wait in the next collective call). */
-static PetscErrorCode Agreed(const RanksWriter *w, herr_t mine, PetscBool *all)
+/* Rank 0: the gathered entry b of every rank (data, total values) as /particles/NAME. */
+static herr_t WriteGathered(RanksWriter *w, int b, hsize_t total, const void *data)
 {
-  int ok = mine >= 0;
+  const SpamCkEntry *e     = &w->mine->e[b];
+  const hid_t        ftype = e->kind == SPAM_CK_REAL ? H5T_IEEE_F64LE : H5T_STD_I64LE, mtype = e->kind == SPAM_CK_REAL ? H5T_NATIVE_DOUBLE : H5T_NATIVE_INT64;
+  const hid_t        dcpl  = SpamH5Untimed(H5P_DATASET_CREATE);
+  hid_t              space = -1, set = -1;
+  herr_t             st    = -1;
 
-  PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &ok, 1, MPI_INT, MPI_LAND, w->comm));
-  *all = (PetscBool)ok;
-  PetscFunctionReturn(0);
+  if (dcpl >= 0 && (space = H5Screate_simple(1, &total, NULL)) >= 0) set = H5Dcreate2(w->group, e->name, ftype, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+  if (set >= 0) st = total ? H5Dwrite(set, mtype, H5S_ALL, H5S_ALL, H5P_DEFAULT, data) : 0;
+  if (set >= 0 && H5Dclose(set) < 0) st = -1;
+  if (space >= 0) (void)H5Sclose(space);
+  if (dcpl >= 0) (void)H5Pclose(dcpl);
+  return st;
 }
 
-/* Entry b of every rank as /particles/NAME, this rank's block at its offset. *mine: this
- * rank's own write failed (errno kept), *all: some rank's did. */
-static PetscErrorCode WriteBlock(RanksWriter *w, hid_t group, hid_t dxpl, int b, long *writes, herr_t *mine, PetscBool *all)
+/* Entry b of every rank gathered on rank 0 (counts from w->len) into buf, [total] values. */
+static PetscErrorCode GatherEntry(RanksWriter *w, int b, void *buf, hsize_t *total)
 {
   const SpamCkEntry *e  = &w->mine->e[b];
   const int          nb = w->mine->n;
-  hsize_t            total = 0, off = 0, count = e->n;
-  hid_t              dcpl, space, mem = -1, set = -1;
-  const hid_t        ftype = e->kind == SPAM_CK_REAL ? H5T_IEEE_F64LE : H5T_STD_I64LE, mtype = e->kind == SPAM_CK_REAL ? H5T_NATIVE_DOUBLE : H5T_NATIVE_INT64;
+  PetscMPIInt       *counts = NULL, *displs = NULL;
+  const MPI_Datatype type = e->kind == SPAM_CK_REAL ? MPI_DOUBLE : MPI_INT64_T;
 
   PetscFunctionBeginUser;
-  for (PetscMPIInt r = 0; r < w->size; r++) {
-    total += (hsize_t)w->len[(size_t)r * nb + b];
-    if (r < w->rank) off += (hsize_t)w->len[(size_t)r * nb + b];
-  }
-  *mine = -1;
-  dcpl  = SpamH5Untimed(H5P_DATASET_CREATE);
-  /* Every value is written: no fill value first (parallel HDF5 would write the file twice). */
-  if (dcpl >= 0 && H5Pset_fill_time(dcpl, H5D_FILL_TIME_NEVER) >= 0 && (space = H5Screate_simple(1, &total, NULL)) >= 0) {
-    set = H5Dcreate2(group, e->name, ftype, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
-    if (set >= 0 && (mem = H5Screate_simple(1, &count, NULL)) >= 0) {
-      /* The injected failure still joins the collective write, with nothing selected. */
-      const PetscBool fail = (PetscBool)(++*writes == w->fail_at);
-      const herr_t    sel  = count && !fail ? H5Sselect_hyperslab(space, H5S_SELECT_SET, &off, NULL, &count, NULL) : (H5Sselect_none(space) < 0 || H5Sselect_none(mem) < 0 ? -1 : 0);
-      errno = 0;
-      if (sel >= 0) *mine = H5Dwrite(set, mtype, mem, space, dxpl, e->data);
-      if (fail) *mine = -1, errno = ENOSPC;
+  *total = 0;
+  if (!w->rank) {
+    PetscCall(PetscMalloc2(w->size, &counts, w->size, &displs));
+    for (PetscMPIInt r = 0; r < w->size; r++) {
+      PetscCall(PetscMPIIntCast(w->len[(size_t)r * nb + b], &counts[r]));
+      PetscCall(PetscMPIIntCast((PetscInt64)*total, &displs[r]));
+      *total += (hsize_t)counts[r];
     }
-    (void)H5Sclose(space);
   }
-  {
-    const int err = errno;
-    PetscCall(Agreed(w, *mine, all));
-    errno = err;
-  }
-  if (mem >= 0) (void)H5Sclose(mem);
-  if (set >= 0 && H5Dclose(set) < 0 && *mine >= 0) *mine = -1;
-  if (dcpl >= 0) (void)H5Pclose(dcpl);
+  /* a rank whose own part failed still sends its block: the counts must match */
+  PetscCallMPI(MPI_Gatherv(e->data, (PetscMPIInt)e->n, type, buf, counts, displs, type, 0, w->comm));
+  PetscCall(PetscFree2(counts, displs));
   PetscFunctionReturn(0);
 }
 
-/* Every rank: the temporary made by rank 0 opened through MPI-IO and every block written.
- * Only a rank whose own write failed reports (its reason, one line for all). */
-static PetscErrorCode WriteBlocks(void *ctx)
+/* Every rank: each entry's blocks gathered into rank 0's file. A rank whose own part
+ * failed (rank 0: its HDF5 write; any rank: the test's injected failure) says so in one
+ * line; every rank takes part in every gather first, so none is left waiting. */
+static PetscErrorCode GatherBlocks(void *ctx)
 {
-  RanksWriter *w    = ctx;
-  hid_t        fapl = SpamCkFileAccess(), fcpl = SpamH5Untimed(H5P_FILE_CREATE), gcpl = SpamH5Untimed(H5P_GROUP_CREATE), dxpl = H5Pcreate(H5P_DATASET_XFER), file = -1, group = -1;
-  herr_t       mine = -1;
-  PetscBool    all  = PETSC_FALSE;
+  RanksWriter *w      = ctx;
   long         writes = 0;
-  int          err = 0;
+  int          err    = 0;
 
   PetscFunctionBeginUser;
-  (void)H5Eset_auto2(H5E_DEFAULT, NULL, NULL); /* one line instead of HDF5's error stack */
-  errno = 0;
-  if (fapl >= 0 && fcpl >= 0 && gcpl >= 0 && dxpl >= 0 && H5Pset_fapl_mpio(fapl, w->comm, MPI_INFO_NULL) >= 0 && H5Pset_dxpl_mpio(dxpl, H5FD_MPIO_COLLECTIVE) >= 0) file = H5Fcreate(w->t.tmp, H5F_ACC_TRUNC, fcpl, fapl);
-  if (file >= 0) group = H5Gcreate2(file, SPAM_CK_RANKS_GROUP, H5P_DEFAULT, gcpl, H5P_DEFAULT);
-  err = errno;
-  PetscCall(Agreed(w, group >= 0 ? 0 : -1, &all));
-  mine = group >= 0 ? 0 : -1;
-  for (int b = 0; all && b < w->mine->n; b++) {
-    PetscCall(WriteBlock(w, group, dxpl, b, &writes, &mine, &all));
-    err = errno;
+  for (int b = 0; b < w->mine->n; b++) {
+    const PetscBool fail  = (PetscBool)(++writes == w->fail_at);
+    int64_t         total = 0;
+    hsize_t         got;
+    void           *buf  = NULL;
+    PetscErrorCode  ierr = 0;
+    int             ready;
+
+    if (fail && !err) err = ENOSPC;
+    /* the lengths are known on every rank: a count past MPI's int fails on all alike */
+    for (PetscMPIInt r = 0; r < w->size; r++) total += w->len[(size_t)r * w->mine->n + b];
+    PetscCheck(total <= INT_MAX, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write %s: entry '%s' holds %lld values, more than one gather carries", w->path, w->mine->e[b].name, (long long)total);
+    if (!w->rank) ierr = PetscMalloc((size_t)total * 8 + 1, &buf);
+    /* rank 0 without its buffer: no rank enters the gather (none would leave it) */
+    ready = !ierr;
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &ready, 1, MPI_INT, MPI_LAND, w->comm));
+    PetscCall(ierr);
+    PetscCheck(ready, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write %s: rank 0 has no memory for the particles", w->path);
+    PetscCall(GatherEntry(w, b, buf, &got));
+    errno = 0;
+    if (!w->rank && !err && WriteGathered(w, b, got, buf) < 0) err = errno ? errno : EIO;
+    PetscCall(PetscFree(buf));
   }
-  if (group >= 0 && H5Gclose(group) < 0 && mine >= 0) mine = -1;
-  if (file >= 0 && H5Fclose(file) < 0 && mine >= 0) mine = -1, err = errno;
-  if (dxpl >= 0) (void)H5Pclose(dxpl);
-  if (gcpl >= 0) (void)H5Pclose(gcpl);
-  if (fcpl >= 0) (void)H5Pclose(fcpl);
-  if (fapl >= 0) (void)H5Pclose(fapl);
-  (void)H5Eclear2(H5E_DEFAULT);
-  PetscCheck(mine >= 0, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write %s (rank %d's particles): %s", w->path, (int)w->rank, strerror(err ? err : EIO));
+  PetscCheck(!err, PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write %s (rank %d's particles): %s", w->path, (int)w->rank, strerror(err));
   PetscFunctionReturn(0);
 }
 
+/* Rank 0: the temporary created new and kept open, and the file begun in memory. */
 static PetscErrorCode CreateTemp(void *ctx)
 {
   RanksWriter *w = ctx;
+  hid_t        fapl, fcpl, gcpl;
 
   PetscFunctionBeginUser;
   PetscCall(SpamCkTempCreate(w->path, &w->t));
+  (void)H5Eset_auto2(H5E_DEFAULT, NULL, NULL); /* one line instead of HDF5's error stack */
+  fapl  = SpamCkFileAccess();
+  fcpl  = SpamH5Untimed(H5P_FILE_CREATE);
+  gcpl  = SpamH5Untimed(H5P_GROUP_CREATE);
+  errno = 0;
+  if (fapl >= 0 && fcpl >= 0 && gcpl >= 0 && (w->file = SpamH5MemoryCreate(w->t.tmp, fcpl, fapl)) >= 0) w->group = H5Gcreate2(w->file, SPAM_CK_RANKS_GROUP, H5P_DEFAULT, gcpl, H5P_DEFAULT);
+  if (gcpl >= 0) (void)H5Pclose(gcpl);
+  if (fcpl >= 0) (void)H5Pclose(fcpl);
+  if (fapl >= 0) (void)H5Pclose(fapl);
+  if (w->group < 0) PetscCall(SpamH5Failed(w->path)); /* Discard closes what was made */
   PetscFunctionReturn(0);
 }
 
@@ -175,7 +182,13 @@ static PetscErrorCode Finish(void *ctx)
   RanksWriter *w = ctx;
 
   PetscFunctionBeginUser;
-  PetscCall(SpamCkTempFinish(w->shared, w->path, &w->t, PETSC_TRUE, w->fail_root, &w->bytes));
+  if (H5Gclose(w->group) < 0) {
+    SpamH5MemoryClose(&w->file);
+    SpamCkTempDiscard(&w->t);
+    PetscCall(SpamH5Failed(w->path));
+  }
+  w->group = -1;
+  PetscCall(SpamCkTempFinish(w->shared, w->path, &w->t, &w->file, w->fail_root, &w->bytes));
   PetscFunctionReturn(0);
 }
 
@@ -184,7 +197,10 @@ static PetscErrorCode Discard(void *ctx)
   RanksWriter *w = ctx;
 
   PetscFunctionBeginUser;
-  SpamCkTempDiscard(&w->t);
+  if (w->group >= 0) (void)H5Gclose(w->group);
+  w->group = -1;
+  SpamH5MemoryClose(&w->file); /* closes whatever an error path left open in it */
+  if (w->t.fd >= 0) SpamCkTempDiscard(&w->t); /* a failed create left no temporary of ours */
   PetscFunctionReturn(0);
 }
 
@@ -201,14 +217,16 @@ PetscErrorCode SpamCkFileWriteRanks(MPI_Comm comm, SpamCkFile *shared, const Spa
   w.shared = shared;
   w.mine   = mine;
   w.t.fd   = -1;
+  w.file   = -1;
+  w.group  = -1;
   PetscCallMPI(MPI_Comm_rank(comm, &w.rank));
   PetscCallMPI(MPI_Comm_size(comm, &w.size));
   InjectedFailure(&w);
   ierr = DescribeBlocks(&w); /* the same entries on every rank: fails alike on all, if at all */
   if (!ierr) ierr = SpamRunAgreed(comm, PETSC_TRUE, CreateTemp, &w);
-  if (!ierr) {
-    PetscCallMPI(MPI_Bcast(w.t.tmp, (int)sizeof w.t.tmp, MPI_CHAR, 0, comm));
-    ierr = SpamRunAgreed(comm, PETSC_FALSE, WriteBlocks, &w);
+  if (ierr) (void)SpamRunAgreed(comm, PETSC_TRUE, Discard, &w);
+  else {
+    ierr = SpamRunAgreed(comm, PETSC_FALSE, GatherBlocks, &w);
     if (ierr) (void)SpamRunAgreed(comm, PETSC_TRUE, Discard, &w);
     else ierr = SpamRunAgreed(comm, PETSC_TRUE, Finish, &w);
   }

@@ -5,12 +5,11 @@
  * grid_NNNNN.csv with columns x,y,(z) and the fields, one row per point in the same order.
  * Every file is written to a new temporary and renamed when complete, as the snapshots.
  * On several ranks rank 0 writes them all, from the fields reduced over the ranks. */
-#define _DEFAULT_SOURCE /* lstat: POSIX, not C11 */
+#define _DEFAULT_SOURCE /* close, unlink: POSIX, not C11 */
 #include <spam/grid.h>
 #include "snapshot_hdf5.h"
 
 #include <errno.h>
-#include <sys/stat.h>
 #include <unistd.h>
 
 typedef struct {
@@ -29,27 +28,25 @@ static int Shape(const SpamGrid *g, hsize_t shape[4])
   return rank;
 }
 
+/* Every id made here is closed also when a call fails. */
 static PetscErrorCode WriteDataset(GridH5 *h, const SpamGrid *g, const char *name, const double *data, int ncomp)
 {
-  hsize_t shape[4];
-  int     rank = Shape(g, shape);
-  hid_t   space, set, dcpl;
-  herr_t  w;
+  hsize_t     shape[4];
+  int         rank = Shape(g, shape), e;
+  const hid_t dcpl = SpamH5Untimed(H5P_DATASET_CREATE);
+  hid_t       space = -1, set = -1;
+  herr_t      w = -1;
 
   PetscFunctionBeginUser;
   if (ncomp > 1) shape[rank++] = (hsize_t)ncomp;
-  PetscCallGridH5(h, dcpl = SpamH5Untimed(H5P_DATASET_CREATE));
-  PetscCallGridH5(h, space = H5Screate_simple(rank, shape, NULL));
-  set = H5Dcreate2(h->file, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
-  (void)H5Pclose(dcpl);
-  if (set < 0) {
-    (void)H5Sclose(space);
-    PetscCall(SpamH5Failed(h->path));
-  }
   errno = 0;
-  w     = ++h->writes == h->fail_at ? (errno = ENOSPC, -1) : H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data);
-  if (H5Dclose(set) < 0) w = -1;
-  if (H5Sclose(space) < 0) w = -1;
+  if (dcpl >= 0 && (space = H5Screate_simple(rank, shape, NULL)) >= 0) set = H5Dcreate2(h->file, name, H5T_IEEE_F64LE, space, H5P_DEFAULT, dcpl, H5P_DEFAULT);
+  if (set >= 0) w = ++h->writes == h->fail_at ? (errno = ENOSPC, -1) : H5Dwrite(set, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, data);
+  e = errno; /* the failure's reason, before the closes */
+  if (set >= 0 && H5Dclose(set) < 0) w = -1;
+  if (space >= 0) (void)H5Sclose(space);
+  if (dcpl >= 0) (void)H5Pclose(dcpl);
+  errno = e;
   if (w < 0) PetscCall(SpamH5Failed(h->path));
   PetscFunctionReturn(0);
 }
@@ -108,40 +105,36 @@ static PetscErrorCode WriteContents(GridH5 *h, const SpamSim *sim, const SpamGri
   PetscFunctionReturn(0);
 }
 
-/* HDF5 opens the temporary by name: before the rename it must still be the file we made. */
+/* The file built in memory and written through the temporary's own descriptor (h5_image.c):
+ * nothing is opened by name after the temporary's exclusive create. */
 static PetscErrorCode WriteHdf5(const char *path, const SpamSim *sim, const SpamGrid *g, const SpamGridFields *f, double t, long step)
 {
   char           tmp[PETSC_MAX_PATH_LEN + 32];
-  GridH5         h = {-1, path, 0, SpamTestFailWriteAt(path)};
-  struct stat    made, now;
+  GridH5         h     = {-1, path, 0, SpamTestFailWriteAt(path)};
+  unsigned char *image = NULL;
+  size_t         len   = 0;
   int            fd;
   PetscErrorCode ierr = 0;
 
   PetscFunctionBeginUser;
   PetscCall(SpamTempCreate(path, tmp, sizeof tmp, &fd));
-  if (fstat(fd, &made)) {
-    const int e = errno;
-    (void)close(fd);
-    (void)unlink(tmp);
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot write %s: %s", path, strerror(e));
-  }
-  (void)close(fd);
   (void)H5Eset_auto2(H5E_DEFAULT, NULL, NULL); /* no error-stack dump: one line instead */
-  errno  = 0;
+  errno = 0;
   {
     const hid_t fcpl = SpamH5Untimed(H5P_FILE_CREATE);
-    h.file           = fcpl < 0 ? -1 : H5Fcreate(tmp, H5F_ACC_TRUNC, fcpl, H5P_DEFAULT);
+    h.file           = fcpl < 0 ? -1 : SpamH5MemoryCreate(tmp, fcpl, H5P_DEFAULT);
     if (fcpl >= 0) (void)H5Pclose(fcpl);
   }
   if (h.file < 0) ierr = SpamH5Failed(h.path);
+  if (!ierr) ierr = WriteContents(&h, sim, g, f, t, step);
+  if (!ierr) ierr = SpamH5ImageTake(&h.file, path, 0, &image, &len);
+  SpamH5MemoryClose(&h.file);
+  if (!ierr) ierr = SpamTempCommitImage(fd, tmp, path, image, len);
   else {
-    ierr  = WriteContents(&h, sim, g, f, t, step);
-    errno = 0;
-    if (H5Fclose(h.file) < 0 && !ierr) ierr = SpamH5Failed(h.path);
+    (void)close(fd);
+    (void)unlink(tmp);
   }
-  if (!ierr && (lstat(tmp, &now) || !S_ISREG(now.st_mode) || now.st_ino != made.st_ino || now.st_dev != made.st_dev)) ierr = PetscError(PETSC_COMM_SELF, __LINE__, PETSC_FUNCTION_NAME, __FILE__, PETSC_ERR_FILE_WRITE, PETSC_ERROR_INITIAL, "cannot write %s: its temporary %s was replaced during the write", path, tmp);
-  if (!ierr && rename(tmp, path)) ierr = PetscError(PETSC_COMM_SELF, __LINE__, PETSC_FUNCTION_NAME, __FILE__, PETSC_ERR_FILE_WRITE, PETSC_ERROR_INITIAL, "cannot rename %s to %s: %s", tmp, path, strerror(errno));
-  if (ierr) (void)unlink(tmp);
+  PetscCall(PetscFree(image));
   PetscCall(ierr);
   PetscFunctionReturn(0);
 }

@@ -4,6 +4,8 @@
 #include <errno.h>
 #include <fcntl.h>
 #include <stdarg.h>
+#include <sys/stat.h>
+#include <time.h>
 #include <unistd.h>
 
 long SpamTestFailWriteAt(const char *path)
@@ -19,14 +21,27 @@ long SpamTestFailWriteAt(const char *path)
   return *end || n < 1 ? 0 : n;
 }
 
+void SpamTestPauseAfterTemp(const char *path)
+{
+  const char           *env = getenv("SPAM_TEST_PAUSE_TEMP"), *base = strrchr(path, '/'), *colon;
+  const struct timespec tick = {0, 10000000}; /* 10 ms */
+
+  if (!env || !(colon = strchr(env, ':')) || !colon[1]) return;
+  base = base ? base + 1 : path;
+  if ((size_t)(colon - env) != strlen(base) || strncmp(env, base, (size_t)(colon - env))) return;
+  for (int k = 0; k < 6000 && access(colon + 1, F_OK); k++) (void)nanosleep(&tick, NULL); /* at most 60 s */
+}
+
 /* The temporary's name carries the pid, so a name left by someone else (a symlink, say)
  * is never opened; O_EXCL | O_NOFOLLOW refuses it even if the pid repeats. */
 PetscErrorCode SpamTempCreate(const char *path, char *tmp, size_t len, int *fd)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscSNPrintf(tmp, len, "%s.%ld.tmp", path, (long)getpid()));
-  *fd = open(tmp, O_WRONLY | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
+  /* read-write: what was written is read back through this descriptor (SpamFileContents) */
+  *fd = open(tmp, O_RDWR | O_CREAT | O_EXCL | O_NOFOLLOW | O_CLOEXEC, 0644);
   PetscCheck(*fd >= 0, PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot create %s: %s", tmp, strerror(errno));
+  SpamTestPauseAfterTemp(path);
   PetscFunctionReturn(0);
 }
 
@@ -91,6 +106,15 @@ PetscErrorCode SpamFileCheck(SpamFile *f)
   PetscFunctionReturn(0);
 }
 
+/* Whether the name f->tmp is still the file f writes: else the rename would put in place
+ * whatever someone left at that name (a symlink, say). */
+static PetscBool StillOurs(const SpamFile *f)
+{
+  struct stat mine, now;
+
+  return (PetscBool)(!fstat(fileno(f->f), &mine) && !lstat(f->tmp, &now) && S_ISREG(now.st_mode) && now.st_ino == mine.st_ino && now.st_dev == mine.st_dev);
+}
+
 PetscErrorCode SpamFileCommit(SpamFile *f)
 {
   int e;
@@ -98,6 +122,10 @@ PetscErrorCode SpamFileCommit(SpamFile *f)
   PetscFunctionBeginUser;
   PetscCheck(f->f, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONGSTATE, "%s is not open", f->path);
   PetscCall(SpamFileCheck(f));
+  if (!StillOurs(f)) {
+    SpamFileDiscard(f); /* removes the name only: a link is not followed */
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_WRITE, "cannot write %s: its temporary %s was replaced during the write", f->path, f->tmp);
+  }
   e = fclose(f->f);
   f->f = NULL;
   if (e) {
@@ -143,11 +171,31 @@ PetscErrorCode SpamReadWholeFile(const char *path, char **buf, size_t *len)
   PetscFunctionReturn(0);
 }
 
+/* Through the temporary's own descriptor, not its name: a name swapped for a symlink would
+ * put the link target's bytes into the checkpoint. */
 PetscErrorCode SpamFileContents(SpamFile *f, char **buf, size_t *len)
 {
+  struct stat st;
+  size_t      got = 0;
+  int         fd;
+
   PetscFunctionBeginUser;
   PetscCall(SpamFileCheck(f));
-  PetscCall(SpamReadWholeFile(f->tmp, buf, len));
-  PetscCheck(*buf, PETSC_COMM_SELF, PETSC_ERR_FILE_READ, "cannot read back %s: it has gone", f->tmp);
+  PetscCheck(f->f, PETSC_COMM_SELF, PETSC_ERR_FILE_READ, "cannot read back %s: it is not open", f->tmp);
+  fd = fileno(f->f);
+  PetscCheck(!fstat(fd, &st), PETSC_COMM_SELF, PETSC_ERR_FILE_READ, "cannot read back %s: %s", f->tmp, strerror(errno));
+  PetscCall(PetscMalloc1((size_t)st.st_size + 1, buf));
+  while (got < (size_t)st.st_size) {
+    const ssize_t r = pread(fd, *buf + got, (size_t)st.st_size - got, (off_t)got);
+    if (r < 0 && errno == EINTR) continue;
+    if (r <= 0) {
+      const int e = r < 0 ? errno : EIO;
+      PetscCall(PetscFree(*buf));
+      SETERRQ(PETSC_COMM_SELF, PETSC_ERR_FILE_READ, "cannot read back %s: %s", f->tmp, strerror(e));
+    }
+    got += (size_t)r;
+  }
+  (*buf)[got] = 0;
+  *len        = got;
   PetscFunctionReturn(0);
 }

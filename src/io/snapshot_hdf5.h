@@ -35,4 +35,24 @@ PetscErrorCode SpamH5Failed(const char *path);
     errno = 0; \
     if ((call) < 0) PetscCall(SpamH5Failed(path)); \
   } while (0)
+/* HDF5 files written without HDF5 ever opening a name (h5_image.c): the file is built in
+ * memory (the core driver, no backing store, closed strong), its image taken, and the
+ * image written through the descriptor of the temporary the program created. */
+/* A new in-memory file; name is HDF5's label of it (no file of that name is opened).
+ * fapl: H5P_DEFAULT or access properties to keep (the driver is replaced). */
+hid_t SpamH5MemoryCreate(const char *name, hid_t fcpl, hid_t fapl);
+/* Closes it if open (*file = -1): an error path's cleanup. */
+void SpamH5MemoryClose(hid_t *file);
+/* The file's bytes into *image (PetscMalloc'ed, *len bytes) after lead bytes of zeros: the
+ * image HDF5 gives leaves out the user block a file creation asked for, whose room the
+ * caller fills (the library finds its superblock after it). The file is closed in every
+ * case. A failure names path. */
+PetscErrorCode SpamH5ImageTake(hid_t *file, const char *path, size_t lead, unsigned char **image, size_t *len);
+/* len bytes to fd, short writes continued; a failure (ENOSPC, EFBIG, ...) names path. */
+PetscErrorCode SpamWriteAll(int fd, const void *buf, size_t len, const char *path);
+/* Whether the name tmp is still the regular file open as fd (nobody replaced it). */
+PetscErrorCode SpamTempStillOurs(int fd, const char *tmp, const char *path);
+/* The image written to fd (the temporary tmp), checked to be still ours, fd closed and
+ * tmp renamed to path; on any failure tmp is removed. */
+PetscErrorCode SpamTempCommitImage(int fd, const char *tmp, const char *path, const unsigned char *image, size_t len);
 #endif

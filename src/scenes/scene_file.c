@@ -8,6 +8,7 @@
 #define _POSIX_C_SOURCE 200809L
 #include "particle_file.h"
 #include <spam/errors.h>
+#include <spam/output.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -403,7 +404,9 @@ static PetscErrorCode SpamFileBuild(const SpamCommonParams *c, const SpamFilePar
   ierr    = OpenRegular(p->path, &r->f);
   if (!ierr) {
     hdf5 = HasHdf5Signature(r->f);
-    if (!hdf5) ierr = CheckBox(c);
+    /* the checksum before HDF5 parses anything: a damaged header never reaches the library */
+    if (hdf5) ierr = SpamSnapshotVerify(r->f, p->path);
+    if (!ierr && !hdf5) ierr = CheckBox(c);
     if (!ierr && !hdf5) ierr = ReadCsv(r, c, out);
     (void)fclose(r->f);
   }

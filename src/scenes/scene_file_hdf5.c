@@ -194,12 +194,26 @@ static PetscErrorCode ReadVectors(hid_t file, const char *path, int dim, PetscIn
   PetscFunctionReturn(0);
 }
 
+/* Whether dataset name is stored as integers: HDF5 would convert floating-point ids to
+ * integers by truncation (0.5 read as 0), so another type is refused, not converted. */
+static PetscBool StoredAsIntegers(hid_t file, const char *name)
+{
+  const hid_t set  = H5Dopen2(file, name, H5P_DEFAULT);
+  const hid_t type = set >= 0 ? H5Dget_type(set) : -1;
+  PetscBool   ok   = (PetscBool)(type >= 0 && H5Tget_class(type) == H5T_INTEGER);
+
+  if (type >= 0) (void)H5Tclose(type);
+  if (set >= 0) (void)H5Dclose(set);
+  return ok;
+}
+
 /* The ids through buf ([n] 64-bit integers); an id out of 0..n-1 becomes -1 (refused). */
 static PetscErrorCode ReadIds(hid_t file, const char *path, PetscInt n, PetscInt64 *buf, PetscInt *id)
 {
   PetscBool found;
 
   PetscFunctionBeginUser;
+  if (!StoredAsIntegers(file, "/id")) SPAM_BAD_INPUT("-file_path", path, "the dataset /id is not stored as integers (ids are 0..n-1, a fraction would be truncated)");
   PetscCall(ReadDataset(file, path, "/id", H5T_NATIVE_INT64, (hsize_t)n, 1, buf, &found));
   for (PetscInt i = 0; i < n; i++) id[i] = buf[i] < 0 || buf[i] >= n ? -1 : (PetscInt)buf[i];
   PetscFunctionReturn(0);
