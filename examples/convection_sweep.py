@@ -3,7 +3,8 @@
 
 Usage:
     python3 examples/convection_sweep.py --spam-ark build/spam-ark [--workdir DIR]
-        [--ratios 0.5,0.8,1.2,1.6,2,3,4,5] [--nx 32 --ny 16] [--t-end T] [--amplitude A] [-o OUT.png]
+        [--ratios 0.5,0.8,1.2,1.6,2,3,4,5] [--nx 32 --ny 16] [--t-end T] [--amplitude A]
+        [--variant NAME="OPTIONS" ...] [-o OUT.png]
 
 Runs -scene convection (options/convection.opts: T_b = 1.25, T_t = 0.75, Pr = 1,
 g = 0.1 c_p / H) at Ra = ratio x 1707.76 (the superadiabatic Rayleigh number), each to
@@ -11,33 +12,44 @@ t_end (default: the scene's, one thermal diffusion time H^2/chi, times --diffusi
 and takes Nu = (mean heat flux through the walls) / (kappa (T_b - T_t) / H) averaged
 over the last half of each run (examples/plot_convection.py, nusselt()). The chart has
 Nu against Ra / Ra_c with the continuum onset (rigid-rigid walls, Boussinesq: 1707.76)
-marked. Prints one line per run: ratio Ra Nu Nu_bottom Nu_top ke_final ms_per_rhs.
+marked. Each --variant NAME="OPTIONS" (repeatable; default one variant, "default", with no
+options) runs every ratio with those options added; each variant has its own colour and
+marker, and a run that fails (say exit 3, unstable) is drawn as a cross on Nu = 1 and
+listed. Prints one line per run: variant ratio Ra Nu Nu_bottom Nu_top ke_final ms_per_rhs.
 """
 
 import argparse
 import os
 import re
+import shlex
 import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests"))
 import plot_convection as pc  # noqa: E402
+import convection_linear  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
-def run_one(a, ratio):
-    out = os.path.join(a.workdir, f"ra{ratio:g}")
+STYLES = [("C3", "o"), ("C0", "s"), ("C2", "^"), ("C1", "D"), ("C4", "v")]
+
+
+def run_one(a, ratio, name, extra):
+    """(Ra, Nu, Nu_bottom, Nu_top, KE_final, ms per RHS) of one run, or None when it fails."""
+    out = os.path.join(a.workdir, name, f"ra{ratio:g}")
     args = [a.spam_ark, "-options_file", os.path.join(HERE, "..", "options", "convection.opts"),
             "-convection_nx", a.nx, "-convection_ny", a.ny, "-convection_g", 0.1 * 2.0 / a.ny,
             "-convection_ra", ratio * pc.RA_CRITICAL, "-convection_amplitude", a.amplitude, "-snapshot_interval", 0,
             "-output_dir", out, "-output_overwrite", "-output_interval", a.t_end / 200 if a.t_end else 20]
     if a.t_end:
         args += ["-ts_max_time", a.t_end]
-    args = [str(x) for x in args]
+    args = [str(x) for x in args] + extra
     p = subprocess.run(args, capture_output=True, text=True)
     if p.returncode != 0:
-        sys.exit(f"run failed ({p.returncode}): {' '.join(args)}\n{p.stderr[-2000:]}")
+        print(f"run failed (exit {p.returncode}): {' '.join(args)}: {p.stderr.strip()[-300:]}", file=sys.stderr)
+        return None
     m = re.search(r"convection: Ra = ([0-9.eE+-]+)", p.stdout)
     summary, series, _ = pc.load(out)
     t_end = series["t"][-1]
@@ -57,27 +69,47 @@ def main():
     ap.add_argument("--amplitude", type=float, default=0.01, help="-convection_amplitude of every run (the seeded kick)")
     ap.add_argument("--t-bottom", type=float, default=1.25)
     ap.add_argument("--t-top", type=float, default=0.75)
+    ap.add_argument("--variant", action="append", default=None, help='NAME="OPTIONS" run at every ratio (repeatable)')
     ap.add_argument("-o", "--out", default=None)
     a = ap.parse_args()
+    variants = []
+    for v in a.variant or ["default="]:
+        name, _, opts = v.partition("=")
+        if not name or not re.fullmatch(r"[A-Za-z0-9_.+-]+", name):
+            sys.exit(f"convection_sweep: error: --variant {v!r}: NAME=OPTIONS with a plain NAME")
+        variants.append((name, shlex.split(opts)))
+    if len(variants) > len(STYLES):
+        sys.exit(f"convection_sweep: error: at most {len(STYLES)} variants")
     os.makedirs(a.workdir, exist_ok=True)
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     ratios = [float(r) for r in a.ratios.split(",")]
-    results = []
-    print("ratio Ra Nu Nu_bottom Nu_top ke_final ms_per_rhs")
-    for r in ratios:
-        ra, nu, nub, nut, ke, ms = run_one(a, r)
-        results.append((ra, nu, nub, nut))
-        print(f"{r:g} {ra:.6g} {nu:.5f} {nub:.5f} {nut:.5f} {ke:.5g} {ms:.4f}", flush=True)
-
-    fig, ax = plt.subplots(figsize=(7, 4.8))
-    x = [ra / pc.RA_CRITICAL for ra, *_ in results]
-    ax.semilogx(x, [r[1] for r in results], "C3-o", label="SPAM: mean of both walls")
-    ax.plot(x, [r[2] for r in results], "C1v", ms=5, label="SPAM: hot wall")
-    ax.plot(x, [r[3] for r in results], "C0^", ms=5, label="SPAM: cold wall")
-    ax.axvline(1.0, color="k", ls="--", lw=1, label="continuum onset Ra_c = 1707.76 (rigid walls)")
+    fig, ax = plt.subplots(figsize=(7.5, 5))
+    print("variant ratio Ra Nu Nu_bottom Nu_top ke_final ms_per_rhs")
+    for (name, extra), (colour, marker) in zip(variants, STYLES):
+        ok, failed = [], []
+        for r in ratios:
+            got = run_one(a, r, name, extra)
+            if got is None:
+                failed.append(r)
+                print(f"{name} {r:g} failed", flush=True)
+                continue
+            ra, nu, nub, nut, ke, ms = got
+            ok.append((r, nu, nub, nut))
+            print(f"{name} {r:g} {ra:.6g} {nu:.5f} {nub:.5f} {nut:.5f} {ke:.5g} {ms:.4f}", flush=True)
+        label = f"{name}: {' '.join(extra)}" if extra else name
+        ax.semilogx([x[0] for x in ok], [x[1] for x in ok], "-", color=colour, marker=marker, label=f"{label} (mean of both walls)")
+        ax.plot([x[0] for x in ok] * 2, [x[2] for x in ok] + [x[3] for x in ok], "_", color=colour, ms=9)
+        if failed:
+            ax.plot(failed, [1.0] * len(failed), "x", color=colour, ms=10, mew=2, label=f"{name}: run failed")
+    ax.plot([], [], "_", color="0.3", ms=9, label="bars: hot and cold wall")
+    cell = convection_linear.Cell(nx=a.nx, ny=a.ny, g=0.1 * 2.0 / a.ny, t_bottom=a.t_bottom, t_top=a.t_top)
+    ra_cell, _ = convection_linear.cell_critical(cell)
+    ax.axvline(1.0, color="k", ls="--", lw=1, label="continuum onset, rigid walls, Boussinesq (1707.76)")
+    ax.axvline(ra_cell / pc.RA_CRITICAL, color="k", ls=":", lw=1.2, label=f"onset of this compressible cell, linear theory ({ra_cell:.2f})")
+    print(f"linear theory of the cell: Ra_c = {ra_cell:.6g} ({ra_cell / pc.RA_CRITICAL:.4f} of 1707.76)")
     ax.axhline(1.0, color="0.5", ls=":", lw=1, label="conduction Nu = 1")
     ax.set_xlabel("Ra / Ra_c (superadiabatic Rayleigh number over 1707.76)")
     ax.set_ylabel("Nusselt number Nu")
