@@ -34,7 +34,7 @@ The corpus (see tests/fuzz/cases.txt for the curated part):
            as doubles (0.5 is refused, not truncated), as text, duplicated; a NaN position, a
            negative mass, no velocities, positions n x 2. Forged and control cases run at
            every stride.
-SPAM_FUZZ_STRIDE=k (tools/sanitize.sh: 16) runs every curated case and every k-th generated one;
+SPAM_FUZZ_STRIDE=k (tools/sanitize.sh: 48) runs every curated case and every k-th generated one;
 SPAM_FUZZ_ONLY=regex only the cases whose name matches it (a development aid).
 """
 import concurrent.futures
