@@ -138,7 +138,20 @@ static PetscErrorCode TakeIntervals(SpamRunOptions *o, SpamRestart *rs)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamRestartLoad(SpamSim *sim, SpamRunOptions *o, TS ts, SpamRestart *rs)
+/* The intervals the restart goes on with against its end time, as the options' are: one
+ * taken from the checkpoint is named by its entry. */
+static PetscErrorCode CheckTakenIntervals(const SpamSim *sim, const SpamRunOptions *o, const SpamOutputOptions *oo, const SpamRestart *rs)
+{
+  char from[PETSC_MAX_PATH_LEN + 32];
+
+  PetscFunctionBeginUser;
+  (void)snprintf(from, sizeof from, "checkpoint %s: entry 'loop'", rs->path);
+  PetscCall(SpamRunOptionsCheckIntervals(o, o->output_interval_set && o->snapshot_interval_set ? NULL : from));
+  PetscCall(SpamOutputOptionsCheckSnapshots(sim, o, oo, o->snapshot_interval_set ? NULL : from));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamRestartLoad(SpamSim *sim, SpamRunOptions *o, const SpamOutputOptions *oo, TS ts, SpamRestart *rs)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(rs, sizeof *rs));
@@ -154,7 +167,9 @@ PetscErrorCode SpamRestartLoad(SpamSim *sim, SpamRunOptions *o, TS ts, SpamResta
   PetscCall(SpamCkGetScalar(&rs->file, "time", &rs->t));
   PetscCall(SpamCkGetLong(&rs->file, "step", &rs->step));
   PetscCall(CheckDirectory(o, rs));
+  PetscCall(SpamRestartCheck(sim, o, oo, rs));
   PetscCall(TakeIntervals(o, rs));
+  PetscCall(CheckTakenIntervals(sim, o, oo, rs));
   PetscCall(Exactness(ts, &rs->file, &rs->exact, rs->why, sizeof rs->why));
   PetscFunctionReturn(0);
 }

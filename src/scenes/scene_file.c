@@ -49,17 +49,6 @@ static void Chomp(char *s)
   while (n && (s[n - 1] == '\r' || s[n - 1] == ' ')) s[--n] = 0;
 }
 
-/* What a file that is not a regular file is, for the message. */
-static const char *Kind(mode_t m)
-{
-  if (S_ISDIR(m)) return "a directory";
-  if (S_ISFIFO(m)) return "a FIFO (named pipe)";
-  if (S_ISCHR(m)) return "a character device";
-  if (S_ISBLK(m)) return "a block device";
-  if (S_ISSOCK(m)) return "a socket";
-  return "not a regular file";
-}
-
 /* Opens path for reading if it is a regular file. O_NONBLOCK: opening a FIFO without a
  * writer would otherwise wait forever before fstat could refuse it; on a regular file
  * the flag has no effect. */
@@ -77,7 +66,7 @@ static PetscErrorCode OpenRegular(const char *path, FILE **f)
   }
   if (!S_ISREG(st.st_mode)) {
     (void)close(fd);
-    SPAM_BAD_INPUT("-file_path", path, "is %s; a CSV file of particles (a regular file) is required", Kind(st.st_mode));
+    SPAM_BAD_INPUT("-file_path", path, "is %s; a CSV file of particles (a regular file) is required", SpamFileKind(st.st_mode));
   }
   *f = fdopen(fd, "r");
   if (!*f) {
