@@ -8,7 +8,9 @@
  *   text NAME STRING    the entry replaced by this text
  *   drop NAME           the entry removed
  *   poke NAME OFF BYTE  byte OFF of a text entry set to BYTE (0-255)
+ *   fill NAME OFF LEN BYTE  bytes OFF to OFF + LEN - 1 of a text entry set to BYTE
  *   status V            the status field of run_result (the result as its bytes)
+ *   unterminated X      run_result's reason filled with 'A' to its last byte (no NUL)
  * Exit 0 written, 1 on a failure (one line on stderr). One rank's checkpoints only. */
 #include <spam/checkpoint_file.h>
 #include <spam/run.h>
@@ -89,7 +91,7 @@ static PetscErrorCode Poke(SpamCkFile *c, const char *name, size_t off, int byte
 static PetscErrorCode Edit(SpamCkFile *c, int argc, char **argv, int *used)
 {
   const char *op = argv[0];
-  const int   need = !strcmp(op, "drop") || !strcmp(op, "status") ? 2 : !strcmp(op, "set") || !strcmp(op, "poke") ? 4 : 3;
+  const int   need = !strcmp(op, "drop") || !strcmp(op, "status") || !strcmp(op, "unterminated") ? 2 : !strcmp(op, "set") || !strcmp(op, "poke") ? 4 : !strcmp(op, "fill") ? 5 : 3;
 
   PetscFunctionBeginUser;
   PetscCheck(argc >= need, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG, "ck_forge: %s needs %d arguments", op, need - 1);
@@ -99,6 +101,10 @@ static PetscErrorCode Edit(SpamCkFile *c, int argc, char **argv, int *used)
   else if (!strcmp(op, "text")) PetscCall(SpamCkPutText(c, argv[1], argv[2], strlen(argv[2])));
   else if (!strcmp(op, "drop")) PetscCall(Drop(c, argv[1]));
   else if (!strcmp(op, "poke")) PetscCall(Poke(c, argv[1], (size_t)strtoull(argv[2], NULL, 10), atoi(argv[3])));
+  else if (!strcmp(op, "fill"))
+    for (size_t b = 0, off = (size_t)strtoull(argv[2], NULL, 10); b < (size_t)strtoull(argv[3], NULL, 10); b++) PetscCall(Poke(c, argv[1], off + b, atoi(argv[4])));
+  else if (!strcmp(op, "unterminated"))
+    for (size_t b = 0; b < sizeof(((SpamRunResult *)NULL)->reason); b++) PetscCall(Poke(c, "run_result", offsetof(SpamRunResult, reason) + b, 'A'));
   else if (!strcmp(op, "status")) {
     const unsigned status = (unsigned)atoi(argv[1]);
     /* the enum's bytes in the record as this build lays them out (little-endian int) */

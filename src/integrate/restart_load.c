@@ -37,6 +37,18 @@ static PetscErrorCode Exactness(TS ts, const SpamCkFile *c, PetscBool *exact, ch
   PetscFunctionReturn(0);
 }
 
+/* What this method takes back beyond the common entries: ERKStep its controller's history
+ * (without it ERKStep would not be re-initialised at the checkpoint's time). */
+static PetscErrorCode CheckMethodEntries(TS ts, const SpamRestart *rs)
+{
+  PetscBool arkode;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectTypeCompare((PetscObject)ts, SPAM_TSARKODE, &arkode));
+  if (arkode && !SpamCkHas(&rs->file, "arkode_history")) SPAM_BAD_INPUT("-restart", rs->path, "has no entry 'arkode_history' (ERKStep's controller), which a run of -ts_type arkode writes");
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode CheckVersion(const SpamRestart *rs)
 {
   char        now[256];
@@ -168,6 +180,7 @@ PetscErrorCode SpamRestartLoad(SpamSim *sim, SpamRunOptions *o, const SpamOutput
   PetscCall(SpamCkGetLong(&rs->file, "step", &rs->step));
   PetscCall(CheckDirectory(o, rs));
   PetscCall(SpamRestartCheck(sim, o, oo, rs));
+  PetscCall(CheckMethodEntries(ts, rs));
   PetscCall(TakeIntervals(o, rs));
   PetscCall(CheckTakenIntervals(sim, o, oo, rs));
   PetscCall(Exactness(ts, &rs->file, &rs->exact, rs->why, sizeof rs->why));
@@ -335,7 +348,7 @@ static PetscErrorCode ApplyIntegrator(TS ts, SpamTsApp *app, const SpamRestart *
     ts->setupcalled = PETSC_FALSE;
   }
   PetscCall(TSSetUp(ts));
-  if (arkode && SpamCkHas(&rs->file, "arkode_history")) {
+  if (arkode) { /* its history is there: CheckMethodEntries */
     const double     *v;
     long              accepted;
     SpamArkodeHistory h;
