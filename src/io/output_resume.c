@@ -139,7 +139,7 @@ static PetscErrorCode GetTimes(const SpamCkFile *c, const char *name, const doub
       *n = c->e[k].n;
       PetscFunctionReturn(0);
     }
-  SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "checkpoint %s: no entry %s", c->path, name);
+  SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "checkpoint %s: no entry '%s'", c->path, name);
 }
 
 static PetscErrorCode RestoreTimes(const SpamCkFile *c, const char *entry, double **times, int *n, int *cap)
