@@ -141,21 +141,23 @@ static PetscErrorCode CheckResult(const SpamRestart *rs)
   PetscFunctionReturn(0);
 }
 
-/* Positions (stride apart from x0) as a particle file's rows are checked: finite, and on
- * the inner side of every face that has a mirror wall (the run reflects back whatever
- * crossed one after each step; periodic and open faces let particles out). */
+/* Positions (stride apart from x0) as a particle file's rows are checked (SpamBoxOutside):
+ * finite, and inside the box across every face that has a mirror wall (the run reflects
+ * back whatever crossed one after each step; periodic and open faces let particles out,
+ * so a position beyond them is a state a run reaches). */
 static PetscErrorCode CheckPositions(const SpamSim *sim, const SpamRestart *rs, const char *name, const double *x0, size_t n, int stride)
 {
-  static const char *ax[3] = {"x", "y", "z"};
+  PetscBool walls[6] = {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE, PETSC_FALSE, PETSC_FALSE, PETSC_FALSE};
+  char      why[160];
 
   PetscFunctionBeginUser;
-  for (size_t i = 0; i < n; i++)
-    for (int d = 0; d < sim->model.dim; d++) {
-      const double x = x0[i * (size_t)stride + d], lo = sim->box.lo[d], hi = lo + sim->box.len[d];
-      const int    f = !(x >= lo) ? 2 * d : !(x <= hi) ? 2 * d + 1 : -1;
-      if (!isfinite(x)) BAD_ENTRY(rs, name, "holds a particle (row %zu) whose %s = %.17g is not finite", i, ax[d], x);
-      if (f >= 0 && SpamWallOn(&sim->walls, f)) BAD_ENTRY(rs, name, "holds a particle (row %zu) whose %s = %.17g lies beyond the mirror wall of the box, %.10g <= %s <= %.10g", i, ax[d], x, lo, ax[d], hi);
-    }
+  for (int f = 0; f < 2 * sim->model.dim; f++) walls[f] = SpamWallOn(&sim->walls, f);
+  for (size_t i = 0; i < n; i++) {
+    const double *x = x0 + i * (size_t)stride;
+    for (int d = 0; d < sim->model.dim; d++)
+      if (!isfinite(x[d])) BAD_ENTRY(rs, name, "holds a particle (row %zu) whose position %d is %g, not finite", i, d, x[d]);
+    if (SpamBoxOutside(sim->model.dim, sim->box.lo, sim->box.len, walls, x, why, sizeof why) >= 0) BAD_ENTRY(rs, name, "holds a particle (row %zu) beyond a mirror wall: %s", i, why);
+  }
   PetscFunctionReturn(0);
 }
 

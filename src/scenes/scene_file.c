@@ -165,16 +165,11 @@ static int ParseLine(const char *line, double *vals, int max, int *badfield, con
  * with the edge cells as if near them. */
 static PetscErrorCode CheckInBox(CsvReader *r, const SpamCommonParams *c, const double *x)
 {
-  static const char *ax[3] = {"x", "y", "z"};
+  char      why[160];
+  const int d = SpamBoxOutside(c->dim, c->box_lo, c->box_len, NULL, x, why, sizeof why);
 
   PetscFunctionBeginUser;
-  for (int d = 0; d < c->dim; d++) {
-    const double lo = c->box_lo[d], hi = c->box_lo[d] + c->box_len[d];
-    char         why[160]; /* formatted here: PETSc's %g writes 8 as "8." */
-    if (x[d] >= lo && x[d] <= hi) continue;
-    (void)snprintf(why, sizeof why, "%s = %.10g lies outside the box, %.10g <= %s <= %.10g", ax[d], x[d], lo, ax[d], hi);
-    CSV_BAD_LINE(r, "%s (-box_lo, -box_len; %s direction)", why, c->periodic[d] ? "periodic" : "open");
-  }
+  if (d >= 0) CSV_BAD_LINE(r, "%s (-box_lo, -box_len; %s direction)", why, c->periodic[d] ? "periodic" : "open");
   PetscFunctionReturn(0);
 }
 
