@@ -586,6 +586,8 @@ CK_FORGERIES = [
     ("out_snap_times after the time", ["set", "out_snap_times", "0", "1e9"], {2}),
     ("out_grid_times NaN", ["real", "out_grid_times", "nan"], {2}),
     ("rank_checksums of 2 ranks", ["int", "rank_checksums", "0,0"], {2}),
+    ("migration_loop of 2 values on one rank", ["real", "migration_loop", "0,0"], {2}),
+    ("migration_loop NaN on one rank", ["real", "migration_loop", "0,0,nan,0,0,0"], {2}),
     # the run's record
     ("status 5 (past the enum)", ["status", "5"], {2}),
     ("status -1", ["status", "-1"], {2}),

@@ -186,7 +186,7 @@ static PetscErrorCode CheckParticleValues(const SpamSim *sim, const SpamRestart 
   PetscFunctionReturn(0);
 }
 
-/* Several ranks: the cut and the migration state (ApplyRanks). */
+/* The migration state (ApplyRanks, ReusedDerivative) and, on several ranks, the cut. */
 static PetscErrorCode CheckRanksEntries(const SpamSim *sim, const SpamRestart *rs)
 {
   const int64_t *cut, *count;
@@ -194,6 +194,11 @@ static PetscErrorCode CheckRanksEntries(const SpamSim *sim, const SpamRestart *r
   const int      P = (int)rs->ranks;
 
   PetscFunctionBeginUser;
+  /* read on one rank too when there (the restart's derivative booking) */
+  if (rs->ranks < 2 && !SpamCkHas(&rs->file, "migration_loop")) PetscFunctionReturn(0);
+  PetscCall(CheckReals(rs, &rs->file, "migration_loop", 6, 0.0, WHOLE_MAX, PETSC_FALSE));
+  PetscCall(SpamCkGetReal(&rs->file, "migration_loop", 6, &m));
+  if (m[0] != floor(m[0]) || m[1] != floor(m[1]) || m[3] != floor(m[3]) || m[4] != floor(m[4]) || (m[5] != 0 && m[5] != 1)) BAD_ENTRY(rs, "migration_loop", "holds a count that is not whole or a flag other than 0 or 1");
   if (rs->ranks < 2) PetscFunctionReturn(0);
   PetscCall(SpamCkGetInt(&rs->file, "decomposition_cut", (size_t)P + 1, &cut));
   PetscCall(SpamCkGetInt(&rs->file, "decomposition_count", (size_t)P, &count));
@@ -202,9 +207,6 @@ static PetscErrorCode CheckRanksEntries(const SpamSim *sim, const SpamRestart *r
   PetscCall(CheckReals(rs, &rs->file, "decomposition", 5, 0.0, DBL_MAX, PETSC_FALSE));
   PetscCall(SpamCkGetReal(&rs->file, "decomposition", 5, &d));
   if ((d[0] != 0 && d[0] != 1) || d[3] != floor(d[3]) || d[4] != floor(d[4]) || d[3] > WHOLE_MAX || d[4] > WHOLE_MAX) BAD_ENTRY(rs, "decomposition", "holds a flag other than 0 or 1 or a count that is not whole");
-  PetscCall(CheckReals(rs, &rs->file, "migration_loop", 6, 0.0, WHOLE_MAX, PETSC_FALSE));
-  PetscCall(SpamCkGetReal(&rs->file, "migration_loop", 6, &m));
-  if (m[0] != floor(m[0]) || m[1] != floor(m[1]) || m[3] != floor(m[3]) || m[4] != floor(m[4]) || (m[5] != 0 && m[5] != 1)) BAD_ENTRY(rs, "migration_loop", "holds a count that is not whole or a flag other than 0 or 1");
   PetscFunctionReturn(0);
 }
 
