@@ -1,4 +1,4 @@
-/* ck_forge IN OUT OP...: a checkpoint edited as an attacker would, then written through the
+/* ck_forge IN OUT EDIT... [-- OUT EDIT...]...: a checkpoint edited as an attacker would, then written through the
  * library's own writer so that its entry count and checksum match the forged contents (a
  * test tool of the fuzz corpus, tests/run_fuzz.py: a restart must then refuse the forgery
  * by its values, not by its checksum). The edits, applied in order:
@@ -11,7 +11,9 @@
  *   fill NAME OFF LEN BYTE  bytes OFF to OFF + LEN - 1 of a text entry set to BYTE
  *   status V            the status field of run_result (the result as its bytes)
  *   unterminated X      run_result's reason filled with 'A' to its last byte (no NUL)
- * Exit 0 written, 1 on a failure (one line on stderr). One rank's checkpoints only. */
+ * Each group after "--" is another forgery of IN (one start for a whole corpus: a start
+ * under the sanitizers takes seconds). Exit 0 written, 1 on a failure (PETSc's message on
+ * stderr). One rank's checkpoints only. */
 #include <spam/checkpoint_file.h>
 #include <spam/run.h>
 #include <stddef.h>
@@ -113,16 +115,28 @@ static PetscErrorCode Edit(SpamCkFile *c, int argc, char **argv, int *used)
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Forge(int argc, char **argv)
+/* One forgery: IN read, the edits in argv[1..argc-1] applied, written to argv[0]. */
+static PetscErrorCode Forge(const char *in, int argc, char **argv)
 {
   SpamCkFile c;
 
   PetscFunctionBeginUser;
-  PetscCheck(argc >= 3, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG, "usage: ck_forge IN OUT EDIT...");
-  PetscCall(SpamCkFileRead(PETSC_COMM_SELF, argv[1], &c));
-  for (int k = 3, used = 0; k < argc; k += used) PetscCall(Edit(&c, argc - k, argv + k, &used));
-  PetscCall(SpamCkFileWrite(PETSC_COMM_SELF, &c, argv[2], NULL));
+  PetscCheck(argc >= 1, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG, "usage: ck_forge IN OUT EDIT... [-- OUT EDIT...]...");
+  PetscCall(SpamCkFileRead(PETSC_COMM_SELF, in, &c));
+  for (int k = 1, used = 0; k < argc; k += used) PetscCall(Edit(&c, argc - k, argv + k, &used));
+  PetscCall(SpamCkFileWrite(PETSC_COMM_SELF, &c, argv[0], NULL));
   PetscCall(SpamCkFileDestroy(&c));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode ForgeAll(int argc, char **argv)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(argc >= 3, PETSC_COMM_SELF, PETSC_ERR_ARG_WRONG, "usage: ck_forge IN OUT EDIT... [-- OUT EDIT...]...");
+  for (int k = 2, end; k < argc; k = end + 1) {
+    for (end = k; end < argc && strcmp(argv[end], "--"); end++) continue;
+    PetscCall(Forge(argv[1], end - k, argv + k));
+  }
   PetscFunctionReturn(0);
 }
 
@@ -134,7 +148,7 @@ int main(int argc, char **argv)
 
   /* PETSc sees no arguments: an edit's value such as -1 is not an option */
   PetscCall(PetscInitialize(&one, &fake, NULL, NULL));
-  ierr = Forge(argc, argv);
+  ierr = ForgeAll(argc, argv);
   PetscCall(PetscFinalize());
   return ierr ? 1 : 0;
 }
