@@ -29,7 +29,8 @@ The corpus (see tests/fuzz/cases.txt for the curated part):
            cannot decide accept 0 or 2 and are counted as "open".
   checkpoints  a tiny run's checkpoint forged entry by entry with its checksum made to match
            (tests/ck_forge.c; SPAM_CK_FORGE names it): counts, run status, intervals, times,
-           steps, positions, missing entries, the list of files, shape and identity; and a
+           steps, positions, missing entries, the list of files, shape and identity, and
+           non-finite or negative values drawn into random places (fixed seed); and a
            FIFO, a directory and /dev/zero as -restart. Each runs in a copy of the run's
            directory: exit 2 must leave every file in it byte for byte as it was.
 SPAM_FUZZ_STRIDE=k (tools/sanitize.sh: 16) runs every curated case and every k-th generated one;
@@ -671,6 +672,22 @@ CK_FORGERIES += [(f"{e} missing", ["drop", e], {2}) for e in (
     "step_restart_pending", "kick_cached", "list_builds", "state", "xref", "acc", "rhs_stats", "id", "mass", "dim",
     "options", "version", "out_files", "out_nsnap", "out_step", "out_snap_times", "out_grid_times", "out_timeseries",
     "out_steps")]
+
+# and drawn with a fixed seed: a non-finite value in a random place of a real entry, a
+# negative one in an integer entry (each is invalid wherever it lands; loop[9], the next
+# checkpoint time, is left out: it may be inf, and a restart sets it anew).
+CK_REALS = {"loop": [k for k in range(11) if k != 9], "progress": range(6), "h_next": [0], "velocity_scale": [0],
+            "arkode_history": range(5), "state": range(64), "xref": range(32), "acc": range(32), "mass": range(16),
+            "rhs_stats": range(3), "out_snap_times": [0], "time": [0]}
+CK_INTS = {e: [0] for e in ("nglobal", "nvar", "dim", "step", "exact", "kick_cached", "step_restart_pending", "list_builds",
+                            "arkode_accepted", "out_nsnap", "out_step")}
+CK_INTS["id"] = range(16)
+ck_rng = random.Random(2028)
+for _ in range(24):
+    entry = ck_rng.choice(sorted(CK_REALS) + sorted(CK_INTS))
+    table, values = (CK_REALS, ["nan", "inf", "-inf", "-nan"]) if entry in CK_REALS else (CK_INTS, ["-1", str(-2 ** 63)])
+    k, value = ck_rng.choice(list(table[entry])), ck_rng.choice(values)
+    CK_FORGERIES.append((f"drawn: {entry}[{k}] = {value}", ["set", entry, str(k), value], {2}))
 
 
 def digest(root):
