@@ -683,11 +683,13 @@ CK_INTS = {e: [0] for e in ("nglobal", "nvar", "dim", "step", "exact", "kick_cac
                             "arkode_accepted", "out_nsnap", "out_step")}
 CK_INTS["id"] = range(16)
 ck_rng = random.Random(2028)
-for _ in range(24):
+ck_drawn = {}
+while len(ck_drawn) < 24:  # 24 different forgeries
     entry = ck_rng.choice(sorted(CK_REALS) + sorted(CK_INTS))
     table, values = (CK_REALS, ["nan", "inf", "-inf", "-nan"]) if entry in CK_REALS else (CK_INTS, ["-1", str(-2 ** 63)])
     k, value = ck_rng.choice(list(table[entry])), ck_rng.choice(values)
-    CK_FORGERIES.append((f"drawn: {entry}[{k}] = {value}", ["set", entry, str(k), value], {2}))
+    ck_drawn[f"drawn: {entry}[{k}] = {value}"] = ["set", entry, str(k), value]
+CK_FORGERIES += [(name, edits, {2}) for name, edits in ck_drawn.items()]
 
 
 def digest(root):
