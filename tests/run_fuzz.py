@@ -34,10 +34,18 @@ The corpus (see tests/fuzz/cases.txt for the curated part):
            as doubles (0.5 is refused, not truncated), as text, duplicated; a NaN position, a
            negative mass, no velocities, positions n x 2. Forged and control cases run at
            every stride.
-SPAM_FUZZ_STRIDE=k (tools/sanitize.sh: 48) runs every curated case and every k-th generated one;
+  checkpoints  a tiny run's checkpoint forged entry by entry with its checksum made to match
+           (tests/ck_forge.c; SPAM_CK_FORGE names it): counts, run status, intervals, times,
+           steps, positions, missing entries, the list of files, shape and identity, and
+           non-finite or negative values drawn into random places (fixed seed); and a
+           FIFO, a directory and /dev/zero as -restart. Each runs in a copy of the run's
+           directory: exit 2 must leave every file in it byte for byte as it was.
+SPAM_FUZZ_STRIDE=k (tools/sanitize.sh: 48) runs every curated case, the forged and control snapshots, every 4th forged
+checkpoint (with its control and special files) and every k-th generated case;
 SPAM_FUZZ_ONLY=regex only the cases whose name matches it (a development aid).
 """
 import concurrent.futures
+import hashlib
 import json
 import os
 import random
@@ -620,6 +628,200 @@ cases += snapshot_always
 generated += snapshot_generated
 generated += file_cases
 cases += generated[::STRIDE] if STRIDE > 1 else generated
+# ------------------------------------------------------------ forged checkpoints (iv) ------
+# A checkpoint written by a tiny run (expansion, a mirror wall at ylo, snapshots on) is
+# edited entry by entry and written back by tests/ck_forge (built by CMake, through the
+# library's writer), so that its checksum and entry count match the forgery: the restart
+# must refuse it by its values. Each forged case runs in a copy of the run's directory and
+# must exit 2 with one line naming the checkpoint, leaving every file of the directory byte
+# for byte as it was (no file removed, added or rewritten, no "failed" summary).
+FORGE = os.environ.get("SPAM_CK_FORGE") or os.path.join(os.path.dirname(SPAM), "tests", "ck_forge")
+CK_EXTRA = [("-snapshot_interval", "0.125"), ("-output_interval", "0.0625"), ("-wall_ylo", "freeslip")]
+# (name, ck_forge edits, expected codes); the box is [0, 8)^2, the state x, y, vx, vy.
+CK_FORGERIES = [
+    ("unchanged (control)", [], {0}),
+    # counts
+    ("out_nsnap -1", ["set", "out_nsnap", "0", "-1"], {2}),
+    ("out_nsnap 2^40", ["set", "out_nsnap", "0", str(2 ** 40)], {2}),
+    ("out_nsnap beyond its times", ["set", "out_nsnap", "0", "5"], {2}),
+    ("out_step -1", ["set", "out_step", "0", "-1"], {2}),
+    ("out_snap_times NaN", ["set", "out_snap_times", "0", "nan"], {2}),
+    ("out_snap_times after the time", ["set", "out_snap_times", "0", "1e9"], {2}),
+    ("out_grid_times NaN", ["real", "out_grid_times", "nan"], {2}),
+    ("rank_checksums of 2 ranks", ["int", "rank_checksums", "0,0"], {2}),
+    ("migration_loop of 2 values on one rank", ["real", "migration_loop", "0,0"], {2}),
+    ("migration_loop NaN on one rank", ["real", "migration_loop", "0,0,nan,0,0,0"], {2}),
+    # the run's record
+    ("status 5 (past the enum)", ["status", "5"], {2}),
+    ("status -1", ["status", "-1"], {2}),
+    ("status 1000000", ["status", "1000000"], {2}),
+    ("status interrupted", ["status", "3"], {2}),
+    ("run_result reason unterminated", ["unterminated", "x"], {2}),
+    ("run_result short", ["text", "run_result", "x"], {2}),
+    # intervals and schedule
+    ("output interval 1e-9", ["set", "loop", "0", "1e-9"], {2}),
+    ("output interval 0", ["set", "loop", "0", "0"], {2}),
+    ("output interval NaN", ["set", "loop", "0", "nan"], {2}),
+    ("output interval -1", ["set", "loop", "0", "-1"], {2}),
+    ("output interval inf", ["set", "loop", "0", "inf"], {2}),
+    ("snapshot interval 1e-9", ["set", "loop", "1", "1e-9"], {2}),
+    ("snapshot interval 0", ["set", "loop", "1", "0"], {2}),
+    ("snapshot interval NaN", ["set", "loop", "1", "nan"], {2}),
+    ("snapshot interval -0.125", ["set", "loop", "1", "-0.125"], {2}),
+    ("next output NaN", ["set", "loop", "2", "nan"], {2}),
+    ("next snapshot -5", ["set", "loop", "3", "-5"], {2}),
+    ("next output far ahead", ["set", "loop", "2", "0.45"], {2}),
+    ("loop time not the time", ["set", "loop", "4", "0.3"], {2}),
+    ("last step -1", ["set", "loop", "5", "-1"], {2}),
+    ("last row after the time", ["set", "loop", "6", "1e9"], {2}),
+    ("wall clock NaN", ["set", "loop", "8", "nan"], {2}),
+    ("writer's end NaN", ["set", "loop", "10", "nan"], {2}),
+    ("loop of 4 values", ["real", "loop", "0.0625,0.125,0.125,0.125"], {2}),
+    ("loop as integers", ["int", "loop", "0,0,0,0,0,0,0,0,0,0,0"], {2}),
+    # times and steps
+    ("time NaN", ["set", "time", "0", "nan"], {2}),
+    ("time -1", ["set", "time", "0", "-1"], {2}),
+    ("time 1e300", ["set", "time", "0", "1e300"], {2}),
+    ("time -inf", ["set", "time", "0", "-inf"], {2}),
+    ("step -1", ["set", "step", "0", "-1"], {2}),
+    ("step 2^40", ["set", "step", "0", str(2 ** 40)], {2}),
+    ("step 2^63-1", ["set", "step", "0", str(2 ** 63 - 1)], {2}),
+    ("step not the progress's", ["set", "step", "0", "7"], {2}),
+    ("step as a fraction", ["real", "step", "6.5"], {2}),
+    ("progress rejected -1", ["set", "progress", "2", "-1"], {2}),
+    ("progress time NaN", ["set", "progress", "0", "nan"], {2}),
+    # integrator
+    ("h_next NaN", ["set", "h_next", "0", "nan"], {2}),
+    ("h_next -1", ["set", "h_next", "0", "-1"], {2}),
+    ("velocity_scale 0", ["set", "velocity_scale", "0", "0"], {2}),
+    ("velocity_scale NaN", ["set", "velocity_scale", "0", "nan"], {2}),
+    ("arkode_history NaN", ["set", "arkode_history", "1", "nan"], {2}),
+    ("arkode_accepted -1", ["set", "arkode_accepted", "0", "-1"], {2}),
+    ("exact 2", ["set", "exact", "0", "2"], {2}),
+    ("step_restart_pending -1", ["set", "step_restart_pending", "0", "-1"], {2}),
+    ("kick_cached 7", ["set", "kick_cached", "0", "7"], {2}),
+    ("list_builds -1", ["set", "list_builds", "0", "-1"], {2}),
+    # particles
+    ("y beyond the ylo wall", ["set", "state", "1", "-1000"], {2}),
+    ("xref y beyond the ylo wall", ["set", "xref", "1", "-1000"], {2}),
+    ("x NaN", ["set", "state", "0", "nan"], {2}),
+    ("velocity inf", ["set", "state", "2", "inf"], {2}),
+    ("xref x 1e309 (inf)", ["set", "xref", "0", "1e309"], {2}),
+    ("acc NaN", ["set", "acc", "3", "nan"], {2}),
+    ("rhs_stats -1", ["set", "rhs_stats", "0", "-1"], {2}),
+    ("state one value short", ["real", "state", ",".join(["1"] * 63)], {2}),
+    ("id out of order", ["set", "id", "0", "5"], {2}),
+    ("mass changed", ["set", "mass", "0", "2"], {2}),
+    # shape and identity
+    ("dim 3", ["set", "dim", "0", "3"], {2}),
+    ("nvar 7", ["set", "nvar", "0", "7"], {2}),
+    ("nglobal -1", ["set", "nglobal", "0", "-1"], {2}),
+    ("options of another kernel", ["text", "options", "-kernel lucy -expansion_n 4"], {2}),
+    ("version of another build", ["text", "version", "spam-ark 0.0 (forged)"], {2}),
+    # the list of files
+    ("out_files garbage", ["text", "out_files", "garbage"], {2}),
+    ("out_files a path", ["text", "out_files", "../escape.h5\tsnapshot_h5\t0\t0\n"], {2}),
+    ("out_files a hidden name", ["text", "out_files", ".lock\tsnapshot_h5\t0\t0\n"], {2}),
+    ("out_files a quoted kind", ["text", "out_files", 'snap_00000.h5\tsnap"\t0\t0\n'], {2}),
+    ("out_files a time 'abc'", ["text", "out_files", "snap_00000.h5\tsnapshot_h5\tabc\t0\n"], {2}),
+    ("out_files outside 2", ["text", "out_files", "snap_00000.h5\tsnapshot_h5\t0\t2\n"], {2}),
+    ("out_files five fields", ["text", "out_files", "snap_00000.h5\tsnapshot_h5\t0\t0\t0\n"], {2}),
+    ("out_files a control byte", ["text", "out_files", "snap\x01.h5\tsnapshot_h5\t0\t0\n"], {2}),
+]
+# every entry a restart reads, missing
+CK_FORGERIES += [(f"{e} missing", ["drop", e], {2}) for e in (
+    "loop", "time", "step", "progress", "limit", "run_result", "h_next", "velocity_scale", "arkode_history", "exact",
+    "step_restart_pending", "kick_cached", "list_builds", "state", "xref", "acc", "rhs_stats", "id", "mass", "dim",
+    "options", "version", "out_files", "out_nsnap", "out_step", "out_snap_times", "out_grid_times", "out_timeseries",
+    "out_steps")]
+
+# and drawn with a fixed seed: a non-finite value in a random place of a real entry, a
+# negative one in an integer entry (each is invalid wherever it lands; loop[9], the next
+# checkpoint time, is left out: it may be inf, and a restart sets it anew).
+CK_REALS = {"loop": [k for k in range(11) if k != 9], "progress": range(6), "h_next": [0], "velocity_scale": [0],
+            "arkode_history": range(5), "state": range(64), "xref": range(32), "acc": range(32), "mass": range(16),
+            "rhs_stats": range(3), "out_snap_times": [0], "time": [0]}
+CK_INTS = {e: [0] for e in ("nglobal", "nvar", "dim", "step", "exact", "kick_cached", "step_restart_pending", "list_builds",
+                            "arkode_accepted", "out_nsnap", "out_step")}
+CK_INTS["id"] = range(16)
+ck_rng = random.Random(2028)
+ck_drawn = {}
+while len(ck_drawn) < 24:  # 24 different forgeries
+    entry = ck_rng.choice(sorted(CK_REALS) + sorted(CK_INTS))
+    table, values = (CK_REALS, ["nan", "inf", "-inf", "-nan"]) if entry in CK_REALS else (CK_INTS, ["-1", str(-2 ** 63)])
+    k, value = ck_rng.choice(list(table[entry])), ck_rng.choice(values)
+    ck_drawn[f"drawn: {entry}[{k}] = {value}"] = ["set", entry, str(k), value]
+CK_FORGERIES += [(name, edits, {2}) for name, edits in ck_drawn.items()]
+
+
+def digest(root):
+    """Every file and directory under root: regular files by content hash, the others by type."""
+    out = {}
+    for d, ds, fs in os.walk(root):
+        for name in ds + fs:
+            p = os.path.join(d, name)
+            st = os.lstat(p)
+            if os.path.isfile(p) and not os.path.islink(p):
+                with open(p, "rb") as f:
+                    out[os.path.relpath(p, root)] = hashlib.sha256(f.read()).hexdigest()
+            else:
+                out[os.path.relpath(p, root)] = oct(st.st_mode)
+    return out
+
+
+class RunDirCase(Case):
+    """A restart in a copy of a run directory (base); checkpoint (or None: the base's own)
+    is copied over out/checkpoint.h5, fifo: a FIFO made at out/fifo.h5. A refusal must
+    leave the directory as it was."""
+
+    def __init__(self, name, args, expect, base, checkpoint=None, fifo=False):
+        super().__init__("checkpoints", name, args, expect)
+        self.base, self.checkpoint, self.fifo = base, checkpoint, fifo
+
+    def prepare(self, cwd):
+        out = os.path.join(cwd, "out")
+        shutil.copytree(self.base, out)
+        if self.checkpoint:
+            shutil.copyfile(self.checkpoint, os.path.join(out, "checkpoint.h5"))
+        if self.fifo:
+            os.mkfifo(os.path.join(out, "fifo.h5"))
+        self.before = digest(cwd)
+
+    def refused_cleanly(self, cwd):
+        """Problems of a refusal: any change in the directory."""
+        after = digest(cwd)
+        changed = sorted(k for k in set(self.before) | set(after) if self.before.get(k) != after.get(k))
+        return [f"the run directory changed: {changed[:6]}"] if changed else []
+
+
+def forged_checkpoint_cases():
+    base = os.path.join(FILES, "ck_base")
+    code = subprocess.run([SPAM] + argv("E", CK_EXTRA + [("-ts_max_steps", "6"), ("-checkpoint_interval", "1000")]) + ["-output_dir", base],
+                          capture_output=True, env=ENV, timeout=120).returncode
+    if not c.check(code == 0 and os.path.exists(os.path.join(base, "checkpoint.h5")), f"the forged checkpoints' base run wrote its checkpoint (exit {code})"):
+        return []
+    if not c.check(os.access(FORGE, os.X_OK), f"the checkpoint forger {FORGE} is built"):
+        return []
+    # the restart gives no intervals: it takes the checkpoint's (restart_load.c TakeIntervals)
+    ck_args = [x for o, v in CONTEXTS["E"] + CK_EXTRA if o not in ("-snapshot_interval", "-output_interval") for x in (o, v)]
+    restart = ["-output_dir", "out", "-restart", "out/checkpoint.h5"]
+    # Every forgery in one start of the forger (a start under the sanitizers takes seconds);
+    # with a stride (tools/sanitize.sh) every 4th of them, the control always.
+    chosen = [f for k, f in enumerate(CK_FORGERIES) if STRIDE == 1 or k % 4 == 0]
+    paths = [os.path.join(FILES, f"ck_forged_{k:03d}.h5") for k in range(len(chosen))]
+    groups = [x for k, (name, edits, expect) in enumerate(chosen) for x in (["--"] if k else []) + [paths[k]] + edits]
+    p = subprocess.run([FORGE, os.path.join(base, "checkpoint.h5")] + groups, capture_output=True, env=ENV, timeout=300)
+    if not c.check(p.returncode == 0, f"ck_forge wrote {len(chosen)} forgeries: {p.stderr.decode(errors='replace').strip()[:300]}"):
+        return []
+    out = [RunDirCase(f"forged checkpoint: {name}", ck_args + restart, expect, base, path) for (name, edits, expect), path in zip(chosen, paths)]
+    # special files as the checkpoint: refused before they are opened (a FIFO would block)
+    out.append(RunDirCase("checkpoint a FIFO", ck_args + ["-output_dir", "out", "-restart", "out/fifo.h5"], {2}, base, fifo=True))
+    out.append(RunDirCase("checkpoint a directory", ck_args + ["-output_dir", "out", "-restart", "out"], {2}, base))
+    out.append(RunDirCase("checkpoint /dev/zero", ck_args + ["-output_dir", "out", "-restart", "/dev/zero"], {2}, base))
+    return out
+
+
+cases += forged_checkpoint_cases()
 # SPAM_FUZZ_ONLY=regex: only the cases whose name matches (say "^-sod_|^-sedov_" for the
 # option cases of two scenes), to try new options without the whole corpus.
 ONLY = os.environ.get("SPAM_FUZZ_ONLY")
@@ -643,6 +845,8 @@ def tree(path):
 def execute(k, case):
     cwd = os.path.join(w, "c", f"{k:05d}")
     os.makedirs(cwd)
+    if hasattr(case, "prepare"):  # a case that starts from a run directory (forged checkpoints)
+        case.prepare(cwd)
     # OpenMPI's session directory goes under TMPDIR: one per case, outside the case directory
     # (concurrent starts sharing /tmp/ompi.* now and then fail to create it, exit 1).
     env = dict(ENV, TMPDIR=os.path.join(w, "t", f"{k:05d}"))
@@ -675,7 +879,9 @@ def verdict(case, code, err, cwd):
             problems.append(f"{len(lines)} stderr lines, not one 'spam-ark: error: ' line")
         elif case.option and case.option.lstrip("-").lower() not in lines[0].lower():
             problems.append(f"the message does not name {case.option.lstrip('-')}")
-        if written:
+        if hasattr(case, "refused_cleanly"):
+            problems += case.refused_cleanly(cwd)
+        elif written:
             problems.append(f"wrote {written[:5]}")
     elif code == 1 and len(lines) != 1:
         problems.append(f"exit 1 with {len(lines)} stderr lines")

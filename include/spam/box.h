@@ -66,5 +66,11 @@ static inline double SpamImageDelta(const SpamImage *im, int d, double du)
  * particle meets at most one image of another. Raises a bad-input error naming `what`,
  * the option that set the box, otherwise. */
 PetscErrorCode SpamBoxValidate(const SpamBox *b, double h, const char *what);
+/* A particle's position x against the closed box [lo, lo + len] in dim directions, as a
+ * particle file's rows are checked (and a checkpoint's, restart_check.c): the first
+ * direction in which x lies outside it across a face that bounds (faces[2d] low,
+ * faces[2d + 1] high; NULL: every face), with the refusal's text in why ("y = -3 lies
+ * outside the box, 0 <= y <= 8"); -1 when none. A non-finite coordinate lies outside. */
+int SpamBoxOutside(int dim, const double *lo, const double *len, const PetscBool *faces, const double *x, char *why, size_t n);
 double         SpamBoxVolume(const SpamBox *b);
 #endif

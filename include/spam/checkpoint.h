@@ -38,8 +38,12 @@ PetscErrorCode SpamCheckpointVersion(char *buf, size_t len);
  * a file that is not a checkpoint, is truncated or corrupt, comes from another version or
  * was written with another physics option, particle count, id or mass is refused (exit 2,
  * one line naming what differs). Output-only options may differ; the output and snapshot
- * intervals not given here are the checkpoint's. */
-PetscErrorCode SpamRestartLoad(SpamSim *sim, SpamRunOptions *o, TS ts, SpamRestart *rs);
+ * intervals not given here are the checkpoint's. Every value is checked (SpamRestartCheck). */
+PetscErrorCode SpamRestartLoad(SpamSim *sim, SpamRunOptions *o, const SpamOutputOptions *oo, TS ts, SpamRestart *rs);
+/* Every value of the checkpoint rs read (time, step, loop, integrator, result, this rank's
+ * particles, the output series) checked as the option or file it came from, before the
+ * directory is touched (restart_check.c); oo: the output options (-snapshot_max). */
+PetscErrorCode SpamRestartCheck(const SpamSim *sim, const SpamRunOptions *o, const SpamOutputOptions *oo, const SpamRestart *rs);
 PetscErrorCode SpamRestartDestroy(SpamRestart *rs);
 /* Options whose change keeps the physics (outputs, the end, checkpoints): they may differ
  * between a checkpoint and its restart. name without the leading '-'. */

@@ -2,6 +2,7 @@
 #ifndef SPAM_ERRORS_H
 #define SPAM_ERRORS_H
 #include <petscsys.h>
+#include <sys/types.h>
 
 /* Exit codes of spam-ark. */
 #define SPAM_EXIT_OK        0
@@ -29,6 +30,9 @@ void SpamClip(const char *in, char *out, size_t len);
 /* The text of option opt as the user typed it (clipped), or v printed with %.17g when the
  * option is absent: bad-input messages show what the user wrote. */
 PetscErrorCode SpamOptionText(const char *opt, double v, char *buf, size_t len);
+/* What a file that is not a regular file is, for a refusal ("a FIFO (named pipe)", "a
+ * directory", ...): an input that must be a regular file is checked before it is read. */
+const char *SpamFileKind(mode_t mode);
 /* Bad input unless val is one of names[0..n-1]; the message lists them. */
 PetscErrorCode SpamCheckAllowed(const char *opt, const char *val, const char *const *names, int n);
 

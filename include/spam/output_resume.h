@@ -15,6 +15,11 @@ PetscErrorCode SpamOutputSave(SpamOutput *o, SpamCkFile *c);
  * the checkpoint's rows. (The checkpoint's options were checked: the directory's earlier
  * run is the one being continued, not refused.) */
 PetscErrorCode SpamOutputResume(const char *dir, PetscBool hdf5, PetscBool csv, const SpamOutputOptions *opt, const SpamCkFile *c, SpamOutput *o);
+/* Checks everything of the series that checkpoint c holds, before the directory is
+ * touched: the list of files line by line, the snapshot count (0 to -snapshot_max of opt)
+ * against its times (one each with HDF5 snapshots), the step, the times (in order, from 0
+ * to the checkpoint's time t), the texts; each refusal is bad input naming the entry. */
+PetscErrorCode SpamOutputResumeCheck(const SpamCkFile *c, PetscBool hdf5, const SpamOutputOptions *opt, double t);
 /* What every rank keeps of the series (the manifest's list, snapshot and grid counts and
  * times, the step), as checkpoint c holds it: a rank that does not own the directory
  * needs it to name and list the files a restart goes on writing. SpamOutputResume does

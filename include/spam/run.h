@@ -86,11 +86,20 @@ typedef struct {
 
 /* Reads and validates every run option; sim gives scene defaults (end time). */
 PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o);
+/* The output and snapshot intervals of o checked as the options are (finite, not negative,
+ * at most a million rows up to o->t_end); from: NULL for the options, or the checkpoint
+ * entry the intervals were read from ("checkpoint PATH: entry 'loop'"), which a refusal
+ * then names. */
+PetscErrorCode SpamRunOptionsCheckIntervals(const SpamRunOptions *o, const char *from);
 /* Reads -output_overwrite, -snapshot_max and -grid_interval; refuses a snapshot interval
  * that would write more than -snapshot_max snapshots and a grid spacing that is negative,
  * not finite, gives too many points over sim's box or has no snapshot times to be written
  * at. Call before the set-up ends (see main.c). */
 PetscErrorCode SpamOutputOptionsParse(const SpamSim *sim, const SpamRunOptions *ro, SpamOutputOptions *o);
+/* The snapshot count of ro's interval up to ro->t_end against -snapshot_max, and the grid
+ * fields against the snapshot times, as SpamOutputOptionsParse checks them; from as for
+ * SpamRunOptionsCheckIntervals. */
+PetscErrorCode SpamOutputOptionsCheckSnapshots(const SpamSim *sim, const SpamRunOptions *ro, const SpamOutputOptions *o, const char *from);
 
 /* Per-step monitor line and the progress line with ETA. */
 PetscErrorCode SpamMonitorStep(const SpamSim *sim, const SpamProgress *p);

@@ -40,7 +40,7 @@ static PetscErrorCode Run(int *exit_code)
    * every input is valid from here on: only now touch the file system. */
   if (!ierr && !help) ierr = SpamOptionsCheckUse(&sim, &o, ts); /* no option given in vain */
   /* A checkpoint to continue is read and checked before the directory is touched. */
-  if (!ierr && !help && o.restart[0]) ierr = SpamRestartLoad(&sim, &o, ts, &rs);
+  if (!ierr && !help && o.restart[0]) ierr = SpamRestartLoad(&sim, &o, &oo, ts, &rs);
   if (!ierr && !help) ierr = SpamRunSession(&sim, &o, &oo, ts, &app, o.restart[0] ? &rs : NULL, exit_code);
   PetscCall(SpamRestartDestroy(&rs));
   PetscCall(TSDestroy(&ts));

@@ -32,3 +32,19 @@ double SpamBoxVolume(const SpamBox *b)
   for (int d = 0; d < b->dim; d++) v *= b->len[d];
   return v;
 }
+
+int SpamBoxOutside(int dim, const double *lo, const double *len, const PetscBool *faces, const double *x, char *why, size_t n)
+{
+  static const char *ax[3] = {"x", "y", "z"};
+
+  for (int d = 0; d < dim; d++) {
+    const double hi = lo[d] + len[d];
+    /* a NaN is on neither side: it is outside whichever face bounds */
+    const PetscBool below = (PetscBool)!(x[d] >= lo[d]), above = (PetscBool)!(x[d] <= hi);
+    if (!((below && (!faces || faces[2 * d])) || (above && (!faces || faces[2 * d + 1])))) continue;
+    /* formatted here: PETSc's %g writes 8 as "8." */
+    (void)snprintf(why, n, "%s = %.10g lies outside the box, %.10g <= %s <= %.10g", ax[d], x[d], lo[d], ax[d], hi);
+    return d;
+  }
+  return -1;
+}

@@ -2,7 +2,9 @@
  * each; other errors (a bug) keep PETSc's traceback. Every printed byte outside printable
  * ASCII is escaped as \xNN, so a hostile file name or value can neither break the line nor
  * reach the terminal raw. */
+#define _DEFAULT_SOURCE /* S_ISSOCK: POSIX, not C11 */
 #include <spam/errors.h>
+#include <sys/stat.h>
 #include <arkode/arkode_erkstep.h>
 #include <cvode/cvode.h>
 
@@ -236,4 +238,15 @@ PetscErrorCode SpamAgreeOnFailure(MPI_Comm comm, PetscErrorCode local, const cha
   PetscCall(local);
   PetscCheck(!any, PETSC_COMM_SELF, PETSC_ERR_LIB, "%s failed on another rank", what);
   PetscFunctionReturn(0);
+}
+
+const char *SpamFileKind(mode_t m)
+{
+  if (S_ISREG(m)) return "a regular file";
+  if (S_ISDIR(m)) return "a directory";
+  if (S_ISFIFO(m)) return "a FIFO (named pipe)";
+  if (S_ISCHR(m)) return "a character device";
+  if (S_ISBLK(m)) return "a block device";
+  if (S_ISSOCK(m)) return "a socket";
+  return "not a regular file";
 }

@@ -37,6 +37,18 @@ static PetscErrorCode Exactness(TS ts, const SpamCkFile *c, PetscBool *exact, ch
   PetscFunctionReturn(0);
 }
 
+/* What this method takes back beyond the common entries: ERKStep its controller's history
+ * (without it ERKStep would not be re-initialised at the checkpoint's time). */
+static PetscErrorCode CheckMethodEntries(TS ts, const SpamRestart *rs)
+{
+  PetscBool arkode;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectTypeCompare((PetscObject)ts, SPAM_TSARKODE, &arkode));
+  if (arkode && !SpamCkHas(&rs->file, "arkode_history")) SPAM_BAD_INPUT("-restart", rs->path, "has no entry 'arkode_history' (ERKStep's controller), which a run of -ts_type arkode writes");
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode CheckVersion(const SpamRestart *rs)
 {
   char        now[256];
@@ -138,7 +150,20 @@ static PetscErrorCode TakeIntervals(SpamRunOptions *o, SpamRestart *rs)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamRestartLoad(SpamSim *sim, SpamRunOptions *o, TS ts, SpamRestart *rs)
+/* The intervals the restart goes on with against its end time, as the options' are: one
+ * taken from the checkpoint is named by its entry. */
+static PetscErrorCode CheckTakenIntervals(const SpamSim *sim, const SpamRunOptions *o, const SpamOutputOptions *oo, const SpamRestart *rs)
+{
+  char from[PETSC_MAX_PATH_LEN + 32];
+
+  PetscFunctionBeginUser;
+  (void)snprintf(from, sizeof from, "checkpoint %s: entry 'loop'", rs->path);
+  PetscCall(SpamRunOptionsCheckIntervals(o, o->output_interval_set && o->snapshot_interval_set ? NULL : from));
+  PetscCall(SpamOutputOptionsCheckSnapshots(sim, o, oo, o->snapshot_interval_set ? NULL : from));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamRestartLoad(SpamSim *sim, SpamRunOptions *o, const SpamOutputOptions *oo, TS ts, SpamRestart *rs)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(rs, sizeof *rs));
@@ -154,7 +179,10 @@ PetscErrorCode SpamRestartLoad(SpamSim *sim, SpamRunOptions *o, TS ts, SpamResta
   PetscCall(SpamCkGetScalar(&rs->file, "time", &rs->t));
   PetscCall(SpamCkGetLong(&rs->file, "step", &rs->step));
   PetscCall(CheckDirectory(o, rs));
+  PetscCall(SpamRestartCheck(sim, o, oo, rs));
+  PetscCall(CheckMethodEntries(ts, rs));
   PetscCall(TakeIntervals(o, rs));
+  PetscCall(CheckTakenIntervals(sim, o, oo, rs));
   PetscCall(Exactness(ts, &rs->file, &rs->exact, rs->why, sizeof rs->why));
   PetscFunctionReturn(0);
 }
@@ -320,7 +348,7 @@ static PetscErrorCode ApplyIntegrator(TS ts, SpamTsApp *app, const SpamRestart *
     ts->setupcalled = PETSC_FALSE;
   }
   PetscCall(TSSetUp(ts));
-  if (arkode && SpamCkHas(&rs->file, "arkode_history")) {
+  if (arkode) { /* its history is there: CheckMethodEntries */
     const double     *v;
     long              accepted;
     SpamArkodeHistory h;

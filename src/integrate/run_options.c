@@ -13,26 +13,65 @@
  * crossing of h (-step_cfl, -step_force are dimensionless). */
 #define MIN_BOUND_FRACTION 1e-6
 
-/* v must be finite and >= lo (> lo when lo_open); a subnormal positive value is "too small". */
-static PetscErrorCode CheckRange(const char *opt, double v, double lo, PetscBool lo_open, const char *what)
+/* How a refusal names a value: the option as the user typed it, or (from: the checkpoint
+ * entry it was read from, "checkpoint PATH: entry 'loop'") that entry and the option it
+ * stands for, with the value as stored. */
+static PetscErrorCode Name(const char *opt, const char *from, double v, char *name, size_t nlen, char *val, size_t vlen)
 {
-  char val[128];
+  PetscFunctionBeginUser;
+  if (from) {
+    (void)snprintf(name, nlen, "%s (its %s)", from, opt);
+    (void)snprintf(val, vlen, "%.17g", v);
+  } else {
+    (void)snprintf(name, nlen, "%s", opt);
+    PetscCall(SpamOptionText(opt, v, val, vlen));
+  }
+  PetscFunctionReturn(0);
+}
+
+/* v must be finite and >= lo (> lo when lo_open); a subnormal positive value is "too small". */
+static PetscErrorCode CheckRangeFrom(const char *opt, const char *from, double v, double lo, PetscBool lo_open, const char *what)
+{
+  char name[PETSC_MAX_PATH_LEN + 128], val[128];
 
   PetscFunctionBeginUser;
-  PetscCall(SpamOptionText(opt, v, val, sizeof val));
-  if (!isfinite(v) || v < lo || (lo_open && v == lo)) SPAM_BAD_INPUT(opt, val, "%s", what);
-  if (v != 0.0 && fabs(v) < DBL_MIN) SPAM_BAD_INPUT(opt, val, "too small (subnormal): %s", what);
+  PetscCall(Name(opt, from, v, name, sizeof name, val, sizeof val));
+  if (!isfinite(v) || v < lo || (lo_open && v == lo)) SPAM_BAD_INPUT(name, val, "%s", what);
+  if (v != 0.0 && fabs(v) < DBL_MIN) SPAM_BAD_INPUT(name, val, "too small (subnormal): %s", what);
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode CheckRange(const char *opt, double v, double lo, PetscBool lo_open, const char *what)
+{
+  PetscFunctionBeginUser;
+  PetscCall(CheckRangeFrom(opt, NULL, v, lo, lo_open, what));
   PetscFunctionReturn(0);
 }
 
 /* The count of items t_end / interval must stay within max. */
-static PetscErrorCode CheckCount(const char *opt, double interval, double t_end, double max, const char *what)
+static PetscErrorCode CheckCountFrom(const char *opt, const char *from, double interval, double t_end, double max, const char *what)
 {
-  char val[128];
+  char name[PETSC_MAX_PATH_LEN + 128], val[128];
 
   PetscFunctionBeginUser;
-  PetscCall(SpamOptionText(opt, interval, val, sizeof val));
-  if (interval > 0 && t_end > 0 && !(t_end / interval <= max)) SPAM_BAD_INPUT(opt, val, "would write %.3g %s to -ts_max_time %.6g; at most %.0f: use an interval of at least %.6g (or 0: none)", t_end / interval, what, t_end, max, t_end / max);
+  PetscCall(Name(opt, from, interval, name, sizeof name, val, sizeof val));
+  if (interval > 0 && t_end > 0 && !(t_end / interval <= max)) SPAM_BAD_INPUT(name, val, "would write %.3g %s to -ts_max_time %.6g; at most %.0f: use an interval of at least %.6g (or 0: none)", t_end / interval, what, t_end, max, t_end / max);
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode CheckCount(const char *opt, double interval, double t_end, double max, const char *what)
+{
+  PetscFunctionBeginUser;
+  PetscCall(CheckCountFrom(opt, NULL, interval, t_end, max, what));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamRunOptionsCheckIntervals(const SpamRunOptions *o, const char *from)
+{
+  PetscFunctionBeginUser;
+  PetscCall(CheckRangeFrom("-output_interval", from, o->output_interval, 0.0, PETSC_FALSE, "must be zero or positive"));
+  PetscCall(CheckRangeFrom("-snapshot_interval", from, o->snapshot_interval, 0.0, PETSC_FALSE, "must be zero or positive"));
+  PetscCall(CheckCountFrom("-output_interval", from, o->output_interval, o->t_end, MAX_OUTPUT_ROWS, "diagnostics rows"));
   PetscFunctionReturn(0);
 }
 
@@ -63,9 +102,7 @@ static PetscErrorCode CheckTimes(const SpamRunOptions *o)
   if (o->t_end > 0) {
     PetscCall(CheckStep("-ts_dt", o->dt_first, floor));
   }
-  PetscCall(CheckRange("-output_interval", o->output_interval, 0.0, PETSC_FALSE, "must be zero or positive"));
-  PetscCall(CheckRange("-snapshot_interval", o->snapshot_interval, 0.0, PETSC_FALSE, "must be zero or positive"));
-  PetscCall(CheckCount("-output_interval", o->output_interval, o->t_end, MAX_OUTPUT_ROWS, "diagnostics rows"));
+  PetscCall(SpamRunOptionsCheckIntervals(o, NULL));
   PetscFunctionReturn(0);
 }
 

@@ -4,6 +4,7 @@
  * file. A damaged file never costs more memory than its own size. */
 #define _DEFAULT_SOURCE /* O_CLOEXEC, stat: POSIX, not C11 */
 #include "checkpoint_layout.h"
+#include <spam/errors.h>
 #include <errno.h>
 #include <fcntl.h>
 #include <sys/stat.h>
@@ -17,17 +18,21 @@ typedef struct {
   off_t       size; /* bytes on disk: no entry can hold more */
 } CkReader;
 
-/* Missing, a directory, or not readable: the system's reason. */
+/* Missing or not readable: the system's reason; anything but a regular file (a FIFO, a
+ * device, a directory) is refused before it is read. O_NONBLOCK: opening a FIFO without a
+ * writer would otherwise wait forever before fstat could refuse it; on a regular file the
+ * flag has no effect. */
 static PetscErrorCode CheckReadable(const char *path, off_t *size)
 {
   struct stat st;
-  int         fd;
+  int         fd, failed;
 
   PetscFunctionBeginUser;
-  if (stat(path, &st)) PetscCall(BAD(path, "%s", strerror(errno)));
-  if (S_ISDIR(st.st_mode)) PetscCall(BAD(path, "is a directory"));
-  if ((fd = open(path, O_RDONLY | O_CLOEXEC)) < 0) PetscCall(BAD(path, "%s", strerror(errno)));
+  if ((fd = open(path, O_RDONLY | O_NONBLOCK | O_CLOEXEC)) < 0) PetscCall(BAD(path, "%s", strerror(errno)));
+  failed = fstat(fd, &st) ? errno : 0;
   (void)close(fd);
+  if (failed) PetscCall(BAD(path, "%s", strerror(failed)));
+  if (!S_ISREG(st.st_mode)) PetscCall(BAD(path, "is %s; a checkpoint (a regular file) is required", SpamFileKind(st.st_mode)));
   *size = st.st_size;
   PetscFunctionReturn(0);
 }

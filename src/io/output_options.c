@@ -7,17 +7,23 @@
 /* Snapshots at t = 0, at every interval up to t_end, and one more at the end (a last good
  * state, an interrupted run's state). A tiny interval would otherwise fill the disk with
  * files (issue 13: 2710 in 40 s); refuse it before anything is written. */
-static PetscErrorCode CheckSnapshotCount(const SpamRunOptions *ro, const SpamOutputOptions *o)
+static PetscErrorCode CheckSnapshotCount(const SpamRunOptions *ro, const SpamOutputOptions *o, const char *from)
 {
-  char         val[64], why[160];
+  char         name[PETSC_MAX_PATH_LEN + 128], val[64], why[160];
   const double n = ro->snapshot_interval > 0 ? ceil(ro->t_end / ro->snapshot_interval) + 2.0 : 0.0;
 
   PetscFunctionBeginUser;
   if (n <= (double)o->snapshot_max) PetscFunctionReturn(0);
   /* snprintf: PETSc's printf writes 16 as "16." */
-  (void)snprintf(val, sizeof val, "%g", ro->snapshot_interval);
+  if (from) { /* a checkpoint's entry: its value as stored */
+    (void)snprintf(val, sizeof val, "%.17g", ro->snapshot_interval);
+    (void)snprintf(name, sizeof name, "%s (its -snapshot_interval)", from);
+  } else {
+    (void)snprintf(val, sizeof val, "%g", ro->snapshot_interval);
+    (void)snprintf(name, sizeof name, "-snapshot_interval");
+  }
   (void)snprintf(why, sizeof why, "would write %.3g snapshots up to t = %g, more than -snapshot_max = %ld", n, ro->t_end, (long)o->snapshot_max);
-  SPAM_BAD_INPUT("-snapshot_interval", val, "%s; raise -snapshot_interval (or -snapshot_max)", why);
+  SPAM_BAD_INPUT(name, val, "%s; raise -snapshot_interval (or -snapshot_max)", why);
 }
 
 /* The grid fields are written at the snapshot times, in the snapshots' formats: a spacing
@@ -56,7 +62,14 @@ PetscErrorCode SpamOutputOptionsParse(const SpamSim *sim, const SpamRunOptions *
     (void)snprintf(val, sizeof val, "%" PetscInt_FMT, o->snapshot_max);
     SPAM_BAD_INPUT("-snapshot_max", val, "must be a positive integer");
   }
-  PetscCall(CheckSnapshotCount(ro, o));
+  PetscCall(SpamOutputOptionsCheckSnapshots(sim, ro, o, NULL));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamOutputOptionsCheckSnapshots(const SpamSim *sim, const SpamRunOptions *ro, const SpamOutputOptions *o, const char *from)
+{
+  PetscFunctionBeginUser;
+  PetscCall(CheckSnapshotCount(ro, o, from));
   PetscCall(CheckGrid(sim, ro, o));
   PetscFunctionReturn(0);
 }

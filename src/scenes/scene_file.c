@@ -50,17 +50,6 @@ static void Chomp(char *s)
   while (n && (s[n - 1] == '\r' || s[n - 1] == ' ')) s[--n] = 0;
 }
 
-/* What a file that is not a regular file is, for the message. */
-static const char *Kind(mode_t m)
-{
-  if (S_ISDIR(m)) return "a directory";
-  if (S_ISFIFO(m)) return "a FIFO (named pipe)";
-  if (S_ISCHR(m)) return "a character device";
-  if (S_ISBLK(m)) return "a block device";
-  if (S_ISSOCK(m)) return "a socket";
-  return "not a regular file";
-}
-
 /* Opens path for reading if it is a regular file. O_NONBLOCK: opening a FIFO without a
  * writer would otherwise wait forever before fstat could refuse it; on a regular file
  * the flag has no effect. */
@@ -78,7 +67,7 @@ static PetscErrorCode OpenRegular(const char *path, FILE **f)
   }
   if (!S_ISREG(st.st_mode)) {
     (void)close(fd);
-    SPAM_BAD_INPUT("-file_path", path, "is %s; a CSV file of particles (a regular file) is required", Kind(st.st_mode));
+    SPAM_BAD_INPUT("-file_path", path, "is %s; a CSV file of particles (a regular file) is required", SpamFileKind(st.st_mode));
   }
   *f = fdopen(fd, "r");
   if (!*f) {
@@ -177,16 +166,11 @@ static int ParseLine(const char *line, double *vals, int max, int *badfield, con
  * with the edge cells as if near them. */
 static PetscErrorCode CheckInBox(CsvReader *r, const SpamCommonParams *c, const double *x)
 {
-  static const char *ax[3] = {"x", "y", "z"};
+  char      why[160];
+  const int d = SpamBoxOutside(c->dim, c->box_lo, c->box_len, NULL, x, why, sizeof why);
 
   PetscFunctionBeginUser;
-  for (int d = 0; d < c->dim; d++) {
-    const double lo = c->box_lo[d], hi = c->box_lo[d] + c->box_len[d];
-    char         why[160]; /* formatted here: PETSc's %g writes 8 as "8." */
-    if (x[d] >= lo && x[d] <= hi) continue;
-    (void)snprintf(why, sizeof why, "%s = %.10g lies outside the box, %.10g <= %s <= %.10g", ax[d], x[d], lo, ax[d], hi);
-    CSV_BAD_LINE(r, "%s (-box_lo, -box_len; %s direction)", why, c->periodic[d] ? "periodic" : "open");
-  }
+  if (d >= 0) CSV_BAD_LINE(r, "%s (-box_lo, -box_len; %s direction)", why, c->periodic[d] ? "periodic" : "open");
   PetscFunctionReturn(0);
 }
 
