@@ -16,8 +16,9 @@ export LSAN_OPTIONS="suppressions=$root/tests/lsan.supp:print_suppressions=0:exi
 export UBSAN_OPTIONS="halt_on_error=1:print_stacktrace=1:report_error_type=1:exitcode=86"
 # OpenMPI singleton start without its PMIx server (also set by ctest for every test).
 export OMPI_MCA_ess_singleton_isolated=1
-# The fuzz corpus under ASan: every curated case and every forged file, and every 48th of the
-# generated option values and file mutations (tests/run_fuzz.py, SPAM_FUZZ_STRIDE). The
+# The fuzz corpus under ASan: every curated case, every forged snapshot, every 4th forged
+# checkpoint, and every 48th of the generated option values and file mutations
+# (tests/run_fuzz.py, SPAM_FUZZ_STRIDE). The
 # generated cases repeat the same few code paths with other values, and each costs about
 # 2 s of CPU under the sanitizers; the normal build runs them all.
 export SPAM_FUZZ_STRIDE="${SPAM_FUZZ_STRIDE:-48}"
