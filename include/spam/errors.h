@@ -25,6 +25,11 @@ PetscErrorCode SpamInstallErrorHandler(void);
 PetscErrorCode SpamPushPetscOptionsErrorHandler(const char *prefix);
 /* in copied to out with every byte outside 0x20..0x7e written as \xNN (truncated to fit). */
 void SpamEscape(const char *in, char *out, size_t len);
+/* An error first reported by fun with code n is the system refusing memory (PETSc's
+ * allocators, or PETSC_ERR_MEM): then the one line that says so, for an error handler that
+ * raises it again elsewhere (as SpamRunAgreed does) with PETSC_ERR_MEM. */
+PetscBool SpamErrorIsOutOfMemory(PetscErrorCode n, const char *fun);
+void      SpamOutOfMemoryText(const char *fun, const char *mess, char *out, size_t len);
 /* in copied to out, cut to 80 bytes with "..." when longer (a user's value in a message). */
 void SpamClip(const char *in, char *out, size_t len);
 /* The text of option opt as the user typed it (clipped), or v printed with %.17g when the

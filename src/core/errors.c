@@ -122,14 +122,29 @@ static PetscBool IsAllocator(const char *fun)
   return (PetscBool)(fun && (!strncmp(fun, "PetscMalloc", 11) || !strncmp(fun, "PetscCalloc", 11) || !strncmp(fun, "PetscRealloc", 12) || !strncmp(fun, "PetscTrMalloc", 13)));
 }
 
-/* The line of a system failure. An allocator's own message names no size the user could act
- * on: say what ran out, and where. */
+PetscBool SpamErrorIsOutOfMemory(PetscErrorCode n, const char *fun)
+{
+  return (PetscBool)(n == PETSC_ERR_MEM || IsAllocator(fun));
+}
+
+/* An allocator's own message names no size the user could act on: say what ran out, and
+ * where. */
+void SpamOutOfMemoryText(const char *fun, const char *mess, char *out, size_t len)
+{
+  const char *m = mess && mess[0] ? mess : NULL;
+
+  if (IsAllocator(fun)) (void)snprintf(out, len, "out of memory: %s failed (%s); the run needs more memory than the system gives it", fun, m ? m : "no detail");
+  else if (m && !strncmp(m, "out of memory", 13)) (void)snprintf(out, len, "%s", m);
+  else (void)snprintf(out, len, "out of memory: %s", m ? m : "no detail");
+}
+
+/* The line of a system failure. */
 static void SystemErrorText(PetscErrorCode n, const char *fun, const char *mess, char *out, size_t len)
 {
   const char *m = mess && mess[0] ? mess : NULL;
 
-  if (n == PETSC_ERR_MEM && IsAllocator(fun)) (void)snprintf(out, len, "out of memory: %s failed (%s); the run needs more memory than the system gives it", fun, m ? m : "no detail");
-  else (void)snprintf(out, len, "%s", m ? m : n == PETSC_ERR_MEM ? "out of memory" : "file error");
+  if (n == PETSC_ERR_MEM) SpamOutOfMemoryText(fun, mess, out, len);
+  else (void)snprintf(out, len, "%s", m ? m : "file error");
 }
 
 /* The first report of a bad-input, file or memory error is the user's message: print it

@@ -122,7 +122,7 @@ static void Failed(SpamSim *sim, const SpamRunOptions *o, SpamOutput *out, SpamR
   if (out->owned && !PetscPushErrorHandler(PetscIgnoreErrorHandler, NULL)) {
     (void)PetscErrorMessage(ierr, NULL, &msg);
     r->status = SPAM_STATUS_FAILED;
-    if (ierr == PETSC_ERR_MEM) (void)snprintf(r->reason, sizeof r->reason, "out of memory (%s)", msg && msg[0] ? msg : "an allocation failed");
+    if (ierr == PETSC_ERR_MEM && !(msg && !strncmp(msg, "out of memory", 13))) (void)snprintf(r->reason, sizeof r->reason, "out of memory (%s)", msg && msg[0] ? msg : "an allocation failed");
     else (void)snprintf(r->reason, sizeof r->reason, "%s", msg && msg[0] ? msg : "a library or system failure");
     SpamFileDiscard(&out->timeseries); /* partial files go, and free some room */
     SpamFileDiscard(&out->steps);

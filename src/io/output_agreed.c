@@ -2,6 +2,7 @@
  * alone, an HDF5 call that fails on one rank. That rank's error must end every rank (the
  * others would wait for it in the next collective, for ever) and be printed once. */
 #include <spam/output.h>
+#include <spam/errors.h>
 
 typedef struct {
   PetscErrorCode code;
@@ -17,11 +18,17 @@ static PetscErrorCode Catch(MPI_Comm comm, int line, const char *fun, const char
 
   (void)comm;
   (void)line;
-  (void)fun;
   (void)file;
   if (p == PETSC_ERROR_INITIAL && !c->code) {
-    c->code = n;
-    (void)snprintf(c->mess, sizeof c->mess, "%s", mess ? mess : "error");
+    /* Raised again from SpamRunAgreed, an allocator's failure would no longer be known
+     * as one: keep it as out of memory, with its line. */
+    if (SpamErrorIsOutOfMemory(n, fun)) {
+      c->code = PETSC_ERR_MEM;
+      SpamOutOfMemoryText(fun, mess, c->mess, sizeof c->mess);
+    } else {
+      c->code = n;
+      (void)snprintf(c->mess, sizeof c->mess, "%s", mess ? mess : "error");
+    }
   }
   return n;
 }
