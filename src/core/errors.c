@@ -134,8 +134,7 @@ void SpamOutOfMemoryText(const char *fun, const char *mess, char *out, size_t le
   const char *m = mess && mess[0] ? mess : NULL;
 
   if (IsAllocator(fun)) (void)snprintf(out, len, "out of memory: %s failed (%s); the run needs more memory than the system gives it", fun, m ? m : "no detail");
-  else if (m && !strncmp(m, "out of memory", 13)) (void)snprintf(out, len, "%s", m);
-  else (void)snprintf(out, len, "out of memory: %s", m ? m : "no detail");
+  else (void)snprintf(out, len, "%s", m ? m : "out of memory"); /* a size past an index's range says so itself */
 }
 
 /* The line of a system failure. */
