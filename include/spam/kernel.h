@@ -1,6 +1,7 @@
 /* Smoothing kernels by name (-kernel): w(r) = wnorm F(r/h), zero for r >= h, normalised so
  * that its integral over D-space is one. The shapes F and G (w'(r)/r = gnorm G) of every
- * kernel are in src/kernels/kernel_shape.h, one header per kernel; the pair loops call
+ * kernel are in src/kernels/kernel_shape.h, one header per row of kernels/kernel_list.h,
+ * the list that also makes the kinds below and the names; the pair loops call
  * them with literal kind and dim. The inline evaluators below take r^2, so that callers
  * test the range before the sqrt. Adding a kernel: docs/kernels.md. */
 #ifndef SPAM_KERNEL_H
@@ -8,15 +9,12 @@
 #include <math.h>
 #include <petscsys.h>
 
-typedef enum {
-  SPAM_KERNEL_LUCY = 0,
-  SPAM_KERNEL_WENDLAND_C2,
-  SPAM_KERNEL_WENDLAND_C4,
-  SPAM_KERNEL_WENDLAND_C6,
-  SPAM_KERNEL_CUBIC_SPLINE,
-  SPAM_KERNEL_QUINTIC_SPLINE,
-  SPAM_KERNEL_KINDS
-} SpamKernelKind;
+#include <kernels/kernel_list.h>
+
+/* One kind per row of kernel_list.h, in its order (Lucy first: 0), then the count. */
+#define SPAM_KERNEL_ENUM_ROW(ctx, KIND, name, Prefix) SPAM_KERNEL_##KIND,
+typedef enum { SPAM_KERNEL_LIST(SPAM_KERNEL_ENUM_ROW, ~) SPAM_KERNEL_KINDS } SpamKernelKind;
+#undef SPAM_KERNEL_ENUM_ROW
 
 typedef struct {
   SpamKernelKind kind;
@@ -51,7 +49,7 @@ static inline double SpamKernelW(const SpamKernel *k, double r2)
 {
   if (r2 >= k->h2) return 0.0;
   const double s = sqrt(r2) * k->hinv;
-  if (k->kind == SPAM_KERNEL_LUCY) return SpamLucyF(k->wnorm, s);
+  if (k->kind == SPAM_KERNEL_LUCY) return SpamLucyF(k->dim, k->wnorm, s);
   return SpamKernelShapeScaledF(k->kind, k->dim, k->wnorm, s);
 }
 
@@ -60,7 +58,7 @@ static inline double SpamKernelDWOverR(const SpamKernel *k, double r2)
 {
   if (r2 >= k->h2) return 0.0;
   const double s = sqrt(r2) * k->hinv;
-  if (k->kind == SPAM_KERNEL_LUCY) return SpamLucyG(k->gnorm, s);
+  if (k->kind == SPAM_KERNEL_LUCY) return SpamLucyG(k->dim, k->gnorm, s);
   return SpamKernelShapeScaledG(k->kind, k->dim, k->gnorm, s);
 }
 

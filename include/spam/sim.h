@@ -150,8 +150,8 @@ PetscErrorCode SpamPressureDensityWalk(SpamSim *sim);
 PetscErrorCode SpamPressureForceWalk(SpamSim *sim);
 /* -reproducible: the isentropic gas's density and force passes over the canonical rows
  * (pass_canonical.c): each particle's own sums in its row's order, no Newton update. */
-void SpamCanonicalDensity(SpamSim *sim);
-void SpamCanonicalForce(SpamSim *sim);
+PetscErrorCode SpamCanonicalDensity(SpamSim *sim);
+PetscErrorCode SpamCanonicalForce(SpamSim *sim);
 /* Summation density of state y into sim->f.rho (diagnostics, or the density pass). */
 PetscErrorCode SpamDensitySummation(SpamSim *sim, const double *y, PetscInt *bad);
 /* Particles beyond a mirror wall after a step reflected back into the box (wall_reflect.c):

@@ -8,20 +8,23 @@
 #ifndef SPAM_KERNEL_CUBIC_SPLINE_H
 #define SPAM_KERNEL_CUBIC_SPLINE_H
 
-SPAM_INLINE double SpamCubicSplineF(double c, double s)
+SPAM_INLINE double SpamCubicSplineF(const int dim, double c, double s)
 {
+  (void)dim; /* the same shape in every dimension */
   const double t = SpamKernelEdge(s), b = SpamKernelEdge(2.0 * s);
   return c * (2.0 * (t * t * t) - b * b * b);
 }
 
-SPAM_INLINE double SpamCubicSplineG(double c, double s)
+SPAM_INLINE double SpamCubicSplineG(const int dim, double c, double s)
 {
+  (void)dim; /* the same shape in every dimension */
   const double t = SpamKernelEdge(s), inner = 2.0 - 3.0 * s, outer = t * t / (s > 0.5 ? s : 0.5);
   return c * (s < 0.5 ? inner : outer);
 }
 
-SPAM_INLINE double SpamCubicSplineH(double c, double s)
+SPAM_INLINE double SpamCubicSplineH(const int dim, double c, double s)
 {
+  (void)dim; /* the same shape in every dimension */
   const double t = SpamKernelEdge(s), b = SpamKernelEdge(2.0 * s);
   return c * (4.0 * b - 2.0 * t);
 }

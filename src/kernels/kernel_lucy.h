@@ -7,21 +7,24 @@
 #ifndef SPAM_KERNEL_LUCY_H
 #define SPAM_KERNEL_LUCY_H
 
-SPAM_INLINE double SpamLucyF(double c, double s)
+SPAM_INLINE double SpamLucyF(const int dim, double c, double s)
 {
+  (void)dim; /* the same shape in every dimension */
   const double t = SpamKernelEdge(s);
   return c * (1.0 + 3.0 * s) * t * t * t;
 }
 
-SPAM_INLINE double SpamLucyG(double c, double s)
+SPAM_INLINE double SpamLucyG(const int dim, double c, double s)
 {
+  (void)dim; /* the same shape in every dimension */
   const double t = SpamKernelEdge(s);
   return c * t * t;
 }
 
 /* F''(s) / -12 = t (1 - 3s). */
-SPAM_INLINE double SpamLucyH(double c, double s)
+SPAM_INLINE double SpamLucyH(const int dim, double c, double s)
 {
+  (void)dim; /* the same shape in every dimension */
   const double t = SpamKernelEdge(s);
   return c * t * (1.0 - 3.0 * s);
 }

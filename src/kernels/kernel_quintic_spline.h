@@ -10,22 +10,25 @@
 #ifndef SPAM_KERNEL_QUINTIC_SPLINE_H
 #define SPAM_KERNEL_QUINTIC_SPLINE_H
 
-SPAM_INLINE double SpamQuinticSplineF(double c, double s)
+SPAM_INLINE double SpamQuinticSplineF(const int dim, double c, double s)
 {
+  (void)dim; /* the same shape in every dimension */
   const double t = SpamKernelEdge(s), a = SpamKernelEdge(1.5 * s) * (2.0 / 3.0), b = SpamKernelEdge(3.0 * s) * (1.0 / 3.0);
   const double t2 = t * t, a2 = a * a, b2 = b * b;
   return c * (243.0 / 66.0) * (t2 * t2 * t - 6.0 * (a2 * a2 * a) + 15.0 * (b2 * b2 * b));
 }
 
-SPAM_INLINE double SpamQuinticSplineG(double c, double s)
+SPAM_INLINE double SpamQuinticSplineG(const int dim, double c, double s)
 {
+  (void)dim; /* the same shape in every dimension */
   const double t = SpamKernelEdge(s), a = SpamKernelEdge(1.5 * s) * (2.0 / 3.0), t2 = t * t, a2 = a * a;
   const double inner = 8.0 / 9.0 + s * s * (10.0 * s - 8.0), outer = (t2 * t2 - 6.0 * (a2 * a2)) / (s > 1.0 / 3.0 ? s : 1.0 / 3.0);
   return c * (s < 1.0 / 3.0 ? inner : outer);
 }
 
-SPAM_INLINE double SpamQuinticSplineH(double c, double s)
+SPAM_INLINE double SpamQuinticSplineH(const int dim, double c, double s)
 {
+  (void)dim; /* the same shape in every dimension */
   const double t = SpamKernelEdge(s), a = SpamKernelEdge(1.5 * s) * (2.0 / 3.0), b = SpamKernelEdge(3.0 * s) * (1.0 / 3.0);
   return c * (-4.0 * (t * t * t) + 24.0 * (a * a * a) - 60.0 * (b * b * b));
 }

@@ -3,19 +3,17 @@
 #include "kernel_registry.h"
 #include <spam/errors.h>
 
-/* One line per kernel: its name for -kernel and the function that describes it. */
+/* The rows of kernel_list.h: each kernel's name for -kernel and the function that
+ * describes it, in the list's order (which -help and the names keep). */
+#define SPAM_KERNEL_REGISTER(list, KIND, name, Prefix) PetscCall(PetscFunctionListAdd(list, #name, SpamKernel##Prefix##Describe));
 static PetscErrorCode KernelList(PetscFunctionList *list)
 {
   PetscFunctionBeginUser;
   *list = NULL;
-  PetscCall(PetscFunctionListAdd(list, "lucy", SpamKernelLucyDescribe));
-  PetscCall(PetscFunctionListAdd(list, "wendland_c2", SpamKernelWendlandC2Describe));
-  PetscCall(PetscFunctionListAdd(list, "wendland_c4", SpamKernelWendlandC4Describe));
-  PetscCall(PetscFunctionListAdd(list, "wendland_c6", SpamKernelWendlandC6Describe));
-  PetscCall(PetscFunctionListAdd(list, "cubic_spline", SpamKernelCubicSplineDescribe));
-  PetscCall(PetscFunctionListAdd(list, "quintic_spline", SpamKernelQuinticSplineDescribe));
+  SPAM_KERNEL_LIST(SPAM_KERNEL_REGISTER, list)
   PetscFunctionReturn(0);
 }
+#undef SPAM_KERNEL_REGISTER
 
 static PetscErrorCode ListNames(PetscFunctionList list, char *buf, size_t len)
 {

@@ -1,8 +1,8 @@
 /* What each kernel's file tells SpamKernelCreate (internal to src/kernels): its kind, name,
  * the dimensionless normalisation C_D, the factor cgrad of F'(s)/s = cgrad G(s), and its
  * smoothness at r = h, all for one dimension D. Every shape has F(0) = 1 (to round-off),
- * so that wnorm = w(0), which the density passes add as each particle's own term. A new kernel writes one describe function
- * and adds it to the list in kernel_registry.c. */
+ * so that wnorm = w(0), which the density passes add as each particle's own term. A new
+ * kernel writes one describe function; its row in kernel_list.h declares and registers it. */
 #ifndef SPAM_KERNEL_REGISTRY_H
 #define SPAM_KERNEL_REGISTRY_H
 #include <spam/kernel.h>
@@ -20,10 +20,8 @@ typedef struct {
 /* Fills d for dimension dim (1..3). */
 typedef PetscErrorCode (*SpamKernelDescribeFn)(int dim, SpamKernelShapeInfo *d);
 
-PetscErrorCode SpamKernelLucyDescribe(int dim, SpamKernelShapeInfo *d);
-PetscErrorCode SpamKernelWendlandC2Describe(int dim, SpamKernelShapeInfo *d);
-PetscErrorCode SpamKernelWendlandC4Describe(int dim, SpamKernelShapeInfo *d);
-PetscErrorCode SpamKernelWendlandC6Describe(int dim, SpamKernelShapeInfo *d);
-PetscErrorCode SpamKernelCubicSplineDescribe(int dim, SpamKernelShapeInfo *d);
-PetscErrorCode SpamKernelQuinticSplineDescribe(int dim, SpamKernelShapeInfo *d);
+/* SpamKernelPrefixDescribe of each row of kernel_list.h, defined in kernel_<name>.c. */
+#define SPAM_KERNEL_DESCRIBE_DECL(ctx, KIND, name, Prefix) PetscErrorCode SpamKernel##Prefix##Describe(int dim, SpamKernelShapeInfo *d);
+SPAM_KERNEL_LIST(SPAM_KERNEL_DESCRIBE_DECL, ~)
+#undef SPAM_KERNEL_DESCRIBE_DECL
 #endif

@@ -7,7 +7,7 @@
  * zero for s >= 1 without a branch the vectoriser cannot turn into a select: the factor
  * t = 1 - s is clamped at zero (SpamKernelEdge), the spline pieces are clamped the same
  * way, and near s = 0, where G would be F'/s, a select picks a polynomial instead of
- * dividing by s. Each kernel's functions live in its own header, listed below.
+ * dividing by s. Each kernel's functions live in its own header, included by kernel_list.h.
  *
  * spam/kernel.h includes this file (for SpamKernelW and SpamKernelDWOverR); including
  * kernel.h first, above the guard, lets a pair loop include either in either order. */
@@ -26,52 +26,41 @@ SPAM_INLINE double SpamKernelEdge(double x)
   return t > 0.0 ? t : 0.0;
 }
 
-#include <kernels/kernel_lucy.h>
-#include <kernels/kernel_wendland_c2.h>
-#include <kernels/kernel_wendland_c4.h>
-#include <kernels/kernel_wendland_c6.h>
-#include <kernels/kernel_cubic_spline.h>
-#include <kernels/kernel_quintic_spline.h>
+#include <kernels/kernel_list.h> /* the shape headers, one per kernel */
 
 /* c F(s), c G(s), c H(s), the scale c multiplied first. A pair loop passes its prefactor
  * as c (m wnorm for the density, the pressure factor times gnorm for the force): with
  * Lucy's kernel that is exactly the arithmetic the loops had, so their numbers do not
- * change in the last bit. */
+ * change in the last bit. One case per row of kernel_list.h. A kind comes only from that
+ * list (SpamKernelCreate), so the default is never taken; if it were, NaN would spoil
+ * every sum it entered rather than pass for another kernel's shape. */
+#define SPAM_KERNEL_SHAPE_CASE(Which, KIND, name, Prefix) \
+  case SPAM_KERNEL_##KIND: return Spam##Prefix##Which(dim, c, s);
+
 SPAM_INLINE double SpamKernelShapeScaledF(const int kind, const int dim, double c, double s)
 {
   switch (kind) {
-  case SPAM_KERNEL_WENDLAND_C2: return SpamWendlandC2F(dim, c, s);
-  case SPAM_KERNEL_WENDLAND_C4: return SpamWendlandC4F(dim, c, s);
-  case SPAM_KERNEL_WENDLAND_C6: return SpamWendlandC6F(dim, c, s);
-  case SPAM_KERNEL_CUBIC_SPLINE: return SpamCubicSplineF(c, s);
-  case SPAM_KERNEL_QUINTIC_SPLINE: return SpamQuinticSplineF(c, s);
-  default: return SpamLucyF(c, s); /* SPAM_KERNEL_LUCY */
+    SPAM_KERNEL_LIST(SPAM_KERNEL_SHAPE_CASE, F)
+  default: return NAN;
   }
 }
 
 SPAM_INLINE double SpamKernelShapeScaledG(const int kind, const int dim, double c, double s)
 {
   switch (kind) {
-  case SPAM_KERNEL_WENDLAND_C2: return SpamWendlandC2G(dim, c, s);
-  case SPAM_KERNEL_WENDLAND_C4: return SpamWendlandC4G(dim, c, s);
-  case SPAM_KERNEL_WENDLAND_C6: return SpamWendlandC6G(dim, c, s);
-  case SPAM_KERNEL_CUBIC_SPLINE: return SpamCubicSplineG(c, s);
-  case SPAM_KERNEL_QUINTIC_SPLINE: return SpamQuinticSplineG(c, s);
-  default: return SpamLucyG(c, s);
+    SPAM_KERNEL_LIST(SPAM_KERNEL_SHAPE_CASE, G)
+  default: return NAN;
   }
 }
 
 SPAM_INLINE double SpamKernelShapeScaledH(const int kind, const int dim, double c, double s)
 {
   switch (kind) {
-  case SPAM_KERNEL_WENDLAND_C2: return SpamWendlandC2H(dim, c, s);
-  case SPAM_KERNEL_WENDLAND_C4: return SpamWendlandC4H(dim, c, s);
-  case SPAM_KERNEL_WENDLAND_C6: return SpamWendlandC6H(dim, c, s);
-  case SPAM_KERNEL_CUBIC_SPLINE: return SpamCubicSplineH(c, s);
-  case SPAM_KERNEL_QUINTIC_SPLINE: return SpamQuinticSplineH(c, s);
-  default: return SpamLucyH(c, s);
+    SPAM_KERNEL_LIST(SPAM_KERNEL_SHAPE_CASE, H)
+  default: return NAN;
   }
 }
+#undef SPAM_KERNEL_SHAPE_CASE
 
 /* w = wnorm F(s); F(0) = 1. (1.0 times x is x: F is the scaled form's arithmetic.) */
 SPAM_INLINE double SpamKernelShapeF(const int kind, const int dim, double s)

@@ -1,5 +1,5 @@
 /* The one pair-loop driver. SPAM_PAIR_WALK(Name, Ctx, Fn) defines
- *   static void Name(const SpamNeighbours *nl, const SpamKernel *k, Ctx *ctx)
+ *   static PetscErrorCode Name(const SpamNeighbours *nl, const SpamKernel *k, Ctx *ctx)
  * which visits every listed pair within the kernel range -- the local rows of the half
  * list, then each row's ghost neighbours (j >= n, ghosts.h) -- and calls
  *   Fn(dim, ctx, i, j, dx, r2, w, g)   (dim a literal)
@@ -16,22 +16,27 @@
 #include <spam/kernel.h>
 #include "../kernels/kernel_shape.h"
 
-/* Calls Name##Rows(D, K, args) with the dimension D and kernel kind K as literals. */
-#define SPAM_WALK_KERNELS(Name, D, kind, ...) \
+/* Calls Name##Rows(D, K, args) with the dimension D and kernel kind K as literals: one case
+ * per row of kernel_list.h. A kind outside the list runs Unknown (a statement), never some
+ * other kernel's shape. */
+#define SPAM_WALK_UNPACK(...) __VA_ARGS__
+#define SPAM_WALK_ROWS(K, ...) SPAM_WALK_ROWS_(K, __VA_ARGS__)
+#define SPAM_WALK_ROWS_(K, Name, D, ...) Name##Rows(D, K, __VA_ARGS__)
+#define SPAM_WALK_CASE(call, KIND, name, Prefix) \
+  case SPAM_KERNEL_##KIND: SPAM_WALK_ROWS(SPAM_KERNEL_##KIND, SPAM_WALK_UNPACK call); break;
+#define SPAM_WALK_KERNELS(Name, D, kind, Unknown, ...) \
   switch (kind) { \
-  case SPAM_KERNEL_WENDLAND_C2: Name##Rows(D, SPAM_KERNEL_WENDLAND_C2, __VA_ARGS__); break; \
-  case SPAM_KERNEL_WENDLAND_C4: Name##Rows(D, SPAM_KERNEL_WENDLAND_C4, __VA_ARGS__); break; \
-  case SPAM_KERNEL_WENDLAND_C6: Name##Rows(D, SPAM_KERNEL_WENDLAND_C6, __VA_ARGS__); break; \
-  case SPAM_KERNEL_CUBIC_SPLINE: Name##Rows(D, SPAM_KERNEL_CUBIC_SPLINE, __VA_ARGS__); break; \
-  case SPAM_KERNEL_QUINTIC_SPLINE: Name##Rows(D, SPAM_KERNEL_QUINTIC_SPLINE, __VA_ARGS__); break; \
-  default: Name##Rows(D, SPAM_KERNEL_LUCY, __VA_ARGS__); break; \
+    SPAM_KERNEL_LIST(SPAM_WALK_CASE, (Name, D, __VA_ARGS__)) \
+  default: Unknown; \
   }
-#define SPAM_WALK_DISPATCH(Name, dim, kind, ...) \
+#define SPAM_WALK_DISPATCH(Name, dim, kind, Unknown, ...) \
   switch (dim) { \
-  case 1: SPAM_WALK_KERNELS(Name, 1, kind, __VA_ARGS__); break; \
-  case 2: SPAM_WALK_KERNELS(Name, 2, kind, __VA_ARGS__); break; \
-  default: SPAM_WALK_KERNELS(Name, 3, kind, __VA_ARGS__); break; \
+  case 1: SPAM_WALK_KERNELS(Name, 1, kind, Unknown, __VA_ARGS__); break; \
+  case 2: SPAM_WALK_KERNELS(Name, 2, kind, Unknown, __VA_ARGS__); break; \
+  default: SPAM_WALK_KERNELS(Name, 3, kind, Unknown, __VA_ARGS__); break; \
   }
+/* The error of a walk asked for a kind kernel_list.h does not have. */
+#define SPAM_WALK_UNKNOWN(kind) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_PLIB, "the pair walk has no kernel of kind %d (kernel_list.h lists %d)", (int)(kind), (int)SPAM_KERNEL_KINDS)
 
 #define SPAM_PAIR_WALK(Name, Ctx, Fn) \
   static inline __attribute__((always_inline)) void Name##Segment(const int dim, const int kind, const int img, const SpamNeighbours *nl, const SpamKernel *k, Ctx *ctx, int i, const int *nb, int np) \
@@ -63,8 +68,10 @@
       } \
     } \
   } \
-  static void Name(const SpamNeighbours *nl, const SpamKernel *k, Ctx *ctx) \
+  static PetscErrorCode Name(const SpamNeighbours *nl, const SpamKernel *k, Ctx *ctx) \
   { \
-    SPAM_WALK_DISPATCH(Name, k->dim, k->kind, nl, k, ctx) \
+    PetscFunctionBeginUser; \
+    SPAM_WALK_DISPATCH(Name, k->dim, k->kind, SPAM_WALK_UNKNOWN(k->kind), nl, k, ctx) \
+    PetscFunctionReturn(0); \
   }
 #endif

@@ -64,7 +64,7 @@ PetscErrorCode SpamEntropySum(SpamSim *sim, const double *y, double *S)
   }
   PetscCall(SpamGhostsGather(gh, dim, n, dim, SPAM_GHOST_VECTOR, v));
   c = (Moments){v, sim->f.m, mom};
-  WalkMoments(&sim->nl, &m->kernel, &c);
+  PetscCall(WalkMoments(&sim->nl, &m->kernel, &c));
   /* |v|^2 is a scalar under a mirror; the mean velocity a vector */
   for (int k = 0; k < gh->n; k++) {
     if (gh->kind[k] != SPAM_GHOST_PERIODIC) continue; /* a remote ghost has no local source */

@@ -119,32 +119,47 @@ SPAM_INLINE void CanonForceRows(const int dim, const int kind, const Arrays *A, 
  * consecutive rows (rows are independent: any split gives the same bits); the dimension
  * and kernel are dispatched inside the parallel region, so that the loops the region runs
  * are compiled with them as literals. */
+/* A parallel region cannot return an error: the kind is checked before it, so the
+ * dispatch's unknown case inside it is never taken. */
+static PetscErrorCode KnownKind(const SpamKernel *k)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(k->kind >= 0 && k->kind < SPAM_KERNEL_KINDS, PETSC_COMM_SELF, PETSC_ERR_PLIB, "the canonical passes have no kernel of kind %d (kernel_list.h lists %d)", (int)k->kind, (int)SPAM_KERNEL_KINDS);
+  PetscFunctionReturn(0);
+}
+
 #define SPAM_CLONES __attribute__((target_clones("avx2", "default")))
 
-SPAM_CLONES void SpamCanonicalDensity(SpamSim *sim)
+SPAM_CLONES PetscErrorCode SpamCanonicalDensity(SpamSim *sim)
 {
   const SpamKernel *k = &sim->model.kernel;
   const Arrays      A = ArraysOf(k->dim, &sim->nl, k, &sim->f);
   const int         T = sim->threads, n = sim->nl.n;
   double           *rho = sim->f.rho;
 
+  PetscFunctionBeginUser;
+  PetscCall(KnownKind(k));
 #pragma omp parallel if (T > 1) num_threads(T)
   {
     const int t = omp_get_thread_num(), i0 = (int)((size_t)n * t / T), i1 = (int)((size_t)n * (t + 1) / T);
-    SPAM_WALK_DISPATCH(CanonDensity, k->dim, k->kind, &A, rho, i0, i1)
+    SPAM_WALK_DISPATCH(CanonDensity, k->dim, k->kind, break, &A, rho, i0, i1)
   }
+  PetscFunctionReturn(0);
 }
 
-SPAM_CLONES void SpamCanonicalForce(SpamSim *sim)
+SPAM_CLONES PetscErrorCode SpamCanonicalForce(SpamSim *sim)
 {
   const SpamKernel *k = &sim->model.kernel;
   const Arrays      A = ArraysOf(k->dim, &sim->nl, k, &sim->f);
   const int         T = sim->threads, n = sim->nl.n;
   double           *acc = sim->f.acc;
 
+  PetscFunctionBeginUser;
+  PetscCall(KnownKind(k));
 #pragma omp parallel if (T > 1) num_threads(T)
   {
     const int t = omp_get_thread_num(), i0 = (int)((size_t)n * t / T), i1 = (int)((size_t)n * (t + 1) / T);
-    SPAM_WALK_DISPATCH(CanonForce, k->dim, k->kind, &A, acc, i0, i1)
+    SPAM_WALK_DISPATCH(CanonForce, k->dim, k->kind, break, &A, acc, i0, i1)
   }
+  PetscFunctionReturn(0);
 }

@@ -32,7 +32,7 @@ PetscErrorCode SpamPressureDensityWalk(SpamSim *sim)
 
   PetscFunctionBeginUser;
   for (int i = 0; i < slots; i++) f->rho[i] = i < sim->n ? f->m[i] * sim->model.kernel.wnorm : 0.0;
-  WalkDensity(&sim->nl, &sim->model.kernel, f);
+  PetscCall(WalkDensity(&sim->nl, &sim->model.kernel, f));
   SpamGhostsFold(&sim->nl.ghosts, f->dim, (int)sim->n, 1, SPAM_GHOST_SCALAR, f->rho);
   PetscCall(SpamGhostsGather(&sim->nl.ghosts, f->dim, (int)sim->n, 1, SPAM_GHOST_SCALAR, f->rho));
   PetscFunctionReturn(0);
@@ -45,7 +45,7 @@ PetscErrorCode SpamPressureForceWalk(SpamSim *sim)
 
   PetscFunctionBeginUser;
   for (size_t k = 0; k < len; k++) f->acc[k] = 0.0;
-  WalkForce(&sim->nl, &sim->model.kernel, f);
+  PetscCall(WalkForce(&sim->nl, &sim->model.kernel, f));
   SpamGhostsFold(&sim->nl.ghosts, f->dim, (int)sim->n, f->dim, SPAM_GHOST_VECTOR, f->acc);
   /* The isentrope's walls: their forces only (its energy has no equation to book work in). */
   if (sim->nl.ghosts.mirror) PetscCall(SpamWallBooks(&sim->nl.ghosts, f, &sim->model.layout, (int)sim->n, PETSC_FALSE, &sim->wall_rates, NULL));

@@ -222,7 +222,7 @@ SPAM_CLONES static PetscErrorCode Density(SpamSim *sim)
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(sim->ev.density, 0, 0, 0, 0));
-  if (SpamNeighboursCanonical(&sim->nl)) SpamCanonicalDensity(sim); /* -reproducible */
+  if (SpamNeighboursCanonical(&sim->nl)) PetscCall(SpamCanonicalDensity(sim)); /* -reproducible */
   else if (!FastPath(sim)) PetscCall(SpamPressureDensityWalk(sim));
   else if (T == 1) DensityBlock(sim, sim->f.rho, 0, sim->nl.n, 0);
   else {
@@ -248,7 +248,7 @@ SPAM_CLONES static PetscErrorCode Force(SpamSim *sim)
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(sim->ev.force, 0, 0, 0, 0));
-  if (SpamNeighboursCanonical(&sim->nl)) SpamCanonicalForce(sim); /* -reproducible */
+  if (SpamNeighboursCanonical(&sim->nl)) PetscCall(SpamCanonicalForce(sim)); /* -reproducible */
   else if (!FastPath(sim)) PetscCall(SpamPressureForceWalk(sim));
   else if (T == 1) ForceBlock(sim, sim->f.acc, 0, sim->nl.n);
   else {

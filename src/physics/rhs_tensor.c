@@ -194,13 +194,14 @@ static PetscErrorCode FillFields(SpamSim *sim, const double *y, PetscInt *bad)
 
 /* Walk 1 and its folds: grad v, dr/dt (R0: v; R1: the normalised average with the self
  * term; R2: v plus XSPH) and grad T. */
-static void Gradients(SpamSim *sim, TensorPass *c)
+static PetscErrorCode Gradients(SpamSim *sim, TensorPass *c)
 {
   SpamFields       *f   = c->f;
   const SpamGhosts *gh  = &sim->nl.ghosts;
   const int         dim = f->dim, n = (int)sim->n, slots = SpamNeighboursSlots(&sim->nl);
   const double      w0  = sim->model.kernel.wnorm;
 
+  PetscFunctionBeginUser;
   Zero(f->gradv, (size_t)slots * dim * dim);
   Zero(f->heat, (size_t)slots * dim);
   if (c->shift) {
@@ -213,7 +214,7 @@ static void Gradients(SpamSim *sim, TensorPass *c)
     for (int d = 0; d < dim; d++) f->xdot[(size_t)i * dim + d] = self * f->v[(size_t)i * dim + d];
     f->wsum[i] = c->coords == SPAM_COORDS_R1 && i < n ? w0 : 0.0;
   }
-  WalkGradients(&sim->nl, &sim->model.kernel, c);
+  PetscCall(WalkGradients(&sim->nl, &sim->model.kernel, c));
   SpamGhostsFold(gh, dim, n, dim * dim, SPAM_GHOST_TENSOR, f->gradv);
   SpamGhostsFold(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->xdot);
   SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->wsum);
@@ -224,6 +225,7 @@ static void Gradients(SpamSim *sim, TensorPass *c)
     for (int i = 0; i < n; i++)
       for (int d = 0; d < dim; d++) f->xdot[(size_t)i * dim + d] /= f->wsum[i];
   if (c->shift) SpamGasFlowShift(sim);
+  PetscFunctionReturn(0);
 }
 
 /* sigma/rho^2 of particle i into q (D x D): the state's stress (elastic) or -P/rho^2 I
@@ -290,7 +292,7 @@ static PetscErrorCode TorqueFactors(SpamSim *sim, TensorPass *c)
   for (int b = 0; b < ps->nbody; b++) ps->bpos[b] = ps->bneg[b] = 0.0;
   Zero(f->ltorque, (size_t)slots);
   c->torque = 0.0;
-  WalkTorques(&sim->nl, &sim->model.kernel, c);
+  PetscCall(WalkTorques(&sim->nl, &sim->model.kernel, c));
   SpamGhostsFold(&sim->nl.ghosts, 2, n, 1, SPAM_GHOST_SCALAR, f->ltorque);
   if (!pair)
     for (int i = 0; i < n; i++) {
@@ -312,23 +314,25 @@ static PetscErrorCode TorqueFactors(SpamSim *sim, TensorPass *c)
 
 /* Walk 3 and its folds: accelerations, de/dt (work, then plus heat), drho/dt. The heat
  * rate stays apart on the ghost slots, where the walls' books read it. */
-static void Forces(SpamSim *sim, TensorPass *c, const double *y)
+static PetscErrorCode Forces(SpamSim *sim, TensorPass *c, const double *y)
 {
   SpamFields       *f   = c->f;
   const SpamGhosts *gh  = &sim->nl.ghosts;
   const int         dim = f->dim, n = (int)sim->n, slots = SpamNeighboursSlots(&sim->nl);
 
+  PetscFunctionBeginUser;
   Zero(f->acc, (size_t)slots * dim);
   Zero(f->edot, (size_t)slots);
   Zero(f->qdot, (size_t)slots);
   Zero(f->rhodot, (size_t)slots);
-  WalkForces(&sim->nl, &sim->model.kernel, c);
+  PetscCall(WalkForces(&sim->nl, &sim->model.kernel, c));
   SpamGhostsFold(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->acc);
   SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->edot);
   SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->qdot);
   SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->rhodot);
   for (int i = 0; i < n; i++) f->edot[i] += f->qdot[i];
   if (c->flow) SpamGasFlowCorrect(sim, y, &c->bg);
+  PetscFunctionReturn(0);
 }
 
 static void Assemble(const SpamSim *sim, double *ydot)
@@ -393,11 +397,11 @@ PetscErrorCode SpamRhsSolid(SpamSim *sim, const double *y, double *ydot, PetscIn
   c = PassOf(sim);
   if (c.flow) PetscCall(SpamGasFlowFit(sim, y, &c.bg));
   PetscCall(PetscLogEventBegin(sim->ev.force, 0, 0, 0, 0));
-  Gradients(sim, &c);
+  PetscCall(Gradients(sim, &c));
   if (c.flow && sim->model.solid.background != SPAM_BACKGROUND_NONE) PetscCall(SpamGasFlowDivergence(sim));
   PetscCall(ParticleLaws(sim, &c, y, ydot));
   if (c.scale) PetscCall(TorqueFactors(sim, &c));
-  Forces(sim, &c, y);
+  PetscCall(Forces(sim, &c, y));
   PetscCall(PetscLogEventEnd(sim->ev.force, 0, 0, 0, 0));
   if (sim->model.solid.angmom == SPAM_ANGMOM_GAUSS) PetscCall(SpamGaussConstraint(sim, y));
   Assemble(sim, ydot);
@@ -420,13 +424,13 @@ PetscErrorCode SpamTensorTorqueSum(SpamSim *sim, const double *y, double *total)
   c = PassOf(sim);
   if (c.flow) PetscCall(SpamGasFlowFit(sim, y, &c.bg));
   PetscCall(PetscMalloc1((size_t)sim->n * sim->model.layout.nvar + 1, &scratch)); /* the stress rate, unused */
-  Gradients(sim, &c);
+  PetscCall(Gradients(sim, &c));
   PetscCall(ParticleLaws(sim, &c, y, scratch));
   PetscCall(PetscFree(scratch));
   for (int b = 0; b < sim->ps->nbody; b++) sim->ps->bpos[b] = sim->ps->bneg[b] = 0.0;
   Zero(sim->f.ltorque, (size_t)SpamNeighboursSlots(&sim->nl));
   c.torque = 0.0;
-  WalkTorques(&sim->nl, &sim->model.kernel, &c);
+  PetscCall(WalkTorques(&sim->nl, &sim->model.kernel, &c));
   PetscCallMPI(MPIU_Allreduce(&c.torque, total, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
   PetscFunctionReturn(0);
 }
