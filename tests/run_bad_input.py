@@ -5,7 +5,7 @@ import json
 import os
 import shutil
 import subprocess
-from spamrun import Checks, arguments, mpiexec_env, run
+from spamrun import Checks, arguments, kernel_names, mpiexec_env, run
 
 a = arguments()
 c = Checks()
@@ -19,6 +19,9 @@ def write(name, text):
     return path
 
 
+# The kernels as -help lists them: an unknown name must be refused with exactly this list.
+kernels = kernel_names(a.spam_ark)
+c.check("lucy" in kernels and len(kernels) == len(set(kernels)), f"-help lists the kernels {kernels}")
 good = write("good.csv", "x,y,vx,vy\n" + "".join(f"{i + 0.5},{j + 0.5},0,0\n" for j in range(8) for i in range(8)))
 file_scene = ["-scene", "file", "-box_len", "8,8"]
 cases = [
@@ -31,7 +34,7 @@ cases = [
     ("negative h", ["-h", -2.5], ["-h", "'-2.5'", "positive"]),
     ("h not a number", ["-h", "abc"], ["-h", "'abc'", "number"]),
     ("dimension 4", ["-dim", 4], ["-dim", "'4'", "1, 2 or 3"]),
-    ("unknown kernel", ["-kernel", "wendland"], ["-kernel", "'wendland'", "allowed: lucy, wendland_c2, wendland_c4, wendland_c6, cubic_spline, quintic_spline"]),
+    ("unknown kernel", ["-kernel", "wendland"], ["-kernel", "'wendland'", "allowed: " + ", ".join(kernels)]),
     ("box narrower than 2h (expansion)", ["-expansion_n", 2, "-h", 3], ["expansion_n", "'4'", "at least 2h"]),
     ("box narrower than 2h (file)", file_scene[:-1] + ["5,8", "-file_path", good], ["-box_len", "'5'", "at least 2h"]),
     ("skin of half the box", ["-expansion_n", 8, "-neighbour_skin", 9], ["-neighbour_skin", "'9.'", "below half the periodic box edge"]),

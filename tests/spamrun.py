@@ -51,6 +51,15 @@ def run(binary, args, outdir=None, timeout=600):
     return p.returncode, p.stdout, p.stderr
 
 
+def kernel_names(binary):
+    """The names -kernel accepts, in the program's order, read from its -help line
+    "-kernel <...>: ... (one of) lucy wendland_c2 ... (README)": the one list is the
+    program's (src/kernels/kernel_list.h), so a test keeps no copy of it."""
+    _, out, _ = run(binary, ["-help"])
+    line = next((l for l in out.splitlines() if l.strip().startswith("-kernel ")), "")
+    return line.split("(one of)", 1)[1].split("(", 1)[0].split() if "(one of)" in line else []
+
+
 def summary(outdir):
     with open(os.path.join(outdir, "summary.json")) as f:
         return json.load(f)

@@ -13,8 +13,7 @@
  *   dv_i/dt = -sum_j m_j (q_i + q_j) grad_i w_ij,  grad_i w_ij = (w'/r) r_ij.
  * Lucy's kernel with equal masses at full size (the chunked fast loops) in periodic, open
  * and (D >= 2) mixed boxes, gamma = 1 + 2/D (in 2D the density-free gamma = 2 path) and
- * 1.4 (the density pass); then for every kernel (lucy, wendland_c2/c4/c6, cubic_spline,
- * quintic_spline) five smaller cases: periodic equal masses; open unequal; periodic with
+ * 1.4 (the density pass); then for every kernel of kernels/kernel_list.h five smaller cases: periodic equal masses; open unequal; periodic with
  * ghost images, unequal; mixed (1D: periodic) with ghost images, equal; mixed unequal
  * (D >= 2) -- every case but Lucy with equal masses and no ghosts runs the pair driver.
  * Each configuration is random (seeded), with some particles exactly on box faces and on
@@ -935,7 +934,9 @@ int main(int argc, char **argv)
     {2, 2.5, {-4.0, 6.0, 0}, {24.0, 18.0, 0}, 1200, "2D"},
     {3, 2.5, {1.0, -2.0, 0.5}, {12.0, 15.0, 12.0}, 1500, "3D"},
   };
-  static const char *kernels[6]  = {"lucy", "wendland_c2", "wendland_c4", "wendland_c6", "cubic_spline", "quintic_spline"};
+#define NAME_ROW(ctx, KIND, name, Prefix) #name,
+  static const char *kernels[SPAM_KERNEL_KINDS] = {SPAM_KERNEL_LIST(NAME_ROW, ~)}; /* every kernel of the list */
+#undef NAME_ROW
   const int          ngas[3]    = {150, 300, 400}; /* per kernel: smaller than the Lucy sweep */
   const int          ntensor[3] = {100, 250, 300};
 
@@ -962,7 +963,7 @@ int main(int argc, char **argv)
       if (dim >= 2) PetscCall(GasCase(&c, &spoil, &geo[dim - 1], &mix, s + 3));
     }
     /* every kernel: equal and unequal masses, minimum image and ghost images */
-    for (int k = 0; k < 6; k++) {
+    for (int k = 0; k < SPAM_KERNEL_KINDS; k++) {
       const int      n = ngas[dim - 1];
       const uint64_t s = 20000 + 1000 * (uint64_t)dim + 100 * (uint64_t)k;
       const GasOpts  cases[5] = {
@@ -978,7 +979,7 @@ int main(int argc, char **argv)
   /* The tensor path: a covering set per dimension and kernel (every option value in some
    * case); torque scaling and Gauss exist in 2D only. */
   for (int dim = 1; dim <= 3; dim++)
-    for (int k = 0; k < 6; k++) {
+    for (int k = 0; k < SPAM_KERNEL_KINDS; k++) {
       const int        two = dim == 2;
       const TensorOpts cases[7] = {
         {SPAM_MATERIAL_ELASTIC, SPAM_DENSITY_SUMMATION, SPAM_COORDS_R0, PETSC_FALSE, PETSC_FALSE, PETSC_FALSE, PETSC_FALSE, PETSC_FALSE, SPAM_VISCOSITY_NONE, two ? SPAM_ANGMOM_TI : SPAM_ANGMOM_NONE, 0, PETSC_FALSE},
