@@ -5,8 +5,6 @@
 PetscErrorCode SpamKernelCubicSplineDescribe(int dim, SpamKernelShapeInfo *d)
 {
   PetscFunctionBeginUser;
-  d->kind   = SPAM_KERNEL_CUBIC_SPLINE;
-  d->name   = "cubic_spline";
   d->cnorm  = dim == 1 ? 4.0 / 3.0 : dim == 2 ? 40.0 / (7.0 * SPAM_PI) : 8.0 / SPAM_PI;
   d->cgrad  = -6.0;
   d->smooth = 2;

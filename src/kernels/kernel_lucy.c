@@ -4,8 +4,6 @@
 PetscErrorCode SpamKernelLucyDescribe(int dim, SpamKernelShapeInfo *d)
 {
   PetscFunctionBeginUser;
-  d->kind   = SPAM_KERNEL_LUCY;
-  d->name   = "lucy";
   d->cnorm  = dim == 1 ? 5.0 / 4.0 : dim == 2 ? 5.0 / SPAM_PI : 105.0 / (16.0 * SPAM_PI);
   d->cgrad  = -12.0;
   d->smooth = 2; /* t^3: w, w', w'' vanish at h and w''' = 6 C_D / h^(D+3) does not: the force is C^1 */

@@ -6,8 +6,6 @@
 PetscErrorCode SpamKernelQuinticSplineDescribe(int dim, SpamKernelShapeInfo *d)
 {
   PetscFunctionBeginUser;
-  d->kind   = SPAM_KERNEL_QUINTIC_SPLINE;
-  d->name   = "quintic_spline";
   d->cnorm  = dim == 1 ? 33.0 / 20.0 : dim == 2 ? 2079.0 / (239.0 * SPAM_PI) : 297.0 / (20.0 * SPAM_PI);
   d->cgrad  = -405.0 / 22.0;
   d->smooth = 4;

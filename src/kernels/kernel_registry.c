@@ -1,61 +1,37 @@
-/* Kernels by name: the list -kernel chooses from, built where it is needed (no global
- * list), and the kernel made from a name, a dimension and h. */
+/* Kernels by name: the rows of kernel_list.h as a constant table (indexed by kind, the
+ * enum's order), the list -kernel chooses from built from it where it is needed (no
+ * global mutable list), and the kernel made from a name, a dimension and h. Each kernel's
+ * kind and name are its row's: the describe functions give only its numbers. */
 #include "kernel_registry.h"
 #include <spam/errors.h>
 
-/* The rows of kernel_list.h: each kernel's name for -kernel and the function that
- * describes it, in the list's order (which -help and the names keep). */
-#define SPAM_KERNEL_REGISTER(list, KIND, name, Prefix) PetscCall(PetscFunctionListAdd(list, #name, SpamKernel##Prefix##Describe));
+typedef struct {
+  SpamKernelKind       kind;
+  const char          *name; /* as given to -kernel */
+  SpamKernelDescribeFn describe;
+} KernelRow;
+
+#define SPAM_KERNEL_ROW(ctx, KIND, name, Prefix) {SPAM_KERNEL_##KIND, #name, SpamKernel##Prefix##Describe},
+static const KernelRow Rows[SPAM_KERNEL_KINDS] = {SPAM_KERNEL_LIST(SPAM_KERNEL_ROW, ~)};
+#undef SPAM_KERNEL_ROW
+
+/* The names for -kernel and -help, in the list's order. */
 static PetscErrorCode KernelList(PetscFunctionList *list)
 {
   PetscFunctionBeginUser;
   *list = NULL;
-  SPAM_KERNEL_LIST(SPAM_KERNEL_REGISTER, list)
-  PetscFunctionReturn(0);
-}
-#undef SPAM_KERNEL_REGISTER
-
-static PetscErrorCode ListNames(PetscFunctionList list, char *buf, size_t len)
-{
-  const char **names;
-  int          n;
-
-  PetscFunctionBeginUser;
-  PetscCall(PetscFunctionListGet(list, &names, &n)); /* n counts the closing NULL too */
-  buf[0] = 0;
-  for (int i = 0; i < n && names[i]; i++) {
-    PetscCall(PetscStrlcat(buf, i ? ", " : "", len));
-    PetscCall(PetscStrlcat(buf, names[i], len));
-  }
-  PetscCall(PetscFree(names));
+  for (int i = 0; i < SPAM_KERNEL_KINDS; i++) PetscCall(PetscFunctionListAdd(list, Rows[i].name, Rows[i].describe));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SpamKernelNames(char *buf, size_t len)
 {
-  PetscFunctionList list;
-
   PetscFunctionBeginUser;
-  PetscCall(KernelList(&list));
-  PetscCall(ListNames(list, buf, len));
-  PetscCall(PetscFunctionListDestroy(&list));
-  PetscFunctionReturn(0);
-}
-
-/* The kernel of d at range h: the h-independent numbers of d scaled by powers of h. */
-static PetscErrorCode KernelFromShape(const SpamKernelShapeInfo *d, int dim, double h, SpamKernel *k)
-{
-  PetscFunctionBeginUser;
-  PetscCall(PetscMemzero(k, sizeof *k));
-  k->kind   = d->kind;
-  k->name   = d->name;
-  k->dim    = dim;
-  k->h      = h;
-  k->hinv   = 1.0 / h;
-  k->h2     = h * h;
-  k->wnorm  = d->cnorm * pow(h, -dim);
-  k->gnorm  = d->cgrad * d->cnorm * pow(h, -(dim + 2)); /* Lucy: -12 C_D h^-(D+2), as before */
-  k->smooth = d->smooth;
+  buf[0] = 0;
+  for (int i = 0; i < SPAM_KERNEL_KINDS; i++) {
+    PetscCall(PetscStrlcat(buf, i ? ", " : "", len));
+    PetscCall(PetscStrlcat(buf, Rows[i].name, len));
+  }
   PetscFunctionReturn(0);
 }
 
@@ -67,38 +43,52 @@ static PetscErrorCode CheckRange(int dim, double h)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamKernelCreate(const char *name, int dim, double h, SpamKernel *k)
-{
-  PetscFunctionList    list;
-  SpamKernelDescribeFn describe;
-  SpamKernelShapeInfo  d;
-  char                 allowed[256], shown[100];
-
-  PetscFunctionBeginUser;
-  PetscCall(CheckRange(dim, h));
-  PetscCall(KernelList(&list));
-  PetscCall(PetscFunctionListFind(list, name, &describe));
-  if (!describe) {
-    PetscCall(ListNames(list, allowed, sizeof allowed));
-    PetscCall(PetscFunctionListDestroy(&list));
-    SpamClip(name, shown, sizeof shown);
-    SPAM_BAD_INPUT("-kernel", shown, "allowed: %s", allowed);
-  }
-  PetscCall(PetscFunctionListDestroy(&list));
-  PetscCall(describe(dim, &d));
-  PetscCall(KernelFromShape(&d, dim, h, k));
-  PetscFunctionReturn(0);
-}
-
-/* Lucy's kernel without the list: the models and analyses that are Lucy's alone. */
-PetscErrorCode SpamKernelLucyInit(int dim, double h, SpamKernel *k)
+/* The kernel of row r at range h: the h-independent numbers its describe function gives,
+ * scaled by powers of h. */
+static PetscErrorCode KernelFromRow(const KernelRow *r, int dim, double h, SpamKernel *k)
 {
   SpamKernelShapeInfo d;
 
   PetscFunctionBeginUser;
+  PetscCall(r->describe(dim, &d));
+  PetscCall(PetscMemzero(k, sizeof *k));
+  k->kind   = r->kind;
+  k->name   = r->name;
+  k->dim    = dim;
+  k->h      = h;
+  k->hinv   = 1.0 / h;
+  k->h2     = h * h;
+  k->wnorm  = d.cnorm * pow(h, -dim);
+  k->gnorm  = d.cgrad * d.cnorm * pow(h, -(dim + 2)); /* Lucy: -12 C_D h^-(D+2), as before */
+  k->smooth = d.smooth;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamKernelCreate(const char *name, int dim, double h, SpamKernel *k)
+{
+  char allowed[256], shown[100];
+
+  PetscFunctionBeginUser;
   PetscCall(CheckRange(dim, h));
-  PetscCall(SpamKernelLucyDescribe(dim, &d));
-  PetscCall(KernelFromShape(&d, dim, h, k));
+  for (int i = 0; i < SPAM_KERNEL_KINDS; i++) {
+    PetscBool same;
+    PetscCall(PetscStrcmp(name, Rows[i].name, &same));
+    if (same) {
+      PetscCall(KernelFromRow(&Rows[i], dim, h, k));
+      PetscFunctionReturn(0);
+    }
+  }
+  PetscCall(SpamKernelNames(allowed, sizeof allowed));
+  SpamClip(name, shown, sizeof shown);
+  SPAM_BAD_INPUT("-kernel", shown, "allowed: %s", allowed);
+}
+
+/* Lucy's kernel without a name: the models and analyses that are Lucy's alone. */
+PetscErrorCode SpamKernelLucyInit(int dim, double h, SpamKernel *k)
+{
+  PetscFunctionBeginUser;
+  PetscCall(CheckRange(dim, h));
+  PetscCall(KernelFromRow(&Rows[SPAM_KERNEL_LUCY], dim, h, k));
   PetscFunctionReturn(0);
 }
 

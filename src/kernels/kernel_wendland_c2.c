@@ -5,8 +5,6 @@
 PetscErrorCode SpamKernelWendlandC2Describe(int dim, SpamKernelShapeInfo *d)
 {
   PetscFunctionBeginUser;
-  d->kind   = SPAM_KERNEL_WENDLAND_C2;
-  d->name   = "wendland_c2";
   d->cnorm  = dim == 1 ? 5.0 / 4.0 : dim == 2 ? 7.0 / SPAM_PI : 21.0 / (2.0 * SPAM_PI);
   d->cgrad  = dim == 1 ? -12.0 : -20.0;
   d->smooth = dim == 1 ? 2 : 3;

@@ -5,8 +5,6 @@
 PetscErrorCode SpamKernelWendlandC4Describe(int dim, SpamKernelShapeInfo *d)
 {
   PetscFunctionBeginUser;
-  d->kind   = SPAM_KERNEL_WENDLAND_C4;
-  d->name   = "wendland_c4";
   d->cnorm  = dim == 1 ? 3.0 / 2.0 : dim == 2 ? 9.0 / SPAM_PI : 495.0 / (32.0 * SPAM_PI);
   d->cgrad  = dim == 1 ? -14.0 : -56.0 / 3.0;
   d->smooth = dim == 1 ? 4 : 5;

@@ -5,8 +5,6 @@
 PetscErrorCode SpamKernelWendlandC6Describe(int dim, SpamKernelShapeInfo *d)
 {
   PetscFunctionBeginUser;
-  d->kind   = SPAM_KERNEL_WENDLAND_C6;
-  d->name   = "wendland_c6";
   d->cnorm  = dim == 1 ? 55.0 / 32.0 : dim == 2 ? 78.0 / (7.0 * SPAM_PI) : 1365.0 / (64.0 * SPAM_PI);
   d->cgrad  = dim == 1 ? -6.0 : -22.0;
   d->smooth = dim == 1 ? 6 : 7;

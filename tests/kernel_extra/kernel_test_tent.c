@@ -5,8 +5,6 @@
 PetscErrorCode SpamKernelTestTentDescribe(int dim, SpamKernelShapeInfo *d)
 {
   PetscFunctionBeginUser;
-  d->kind   = SPAM_KERNEL_TEST_TENT;
-  d->name   = "test_tent";
   d->cnorm  = dim == 1 ? 1.0 : dim == 2 ? 10.0 / (3.0 * SPAM_PI) : 15.0 / (4.0 * SPAM_PI);
   d->cgrad  = -6.0;
   d->smooth = 1;
