@@ -1,13 +1,12 @@
 /* A kernel added from outside the program reaches every use of the kernel list. The
- * test-only kernel test_tent is its shape header and describe file (kernel_extra/) and one
- * row, appended to src/kernels/kernel_list.h by kernel_extra/kernel_list_extra.h; this
- * program compiles src/kernels/ again with that row. Checked: the enum has the new kind
+ * test-only kernel test_tent is its header (kernel_extra/kernel_test_tent.h) and one row,
+ * appended to src/kernels/kernel_list.h by kernel_extra/kernel_list_extra.h; this program
+ * compiles src/kernels/ again with that row. Checked: the enum has the new kind
  * after the others; the registry makes it by name, lists it last and takes it from
  * -kernel; its shapes (the literal-kind switches, the run-time evaluators, w' and w'') are
  * its own and its normalisation is one; the pair walk dispatches it to its own shape; and a
  * kind beyond the list is an error in the walk and NaN in a shape, never Lucy. */
 #include <spam/kernel.h>
-#include <kernels/kernel_registry.h> /* SPAM_PI */
 #include <pair/pair_walk.h>
 #include <stdio.h>
 #include <string.h>

@@ -28,4 +28,16 @@ SPAM_INLINE double SpamCubicSplineH(const int dim, double c, double s)
   const double t = SpamKernelEdge(s), b = SpamKernelEdge(2.0 * s);
   return c * (4.0 * b - 2.0 * t);
 }
+
+/* The cubic spline M4 with support h: C_D = sigma_D 2^D from the usual sigma_D = 2/3,
+ * 10/(7 pi), 1/pi for support 2 h' (h' = h/2). C^2 at r = h (the factor t^3). */
+static inline SpamKernelShapeInfo SpamCubicSplineInfo(const int dim)
+{
+  const SpamKernelShapeInfo d = {
+    .cnorm  = dim == 1 ? 4.0 / 3.0 : dim == 2 ? 40.0 / (7.0 * SPAM_PI) : 8.0 / SPAM_PI,
+    .cgrad  = -6.0,
+    .smooth = 2,
+  };
+  return d;
+}
 #endif

@@ -1,15 +1,16 @@
 /* The smoothing kernels: the one list. Each row X(ctx, KIND, name, Prefix) makes
  *   - the kind SPAM_KERNEL_KIND of the enum SpamKernelKind (spam/kernel.h), in row order;
- *   - the name -kernel accepts and -help lists (kernel_registry.c), in row order;
- *   - the cases of the shape switches (kernel_shape.h): SpamPrefixF/G/H(dim, c, s), defined
- *     in the kernel's header kernel_<name>.h, included in the second half of this file;
- *   - the case of the pair walk's dispatch (src/pair/pair_walk.h and the canonical passes);
- *   - the describe function SpamKernelPrefixDescribe (kernel_<name>.c: C_D, cgrad, smoothness).
- * ctx is the caller's, passed through to X unchanged (the walk hands its pass name and
- * arguments to each case this way). A kernel is therefore its header, its describe file and
- * its row here with its #include below. SPAM_KERNEL_LIST_EXTRA and SPAM_KERNEL_EXTRA_HEADER
- * append a row and a header from outside: only the test program that proves this list
- * drives everything (tests/kernel_extra/) defines them. */
+ *   - the name -kernel accepts and -help lists (kernel_registry.c), in row order, and the
+ *     registry's entry, which takes the kernel's numbers from SpamPrefixInfo(dim)
+ *     (normalisation C_D, cgrad, smoothness at r = h);
+ *   - the cases of the shape switches (kernel_shape.h): SpamPrefixF/G/H(dim, c, s);
+ *   - the case of the pair walk's dispatch (src/pair/pair_walk.h and the canonical passes).
+ * The functions are the kernel's header kernel_<name>.h, included in the second half of
+ * this file. ctx is the caller's, passed through to X unchanged (the walk hands its pass
+ * name and arguments to each case this way). A kernel is therefore one header and, here,
+ * its row and its #include. SPAM_KERNEL_LIST_EXTRA and SPAM_KERNEL_EXTRA_HEADER append a
+ * row and a header from outside: only the test program that proves this list drives
+ * everything (tests/kernel_extra/) defines them. */
 #ifndef SPAM_KERNEL_LIST_H
 #define SPAM_KERNEL_LIST_H
 

@@ -28,4 +28,15 @@ SPAM_INLINE double SpamLucyH(const int dim, double c, double s)
   const double t = SpamKernelEdge(s);
   return c * t * (1.0 - 3.0 * s);
 }
+
+/* Lucy's kernel: normalisation C_D in 1, 2 and 3D and smoothness at r = h. */
+static inline SpamKernelShapeInfo SpamLucyInfo(const int dim)
+{
+  const SpamKernelShapeInfo d = {
+    .cnorm  = dim == 1 ? 5.0 / 4.0 : dim == 2 ? 5.0 / SPAM_PI : 105.0 / (16.0 * SPAM_PI),
+    .cgrad  = -12.0,
+    .smooth = 2, /* t^3: w, w', w'' vanish at h and w''' = 6 C_D / h^(D+3) does not: the force is C^1 */
+  };
+  return d;
+}
 #endif

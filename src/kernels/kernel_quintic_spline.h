@@ -32,4 +32,17 @@ SPAM_INLINE double SpamQuinticSplineH(const int dim, double c, double s)
   const double t = SpamKernelEdge(s), a = SpamKernelEdge(1.5 * s) * (2.0 / 3.0), b = SpamKernelEdge(3.0 * s) * (1.0 / 3.0);
   return c * (-4.0 * (t * t * t) + 24.0 * (a * a * a) - 60.0 * (b * b * b));
 }
+
+/* The quintic spline M6 with support h and F(0) = 1: C_D = sigma_D 3^D 66 from the usual
+ * sigma_D = 1/120, 7/(478 pi), 1/(120 pi) for support 3 h' (h' = h/3), 66 being the usual
+ * bracket at q = 0. C^4 at r = h (the factor t^5). */
+static inline SpamKernelShapeInfo SpamQuinticSplineInfo(const int dim)
+{
+  const SpamKernelShapeInfo d = {
+    .cnorm  = dim == 1 ? 33.0 / 20.0 : dim == 2 ? 2079.0 / (239.0 * SPAM_PI) : 297.0 / (20.0 * SPAM_PI),
+    .cgrad  = -405.0 / 22.0,
+    .smooth = 4,
+  };
+  return d;
+}
 #endif

@@ -1,17 +1,20 @@
 /* Kernels by name: the rows of kernel_list.h as a constant table (indexed by kind, the
  * enum's order), the list -kernel chooses from built from it where it is needed (no
  * global mutable list), and the kernel made from a name, a dimension and h. Each kernel's
- * kind and name are its row's: the describe functions give only its numbers. */
-#include "kernel_registry.h"
+ * kind and name are its row's; its header gives only its numbers (SpamPrefixInfo). */
+#include <spam/kernel.h>
 #include <spam/errors.h>
+
+/* A kernel's numbers in dimension dim (SpamPrefixInfo in its header). */
+typedef SpamKernelShapeInfo (*KernelInfoFn)(int dim);
 
 typedef struct {
   SpamKernelKind       kind;
   const char          *name; /* as given to -kernel */
-  SpamKernelDescribeFn describe;
+  KernelInfoFn         info;
 } KernelRow;
 
-#define SPAM_KERNEL_ROW(ctx, KIND, name, Prefix) {SPAM_KERNEL_##KIND, #name, SpamKernel##Prefix##Describe},
+#define SPAM_KERNEL_ROW(ctx, KIND, name, Prefix) {SPAM_KERNEL_##KIND, #name, Spam##Prefix##Info},
 static const KernelRow Rows[SPAM_KERNEL_KINDS] = {SPAM_KERNEL_LIST(SPAM_KERNEL_ROW, ~)};
 #undef SPAM_KERNEL_ROW
 
@@ -20,7 +23,7 @@ static PetscErrorCode KernelList(PetscFunctionList *list)
 {
   PetscFunctionBeginUser;
   *list = NULL;
-  for (int i = 0; i < SPAM_KERNEL_KINDS; i++) PetscCall(PetscFunctionListAdd(list, Rows[i].name, Rows[i].describe));
+  for (int i = 0; i < SPAM_KERNEL_KINDS; i++) PetscCall(PetscFunctionListAdd(list, Rows[i].name, Rows[i].info));
   PetscFunctionReturn(0);
 }
 
@@ -43,14 +46,13 @@ static PetscErrorCode CheckRange(int dim, double h)
   PetscFunctionReturn(0);
 }
 
-/* The kernel of row r at range h: the h-independent numbers its describe function gives,
- * scaled by powers of h. */
+/* The kernel of row r at range h: the h-independent numbers of its header, scaled by
+ * powers of h. */
 static PetscErrorCode KernelFromRow(const KernelRow *r, int dim, double h, SpamKernel *k)
 {
-  SpamKernelShapeInfo d;
+  const SpamKernelShapeInfo d = r->info(dim);
 
   PetscFunctionBeginUser;
-  PetscCall(r->describe(dim, &d));
   PetscCall(PetscMemzero(k, sizeof *k));
   k->kind   = r->kind;
   k->name   = r->name;

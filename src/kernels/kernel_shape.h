@@ -7,7 +7,8 @@
  * zero for s >= 1 without a branch the vectoriser cannot turn into a select: the factor
  * t = 1 - s is clamped at zero (SpamKernelEdge), the spline pieces are clamped the same
  * way, and near s = 0, where G would be F'/s, a select picks a polynomial instead of
- * dividing by s. Each kernel's functions live in its own header, included by kernel_list.h.
+ * dividing by s. Each kernel's functions live in its own header, included by kernel_list.h,
+ * with its SpamPrefixInfo (normalisation, cgrad, smoothness).
  *
  * spam/kernel.h includes this file (for SpamKernelW and SpamKernelDWOverR); including
  * kernel.h first, above the guard, lets a pair loop include either in either order. */
@@ -26,7 +27,22 @@ SPAM_INLINE double SpamKernelEdge(double x)
   return t > 0.0 ? t : 0.0;
 }
 
-#include <kernels/kernel_list.h> /* the shape headers, one per kernel */
+#ifndef SPAM_PI
+#define SPAM_PI 3.14159265358979323846
+#endif
+
+/* What a kernel's header tells SpamKernelCreate besides its shape, for one dimension D:
+ * the normalisation C_D, the factor cgrad of F'(s)/s = cgrad G(s), and the smoothness at
+ * r = h. Every shape has F(0) = 1 (to round-off), so that wnorm = w(0), which the density
+ * passes add as each particle's own term. Its kind and name are its row's in
+ * kernel_list.h. */
+typedef struct {
+  double cnorm;  /* C_D: the integral of C_D F(|x|) over D-space is one */
+  double cgrad;  /* F'(s)/s = cgrad G(s)                                 */
+  int    smooth; /* derivatives of w continuous at r = h                 */
+} SpamKernelShapeInfo;
+
+#include <kernels/kernel_list.h> /* the kernels' headers: shapes and SpamPrefixInfo */
 
 /* c F(s), c G(s), c H(s), the scale c multiplied first. A pair loop passes its prefactor
  * as c (m wnorm for the density, the pressure factor times gnorm for the force): with

@@ -28,4 +28,16 @@ SPAM_INLINE double SpamWendlandC2H(const int dim, double c, double s)
   if (dim == 1) return c * t * (1.0 - 3.0 * s);
   return c * (t * t) * (1.0 - 4.0 * s);
 }
+
+/* Wendland's C2 kernel: normalisation C_D (Dehnen & Aly 2012, Table 1) and smoothness
+ * at r = h (the factor t^3 in 1D, t^4 in 2D and 3D). */
+static inline SpamKernelShapeInfo SpamWendlandC2Info(const int dim)
+{
+  const SpamKernelShapeInfo d = {
+    .cnorm  = dim == 1 ? 5.0 / 4.0 : dim == 2 ? 7.0 / SPAM_PI : 21.0 / (2.0 * SPAM_PI),
+    .cgrad  = dim == 1 ? -12.0 : -20.0,
+    .smooth = dim == 1 ? 2 : 3,
+  };
+  return d;
+}
 #endif

@@ -27,4 +27,16 @@ SPAM_INLINE double SpamWendlandC4H(const int dim, double c, double s)
   if (dim == 1) return c * (1.0 + s * (3.0 - 24.0 * s)) * t2 * t;
   return c * (1.0 + s * (4.0 - 35.0 * s)) * (t2 * t2);
 }
+
+/* Wendland's C4 kernel: normalisation C_D (Dehnen & Aly 2012, Table 1) and smoothness
+ * at r = h (the factor t^5 in 1D, t^6 in 2D and 3D). */
+static inline SpamKernelShapeInfo SpamWendlandC4Info(const int dim)
+{
+  const SpamKernelShapeInfo d = {
+    .cnorm  = dim == 1 ? 3.0 / 2.0 : dim == 2 ? 9.0 / SPAM_PI : 495.0 / (32.0 * SPAM_PI),
+    .cgrad  = dim == 1 ? -14.0 : -56.0 / 3.0,
+    .smooth = dim == 1 ? 4 : 5,
+  };
+  return d;
+}
 #endif

@@ -29,4 +29,16 @@ SPAM_INLINE double SpamWendlandC6H(const int dim, double c, double s)
   if (dim == 1) return c * (3.0 + s * (15.0 - s * (39.0 + 315.0 * s))) * t4 * t;
   return c * (1.0 + s * (6.0 - s * (15.0 + 160.0 * s))) * t4 * t2;
 }
+
+/* Wendland's C6 kernel: normalisation C_D (Dehnen & Aly 2012, Table 1) and smoothness
+ * at r = h (the factor t^7 in 1D, t^8 in 2D and 3D). */
+static inline SpamKernelShapeInfo SpamWendlandC6Info(const int dim)
+{
+  const SpamKernelShapeInfo d = {
+    .cnorm  = dim == 1 ? 55.0 / 32.0 : dim == 2 ? 78.0 / (7.0 * SPAM_PI) : 1365.0 / (64.0 * SPAM_PI),
+    .cgrad  = dim == 1 ? -6.0 : -22.0,
+    .smooth = dim == 1 ? 6 : 7,
+  };
+  return d;
+}
 #endif
