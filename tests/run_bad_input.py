@@ -129,7 +129,7 @@ for k, (name, args, needles) in enumerate(cases):
           and all(n in lines[0] for n in needles) and not os.path.exists(out))
     c.check(ok, f"{name}: exit {code}, stderr {[ln[:300] for ln in lines]}, output dir {'absent' if not os.path.exists(out) else 'PRESENT'}")
 
-# Out of memory (issue 28 point 6, was a 19-line PETSc traceback): one line and exit 1, by
+# Out of memory (it was a 19-line PETSc traceback): one line and exit 1, by
 # the error handler, wherever the allocation failed. An address-space limit makes it fail
 # within a second (the 2.25M-particle scene needs more); not under ASan, whose shadow memory
 # alone is terabytes of address space.

@@ -196,7 +196,7 @@ def h5_set(path, obj, name, values, attribute=True):
 
 
 # Values a snapshot holds as integers or positive normal numbers, forged: refused in one
-# line, nothing written (issue 28 point 7: dim = 2.7 was read as 2, a subnormal mass ran).
+# line, nothing written (before: dim = 2.7 was read as 2, a subnormal mass ran).
 forged = [("dim 2.7", "/", "dim", [2.7], True, "attribute dim is not a whole number"),
           ("periodic 1,0.5", "/", "periodic", [1.0, 0.5], True, "attribute periodic holds a value that is not a whole number"),
           ("carried 0.5", "/density", "carried", [0.5], True, "attribute carried of /density is not a whole number"),

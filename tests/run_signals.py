@@ -3,7 +3,7 @@ writes every output at the time reached (a timeseries row, a snapshot, summary.j
 "status": "interrupted" and that time, the manifest), prints one line and exits 130
 (SIGINT) or 143 (SIGTERM). The files are complete: every timeseries row parses, the last
 row and the last step are at the time reached, no temporary or lock is left. On two ranks,
-the signal one rank other than 0 received is the one every rank reports (issue 28 point 5:
+the signal one rank other than 0 received is the one every rank reports (before:
 SIGINT to rank 1 was reported as SIGTERM, exit 143)."""
 import csv
 import os
