@@ -61,41 +61,41 @@ static const Known KnownOptions[] = {
   {"gas_scheme", PETSC_TRUE, G_SOLID_GAS}, {"background_pressure", PETSC_TRUE, G_SOLID_FLOW}, {"shift_coefficient", PETSC_TRUE, G_SOLID_FLOW},
   /* the pair layer: kernel, gravity, periodic images as ghosts (scene.c) */
   {"kernel", PETSC_TRUE, G_MODEL}, {"gravity", PETSC_TRUE, G_MODEL}, {"periodic_images", PETSC_TRUE, G_ALL},
-  /* Issue 14 point 6: the plane wave's initial stress (scenes/planewave_stress.c). */
+  /* The plane wave's initial stress (scenes/planewave_stress.c). */
   {"planewave_stress", PETSC_TRUE, G_PLANEWAVE},
-  /* Issue 15: the Rayleigh-Benard cell (scenes/scene_convection.c). */
+  /* The Rayleigh-Benard cell (scenes/scene_convection.c). */
   {"convection_nx", PETSC_TRUE, G_CONVECTION}, {"convection_ny", PETSC_TRUE, G_CONVECTION}, {"convection_ra", PETSC_TRUE, G_CONVECTION},
   {"convection_prandtl", PETSC_TRUE, G_CONVECTION}, {"convection_g", PETSC_TRUE, G_CONVECTION}, {"convection_amplitude", PETSC_TRUE, G_CONVECTION},
   {"convection_seed", PETSC_TRUE, G_CONVECTION},
-  /* Issue 15 point 4: the shock problems (scene_sod.c, scene_sedov.c). */
+  /* The shock problems (scene_sod.c, scene_sedov.c). */
   {"sod_n", PETSC_TRUE, G_SOD}, {"sod_length", PETSC_TRUE, G_SOD}, {"sod_width", PETSC_TRUE, G_SOD},
   {"sedov_n", PETSC_TRUE, G_SEDOV}, {"sedov_energy", PETSC_TRUE, G_SEDOV},
-  /* Issue 15: mirror walls per box face (core/walls.c); relevance by face and condition (WallRelevant). */
+  /* Mirror walls per box face (core/walls.c); relevance by face and condition (WallRelevant). */
   {"wall_xlo", PETSC_TRUE, G_WALL}, {"wall_xhi", PETSC_TRUE, G_WALL}, {"wall_ylo", PETSC_TRUE, G_WALL},
   {"wall_yhi", PETSC_TRUE, G_WALL}, {"wall_zlo", PETSC_TRUE, G_WALL}, {"wall_zhi", PETSC_TRUE, G_WALL},
   {"wall_xlo_velocity", PETSC_TRUE, G_WALL}, {"wall_xhi_velocity", PETSC_TRUE, G_WALL}, {"wall_ylo_velocity", PETSC_TRUE, G_WALL},
   {"wall_yhi_velocity", PETSC_TRUE, G_WALL}, {"wall_zlo_velocity", PETSC_TRUE, G_WALL}, {"wall_zhi_velocity", PETSC_TRUE, G_WALL},
   {"wall_xlo_temperature", PETSC_TRUE, G_WALL}, {"wall_xhi_temperature", PETSC_TRUE, G_WALL}, {"wall_ylo_temperature", PETSC_TRUE, G_WALL},
   {"wall_yhi_temperature", PETSC_TRUE, G_WALL}, {"wall_zlo_temperature", PETSC_TRUE, G_WALL}, {"wall_zhi_temperature", PETSC_TRUE, G_WALL},
-  /* Issue 15 point 4: the smooth flows with exact answers (scene_gresho.c, scene_taylor_green.c, scene_heat_mode.c). */
+  /* The smooth flows with exact answers (scene_gresho.c, scene_taylor_green.c, scene_heat_mode.c). */
   {"gresho_n", PETSC_TRUE, G_GRESHO}, {"gresho_p0", PETSC_TRUE, G_GRESHO},
   {"taylorgreen_n", PETSC_TRUE, G_TAYLOR_GREEN}, {"taylorgreen_amplitude", PETSC_TRUE, G_TAYLOR_GREEN},
   {"heatmode_n", PETSC_TRUE, G_HEAT_MODE}, {"heatmode_ny", PETSC_TRUE, G_HEAT_MODE}, {"heatmode_eps", PETSC_TRUE, G_HEAT_MODE},
-  /* Issue 15 point 4: the shear channels (scenes/shear_channel.c). */
+  /* The shear channels (scenes/shear_channel.c). */
   {"couette_n", PETSC_TRUE, G_COUETTE}, {"couette_nx", PETSC_TRUE, G_COUETTE}, {"couette_speed", PETSC_TRUE, G_COUETTE},
   {"couette_start", PETSC_TRUE, G_COUETTE}, {"poiseuille_n", PETSC_TRUE, G_POISEUILLE}, {"poiseuille_nx", PETSC_TRUE, G_POISEUILLE},
   {"poiseuille_speed", PETSC_TRUE, G_POISEUILLE}, {"poiseuille_start", PETSC_TRUE, G_POISEUILLE},
   /* The lid-driven cavity (scenes/scene_cavity.c). */
   {"cavity_n", PETSC_TRUE, G_CAVITY}, {"cavity_lid_velocity", PETSC_TRUE, G_CAVITY}, {"cavity_re", PETSC_TRUE, G_CAVITY},
   {"cavity_mach", PETSC_TRUE, G_CAVITY},
-  /* Issue 16 point 4: the norm of the weighted error (error_norm.c); a fixed step has none. */
+  /* The norm of the weighted error (error_norm.c); a fixed step has none. */
   {"error_norm", PETSC_TRUE, G_ADAPTIVE},
-  /* Issue 16 point 1/6: outputs from the interpolant unless -output_stop (time_loop.c,
+  /* Outputs from the interpolant unless -output_stop (time_loop.c,
    * output_mode.c); ARKODE's / CVODE's statistics table (ts_arkode.c, ts_cvode.c). */
   {"output_stop", PETSC_FALSE, G_ALL}, {"sundials_stats", PETSC_FALSE, G_SUNDIALS},
-  /* Issue 17 points 1-2: checkpoints and restart (checkpoint_*.c, restart_*.c). */
+  /* Checkpoints and restart (checkpoint_*.c, restart_*.c). */
   {"checkpoint_interval", PETSC_TRUE, G_ALL}, {"checkpoint_wall", PETSC_TRUE, G_ALL}, {"restart", PETSC_TRUE, G_ALL},
-  /* Issue 18 point 5: canonical pair sums and a partition-independent norm (scene.c reads
+  /* Canonical pair sums and a partition-independent norm (scene.c reads
    * it and refuses the other models, pass_canonical.c, error_norm.c). */
   {"reproducible", PETSC_FALSE, G_ISENTROPE},
 };
@@ -623,8 +623,8 @@ static PetscErrorCode CheckOne(const char *name, const char *value, const Run *r
     PetscFunctionReturn(0);
   }
   if (IsPetscRuntime(name)) PetscFunctionReturn(0);
-  /* PETSc's step adaptor reads -ts_adapt_* for every method, used or not. Issue 16 point
-   * 6: -ts_adapt_monitor reports the steps of every type (PETSc's adaptor, or the loop for
+  /* PETSc's step adaptor reads -ts_adapt_* for every method, used or not.
+   * -ts_adapt_monitor reports the steps of every type (PETSc's adaptor, or the loop for
    * arkode, cvode and basicsymplectic: sundials_report.c). */
   if (!strcasecmp(name, "ts_adapt_monitor")) PetscFunctionReturn(0);
   if (!strncmp(name, "ts_adapt_", 9) && !Relevant(G_TS_ADAPT, r, why, sizeof why)) PetscCall(NotUsed(name, value, why));

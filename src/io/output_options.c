@@ -6,7 +6,7 @@
 
 /* Snapshots at t = 0, at every interval up to t_end, and one more at the end (a last good
  * state, an interrupted run's state). A tiny interval would otherwise fill the disk with
- * files (issue 13: 2710 in 40 s); refuse it before anything is written. */
+ * files (measured: 2710 in 40 s); refuse it before anything is written. */
 static PetscErrorCode CheckSnapshotCount(const SpamRunOptions *ro, const SpamOutputOptions *o, const char *from)
 {
   char         name[PETSC_MAX_PATH_LEN + 128], val[64], why[160];

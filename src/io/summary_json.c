@@ -104,7 +104,7 @@ static void Counts(Summary *f, const SpamSim *sim, const SpamRunResult *r)
   Int(f, "bound_limited_steps", r->limited);
   Int(f, "post_step_jumps", r->jumps);
   Int(f, "steps_with_jumps", r->jump_steps);
-  /* Issue 16 point 1: how the output times were reached (time_loop.c, output_mode.c). */
+  /* How the output times were reached (time_loop.c, output_mode.c). */
   Str(f, "output_mode", r->output_mode);
   Str(f, "output_mode_reason", r->output_mode_reason);
   Int(f, "interpolated_rows", r->interpolated_rows);
@@ -116,7 +116,7 @@ static void Counts(Summary *f, const SpamSim *sim, const SpamRunResult *r)
   Int(f, "neighbour_list_grows", sim->nl.grows);
 }
 
-/* Issue 17: the checkpoints this run wrote, and the one it continued (null when new). */
+/* The checkpoints this run wrote, and the one it continued (null when new). */
 static void Checkpoints(Summary *f, const SpamRunResult *r)
 {
   Int(f, "checkpoints_written", r->checkpoints);
@@ -224,7 +224,7 @@ static void Walls(Summary *f, const SpamSim *sim)
   }
 }
 
-/* The ranks and what moved between them (issue 18). */
+/* The ranks and what moved between them. */
 static void Ranks(Summary *f, const SpamRunResult *r)
 {
   Int(f, "ranks", r->ranks);

@@ -1,4 +1,4 @@
-/* Plane Couette flow (issue 15 point 4): a viscous gas between a no-slip wall at rest at
+/* Plane Couette flow: a viscous gas between a no-slip wall at rest at
  * y = 0 and one at y = H moving at (U, 0), periodic along x. From rest the flow diffuses
  * in over the time H^2/nu to the exact steady profile v_x = U y / H, whose shear stress
  * eta U / H is uniform: the wall at y = H is dragged back by eta U L / H, the one at y = 0

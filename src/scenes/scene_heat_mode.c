@@ -1,4 +1,4 @@
-/* A Fourier mode of temperature in the conducting gas at rest (issue 14's transport test,
+/* A Fourier mode of temperature in the conducting gas at rest (a transport test,
  * now a scene): on the unit lattice of n points along x times ny across (rho = m), filling
  * the periodic box n x ny [x ny],
  *   e = e0 (1 + eps cos kx),  k = 2 pi / n,  v = 0,

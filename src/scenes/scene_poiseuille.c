@@ -1,4 +1,4 @@
-/* Plane Poiseuille flow (issue 15 point 4): a viscous gas between no-slip walls at rest at
+/* Plane Poiseuille flow: a viscous gas between no-slip walls at rest at
  * y = 0 and y = H, periodic along x, driven by a uniform body force g along x (the scene's
  * default gravity; -gravity overrides it). From rest it reaches, over the time H^2/nu, the
  * exact steady profile v_x = g / (2 nu) y (H - y), peak g H^2 / (8 nu) at mid-channel; the

@@ -1,4 +1,4 @@
-/* The decaying Taylor-Green vortex of the viscous gas (issue 14's transport test, now a
+/* The decaying Taylor-Green vortex of the viscous gas (a transport test, now a
  * scene): on the unit lattice of n^D points (rho = m) filling the periodic box of edge L = n,
  *   u = U sin(kx) cos(ky) [cos(kz)], v = -U cos(kx) sin(ky) [cos(kz)], w = 0, k = 2 pi / L.
  * The flow is divergence-free, so at low Mach and Reynolds number its kinetic energy

@@ -1,4 +1,4 @@
-/* The shear channels (couette, poiseuille; issue 15 point 4): a viscous gas on a square
+/* The shear channels (couette, poiseuille): a viscous gas on a square
  * lattice of unit spacing between mirror walls at y = 0 and y = H = n, periodic along x
  * (and z in 3D). The rows sit at y = j + 1/2, so the mirror images of the lattice in either
  * wall continue the lattice: the summed density is as uniform at the walls as inside, and
@@ -32,7 +32,7 @@ PetscErrorCode SpamShearChannelOptions(const SpamCommonParams *c, const char *na
   (void)snprintf(opt_nx, sizeof opt_nx, "-%s_nx", name);
   (void)snprintf(opt_start, sizeof opt_start, "-%s_start", name);
   (void)snprintf(opt_speed, sizeof opt_speed, "-%s_speed", name);
-  (void)snprintf(title, sizeof title, "Scene %s (issue 15: shear flow between mirror walls)", name);
+  (void)snprintf(title, sizeof title, "Scene %s (shear flow between mirror walls)", name);
   (void)snprintf(hs, sizeof hs, "%g", c->h); /* PETSc's %g would print 3 as "3." */
   (void)snprintf(help, sizeof help, "Initial velocity: rest, or %s (the exact steady profile)", start);
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, title, "spam-ark");
