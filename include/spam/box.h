@@ -72,5 +72,4 @@ PetscErrorCode SpamBoxValidate(const SpamBox *b, double h, const char *what);
  * faces[2d + 1] high; NULL: every face), with the refusal's text in why ("y = -3 lies
  * outside the box, 0 <= y <= 8"); -1 when none. A non-finite coordinate lies outside. */
 int SpamBoxOutside(int dim, const double *lo, const double *len, const PetscBool *faces, const double *x, char *why, size_t n);
-double         SpamBoxVolume(const SpamBox *b);
 #endif

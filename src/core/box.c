@@ -26,13 +26,6 @@ PetscErrorCode SpamBoxValidate(const SpamBox *b, double h, const char *what)
   PetscFunctionReturn(0);
 }
 
-double SpamBoxVolume(const SpamBox *b)
-{
-  double v = 1.0;
-  for (int d = 0; d < b->dim; d++) v *= b->len[d];
-  return v;
-}
-
 int SpamBoxOutside(int dim, const double *lo, const double *len, const PetscBool *faces, const double *x, char *why, size_t n)
 {
   static const char *ax[3] = {"x", "y", "z"};

@@ -341,18 +341,6 @@ PetscErrorCode SpamTSARKodeCheckpointable(TS ts, PetscBool *ok)
   PetscFunctionReturn(0);
 }
 
-/* Statistics for the summary: step attempts of ERKStep. */
-PetscErrorCode SpamTSARKodeAttempts(TS ts, long *attempts);
-PetscErrorCode SpamTSARKodeAttempts(TS ts, long *attempts)
-{
-  TS_SpamARKode *ark = (TS_SpamARKode *)ts->data;
-  long           expsteps, accsteps, nfe, netf;
-
-  PetscFunctionBeginUser;
-  PetscCallARK(ERKStepGetTimestepperStats(ark->mem, &expsteps, &accsteps, attempts, &nfe, &netf));
-  PetscFunctionReturn(0);
-}
-
 PetscErrorCode SpamTSCreate_ARKode(TS ts)
 {
   TS_SpamARKode *ark = NULL;
