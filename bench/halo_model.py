@@ -15,7 +15,7 @@ Four parts, in one run:
  2. the census: bench/halo_census on 2, 4 and 8 ranks (mpiexec --oversubscribe) for two
     lattices, against two formulas: the halo the selection by occupied cells makes (each
     piece dilated by rc, computed by -geometry) and the halo of a rank's bounding box
-    (Steiner's formula: an upper bound since 41462e7); and the selection's cost: per box
+    (Steiner's formula: an upper bound); and the selection's cost: per box
     test (occupied cell, other rank) bounded by three runs with a cell per particle (h =
     0.5), per particle looked up and per item fitted to the census runs;
  3. the table for N = 1e5 .. 1e8 and P = 2 .. 1000 from the -geometry cut;
@@ -39,8 +39,8 @@ from scaling_style import SOURCE_STYLE, N_WIDTH  # noqa: E402
 H = 3.0             # Lucy range of the expansion scenes, in lattice spacings
 SKIN = 0.1 * H      # the program's default -neighbour_skin
 RC = H + SKIN       # list range: what SpamHalo sends within
-# What one RHS of the gas path (gamma != 2) exchanges with the halo, in the code since
-# dfdefa1: rhs_isentrope.c SpamAccelIsentrope -> SpamNeighboursUpdate (the ghosts'
+# What one RHS of the gas path (gamma != 2) exchanges with the halo, in the code:
+# rhs_isentrope.c SpamAccelIsentrope -> SpamNeighboursUpdate (the ghosts'
 # positions, neighbours_ghost.c SpamNeighboursMoveGhosts; at a rebuild the build sends
 # them instead), then P/rho^2 before the force pass. Masses and inverse masses go once per
 # list build (SpamSimGhostMasses), and with gamma = 2 P/rho^2 too. The chunked density
@@ -244,7 +244,7 @@ def exchanges_s(halo, msgs, alpha, beta):
 
 def build_s(n, halo, p, P, sel, alpha, beta):
     """One list build's halo selection on a rank (halo_select.c, halo.c, neighbours.c), as
-    the code does it since 41462e7: the lookups of its n particles, the box tests of its
+    the code does it: the lookups of its n particles, the box tests of its
     occupied cells against the P - 1 other ranks' boxes, the items and ghost slots (sorted,
     described), and the collectives."""
     msgs = max(p["ranks_from_cells"], p["ranks_to_cells"])

@@ -19,7 +19,7 @@ shortest median wall time of a setting whose error is at most eps ("runs": setti
 run) and, between the two settings that bracket eps, the time interpolated linearly in
 log(time) against log(error) ("interpolated": the step or tolerance that just reaches eps,
 so that neither side pays for the coarseness of its ladder). The ratio spam-ark / LAMMPS uses
-spam-ark's cheapest method at that eps. Target (issue 16): KE within 1e-6 at N = 16384 in at
+spam-ark's cheapest method at that eps. Target: KE within 1e-6 at N = 16384 in at
 most 0.2 of LAMMPS's time.
 
 This is a measurement, not a test. Usage (spam-ark built in build/, LAMMPS as lmp):
@@ -393,7 +393,7 @@ def headline(results, repeats):
         crow = next(r for r in res["tta_cpu"]["ke_err"] if r["eps"] == TARGET_EPS)
         c = row["curves"]
         cs = c[row["best_spam_runs"]]
-        line = ("target (issue 16): N = %d, KE(t = %g) within %g, whole processes, median of %d: spam-ark %s "
+        line = ("target: N = %d, KE(t = %g) within %g, whole processes, median of %d: spam-ark %s "
                 "%s %.3f s, LAMMPS %s %.3f s: ratio %.3f (per repeat %.3f-%.3f) (target <= %g): %s.\n"
                 "  Interpolated to the step or tolerance that just reaches %g: %.3f; run loops only: %.3f; "
                 "CPU time of the whole processes: %.3f (per repeat %.3f-%.3f)."

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""What a checkpoint costs (issue 17): bytes per particle and the time to write one, against
+"""What a checkpoint costs: bytes per particle and the time to write one, against
 LAMMPS's write_restart of the same particles in the same run of this script.
 
 spam-ark: the expansion scene of N = n^2 particles (default n = 256: N = 65536) runs one step

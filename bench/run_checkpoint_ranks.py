@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""What a checkpoint costs on 1, 2 and 3 ranks (issue 18 point 4), against the one-rank
+"""What a checkpoint costs on 1, 2 and 3 ranks, against the one-rank
 write measured in the same run of this script.
 
 The 2D expansion of N = n^2 particles (default n = 128: N = 16384) runs 5 steps with

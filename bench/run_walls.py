@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Mirror walls cost no more than the ghosts they add (issue 15 point 5).
+"""Mirror walls cost no more than the ghosts they add.
 
 The convection cell (options/convection.opts, Wendland C2 at h = 3 so that the gas's square
 lattice stays quiet) with its no-slip isothermal walls and gravity, against the same cell made

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Chart the shear-channel scenes (couette, poiseuille; issue 15 point 4).
+"""Chart the shear-channel scenes (couette, poiseuille).
 
 Usage:
     python3 examples/plot_shear.py DIR [DIR ...] [-o OUT.png]

@@ -108,7 +108,7 @@ def scenes(runs):
 # Steps to t = 8 of each series, per scene and method: each series spans the errors between
 # the method's stability or pre-asymptotic end and the reference's floor, with steps about
 # sqrt(2) apart where a high-order method crosses that window in a few halvings. On the
-# expansion RK4 and DP5 run dt = 0.2 ... 0.0125 (issue 16's 0.2 ... 0.025 and one more).
+# expansion RK4 and DP5 run dt = 0.2 ... 0.0125 (an earlier ladder, 0.2 ... 0.025, and one more).
 STEPS = {("expansion", "RK4"): [40, 80, 160, 320, 640], ("expansion", "DP5"): [40, 80, 160, 320, 640],
          ("expansion", "V6"): [20, 28, 40, 56, 80, 160, 320], ("expansion", "F8"): [10, 14, 20, 28, 40, 80, 160],
          ("lattice", "RK4"): [8, 16, 32, 64, 128], ("lattice", "DP5"): [8, 16, 32, 64, 128],

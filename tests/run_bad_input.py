@@ -63,7 +63,7 @@ cases = [
     ("no particles", file_scene + ["-file_path", write("e.csv", "x,y,vx,vy\n")], ["-file_path", "no particles"]),
 ]
 
-# Hostile particle files (issue 13, point 5): every malformed or out-of-range line is
+# Hostile particle files: every malformed or out-of-range line is
 # refused naming file:line; anything but a regular file is refused at once.
 hdr = "x,y,vx,vy\n1,2,0,0\n"
 fifo = os.path.join(w, "fifo.csv")
@@ -86,7 +86,7 @@ cases += [
     ("box far from the origin", file_scene + ["-box_lo", "1e11,0", "-file_path", good], ["box corner x", "1e+11", "within 1e9 h"]),
     ("-box_lo nan (file scene)", file_scene + ["-box_lo", "nan", "-file_path", good], ["-box_lo", "finite"]),
     ("-box_len 8,nan (file scene)", file_scene[:-1] + ["8,nan", "-file_path", good], ["-box_len", "finite"]),
-    # Sizes whose products overflow a 32-bit int (issue 13, point 1).
+    # Sizes whose products overflow a 32-bit int.
     ("expansion_n 100570", ["-expansion_n", 100570], ["-expansion_n", "'100570'", "1.01e+10 particles", "at most"]),
     ("3D expansion_n 600", ["-dim", 3, "-expansion_n", 600], ["-expansion_n", "'600'", "2.16e+08 particles"]),
     ("tensile_nx 2147483647", ["-scene", "tensile", "-tensile_nx", 2147483647], ["-tensile_nx", "2147483647", "particles", "at most"]),

@@ -45,7 +45,7 @@ cases = [
     ("Lame constant of a gas", ["-scene", "rotor", "-material", "gas", "-solid_lambda", 1], ["-solid_lambda", "'1'", "-material elastic"]),
     ("gas energy of an elastic solid", ["-scene", "tensile", "-gas_e0", 2], ["-gas_e0", "'2'", "-material gas"]),
     ("chain amplitude too large", ["-scene", "chain", "-dim", 1, "-chain_amplitude", 0.3], ["-chain_amplitude", "'0.3'", "< 0.25"]),
-    # issue 15 point 4: the smooth flows with exact answers
+    # the smooth flows with exact answers
     ("gresho energy by -gas_e0", ["-scene", "gresho", "-gas_e0", 2], ["-gas_e0", "'2'", "-gresho_p0"]),
     ("gresho as an elastic solid", ["-scene", "gresho", "-material", "elastic"], ["-material", "'elastic'", "-material gas"]),
     ("gresho zero central pressure", ["-scene", "gresho", "-gresho_p0", 0], ["-gresho_p0", "'0'", "1e-100"]),

@@ -5,12 +5,13 @@
     scale height T/g = 50 >> h. In the bulk the hydrostatic start is balanced to the SPAM
     pressure-gradient error, O((h / (T/g))^2) = 4e-3 of g. At a mirror wall the discrete
     balance differs from the bulk's (images carry the hydrostatic continuation of their
-    source's pressure since main 268af68; the summed density and the lattice adjust within
+    source's pressure; the summed density and the lattice adjust within
     h): an unbalanced force per unit mass of at most order g acting until sound has
     crossed the layer, h / c_s, gives a spurious velocity
         v / c_s ~ g (h / c_s) / c_s = g h / (gamma T) = 0.03,
     the bound asserted on max |v| / c_s over every snapshot to t = 10 sound traversal
-    times (measured 0.0212 at fd90f5b; 0.0265 before 268af68).
+    times (measured 0.0212; 0.0265 before the images carried their source's
+    pressure).
 (b) Ra = 0.5 Ra_c (below onset), kick 0.1 c_s, to t = 2000: the kick decays. The slowest
     viscous mode decays in H^2 / (pi^2 nu) ~ 100 (nu = 0.097), so KE at the end must be below
     1/10 of the kick's (measured 1/140: 1.29 -> 0.009; what remains is the walls' noise).

@@ -1,4 +1,4 @@
-"""Plane Couette flow (issue 15 point 4): gas between a no-slip wall at rest at y = 0 and one
+"""Plane Couette flow: gas between a no-slip wall at rest at y = 0 and one
 moving at U = 0.1 along x at y = H, started from rest, against v_x = U y / H.
 
 Set-up: unit square lattice (rho = 1), Wendland C2 kernel with h = 3 (h/dx fixed; the Lucy

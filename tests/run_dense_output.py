@@ -1,4 +1,4 @@
-"""Issue 16 point 1: outputs from the method's dense output, hard stops only on request.
+"""Outputs from the method's dense output, hard stops only on request.
 
 (a) Interpolating (the default for adaptive methods), the steps do not depend on the
     output interval and no step is cut by an output time: the interpolant writes into a

@@ -1,4 +1,4 @@
-"""-error_norm rms|max (issue 16 point 4): the norm in which every adaptive method holds its
+"""-error_norm rms|max: the norm in which every adaptive method holds its
 weighted error estimate to 1.
 
 1. Under the max norm the largest particle error at t_end scales with rtol at every N, on the

@@ -1,5 +1,4 @@
-"""A scene's particles written to a file, and a run's snapshot, read back by the file scene
-(issue 14, "done means"):
+"""A scene's particles written to a file, and a run's snapshot, read back by the file scene:
 1. The rotor (elastic, continuity density, R0, open box) written by -initial_csv with every
    field it carries (x, v, m, e, rho, sxx, sxy, syy) and read back as
    `-scene file -material elastic -density continuity` with the rotor's box and order gives

@@ -14,7 +14,7 @@ hold these invariants:
     "max_steps": exit 0 covers a run stopped by -ts_max_steps);
     exit 0 of -help/-version: nothing written; exit 3: summary.json strict, status "unstable".
 The corpus (see tests/fuzz/cases.txt for the curated part):
-  curated  the inputs named in issue 13 (points 1, 5, 6, 7, 8) with their codes;
+  curated  the inputs found by an earlier review, with their codes;
   options  every option printed by `spam-ark -help` (lines ending "(README)") with each value of
            HOSTILE and with no value, in a tiny run of a scene that reads it. Expected: 2, except
            the values listed as valid in OPTION_TABLE (0, or a set where the outcome is not
@@ -309,7 +309,7 @@ OPTION_TABLE = {
     "-sod_length": ("SOD", real()),
     "-sedov_energy": ("SED", real(i31=O03)),  # from 1e-100 to 1e100; 2^31 blows the box apart
     "-output_dir": ("E", PATH), "-initial_csv": ("E", PATH), "-final_csv": ("E", PATH),
-    # issue 15 point 4: the smooth flows with exact answers
+    # the smooth flows with exact answers
     "-gresho_n": ("GR", {}), "-taylorgreen_n": ("TG", {}), "-heatmode_n": ("HM", {}), "-heatmode_ny": ("HM", {}),
     "-gresho_p0": ("GR", real(i31=O023)),  # from 1e-100 to 1e100; 2^31 may blow up or hit the step limit
     "-taylorgreen_amplitude": ("TG", real(m1=O0, zero=O0, tiny=O0, i31=O023)),  # |U| up to 1e100
@@ -322,25 +322,25 @@ OPTION_TABLE = {
     # the lid-driven cavity: n >= max(2, h); U from 1e-6 to 1e6, Re from 1e-6 to 1e6, Mach in
     # [1e-3, 1): every hostile value out
     "-cavity_n": ("CAV", {}), "-cavity_lid_velocity": ("CAV", {}), "-cavity_re": ("CAV", {}), "-cavity_mach": ("CAV", {}),
-    # issue 16 point 4: rms or max, names only (every hostile value refused)
+    # -error_norm: rms or max, names only (every hostile value refused)
     "-error_norm": ("E", {}),
-    # issue 17 points 1-2: checkpoints (1e300: none before the end; 1e-300: too many) and
+    # checkpoints (1e300: none before the end; 1e-300: too many) and
     # restart (no hostile value names a checkpoint: every one refused)
     "-checkpoint_interval": ("E", real(zero=O0, big=O0, i31=O0)),
     "-checkpoint_wall": ("E", real(zero=O0, tiny=O0, big=O0, i31=O0, sub=None)),
     "-restart": ("E", {}),
-    # issue 18: migrations apply to runs on several ranks; the fuzz corpus runs on one, where
+    # migrations apply to runs on several ranks; the fuzz corpus runs on one, where
     # every value is refused (irrelevant, or not a count); run_ranks covers several ranks
     "-migrate_interval": ("E", {}),
 }
 for flag in ("-expansion_perturb_velocities", "-arkode_classic_weights", "-snapshot_hdf5", "-snapshot_csv",
              "-monitor", "-diag_entropy", "-sort_particles", "-output_overwrite"):
     OPTION_TABLE[flag] = ("E", BOOL)
-# Issue 16 point 1/6: outputs stop the integrator only when asked; SUNDIALS' statistics table
+# Outputs stop the integrator only when asked; SUNDIALS' statistics table
 # (the expansion context runs arkode, for which -sundials_stats is relevant).
 for flag in ("-output_stop", "-sundials_stats"):
     OPTION_TABLE[flag] = ("E", BOOL)
-# Issue 18 point 5: canonical pair sums for the isentropic gas (the expansion context's model).
+# Canonical pair sums for the isentropic gas (the expansion context's model).
 OPTION_TABLE["-reproducible"] = ("E", BOOL)
 
 

@@ -1,4 +1,4 @@
-"""Fields on a regular grid (-grid_interval, issue 15 point 3; docs/scenes/grid.md).
+"""Fields on a regular grid (-grid_interval; docs/scenes/grid.md).
 
 Particle files of the file scene on a square lattice of spacing a = 1 (mass 1, so the
 continuum density is rho0 = m / a^D = 1), Lucy's kernel with h = 3 (1D, 2D) or 2.5 (3D), the

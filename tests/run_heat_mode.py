@@ -1,5 +1,5 @@
-"""A Fourier mode of temperature in the conducting SPAM gas at rest (issue 14, "Done means"; since
-issue 15 point 4 built by -scene heat-mode, src/scenes/scene_heat_mode.c):
+"""A Fourier mode of temperature in the conducting SPAM gas at rest (built by -scene heat-mode,
+src/scenes/scene_heat_mode.c):
 e = e0 (1 + eps cos kx), k = 2 pi / L, on the unit lattice (m = 1: rho = 1), periodic,
 -material gas with gamma = 1.4 (c_v = 1/(gamma-1) = 2.5, T = (gamma-1) e), -conductivity
 kappa = 1, no viscosity. Pure conduction at fixed density decays the mode at

@@ -1,4 +1,4 @@
-"""Install like a library of its field (issue 17, point 4): `cmake --install` into a
+"""Install like a library of its field: `cmake --install` into a
 temporary prefix, then, from other directories and without LD_LIBRARY_PATH:
 - the installed spam-ark runs the README's usage line on an installed options file
   (`-options_file options/expansion.opts`, found in PREFIX/share/spam, and saying so),

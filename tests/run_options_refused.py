@@ -1,4 +1,4 @@
-"""Options as a whole (issue 13, points 6 and 7): nonsense values, wrong array lengths,
+"""Options as a whole: nonsense values, wrong array lengths,
 missing values, options this run does not use, unknown options (with the nearest name),
 bad options files. Each refusal: exit 2, exactly one stderr line starting
 "spam-ark: error: " that holds the needles (the option, the value, what is allowed), and
@@ -34,7 +34,7 @@ fifo = os.path.join(W, "fifo.opts")
 os.mkfifo(fifo)
 
 cases = [
-    # point 6: values
+    # values
     ("max growth NaN", ["-arkode_max_growth", "nan"], ["-arkode_max_growth", "'nan'", "greater than 1"]),
     ("max growth negative", ["-arkode_max_growth", -2], ["-arkode_max_growth", "'-2'", "greater than 1"]),
     ("max growth inf", ["-arkode_max_growth", "inf"], ["-arkode_max_growth", "'inf'", "finite"]),
@@ -77,13 +77,13 @@ cases = [
     ("boolean not a boolean", ["-monitor", "maybe"], ["-monitor", "'maybe'", "true or false"]),
     ("value with a space", ["-h", "3 4"], ["-h", "'3 4'", "must be a number"]),
     ("integer with a space", ["-expansion_n", "8 9"], ["-expansion_n", "'8 9'", "integer"]),
-    # point 6: options present without a value
+    # options present without a value
     ("-h without a value", ["-h"], ["-h", "missing value"]),
     ("-ts_rtol without a value", ["-ts_rtol", "-monitor"], ["-ts_rtol", "missing"]),
     ("empty string value", ["-arkode_adapt", ""], ["-arkode_adapt", "missing or empty"]),
     ("translation without a value", ["-scene_translate"], ["-scene_translate", "missing"]),
     ("-expansion_n without a value", ["-expansion_n", "-h", 3], ["-expansion_n", "missing"]),
-    # point 7: options this run does not use
+    # options this run does not use
     ("arkode table under rk", ["-ts_type", "rk", "-arkode_table", "ARKODE_VERNER_8_5_6"],
      ["-arkode_table", "'ARKODE_VERNER_8_5_6'", "not used", "applies to -ts_type arkode", "-ts_type rk"]),
     ("arkode safety under cvode", ["-ts_type", "cvode", "-arkode_safety", 0.9], ["-arkode_safety", "'0.9'", "-ts_type arkode", "cvode"]),
@@ -121,7 +121,7 @@ cases = [
     ("option with '='", ["-ts_rtol=1e-8"], ["-ts_rtol=1e-8", "space, not '='", "-ts_rtol 1e-8"]),
     ("unknown option far from any", ["-frobnicate", 1], ["unknown option -frobnicate", "-help"]),
     ("misspelled option in an options file", ["-options_file", misspelled], ["unknown option -ts_rtoll", "did you mean -ts_rtol?"]),
-    # point 7: options files
+    # options files
     ("missing options file", ["-options_file", os.path.join(W, "missing.opts")], ["-options_file", "missing.opts", "cannot open"]),
     ("options file is a directory", ["-options_file", W], ["-options_file", "directory"]),
     ("options file is a FIFO", ["-options_file", fifo], ["-options_file", "not a regular file"]),

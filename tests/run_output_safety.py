@@ -1,4 +1,4 @@
-"""The run owns its output directory and loses nothing silently (issue 13, points 2 and 3).
+"""The run owns its output directory and loses nothing silently.
 
 1. Stale snapshots: a shorter rerun into a directory holding an earlier run is refused
    (exit 2, one line naming a file of that run and -output_overwrite, nothing touched);
@@ -231,7 +231,7 @@ def strict(path):
 d = os.path.join(w, "tensile_rest")
 # -step_cfl: a body at rest gives the controller nothing to see, so without a bound it
 # grows the step past the lattice's stability limit and round-off grows to KE 3e-7 (the
-# output stops capped the step at 1.5 before issue 16); see options/tensile.opts.
+# output stops once capped the step at 1.5); see options/tensile.opts.
 code, out, err = run(a.spam_ark, ["-scene", "tensile", "-tensile_kick", 0, "-ts_max_time", 150, "-step_cfl", 0.5], d)
 s = strict(os.path.join(d, "summary.json"))
 c.check(code == 0 and s["status"] == "ok" and s["kinetic_final"] < 1e-20 * s["energy_scale"] and s["energy_scale"] > 0,

@@ -1,4 +1,4 @@
-"""ParaView opens a run's outputs unaided (issue 17 point 3): pvpython under xvfb-run reads
+"""ParaView opens a run's outputs unaided: pvpython under xvfb-run reads
 snapshots.xmf and grid.xmf with the Xdmf3 reader and with the legacy XDMF reader; at the
 last time each gives as many points as the HDF5 file has rows, one vertex cell per particle
 (the Xdmf3 reader drew nothing when the Polyvertex topology had no connectivity) or the
@@ -54,7 +54,7 @@ for path, reader_name, png in json.loads(sys.argv[1]):
 def pv(jobs, tries=2):
     """Each job's read (a dict), or the error text, from one pvpython start. A start that
     dies before its first job reports (pvpython once aborted at start-up, 1 s in, in a full
-    ctest -j2 run at 16f8ff8, and passed on every rerun) is tried once more, and said so: a
+    ctest -j2 run, and passed on every rerun) is tried once more, and said so: a
     file that crashes the reader crashes the second start too."""
     p = subprocess.run([xvfb, "-a", pvpython, "--force-offscreen-rendering", script, json.dumps(jobs)],
                        capture_output=True, text=True, timeout=600)
@@ -111,7 +111,7 @@ c.check(code == 0, f"solid run exits 0 {err.strip()[:200]}")
 solid_xmf = os.path.join(solid_dir, "snapshots.xmf")
 solid_rho = h5_values(os.path.join(solid_dir, "snap_00001.h5"), "/density") if code == 0 else []
 
-# The index as it was before issue 17 (Polyvertex without connectivity): the control that
+# The index as it once was (Polyvertex without connectivity): the control that
 # shows the cell count can fail. The Xdmf3 reader makes no cells of it.
 xmf = os.path.join(run_dir, "snapshots.xmf")
 old_xmf = os.path.join(run_dir, "snapshots_noconnectivity.xmf")

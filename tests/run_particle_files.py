@@ -1,4 +1,4 @@
-"""One particle file format, read and written (issue 14 point 5).
+"""One particle file format, read and written.
 
 A CSV header names its columns in any order (x y z vx vy vz m e rho sxx sxy syy sxz syz szz
 id, and the snapshots' rho_sum); a header-less file is the legacy x,y,vx,vy layout. What the

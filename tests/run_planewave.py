@@ -6,7 +6,7 @@ amplitude's second-order shift); the continuum periods differ by 4.5%, so the ch
 tell the two apart. KE + IE is constant to 1e-6 at rtol 1e-10 (the SPAM energy equation
 conserves it exactly; the rest is the integrator's error).
 
-Half-cycles (issue 14, point 6): the default initial stress is SPAM's own (Hooke's law of
+Half-cycles: the default initial stress is SPAM's own (Hooke's law of
 SPAM's strain of the displaced lattice, planewave_stress.c), so the wave oscillates about
 the undisplaced lattice and the times between zero crossings of the displacement amplitude
 are equal. Measured (cubic through snapshots 1 apart to t = 1.35 T, three crossings;

@@ -1,4 +1,4 @@
-"""Multi-rank runs (issue 18): the same run on 1, 2 and 3 ranks.
+"""Multi-rank runs: the same run on 1, 2 and 3 ranks.
 
 (a) Fixed steps (ERKStep, Dormand-Prince 5(4), -arkode_fixed_step), for the 2D and 3D
     expansion, the rotor with T_ij torque scaling, the elastic plane wave, and with mirror

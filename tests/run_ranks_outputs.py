@@ -1,7 +1,7 @@
-"""Short multi-rank runs of every kind of model and output (issue 18), fast enough for the
+"""Short multi-rank runs of every kind of model and output, fast enough for the
 sanitizer build (tools/sanitize.sh runs the fast tests under AddressSanitizer and UBSan), so
 that the program itself, not only the MPI unit tests, runs on several ranks there: a leak
-on ranks other than 0 with snapshots was found this way, by hand, at 7fdc80d.
+on ranks other than 0 with snapshots was found this way, by hand.
 
 On 2 and 3 ranks, each with a migration after every list build where the model migrates:
 (a) the 2D expansion with every output (HDF5 and CSV snapshots, grid fields, the final

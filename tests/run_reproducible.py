@@ -1,4 +1,4 @@
-"""-reproducible (issue 18 point 5) on one rank: the trajectory does not depend on -threads
+"""-reproducible on one rank: the trajectory does not depend on -threads
 or on the particles' local order. (Across rank counts: test_reproducible_np1..3 for the
 right-hand side and the norm; end-to-end runs come with the multi-rank program.)
 

@@ -1,4 +1,4 @@
-"""-reproducible across rank counts, end to end (issue 18 point 5): the same adaptive run on
+"""-reproducible across rank counts, end to end: the same adaptive run on
 1, 2 and 3 ranks takes the same steps and writes the same particles, to the bit.
 
 The 2D expansion (24^2 particles, gamma 1.7) and the 3D expansion (8^3), Dormand-Prince at

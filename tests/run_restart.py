@@ -1,4 +1,4 @@
-"""Checkpoint and restart (issue 17, points 1-2).
+"""Checkpoint and restart.
 
 A run stopped by -ts_max_steps with checkpoints on (or by SIGTERM) writes checkpoint.h5 at
 the step it reached; `-restart` in the same directory must then write exactly the files the

@@ -1,4 +1,4 @@
-"""Checkpoints and restarts on several ranks (issue 18, point 4).
+"""Checkpoints and restarts on several ranks.
 
 A run on P = 2 or 3 ranks stopped by -ts_max_steps with checkpoints on writes one
 checkpoint.h5 holding every rank's particles in its local order, the cut and the migration

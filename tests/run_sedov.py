@@ -1,4 +1,4 @@
-"""The Sedov-Taylor blast (issue 15 point 4): -scene sedov in 2D (cylindrical), gamma = 5/3,
+"""The Sedov-Taylor blast: -scene sedov in 2D (cylindrical), gamma = 5/3,
 density 1 at rest on a 48^2 periodic lattice, E0 = 1e4 deposited within h = 3 of the
 centre, ambient e0 = 1e-3; run to t = 2.4 (shock radius 17.9 = 0.37 of the box), CSV
 snapshots every 0.3. 9-12 s (labelled slow). The 3D blast (20^3 = 8000 particles) takes

@@ -1,4 +1,4 @@
-"""SIGINT and SIGTERM in mid-run (issue 13, point 4): the run finishes the step it is in,
+"""SIGINT and SIGTERM in mid-run: the run finishes the step it is in,
 writes every output at the time reached (a timeseries row, a snapshot, summary.json with
 "status": "interrupted" and that time, the manifest), prints one line and exits 130
 (SIGINT) or 143 (SIGTERM). The files are complete: every timeseries row parses, the last

@@ -1,4 +1,4 @@
-"""Sod's shock tube (issue 15 point 4): -scene sod, gamma = 1.4, (rho, u, p) = (1, 0, 1) |
+"""Sod's shock tube: -scene sod, gamma = 1.4, (rho, u, p) = (1, 0, 1) |
 (0.125, 0, 0.1), against the exact Riemann solution computed here (shock_exact.py: Newton's
 iteration for p*, then the star states and the wave speeds): p* = 0.30313, u* = 0.92745,
 rho*L = 0.42632, rho*R = 0.26557, shock 1.75216 t, contact 0.92745 t, fan head -1.18322 t,

@@ -1,5 +1,5 @@
-"""Taylor-Green vortex of the viscous SPAM gas in a periodic box (issue 14, "Done means"; since
-issue 15 point 4 built by -scene taylor-green, src/scenes/scene_taylor_green.c):
+"""Taylor-Green vortex of the viscous SPAM gas in a periodic box (built by -scene
+taylor-green, src/scenes/scene_taylor_green.c):
 u = U sin(kx) cos(ky), v = -U cos(kx) sin(ky), k = 2 pi / L, on the unit square lattice
 (m = 1, so rho = 1 in the continuum), -material gas, gamma = 2, e0 = 1e-4 (sound speed
 c = sqrt(gamma (gamma-1) e0) = 0.0141; U = 1e-4: Mach 0.007, Reynolds U L/(2 pi nu) < 1e-3),

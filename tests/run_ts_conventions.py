@@ -1,4 +1,4 @@
-"""Issue 16 point 6: the arkode and cvode TS types follow PETSc's and SUNDIALS' conventions.
+"""The arkode and cvode TS types follow PETSc's and SUNDIALS' conventions.
 
 - Their options are read by their own setfromoptions and -help lists them with defaults
   (both types', whichever is chosen).

@@ -1,4 +1,4 @@
-"""The walls' books close the energy and momentum balances over a run (issue 15 point 1).
+"""The walls' books close the energy and momentum balances over a run.
 
 The 2D expansion's 16^2 gas (-material gas, gamma 2, e0 1) fills one corner of a 32 x 32 box
 with four mirror walls: free-slip adiabatic at x = 0 and 32, no-slip at y = 0 (isothermal,

@@ -133,7 +133,7 @@ static PetscErrorCode FaceCase(TestCount *c, int dim, double h, double skin)
   PetscFunctionReturn(0);
 }
 
-/* Hostile boxes and positions (issue 13): a box of 1e300 or a sparse one gets a capped
+/* Hostile boxes and positions: a box of 1e300 or a sparse one gets a capped
  * cell count and the exact list; a non-finite box is an error, not an index out of
  * range; a cell is in range for every coordinate, NaN and infinities included. */
 static PetscErrorCode HostileCase(TestCount *c, double h, double skin)

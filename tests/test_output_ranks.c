@@ -1,4 +1,4 @@
-/* Outputs on several ranks (issue 18 point 3): a snapshot written by P ranks is the file
+/* Outputs on several ranks: a snapshot written by P ranks is the file
  * one rank writes. Run on 1, 2 and 3 ranks. For a 2D and a 3D gas and a 3D elastic solid
  * (energy, carried density and six stresses in the state), particles of a jittered
  * lattice filling a periodic box (some just outside its lower faces, wrapped by the

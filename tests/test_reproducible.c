@@ -1,4 +1,4 @@
-/* -reproducible (issue 18 point 5), run on 1, 2 and 3 ranks.
+/* -reproducible, run on 1, 2 and 3 ranks.
  *
  * Right-hand side. A gas of N particles (a perturbed lattice: 2D Lucy with a density pass,
  * 3D Wendland C2 with unequal masses, 2D in an open box at gamma = 2) is built on rank 0,

@@ -1,4 +1,4 @@
-/* Mirror walls (issue 15): one right-hand-side evaluation of the gas between walls.
+/* Mirror walls: one right-hand-side evaluation of the gas between walls.
  *   1. A square lattice at rest whose walls lie half a spacing beyond its outer rows is
  *      continued exactly by its mirror images: every acceleration and energy rate is zero
  *      to round-off, as in the same lattice made periodic (free-slip and no-slip walls,
