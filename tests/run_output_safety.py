@@ -26,7 +26,7 @@ import shutil
 import signal
 import subprocess
 import time
-from spamrun import Checks, arguments, manifest, run, summary
+from spamrun import Checks, arguments, brief, manifest, one_line, run, summary
 
 a = arguments()
 c = Checks()
@@ -40,17 +40,6 @@ def listing(d):
 
 def temporaries(d):
     return [n for n in listing(d) if n.endswith(".tmp")]
-
-
-def one_line(err):
-    lines = err.strip().splitlines()
-    return lines[0] if len(lines) == 1 else None
-
-
-def brief(err):
-    """stderr as shown in a check's message: at most 300 characters."""
-    err = err.strip()
-    return repr(err if len(err) <= 300 else err[:300] + "...")
 
 
 def listed(d):

@@ -20,7 +20,7 @@ import shutil
 import signal
 import subprocess
 import time
-from spamrun import Checks, arguments
+from spamrun import Checks, arguments, brief, one_line
 
 a = arguments()
 c = Checks()
@@ -30,16 +30,6 @@ CK = ["-expansion_n", 64, "-h", 3, "-ts_max_time", 4, "-diag_entropy", 0, "-snap
 
 def listing(d):
     return sorted(os.listdir(d)) if os.path.isdir(d) else []
-
-
-def one_line(err):
-    lines = err.strip().splitlines()
-    return lines[0] if len(lines) == 1 else None
-
-
-def brief(err):
-    err = err.strip()
-    return repr(err if len(err) <= 300 else err[:300] + "...")
 
 
 def clean(d):

@@ -60,6 +60,18 @@ def kernel_names(binary):
     return line.split("(one of)", 1)[1].split("(", 1)[0].split() if "(one of)" in line else []
 
 
+def one_line(err):
+    """The only line of stderr, or None when it has none or several."""
+    lines = err.strip().splitlines()
+    return lines[0] if len(lines) == 1 else None
+
+
+def brief(err):
+    """stderr as shown in a check's message: at most 300 characters."""
+    err = err.strip()
+    return repr(err if len(err) <= 300 else err[:300] + "...")
+
+
 def summary(outdir):
     with open(os.path.join(outdir, "summary.json")) as f:
         return json.load(f)
