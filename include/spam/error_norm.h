@@ -7,8 +7,8 @@
 #define SPAM_ERROR_NORM_H
 #include <petscts.h>
 #include <sundials/sundials_nvector.h>
+#include <spam/run_record.h> /* SpamErrorNorm */
 
-typedef enum { SPAM_ERROR_NORM_RMS, SPAM_ERROR_NORM_MAX } SpamErrorNorm;
 extern const char *const SpamErrorNormNames[]; /* "rms", "max" */
 
 /* Reads -error_norm (listed by -help with its default, rms); a bad value is bad input. */

@@ -45,6 +45,11 @@ PetscErrorCode SpamCheckAllowed(const char *opt, const char *val, const char *co
  * any rank, and all of them raise: the failing rank its own error, the others one naming
  * `what` (so that one rank's failure inside a collective sequence never hangs the others). */
 PetscErrorCode SpamAgreeOnFailure(MPI_Comm comm, PetscErrorCode local, const char *what);
+/* Collective on comm: fn(ctx) on rank 0 alone (root_only: a text file written once) or on
+ * every rank. An error in it on any rank is raised on every rank, with the code and the
+ * message of the lowest rank that failed, and printed once (agree.c): no rank is
+ * left waiting in a collective for one that failed. */
+PetscErrorCode SpamRunAgreed(MPI_Comm comm, PetscBool root_only, PetscErrorCode (*fn)(void *), void *ctx);
 /* SUNDIALS return codes: a negative flag becomes a PETSc error carrying the flag name. */
 PetscErrorCode SpamCheckArkode(int flag, const char *call);
 #define PetscCallARK(call) PetscCall(SpamCheckArkode((call), #call))

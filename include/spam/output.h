@@ -6,6 +6,7 @@
 #ifndef SPAM_OUTPUT_H
 #define SPAM_OUTPUT_H
 #include <spam/diagnostics.h>
+#include <spam/errors.h> /* SpamRunAgreed: collective writes */
 
 /* A file being written: stdio on a temporary that SpamFileCommit renames to path. */
 typedef struct {
@@ -27,11 +28,6 @@ long SpamTestFailWriteAt(const char *path);
  * most 60 s), so that a test can replace the temporary meanwhile (a symlink race). */
 void SpamTestPauseAfterTemp(const char *path);
 
-/* Collective on comm: fn(ctx) on rank 0 alone (root_only: a text file written once) or on
- * every rank. An error in it on any rank is raised on every rank, with the code and the
- * message of the lowest rank that failed, and printed once (output_agreed.c): no rank is
- * left waiting in a collective for one that failed. */
-PetscErrorCode SpamRunAgreed(MPI_Comm comm, PetscBool root_only, PetscErrorCode (*fn)(void *), void *ctx);
 
 /* The HDF5 snapshot's checksum (snapshot_checksum.c): its first SPAM_SNAPSHOT_USERBLOCK
  * bytes, an HDF5 user block, hold the hash of the rest. SpamSnapshotStamp fills the block

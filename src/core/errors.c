@@ -243,17 +243,6 @@ PetscErrorCode SpamCheckAllowed(const char *opt, const char *val, const char *co
   SPAM_BAD_INPUT(opt, shown, "allowed: %s", allowed);
 }
 
-PetscErrorCode SpamAgreeOnFailure(MPI_Comm comm, PetscErrorCode local, const char *what)
-{
-  int mine = local != 0, any = 0;
-
-  PetscFunctionBeginUser;
-  PetscCallMPI(MPIU_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, comm));
-  PetscCall(local);
-  PetscCheck(!any, PETSC_COMM_SELF, PETSC_ERR_LIB, "%s failed on another rank", what);
-  PetscFunctionReturn(0);
-}
-
 const char *SpamFileKind(mode_t m)
 {
   if (S_ISREG(m)) return "a regular file";

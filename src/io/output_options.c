@@ -1,6 +1,6 @@
 /* Options of the output directory: whether an earlier run's files may be replaced, how
  * many snapshots a run may write, and the spacing of the grid fields written with them. */
-#include <spam/run.h>
+#include <spam/output_run.h>
 #include <spam/errors.h>
 #include <spam/grid.h>
 

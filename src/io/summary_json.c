@@ -1,5 +1,5 @@
 /* summary.json: one JSON object with the run's settings, statistics and conservation. */
-#include <spam/run.h>
+#include <spam/output_run.h>
 #include <spam/physics.h>
 #include <sys/resource.h>
 #include <spam/version.h>

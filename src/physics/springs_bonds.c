@@ -13,7 +13,7 @@
  *     owners with PetscSFCreateByMatchingIndices.
  * Nothing here runs on one rank: there the set-up's bonds are kept as they are, bit for bit. */
 #include <spam/physics.h>
-#include <spam/output.h>
+#include <spam/errors.h>
 
 #define BOND_RECORD_FIELD "spam_bond" /* (holder gid, partner gid) */
 

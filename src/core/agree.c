@@ -1,7 +1,6 @@
-/* Output work on several ranks that fails on one of them only: a text file rank 0 writes
- * alone, an HDF5 call that fails on one rank. That rank's error must end every rank (the
- * others would wait for it in the next collective, for ever) and be printed once. */
-#include <spam/output.h>
+/* Work on several ranks that fails on one of them only: a text file rank 0 writes alone, an
+ * HDF5 call or an allocation that fails on one rank. That rank's error must end every rank
+ * (the others would wait for it in the next collective, for ever) and be printed once. */
 #include <spam/errors.h>
 
 typedef struct {
@@ -57,4 +56,15 @@ PetscErrorCode SpamRunAgreed(MPI_Comm comm, PetscBool root_only, PetscErrorCode 
   if (failed == size) PetscFunctionReturn(0);
   PetscCallMPI(MPI_Bcast(&c, (int)sizeof c, MPI_BYTE, failed, comm));
   SETERRQ(comm, c.code, "%s", c.mess);
+}
+
+PetscErrorCode SpamAgreeOnFailure(MPI_Comm comm, PetscErrorCode local, const char *what)
+{
+  int mine = local != 0, any = 0;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPIU_Allreduce(&mine, &any, 1, MPI_INT, MPI_MAX, comm));
+  PetscCall(local);
+  PetscCheck(!any, PETSC_COMM_SELF, PETSC_ERR_LIB, "%s failed on another rank", what);
+  PetscFunctionReturn(0);
 }
