@@ -3,7 +3,6 @@
  * bad value is one line of bad input. -ts_adapt_type none with -ts_dt fixes the step, as
  * for PETSc's methods; any other -ts_adapt_type is refused (ERKStep's controller is
  * -arkode_adapt). */
-#include <petsc/private/tsimpl.h>
 #include <spam/integrator.h>
 #include <spam/errors.h>
 #include <float.h>

@@ -25,8 +25,8 @@
  *   migration_loop [6]                  builds at the last migration and halo check, the
  *                                       halo then, migrations run, particles moved, and
  *                                       whether the integrator was re-made since the step */
-#include <petsc/private/tsimpl.h> /* ts->steprestart: a state jump waiting to restart the method */
 #include "loop_state.h"
+#include "ts_family.h"
 #include <spam/decompose.h>
 #include <spam/version.h>
 #include <sundials/sundials_config.h>
@@ -119,25 +119,17 @@ static PetscErrorCode PutRanks(const SpamSim *sim, const SpamLoop *L, SpamCkFile
   PetscFunctionReturn(0);
 }
 
-/* The integrator: the step it proposes next, and ERKStep's controller history. */
+/* The integrator: the step it proposes next, and what the method keeps of its own (ERKStep
+ * its controller's history). */
 static PetscErrorCode PutIntegrator(TS ts, const SpamTsApp *app, PetscBool followed, SpamCkFile *c)
 {
-  PetscBool arkode;
-  PetscReal dt;
+  const SpamTSFamily *f;
+  PetscReal           dt;
 
   PetscFunctionBeginUser;
   PetscCall(TSGetTimeStep(ts, &dt));
-  PetscCall(PetscObjectTypeCompare((PetscObject)ts, SPAM_TSARKODE, &arkode));
-  if (arkode && app->self_stepping) {
-    SpamArkodeHistory h;
-    PetscCall(SpamTSARKodeGetHistory(ts, &h));
-    {
-      const double v[5] = {h.h_next, h.ehist[0], h.ehist[1], h.hhist[0], h.hhist[1]};
-      PetscCall(SpamCkPutReal(c, "arkode_history", 5, v));
-    }
-    PetscCall(SpamCkPutLong(c, "arkode_accepted", h.accepted));
-    dt = h.h_next;
-  }
+  PetscCall(SpamTSFamilyOf(ts, &f));
+  if (f->ck_put) PetscCall(f->ck_put(ts, app, c, &dt));
   PetscCall(SpamCkPutScalar(c, "h_next", dt));
   PetscCall(SpamCkPutScalar(c, "velocity_scale", app->w.vscale));
   {
@@ -155,10 +147,11 @@ static PetscErrorCode PutIntegrator(TS ts, const SpamTsApp *app, PetscBool follo
     if (SpamSimDistributed(sim)) PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &cached, 1, MPIU_BOOL, MPI_LAND, sim->comm));
     PetscCall(SpamCkPutLong(c, "kick_cached", cached));
   }
-  /* A PETSc method that followed a migration was reset onto the new vector (TSReset, then
-   * its first stage evaluated anew): it keeps nothing a restart could miss, a jump before
-   * it included. */
-  PetscCall(SpamCkPutLong(c, "step_restart_pending", ts->steprestart && ts->steps > 0 && !(followed && !arkode)));
+  {
+    PetscBool jump;
+    PetscCall(SpamTSJumpPending(ts, followed, &jump));
+    PetscCall(SpamCkPutLong(c, "step_restart_pending", jump));
+  }
   PetscFunctionReturn(0);
 }
 

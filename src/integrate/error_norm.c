@@ -4,10 +4,9 @@
  * Under -reproducible the rms norm is replaced too, by one whose bits do not depend on
  * how the vector is split over ranks (SUNDIALS' sums each rank's part, then adds the
  * partial sums: another split, other roundings, other step sizes). */
-#include <petsc/private/tsimpl.h>
 #include <spam/error_norm.h>
 #include <spam/errors.h>
-#include <spam/integrator.h>
+#include "ts_family.h"
 #include <nvector/nvector_petsc.h>
 #include <stdint.h>
 
@@ -114,20 +113,22 @@ PetscErrorCode SpamErrorNormAttach(N_Vector y, SpamErrorNorm norm, PetscBool rep
 PetscErrorCode SpamErrorNormSetTS(TS ts, SpamErrorNorm norm)
 {
   const NormType want = norm == SPAM_ERROR_NORM_MAX ? NORM_INFINITY : NORM_2;
-  TSType         type;
-  TSAdapt        adapt;
-  PetscBool      given, none;
+  const SpamTSFamily *f;
+  TSAdapt             adapt;
+  NormType            have;
+  PetscBool           given, none;
 
   PetscFunctionBeginUser;
-  PetscCall(TSGetType(ts, &type));
-  if (!strcmp(type, SPAM_TSARKODE) || !strcmp(type, SPAM_TSCVODE)) PetscFunctionReturn(0);
+  PetscCall(SpamTSFamilyOf(ts, &f));
+  if (f->steps == SPAM_TS_STEPS_OWN) PetscFunctionReturn(0); /* their vectors carry the norm */
   PetscCall(TSGetAdapt(ts, &adapt));
   PetscCall(PetscObjectTypeCompare((PetscObject)adapt, TSADAPTNONE, &none));
   /* PETSc 3.18 has no setter for the adaptor's norm type, only the option (which, without
    * an adaptor, the check of unused options refuses as such). */
   PetscCall(PetscOptionsHasName(NULL, NULL, "-ts_adapt_wnormtype", &given));
   given = (PetscBool)(given && !none);
-  if (given && adapt->wnormtype != want) SPAM_BAD_INPUT("-ts_adapt_wnormtype", NormTypes[adapt->wnormtype], "disagrees with -error_norm %s (NORM_2 is rms, INFINITY is max): give -error_norm alone, it sets the norm of every adaptive method", SpamErrorNormNames[norm]);
-  adapt->wnormtype = want;
+  PetscCall(SpamTSAdaptNormType(ts, &have, NULL));
+  if (given && have != want) SPAM_BAD_INPUT("-ts_adapt_wnormtype", NormTypes[have], "disagrees with -error_norm %s (NORM_2 is rms, INFINITY is max): give -error_norm alone, it sets the norm of every adaptive method", SpamErrorNormNames[norm]);
+  PetscCall(SpamTSAdaptNormType(ts, NULL, &want));
   PetscFunctionReturn(0);
 }

@@ -3,35 +3,21 @@
  * outputs, not the method, sets the step count of a loose tolerance (measured: 20 of 30
  * steps of F8 at rtol 1e-4). An interpolant removes that, where the method has one and
  * the state evolves smoothly between two step ends. */
-#include <spam/integrator.h>
+#include "ts_family.h"
 
 const char *const SpamOutputModeNames[] = {"interpolated", "stopped", "steps"};
-
-/* Whether PETSc's rk scheme of ts has dense-output coefficients (TSInterpolate_RK refuses
- * a scheme without). In 3.18 every scheme with an embedded estimate (2a, 3bs, 5f, 5dp,
- * 5bs, 6vr, 7vr, 8vr) has them; the others take fixed steps, which land on the outputs. */
-static PetscErrorCode RkInterpolates(TS ts, PetscBool *yes)
-{
-  const PetscReal *binterp;
-
-  PetscFunctionBeginUser;
-  PetscCall(TSRKGetTableau(ts, NULL, NULL, NULL, NULL, NULL, NULL, &binterp, NULL));
-  *yes = (PetscBool)(binterp != NULL);
-  PetscFunctionReturn(0);
-}
 
 PetscErrorCode SpamTSOutputMode(TS ts, const SpamTsApp *app, double fixed_dt, SpamOutputMode *mode, char *why, size_t len)
 {
   const SpamSim *sim = app->sim;
-  TSType         type;
-  PetscBool      interp = PETSC_FALSE;
+  const SpamTSFamily *f;
+  PetscBool           interp = PETSC_FALSE;
 
   PetscFunctionBeginUser;
   why[0] = 0;
   *mode  = SPAM_OUTPUT_STOPPED;
-  PetscCall(TSGetType(ts, &type));
-  if (!strcmp(type, SPAM_TSARKODE) || !strcmp(type, SPAM_TSCVODE)) interp = PETSC_TRUE;
-  else if (!strcmp(type, TSRK)) PetscCall(RkInterpolates(ts, &interp));
+  PetscCall(SpamTSFamilyOf(ts, &f));
+  if (f->interpolates) PetscCall(f->interpolates(ts, &interp));
   if (fixed_dt > 0) {
     /* The output intervals are whole steps (time_loop.c): the step ends are the output
      * times, nothing to interpolate and no step cut but the last, to t_end. */
@@ -44,9 +30,9 @@ PetscErrorCode SpamTSOutputMode(TS ts, const SpamTsApp *app, double fixed_dt, Sp
      * between, a state the run never had. Stopping keeps every output a state it had. */
     (void)snprintf(why, len, "the state jumps after steps (%s): an interpolant across a jump is not a state of the run", sim->nl.ghosts.mirror ? "mirror-wall reflections" : "closest-approach reflections");
   } else if (!interp) {
-    TSRKType rk = "";
-    if (!strcmp(type, TSRK)) PetscCall(TSRKGetType(ts, &rk));
-    (void)snprintf(why, len, "%s %s has no interpolant in PETSc 3.18", type, rk);
+    const char *sub = "";
+    if (f->sub_type) PetscCall(f->sub_type(ts, &sub));
+    (void)snprintf(why, len, "%s %s has no interpolant in PETSc 3.18", f->type, sub);
   }
   else *mode = SPAM_OUTPUT_INTERPOLATED;
   PetscFunctionReturn(0);

@@ -2,8 +2,8 @@
  * then putting it back into the particles, the neighbour list, the integrator and the loop
  * (checkpoint_save.c says what each entry is). */
 #define _DEFAULT_SOURCE /* realpath */
-#include <petsc/private/tsimpl.h> /* ts->steprestart: ERKStep is made anew at a restart */
 #include "loop_state.h"
+#include "ts_family.h"
 #include <spam/decompose.h>
 #include <spam/errors.h>
 #include <stdlib.h>
@@ -14,18 +14,18 @@
 /* Whether the method continues bit for bit, and why not. */
 static PetscErrorCode Exactness(TS ts, const SpamCkFile *c, PetscBool *exact, char *why, size_t len)
 {
-  TSType  type;
-  TSAdapt adapt;
-  long    ckexact, pending;
+  const SpamTSFamily *f;
+  TSAdapt             adapt;
+  long                ckexact, pending;
 
   PetscFunctionBeginUser;
-  PetscCall(TSGetType(ts, &type));
+  PetscCall(SpamTSFamilyOf(ts, &f));
   PetscCall(SpamCkGetLong(c, "exact", &ckexact));
   PetscCall(SpamCkGetLong(c, "step_restart_pending", &pending));
   *exact = PETSC_TRUE;
   why[0] = 0;
-  if (!strcmp(type, SPAM_TSCVODE)) (void)snprintf(why, len, "CVODE's Adams history (Nordsieck array, order, step history) cannot be set: it restarts at order 1");
-  else if (strcmp(type, SPAM_TSARKODE) && strcmp(type, TSBASICSYMPLECTIC)) {
+  if (f->restart_inexact) (void)snprintf(why, len, "%s", f->restart_inexact);
+  else if (f->steps == SPAM_TS_STEPS_ADAPTOR) {
     TSAdaptType at;
     PetscCall(TSGetAdapt(ts, &adapt));
     PetscCall(TSAdaptGetType(adapt, &at));
@@ -37,15 +37,14 @@ static PetscErrorCode Exactness(TS ts, const SpamCkFile *c, PetscBool *exact, ch
   PetscFunctionReturn(0);
 }
 
-/* What this method takes back beyond the common entries: ERKStep its controller's history
- * (without it ERKStep would not be re-initialised at the checkpoint's time). */
+/* What this method takes back beyond the common entries (its row's ck_check). */
 static PetscErrorCode CheckMethodEntries(TS ts, const SpamRestart *rs)
 {
-  PetscBool arkode;
+  const SpamTSFamily *f;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscObjectTypeCompare((PetscObject)ts, SPAM_TSARKODE, &arkode));
-  if (arkode && !SpamCkHas(&rs->file, "arkode_history")) SPAM_BAD_INPUT("-restart", rs->path, "has no entry 'arkode_history' (ERKStep's controller), which a run of -ts_type arkode writes");
+  PetscCall(SpamTSFamilyOf(ts, &f));
+  if (f->ck_check) PetscCall(f->ck_check(&rs->file, rs->path));
   PetscFunctionReturn(0);
 }
 
@@ -202,13 +201,13 @@ PetscErrorCode SpamRestartDestroy(SpamRestart *rs)
  * and nothing was moved. */
 static PetscErrorCode FollowPlaced(TS ts, SpamTsApp *app, SpamLoop *L)
 {
-  PetscBool arkode, followed = PETSC_FALSE;
+  const SpamTSFamily *f;
+  PetscBool           followed = PETSC_FALSE;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscObjectTypeCompare((PetscObject)ts, SPAM_TSARKODE, &arkode));
-  if (arkode) {
-    if (ts->setupcalled) PetscCall(TSReset(ts));
-    PetscCall(TSSetSolution(ts, app->sim->X));
+  PetscCall(SpamTSFamilyOf(ts, &f));
+  if (f->follow_placed) {
+    PetscCall(f->follow_placed(ts, app->sim->X));
     followed = PETSC_TRUE;
   } else PetscCall(SpamTSFollowParticles(ts, app, &followed));
   PetscCheck(followed, app->sim->comm, PETSC_ERR_PLIB, "the checkpoint's particles moved, but this method keeps the start's distribution");
@@ -302,23 +301,17 @@ static PetscErrorCode ApplyParticles(SpamSim *sim, const SpamRestart *rs)
  * once more, which is booked apart so that rhs_evals stays the uninterrupted run's. */
 static PetscErrorCode ReusedDerivative(TS ts, const SpamCkFile *c, PetscBool *reused)
 {
-  TSType type;
-  long   cached;
+  const SpamTSFamily *f;
 
   PetscFunctionBeginUser;
-  PetscCall(TSGetType(ts, &type));
+  PetscCall(SpamTSFamilyOf(ts, &f));
   *reused = PETSC_FALSE;
   if (SpamCkHas(c, "migration_loop")) { /* a migration re-made the method's vectors: f is due anew */
     const double *m;
     PetscCall(SpamCkGetReal(c, "migration_loop", 6, &m));
     if (m[5] != 0) PetscFunctionReturn(0);
   }
-  if (!strcmp(type, SPAM_TSARKODE)) *reused = PETSC_TRUE;
-  else if (!strcmp(type, TSRK)) PetscCall(TSRKGetTableau(ts, NULL, NULL, NULL, NULL, NULL, NULL, NULL, reused));
-  else if (!strcmp(type, TSBASICSYMPLECTIC)) {
-    PetscCall(SpamCkGetLong(c, "kick_cached", &cached));
-    *reused = (PetscBool)(cached != 0);
-  }
+  if (f->ck_reuses_f) PetscCall(f->ck_reuses_f(ts, c, reused));
   PetscFunctionReturn(0);
 }
 
@@ -326,45 +319,22 @@ static PetscErrorCode ReusedDerivative(TS ts, const SpamCkFile *c, PetscBool *re
  * (ERKStep: with its controller's history; CVODE: as its first step). */
 static PetscErrorCode ApplyIntegrator(TS ts, SpamTsApp *app, const SpamRestart *rs)
 {
-  PetscBool arkode, cvode;
-  double    h_next, vscale;
-  long      pending;
+  const SpamTSFamily *f;
+  double              h_next, vscale;
+  long                pending;
 
   PetscFunctionBeginUser;
   PetscCall(SpamCkGetScalar(&rs->file, "h_next", &h_next));
   PetscCall(SpamCkGetLong(&rs->file, "step_restart_pending", &pending));
   PetscCall(SpamCkGetScalar(&rs->file, "velocity_scale", &vscale));
   PetscCall(SpamTSSetVelocityScale(ts, app, vscale)); /* the error weights of the run's start */
-  PetscCall(PetscObjectTypeCompare((PetscObject)ts, SPAM_TSARKODE, &arkode));
-  PetscCall(PetscObjectTypeCompare((PetscObject)ts, SPAM_TSCVODE, &cvode));
+  PetscCall(SpamTSFamilyOf(ts, &f));
   PetscCall(TSSetTime(ts, rs->t));
   PetscCall(TSSetStepNumber(ts, (PetscInt)rs->step));
   if (h_next > 0) PetscCall(TSSetTimeStep(ts, h_next));
-  /* CVODE takes its initial time when it is made: a set-up TS (the option checks may have
-   * set it up at t = 0) makes it again at the checkpoint's. (ERKStep is re-initialised at
-   * the TS's time by SpamTSARKodeSetHistory.) */
-  if (cvode && ts->setupcalled) {
-    PetscCall((*ts->ops->reset)(ts));
-    ts->setupcalled = PETSC_FALSE;
-  }
+  if (f->ck_before_setup) PetscCall(f->ck_before_setup(ts));
   PetscCall(TSSetUp(ts));
-  if (arkode) { /* its history is there: CheckMethodEntries */
-    const double     *v;
-    long              accepted;
-    SpamArkodeHistory h;
-    PetscCall(SpamCkGetReal(&rs->file, "arkode_history", 5, &v));
-    PetscCall(SpamCkGetLong(&rs->file, "arkode_accepted", &accepted));
-    h.h_next   = v[0];
-    h.ehist[0] = v[1];
-    h.ehist[1] = v[2];
-    h.hhist[0] = v[3];
-    h.hhist[1] = v[4];
-    h.accepted = accepted;
-    PetscCall(SpamTSARKodeSetHistory(ts, &h));
-  }
-  if (cvode && h_next > 0) PetscCall(SpamTSCVodeSetInitStep(ts, h_next));
-  /* ERKStep starts fresh here: a jump pending at the checkpoint still drops the history. */
-  if (arkode) ts->steprestart = pending ? PETSC_TRUE : PETSC_FALSE;
+  if (f->ck_apply) PetscCall(f->ck_apply(ts, &rs->file, h_next, (PetscBool)(pending != 0)));
   app->cache_valid = PETSC_FALSE;
   PetscFunctionReturn(0);
 }

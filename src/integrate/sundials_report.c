@@ -1,33 +1,27 @@
 /* What the arkode and cvode types report beyond the loop's statistics: SUNDIALS' own
  * statistics table (-sundials_stats, -ts_view), and, with -help, the options of the
  * SUNDIALS type not chosen (PETSc lists only the chosen type's). */
-#include <petsc/private/tsimpl.h> /* PetscTryMethod, ts->adapt->monitor */
-#include <spam/integrator.h>
+#include "ts_family.h"
 
 PetscErrorCode SpamTSSundialsStats(TS ts, FILE *file, PetscBool force)
 {
+  PetscErrorCode (*stats)(TS, FILE *, PetscBool) = NULL;
+
   PetscFunctionBeginUser;
-  PetscTryMethod(ts, "SpamTSSundialsStats_C", (TS, FILE *, PetscBool), (ts, file, force));
+  PetscCall(PetscObjectQueryFunction((PetscObject)ts, "SpamTSSundialsStats_C", &stats));
+  if (stats) PetscCall(stats(ts, file, force));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SpamTSSundialsHelp(TS ts, const SpamRunOptions *o)
 {
-  PetscBool arkode, cvode;
+  const SpamTSFamily *mine, *f;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscObjectTypeCompare((PetscObject)ts, SPAM_TSARKODE, &arkode));
-  PetscCall(PetscObjectTypeCompare((PetscObject)ts, SPAM_TSCVODE, &cvode));
+  PetscCall(SpamTSFamilyOf(ts, &mine));
   PetscOptionsBegin(PetscObjectComm((PetscObject)ts), NULL, "Options of the SUNDIALS TS type not chosen", "TS");
-  if (!arkode) {
-    SpamArkodeSettings s;
-    PetscCall(SpamArkodeOptionsRead(PetscOptionsObject, o, &s));
-  }
-  if (!cvode) {
-    PetscInt  order = 12;
-    PetscBool stats = PETSC_FALSE;
-    PetscCall(SpamCVodeOptionsRead(PetscOptionsObject, &order, &stats));
-  }
+  for (int k = 0; (f = SpamTSFamilyAt(k)); k++)
+    if (f != mine && f->help_other) PetscCall(f->help_other(PetscOptionsObject, o));
   PetscOptionsEnd();
   PetscFunctionReturn(0);
 }
@@ -37,15 +31,13 @@ PetscErrorCode SpamTSSundialsHelp(TS ts, const SpamRunOptions *o)
  * each accepted step here, in the adaptor monitor's place and style. */
 PetscErrorCode SpamTSAdaptMonitorSelf(TS ts, long step, double t0, double dt, long rejected)
 {
-  TSType    type;
-  PetscBool own, symp;
+  const SpamTSFamily *f;
+  PetscViewer         monitor = SpamTSAdaptMonitorViewer(ts);
 
   PetscFunctionBeginUser;
-  if (!ts->adapt || !ts->adapt->monitor) PetscFunctionReturn(0);
-  PetscCall(TSGetType(ts, &type));
-  own  = (PetscBool)(!strcmp(type, SPAM_TSARKODE) || !strcmp(type, SPAM_TSCVODE));
-  symp = (PetscBool)!strcmp(type, TSBASICSYMPLECTIC);
-  if (!own && !symp) PetscFunctionReturn(0); /* PETSc's adaptor reports these itself */
-  PetscCall(PetscViewerASCIIPrintf(ts->adapt->monitor, "    TSAdapt %s (%s) step %3ld accepted t=%-11g + %10.3e rejected so far %ld\n", type, own ? "own controller" : "fixed step", step, t0, dt, rejected));
+  if (!monitor) PetscFunctionReturn(0);
+  PetscCall(SpamTSFamilyOf(ts, &f));
+  if (f->steps == SPAM_TS_STEPS_ADAPTOR) PetscFunctionReturn(0); /* PETSc's adaptor reports these itself */
+  PetscCall(PetscViewerASCIIPrintf(monitor, "    TSAdapt %s (%s) step %3ld accepted t=%-11g + %10.3e rejected so far %ld\n", f->type, f->steps == SPAM_TS_STEPS_OWN ? "own controller" : "fixed step", step, t0, dt, rejected));
   PetscFunctionReturn(0);
 }

@@ -6,12 +6,12 @@
  * Failure is a result: the reason, time and step go to the monitor and summary.json; so is
  * an interruption (SIGINT, SIGTERM), seen between steps, after which the outputs of the
  * time reached are written and the loop ends. */
-#include <petsc/private/tsimpl.h> /* ts->steprestart: a jump pending (ClampPending) */
 #include <spam/integrator.h>
 #include <spam/errors.h>
 #include <spam/interrupt.h>
 #include <spam/physics.h> /* the Gauss maxima of the run figures */
 #include "loop_state.h"
+#include "ts_family.h"
 
 typedef SpamSchedule Schedule;
 
@@ -301,12 +301,12 @@ static PetscErrorCode ChooseStep(TS ts, SpamTsApp *app, double fixed_dt, double 
  * (stability function); CVODE gets it as its largest step. */
 static PetscErrorCode SelfSteppingBound(TS ts, SpamTsApp *app)
 {
-  TSType             type;
-  const PetscScalar *y;
+  const SpamTSFamily *f;
+  const PetscScalar  *y;
 
   PetscFunctionBeginUser;
-  PetscCall(TSGetType(ts, &type));
-  if (strcmp(type, SPAM_TSCVODE) || !(app->o->cfl > 0 || app->o->force > 0)) PetscFunctionReturn(0);
+  PetscCall(SpamTSFamilyOf(ts, &f));
+  if (!f->bound_as_max_step || !(app->o->cfl > 0 || app->o->force > 0)) PetscFunctionReturn(0);
   PetscCall(VecGetArrayRead(app->sim->X, &y));
   PetscCall(SpamStepBound(app->sim, app->o, y, &app->bound, &app->bound_which));
   PetscCall(VecRestoreArrayRead(app->sim->X, &y));
@@ -356,14 +356,12 @@ static PetscErrorCode FailureReason(TS ts, const SpamTsApp *app, long step, doub
  * their step cut by this loop, from a proposal the checkpoint keeps. */
 static PetscErrorCode ClampPending(TS ts, PetscBool followed, PetscBool *pending)
 {
-  PetscBool ok, arkode;
+  PetscBool ok, jump;
 
   PetscFunctionBeginUser;
   PetscCall(SpamTSARKodeCheckpointable(ts, &ok));
-  PetscCall(PetscObjectTypeCompare((PetscObject)ts, SPAM_TSARKODE, &arkode));
-  /* A PETSc method reset onto a migration's vector holds nothing a restart would miss:
-   * its restart flag then asks for no deferral (checkpoint_save.c). */
-  *pending = (PetscBool)(!ok || (ts->steprestart && ts->steps > 0 && !(followed && !arkode)));
+  PetscCall(SpamTSJumpPending(ts, followed, &jump));
+  *pending = (PetscBool)(!ok || jump);
   PetscFunctionReturn(0);
 }
 

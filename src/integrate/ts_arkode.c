@@ -3,7 +3,7 @@
  * reports the time, the step and the rejections back to the TS, so that the one TSStep
  * loop of spam-ark drives it like any PETSc method. */
 #include <petsc/private/tsimpl.h>
-#include <spam/integrator.h>
+#include "ts_family.h"
 #include <spam/errors.h>
 #include <arkode/arkode_erkstep.h>
 #include <nvector/nvector_petsc.h>
@@ -363,3 +363,112 @@ PetscErrorCode SpamTSCreate_ARKode(TS ts)
   PetscCall(PetscObjectComposeFunction((PetscObject)ts, "SpamTSSundialsStats_C", SundialsStats_SpamARKode));
   PetscFunctionReturn(0);
 }
+
+/* The arkode row of the table of methods (ts_family.h). */
+static PetscErrorCode DescribeARKode(TS ts, const char **sub, char *adapt, size_t alen, double *fixed_dt)
+{
+  const SpamArkodeSettings *s = &((TS_SpamARKode *)ts->data)->set;
+
+  PetscFunctionBeginUser;
+  *sub      = s->table;
+  *fixed_dt = s->fixed_step;
+  PetscCall(PetscStrncpy(adapt, s->fixed_step > 0 ? "none" : s->adapt, alen));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode InterpolatesARKode(TS ts, PetscBool *yes)
+{
+  (void)ts;
+  *yes = PETSC_TRUE; /* ERKStep's Hermite dense output */
+  return 0;
+}
+
+static PetscErrorCode HelpARKode(PetscOptionItems *PetscOptionsObject, const SpamRunOptions *o)
+{
+  SpamArkodeSettings s;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamArkodeOptionsRead(PetscOptionsObject, o, &s));
+  PetscFunctionReturn(0);
+}
+
+/* ERKStep's controller history and the step it proposes next. */
+static PetscErrorCode CkPutARKode(TS ts, const SpamTsApp *app, SpamCkFile *c, PetscReal *dt)
+{
+  SpamArkodeHistory h;
+
+  PetscFunctionBeginUser;
+  if (!app->self_stepping) PetscFunctionReturn(0); /* never set up: nothing stepped */
+  PetscCall(SpamTSARKodeGetHistory(ts, &h));
+  {
+    const double v[5] = {h.h_next, h.ehist[0], h.ehist[1], h.hhist[0], h.hhist[1]};
+    PetscCall(SpamCkPutReal(c, "arkode_history", 5, v));
+  }
+  PetscCall(SpamCkPutLong(c, "arkode_accepted", h.accepted));
+  *dt = h.h_next;
+  PetscFunctionReturn(0);
+}
+
+/* Without its history ERKStep would not be re-initialised at the checkpoint's time. */
+static PetscErrorCode CkCheckARKode(const SpamCkFile *c, const char *path)
+{
+  PetscFunctionBeginUser;
+  if (!SpamCkHas(c, "arkode_history")) SPAM_BAD_INPUT("-restart", path, "has no entry 'arkode_history' (ERKStep's controller), which a run of -ts_type arkode writes");
+  PetscFunctionReturn(0);
+}
+
+/* ERKStep starts fresh here, at the TS's time: a jump pending at the checkpoint still
+ * drops the history. */
+static PetscErrorCode CkApplyARKode(TS ts, const SpamCkFile *c, double h_next, PetscBool pending)
+{
+  const double     *v;
+  long              accepted;
+  SpamArkodeHistory h;
+
+  PetscFunctionBeginUser;
+  (void)h_next; /* the history's own */
+  PetscCall(SpamCkGetReal(c, "arkode_history", 5, &v));
+  PetscCall(SpamCkGetLong(c, "arkode_accepted", &accepted));
+  h.h_next   = v[0];
+  h.ehist[0] = v[1];
+  h.ehist[1] = v[2];
+  h.hhist[0] = v[3];
+  h.hhist[1] = v[4];
+  h.accepted = accepted;
+  PetscCall(SpamTSARKodeSetHistory(ts, &h));
+  ts->steprestart = pending ? PETSC_TRUE : PETSC_FALSE;
+  PetscFunctionReturn(0);
+}
+
+/* ERKStep keeps f(y_n) of the step it continues (first same as last). */
+static PetscErrorCode CkReusesARKode(TS ts, const SpamCkFile *c, PetscBool *reused)
+{
+  (void)ts;
+  (void)c;
+  *reused = PETSC_TRUE;
+  return 0;
+}
+
+/* A set-up ERKStep of a never-stepped TS cannot be resized: it is made again on X. */
+static PetscErrorCode FollowPlacedARKode(TS ts, Vec X)
+{
+  PetscFunctionBeginUser;
+  if (ts->setupcalled) PetscCall(TSReset(ts));
+  PetscCall(TSSetSolution(ts, X));
+  PetscFunctionReturn(0);
+}
+
+const SpamTSFamily SpamTSFamilyARKode = {
+  .type          = SPAM_TSARKODE,
+  .adapt_default = TSADAPTNONE,
+  .steps         = SPAM_TS_STEPS_OWN,
+  .follow        = SPAM_TS_FOLLOW_RESIZE,
+  .interpolates  = InterpolatesARKode,
+  .describe      = DescribeARKode,
+  .help_other    = HelpARKode,
+  .ck_put        = CkPutARKode,
+  .ck_check      = CkCheckARKode,
+  .ck_apply      = CkApplyARKode,
+  .ck_reuses_f   = CkReusesARKode,
+  .follow_placed = FollowPlacedARKode,
+};

@@ -1,16 +1,12 @@
 /* Creating the TS of a run: the method from -ts_type (validated here, so an unknown name
  * is one line of bad input, not a PETSc traceback), the one RHS, the translation-invariant
  * tolerances, and the splits basicsymplectic needs. */
-#include <spam/integrator.h>
+#include "ts_family.h"
 #include <spam/errors.h>
 
 const char *const SpamStepLimitNames[] = {"accuracy", "fixed", "output", "cfl", "force", "end"};
 
-static const char *const TsTypes[]     = {"arkode", "cvode", "rk", "ssp", "euler", "basicsymplectic"};
-static const char *const RkTypes[]     = {"1fe", "2a", "2b", "3", "3bs", "4", "5f", "5dp", "5bs", "6vr", "7vr", "8vr"};
-static const char *const SspTypes[]    = {"rks2", "rks3", "rk104"};
-static const char *const SympTypes[]   = {"kdk", "dkd", "1", "2", "3", "4"};
-static const char *const AdaptTypes[]  = {"none", "basic", "dsp"};
+static const char *const AdaptTypes[] = {"none", "basic", "dsp"};
 
 PetscErrorCode SpamIntegratorsRegister(void)
 {
@@ -94,22 +90,20 @@ static PetscErrorCode Tolerances(TS ts, const SpamTsApp *app)
 }
 
 /* Validates -ts_type and the sub-type option of the chosen type before PETSc sees them. */
-static PetscErrorCode ChooseType(TS ts, char *type, size_t len)
+static PetscErrorCode ChooseType(TS ts, const SpamTSFamily **f)
 {
-  char sub[64];
+  const char *names[SPAM_TS_FAMILIES_MAX];
+  const int   n = SpamTSFamilyNames(names, SPAM_TS_FAMILIES_MAX);
+  char        type[64], sub[64];
 
   PetscFunctionBeginUser;
-  PetscCall(ChosenName("-ts_type", SPAM_TSARKODE, TsTypes, 6, type, len));
+  PetscCall(ChosenName("-ts_type", SPAM_TSARKODE, names, n, type, sizeof type));
   PetscCall(TSSetType(ts, type));
-  if (!strcmp(type, TSRK)) PetscCall(ChosenName("-ts_rk_type", TSRK3BS, RkTypes, 12, sub, sizeof sub));
-  if (!strcmp(type, TSSSP)) PetscCall(ChosenName("-ts_ssp_type", TSSSPRKS2, SspTypes, 3, sub, sizeof sub));
-  if (!strcmp(type, TSBASICSYMPLECTIC)) {
-    PetscCall(ChosenName("-ts_basicsymplectic_type", "kdk", SympTypes, 6, sub, sizeof sub));
-    PetscCall(TSBasicSymplecticSetType(ts, "kdk")); /* our default: velocity Verlet */
-  }
+  PetscCall(SpamTSFamilyOf(ts, f));
+  if ((*f)->sub_option) PetscCall(ChosenName((*f)->sub_option, (*f)->sub_default, (*f)->subs, (*f)->nsubs, sub, sizeof sub));
   /* Checked for every method: PETSc reads it for all (arkode takes none with -ts_dt as its
    * fixed step and cvode refuses it, in their setfromoptions). */
-  PetscCall(ChosenName("-ts_adapt_type", strcmp(type, TSRK) ? TSADAPTNONE : TSADAPTBASIC, AdaptTypes, 3, sub, sizeof sub));
+  PetscCall(ChosenName("-ts_adapt_type", (*f)->adapt_default, AdaptTypes, 3, sub, sizeof sub));
   PetscFunctionReturn(0);
 }
 
@@ -126,44 +120,6 @@ static PetscErrorCode InitialSoundSpeed(SpamSim *sim, double *c0)
     PetscCall(VecRestoreArrayRead(sim->X, &y));
   }
   if (!(*c0 > 0)) *c0 = 1.0;
-  PetscFunctionReturn(0);
-}
-
-/* An RK scheme without an embedded method cannot control its error: PETSc picks no
- * adaptor for it, but one asked for explicitly would fail in the middle of the first step. */
-static PetscErrorCode CheckRkEmbedded(TS ts)
-{
-  TSType           type;
-  TSRKType         rk;
-  TSAdapt          adapt;
-  TSAdaptType      atype;
-  const PetscReal *bembed;
-
-  PetscFunctionBeginUser;
-  PetscCall(TSGetType(ts, &type));
-  if (strcmp(type, TSRK)) PetscFunctionReturn(0);
-  PetscCall(TSGetAdapt(ts, &adapt));
-  PetscCall(TSAdaptGetType(adapt, &atype));
-  PetscCall(TSRKGetType(ts, &rk));
-  PetscCall(TSRKGetTableau(ts, NULL, NULL, NULL, NULL, &bembed, NULL, NULL, NULL));
-  if (!bembed && strcmp(atype, TSADAPTNONE)) SPAM_BAD_INPUT("-ts_rk_type", rk, "has no embedded error estimate, so -ts_adapt_type %s cannot control its error: use -ts_adapt_type none -ts_dt <step>", atype);
-  PetscFunctionReturn(0);
-}
-
-/* An adaptive rk step that is rejected keeps its stage 0 derivative for the retry
- * (rk_rollback.c); a fixed step is never rejected. */
-static PetscErrorCode KeepFirstStage(TS ts, SpamTsApp *app)
-{
-  TSType      type;
-  TSAdapt     adapt;
-  TSAdaptType atype;
-
-  PetscFunctionBeginUser;
-  PetscCall(TSGetType(ts, &type));
-  if (strcmp(type, TSRK)) PetscFunctionReturn(0);
-  PetscCall(TSGetAdapt(ts, &adapt));
-  PetscCall(TSAdaptGetType(adapt, &atype));
-  if (strcmp(atype, TSADAPTNONE)) PetscCall(SpamTSRKKeepFirstStage(ts, app));
   PetscFunctionReturn(0);
 }
 
@@ -184,9 +140,9 @@ static PetscErrorCode CheckInitTime(TS ts)
 
 PetscErrorCode SpamTSCreate(SpamSim *sim, const SpamRunOptions *o, SpamTsApp *app, TS *ts)
 {
-  char      type[64];
-  TSAdapt   adapt;
-  PetscBool help;
+  const SpamTSFamily *f;
+  TSAdapt             adapt;
+  PetscBool           help;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(app, sizeof *app));
@@ -201,12 +157,10 @@ PetscErrorCode SpamTSCreate(SpamSim *sim, const SpamRunOptions *o, SpamTsApp *ap
   PetscCall(TSCreate(sim->comm, ts));
   PetscCall(TSSetProblemType(*ts, TS_NONLINEAR));
   PetscCall(TSSetApplicationContext(*ts, app));
-  PetscCall(ChooseType(*ts, type, sizeof type));
+  PetscCall(ChooseType(*ts, &f));
   PetscCall(TSSetRHSFunction(*ts, NULL, TsRhs, app));
-  if (!strcmp(type, TSBASICSYMPLECTIC)) PetscCall(SpamSymplecticSetUp(*ts, app));
-  /* rk's stages and solution summed term by term (det_combination.c), so that a restart
-   * continues bit for bit; before TSSetUp duplicates X into the stage vectors. */
-  if (!strcmp(type, TSRK)) PetscCall(SpamVecDeterministicMAXPY(sim->X));
+  if (f->created) PetscCall(f->created(*ts, app));
+  if (f->on_vector) PetscCall(f->on_vector(sim->X));
   PetscCall(TSSetSolution(*ts, sim->X));
   PetscCall(TSSetTime(*ts, 0.0));
   PetscCall(TSSetMaxTime(*ts, o->t_end));
@@ -236,8 +190,7 @@ PetscErrorCode SpamTSCreate(SpamSim *sim, const SpamRunOptions *o, SpamTsApp *ap
   PetscCall(Tolerances(*ts, app));
   PetscCall(SpamErrorNormSetTS(*ts, o->error_norm)); /* -error_norm as PETSc's adaptor norm */
   PetscCall(TSSetUp(*ts));
-  PetscCall(CheckRkEmbedded(*ts));
-  PetscCall(KeepFirstStage(*ts, app));
+  if (f->set_up) PetscCall(f->set_up(*ts, app));
   PetscFunctionReturn(0);
 }
 
@@ -258,8 +211,10 @@ PetscErrorCode SpamTSSetVelocityScale(TS ts, SpamTsApp *app, double c0)
  * without an adaptor can be reset onto another length. */
 PetscBool SpamTSTypeCanFollow(const char *type, const char *adapt)
 {
-  if (!strcmp(type, SPAM_TSARKODE)) return PETSC_TRUE;
-  return (PetscBool)((!strcmp(type, TSRK) || !strcmp(type, TSSSP) || !strcmp(type, TSEULER)) && !strcmp(adapt, TSADAPTNONE));
+  const SpamTSFamily *f = SpamTSFamilyNamed(type);
+
+  if (!f) return PETSC_FALSE;
+  return (PetscBool)(f->follow == SPAM_TS_FOLLOW_RESIZE || (f->follow == SPAM_TS_FOLLOW_RESET_FIXED && !strcmp(adapt, TSADAPTNONE)));
 }
 
 PetscBool SpamTSCanFollow(TS ts)
@@ -274,14 +229,14 @@ PetscBool SpamTSCanFollow(TS ts)
 
 PetscErrorCode SpamTSFollowParticles(TS ts, SpamTsApp *app, PetscBool *followed)
 {
-  TSType    type;
-  PetscReal t, dt;
-  PetscInt  step;
+  const SpamTSFamily *f;
+  PetscReal           t, dt;
+  PetscInt            step;
 
   PetscFunctionBeginUser;
   *followed = PETSC_FALSE;
-  PetscCall(TSGetType(ts, &type));
-  if (!strcmp(type, SPAM_TSARKODE)) {
+  PetscCall(SpamTSFamilyOf(ts, &f));
+  if (f->follow == SPAM_TS_FOLLOW_RESIZE) {
     PetscCall(SpamTSARKodeResize(ts, app->sim->X));
     *followed = PETSC_TRUE;
     PetscFunctionReturn(0);
@@ -293,7 +248,7 @@ PetscErrorCode SpamTSFollowParticles(TS ts, SpamTsApp *app, PetscBool *followed)
   PetscCall(TSGetTimeStep(ts, &dt));
   PetscCall(TSGetStepNumber(ts, &step));
   PetscCall(TSReset(ts));
-  if (!strcmp(type, TSRK)) PetscCall(SpamVecDeterministicMAXPY(app->sim->X));
+  if (f->on_vector) PetscCall(f->on_vector(app->sim->X));
   PetscCall(TSSetSolution(ts, app->sim->X));
   PetscCall(Tolerances(ts, app));
   PetscCall(TSSetUp(ts));
@@ -314,32 +269,22 @@ PetscErrorCode SpamTSAppDestroy(SpamTsApp *app)
 
 PetscErrorCode SpamTSDescribe(TS ts, char *method, size_t mlen, char *adapt, size_t alen, double *fixed_dt)
 {
-  TSType      type;
-  const char *sub = "";
-  TSAdapt     a;
-  TSAdaptType atype;
+  const SpamTSFamily *f;
+  const char         *sub = "";
+  TSAdapt             a;
+  TSAdaptType         atype;
 
   PetscFunctionBeginUser;
-  PetscCall(TSGetType(ts, &type));
+  PetscCall(SpamTSFamilyOf(ts, &f));
   *fixed_dt = 0.0;
-  if (!strcmp(type, SPAM_TSARKODE)) {
-    const SpamArkodeSettings *s;
-    PetscCall(SpamTSARKodeGetSettings(ts, &s));
-    sub = s->table;
-    PetscCall(PetscStrncpy(adapt, s->fixed_step > 0 ? "none" : s->adapt, alen));
-    *fixed_dt = s->fixed_step;
-  } else if (!strcmp(type, SPAM_TSCVODE)) {
-    sub = "adams";
-    PetscCall(PetscStrncpy(adapt, "cvode", alen));
-  } else {
-    if (!strcmp(type, TSRK)) PetscCall(TSRKGetType(ts, &sub));
-    if (!strcmp(type, TSSSP)) PetscCall(TSSSPGetType(ts, &sub));
-    if (!strcmp(type, TSBASICSYMPLECTIC)) PetscCall(TSBasicSymplecticGetType(ts, &sub));
+  if (f->describe) PetscCall(f->describe(ts, &sub, adapt, alen, fixed_dt));
+  else {
+    if (f->sub_type) PetscCall(f->sub_type(ts, &sub));
     PetscCall(TSGetAdapt(ts, &a));
     PetscCall(TSAdaptGetType(a, &atype));
     PetscCall(PetscStrncpy(adapt, atype, alen));
     if (!strcmp(atype, TSADAPTNONE)) PetscCall(TSGetTimeStep(ts, fixed_dt));
   }
-  (void)snprintf(method, mlen, "%s%s%s", type, sub[0] ? " " : "", sub);
+  (void)snprintf(method, mlen, "%s%s%s", f->type, sub[0] ? " " : "", sub);
   PetscFunctionReturn(0);
 }

@@ -2,7 +2,7 @@
  * nonlinear solver (no Jacobian: the SPAM equations are not stiff at the steps accuracy
  * asks for). Like "arkode", TSStep takes one CVODE step towards ts->max_time. */
 #include <petsc/private/tsimpl.h>
-#include <spam/integrator.h>
+#include "ts_family.h"
 #include <spam/errors.h>
 #include <cvode/cvode.h>
 #include <nvector/nvector_petsc.h>
@@ -215,3 +215,67 @@ PetscErrorCode SpamTSCVodeSetInitStep(TS ts, double h)
   PetscCallCV(CVodeSetInitStep(cv->mem, h));
   PetscFunctionReturn(0);
 }
+
+/* The cvode row of the table of methods (ts_family.h). */
+static PetscErrorCode DescribeCVode(TS ts, const char **sub, char *adapt, size_t alen, double *fixed_dt)
+{
+  PetscFunctionBeginUser;
+  (void)ts;
+  *sub      = "adams";
+  *fixed_dt = 0.0;
+  PetscCall(PetscStrncpy(adapt, "cvode", alen));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode InterpolatesCVode(TS ts, PetscBool *yes)
+{
+  (void)ts;
+  *yes = PETSC_TRUE; /* CVodeGetDky */
+  return 0;
+}
+
+static PetscErrorCode HelpCVode(PetscOptionItems *PetscOptionsObject, const SpamRunOptions *o)
+{
+  PetscInt  order = 12;
+  PetscBool stats = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  (void)o;
+  PetscCall(SpamCVodeOptionsRead(PetscOptionsObject, &order, &stats));
+  PetscFunctionReturn(0);
+}
+
+/* CVODE takes its initial time when it is made: a set-up TS (the option checks may have
+ * set it up at t = 0) makes it again at the checkpoint's. */
+static PetscErrorCode CkBeforeSetUpCVode(TS ts)
+{
+  PetscFunctionBeginUser;
+  if (ts->setupcalled) {
+    PetscCall(TSReset_SpamCVode(ts));
+    ts->setupcalled = PETSC_FALSE;
+  }
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode CkApplyCVode(TS ts, const SpamCkFile *c, double h_next, PetscBool pending)
+{
+  PetscFunctionBeginUser;
+  (void)c;
+  (void)pending;
+  if (h_next > 0) PetscCall(SpamTSCVodeSetInitStep(ts, h_next));
+  PetscFunctionReturn(0);
+}
+
+const SpamTSFamily SpamTSFamilyCVode = {
+  .type              = SPAM_TSCVODE,
+  .adapt_default     = TSADAPTNONE,
+  .steps             = SPAM_TS_STEPS_OWN,
+  .follow            = SPAM_TS_FOLLOW_NONE,
+  .bound_as_max_step = PETSC_TRUE,
+  .restart_inexact   = "CVODE's Adams history (Nordsieck array, order, step history) cannot be set: it restarts at order 1",
+  .interpolates      = InterpolatesCVode,
+  .describe          = DescribeCVode,
+  .help_other        = HelpCVode,
+  .ck_before_setup   = CkBeforeSetUpCVode,
+  .ck_apply          = CkApplyCVode,
+};

@@ -5,7 +5,7 @@
  * 1/2}, d = {1, 0}: the velocity Verlet of LAMMPS fix nve, SWIFT and Phantom). The
  * second kick of a kdk step and the first kick of the next see the same positions, so
  * the kick caches the force: one force evaluation per step, plus one at the start. */
-#include <spam/integrator.h>
+#include "ts_family.h"
 #include <spam/errors.h>
 
 PetscErrorCode SpamSymplecticRegister(void)
@@ -104,3 +104,49 @@ PetscErrorCode SpamSymplecticSetUp(TS ts, SpamTsApp *app)
   app->cache_valid = PETSC_FALSE;
   PetscFunctionReturn(0);
 }
+
+/* The basicsymplectic row of the table of methods (ts_family.h). */
+static const char *const SympTypes[] = {"kdk", "dkd", "1", "2", "3", "4"};
+
+static PetscErrorCode SubTypeSymplectic(TS ts, const char **sub)
+{
+  PetscFunctionBeginUser;
+  PetscCall(TSBasicSymplecticGetType(ts, sub));
+  PetscFunctionReturn(0);
+}
+
+/* Our default scheme is velocity Verlet (before the options, which may choose another),
+ * and the position/momentum split. */
+static PetscErrorCode CreatedSymplectic(TS ts, SpamTsApp *app)
+{
+  PetscFunctionBeginUser;
+  PetscCall(TSBasicSymplecticSetType(ts, "kdk"));
+  PetscCall(SpamSymplecticSetUp(ts, app));
+  PetscFunctionReturn(0);
+}
+
+/* The force of the step's last kick, when the checkpoint kept it, is the next first kick's. */
+static PetscErrorCode CkReusesSymplectic(TS ts, const SpamCkFile *c, PetscBool *reused)
+{
+  long cached;
+
+  PetscFunctionBeginUser;
+  (void)ts;
+  PetscCall(SpamCkGetLong(c, "kick_cached", &cached));
+  *reused = (PetscBool)(cached != 0);
+  PetscFunctionReturn(0);
+}
+
+const SpamTSFamily SpamTSFamilySymplectic = {
+  .type          = TSBASICSYMPLECTIC,
+  .sub_option    = "-ts_basicsymplectic_type",
+  .sub_default   = "kdk",
+  .subs          = SympTypes,
+  .nsubs         = (int)(sizeof SympTypes / sizeof SympTypes[0]),
+  .adapt_default = TSADAPTNONE,
+  .steps         = SPAM_TS_STEPS_FIXED,
+  .follow        = SPAM_TS_FOLLOW_NONE,
+  .sub_type      = SubTypeSymplectic,
+  .created       = CreatedSymplectic,
+  .ck_reuses_f   = CkReusesSymplectic,
+};

@@ -1,0 +1,68 @@
+/* What the run loop, the outputs and the checkpoints need to know of each TS type: one row
+ * per type (ts_family.c), filled by the type's own implementation (ts_arkode.c,
+ * ts_cvode.c, ts_symplectic.c, ts_petsc_rk.c). The rest of the program asks a TS's row
+ * (SpamTSFamilyOf) instead of comparing type names, so a new type is one row and its hooks. */
+#ifndef SPAM_TS_FAMILY_H
+#define SPAM_TS_FAMILY_H
+#include <spam/integrator.h>
+#include <spam/checkpoint_file.h>
+
+/* Who chooses the step: the type itself (ARKODE's and CVODE's controllers, with their own
+ * weighted norm), PETSc's step adaptor (which may be "none": fixed steps), or nobody (the
+ * symplectic schemes take the fixed step and never consult an adaptor). */
+typedef enum { SPAM_TS_STEPS_OWN, SPAM_TS_STEPS_ADAPTOR, SPAM_TS_STEPS_FIXED } SpamTSSteps;
+
+/* How a TS follows a migration (the state vector changes its local length): resized with
+ * its history (ERKStepResize), reset onto the new vector when it takes fixed steps (PETSc
+ * 3.18 has no resize, and its adaptors keep a vector of the old length), or not at all. */
+typedef enum { SPAM_TS_FOLLOW_RESIZE, SPAM_TS_FOLLOW_RESET_FIXED, SPAM_TS_FOLLOW_NONE } SpamTSFollow;
+
+typedef struct SpamTSFamily {
+  const char *type;
+  /* the sub-type: its option, allowed names and our default (NULL: the type has none) */
+  const char         *sub_option, *sub_default;
+  const char *const  *subs;
+  int                 nsubs;
+  const char         *adapt_default; /* -ts_adapt_type when not given                        */
+  SpamTSSteps         steps;
+  SpamTSFollow        follow;
+  PetscBool           bound_as_max_step; /* takes the physical step bound as its largest step */
+  const char         *restart_inexact;   /* why a restart cannot continue bit for bit (NULL: it can) */
+  /* hooks, each optional */
+  PetscErrorCode (*sub_type)(TS ts, const char **sub);             /* the chosen sub-type              */
+  PetscErrorCode (*created)(TS ts, SpamTsApp *app);                /* after TSSetType, before X is set */
+  PetscErrorCode (*on_vector)(Vec X);                              /* each vector the TS is set onto   */
+  PetscErrorCode (*set_up)(TS ts, SpamTsApp *app);                 /* after TSSetUp                    */
+  PetscErrorCode (*interpolates)(TS ts, PetscBool *yes);           /* has dense output (NULL: no)      */
+  PetscErrorCode (*describe)(TS ts, const char **sub, char *adapt, size_t alen, double *fixed_dt); /* NULL: sub-type and PETSc's adaptor */
+  PetscErrorCode (*help_other)(PetscOptionItems *PetscOptionsObject, const SpamRunOptions *o); /* -help: options when not chosen */
+  /* checkpoints: what the type saves beyond the common entries, checks and applies back */
+  PetscErrorCode (*ck_put)(TS ts, const SpamTsApp *app, SpamCkFile *c, PetscReal *dt);
+  PetscErrorCode (*ck_check)(const SpamCkFile *c, const char *path);
+  PetscErrorCode (*ck_before_setup)(TS ts);
+  PetscErrorCode (*ck_apply)(TS ts, const SpamCkFile *c, double h_next, PetscBool pending);
+  PetscErrorCode (*ck_reuses_f)(TS ts, const SpamCkFile *c, PetscBool *reused); /* NULL: evaluated anew */
+  PetscErrorCode (*follow_placed)(TS ts, Vec X);                   /* onto a checkpoint's distribution */
+} SpamTSFamily;
+
+/* The row of type name (NULL if none); the row of ts's type (an error if none). */
+const SpamTSFamily *SpamTSFamilyNamed(const char *type);
+PetscErrorCode      SpamTSFamilyOf(TS ts, const SpamTSFamily **f);
+/* The names of the rows, in the table's order, into names[0..max-1] (-ts_type's allowed
+ * values); returns how many. */
+#define SPAM_TS_FAMILIES_MAX 16
+int SpamTSFamilyNames(const char *names[], int max);
+/* Every row, for the few questions asked of all types (-help). */
+const SpamTSFamily *SpamTSFamilyAt(int k);
+
+/* PETSc's TS internals, read in one file (ts_internals.c): whether a state jump still
+ * waits to restart the method (followed: the TS followed a migration since); the
+ * adaptor's weighted-norm type, read (have) and set (want), either may be NULL; the
+ * adaptor monitor's viewer (NULL when -ts_adapt_monitor is off). */
+PetscErrorCode SpamTSJumpPending(TS ts, PetscBool followed, PetscBool *pending);
+PetscErrorCode SpamTSAdaptNormType(TS ts, NormType *have, const NormType *want);
+PetscViewer    SpamTSAdaptMonitorViewer(TS ts);
+
+/* The rows, each defined beside its type's implementation. */
+extern const SpamTSFamily SpamTSFamilyARKode, SpamTSFamilyCVode, SpamTSFamilyRK, SpamTSFamilySSP, SpamTSFamilyEuler, SpamTSFamilySymplectic;
+#endif
