@@ -34,6 +34,12 @@ typedef PetscErrorCode (*SpamModelDiagFn)(struct SpamSim *sim, const double *y, 
  * number of particles or pairs it altered. The driver then restarts the integrator, whose
  * history (FSAL stage, Adams differences) belongs to the state before the jump. */
 typedef PetscErrorCode (*SpamPostStepFn)(struct SpamSim *sim, double *y, PetscInt *changed);
+/* Data a model keeps per particle outside the state vector (the springs' bonds), carried
+ * through a migration: depart before the particles leave (their gids and local order the
+ * old ones; dest[i] the rank particle i goes to), arrive once the arrived particles are in
+ * their new local order. Both collective. */
+typedef PetscErrorCode (*SpamCarryDepartFn)(struct SpamSim *sim, const PetscInt *dest);
+typedef PetscErrorCode (*SpamCarryArriveFn)(struct SpamSim *sim);
 /* Set-up once the swarm is filled (scratch, bodies, bond lists, initial density). */
 typedef PetscErrorCode (*SpamModelSetUpFn)(struct SpamSim *sim);
 
@@ -61,6 +67,8 @@ typedef struct {
   SpamModelDiagFn  diag;
   SpamModelSetUpFn setup;        /* NULL: nothing beyond SpamSimSetUp                   */
   SpamPostStepFn   post_step;    /* NULL: the state never jumps                          */
+  SpamCarryDepartFn carry_depart; /* NULL: nothing per particle outside the state      */
+  SpamCarryArriveFn carry_arrive;
 } SpamModel;
 
 /* One setting of a model, for outputs (summary.json, snapshot attributes): a number, or

@@ -152,14 +152,14 @@ static PetscErrorCode RebuildList(SpamSim *sim)
 static PetscErrorCode Move(SpamSim *sim, const SpamDecomp *dec, const PetscInt *dest, PetscInt64 moved)
 {
   PetscFunctionBeginUser;
-  if (SpamBondsAny(sim)) PetscCall(SpamBondsDepart(sim, dest)); /* by the old gids and order */
+  if (sim->model.carry_depart) PetscCall(sim->model.carry_depart(sim, dest)); /* by the old gids and order */
   PetscCall(SpamAgreeOnFailure(sim->comm, SpamSimDetach(sim, dest), "closing the swarm for a migration"));
   /* Sent particles stay until the sort drops them all at once (local_order.c says why). */
   if (moved) PetscCall(DMSwarmMigrate(sim->swarm, PETSC_FALSE));
   PetscCall(SpamAgreeOnFailure(sim->comm, Reorder(sim, dec), "the local sort after a migration"));
   PetscCall(DMSwarmCreateGlobalVectorFromField(sim->swarm, SPAM_STATE_FIELD, &sim->X));
   PetscCall(SpamAgreeOnFailure(sim->comm, SpamSimResize(sim), "re-making the scratch after a migration"));
-  if (SpamBondsAny(sim)) PetscCall(SpamBondsArrive(sim));
+  if (sim->model.carry_arrive) PetscCall(sim->model.carry_arrive(sim));
   PetscCall(RebuildList(sim));
   PetscFunctionReturn(0);
 }

@@ -123,12 +123,12 @@ PetscErrorCode SpamSimPlace(SpamSim *sim, PetscInt n, const PetscInt64 *gids, Pe
     PetscFunctionReturn(0);
   }
   *changed = PETSC_TRUE;
-  if (SpamBondsAny(sim)) PetscCall(SpamBondsDepart(sim, dest)); /* as a migration carries them */
+  if (sim->model.carry_depart) PetscCall(sim->model.carry_depart(sim, dest)); /* as a migration carries them */
   PetscCall(SpamAgreeOnFailure(sim->comm, SpamSimDetach(sim, dest), "closing the swarm to place the particles"));
   PetscCall(PetscFree(dest));
   PetscCall(DMSwarmMigrate(sim->swarm, PETSC_FALSE));
   PetscCall(SpamAgreeOnFailure(sim->comm, Reorder(sim, n, gids), "the local order of a checkpoint"));
-  if (SpamBondsAny(sim)) PetscCall(SpamBondsArrive(sim));
+  if (sim->model.carry_arrive) PetscCall(sim->model.carry_arrive(sim));
   PetscCall(DMSwarmCreateGlobalVectorFromField(sim->swarm, SPAM_STATE_FIELD, &sim->X));
   PetscCall(SpamAgreeOnFailure(sim->comm, SpamSimResize(sim), "re-making the scratch for the checkpoint's particles"));
   wrong = sim->n != n;

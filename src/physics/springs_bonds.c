@@ -90,6 +90,7 @@ PetscErrorCode SpamBondsDepart(SpamSim *sim, const PetscInt *dest)
   PackCtx ctx = {sim, dest};
 
   PetscFunctionBeginUser;
+  if (!SpamBondsAny(sim)) PetscFunctionReturn(0); /* before the set-up made them */
   PetscCall(DMDestroy(&sim->ps->bond_halo.carrier));
   PetscCall(CreateCarrier(sim, &sim->ps->bond_halo.carrier));
   PetscCall(SpamRunAgreed(sim->comm, PETSC_FALSE, Pack, &ctx));
@@ -251,6 +252,7 @@ static PetscErrorCode Connect(SpamSim *sim)
 PetscErrorCode SpamBondsArrive(SpamSim *sim)
 {
   PetscFunctionBeginUser;
+  if (!SpamBondsAny(sim)) PetscFunctionReturn(0);
   PetscCall(SpamRunAgreed(sim->comm, PETSC_FALSE, Unpack, sim));
   PetscCall(DMDestroy(&sim->ps->bond_halo.carrier));
   PetscCall(Connect(sim));

@@ -158,6 +158,8 @@ PetscErrorCode SpamModelSpringsSetUp(int dim, double h, double mass, double kspr
   m->max_sound_speed = SpringsSoundSpeed;
   m->diag  = DiagSprings;
   m->setup = SetUpSprings;
+  m->carry_depart = SpamBondsDepart;
+  m->carry_arrive = SpamBondsArrive;
   PetscCall(PetscStrncpy(m->name, "springs", sizeof m->name));
   PetscFunctionReturn(0);
 }
