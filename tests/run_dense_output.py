@@ -9,6 +9,10 @@
     at most one "end" step (cut to land on t_end, which is still hit exactly).
 (b) The kinetic energy interpolated at the output times agrees with a run that stops at
     each of them, within the bound derived below for the chain's zone-boundary mode.
+(d) The cost is counted whole: ARKODE's and CVODE's interpolants evaluate the RHS at each
+    output time. The run's last line, summary.json's rhs_evals_total and SUNDIALS' own
+    statistics (-sundials_stats "RHS fn evals") give the same total, the method's and the
+    interpolant's counts added.
 (c) -output_stop restores the stops: every output time is a step end, steps.csv says
     "output", summary.json says "stopped"; scenes with post-step jumps (mirror walls) and
     fixed steps do not interpolate and say why.
@@ -30,6 +34,7 @@ N m A w |dv|. Two sources of dv between the two runs:
 """
 import math
 import os
+import re
 from collections import Counter
 from spamrun import Checks, arguments, run, summary, table
 
@@ -141,4 +146,23 @@ if c.check(code == 0, f"Verlet: exit {code} {err.strip()}"):
     s, st = summary(out), table(os.path.join(out, "steps.csv"))
     c.check(s["output_mode"] == "steps" and set(st["limit"]) == {"fixed"},
             f"fixed steps land on the outputs: {s['output_mode']} ({s['output_mode_reason']}), limits {set(st['limit'])}")
+# (d) the whole cost, counted alike by the run, summary.json and SUNDIALS. ARKODE's Hermite
+# interpolant evaluates f at each output time; CVODE's reads its Nordsieck array (none).
+for name, extra, interp in (("arkode DP5", ["-ts_type", "arkode"], True), ("cvode", ["-ts_type", "cvode"], False)):
+    out = os.path.join(a.workdir, f"cost_{name.replace(' ', '_')}")
+    code, so, err = run(a.spam_ark, EXP + extra + ["-output_interval", 0.05, "-sundials_stats"], out)
+    if not c.check(code == 0, f"cost, {name}: exit {code} {err.strip()}"):
+        continue
+    s = summary(out)
+    total = s["rhs_evals"] + s["interpolation_rhs_evals"]
+    fn = re.search(r"RHS fn evals\s*=\s*(\d+)", so)
+    line = re.search(r"(\d+) RHS evaluations( \(\+(\d+) by the interpolant: (\d+) in all\))?,", so)
+    if not c.check(fn is not None and line is not None, f"cost, {name}: SUNDIALS' count and the run's last line are printed"):
+        continue
+    said = int(line.group(4)) if line.group(2) else int(line.group(1))
+    c.check((s["interpolation_rhs_evals"] > 0) == interp and (line.group(2) is not None) == interp
+            and int(line.group(1)) == s["rhs_evals"] and said == total and s["rhs_evals_total"] == total
+            and int(fn.group(1)) == total,
+            f"cost, {name}: method {s['rhs_evals']} + interpolant {s['interpolation_rhs_evals']} = {total}; "
+            f"last line '{line.group(0)}'; summary {s['rhs_evals_total']}; SUNDIALS {fn.group(1)}")
 c.finish()

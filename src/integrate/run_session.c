@@ -58,7 +58,14 @@ static PetscErrorCode Report(const SpamSim *sim, const SpamRunOptions *o, const 
     char line[512]; /* snprintf: PETSc's printf writes 3 as "3." */
     (void)snprintf(line, sizeof line, "spam-ark: %s; outputs complete at t = %g of %g after %ld steps", r->reason, r->t, o->t_end, r->steps);
     PetscCall(PetscPrintf(sim->comm, "%s; results in %s\n", line, o->output_dir));
-  } else PetscCall(PetscPrintf(sim->comm, "spam-ark: %s after %ld steps (%ld rejected), %ld RHS evaluations, %.2f s; energy drift %.3e; results in %s\n", r->status == SPAM_STATUS_UNSTABLE ? "unstable" : "done", r->steps, r->rejected, r->rhs_evals, r->wall, r->energy_drift_max, o->output_dir));
+  } else {
+    /* Every evaluation the run made: ARKODE's and CVODE's dense output evaluates the RHS at
+     * each output time, and SUNDIALS' own statistics (-sundials_stats) count those too. */
+    const long extra = r->interpolation_rhs_evals + r->restart_rhs_evals;
+    char       cost[160] = "";
+    if (extra) (void)snprintf(cost, sizeof cost, " (+%ld by the interpolant%s: %ld in all)", extra, r->restart_rhs_evals ? " and the restart" : "", r->rhs_evals + extra);
+    PetscCall(PetscPrintf(sim->comm, "spam-ark: %s after %ld steps (%ld rejected), %ld RHS evaluations%s, %.2f s; energy drift %.3e; results in %s\n", r->status == SPAM_STATUS_UNSTABLE ? "unstable" : "done", r->steps, r->rejected, r->rhs_evals, cost, r->wall, r->energy_drift_max, o->output_dir));
+  }
   PetscFunctionReturn(0);
 }
 

@@ -109,6 +109,8 @@ static void Counts(Summary *f, const SpamSim *sim, const SpamRunResult *r)
   Str(f, "output_mode_reason", r->output_mode_reason);
   Int(f, "interpolated_rows", r->interpolated_rows);
   Int(f, "interpolation_rhs_evals", r->interpolation_rhs_evals);
+  /* The run's whole cost in evaluations: the method's, the interpolant's and a restart's. */
+  Int(f, "rhs_evals_total", r->rhs_evals + r->interpolation_rhs_evals + r->restart_rhs_evals);
   /* Gauss's constraint: the largest acceleration it added (0 without it). */
   Num(f, "gauss_accel_max", sim->ps ? sim->ps->gauss_accel_max : 0.0);
   Num(f, "gauss_momentum_residual_max", sim->ps ? sim->ps->gauss_momentum_residual : 0.0);
