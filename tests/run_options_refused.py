@@ -181,11 +181,23 @@ for flag in ("-help", "--help"):
             "-rotor_gap", "-chain_n", "-spring_range", "-planewave_mode", "-xsph_eps", "-gas_e0", "-solid_lambda",
             "-viscosity_alpha", "-angmom_scope", "-density_initial", "-diag_grid_spacing", "-gas_scheme",
             "-background_pressure", "-shift_coefficient"]
-    missing = [w for w in want if not re.search(r"^\s+" + re.escape(w) + r" <", out, re.M)]
+    missing = [w for w in want if not re.search(r"^\s+" + re.escape(w) + r"  .*\[default ", out, re.M)]
     c.check(code == 0 and not missing and not os.path.exists("out_help_should_not_exist"), f"{flag}: exit {code}, missing {missing}")
+# -help is for spam-ark's users: its own options and time stepping with plain defaults, none
+# of PETSc's solver, viewer or device blocks (-help petsc prints those, in PETSc's words).
+for extra in ([], ["-ts_type", "rk"], ["-ts_type", "cvode"], ["-scene", "convection"]):
+    code, out, _ = run(a.spam_ark, extra + ["-help"])
+    lines = out.splitlines()
+    petsc_words = [l for l in lines if "<now " in l or "(README)" in l or "-snes_" in l or "-ksp_" in l or "-pc_" in l]
+    c.check(code == 0 and len(lines) <= 400 and not petsc_words,
+            f"-help {' '.join(extra)}: {len(lines)} lines (at most 400), {len(petsc_words)} in PETSc's form or of solvers "
+            f"({petsc_words[:2]})")
+code, full, _ = run(a.spam_ark, ["-help", "petsc"])
+c.check(code == 0 and "-snes_type" in full and "-ksp_type" in full and "(README)" in full,
+        f"-help petsc: exit {code}, PETSc's whole text ({len(full.splitlines())} lines)")
 # Every option of spam-ark in -help is known to the check of unused options (src/integrate/
 # option_use.c), which decides where it applies and whether it takes a value.
-code, out, _ = run(a.spam_ark, ["-help"])
+out = full
 listed = set(re.findall(r"^\s+-([a-z0-9_]+) <.*\(README\)$", out, re.M))
 known = set(re.findall(r'\{"([a-z0-9_]+)", PETSC_(?:TRUE|FALSE), G_', open(os.path.join(REPO, "src", "integrate", "option_use.c")).read()))
 c.check(len(listed) > 60 and not listed - known, f"{len(listed)} options in -help, all in the table of option_use.c (missing: {sorted(listed - known)})")

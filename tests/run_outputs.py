@@ -14,7 +14,7 @@ a = arguments()
 c = Checks()
 root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 
-# -help: every option, each with its default in <>, and no run, no files.
+# -help: every option, each with its default ("[default ...]"), and no run, no files.
 code, out, err = run(a.spam_ark, ["-help"], os.path.join(a.workdir, "help"))
 options = ["-dim", "-h", "-mass", "-neighbour_skin", "-eos_gamma", "-eos_kappa", "-box_lo", "-box_len", "-periodic",
            "-scene_translate", "-scene", "-expansion_n", "-expansion_amplitude", "-expansion_seed",
@@ -23,7 +23,7 @@ options = ["-dim", "-h", "-mass", "-neighbour_skin", "-eos_gamma", "-eos_kappa",
            "-arkode_classic_weights", "-output_dir", "-output_interval", "-snapshot_interval", "-snapshot_hdf5",
            "-snapshot_csv", "-monitor", "-diag_entropy", "-diag_grid_spacing", "-initial_csv", "-final_csv",
            "-output_overwrite", "-snapshot_max"]
-missing = [o for o in options if not re.search(r"^\s*" + re.escape(o) + r":? <[^>]*>", out, re.M)]
+missing = [o for o in options if not re.search(r"^\s*" + re.escape(o) + r"  .*\[default [^]]+\]$", out, re.M)]
 c.check(code == 0 and not missing, f"-help exits 0 and lists {len(options)} options with defaults (missing: {missing})")
 c.check(not os.path.exists(os.path.join(a.workdir, "help")), "-help writes no files")
 

@@ -53,11 +53,11 @@ def run(binary, args, outdir=None, timeout=600):
 
 def kernel_names(binary):
     """The names -kernel accepts, in the program's order, read from its -help line
-    "-kernel <...>: ... (one of) lucy wendland_c2 ... (README)": the one list is the
-    program's (src/kernels/kernel_list.h), so a test keeps no copy of it."""
+    "-kernel  Smoothing kernel ... (one of) lucy wendland_c2 ...  [default lucy]": the one
+    list is the program's (src/kernels/kernel_list.h), so a test keeps no copy of it."""
     _, out, _ = run(binary, ["-help"])
     line = next((l for l in out.splitlines() if l.strip().startswith("-kernel ")), "")
-    return line.split("(one of)", 1)[1].split("(", 1)[0].split() if "(one of)" in line else []
+    return line.split("(one of)", 1)[1].split("[", 1)[0].split("(", 1)[0].split() if "(one of)" in line else []
 
 
 def one_line(err):

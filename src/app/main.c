@@ -6,6 +6,7 @@
 #include <spam/version.h>
 #include <spam/options.h>
 #include <spam/mpi_start.h>
+#include "help_text.h"
 #include <signal.h>
 
 static const char help[] = "spam-ark " SPAM_VERSION ": smooth-particle applied mechanics (Lucy-Monaghan SPAM/SPH)\n"
@@ -13,7 +14,9 @@ static const char help[] = "spam-ark " SPAM_VERSION ": smooth-particle applied m
                            "  spam-ark -options_file options/expansion.opts -output_dir out\n"
                            "Exit codes: 0 done, 1 failure, 2 bad input, 3 the run went unstable, 130/143 interrupted\n"
                            "(SIGINT/SIGTERM: the outputs are completed first).\n"
-                           "An option this run does not use, or an unknown one, is refused (-version: the version).\n\n";
+                           "An option this run does not use, or an unknown one, is refused (-version: the version).\n"
+                           "Below: spam-ark's options and time stepping; -help petsc adds PETSc's general options\n"
+                           "(-options_file, -log_view, viewers, solvers) in PETSc's own words.\n";
 
 static PetscErrorCode Run(int *exit_code)
 {
@@ -76,6 +79,7 @@ int main(int argc, char **argv)
     return code;
   }
   code = SPAM_EXIT_OK;
+  SpamHelpTextInstall(argc, argv);
   PetscCall(PetscInitialize(&argc, &argv, NULL, help));
   /* A reader that closes the pipe early (spam-ark -monitor | head) ends our output, not the
    * program with PETSc's signal trace: writes to it then fail quietly. (PETSc's own help
