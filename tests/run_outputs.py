@@ -27,6 +27,16 @@ missing = [o for o in options if not re.search(r"^\s*" + re.escape(o) + r"  .*\[
 c.check(code == 0 and not missing, f"-help exits 0 and lists {len(options)} options with defaults (missing: {missing})")
 c.check(not os.path.exists(os.path.join(a.workdir, "help")), "-help writes no files")
 
+# -quiet: the run's last line alone on stdout (the same line a run without it ends with).
+lines = {}
+for flag in ([], ["-quiet"]):
+    code, out, err = run(a.spam_ark, ["-expansion_n", 8, "-h", 3, "-ts_max_time", 2] + flag,
+                         os.path.join(a.workdir, "quiet" if flag else "loud"))
+    lines[bool(flag)] = out.strip().splitlines() if code == 0 else []
+q, l = lines[True], lines[False]
+c.check(len(q) == 1 and len(l) > 2 and q[0].split(";")[0].split(",")[0] == l[-1].split(";")[0].split(",")[0]
+        and q[0].startswith("spam-ark: done"), f"-quiet: {len(q)} line on stdout ({q[:1]}), {len(l)} without it")
+
 # A small run with every output.
 run_dir = os.path.join(a.workdir, "run")
 code, out, err = run(a.spam_ark, ["-expansion_n", 12, "-h", 3, "-ts_max_time", 12, "-output_interval", 1,

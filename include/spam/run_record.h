@@ -30,6 +30,7 @@ typedef struct {
   char     initial_csv[PETSC_MAX_PATH_LEN], final_csv[PETSC_MAX_PATH_LEN];
   double   output_interval, snapshot_interval;
   PetscBool monitor, hdf5, csv;
+  PetscBool quiet;           /* only the last line: no start line, no progress lines      */
   PetscBool output_stop;     /* cut steps to land on output times instead of interpolating */
   SpamDiagnosticsOptions diag;
   /* checkpoints (checkpoint.h): every this much simulated time / wall-clock time (0: off),

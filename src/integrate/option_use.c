@@ -32,7 +32,7 @@ static const Known KnownOptions[] = {
   {"ts_type", PETSC_TRUE, G_ALL}, {"ts_max_time", PETSC_TRUE, G_ALL}, {"ts_max_steps", PETSC_TRUE, G_ALL}, {"ts_max_reject", PETSC_TRUE, G_ALL},
   {"unstable_dt_min", PETSC_TRUE, G_ALL}, {"unstable_energy_growth", PETSC_TRUE, G_ALL}, {"output_dir", PETSC_TRUE, G_ALL},
   {"output_interval", PETSC_TRUE, G_ALL}, {"snapshot_interval", PETSC_TRUE, G_ALL}, {"snapshot_hdf5", PETSC_FALSE, G_ALL},
-  {"snapshot_csv", PETSC_FALSE, G_ALL}, {"monitor", PETSC_FALSE, G_ALL}, {"diag_entropy", PETSC_FALSE, G_ALL},
+  {"snapshot_csv", PETSC_FALSE, G_ALL}, {"monitor", PETSC_FALSE, G_ALL}, {"quiet", PETSC_FALSE, G_ALL}, {"diag_entropy", PETSC_FALSE, G_ALL},
   {"output_overwrite", PETSC_FALSE, G_ALL}, {"snapshot_max", PETSC_TRUE, G_ALL}, /* the run's own directory (output_options.c) */
   {"grid_interval", PETSC_TRUE, G_ALL}, /* fields on a grid at the snapshot times (grid.h) */
   {"initial_csv", PETSC_TRUE, G_ALL}, {"final_csv", PETSC_TRUE, G_ALL}, {"diag_grid_spacing", PETSC_TRUE, G_ENTROPY},

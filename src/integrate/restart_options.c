@@ -7,7 +7,7 @@
 #include <spam/checkpoint.h>
 
 static const char *const FreeOptions[] = {
-  "output_dir", "output_interval", "snapshot_interval", "snapshot_hdf5", "snapshot_csv", "snapshot_max", "output_overwrite", "monitor",
+  "output_dir", "output_interval", "snapshot_interval", "snapshot_hdf5", "snapshot_csv", "snapshot_max", "output_overwrite", "monitor", "quiet",
   "grid_interval", "initial_csv", "final_csv", "diag_entropy", "diag_grid_spacing", "ts_max_time", "ts_max_steps", "checkpoint_interval",
   "checkpoint_wall", "restart", "options_file", "ts_view", "ts_adapt_monitor", "sundials_stats", "log_view", "options_left", "help"};
 

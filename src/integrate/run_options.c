@@ -160,6 +160,7 @@ PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o)
   PetscCall(PetscOptionsBool("-snapshot_hdf5", "Write HDF5 + XDMF snapshots (ParaView)", "README", o->hdf5, &o->hdf5, NULL));
   PetscCall(PetscOptionsBool("-snapshot_csv", "Write CSV snapshots (chart scripts)", "README", o->csv, &o->csv, NULL));
   PetscCall(PetscOptionsBool("-monitor", "Print a line per step", "README", o->monitor, &o->monitor, NULL));
+  PetscCall(PetscOptionsBool("-quiet", "Print only the run's last line (no start line, no progress line at each output time)", "README", o->quiet, &o->quiet, NULL));
   PetscCall(PetscOptionsBool("-output_stop", "Cut steps to land on every output time instead of writing the outputs from the method's interpolant", "README", o->output_stop, &o->output_stop, NULL));
   PetscCall(PetscOptionsBool("-diag_entropy", "Compute the entropy estimates", "README", o->diag.entropy, &o->diag.entropy, NULL));
   PetscCall(PetscOptionsReal("-diag_grid_spacing", "Grid spacing of the entropy integral (0: off)", "README", o->diag.grid_spacing, &o->diag.grid_spacing, NULL));

@@ -99,7 +99,7 @@ static PetscErrorCode OutputOf(Vec X, SpamSim *sim, const SpamRunOptions *o, Spa
   out->step = p->steps;
   if (snapshot) PetscCall(SpamSnapshotWrite(out, sim, y, p->t, NULL)); /* collective */
   PetscCall(VecRestoreArrayRead(X, &y));
-  PetscCall(SpamMonitorProgress(sim, o, p, r));
+  if (!o->quiet) PetscCall(SpamMonitorProgress(sim, o, p, r));
   PetscFunctionReturn(0);
 }
 
@@ -528,7 +528,7 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
   {
     char line[512]; /* snprintf: PETSc's printf writes 3 as "3." */
     (void)snprintf(line, sizeof line, "spam-ark: scene %s, %ld particles in %dD, h %g, %s, step %s, rtol %g atol %g, to t = %g\n", sim->scene.name, (long)sim->nglobal, sim->model.dim, sim->model.kernel.h, r->method, r->fixed_dt > 0 ? "fixed" : r->adapt, o->rtol, o->atol, o->t_end);
-    PetscCall(PetscPrintf(sim->comm, "%s", line));
+    if (!o->quiet) PetscCall(PetscPrintf(sim->comm, "%s", line));
   }
   PetscCall(SpamTSOutputMode(ts, app, r->fixed_dt, &sp->mode, r->output_mode_reason, sizeof r->output_mode_reason));
   PetscCall(PetscStrncpy(r->output_mode, SpamOutputModeNames[sp->mode], sizeof r->output_mode));
