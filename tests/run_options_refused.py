@@ -120,6 +120,11 @@ cases = [
     ("misspelled arkode table", ["-arkode_tabel", "ARKODE_VERNER_8_5_6"], ["-arkode_tabel", "did you mean -arkode_table?"]),
     ("option with '='", ["-ts_rtol=1e-8"], ["-ts_rtol=1e-8", "space, not '='", "-ts_rtol 1e-8"]),
     ("unknown option far from any", ["-frobnicate", 1], ["unknown option -frobnicate", "-help"]),
+    # PETSc reads the solvers' options for every TS type (and marks them used); no method
+    # here creates a solver, so they are refused like any option the run does not use.
+    ("a Krylov solver's option", ["-ksp_type", "gmres"], ["-ksp_type", "not used", "implicit solvers"]),
+    ("a preconditioner's option", ["-pc_type", "jacobi"], ["-pc_type", "not used", "implicit solvers"]),
+    ("a nonlinear solver's option", ["-snes_type", "newtonls"], ["-snes_type", "not used", "implicit solvers"]),
     ("misspelled option in an options file", ["-options_file", misspelled], ["unknown option -ts_rtoll", "did you mean -ts_rtol?"]),
     # options files
     ("missing options file", ["-options_file", os.path.join(W, "missing.opts")], ["-options_file", "missing.opts", "cannot open"]),

@@ -623,6 +623,9 @@ static PetscErrorCode CheckOne(const char *name, const char *value, const Run *r
     PetscFunctionReturn(0);
   }
   if (IsPetscRuntime(name)) PetscFunctionReturn(0);
+  /* TSSetFromOptions makes a SNES and reads its options (and its KSP's and PC's) for every
+   * type, so PETSc marks them used; no method of spam-ark solves anything implicitly. */
+  if (!strncmp(name, "snes_", 5) || !strncmp(name, "ksp_", 4) || !strncmp(name, "pc_", 3)) PetscCall(NotUsed(name, value, "applies to implicit solvers (SNES, KSP, PC): every -ts_type of spam-ark is explicit and solves nothing"));
   /* PETSc's step adaptor reads -ts_adapt_* for every method, used or not.
    * -ts_adapt_monitor reports the steps of every type (PETSc's adaptor, or the loop for
    * arkode, cvode and basicsymplectic: sundials_report.c). */
