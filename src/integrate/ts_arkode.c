@@ -376,13 +376,6 @@ static PetscErrorCode DescribeARKode(TS ts, const char **sub, char *adapt, size_
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode InterpolatesARKode(TS ts, PetscBool *yes)
-{
-  (void)ts;
-  *yes = PETSC_TRUE; /* ERKStep's Hermite dense output */
-  return 0;
-}
-
 static PetscErrorCode HelpARKode(PetscOptionItems *PetscOptionsObject, const SpamRunOptions *o)
 {
   SpamArkodeSettings s;
@@ -463,7 +456,7 @@ const SpamTSFamily SpamTSFamilyARKode = {
   .adapt_default = TSADAPTNONE,
   .steps         = SPAM_TS_STEPS_OWN,
   .follow        = SPAM_TS_FOLLOW_RESIZE,
-  .interpolates  = InterpolatesARKode,
+  .interpolates  = SpamTSInterpolatesAlways,
   .describe      = DescribeARKode,
   .help_other    = HelpARKode,
   .ck_put        = CkPutARKode,

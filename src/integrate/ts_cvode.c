@@ -227,13 +227,6 @@ static PetscErrorCode DescribeCVode(TS ts, const char **sub, char *adapt, size_t
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode InterpolatesCVode(TS ts, PetscBool *yes)
-{
-  (void)ts;
-  *yes = PETSC_TRUE; /* CVodeGetDky */
-  return 0;
-}
-
 static PetscErrorCode HelpCVode(PetscOptionItems *PetscOptionsObject, const SpamRunOptions *o)
 {
   PetscInt  order = 12;
@@ -273,7 +266,7 @@ const SpamTSFamily SpamTSFamilyCVode = {
   .follow            = SPAM_TS_FOLLOW_NONE,
   .bound_as_max_step = PETSC_TRUE,
   .restart_inexact   = "CVODE's Adams history (Nordsieck array, order, step history) cannot be set: it restarts at order 1",
-  .interpolates      = InterpolatesCVode,
+  .interpolates      = SpamTSInterpolatesAlways,
   .describe          = DescribeCVode,
   .help_other        = HelpCVode,
   .ck_before_setup   = CkBeforeSetUpCVode,

@@ -35,3 +35,10 @@ const SpamTSFamily *SpamTSFamilyAt(int k)
 {
   return k >= 0 && k < NFAMILIES ? Families[k] : NULL;
 }
+
+PetscErrorCode SpamTSInterpolatesAlways(TS ts, PetscBool *yes)
+{
+  (void)ts;
+  *yes = PETSC_TRUE;
+  return 0;
+}

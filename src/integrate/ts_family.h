@@ -63,6 +63,10 @@ PetscErrorCode SpamTSJumpPending(TS ts, PetscBool followed, PetscBool *pending);
 PetscErrorCode SpamTSAdaptNormType(TS ts, NormType *have, const NormType *want);
 PetscViewer    SpamTSAdaptMonitorViewer(TS ts);
 
+/* An interpolates hook for the types whose dense output every run has (ERKStep's Hermite
+ * interpolant, CVODE's Nordsieck array). */
+PetscErrorCode SpamTSInterpolatesAlways(TS ts, PetscBool *yes);
+
 /* The rows, each defined beside its type's implementation. */
 extern const SpamTSFamily SpamTSFamilyARKode, SpamTSFamilyCVode, SpamTSFamilyRK, SpamTSFamilySSP, SpamTSFamilyEuler, SpamTSFamilySymplectic;
 #endif
