@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Multi-rank runs on paper: the halo volume and the messages per rank of a 3D gas cut
 into P pieces along the Hilbert curve, for N up to 1e8 and P up to 1000, and the parallel
 efficiency they imply on a stated network, against this machine's measured RHS cost

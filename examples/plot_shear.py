@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Chart the shear-channel scenes (couette, poiseuille).
 
 Usage:

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Studies with spam-ark: work-precision, conservation under adaptive stepping, stability.
 
     study.py precision  [--scene-opts ...] [--method LABEL=OPTIONS ...] [--tol T ...] --out DIR

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """The error norm of adaptive stepping (-error_norm rms|max) against the number of particles.
 
     study_norm.py --out DIR [--spam-ark PATH] [--sizes 16,...,512] [--rtol 1e-6]

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Kernel smoothness at r = h against the order a fixed-step Runge-Kutta method attains.
 
     study_orders.py [--out DIR] [--spam-ark PATH] [--kernel K ...] [--method M ...] [--scene S ...]

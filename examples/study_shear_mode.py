@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """The shear mode of the viscous SPAM gas against c h / nu: does a transverse velocity mode
 decay at the Navier-Stokes rate nu k^2 where pressure dominates viscosity?
 
