@@ -538,7 +538,7 @@ def markdown(rows, variants, lattices, kernels, ratios, readings, made):
 
 def made_line(argv):
     rel = [os.path.relpath(w, REPO) if os.path.isabs(w) else w for w in argv]
-    words = ["python3", "examples/study_shear_mode.py"] + rel
+    words = ["examples/study_shear_mode.py"] + rel
     return "*Made by `" + " ".join(w if not re.search(r"[\s'\"]", w) else "'" + w + "'" for w in words) + \
         "` (run from the repository root).*"
 

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Multi-rank runs: the same run on 1, 2 and 3 ranks.
 
 (a) Fixed steps (ERKStep, Dormand-Prince 5(4), -arkode_fixed_step), for the 2D and 3D

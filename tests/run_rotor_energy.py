@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """The rotor's energy books with summed densities (PRE Secs. VI, VIII; n = 8, N = 217, vertex
 speed 0.1, one nominal revolution t = 160 pi, rtol = atol = 1e-9).
 

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """The PRE study space (Sec. IX) on a small rotor (n = 3, N = 37), briefly (t = 4 with a
 fixed Dormand-Prince step 0.05): every combination of closest approach {off, on} x
 artificial viscosity {none, monaghan} x density {summation, continuity} x coordinates
