@@ -8,7 +8,8 @@ it reads what every run writes (manifest.json, summary.json, timeseries.csv, ste
 the CSV particle snapshots) through examples/spamread.py. Four panels:
   1. kinetic, internal, potential (gravity) and total energy against time;
   2. conservation: |E - E0|, |P - P0| and |L - L0| against time, each over the scale
-     summary.json names (energy_scale, momentum_scale, angular_momentum_scale);
+     summary.json names (energy_scale, momentum_scale, angular_momentum_scale); with
+     mirror walls, the balances less the walls' work, heat and impulse;
   3. every accepted step's size against time, coloured by what set it (accuracy, the CFL
      or force bound, an output or the end), with the rejected steps marked;
   4. the last snapshot's particles: positions coloured by speed (1D: velocity against x;
@@ -51,24 +52,37 @@ def energies(ax, ts):
 
 
 def conservation(ax, ts, s):
+    """Deviation from t = 0 over the summary's scale. With mirror walls the walls' integrated
+    work, heat and impulse (timeseries columns wall_*) are what the fluid's energy and momentum
+    may change by, so the balances E - E0 - work - heat and P - P0 - impulse are drawn, and
+    angular momentum, which the walls' torque changes unbooked, is left out."""
     t = ts["t"]
+    walls = "wall_work" in ts
+    dim = int(s.get("dim", 2))
     drawn = 0
-    for name, cols, scale_key in (("energy", ("total",), "energy_scale"),
-                                  ("momentum", ("px", "py", "pz"), "momentum_scale"),
-                                  ("angular momentum", ("lx", "ly", "lz"), "angular_momentum_scale")):
+    for name, cols, scale_key, booked in (
+            ("energy", ("total",), "energy_scale", ("wall_work", "wall_heat")),
+            ("momentum", ("px", "py", "pz")[:dim], "momentum_scale", ("wall_impulse_x", "wall_impulse_y", "wall_impulse_z")[:dim]),
+            ("angular momentum", ("lx", "ly", "lz"), "angular_momentum_scale", None)):
         scale = s.get(scale_key)
-        if not scale or not all(c in ts for c in cols):
+        if not scale or not all(c in ts for c in cols) or (walls and booked is None):
             continue
         v = np.stack([ts[c] for c in cols], axis=1)
+        if walls:
+            if not all(b in ts for b in booked):
+                continue
+            w = np.stack([ts[b] for b in booked], axis=1)
+            v = v - (w.sum(axis=1, keepdims=True) if name == "energy" else w)
         if not np.isfinite(v).all():
             continue
         dev = np.linalg.norm(v - v[0], axis=1) / scale
-        floor = np.finfo(float).eps
-        ax.semilogy(t, np.maximum(dev, floor), "-", label="%s / %s" % (name, scale_key))
+        label = "%s%s / %s" % (name, " - walls' " + ("work - heat" if name == "energy" else "impulse") if walls else "",
+                               scale_key)
+        ax.semilogy(t, np.maximum(dev, np.finfo(float).eps), "-", label=label)
         drawn += 1
     ax.set_xlabel("time t (reduced units)")
     ax.set_ylabel("|X(t) - X(0)| / scale (relative)")
-    ax.set_title("Conservation (floor: machine epsilon)")
+    ax.set_title("Conservation%s (floor: machine epsilon)" % (", walls booked" if walls else ""))
     if drawn:
         ax.legend(fontsize=8)
 
