@@ -36,7 +36,7 @@ h = 3.0                       # the scene's Lucy range
 
 
 def lucy(r):
-    """Lucy's 2D kernel (EQUATIONS.md), 0 beyond h."""
+    """Lucy's 2D kernel (docs/equations.md), 0 beyond h."""
     s = r / h
     return 5 / (math.pi * h * h) * (1 + 3 * s) * (1 - s) ** 3 if s < 1 else 0.0
 
