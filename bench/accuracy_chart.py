@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """The time-to-accuracy chart of run_accuracy.py: wall time against accuracy, one curve per
 spam-ark method and one for LAMMPS, a row per size and a column per accuracy measure.
 

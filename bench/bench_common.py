@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """What the benchmark scripts share: numpy, the repository paths, Lucy's kernel, the pair
 count, running a program alone with its peak RSS, particle CSV files and small helpers."""
 

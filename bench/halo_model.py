@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Multi-rank runs on paper: the halo volume and the messages per rank of a 3D gas cut
 into P pieces along the Hilbert curve, for N up to 1e8 and P up to 1000, and the parallel
 efficiency they imply on a stated network, against this machine's measured RHS cost
@@ -496,11 +496,10 @@ def main():
     for r in rows:
         r["N"] = r["N_nominal"]
     commit = subprocess.run(["git", "-C", REPO, "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
-    dirty = subprocess.run(["git", "-C", REPO, "status", "--porcelain", "--untracked-files=no", "--", ".",  # not this run's own outputs
-                            ":!" + os.path.relpath(a.png, REPO)], capture_output=True, text=True).stdout.strip()
     load = (load0, os.getloadavg())
-    stamp = "commit %s%s, `%s`, %.0f s, load average %.1f at the start and %.1f at the end on %d cores" % (
-        commit, " (modified)" if dirty else "", " ".join(["/usr/bin/python3", "bench/halo_model.py"] + sys.argv[1:]),
+    # The stamp is copied into bench/README.md, which names no commit (the JSON keeps it).
+    stamp = "`%s`, %.0f s, load average %.1f at the start and %.1f at the end on %d cores" % (
+        " ".join(["bench/halo_model.py"] + sys.argv[1:]),
         time.time() - t0, load[0][0], load[1][0], os.cpu_count())
     os.makedirs(os.path.dirname(a.out), exist_ok=True)
     json.dump({"commit": commit, "stamp": stamp, "command": " ".join(sys.argv), "h": H, "skin": SKIN, "rc": RC, "network": net,

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Time to accuracy: spam-ark against LAMMPS velocity Verlet on the 2D expansion.
 
 Both programs integrate the same dynamics (P = rho^2/2, so SPAM is molecular dynamics with

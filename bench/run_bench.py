@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Benchmark spam-ark against LAMMPS on the same initial particles.
 
 Why LAMMPS is a fair peer: 2D SPAM with pressure P = rho^2/2 and particle

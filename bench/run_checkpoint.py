@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """What a checkpoint costs: bytes per particle and the time to write one, against
 LAMMPS's write_restart of the same particles in the same run of this script.
 

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """What a checkpoint costs on 1, 2 and 3 ranks, against the one-rank
 write measured in the same run of this script.
 

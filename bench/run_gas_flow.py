@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """What the gas flow scheme costs per right-hand-side evaluation, against the plain scheme
 in the same run.
 

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Cost of -reproducible against the default mode, on one rank and one thread.
 
 The same run twice in alternation, -reproducible and not: the expansion scene (2D: 128^2

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Strong and weak scaling of spam-ark on this machine's two cores: 1 rank x 1 thread,
 1 rank x 2 threads (-threads 2) and 2 ranks x 1 thread (mpiexec -n 2), the layouts
 alternating within each repeat, so that a slow spell of the shared machine hits all three.

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Velocity Verlet in spam-ark against velocity Verlet in LAMMPS.
 
 spam-ark runs `-ts_type basicsymplectic -ts_basicsymplectic_type kdk -ts_dt 0.05` (PETSc's

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Mirror walls cost no more than the ghosts they add.
 
 The convection cell (options/convection.opts, Wendland C2 at h = 3 so that the gas's square

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """One colour and marker per source or run layout, shared by the charts of halo_model.py
 and run_scaling.py, so that a layout or a source looks the same in every panel."""
 

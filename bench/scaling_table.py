@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """The table of bench/results/scaling.json (run_scaling.py) in Markdown, for the READMEs:
 `/usr/bin/python3 bench/scaling_table.py` prints it with the commit, command and load."""
 import json

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Nusselt number against Rayleigh number of the spam-ark Rayleigh-Benard cell.
 
 Usage:

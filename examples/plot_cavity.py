@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Chart the lid-driven cavity (scene cavity) against Ghia, Ghia & Shin (1982).
 
 Usage:

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Chart a spam-ark Rayleigh-Benard run (Hoover & Hoover, CiSE 2001, Fig. 4).
 
 Usage:

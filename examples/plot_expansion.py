@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Chart a spam-ark free-expansion run (Hoover & Hoover, CiSE 2001, Figs. 2 and 3).
 
 Usage:

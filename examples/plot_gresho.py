@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Chart a spam-ark Gresho-vortex run (-scene gresho).
 
 Usage:

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Chart one grid-field file of a spam-ark run (-grid_interval, docs/scenes/grid.md).
 
 Usage:

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Chart a spam-ark heat-mode run (-scene heat-mode): the mode's amplitude against time.
 
 Usage:

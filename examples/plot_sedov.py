@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Chart a spam-ark Sedov-Taylor blast run against the self-similar solution.
 
 Usage:

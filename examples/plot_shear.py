@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Chart the shear-channel scenes (couette, poiseuille).
 
 Usage:
@@ -65,7 +65,13 @@ def main():
     runs = sorted((load(d) for d in a.dirs), key=lambda r: r["n"])
     scene = runs[0]["scene"]
     out = a.out or os.path.join(a.dirs[-1], f"{scene}.png")
-    fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.5))
+    # The error-against-resolution panel needs two resolutions at least: with one run it
+    # would be a single point, which says nothing; the profiles are drawn alone then.
+    if len(runs) > 1:
+        fig, (ax1, ax2) = plt.subplots(1, 2, figsize=(11, 4.5))
+    else:
+        fig, ax1 = plt.subplots(1, 1, figsize=(6, 4.5))
+        ax2 = None
     big = runs[-1]
     D = big["n"] ** 2 / big["nu"]
     # the snapshots nearest to these fractions of the diffusion time (rho is not exactly 1)
@@ -95,16 +101,21 @@ def main():
         e_rows.append(l2)
         e_pairs.append(l2p)
         print(f"{scene} H/dx = {r['n']}: L2 {l2:.3e} max {mx:.3e} (rows), L2 {l2p:.3e} (row pairs), of the peak")
-    ax2.loglog(ns, e_rows, "o-", color="C0", label=f"rows (slope {-order(ns, e_rows):.2f})" if len(ns) > 1 else "rows")
-    ax2.loglog(ns, e_pairs, "s-", color="C1", label=f"row pairs (slope {-order(ns, e_pairs):.2f})" if len(ns) > 1 else "row pairs")
+    if ax2 is not None:
+        error_panel(ax2, scene, ns, e_rows, e_pairs)
+    fig.tight_layout()
+    fig.savefig(out, dpi=110)
+    print(f"png={out}")
+
+
+def error_panel(ax2, scene, ns, e_rows, e_pairs):
+    ax2.loglog(ns, e_rows, "o-", color="C0", label=f"rows (slope {-order(ns, e_rows):.2f})")
+    ax2.loglog(ns, e_pairs, "s-", color="C1", label=f"row pairs (slope {-order(ns, e_pairs):.2f})")
     ax2.set_xlabel("H / dx (h/dx fixed)")
     ax2.set_ylabel("L2 error of v_x / peak, t in [1, 1.5] H²/ν")
     ax2.set_title(f"{scene}: error against resolution")
     ax2.legend(fontsize=8)
     ax2.grid(True, which="both", alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(out, dpi=110)
-    print(f"png={out}")
 
 
 if __name__ == "__main__":

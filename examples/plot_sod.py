@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Chart a spam-ark Sod shock-tube run against the exact Riemann solution.
 
 Usage:

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Chart a spam-ark Taylor-Green run (-scene taylor-green): kinetic energy against time.
 
 Usage:

@@ -1,4 +1,4 @@
-#!/usr/bin/env /usr/bin/python3
+#!/usr/bin/python3
 """Regenerates the charts of Hoover, Hoover & Merritt, PRE 69, 016702 (2004) with spam-ark:
 
   fig1_tensile.png           log KE(t), tensile crystal, sigma0 = 0.01, 0.02 (standard SPAM)

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Studies with spam-ark: work-precision, conservation under adaptive stepping, stability.
 
     study.py precision  [--scene-opts ...] [--method LABEL=OPTIONS ...] [--tol T ...] --out DIR
@@ -45,7 +45,7 @@ tensile: the tensile instability (PRE 2004 Sec. IV, options/tensile.opts): the g
     KE (a line through ln KE over the second half of each run) against the tension sigma0
     for R0, R2 and R0 with Monaghan viscosity. Writes tensile.csv, tensile.png.
 Each study adds its section to DIR/study.md (other sections, e.g. those of study_orders.py,
-are kept), headed by the commit (git rev-parse --short HEAD, "-dirty" if the tree differs)
+are kept), headed by the command that made it
 and the command that made it, with paths relative to the repository; every reading in it
 is computed from the runs.
 
@@ -528,30 +528,19 @@ def relative(text):
     return re.sub(r"(?<![\w.)}])/[^\s`'\"]+", lambda m: os.path.relpath(m.group(0), REPO), text)
 
 
-def commit_id():
-    """git rev-parse --short HEAD of the repository, with "-dirty" if a tracked file differs."""
-    try:
-        head = subprocess.run(["git", "-C", REPO, "rev-parse", "--short", "HEAD"], capture_output=True, text=True,
-                              check=True).stdout.strip()
-        dirty = subprocess.run(["git", "-C", REPO, "status", "--porcelain", "--untracked-files=no"],
-                               capture_output=True, text=True, check=True).stdout.strip()
-    except (OSError, subprocess.CalledProcessError):
-        return "unknown (not a git checkout)"
-    return head + ("-dirty" if dirty else "")
-
-
 def made_line(argv):
-    """The provenance line of every section: commit and command, relative paths only."""
-    words = ["python3", relative(os.path.abspath(sys.argv[0]))] + [relative(w) for w in argv]
+    """The provenance line of every section: the command, relative paths only (the pages
+    name no commit: git's history of study.md says which one made it)."""
+    words = [relative(os.path.abspath(sys.argv[0]))] + [relative(w) for w in argv]
     cmd = " ".join(w if w and not re.search(r"[\s'\"]", w) else "'" + w + "'" for w in words)
-    return f"*Made at commit {commit_id()} by `{cmd}` (run from the repository root).*"
+    return f"*Made by `{cmd}` (run from the repository root).*"
 
 
 def update_report(out, part, lines, made=None):
     """Replaces (or appends) the section of one study in DIR/study.md, so the studies run
     one at a time (and resumed) each keep their own lines; sections written by other
     scripts (any <!-- name --> ... <!-- /name --> pair) are left as they are. The line
-    `made` (commit and command) follows the section's heading."""
+    `made` (the command) follows the section's heading."""
     path = os.path.join(out, "study.md")
     text = open(path).read() if os.path.exists(path) else "# spam-ark study\n"
     if made:

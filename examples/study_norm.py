@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """The error norm of adaptive stepping (-error_norm rms|max) against the number of particles.
 
     study_norm.py --out DIR [--spam-ark PATH] [--sizes 16,...,512] [--rtol 1e-6]
@@ -27,7 +27,7 @@ the largest distance of a particle from its place in the reference at t_end (min
 across the periodic faces); its cost, the RHS evaluations in its summary.json. Each run has
 its own directory DIR/runs/<name>/ (a finished run is not repeated: an interrupted study
 resumes); the reference at --tol-size is checked against one at 10 times its tolerance. Writes DIR/norm.csv, DIR/norm.png and the section <!-- norm --> of DIR/study.md
-with the commit, the command and readings computed from the data.
+with the command and readings computed from the data.
 """
 import argparse
 import csv
@@ -307,12 +307,11 @@ def main(argv=None):
     rows = run_all(a)
     write_csv(os.path.join(a.out, "norm.csv"), rows)
     chart(a, rows, os.path.join(a.out, "norm.png"))
-    commit = subprocess.run(["git", "-C", REPO, "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
     # relative paths only: study.md must not carry a path of the machine that wrote it
     words = [os.path.relpath(w, REPO) if os.path.isabs(w) else w for w in (argv if argv is not None else sys.argv[1:])]
-    command = "/usr/bin/python3 examples/study_norm.py " + " ".join(words)
+    command = "examples/study_norm.py " + " ".join(words)
     lines = ["## Error norm: rms against max (-error_norm)", "",
-             f"Commit {commit or '?'}; command `{command}`. Table: [norm.csv](norm.csv).", "",
+             f"Command `{command}`. Table: [norm.csv](norm.csv).", "",
              "![rms and max error norms](norm.png)", ""] + readings(a, rows)
     update_report(a.out, "norm", lines)
     print("\n".join(lines))

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Kernel smoothness at r = h against the order a fixed-step Runge-Kutta method attains.
 
     study_orders.py [--out DIR] [--spam-ark PATH] [--kernel K ...] [--method M ...] [--scene S ...]
@@ -29,7 +29,7 @@ error floor, and an error within 10 times that floor is left out of the fit.
 
 Writes DIR/orders.csv (every run), DIR/orders.png (measured order against the kernel's
 smoothness at r = h), DIR/wp_kernels.png (error against RHS evaluations, a panel per kernel)
-and the section <!-- orders --> of DIR/study.md (table, readings, commit and command).
+and the section <!-- orders --> of DIR/study.md (table, readings and command).
 Runs go to DIR/orders_runs/<scene>/<kernel>/<method>_<N>steps/ (and reference/, check/); a
 finished run of the same options (args.txt) is not run again, so a rerun redraws at once.
 The whole study (300 runs of 256 particles, about 1 s each, most of it the start of MPI)
@@ -404,12 +404,11 @@ def fmt(f):
 
 
 def section(a, rows, fitted, refs, methods, kernels, elapsed):
-    commit = subprocess.run(["git", "-C", REPO, "rev-parse", "--short", "HEAD"], capture_output=True, text=True).stdout.strip()
     out = os.path.relpath(a.out, REPO)
-    cmd = "/usr/bin/python3 examples/study_orders.py --out " + (a.out if out.startswith("..") else out)
+    cmd = "examples/study_orders.py --out " + (a.out if out.startswith("..") else out)
     fit = {(f["scene"], f["kernel"], f["method"]): f for f in fitted}
     lines = ["## Kernel smoothness at r = h and the attainable order", "",
-             f"Commit {commit}, command `{cmd}` ({len(rows) + 2 * len(refs)} runs: {a.counts['ran']} run now, "
+             f"Command `{cmd}` ({len(rows) + 2 * len(refs)} runs: {a.counts['ran']} run now, "
              f"{a.counts['cached']} finished before and reused; {elapsed:.0f} s). "
              "Table of every run: [orders.csv](orders.csv).", "",
              "Fixed steps to t = 8 (2D, 16 x 16 particles, isentrope γ = 2); error: RMS position at t = 8 against "

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """The shear mode of the viscous SPAM gas against c h / nu: does a transverse velocity mode
 decay at the Navier-Stokes rate nu k^2 where pressure dominates viscosity?
 
@@ -538,7 +538,7 @@ def markdown(rows, variants, lattices, kernels, ratios, readings, made):
 
 def made_line(argv):
     rel = [os.path.relpath(w, REPO) if os.path.isabs(w) else w for w in argv]
-    words = ["python3", "examples/study_shear_mode.py"] + rel
+    words = ["examples/study_shear_mode.py"] + rel
     return "*Made by `" + " ".join(w if not re.search(r"[\s'\"]", w) else "'" + w + "'" for w in words) + \
         "` (run from the repository root).*"
 

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Bad input: one line on stderr naming the option (or file:line), the value and what is
 allowed; exit code 2; no output directory, no crash. A run that blows up is a result:
 status "unstable", exit code 3, the particle and time named, the last good state kept."""

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Bad input to the elastic scenes, the harmonic chain and the tensor-path options (including an option of a
 choice not made, e.g. -solid_lambda with -material gas): one line on stderr naming the option, the value and
 what is allowed; exit code 2; no output directory."""

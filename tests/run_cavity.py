@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """The lid-driven cavity (scene cavity) at Re = 100 against Ghia, Ghia & Shin (1982).
 
 Set-up: the scene's defaults (the gas's flow scheme, gamma 2, Mach U/c = 0.1, U = 0.1,

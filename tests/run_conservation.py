@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Conservation under adaptive stepping (Dormand-Prince 5(4), error control).
 
 Energy is conserved by the SPAM equations exactly, so its drift is the integrator's

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Rayleigh-Benard cell (-scene convection, CiSE 2001 Fig. 4) on a coarse 20 x 10 lattice
 (N = 200, h = 3, g = 0.1 c_p / H = 0.02, gamma = 2, c_p = 2).
 

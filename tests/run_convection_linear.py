@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """The convection cell's linear stability (tests/convection_linear.py), no spam-ark run.
 
 (a) Boussinesq limit: a cell with dT = 1e-3 T_mean and g H / c_p = dT / 5 (the scene's

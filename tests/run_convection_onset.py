@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Onset of convection in the scene's cell: SPAM against linear theory.
 
 Runs spam-ark -options_file options/convection.opts (32 x 16, Pr = 1, g = 0.0125,

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Plane Couette flow: gas between a no-slip wall at rest at y = 0 and one
 moving at U = 0.1 along x at y = H, started from rest, against v_x = U y / H.
 

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Outputs from the method's dense output, hard stops only on request.
 
 (a) Interpolating (the default for adaptive methods), the steps do not depend on the

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Output and end times reached to round-off: in options/rotor.opts the
 last output time 240 * 2.0943951023931953 is one ulp below t_end = 502.6548245743669, and a
 method's step sums to its target only to an ulp or so. Such times are one time: each output

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """-error_norm rms|max: the norm in which every adaptive method holds its
 weighted error estimate to 1.
 

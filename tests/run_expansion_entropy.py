@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Free expansion (Hoover & Hoover 2001): the entropy rises by N k ln(V2/V1).
 
 1D twofold (P = rho^3/3) and 2D fourfold (P = rho^2/2). The SPAM entropy estimate

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Free expansion with mirror walls (CiSE 2001: "very similar" to the
 periodic run): the 2D gas of -scene expansion (n^2 particles in one corner of a box of edge
 2n) with free-slip walls on all four faces instead of periodic images.

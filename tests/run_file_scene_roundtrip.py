@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """A scene's particles written to a file, and a run's snapshot, read back by the file scene:
 1. The rotor (elastic, continuity density, R0, open box) written by -initial_csv with every
    field it carries (x, v, m, e, rho, sxx, sxy, syy) and read back as

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Fuzz corpus: hostile option values and particle files, each with its expected exit code.
 
 Every case runs spam-ark in an empty directory of its own (-output_dir out, relative) and must

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """The Gresho-Chan vortex (-scene gresho): a steady inviscid rotation,
 v_phi = 5r, 2 - 5r, 0 (r in units of the box edge L, breaks at 0.2 and 0.4), held by the
 pressure P = 5 + 12.5 r^2, ...; gamma = 5/3, rho = 1, no viscosity. The exact solution is

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Fields on a regular grid (-grid_interval; docs/scenes/grid.md).
 
 Particle files of the file scene on a square lattice of spacing a = 1 (mass 1, so the

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """A Fourier mode of temperature in the conducting SPAM gas at rest (built by -scene heat-mode,
 src/scenes/scene_heat_mode.c):
 e = e0 (1 + eps cos kx), k = 2 pi / L, on the unit lattice (m = 1: rho = 1), periodic,

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Install like a library of its field: `cmake --install` into a
 temporary prefix, then, from other directories and without LD_LIBRARY_PATH:
 - the installed spam-ark runs the README's usage line on an installed options file
@@ -9,7 +10,9 @@ temporary prefix, then, from other directories and without LD_LIBRARY_PATH:
   with find_package(spam) and with pkg-config (spam.pc) prints the version and Lucy's
   kernel, checked against the closed forms: w(0) = 5 / (pi h^2) in 2D and
   w(h/2) = w(0) (1 + 3/2) (1/2)^3; both are a few operations, so round-off (1e-14) bounds
-  the difference."""
+  the difference;
+- the examples (executable) and the documentation are installed in PREFIX/share/spam, and
+  the installed examples/plot_run.py draws the installed binary's run."""
 import glob
 import math
 import os
@@ -110,6 +113,20 @@ c.check(len(said) == 1 and os.path.realpath(said[0]) == os.path.realpath(install
         f"it says which file it read: {said}")
 rows = glob.glob(os.path.join(elsewhere, "out", "expansion", "*.csv"))
 c.check(len(rows) > 0, f"the run wrote its outputs to the -output_dir of the options file: {[os.path.basename(r) for r in rows]}")
+
+# The user's side is installed too: the examples (executable, with their shebang's Python)
+# and the documentation; the installed generic chart script draws the run just made.
+for rel in ("share/spam/README.md", "share/spam/docs/README.md", "share/spam/docs/equations.md",
+            "share/spam/examples/spamread.py", "share/spam/examples/particles/two_drops.csv"):
+    c.check(os.path.isfile(os.path.join(prefix, rel)), f"installed: {rel}")
+plot_run = os.path.join(prefix, "share", "spam", "examples", "plot_run.py")
+c.check(os.access(plot_run, os.X_OK), "installed: share/spam/examples/plot_run.py, executable")
+c.check(not glob.glob(os.path.join(prefix, "share", "spam", "docs", "gallery", "runs")),
+        "the gallery's run directories are not installed")
+chart = os.path.join(elsewhere, "run.png")
+code, out, err = sh([plot_run, os.path.join(elsewhere, "out", "expansion"), "-o", chart], cwd=elsewhere, env=env)
+c.check(code == 0 and os.path.getsize(chart) > 10000 if os.path.exists(chart) else False,
+        f"the installed plot_run.py draws the installed binary's run (exit {code}) {err.strip()[-200:]}")
 
 # A file of that name in the working directory wins, silently as before.
 local = os.path.join(a.workdir, "local")

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Kernel smoothness at r = h and the order fixed-step Runge-Kutta methods attain
 (examples/study_orders.py, docs/kernels.md "Smoothness at r = h and attainable order").
 

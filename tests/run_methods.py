@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Every method on the same right-hand side: each -ts_type, each PETSc RK scheme and each of
 ARKODE's 15 explicit tables solves a small 2D expansion (144 particles, h = 3) to t = 5 and
 agrees with a tight-tolerance reference (ARKODE Fehlberg 8(7), rtol 1e-14).

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Options as a whole: nonsense values, wrong array lengths,
 missing values, options this run does not use, unknown options (with the nearest name),
 bad options files. Each refusal: exit 2, exactly one stderr line starting

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Convergence orders of fixed-step methods on a smooth problem: measured order
 log2(e(dt)/e(dt/2)) within 0.5 of nominal for ARKODE Zonneveld 4, Dormand-Prince 5,
 Verner 6(5) and Fehlberg 8(7), and PETSc rk 4, rk 5dp, rk 6vr and rk 8vr.

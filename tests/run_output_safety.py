@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """The run owns its output directory and loses nothing silently.
 
 1. Stale snapshots: a shorter rerun into a directory holding an earlier run is refused

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """What a user reads: -help lists every option with its default; timeseries.csv,
 steps.csv and summary.json carry the documented fields; HDF5 + XDMF snapshots are
 well formed (each XDMF grid points at HDF5 datasets of the right shape); -monitor

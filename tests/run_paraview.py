@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """ParaView opens a run's outputs unaided: pvpython under xvfb-run reads
 snapshots.xmf and grid.xmf with the Xdmf3 reader and with the legacy XDMF reader; at the
 last time each gives as many points as the HDF5 file has rows, one vertex cell per particle

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """One particle file format, read and written.
 
 A CSV header names its columns in any order (x y z vx vy vz m e rho sxx sxy syy sxz syz szz

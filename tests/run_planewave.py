@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Elastic plane waves (PRE Sec. V): the measured periods of the transverse and the
 longitudinal standing wave on the 24 x 24 crystal agree with the periods of the
 linearised SPAM equations on the perfect lattice (dispersion_lucy.c) within 0.5% at the

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """The chart scripts of the smooth flows with exact answers:
 examples/plot_gresho.py, plot_taylor_green.py and plot_heat_mode.py on short runs of their
 scenes. Each must exit 0, write a PNG and print its one line, whose numbers are checked

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Plane Poiseuille flow: gas between no-slip walls at rest at y = 0 and
 y = H, driven along x by the body force g = 8 nu U / H^2 (the scene's default gravity, peak
 speed U = 0.1), started from rest, against v_x = g / (2 nu) y (H - y).

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Multi-rank runs: the same run on 1, 2 and 3 ranks.
 
 (a) Fixed steps (ERKStep, Dormand-Prince 5(4), -arkode_fixed_step), for the 2D and 3D
@@ -19,7 +20,7 @@
     multipliers and per-body angular momenta are sums over every rank): the step sizes part
     once the error norms differ in their
     last bits, so the runs are compared at output times: energies within 10 rtol relative
-    (the design note measured 1.7 rtol for a non-chaotic system).
+    (1.7 rtol was measured for a non-chaotic system).
 (c) Momentum on several ranks (the scenes of (a) without walls) stays at round-off: |P| <= eps * steps * sqrt(N) * sqrt(2 M K)
     (sum_i m|v_i| <= sqrt(2 M K); each step adds rounding of the per-particle sums, which add
     up like a random walk over N particles). A cross-rank pair whose two sides differed

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Short multi-rank runs of every kind of model and output, fast enough for the
 sanitizer build (tools/sanitize.sh runs the fast tests under AddressSanitizer and UBSan), so
 that the program itself, not only the MPI unit tests, runs on several ranks there: a leak

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """-reproducible on one rank: the trajectory does not depend on -threads
 or on the particles' local order. (Across rank counts: test_reproducible_np1..3 for the
 right-hand side and the norm; end-to-end runs come with the multi-rank program.)

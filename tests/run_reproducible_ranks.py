@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """-reproducible across rank counts, end to end: the same adaptive run on
 1, 2 and 3 ranks takes the same steps and writes the same particles, to the bit.
 

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Checkpoint and restart.
 
 A run stopped by -ts_max_steps with checkpoints on (or by SIGTERM) writes checkpoint.h5 at

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Checkpoints and restarts on several ranks.
 
 A run on P = 2 or 3 ranks stopped by -ts_max_steps with checkpoints on writes one

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """The rotating elastic hexagon (PRE Secs. VI-VIII), n = 8, N = 217, vertex speed 0.1.
 - Standard SPAM (R0, continuity density from sqrt(4/3)) loses angular momentum through
   the spurious pair torques of its non-central forces: L/L0 after 120 degrees lies in

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """The rotor's energy books with summed densities (PRE Secs. VI, VIII; n = 8, N = 217, vertex
 speed 0.1, one nominal revolution t = 160 pi, rtol = atol = 1e-9).
 
@@ -35,7 +36,7 @@ h = 3.0                       # the scene's Lucy range
 
 
 def lucy(r):
-    """Lucy's 2D kernel (EQUATIONS.md), 0 beyond h."""
+    """Lucy's 2D kernel (docs/equations.md), 0 beyond h."""
     s = r / h
     return 5 / (math.pi * h * h) * (1 + 3 * s) * (1 - s) ** 3 if s < 1 else 0.0
 

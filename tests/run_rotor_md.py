@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """The rotating hexagon as molecular dynamics (PRE Fig. 4a; springs phi = (1 - r)^2/2
 between initial nearest neighbours): central forces, so over one revolution (t = 20 n pi)
 the angular momentum about the centre of mass is conserved to 1e-10 relative and the

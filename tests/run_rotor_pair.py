@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Two counter-rotating hexagons (PRE Sec. IX), R2 with T_ij torque scaling, to 120
 degrees. Their total angular momentum is zero whatever happens, so global scaling has
 nothing to correct: the total stays zero while each body's L decays as in plain SPAM.

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """The Sedov-Taylor blast: -scene sedov in 2D (cylindrical), gamma = 5/3,
 density 1 at rest on a 48^2 periodic lattice, E0 = 1e4 deposited within h = 3 of the
 centre, ambient e0 = 1e-3; run to t = 2.4 (shock radius 17.9 = 0.37 of the box), CSV

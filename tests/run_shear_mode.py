@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """The shear mode vx = U sin(k y) of the viscous gas (examples/study_shear_mode.py --quick:
 Wendland C4, the ordered 32 x 32 lattice, c h / nu = 0.01, 1, 100).
 

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """SIGINT and SIGTERM in mid-run: the run finishes the step it is in,
 writes every output at the time reached (a timeseries row, a snapshot, summary.json with
 "status": "interrupted" and that time, the manifest), prints one line and exits 130

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Sod's shock tube: -scene sod, gamma = 1.4, (rho, u, p) = (1, 0, 1) |
 (0.125, 0, 0.1), against the exact Riemann solution computed here (shock_exact.py: Newton's
 iteration for p*, then the star states and the wave speeds): p* = 0.30313, u* = 0.92745,

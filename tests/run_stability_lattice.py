@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """The stability finder of examples/study.py against limits known in closed form. The
 periodic harmonic chain (scene chain: 64 equal masses, unit springs, even N) has the
 largest frequency w_max = 2 sqrt(k/m) = 2, reached by the zone-boundary mode in which it

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """The study driver (examples/study.py): a 2 x 2 precision study (Dormand-Prince and PETSc
 rk 5dp at rtol 1e-4 and 1e-8) on a small expansion writes precision.csv with the documented
 columns, five charts and study.md; Dormand-Prince's RMS position error falls as the

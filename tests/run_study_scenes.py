@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """The study driver on the scenes with an answer (examples/study.py). Plane wave: a
 precision study of Dormand-Prince at rtol 1e-4 and 1e-8 adds the columns period,
 period_err_spam, period_err_ref and amplitude_decay; the period fitted to KE(t) is within

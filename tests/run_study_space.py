@@ -1,7 +1,8 @@
+#!/usr/bin/python3
 """The PRE study space (Sec. IX) on a small rotor (n = 3, N = 37), briefly (t = 4 with a
 fixed Dormand-Prince step 0.05): every combination of closest approach {off, on} x
 artificial viscosity {none, monaghan} x density {summation, continuity} x coordinates
-{R0, R1, R2} x angular momentum {none, gauss, Ti, Tij} (the 96 of EQUATIONS.md), and
+{R0, R1, R2} x angular momentum {none, gauss, Ti, Tij} (the 96 of docs/equations.md), and
 with closest approach off the further variants (von Neumann viscosity, chain-rule
 density), runs to the end with a finite state, and conserves linear momentum to
 round-off (every pair term is antisymmetric, Gauss's constraint force sums to zero, a

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Taylor-Green vortex of the viscous SPAM gas in a periodic box (built by -scene
 taylor-green, src/scenes/scene_taylor_green.c):
 u = U sin(kx) cos(ky), v = -U cos(kx) sin(ky), k = 2 pi / L, on the unit square lattice

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Taylor-Green vortex where pressure dominates viscosity: Re = U L / nu = 100, Mach
 U / c = 0.1 (c h / nu = 62 at L = 48, 31 at L = 96), gamma = 2 gas on the unit square
 lattice, Lucy's kernel with h = 3 spacings: the default scheme of a viscous gas (the flow

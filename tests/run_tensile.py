@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Tensile instability (PRE Sec. IV, Fig. 1): the periodic 24 x 24 crystal under uniform
 tension sigma0, one particle kicked with velocity 1e-10. Standard SPAM (R0) grows the
 kinetic energy exponentially; the rate fitted to ln KE over t in [75, 150] is positive at

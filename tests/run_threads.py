@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """OpenMP threads (-threads T) of the pair passes and the list build.
 
 The same gas (a 48 x 48 expansion at h = 3 with random offsets, Dormand-Prince at a fixed

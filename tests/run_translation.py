@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Error weights are translation invariant (positions weighed against h).
 
 Moving every particle and the box by +1000 in x changes nothing physical, and the error

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """The arkode and cvode TS types follow PETSc's and SUNDIALS' conventions.
 
 - Their options are read by their own setfromoptions and -help lists them with defaults

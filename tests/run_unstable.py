@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Failure is a result, not a crash; and the optional physical step bound.
 
 1. A fixed step ten times the CFL bound (dt = 9 = 10 x 0.3 h / c0 with h = 3, c0 ~ 1) goes

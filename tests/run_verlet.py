@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """Velocity Verlet (kick-drift-kick) against an RK method of equal cost over 10^4 steps.
 
 A periodic gas of 64 particles with random velocities (h = 3, t = 500). Verlet with

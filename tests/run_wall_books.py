@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """The walls' books close the energy and momentum balances over a run.
 
 The 2D expansion's 16^2 gas (-material gas, gamma 2, e0 1) fills one corner of a 32 x 32 box

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """HDF5 outputs are written race-free, and a failed write ends cleanly.
 
 1. A full disk during a checkpoint write (one rank): exit 1 with the one line naming

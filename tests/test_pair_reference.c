@@ -1,7 +1,7 @@
 /* The optimised pair loops (neighbour list, half pairs, whatever sorting or vector code
  * they use; the pair driver of src/pair/ with ghost slots) give the same right-hand side
  * as a plain O(N^2) loop over every ordered pair, written here straight from
- * shared/design/EQUATIONS.md, to 1e-12 relative. Only the public entry
+ * docs/equations.md, to 1e-12 relative. Only the public entry
  * points are called (SpamRhs, SpamDensitySummation, SpamAccel and the model set-ups);
  * nothing here reads the neighbour list or the ghost slots. Masses m_j are per particle
  * (all 1, or uniform in [0.5, 1.5]); periodic directions use the minimum image here, in
