@@ -1,5 +1,5 @@
 /* Choices of the general tensor path (Hoover, Hoover & Merritt, PRE 69, 016702 (2004);
- * equations as corrected in shared/design/EQUATIONS.md). Every combination of the PRE
+ * equations as corrected in docs/equations.md). Every combination of the PRE
  * study space is one value of this struct. */
 #ifndef SPAM_SOLID_H
 #define SPAM_SOLID_H

@@ -1,5 +1,5 @@
 /* Stress and the particle laws of the tensor path (Hoover, Hoover & Merritt 2004, with the
- * corrections of shared/design/EQUATIONS.md), in one to three dimensions. The state holds
+ * corrections of docs/equations.md), in one to three dimensions. The state holds
  * the upper triangle of sigma row by row, D(D+1)/2 values (2D: xx xy yy; 3D: xx xy xz yy
  * yz zz); the pair passes use sigma/rho^2 as a full D x D array. */
 #ifndef SPAM_STRESS_H
