@@ -23,6 +23,7 @@ typedef struct {
 
 static const SpamSceneOption Table[] = {
   {"gresho_n", SPAM_SCENE_OPTION_INT, "Particles per row of the triangular lattice (the box edge L = n a, a = 1.0746; N about 1.15 n^2)", NULL},
+  {"gresho_p0", SPAM_SCENE_OPTION_REAL, "Pressure at the vortex centre (times the density m): 5 is the standard problem, larger lowers the Mach number 1/sqrt(gamma (p0 + 1/2)) of the peak", NULL},
   {NULL, SPAM_SCENE_OPTION_INT, NULL, NULL},
 };
 
@@ -50,7 +51,7 @@ static PetscErrorCode SpamGreshoOptions(const SpamCommonParams *c, SpamGreshoPar
   p->p0 = 5.0;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene gresho (Gresho-Chan vortex)", "spam-ark");
   PetscCall(SpamSceneOptionInt(PetscOptionsObject, Table, "gresho_n", &p->n, NULL));
-  PetscCall(PetscOptionsReal("-gresho_p0", "Pressure at the vortex centre (times the density m): 5 is the standard problem, larger lowers the Mach number 1/sqrt(gamma (p0 + 1/2)) of the peak", "README", p->p0, &p->p0, NULL));
+  PetscCall(SpamSceneOptionReal(PetscOptionsObject, Table, "gresho_p0", &p->p0, NULL));
   PetscOptionsEnd();
   PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->n));
   if (p->n < 1) SPAM_BAD_INPUT("-gresho_n", val, "must be a positive number of lattice points");
