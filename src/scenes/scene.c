@@ -406,13 +406,16 @@ static PetscErrorCode SceneNames(PetscFunctionList list, char *buf, size_t len)
   PetscFunctionReturn(0);
 }
 
-/* The chosen scene's operations, or a bad-input error listing the scenes. */
+/* The chosen scene's operations (by default the list's first), or a bad-input error
+ * listing the scenes. */
 static PetscErrorCode ChooseScene(MPI_Comm comm, PetscFunctionList list, SpamSceneOps *ops)
 {
-  char           name[64] = "expansion", names[256], help[400];
+  char           name[64], names[1024], help[1100];
   SpamSceneOpsFn fn;
 
   PetscFunctionBeginUser;
+  PetscCall(SpamSceneGet(0, ops));
+  PetscCall(PetscStrncpy(name, ops->name, sizeof name));
   PetscCall(SceneNames(list, names, sizeof names));
   PetscCall(PetscSNPrintf(help, sizeof help, "Scene that builds the particles: %s", names));
   PetscOptionsBegin(comm, NULL, "Scene", "spam-ark");

@@ -2,7 +2,8 @@
  * SpamScene<Prefix> (defined in its own file, scene_<name>.c), which gives its name, its
  * dimensions, its options (the table -help shows and option_use.c decides relevance from),
  * the size of its params and its hooks. -scene, -help, the relevance of the scene options
- * and the order of the scene names in messages all come from this list (scene_list.c). A
+ * and the order of the scene names in messages all come from this list (scene_list.c); the
+ * first row is the default of -scene. A
  * scene is therefore its file and, here, its row. SPAM_SCENE_LIST_EXTRA appends rows from
  * outside: only the test program that proves this list drives everything
  * (tests/scene_extra/) defines it. */
