@@ -5,6 +5,7 @@ bad options files. Each refusal: exit 2, exactly one stderr line starting
 "spam-ark: error: " that holds the needles (the option, the value, what is allowed), and
 no output directory. Then what must still run: every options file, PETSc's own run-time
 options, -version, --version, --help and -help listing every option group."""
+import glob
 import os
 import re
 
@@ -201,10 +202,14 @@ for extra in ([], ["-ts_type", "rk"], ["-ts_type", "cvode"], ["-scene", "convect
 code, full, _ = run(a.spam_ark, ["-help", "petsc"])
 c.check(code == 0 and "-snes_type" in full and "-ksp_type" in full and "(README)" in full,
         f"-help petsc: exit {code}, PETSc's whole text ({len(full.splitlines())} lines)")
-# Every option of spam-ark in -help is known to the check of unused options (src/integrate/
-# option_use.c), which decides where it applies and whether it takes a value.
+# Every option of spam-ark in -help is known to the check of unused options, which decides
+# where it applies and whether it takes a value: from its table (src/integrate/option_use.c)
+# or, for a scene's own option, from that scene's table (src/scenes/scene_*.c). PETSc's form
+# of -help (-help petsc) marks them with "(README)".
 out = full
 listed = set(re.findall(r"^\s+-([a-z0-9_]+) <.*\(README\)$", out, re.M))
 known = set(re.findall(r'\{"([a-z0-9_]+)", PETSC_(?:TRUE|FALSE), G_', open(os.path.join(REPO, "src", "integrate", "option_use.c")).read()))
-c.check(len(listed) > 60 and not listed - known, f"{len(listed)} options in -help, all in the table of option_use.c (missing: {sorted(listed - known)})")
+for scene in glob.glob(os.path.join(REPO, "src", "scenes", "scene_*.c")):
+    known |= set(re.findall(r'\{"([a-z0-9_]+)", SPAM_SCENE_OPTION_[A-Z]+,', open(scene).read()))
+c.check(len(listed) > 60 and not listed - known, f"{len(listed)} options in -help, all in the table of option_use.c or a scene's (missing: {sorted(listed - known)})")
 c.finish()

@@ -74,85 +74,6 @@ typedef struct {
   PetscBool reproducible;    /* -reproducible (the isentropic gas only)               */
 } SpamCommonParams;
 
-typedef struct {
-  PetscInt  n;          /* lattice points per direction                           */
-  double    amplitude;  /* size of the random offsets or velocities               */
-  PetscInt  seed;
-  PetscBool velocities; /* perturb velocities instead of positions                */
-} SpamExpansionParams;
-
-typedef struct {
-  char path[PETSC_MAX_PATH_LEN];
-} SpamFileParams;
-
-typedef struct {
-  PetscInt  nx, ny;     /* lattice columns and rows (ny even: periodic)            */
-  PetscBool longitudinal;
-  double    amplitude;
-  PetscBool continuum_stress; /* -planewave_stress continuum: Hooke(grad u), not SPAM's */
-  SpamSolidParams solid;
-} SpamPlanewaveParams;
-
-typedef struct {
-  PetscInt  n;          /* shells: N = 1 + 3n + 3n^2                                */
-  double    speed;      /* speed of the vertices                                    */
-  double    gap;        /* rotor-pair: gap between the two hexagons                 */
-  PetscBool pair;
-  SpamSolidParams solid;
-} SpamRotorParams;
-
-typedef struct {
-  PetscInt n;
-  double   speed, k, range;
-} SpamRotorMdParams;
-
-typedef struct {
-  PetscInt n;          /* particles of the ring (even)                               */
-  double   k, amplitude;
-} SpamChainParams;
-
-typedef struct {
-  PetscInt nx, ny;
-  double   stress, kick;
-  SpamSolidParams solid;
-} SpamTensileParams;
-
-typedef struct {
-  PetscInt  nx, ny;     /* square lattice of unit spacing: the cell is nx x ny       */
-  double    ra, prandtl; /* Rayleigh number (superadiabatic) and Prandtl number       */
-  double    g;          /* gravity of the hydrostatic start (and of the run by default) */
-  double    t_bottom, t_top; /* the wall temperatures T_b, T_t (-wall_ylo/yhi_temperature) */
-  double    amplitude;  /* size of the seeded random velocities                       */
-  PetscInt  seed;
-  SpamSolidParams solid;
-} SpamConvectionParams;
-
-typedef struct {
-  PetscInt n;      /* lattice spacings per unit length of the classical tube            */
-  double   length; /* tube length in those units (periodic)                             */
-  PetscInt width;  /* lattice points across the tube in each transverse direction       */
-} SpamSodParams;
-
-typedef struct {
-  PetscInt n;      /* lattice points per direction of the periodic box                  */
-  double   energy; /* blast energy E0                                                   */
-} SpamSedovParams;
-
-typedef struct {
-  PetscInt n;          /* particles per row of the triangular lattice                */
-  double   p0;         /* pressure at the vortex centre (standard: 5)                */
-} SpamGreshoParams;
-
-typedef struct {
-  PetscInt n;          /* lattice points per direction: the box edge L               */
-  double   amplitude;  /* velocity amplitude U                                       */
-} SpamTaylorGreenParams;
-
-typedef struct {
-  PetscInt n, ny;      /* lattice points along x (the wavelength L) and across       */
-  double   eps;        /* relative amplitude of the energy mode                      */
-} SpamHeatModeParams;
-
 /* A gas channel between mirror walls at y = 0 and y = H (couette, poiseuille): a square
  * lattice of unit spacing, n rows across, nx columns along the periodic x (and z in 3D). */
 typedef struct {
@@ -161,76 +82,77 @@ typedef struct {
   PetscBool steady_start; /* start on the exact steady profile instead of at rest        */
 } SpamShearParams;
 
-/* The lid-driven cavity: the unit square lattice of n x n points between no-slip walls,
- * the top one (the lid) sliding at U along x; Re and Mach set the gas's eta and e0. */
+/* What a scene's option is: how it is read and how option_use.c checks the given value
+ * (an integer within PetscInt, a list without an empty element, a boolean takes no value). */
+typedef enum {
+  SPAM_SCENE_OPTION_INT,
+  SPAM_SCENE_OPTION_REAL,
+  SPAM_SCENE_OPTION_BOOL,
+  SPAM_SCENE_OPTION_STRING,
+  SPAM_SCENE_OPTION_REALS, /* a list of reals */
+  SPAM_SCENE_OPTION_BOOLS  /* a list of booleans */
+} SpamSceneOptionType;
+
+/* One option a scene takes. The scene reads it through SpamSceneOption* below, which find
+ * it here by name (reading an option not in the table is an error), so -help shows this
+ * help with the scene's default; option_use.c accepts the option for the scenes whose
+ * tables hold it and refuses it for the others, naming them. help NULL: the common options
+ * read it (scene.c: -box_lo, -box_len, -periodic), the table says which scenes use it. */
 typedef struct {
-  PetscInt n;         /* lattice points per side: L = n                               */
-  double   speed;     /* U of the lid                                                 */
-  double   re, mach;  /* Reynolds number U L / nu and Mach number U / c              */
-} SpamCavityParams;
+  const char         *name; /* without the leading '-' */
+  SpamSceneOptionType type;
+  const char         *help;
+  const char         *note; /* added after another scene's name when refused, or NULL */
+} SpamSceneOption;
 
-/* Every scene's parameters (a new scene adds its struct here). */
-typedef union {
-  SpamExpansionParams expansion;
-  SpamFileParams      file;
-  SpamPlanewaveParams planewave;
-  SpamRotorParams     rotor;
-  SpamRotorMdParams   rotor_md;
-  SpamChainParams     chain;
-  SpamTensileParams   tensile;
-  SpamConvectionParams convection;
-  SpamSodParams       sod;
-  SpamSedovParams     sedov;
-  SpamGreshoParams      gresho;
-  SpamTaylorGreenParams taylor_green;
-  SpamHeatModeParams    heat_mode;
-  SpamShearParams     couette, poiseuille;
-  SpamCavityParams    cavity;
-} SpamSceneParams;
-
-/* A scene, registered by name (scene_list.c): it reads its own options into p and the
- * defaults of the model it is made for into solid (material, Lame constants, density
- * choices); the model itself is then read from the options for every scene, and build
- * makes the particles (geometry and initial state) with the model's parameters. */
+/* A scene: one file holds it (its descriptor function is a row of scene_list.h). It reads
+ * its own options into its params (params_size bytes, allocated and zeroed by scene.c; the
+ * struct is the scene's own) and the defaults of the model it is made for into solid
+ * (material, Lame constants, density choices); the model itself is then read from the
+ * options for every scene, and build makes the particles (geometry and initial state) with
+ * the model's parameters. */
 typedef struct {
   const char  *name;
   int          dims;      /* bit d set: the scene exists in d dimensions              */
   PetscBool    own_model; /* the scene's particles carry their model (springs)        */
-  PetscErrorCode (*options)(const SpamCommonParams *c, SpamSceneParams *p, SpamSolidParams *solid);
-  PetscErrorCode (*build)(const SpamCommonParams *c, const SpamSceneParams *p, const SpamSolidParams *solid, SpamParticles *out);
+  const SpamSceneOption *options_table; /* its options, ended by a row with name NULL */
+  size_t       params_size;
+  PetscBool    sorted;    /* -sort_particles defaults to true (rows come in any order) */
+  const char  *box_size;  /* what sets the box, for a box too small for h: NULL "the lattice size" */
+  PetscErrorCode (*options)(const SpamCommonParams *c, void *p, SpamSolidParams *solid);
+  PetscErrorCode (*build)(const SpamCommonParams *c, const void *p, const SpamSolidParams *solid, SpamParticles *out);
 } SpamSceneOps;
 typedef PetscErrorCode (*SpamSceneOpsFn)(SpamSceneOps *ops);
 
-/* The registered scenes (one line each in scene_list.c). */
+/* The scenes of scene_list.h, in its order: how many, the i-th one's descriptor, and the
+ * list by name that -scene chooses from. */
+int            SpamSceneCount(void);
+PetscErrorCode SpamSceneGet(int i, SpamSceneOps *ops);
+PetscErrorCode SpamSceneRegisterAll(PetscFunctionList *list);
+
+/* A scene's option read from the options database by its row of table (inside
+ * PetscOptionsBegin/End, whose PetscOptionsObject is passed): -name with the row's help,
+ * *value the default on entry. A name not in table, or of another type, is an error. */
+PetscErrorCode SpamSceneOptionInt(PetscOptionItems *PetscOptionsObject, const SpamSceneOption *table, const char *name, PetscInt *value, PetscBool *set);
+PetscErrorCode SpamSceneOptionReal(PetscOptionItems *PetscOptionsObject, const SpamSceneOption *table, const char *name, double *value, PetscBool *set);
+/* The same with the help made at run time (it names the values of other options). */
+PetscErrorCode SpamSceneOptionRealHelp(PetscOptionItems *PetscOptionsObject, const SpamSceneOption *table, const char *name, const char *help, double *value, PetscBool *set);
+PetscErrorCode SpamSceneOptionBool(PetscOptionItems *PetscOptionsObject, const SpamSceneOption *table, const char *name, PetscBool *value, PetscBool *set);
+PetscErrorCode SpamSceneOptionString(PetscOptionItems *PetscOptionsObject, const SpamSceneOption *table, const char *name, char *value, size_t len, PetscBool *set);
+/* The row of table named name (case as PETSc: ignored), or NULL. */
+const SpamSceneOption *SpamSceneOptionFind(const SpamSceneOption *table, const char *name);
+
 /* Why v cannot be a particle mass or a length such as h: NULL when it is a positive, finite,
  * normal number. A subnormal one is refused as too small: a mass of 4.9e-324 gives zero
  * energies and a NaN entropy. -mass and the particle files (CSV and HDF5) share it. */
 const char *SpamPositiveNormalProblem(double v);
-PetscErrorCode SpamSceneRegisterAll(PetscFunctionList *list);
-PetscErrorCode SpamSceneExpansion(SpamSceneOps *ops);
-PetscErrorCode SpamSceneFile(SpamSceneOps *ops);
-PetscErrorCode SpamSceneChain(SpamSceneOps *ops);
-PetscErrorCode SpamScenePlanewave(SpamSceneOps *ops);
-PetscErrorCode SpamSceneRotor(SpamSceneOps *ops);
-PetscErrorCode SpamSceneRotorPair(SpamSceneOps *ops);
-PetscErrorCode SpamSceneRotorMd(SpamSceneOps *ops);
-PetscErrorCode SpamSceneTensile(SpamSceneOps *ops);
-PetscErrorCode SpamSceneConvection(SpamSceneOps *ops);
-PetscErrorCode SpamSceneSod(SpamSceneOps *ops);
-PetscErrorCode SpamSceneSedov(SpamSceneOps *ops);
-PetscErrorCode SpamSceneGresho(SpamSceneOps *ops);
-PetscErrorCode SpamSceneTaylorGreen(SpamSceneOps *ops);
-PetscErrorCode SpamSceneHeatMode(SpamSceneOps *ops);
-PetscErrorCode SpamSceneCouette(SpamSceneOps *ops);
-PetscErrorCode SpamScenePoiseuille(SpamSceneOps *ops);
-PetscErrorCode SpamSceneCavity(SpamSceneOps *ops);
 
 /* The shear channels' common part (shear_channel.c): the gas model's defaults (shear
- * viscosity 1, summed density of the unit lattice), the options -NAME_speed (speed_help
- * says what it is), -NAME_n, -NAME_nx and -NAME_start (start names the steady profile), and
+ * viscosity 1, summed density of the unit lattice), the options -NAME_speed, -NAME_n,
+ * -NAME_nx and -NAME_start (start names the steady profile) from the scene's table, and
  * the lattice at rest in its box with no-slip walls on the y faces the user left alone. */
 void           SpamShearChannelDefaults(const SpamCommonParams *c, SpamSolidParams *solid);
-PetscErrorCode SpamShearChannelOptions(const SpamCommonParams *c, const char *name, const char *start, const char *speed_help, SpamShearParams *p);
+PetscErrorCode SpamShearChannelOptions(const SpamCommonParams *c, const char *name, const char *start, const SpamSceneOption *table, SpamShearParams *p);
 PetscErrorCode SpamShearChannelBuild(const SpamCommonParams *c, const char *name, const SpamShearParams *p, SpamParticles *out);
 /* The kinematic viscosity eta/rho0 and sound speed of the channel's gas; bad input (naming
  * -NAME_speed) unless the viscosity is positive and |speed| below the sound speed. */

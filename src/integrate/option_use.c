@@ -11,11 +11,13 @@
 #include <spam/errors.h>
 #include <spam/integrator.h>
 #include <spam/physics.h>
+#include <spam/scene.h>
 
-/* What an option of spam-ark applies to. */
+/* What an option of spam-ark applies to. G_SCENE: the scenes whose options tables hold it
+ * (scene_list.h), found there rather than listed here. */
 typedef enum {
   G_ALL, G_DT, G_ADAPTIVE, G_ARKODE, G_ARKODE_ADAPT, G_CVODE, G_TS, G_TS_ADAPT, G_RK, G_SSP, G_SYMP,
-  G_FILE, G_PERIODIC, G_ISENTROPE, G_EXPANSION, G_CHAIN, G_SPRING, G_ROTOR_MD, G_PLANEWAVE, G_ROTOR, G_ROTOR_PAIR, G_TENSILE, G_CONVECTION, G_SOD, G_SEDOV, G_GRESHO, G_TAYLOR_GREEN, G_HEAT_MODE, G_COUETTE, G_POISEUILLE, G_CAVITY,
+  G_SCENE, G_ISENTROPE,
   G_SUNDIALS, G_MODEL, G_WALL, G_SOLID, G_SOLID_GAS, G_SOLID_GAMMA, G_SOLID_ELASTIC, G_SOLID_VISC, G_SOLID_R2, G_SOLID_TORQUE, G_SOLID_CONT, G_SOLID_FLOW, G_ENTROPY, G_RANKS
 } Group;
 
@@ -25,7 +27,8 @@ typedef struct {
   Group       group;
 } Known;
 
-/* Every option spam-ark reads, and the PETSc TS options it documents. */
+/* Every option spam-ark reads but the scenes' own (their tables, scene_list.h), and the
+ * PETSc TS options it documents. */
 static const Known KnownOptions[] = {
   {"dim", PETSC_TRUE, G_ALL}, {"h", PETSC_TRUE, G_ALL}, {"mass", PETSC_TRUE, G_ALL}, {"neighbour_skin", PETSC_TRUE, G_ALL},
   {"migrate_interval", PETSC_TRUE, G_RANKS}, {"threads", PETSC_TRUE, G_ALL}, {"scene", PETSC_TRUE, G_ALL}, {"scene_translate", PETSC_TRUE, G_ALL}, {"sort_particles", PETSC_FALSE, G_ALL},
@@ -44,14 +47,7 @@ static const Known KnownOptions[] = {
   {"arkode_max_efail_growth", PETSC_TRUE, G_ARKODE_ADAPT}, {"cvode_max_order", PETSC_TRUE, G_CVODE},
   {"ts_adapt_type", PETSC_TRUE, G_TS}, {"ts_rk_type", PETSC_TRUE, G_RK}, {"ts_ssp_type", PETSC_TRUE, G_SSP},
   {"ts_ssp_nstages", PETSC_TRUE, G_SSP}, {"ts_basicsymplectic_type", PETSC_TRUE, G_SYMP},
-  {"file_path", PETSC_TRUE, G_FILE}, {"box_lo", PETSC_TRUE, G_FILE}, {"box_len", PETSC_TRUE, G_FILE}, {"periodic", PETSC_TRUE, G_PERIODIC},
   {"eos_gamma", PETSC_TRUE, G_ISENTROPE}, {"eos_kappa", PETSC_TRUE, G_ISENTROPE},
-  {"expansion_n", PETSC_TRUE, G_EXPANSION}, {"expansion_amplitude", PETSC_TRUE, G_EXPANSION}, {"expansion_seed", PETSC_TRUE, G_EXPANSION},
-  {"expansion_perturb_velocities", PETSC_FALSE, G_EXPANSION}, {"chain_n", PETSC_TRUE, G_CHAIN}, {"chain_amplitude", PETSC_TRUE, G_CHAIN},
-  {"spring_k", PETSC_TRUE, G_SPRING}, {"spring_range", PETSC_TRUE, G_ROTOR_MD}, {"planewave_nx", PETSC_TRUE, G_PLANEWAVE},
-  {"planewave_ny", PETSC_TRUE, G_PLANEWAVE}, {"planewave_mode", PETSC_TRUE, G_PLANEWAVE}, {"planewave_amplitude", PETSC_TRUE, G_PLANEWAVE},
-  {"rotor_n", PETSC_TRUE, G_ROTOR}, {"rotor_speed", PETSC_TRUE, G_ROTOR}, {"rotor_gap", PETSC_TRUE, G_ROTOR_PAIR},
-  {"tensile_nx", PETSC_TRUE, G_TENSILE}, {"tensile_ny", PETSC_TRUE, G_TENSILE}, {"tensile_stress", PETSC_TRUE, G_TENSILE}, {"tensile_kick", PETSC_TRUE, G_TENSILE},
   {"material", PETSC_TRUE, G_MODEL}, {"density", PETSC_TRUE, G_SOLID}, {"density_mean", PETSC_TRUE, G_SOLID}, {"coordinates", PETSC_TRUE, G_SOLID},
   {"angmom", PETSC_TRUE, G_SOLID}, {"viscosity", PETSC_TRUE, G_SOLID}, {"viscosity_shear", PETSC_TRUE, G_SOLID}, {"viscosity_bulk", PETSC_TRUE, G_SOLID},
   {"conductivity", PETSC_TRUE, G_SOLID}, {"closest_approach", PETSC_TRUE, G_SOLID}, {"gas_e0", PETSC_TRUE, G_SOLID_GAS},
@@ -61,15 +57,6 @@ static const Known KnownOptions[] = {
   {"gas_scheme", PETSC_TRUE, G_SOLID_GAS}, {"background_pressure", PETSC_TRUE, G_SOLID_FLOW}, {"shift_coefficient", PETSC_TRUE, G_SOLID_FLOW},
   /* the pair layer: kernel, gravity, periodic images as ghosts (scene.c) */
   {"kernel", PETSC_TRUE, G_MODEL}, {"gravity", PETSC_TRUE, G_MODEL}, {"periodic_images", PETSC_TRUE, G_ALL},
-  /* The plane wave's initial stress (scenes/planewave_stress.c). */
-  {"planewave_stress", PETSC_TRUE, G_PLANEWAVE},
-  /* The Rayleigh-Benard cell (scenes/scene_convection.c). */
-  {"convection_nx", PETSC_TRUE, G_CONVECTION}, {"convection_ny", PETSC_TRUE, G_CONVECTION}, {"convection_ra", PETSC_TRUE, G_CONVECTION},
-  {"convection_prandtl", PETSC_TRUE, G_CONVECTION}, {"convection_g", PETSC_TRUE, G_CONVECTION}, {"convection_amplitude", PETSC_TRUE, G_CONVECTION},
-  {"convection_seed", PETSC_TRUE, G_CONVECTION},
-  /* The shock problems (scene_sod.c, scene_sedov.c). */
-  {"sod_n", PETSC_TRUE, G_SOD}, {"sod_length", PETSC_TRUE, G_SOD}, {"sod_width", PETSC_TRUE, G_SOD},
-  {"sedov_n", PETSC_TRUE, G_SEDOV}, {"sedov_energy", PETSC_TRUE, G_SEDOV},
   /* Mirror walls per box face (core/walls.c); relevance by face and condition (WallRelevant). */
   {"wall_xlo", PETSC_TRUE, G_WALL}, {"wall_xhi", PETSC_TRUE, G_WALL}, {"wall_ylo", PETSC_TRUE, G_WALL},
   {"wall_yhi", PETSC_TRUE, G_WALL}, {"wall_zlo", PETSC_TRUE, G_WALL}, {"wall_zhi", PETSC_TRUE, G_WALL},
@@ -77,17 +64,6 @@ static const Known KnownOptions[] = {
   {"wall_yhi_velocity", PETSC_TRUE, G_WALL}, {"wall_zlo_velocity", PETSC_TRUE, G_WALL}, {"wall_zhi_velocity", PETSC_TRUE, G_WALL},
   {"wall_xlo_temperature", PETSC_TRUE, G_WALL}, {"wall_xhi_temperature", PETSC_TRUE, G_WALL}, {"wall_ylo_temperature", PETSC_TRUE, G_WALL},
   {"wall_yhi_temperature", PETSC_TRUE, G_WALL}, {"wall_zlo_temperature", PETSC_TRUE, G_WALL}, {"wall_zhi_temperature", PETSC_TRUE, G_WALL},
-  /* The smooth flows with exact answers (scene_gresho.c, scene_taylor_green.c, scene_heat_mode.c). */
-  {"gresho_n", PETSC_TRUE, G_GRESHO}, {"gresho_p0", PETSC_TRUE, G_GRESHO},
-  {"taylorgreen_n", PETSC_TRUE, G_TAYLOR_GREEN}, {"taylorgreen_amplitude", PETSC_TRUE, G_TAYLOR_GREEN},
-  {"heatmode_n", PETSC_TRUE, G_HEAT_MODE}, {"heatmode_ny", PETSC_TRUE, G_HEAT_MODE}, {"heatmode_eps", PETSC_TRUE, G_HEAT_MODE},
-  /* The shear channels (scenes/shear_channel.c). */
-  {"couette_n", PETSC_TRUE, G_COUETTE}, {"couette_nx", PETSC_TRUE, G_COUETTE}, {"couette_speed", PETSC_TRUE, G_COUETTE},
-  {"couette_start", PETSC_TRUE, G_COUETTE}, {"poiseuille_n", PETSC_TRUE, G_POISEUILLE}, {"poiseuille_nx", PETSC_TRUE, G_POISEUILLE},
-  {"poiseuille_speed", PETSC_TRUE, G_POISEUILLE}, {"poiseuille_start", PETSC_TRUE, G_POISEUILLE},
-  /* The lid-driven cavity (scenes/scene_cavity.c). */
-  {"cavity_n", PETSC_TRUE, G_CAVITY}, {"cavity_lid_velocity", PETSC_TRUE, G_CAVITY}, {"cavity_re", PETSC_TRUE, G_CAVITY},
-  {"cavity_mach", PETSC_TRUE, G_CAVITY},
   /* The norm of the weighted error (error_norm.c); a fixed step has none. */
   {"error_norm", PETSC_TRUE, G_ADAPTIVE},
   /* Outputs from the interpolant unless -output_stop (time_loop.c,
@@ -109,11 +85,33 @@ static const Known KnownOptions[] = {
 static const char *const PetscRuntime[] = {"log", "info", "malloc", "memory_view", "objects_dump", "checkstack", "on_error_", "fp_trap", "no_signal_handler", "debugger",
                                            "start_in_debugger", "stop_for_debugger", "attach_debugger", "options_", "help", "skip_petscrc", "mpi", "viewer_", "error_output_", "history", "nox", "display", "saws", "check_pointer_intensity", "get_total_flops"};
 
-static const Known *Find(const char *name)
+/* The row of option name in the first scene's table that holds it, or NULL. */
+static const SpamSceneOption *SceneOption(const char *name)
 {
-  for (int k = 0; k < NKNOWN; k++)
-    if (!strcasecmp(name, KnownOptions[k].name)) return &KnownOptions[k]; /* PETSc ignores case */
+  for (int i = 0; i < SpamSceneCount(); i++) {
+    SpamSceneOps           ops;
+    const SpamSceneOption *o;
+    if (SpamSceneGet(i, &ops)) return NULL; /* the list's own functions only fill in constants */
+    o = SpamSceneOptionFind(ops.options_table, name);
+    if (o) return o;
+  }
   return NULL;
+}
+
+/* Option name as known: from the table above or a scene's (group G_SCENE). */
+static PetscBool Find(const char *name, Known *k)
+{
+  const SpamSceneOption *o;
+
+  for (int j = 0; j < NKNOWN; j++)
+    if (!strcasecmp(name, KnownOptions[j].name)) { /* PETSc ignores case */
+      *k = KnownOptions[j];
+      return PETSC_TRUE;
+    }
+  o = SceneOption(name);
+  if (!o) return PETSC_FALSE;
+  *k = (Known){o->name, (PetscBool)(o->type != SPAM_SCENE_OPTION_BOOL), G_SCENE};
+  return PETSC_TRUE;
 }
 
 static PetscBool IsPetscRuntime(const char *name)
@@ -159,45 +157,54 @@ static PetscErrorCode GivenFree(Given *g)
 
 /* The options read as PetscInt. PETSc 3.18 converts their text with strtoll and casts to
  * its 32-bit PetscInt without a range check, so 2147483648 arrives as -2147483648 and a
- * longer number as whatever its low bits say: check the text itself first. */
-static const char *const IntegerOptions[] = {"dim", "threads", "ts_max_steps", "ts_max_reject", "ts_ssp_nstages", "cvode_max_order", "snapshot_max", "expansion_n",
-                                             "expansion_seed", "chain_n", "planewave_nx", "planewave_ny", "rotor_n", "tensile_nx", "tensile_ny", "sod_n", "sod_width", "sedov_n",
-                                             "gresho_n", "taylorgreen_n", "heatmode_n", "heatmode_ny", "couette_n", "couette_nx", "poiseuille_n", "poiseuille_nx", "cavity_n",
-                                             "convection_nx", "convection_ny", "convection_seed"};
+ * longer number as whatever its low bits say: check the text itself first. These and the
+ * scenes' of type SPAM_SCENE_OPTION_INT. */
+static const char *const IntegerOptions[] = {"dim", "threads", "ts_max_steps", "ts_max_reject", "ts_ssp_nstages", "cvode_max_order", "snapshot_max"};
+
+/* The name of integer option name as the program spells it, or NULL: not an integer. */
+static const char *IntegerOption(const char *name)
+{
+  const SpamSceneOption *o = SceneOption(name);
+
+  for (size_t k = 0; k < sizeof IntegerOptions / sizeof IntegerOptions[0]; k++)
+    if (!strcasecmp(name, IntegerOptions[k])) return IntegerOptions[k];
+  return o && o->type == SPAM_SCENE_OPTION_INT ? o->name : NULL;
+}
 
 static PetscErrorCode CheckIntegerRange(const char *name, const char *value)
 {
-  char     *end;
-  long long v;
+  const char *known = IntegerOption(name);
+  char       *end;
+  long long   v;
 
   PetscFunctionBeginUser;
-  for (size_t k = 0; k < sizeof IntegerOptions / sizeof IntegerOptions[0]; k++) {
-    if (strcasecmp(name, IntegerOptions[k])) continue;
-    errno = 0;
-    v     = strtoll(value, &end, 10);
-    if (end == value || *end) break; /* not an integer literal: PETSc's parser says so */
-    if (errno == ERANGE || v < PETSC_MIN_INT || v > PETSC_MAX_INT) {
-      char shown[100], opt[64];
-      SpamClip(value, shown, sizeof shown);
-      (void)snprintf(opt, sizeof opt, "-%s", IntegerOptions[k]);
-      SPAM_BAD_INPUT(opt, shown, "an integer from %d to %d (PetscInt is 32-bit here)", PETSC_MIN_INT, PETSC_MAX_INT);
-    }
+  if (!known) PetscFunctionReturn(0);
+  errno = 0;
+  v     = strtoll(value, &end, 10);
+  if (end == value || *end) PetscFunctionReturn(0); /* not an integer literal: PETSc's parser says so */
+  if (errno == ERANGE || v < PETSC_MIN_INT || v > PETSC_MAX_INT) {
+    char shown[100], opt[64];
+    SpamClip(value, shown, sizeof shown);
+    (void)snprintf(opt, sizeof opt, "-%s", known);
+    SPAM_BAD_INPUT(opt, shown, "an integer from %d to %d (PetscInt is 32-bit here)", PETSC_MIN_INT, PETSC_MAX_INT);
   }
   PetscFunctionReturn(0);
 }
 
 /* The options read as lists (PetscOptions*Array): PETSc's parser skips an empty element,
- * so "-box_lo 1,,2" would read as 1,2 in silence. Ours, and PETSc's TS adaptor lists. */
-static const char *const ListOptions[] = {"box_lo", "box_len", "periodic", "scene_translate", "gravity", "arkode_adapt_params", "ts_adapt_clip", "ts_adapt_dsp_pid", "ts_adapt_dsp_kbeta", "ts_adapt_dsp_alpha"};
+ * so "-box_lo 1,,2" would read as 1,2 in silence. Ours, PETSc's TS adaptor lists, and the
+ * scenes' of type SPAM_SCENE_OPTION_REALS or BOOLS. */
+static const char *const ListOptions[] = {"scene_translate", "gravity", "arkode_adapt_params", "ts_adapt_clip", "ts_adapt_dsp_pid", "ts_adapt_dsp_kbeta", "ts_adapt_dsp_alpha"};
 
 static PetscBool IsListOption(const char *name)
 {
-  const size_t n = strlen(name);
+  const size_t           n = strlen(name);
+  const SpamSceneOption *o = SceneOption(name);
 
   if (!strncasecmp(name, "wall_", 5) && n > 9 && !strcasecmp(name + n - 9, "_velocity")) return PETSC_TRUE;
   for (size_t k = 0; k < sizeof ListOptions / sizeof ListOptions[0]; k++)
     if (!strcasecmp(name, ListOptions[k])) return PETSC_TRUE;
-  return PETSC_FALSE;
+  return (PetscBool)(o && (o->type == SPAM_SCENE_OPTION_REALS || o->type == SPAM_SCENE_OPTION_BOOLS));
 }
 
 /* A list option's value with an empty element (a leading, trailing or doubled comma) is
@@ -229,7 +236,8 @@ PetscErrorCode SpamOptionsCheckValues(void)
   PetscFunctionBeginUser;
   PetscCall(GivenGet(&g));
   for (int i = 0; i < g.n; i++) {
-    const Known *k = Find(g.names[i]);
+    Known           k = {NULL, PETSC_FALSE, G_ALL};
+    const PetscBool known = Find(g.names[i], &k);
     if (g.values[i]) {
       PetscErrorCode ierr = CheckIntegerRange(g.names[i], g.values[i]);
       if (!ierr) ierr = CheckListElements(g.names[i], g.values[i]);
@@ -238,10 +246,10 @@ PetscErrorCode SpamOptionsCheckValues(void)
         return ierr; /* reported already, as one line */
       }
     }
-    if (!k || !k->value || g.values[i]) continue;
+    if (!known || !k.value || g.values[i]) continue;
     PetscCall(GivenFree(&g));
-    if (!strcmp(k->name, "h")) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "-h: missing value: -h is the kernel range, a number (e.g. -h 3); for the list of options use -help");
-    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "-%s: missing or empty value: give it after a space (-%s VALUE); spam-ark -help shows its default", k->name, k->name);
+    if (!strcmp(k.name, "h")) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "-h: missing value: -h is the kernel range, a number (e.g. -h 3); for the list of options use -help");
+    SETERRQ(PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "-%s: missing or empty value: give it after a space (-%s VALUE); spam-ark -help shows its default", k.name, k.name);
   }
   PetscCall(GivenFree(&g));
   PetscFunctionReturn(0);
@@ -295,33 +303,6 @@ static PetscErrorCode RunDescribe(const SpamSim *sim, const SpamRunOptions *o, T
   if (r->arkode_fixed > 0) (void)snprintf(r->method + strlen(r->method), sizeof r->method - strlen(r->method), r->arkode_fixed_ts ? " -ts_adapt_type none -ts_dt %.17g" : " -arkode_fixed_step %.17g", r->arkode_fixed);
   PetscFunctionReturn(0);
 }
-
-/* The scene-only groups: the scenes that read them, as the refusal names them. */
-static const struct {
-  Group       group;
-  const char *scenes[3];
-  const char *said, *note;
-} SceneGroups[] = {
-  {G_FILE, {"file"}, "file", ", which builds its own box"},
-  {G_PERIODIC, {"file", "expansion"}, "expansion and file", ", which builds its own box"},
-  {G_EXPANSION, {"expansion"}, "expansion", ""},
-  {G_CHAIN, {"chain"}, "chain", ""},
-  {G_SPRING, {"chain", "rotor-md"}, "chain and rotor-md", ""},
-  {G_ROTOR_MD, {"rotor-md"}, "rotor-md", ""},
-  {G_PLANEWAVE, {"planewave"}, "planewave", ""},
-  {G_ROTOR, {"rotor", "rotor-pair", "rotor-md"}, "rotor, rotor-pair and rotor-md", ""},
-  {G_ROTOR_PAIR, {"rotor-pair"}, "rotor-pair", ""},
-  {G_TENSILE, {"tensile"}, "tensile", ""},
-  {G_CONVECTION, {"convection"}, "convection", ""},
-  {G_SOD, {"sod"}, "sod", ""},
-  {G_SEDOV, {"sedov"}, "sedov", ""},
-  {G_GRESHO, {"gresho"}, "gresho", ""},
-  {G_TAYLOR_GREEN, {"taylor-green"}, "taylor-green", ""},
-  {G_HEAT_MODE, {"heat-mode"}, "heat-mode", ""},
-  {G_COUETTE, {"couette"}, "couette", ""},
-  {G_POISEUILLE, {"poiseuille"}, "poiseuille", ""},
-  {G_CAVITY, {"cavity"}, "cavity", ""},
-};
 
 /* The groups of the method and the outputs: whether g applies to run r (*known: g is one
  * of them); if not, why[] says what it applies to. */
@@ -398,8 +379,8 @@ static PetscBool RelevantMethod(Group g, const Run *r, char *why, size_t len, Pe
   return PETSC_TRUE;
 }
 
-/* The groups of the scenes and the isentrope, as RelevantMethod. */
-static PetscBool RelevantScene(Group g, const Run *r, char *why, size_t len, PetscBool *known)
+/* The groups of the models (the isentrope, the smooth-particle models), as RelevantMethod. */
+static PetscBool RelevantModel(Group g, const Run *r, char *why, size_t len, PetscBool *known)
 {
   *known = PETSC_TRUE;
   if (g == G_ISENTROPE) {
@@ -412,15 +393,31 @@ static PetscBool RelevantScene(Group g, const Run *r, char *why, size_t len, Pet
     (void)snprintf(why, len, "applies to the smooth-particle models (this run: -scene %s carries its own model, springs)", r->scene);
     return PETSC_FALSE;
   }
-  for (size_t k = 0; k < sizeof SceneGroups / sizeof SceneGroups[0]; k++) {
-    if (SceneGroups[k].group != g) continue;
-    for (int j = 0; j < 3 && SceneGroups[k].scenes[j]; j++)
-      if (!strcmp(r->scene, SceneGroups[k].scenes[j])) return PETSC_TRUE;
-    (void)snprintf(why, len, "applies to -scene %s (this run: -scene %s%s)", SceneGroups[k].said, r->scene, SceneGroups[k].note);
-    return PETSC_FALSE;
-  }
   *known = PETSC_FALSE;
   return PETSC_TRUE;
+}
+
+/* A scene's option: relevant to the scenes whose tables hold it; if not this run's, why[]
+ * names them in the list's order ("a, b and c") and the note of the first one's row. */
+static PetscBool RelevantToScene(const char *name, const Run *r, char *why, size_t len)
+{
+  char        said[256] = "";
+  const char *note = NULL, *last = NULL;
+  int         count = 0;
+
+  for (int i = 0; i < SpamSceneCount(); i++) {
+    SpamSceneOps           ops;
+    const SpamSceneOption *o;
+    if (SpamSceneGet(i, &ops)) break; /* the list's own functions only fill in constants */
+    if (!(o = SpamSceneOptionFind(ops.options_table, name))) continue;
+    if (!strcmp(r->scene, ops.name)) return PETSC_TRUE;
+    if (last) (void)snprintf(said + strlen(said), sizeof said - strlen(said), "%s%s", count > 1 ? ", " : "", last);
+    if (!note) note = o->note;
+    last = ops.name;
+    count++;
+  }
+  (void)snprintf(why, len, "applies to -scene %s%s%s (this run: -scene %s%s)", said, count > 1 ? " and " : "", last ? last : "", r->scene, note ? note : "");
+  return PETSC_FALSE;
 }
 
 /* The groups of the tensor-path solid (planewave, rotor, rotor-pair, tensile). */
@@ -476,7 +473,7 @@ static PetscBool Relevant(Group g, const Run *r, char *why, size_t len)
   PetscBool known, yes = RelevantMethod(g, r, why, len, &known);
 
   if (known) return yes;
-  yes = RelevantScene(g, r, why, len, &known);
+  yes = RelevantModel(g, r, why, len, &known);
   if (known) return yes;
   return RelevantSolid(g, r, why, len);
 }
@@ -511,6 +508,17 @@ static const char *Nearest(const char *name)
     if (d < dbest) {
       dbest = d;
       best  = KnownOptions[k].name;
+    }
+  }
+  for (int i = 0; i < SpamSceneCount(); i++) {
+    SpamSceneOps ops;
+    if (SpamSceneGet(i, &ops)) break; /* the list's own functions only fill in constants */
+    for (const SpamSceneOption *o = ops.options_table; o && o->name; o++) {
+      const int d = Distance(name, o->name);
+      if (d < dbest) {
+        dbest = d;
+        best  = o->name;
+      }
     }
   }
   /* Near: at most 2 edits (a quarter of a long name), and fewer than half the name. */
@@ -611,14 +619,22 @@ static PetscBool WallRelevant(const char *name, const Run *r, char *why, size_t 
   return PETSC_TRUE;
 }
 
+/* Whether known option k applies to run r; if not, why[] says what it applies to. */
+static PetscBool KnownRelevant(const Known *k, const Run *r, char *why, size_t len)
+{
+  if (k->group == G_WALL) return WallRelevant(k->name, r, why, len);
+  if (k->group == G_SCENE) return RelevantToScene(k->name, r, why, len);
+  return Relevant(k->group, r, why, len);
+}
+
 static PetscErrorCode CheckOne(const char *name, const char *value, const Run *r, PetscInt nleft, char **left)
 {
-  const Known *k = Find(name);
-  char         why[320];
+  Known k = {NULL, PETSC_FALSE, G_ALL};
+  char  why[320];
 
   PetscFunctionBeginUser;
-  if (k) {
-    if (k->group == G_WALL ? !WallRelevant(k->name, r, why, sizeof why) : !Relevant(k->group, r, why, sizeof why)) PetscCall(NotUsed(name, value, why));
+  if (Find(name, &k)) {
+    if (!KnownRelevant(&k, r, why, sizeof why)) PetscCall(NotUsed(name, value, why));
     else if (Unused(name, nleft, left)) PetscCall(NotUsed(name, value, "not read by this scene, model or method"));
     PetscFunctionReturn(0);
   }

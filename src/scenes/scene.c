@@ -226,48 +226,50 @@ static void MergeWalls(const SpamWalls *given, SpamWalls *w)
   }
 }
 
-/* Reads the options of the scene (of every scene with -help) and the model's, with the
- * scene's defaults, and builds the particles. */
-static PetscErrorCode BuildScene(const SpamCommonParams *c, PetscFunctionList list, const SpamSceneOps *ops, PetscBool help, SpamSolidParams *solid, SpamParticles *p)
+/* With -help, the options of the scenes other than ops, read into scratch params. */
+static PetscErrorCode OtherScenesOptions(const SpamCommonParams *c, const SpamSceneOps *ops)
 {
-  SpamSceneParams sp;
-  PetscErrorCode  ierr;
+  PetscFunctionBeginUser;
+  for (int k = 0; k < SpamSceneCount(); k++) {
+    SpamSceneOps    other;
+    SpamSolidParams ts;
+    void           *tmp;
+    PetscCall(SpamSceneGet(k, &other));
+    if (!strcmp(other.name, ops->name)) continue;
+    PetscCall(PetscCalloc(other.params_size + 1, &tmp));
+    PetscCall(other.options(c, tmp, &ts));
+    PetscCall(PetscFree(tmp));
+  }
+  PetscFunctionReturn(0);
+}
+
+/* Reads the options of the scene (of every scene with -help) and the model's, with the
+ * scene's defaults, and builds the particles; sp holds the scene's params. */
+static PetscErrorCode BuildScene(const SpamCommonParams *c, const SpamSceneOps *ops, PetscBool help, void *sp, SpamSolidParams *solid, SpamParticles *p)
+{
+  PetscErrorCode ierr;
 
   PetscFunctionBeginUser;
-  if (help) { /* every scene's options, for the listing */
-    const char **names;
-    int          n;
-    PetscCall(PetscFunctionListGet(list, &names, &n));
-    for (int k = 0; k < n && names[k]; k++) { /* PETSc 3.18 ends the array with NULL, counted in n */
-      SpamSceneOps    other;
-      SpamSceneParams tmp;
-      SpamSolidParams ts;
-      SpamSceneOpsFn  fn;
-      PetscCall(PetscFunctionListFind(list, names[k], &fn));
-      PetscCall(fn(&other));
-      if (strcmp(other.name, ops->name)) PetscCall(other.options(c, &tmp, &ts));
-    }
-    PetscCall(PetscFree(names));
-  }
-  PetscCall(ops->options(c, &sp, solid));
+  if (help) PetscCall(OtherScenesOptions(c, ops)); /* every scene's options, for the listing */
+  PetscCall(ops->options(c, sp, solid));
   /* The ideal gas's isentrope in D dimensions, unless the scene chose its gas's gamma
    * (SpamSolidDefaults leaves 2, the 2D value; sod and sedov set 1.4 and 5/3). */
   if (c->dim != 2 && solid->gamma == 2.0) solid->gamma = 1.0 + 2.0 / c->dim;
   if (!ops->own_model || help) PetscCall(SpamSolidOptions(solid));
   PetscCall(PetscMemzero(p, sizeof *p));
-  ierr = ops->build(c, &sp, solid, p);
+  ierr = ops->build(c, sp, solid, p);
   if (ierr) PetscCall(SpamParticlesFree(p)); /* a scene refused after allocating: leak nothing */
   PetscCall(ierr);
   MergeWalls(&c->walls, &p->walls);
   PetscFunctionReturn(0);
 }
 
-/* The file scene's rows come in any order, so it is sorted by default; the lattice scenes
+/* A scene whose rows come in any order (its descriptor's sorted: the file) is sorted by default; the lattice scenes
  * are built row by row, which is already local. */
-static PetscErrorCode SortOption(MPI_Comm comm, PetscBool file, PetscBool *sort)
+static PetscErrorCode SortOption(MPI_Comm comm, PetscBool sorted, PetscBool *sort)
 {
   PetscFunctionBeginUser;
-  *sort = file;
+  *sort = sorted;
   PetscOptionsBegin(comm, NULL, "Particle order", "spam-ark");
   PetscCall(PetscOptionsBool("-sort_particles", "Reorder particles by cells of width h at set-up (row by row in 2D, Morton curve in 3D) (default: true for -scene file, false for the lattice scenes); outputs keep the input order", "README", *sort, sort, NULL));
   PetscOptionsEnd();
@@ -365,7 +367,7 @@ static PetscErrorCode CheckSerialOnly(PetscMPIInt size, const SpamModel *model)
 }
 
 /* The checks of a built scene against the common options, and its model. */
-static PetscErrorCode CheckBuilt(MPI_Comm comm, const SpamCommonParams *c, const char *scene, SpamParticles *p, SpamSolidParams *solid, SpamModel *model)
+static PetscErrorCode CheckBuilt(MPI_Comm comm, const SpamCommonParams *c, const SpamSceneOps *ops, SpamParticles *p, SpamSolidParams *solid, SpamModel *model)
 {
   PetscMPIInt size;
   char        val[64];
@@ -373,7 +375,7 @@ static PetscErrorCode CheckBuilt(MPI_Comm comm, const SpamCommonParams *c, const
   PetscFunctionBeginUser;
   Translate(c->translate, p);
   PetscCall(WallsOfBox(p));
-  PetscCall(SpamBoxValidate(&p->box, c->h, !strcmp(scene, "expansion") ? "2 x -expansion_n" : !strcmp(scene, "file") ? "-box_len" : "the lattice size"));
+  PetscCall(SpamBoxValidate(&p->box, c->h, ops->box_size ? ops->box_size : "the lattice size"));
   PetscCall(CheckNeighbourGrid(c, &p->box)); /* the translated box's range: SpamBoxValidate */
   for (int d = 0; d < p->box.dim; d++) { /* the list's minimum image corrects by one edge at most */
     PetscCall(PetscSNPrintf(val, sizeof val, "%g", c->skin)); /* tests/run_bad_input.py expects PETSc's '9.' */
@@ -404,13 +406,16 @@ static PetscErrorCode SceneNames(PetscFunctionList list, char *buf, size_t len)
   PetscFunctionReturn(0);
 }
 
-/* The chosen scene's operations, or a bad-input error listing the scenes. */
+/* The chosen scene's operations (by default the list's first), or a bad-input error
+ * listing the scenes. */
 static PetscErrorCode ChooseScene(MPI_Comm comm, PetscFunctionList list, SpamSceneOps *ops)
 {
-  char           name[64] = "expansion", names[256], help[400];
+  char           name[64], names[1024], help[1100];
   SpamSceneOpsFn fn;
 
   PetscFunctionBeginUser;
+  PetscCall(SpamSceneGet(0, ops));
+  PetscCall(PetscStrncpy(name, ops->name, sizeof name));
   PetscCall(SceneNames(list, names, sizeof names));
   PetscCall(PetscSNPrintf(help, sizeof help, "Scene that builds the particles: %s", names));
   PetscOptionsBegin(comm, NULL, "Scene", "spam-ark");
@@ -479,6 +484,7 @@ PetscErrorCode SpamSceneCreateSim(MPI_Comm comm, SpamSim *sim)
   SpamSceneOps      ops;
   PetscFunctionList list = NULL;
   PetscBool         help = PETSC_FALSE, sort;
+  void             *sp = NULL;
   PetscErrorCode    ierr;
 
   PetscFunctionBeginUser;
@@ -488,11 +494,13 @@ PetscErrorCode SpamSceneCreateSim(MPI_Comm comm, SpamSim *sim)
   PetscCall(SpamSceneRegisterAll(&list));
   ierr = ChooseScene(comm, list, &ops);
   if (!ierr) ierr = CheckDimension(&c, &ops);
-  if (!ierr) ierr = SortOption(comm, (PetscBool)!strcmp(ops.name, "file"), &sort);
-  if (!ierr) ierr = BuildScene(&c, list, &ops, help, &solid, &p);
+  if (!ierr) ierr = SortOption(comm, ops.sorted, &sort);
+  if (!ierr) ierr = PetscCalloc(ops.params_size + 1, &sp);
+  if (!ierr) ierr = BuildScene(&c, &ops, help, sp, &solid, &p);
+  PetscCall(PetscFree(sp));
   PetscCall(PetscFunctionListDestroy(&list));
   PetscCall(ierr);
-  ierr = CheckBuilt(comm, &c, ops.name, &p, &solid, &model);
+  ierr = CheckBuilt(comm, &c, &ops, &p, &solid, &model);
   if (ierr) PetscCall(SpamParticlesFree(&p)); /* refused: leak nothing */
   PetscCall(ierr);
   model.energy_given = (PetscBool)((p.columns & SPAM_COLUMN_E) != 0); /* a file's e column, else the gas's -gas_e0 */

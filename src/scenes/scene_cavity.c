@@ -11,6 +11,20 @@
 #include <spam/scene.h>
 #include <spam/errors.h>
 
+typedef struct {
+  PetscInt n;         /* lattice points per side: L = n                               */
+  double   speed;     /* U of the lid                                                 */
+  double   re, mach;  /* Reynolds number U L / nu and Mach number U / c              */
+} SpamCavityParams;
+
+static const SpamSceneOption Table[] = {
+  {"cavity_n", SPAM_SCENE_OPTION_INT, "Lattice points per side: the cavity's side L = n between the walls (unit spacing, N = n^2)", NULL},
+  {"cavity_lid_velocity", SPAM_SCENE_OPTION_REAL, "Speed U of the lid (the top wall, yhi) along +x: the default of -wall_yhi_velocity U,0", NULL},
+  {"cavity_re", SPAM_SCENE_OPTION_REAL, "Reynolds number U L / nu: sets the default of -viscosity_shear, eta = rho U L / Re", NULL},
+  {"cavity_mach", SPAM_SCENE_OPTION_REAL, "Mach number U / c of the lid: sets the default of -gas_e0, c^2 = gamma (gamma - 1) e0", NULL},
+  {NULL, SPAM_SCENE_OPTION_INT, NULL, NULL},
+};
+
 #define FACE_TOP 3 /* yhi: the lid */
 
 /* The lid's speed: the user's -wall_yhi_velocity, else -cavity_lid_velocity. */
@@ -56,10 +70,10 @@ static PetscErrorCode SpamCavityOptions(const SpamCommonParams *c, SpamCavityPar
   p->re    = 100.0;
   p->mach  = 0.1;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene cavity (lid-driven cavity; Ghia, Ghia & Shin 1982)", "spam-ark");
-  PetscCall(PetscOptionsInt("-cavity_n", "Lattice points per side: the cavity's side L = n between the walls (unit spacing, N = n^2)", "README", p->n, &p->n, NULL));
-  PetscCall(PetscOptionsReal("-cavity_lid_velocity", "Speed U of the lid (the top wall, yhi) along +x: the default of -wall_yhi_velocity U,0", "README", p->speed, &p->speed, &set));
-  PetscCall(PetscOptionsReal("-cavity_re", "Reynolds number U L / nu: sets the default of -viscosity_shear, eta = rho U L / Re", "README", p->re, &p->re, NULL));
-  PetscCall(PetscOptionsReal("-cavity_mach", "Mach number U / c of the lid: sets the default of -gas_e0, c^2 = gamma (gamma - 1) e0", "README", p->mach, &p->mach, NULL));
+  PetscCall(SpamSceneOptionInt(PetscOptionsObject, Table, "cavity_n", &p->n, NULL));
+  PetscCall(SpamSceneOptionReal(PetscOptionsObject, Table, "cavity_lid_velocity", &p->speed, &set));
+  PetscCall(SpamSceneOptionReal(PetscOptionsObject, Table, "cavity_re", &p->re, NULL));
+  PetscCall(SpamSceneOptionReal(PetscOptionsObject, Table, "cavity_mach", &p->mach, NULL));
   PetscOptionsEnd();
   PetscCall(SpamOptionText("-cavity_lid_velocity", p->speed, val, sizeof val));
   if (set && c->walls.velocity_given[FACE_TOP]) SPAM_BAD_INPUT("-cavity_lid_velocity", val, "-wall_yhi_velocity is given too and sets the lid's velocity: give one of them");
@@ -83,12 +97,12 @@ static PetscErrorCode ModelDefaults(const SpamCommonParams *c, const SpamCavityP
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, SpamSolidParams *solid)
+static PetscErrorCode Options(const SpamCommonParams *c, void *p, SpamSolidParams *solid)
 {
   PetscFunctionBeginUser;
   SpamSolidGasDefaults(c->mass, solid); /* unit square lattice: rho = m */
-  PetscCall(SpamCavityOptions(c, &p->cavity));
-  PetscCall(ModelDefaults(c, &p->cavity, solid));
+  PetscCall(SpamCavityOptions(c, p));
+  PetscCall(ModelDefaults(c, p, solid));
   PetscFunctionReturn(0);
 }
 
@@ -121,9 +135,9 @@ static PetscErrorCode Report(const SpamCommonParams *c, const SpamCavityParams *
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p, const SpamSolidParams *solid, SpamParticles *out)
+static PetscErrorCode Build(const SpamCommonParams *c, const void *p, const SpamSolidParams *solid, SpamParticles *out)
 {
-  const SpamCavityParams *q = &p->cavity;
+  const SpamCavityParams *q = p;
   const PetscInt          side[2] = {q->n, q->n};
   char                    val[64];
 
@@ -143,6 +157,6 @@ static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p,
 PetscErrorCode SpamSceneCavity(SpamSceneOps *ops)
 {
   PetscFunctionBeginUser;
-  *ops = (SpamSceneOps){"cavity", 4, PETSC_FALSE, Options, Build};
+  *ops = (SpamSceneOps){"cavity", 4, PETSC_FALSE, Table, sizeof(SpamCavityParams), PETSC_FALSE, NULL, Options, Build};
   PetscFunctionReturn(0);
 }

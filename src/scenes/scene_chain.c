@@ -10,6 +10,18 @@
 #include <spam/scene.h>
 #include <spam/errors.h>
 
+typedef struct {
+  PetscInt n;          /* particles of the ring (even)                               */
+  double   k, amplitude;
+} SpamChainParams;
+
+static const SpamSceneOption Table[] = {
+  {"chain_n", SPAM_SCENE_OPTION_INT, "Particles of the periodic chain (even: the zone-boundary mode exists)", NULL},
+  {"spring_k", SPAM_SCENE_OPTION_REAL, "Spring constant k of phi = k/2 (1 - r)^2", NULL},
+  {"chain_amplitude", SPAM_SCENE_OPTION_REAL, "Amplitude A of the zone-boundary displacement u_i = A (-1)^i", NULL},
+  {NULL, SPAM_SCENE_OPTION_INT, NULL, NULL},
+};
+
 static PetscErrorCode SpamChainOptions(const SpamCommonParams *c, SpamChainParams *p)
 {
   char val[64];
@@ -19,9 +31,9 @@ static PetscErrorCode SpamChainOptions(const SpamCommonParams *c, SpamChainParam
   p->k         = 1.0;
   p->amplitude = 0.01;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene chain (periodic harmonic chain, -dim 1)", "spam-ark");
-  PetscCall(PetscOptionsInt("-chain_n", "Particles of the periodic chain (even: the zone-boundary mode exists)", "README", p->n, &p->n, NULL));
-  PetscCall(PetscOptionsReal("-spring_k", "Spring constant k of phi = k/2 (1 - r)^2", "README", p->k, &p->k, NULL));
-  PetscCall(PetscOptionsReal("-chain_amplitude", "Amplitude A of the zone-boundary displacement u_i = A (-1)^i", "README", p->amplitude, &p->amplitude, NULL));
+  PetscCall(SpamSceneOptionInt(PetscOptionsObject, Table, "chain_n", &p->n, NULL));
+  PetscCall(SpamSceneOptionReal(PetscOptionsObject, Table, "spring_k", &p->k, NULL));
+  PetscCall(SpamSceneOptionReal(PetscOptionsObject, Table, "chain_amplitude", &p->amplitude, NULL));
   PetscOptionsEnd();
   PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->n));
   /* The box (n unit spacings) must hold two kernel ranges and the skin. */
@@ -54,25 +66,25 @@ static PetscErrorCode SpamChainBuild(const SpamCommonParams *c, const SpamChainP
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, SpamSolidParams *solid)
+static PetscErrorCode Options(const SpamCommonParams *c, void *p, SpamSolidParams *solid)
 {
   PetscFunctionBeginUser;
   SpamSolidDefaults(solid);
-  PetscCall(SpamChainOptions(c, &p->chain));
+  PetscCall(SpamChainOptions(c, p));
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p, const SpamSolidParams *solid, SpamParticles *out)
+static PetscErrorCode Build(const SpamCommonParams *c, const void *p, const SpamSolidParams *solid, SpamParticles *out)
 {
   PetscFunctionBeginUser;
   (void)solid;
-  PetscCall(SpamChainBuild(c, &p->chain, out));
+  PetscCall(SpamChainBuild(c, p, out));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SpamSceneChain(SpamSceneOps *ops)
 {
   PetscFunctionBeginUser;
-  *ops = (SpamSceneOps){"chain", 2, PETSC_TRUE, Options, Build};
+  *ops = (SpamSceneOps){"chain", 2, PETSC_TRUE, Table, sizeof(SpamChainParams), PETSC_FALSE, NULL, Options, Build};
   PetscFunctionReturn(0);
 }

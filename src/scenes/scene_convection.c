@@ -19,6 +19,27 @@
 #include <spam/scene.h>
 #include <spam/errors.h>
 
+typedef struct {
+  PetscInt  nx, ny;     /* square lattice of unit spacing: the cell is nx x ny       */
+  double    ra, prandtl; /* Rayleigh number (superadiabatic) and Prandtl number       */
+  double    g;          /* gravity of the hydrostatic start (and of the run by default) */
+  double    t_bottom, t_top; /* the wall temperatures T_b, T_t (-wall_ylo/yhi_temperature) */
+  double    amplitude;  /* size of the seeded random velocities                       */
+  PetscInt  seed;
+  SpamSolidParams solid;
+} SpamConvectionParams;
+
+static const SpamSceneOption Table[] = {
+  {"convection_nx", SPAM_SCENE_OPTION_INT, "Lattice columns: the cell's width L (unit spacing; periodic in x; L = 2H holds one pair of rolls)", NULL},
+  {"convection_ny", SPAM_SCENE_OPTION_INT, "Lattice rows: the cell's height H between the walls", NULL},
+  {"convection_ra", SPAM_SCENE_OPTION_REAL, "Rayleigh number of the superadiabatic difference T_b - T_t - gH/c_p (T_b, T_t: -wall_ylo_temperature, -wall_yhi_temperature); onset 1707.76", NULL},
+  {"convection_prandtl", SPAM_SCENE_OPTION_REAL, "Prandtl number nu/chi: with Ra it sets the defaults of -viscosity_shear and -conductivity", NULL},
+  {"convection_g", SPAM_SCENE_OPTION_REAL, "Gravity g of the hydrostatic start and of Ra (the run's too, unless -gravity is given) (default 0.1 c_p / H)", NULL},
+  {"convection_amplitude", SPAM_SCENE_OPTION_REAL, "Size of the seeded random velocities that start the rolls (units of the sound speed at T = 1)", NULL},
+  {"convection_seed", SPAM_SCENE_OPTION_INT, "Seed of the random velocities", NULL},
+  {NULL, SPAM_SCENE_OPTION_INT, NULL, NULL},
+};
+
 #define RA_CRITICAL 1707.76 /* rigid-rigid onset (Boussinesq), at k_c = 3.117 / H */
 #define FACE_BOTTOM 2       /* ylo */
 #define FACE_TOP    3       /* yhi */
@@ -86,17 +107,17 @@ static PetscErrorCode SpamConvectionOptions(const SpamCommonParams *c, SpamConve
   PetscCall(PetscOptionsGetReal(NULL, NULL, "-gas_gamma", &p->solid.gamma, NULL));
   if (!(p->solid.gamma > 1.0 && isfinite(p->solid.gamma))) p->solid.gamma = 2.0; /* refused later, one line */
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene convection (Hoover & Hoover 2001, Fig. 4)", "spam-ark");
-  PetscCall(PetscOptionsInt("-convection_nx", "Lattice columns: the cell's width L (unit spacing; periodic in x; L = 2H holds one pair of rolls)", "README", p->nx, &p->nx, NULL));
-  PetscCall(PetscOptionsInt("-convection_ny", "Lattice rows: the cell's height H between the walls", "README", p->ny, &p->ny, NULL));
+  PetscCall(SpamSceneOptionInt(PetscOptionsObject, Table, "convection_nx", &p->nx, NULL));
+  PetscCall(SpamSceneOptionInt(PetscOptionsObject, Table, "convection_ny", &p->ny, NULL));
   PetscOptionsEnd();
   p->g = 0.1 * HeatCapacity(p->solid.gamma) / (double)PetscMax(p->ny, 1);
   (void)snprintf(help, sizeof help, "Rayleigh number of the superadiabatic difference T_b - T_t - gH/c_p (T_b, T_t: -wall_ylo_temperature, -wall_yhi_temperature, here %g and %g); onset 1707.76", p->t_bottom, p->t_top);
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene convection: Rayleigh number, gravity and seed", "spam-ark");
-  PetscCall(PetscOptionsReal("-convection_ra", help, "README", p->ra, &p->ra, NULL));
-  PetscCall(PetscOptionsReal("-convection_prandtl", "Prandtl number nu/chi: with Ra it sets the defaults of -viscosity_shear and -conductivity", "README", p->prandtl, &p->prandtl, NULL));
-  PetscCall(PetscOptionsReal("-convection_g", "Gravity g of the hydrostatic start and of Ra (the run's too, unless -gravity is given) (default 0.1 c_p / H)", "README", p->g, &p->g, NULL));
-  PetscCall(PetscOptionsReal("-convection_amplitude", "Size of the seeded random velocities that start the rolls (units of the sound speed at T = 1)", "README", p->amplitude, &p->amplitude, NULL));
-  PetscCall(PetscOptionsInt("-convection_seed", "Seed of the random velocities", "README", p->seed, &p->seed, NULL));
+  PetscCall(SpamSceneOptionRealHelp(PetscOptionsObject, Table, "convection_ra", help, &p->ra, NULL));
+  PetscCall(SpamSceneOptionReal(PetscOptionsObject, Table, "convection_prandtl", &p->prandtl, NULL));
+  PetscCall(SpamSceneOptionReal(PetscOptionsObject, Table, "convection_g", &p->g, NULL));
+  PetscCall(SpamSceneOptionReal(PetscOptionsObject, Table, "convection_amplitude", &p->amplitude, NULL));
+  PetscCall(SpamSceneOptionInt(PetscOptionsObject, Table, "convection_seed", &p->seed, NULL));
   PetscOptionsEnd();
   PetscCall(CheckConvection(p));
   PetscFunctionReturn(0);
@@ -228,18 +249,18 @@ static PetscErrorCode SpamConvectionBuild(const SpamCommonParams *c, const SpamC
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, SpamSolidParams *solid)
+static PetscErrorCode Options(const SpamCommonParams *c, void *p, SpamSolidParams *solid)
 {
   PetscFunctionBeginUser;
-  PetscCall(SpamConvectionOptions(c, &p->convection));
-  ModelDefaults(c, &p->convection);
-  *solid = p->convection.solid;
+  PetscCall(SpamConvectionOptions(c, p));
+  ModelDefaults(c, p);
+  *solid = ((const SpamConvectionParams *)p)->solid;
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p, const SpamSolidParams *solid, SpamParticles *out)
+static PetscErrorCode Build(const SpamCommonParams *c, const void *p, const SpamSolidParams *solid, SpamParticles *out)
 {
-  SpamConvectionParams q = p->convection;
+  SpamConvectionParams q = *(const SpamConvectionParams *)p;
 
   PetscFunctionBeginUser;
   q.solid = *solid;
@@ -250,6 +271,6 @@ static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p,
 PetscErrorCode SpamSceneConvection(SpamSceneOps *ops)
 {
   PetscFunctionBeginUser;
-  *ops = (SpamSceneOps){"convection", 4, PETSC_FALSE, Options, Build};
+  *ops = (SpamSceneOps){"convection", 4, PETSC_FALSE, Table, sizeof(SpamConvectionParams), PETSC_FALSE, NULL, Options, Build};
   PetscFunctionReturn(0);
 }

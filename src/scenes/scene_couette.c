@@ -8,19 +8,28 @@
 #include <spam/scene.h>
 #include <spam/errors.h>
 
-static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, SpamSolidParams *solid)
+/* The channel's options (shear_channel.c reads them). */
+static const SpamSceneOption Table[] = {
+  {"couette_speed", SPAM_SCENE_OPTION_REAL, "Speed U of the upper wall along x (the default of -wall_yhi_velocity U,0); below the sound speed", NULL},
+  {"couette_n", SPAM_SCENE_OPTION_INT, "Lattice rows across the channel: its width H = n (unit spacing)", NULL},
+  {"couette_nx", SPAM_SCENE_OPTION_INT, "Lattice columns along the periodic x (and z) (0: n, at least 2 (h + skin))", NULL},
+  {"couette_start", SPAM_SCENE_OPTION_STRING, "Initial velocity: rest, or linear (the exact steady profile)", NULL},
+  {NULL, SPAM_SCENE_OPTION_INT, NULL, NULL},
+};
+
+static PetscErrorCode Options(const SpamCommonParams *c, void *p, SpamSolidParams *solid)
 {
-  SpamShearParams *q = &p->couette;
+  SpamShearParams *q = p;
 
   PetscFunctionBeginUser;
   SpamShearChannelDefaults(c, solid);
-  PetscCall(SpamShearChannelOptions(c, "couette", "linear", "Speed U of the upper wall along x (the default of -wall_yhi_velocity U,0); below the sound speed", q));
+  PetscCall(SpamShearChannelOptions(c, "couette", "linear", Table, q));
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p, const SpamSolidParams *solid, SpamParticles *out)
+static PetscErrorCode Build(const SpamCommonParams *c, const void *p, const SpamSolidParams *solid, SpamParticles *out)
 {
-  const SpamShearParams *q   = &p->couette;
+  const SpamShearParams *q   = p;
   const int              dim = c->dim, yhi = 3;
   const double           H   = (double)q->n;
   double                 nu, cs, U;
@@ -47,6 +56,6 @@ static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p,
 PetscErrorCode SpamSceneCouette(SpamSceneOps *ops)
 {
   PetscFunctionBeginUser;
-  *ops = (SpamSceneOps){"couette", 4 | 8, PETSC_FALSE, Options, Build};
+  *ops = (SpamSceneOps){"couette", 4 | 8, PETSC_FALSE, Table, sizeof(SpamShearParams), PETSC_FALSE, NULL, Options, Build};
   PetscFunctionReturn(0);
 }

@@ -5,6 +5,22 @@
 #include <spam/scene.h>
 #include <spam/errors.h>
 
+typedef struct {
+  PetscInt  n;          /* lattice points per direction                           */
+  double    amplitude;  /* size of the random offsets or velocities               */
+  PetscInt  seed;
+  PetscBool velocities; /* perturb velocities instead of positions                */
+} SpamExpansionParams;
+
+static const SpamSceneOption Table[] = {
+  {"expansion_n", SPAM_SCENE_OPTION_INT, "Lattice points per direction of the initial gas (N = n^D)", NULL},
+  {"expansion_amplitude", SPAM_SCENE_OPTION_REAL, "Size of the uniform random offsets (lattice units) or velocities", NULL},
+  {"expansion_seed", SPAM_SCENE_OPTION_INT, "Seed of the random perturbation", NULL},
+  {"expansion_perturb_velocities", SPAM_SCENE_OPTION_BOOL, "Perturb velocities instead of positions", NULL},
+  {"periodic", SPAM_SCENE_OPTION_BOOLS, NULL, ", which builds its own box"}, /* read with the common options (scene.c) */
+  {NULL, SPAM_SCENE_OPTION_INT, NULL, NULL},
+};
+
 static PetscErrorCode SpamExpansionOptions(const SpamCommonParams *c, SpamExpansionParams *p)
 {
   char val[64];
@@ -15,10 +31,10 @@ static PetscErrorCode SpamExpansionOptions(const SpamCommonParams *c, SpamExpans
   p->seed       = 1;
   p->velocities = PETSC_FALSE;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene expansion (Hoover & Hoover 2001)", "spam-ark");
-  PetscCall(PetscOptionsInt("-expansion_n", "Lattice points per direction of the initial gas (N = n^D)", "README", p->n, &p->n, NULL));
-  PetscCall(PetscOptionsReal("-expansion_amplitude", "Size of the uniform random offsets (lattice units) or velocities", "README", p->amplitude, &p->amplitude, NULL));
-  PetscCall(PetscOptionsInt("-expansion_seed", "Seed of the random perturbation", "README", p->seed, &p->seed, NULL));
-  PetscCall(PetscOptionsBool("-expansion_perturb_velocities", "Perturb velocities instead of positions", "README", p->velocities, &p->velocities, NULL));
+  PetscCall(SpamSceneOptionInt(PetscOptionsObject, Table, "expansion_n", &p->n, NULL));
+  PetscCall(SpamSceneOptionReal(PetscOptionsObject, Table, "expansion_amplitude", &p->amplitude, NULL));
+  PetscCall(SpamSceneOptionInt(PetscOptionsObject, Table, "expansion_seed", &p->seed, NULL));
+  PetscCall(SpamSceneOptionBool(PetscOptionsObject, Table, "expansion_perturb_velocities", &p->velocities, NULL));
   PetscOptionsEnd();
   PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->n));
   if (p->n < 1) SPAM_BAD_INPUT("-expansion_n", val, "must be a positive number of lattice points");
@@ -63,7 +79,7 @@ static PetscErrorCode SpamExpansionBuild(const SpamCommonParams *c, const SpamEx
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, SpamSolidParams *solid)
+static PetscErrorCode Options(const SpamCommonParams *c, void *p, SpamSolidParams *solid)
 {
   PetscFunctionBeginUser;
   SpamSolidDefaults(solid);
@@ -72,21 +88,21 @@ static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, Spa
   solid->density_initial = SPAM_DENSITY_INITIAL_SUMMED;
   solid->rho0            = c->mass;
   solid->plain_default   = PETSC_TRUE; /* a gas expanding into vacuum has no background pressure */
-  PetscCall(SpamExpansionOptions(c, &p->expansion));
+  PetscCall(SpamExpansionOptions(c, p));
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p, const SpamSolidParams *solid, SpamParticles *out)
+static PetscErrorCode Build(const SpamCommonParams *c, const void *p, const SpamSolidParams *solid, SpamParticles *out)
 {
   PetscFunctionBeginUser;
   (void)solid;
-  PetscCall(SpamExpansionBuild(c, &p->expansion, out));
+  PetscCall(SpamExpansionBuild(c, p, out));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SpamSceneExpansion(SpamSceneOps *ops)
 {
   PetscFunctionBeginUser;
-  *ops = (SpamSceneOps){"expansion", 2 | 4 | 8, PETSC_FALSE, Options, Build};
+  *ops = (SpamSceneOps){"expansion", 2 | 4 | 8, PETSC_FALSE, Table, sizeof(SpamExpansionParams), PETSC_FALSE, "2 x -expansion_n", Options, Build};
   PetscFunctionReturn(0);
 }

@@ -14,6 +14,19 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+typedef struct {
+  char path[PETSC_MAX_PATH_LEN];
+} SpamFileParams;
+
+static const SpamSceneOption Table[] = {
+  {"file_path", SPAM_SCENE_OPTION_STRING, "Particle file: CSV with a header naming columns x y z vx vy vz m e rho sxx sxy syy sxz syz szz id (any order), or an HDF5 snapshot of this program", ", which builds its own box"},
+  /* read with the common options (scene.c) */
+  {"box_lo", SPAM_SCENE_OPTION_REALS, NULL, ", which builds its own box"},
+  {"box_len", SPAM_SCENE_OPTION_REALS, NULL, ", which builds its own box"},
+  {"periodic", SPAM_SCENE_OPTION_BOOLS, NULL, ", which builds its own box"},
+  {NULL, SPAM_SCENE_OPTION_INT, NULL, NULL},
+};
+
 /* The longest line accepted, its end excluded, comments and header included. A data line
  * holds at most seventeen numbers; a longer line is refused whole rather than split into
  * two particles or cut short, and the limit bounds the memory a line takes. */
@@ -38,7 +51,7 @@ static PetscErrorCode SpamFileOptions(SpamFileParams *p)
   PetscFunctionBeginUser;
   p->path[0] = 0;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene file", "spam-ark");
-  PetscCall(PetscOptionsString("-file_path", "Particle file: CSV with a header naming columns x y z vx vy vz m e rho sxx sxy syy sxz syz szz id (any order), or an HDF5 snapshot of this program", "README", p->path, p->path, sizeof p->path, NULL));
+  PetscCall(SpamSceneOptionString(PetscOptionsObject, Table, "file_path", p->path, sizeof p->path, NULL));
   PetscOptionsEnd();
   PetscFunctionReturn(0);
 }
@@ -406,28 +419,28 @@ static PetscErrorCode SpamFileBuild(const SpamCommonParams *c, const SpamFilePar
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, SpamSolidParams *solid)
+static PetscErrorCode Options(const SpamCommonParams *c, void *p, SpamSolidParams *solid)
 {
   PetscFunctionBeginUser;
   SpamSolidDefaults(solid);
   solid->material        = SPAM_MATERIAL_ISENTROPE;
   solid->density = SPAM_DENSITY_SUMMATION; /* a continuity density starts from the file's rho, else summed (scene.c) */
   solid->rho0    = c->mass;
-  PetscCall(SpamFileOptions(&p->file));
+  PetscCall(SpamFileOptions(p));
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p, const SpamSolidParams *solid, SpamParticles *out)
+static PetscErrorCode Build(const SpamCommonParams *c, const void *p, const SpamSolidParams *solid, SpamParticles *out)
 {
   PetscFunctionBeginUser;
   (void)solid;
-  PetscCall(SpamFileBuild(c, &p->file, out));
+  PetscCall(SpamFileBuild(c, p, out));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SpamSceneFile(SpamSceneOps *ops)
 {
   PetscFunctionBeginUser;
-  *ops = (SpamSceneOps){"file", 2 | 4 | 8, PETSC_FALSE, Options, Build};
+  *ops = (SpamSceneOps){"file", 2 | 4 | 8, PETSC_FALSE, Table, sizeof(SpamFileParams), PETSC_TRUE, "-box_len", Options, Build};
   PetscFunctionReturn(0);
 }

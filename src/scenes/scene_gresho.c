@@ -16,6 +16,17 @@
 #include <spam/scene.h>
 #include <spam/errors.h>
 
+typedef struct {
+  PetscInt n;          /* particles per row of the triangular lattice                */
+  double   p0;         /* pressure at the vortex centre (standard: 5)                */
+} SpamGreshoParams;
+
+static const SpamSceneOption Table[] = {
+  {"gresho_n", SPAM_SCENE_OPTION_INT, "Particles per row of the triangular lattice (the box edge L = n a, a = 1.0746; N about 1.15 n^2)", NULL},
+  {"gresho_p0", SPAM_SCENE_OPTION_REAL, "Pressure at the vortex centre (times the density m): 5 is the standard problem, larger lowers the Mach number 1/sqrt(gamma (p0 + 1/2)) of the peak", NULL},
+  {NULL, SPAM_SCENE_OPTION_INT, NULL, NULL},
+};
+
 /* The standard profile: azimuthal velocity and pressure at radius r (units of L). */
 static void GreshoProfile(double r, double p0, double *vphi, double *pres)
 {
@@ -39,8 +50,8 @@ static PetscErrorCode SpamGreshoOptions(const SpamCommonParams *c, SpamGreshoPar
   p->n  = 32;
   p->p0 = 5.0;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene gresho (Gresho-Chan vortex)", "spam-ark");
-  PetscCall(PetscOptionsInt("-gresho_n", "Particles per row of the triangular lattice (the box edge L = n a, a = 1.0746; N about 1.15 n^2)", "README", p->n, &p->n, NULL));
-  PetscCall(PetscOptionsReal("-gresho_p0", "Pressure at the vortex centre (times the density m): 5 is the standard problem, larger lowers the Mach number 1/sqrt(gamma (p0 + 1/2)) of the peak", "README", p->p0, &p->p0, NULL));
+  PetscCall(SpamSceneOptionInt(PetscOptionsObject, Table, "gresho_n", &p->n, NULL));
+  PetscCall(SpamSceneOptionReal(PetscOptionsObject, Table, "gresho_p0", &p->p0, NULL));
   PetscOptionsEnd();
   PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->n));
   if (p->n < 1) SPAM_BAD_INPUT("-gresho_n", val, "must be a positive number of lattice points");
@@ -103,29 +114,29 @@ static PetscErrorCode SpamGreshoBuild(const SpamCommonParams *c, const SpamGresh
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, SpamSolidParams *solid)
+static PetscErrorCode Options(const SpamCommonParams *c, void *p, SpamSolidParams *solid)
 {
   PetscFunctionBeginUser;
-  PetscCall(SpamGreshoOptions(c, &p->gresho));
+  PetscCall(SpamGreshoOptions(c, p));
   SpamSolidGasDefaults(c->mass, solid);
   solid->gamma           = 5.0 / 3.0;
   /* The reference sound speed (error weights, CFL bound) is the centre's: the slowest. */
-  solid->gas_e0 = p->gresho.p0 / (solid->gamma - 1.0);
+  solid->gas_e0 = ((const SpamGreshoParams *)p)->p0 / (solid->gamma - 1.0);
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p, const SpamSolidParams *solid, SpamParticles *out)
+static PetscErrorCode Build(const SpamCommonParams *c, const void *p, const SpamSolidParams *solid, SpamParticles *out)
 {
   PetscFunctionBeginUser;
   PetscCall(SpamSceneRequireGas("gresho", solid));
   PetscCall(RefuseGasE0());
-  PetscCall(SpamGreshoBuild(c, &p->gresho, solid, out));
+  PetscCall(SpamGreshoBuild(c, p, solid, out));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SpamSceneGresho(SpamSceneOps *ops)
 {
   PetscFunctionBeginUser;
-  *ops = (SpamSceneOps){"gresho", 4, PETSC_FALSE, Options, Build};
+  *ops = (SpamSceneOps){"gresho", 4, PETSC_FALSE, Table, sizeof(SpamGreshoParams), PETSC_FALSE, NULL, Options, Build};
   PetscFunctionReturn(0);
 }

@@ -9,6 +9,18 @@
 #include <spam/scene.h>
 #include <spam/errors.h>
 
+typedef struct {
+  PetscInt n, ny;      /* lattice points along x (the wavelength L) and across       */
+  double   eps;        /* relative amplitude of the energy mode                      */
+} SpamHeatModeParams;
+
+static const SpamSceneOption Table[] = {
+  {"heatmode_n", SPAM_SCENE_OPTION_INT, "Lattice points along x: the box edge and the wavelength of the mode", NULL},
+  {"heatmode_ny", SPAM_SCENE_OPTION_INT, "Lattice points along y (and z) in 2D and 3D", NULL},
+  {"heatmode_eps", SPAM_SCENE_OPTION_REAL, "Relative amplitude eps of e = e0 (1 + eps cos kx)", NULL},
+  {NULL, SPAM_SCENE_OPTION_INT, NULL, NULL},
+};
+
 static PetscErrorCode SpamHeatModeOptions(const SpamCommonParams *c, SpamHeatModeParams *p)
 {
   char      val[64];
@@ -19,9 +31,9 @@ static PetscErrorCode SpamHeatModeOptions(const SpamCommonParams *c, SpamHeatMod
   p->ny  = 12;
   p->eps = 1e-3;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene heat-mode (temperature mode of the conducting gas)", "spam-ark");
-  PetscCall(PetscOptionsInt("-heatmode_n", "Lattice points along x: the box edge and the wavelength of the mode", "README", p->n, &p->n, NULL));
-  PetscCall(PetscOptionsInt("-heatmode_ny", "Lattice points along y (and z) in 2D and 3D", "README", p->ny, &p->ny, &ny_set));
-  PetscCall(PetscOptionsReal("-heatmode_eps", "Relative amplitude eps of e = e0 (1 + eps cos kx)", "README", p->eps, &p->eps, NULL));
+  PetscCall(SpamSceneOptionInt(PetscOptionsObject, Table, "heatmode_n", &p->n, NULL));
+  PetscCall(SpamSceneOptionInt(PetscOptionsObject, Table, "heatmode_ny", &p->ny, &ny_set));
+  PetscCall(SpamSceneOptionReal(PetscOptionsObject, Table, "heatmode_eps", &p->eps, NULL));
   PetscOptionsEnd();
   PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->n));
   if (p->n < 1) SPAM_BAD_INPUT("-heatmode_n", val, "must be a positive number of lattice points");
@@ -71,27 +83,27 @@ static PetscErrorCode SpamHeatModeBuild(const SpamCommonParams *c, const SpamHea
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, SpamSolidParams *solid)
+static PetscErrorCode Options(const SpamCommonParams *c, void *p, SpamSolidParams *solid)
 {
   PetscFunctionBeginUser;
-  PetscCall(SpamHeatModeOptions(c, &p->heat_mode));
+  PetscCall(SpamHeatModeOptions(c, p));
   SpamSolidGasDefaults(c->mass, solid);
   solid->gas_e0          = 1e-6;
   solid->conductivity    = 1.0;
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p, const SpamSolidParams *solid, SpamParticles *out)
+static PetscErrorCode Build(const SpamCommonParams *c, const void *p, const SpamSolidParams *solid, SpamParticles *out)
 {
   PetscFunctionBeginUser;
   PetscCall(SpamSceneRequireGas("heat-mode", solid));
-  PetscCall(SpamHeatModeBuild(c, &p->heat_mode, solid, out));
+  PetscCall(SpamHeatModeBuild(c, p, solid, out));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SpamSceneHeatMode(SpamSceneOps *ops)
 {
   PetscFunctionBeginUser;
-  *ops = (SpamSceneOps){"heat-mode", 2 | 4 | 8, PETSC_FALSE, Options, Build};
+  *ops = (SpamSceneOps){"heat-mode", 2 | 4 | 8, PETSC_FALSE, Table, sizeof(SpamHeatModeParams), PETSC_FALSE, NULL, Options, Build};
   PetscFunctionReturn(0);
 }

@@ -1,25 +1,38 @@
-/* The scenes spam-ark knows, by name: a new scene is its own file and one line here. */
+/* The scenes of scene_list.h as a constant table of descriptor functions, in the list's
+ * order: -scene's list by name, and each scene's descriptor for the registry's users
+ * (scene.c, option_use.c). */
 #include <spam/scene.h>
+#include <scenes/scene_list.h>
+
+#define SPAM_SCENE_DECLARE(Prefix) PetscErrorCode SpamScene##Prefix(SpamSceneOps *ops);
+SPAM_SCENE_LIST(SPAM_SCENE_DECLARE)
+#undef SPAM_SCENE_DECLARE
+
+#define SPAM_SCENE_ROW(Prefix) SpamScene##Prefix,
+static const SpamSceneOpsFn Scenes[] = {SPAM_SCENE_LIST(SPAM_SCENE_ROW)};
+#undef SPAM_SCENE_ROW
+
+int SpamSceneCount(void)
+{
+  return (int)(sizeof Scenes / sizeof Scenes[0]);
+}
+
+PetscErrorCode SpamSceneGet(int i, SpamSceneOps *ops)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(i >= 0 && i < SpamSceneCount(), PETSC_COMM_SELF, PETSC_ERR_ARG_OUTOFRANGE, "scene %d of %d", i, SpamSceneCount());
+  PetscCall(PetscMemzero(ops, sizeof *ops));
+  PetscCall(Scenes[i](ops));
+  PetscFunctionReturn(0);
+}
 
 PetscErrorCode SpamSceneRegisterAll(PetscFunctionList *list)
 {
   PetscFunctionBeginUser;
-  PetscCall(PetscFunctionListAdd(list, "expansion", SpamSceneExpansion));
-  PetscCall(PetscFunctionListAdd(list, "file", SpamSceneFile));
-  PetscCall(PetscFunctionListAdd(list, "chain", SpamSceneChain));
-  PetscCall(PetscFunctionListAdd(list, "planewave", SpamScenePlanewave));
-  PetscCall(PetscFunctionListAdd(list, "rotor", SpamSceneRotor));
-  PetscCall(PetscFunctionListAdd(list, "rotor-pair", SpamSceneRotorPair));
-  PetscCall(PetscFunctionListAdd(list, "rotor-md", SpamSceneRotorMd));
-  PetscCall(PetscFunctionListAdd(list, "tensile", SpamSceneTensile));
-  PetscCall(PetscFunctionListAdd(list, "convection", SpamSceneConvection));
-  PetscCall(PetscFunctionListAdd(list, "sod", SpamSceneSod));
-  PetscCall(PetscFunctionListAdd(list, "sedov", SpamSceneSedov));
-  PetscCall(PetscFunctionListAdd(list, "gresho", SpamSceneGresho));
-  PetscCall(PetscFunctionListAdd(list, "taylor-green", SpamSceneTaylorGreen));
-  PetscCall(PetscFunctionListAdd(list, "heat-mode", SpamSceneHeatMode));
-  PetscCall(PetscFunctionListAdd(list, "couette", SpamSceneCouette));
-  PetscCall(PetscFunctionListAdd(list, "poiseuille", SpamScenePoiseuille));
-  PetscCall(PetscFunctionListAdd(list, "cavity", SpamSceneCavity));
+  for (int i = 0; i < SpamSceneCount(); i++) {
+    SpamSceneOps ops;
+    PetscCall(SpamSceneGet(i, &ops));
+    PetscCall(PetscFunctionListAdd(list, ops.name, Scenes[i]));
+  }
   PetscFunctionReturn(0);
 }

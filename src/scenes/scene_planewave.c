@@ -13,6 +13,23 @@
 #include <spam/errors.h>
 #include <spam/planewave_stress.h>
 
+typedef struct {
+  PetscInt  nx, ny;     /* lattice columns and rows (ny even: periodic)            */
+  PetscBool longitudinal;
+  double    amplitude;
+  PetscBool continuum_stress; /* -planewave_stress continuum: Hooke(grad u), not SPAM's */
+  SpamSolidParams solid;
+} SpamPlanewaveParams;
+
+static const SpamSceneOption Table[] = {
+  {"planewave_nx", SPAM_SCENE_OPTION_INT, "Particles per lattice row", NULL},
+  {"planewave_ny", SPAM_SCENE_OPTION_INT, "Lattice rows (even; the wavelength is ny sqrt(3)/2)", NULL},
+  {"planewave_mode", SPAM_SCENE_OPTION_STRING, "Polarisation: transverse (u_x) or longitudinal (u_y)", NULL},
+  {"planewave_amplitude", SPAM_SCENE_OPTION_REAL, "Displacement amplitude A (lattice units)", NULL},
+  {"planewave_stress", SPAM_SCENE_OPTION_STRING, "Initial stress: spam (Hooke's law of SPAM's strain of the displaced lattice) or continuum (of grad u)", NULL},
+  {NULL, SPAM_SCENE_OPTION_INT, NULL, NULL},
+};
+
 static PetscErrorCode SpamPlanewaveOptions(const SpamCommonParams *c, SpamPlanewaveParams *p)
 {
   char val[64], mode[32] = "transverse", stress[32] = "spam";
@@ -24,11 +41,11 @@ static PetscErrorCode SpamPlanewaveOptions(const SpamCommonParams *c, SpamPlanew
   SpamSolidDefaults(&p->solid);
   p->solid.rho0 = c->mass * sqrt(4.0 / 3.0); /* unit triangular lattice */
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene planewave (Hoover, Hoover & Merritt 2004, Sec. V)", "spam-ark");
-  PetscCall(PetscOptionsInt("-planewave_nx", "Particles per lattice row", "README", p->nx, &p->nx, NULL));
-  PetscCall(PetscOptionsInt("-planewave_ny", "Lattice rows (even; the wavelength is ny sqrt(3)/2)", "README", p->ny, &p->ny, NULL));
-  PetscCall(PetscOptionsString("-planewave_mode", "Polarisation: transverse (u_x) or longitudinal (u_y)", "README", mode, mode, sizeof mode, NULL));
-  PetscCall(PetscOptionsReal("-planewave_amplitude", "Displacement amplitude A (lattice units)", "README", p->amplitude, &p->amplitude, NULL));
-  PetscCall(PetscOptionsString("-planewave_stress", "Initial stress: spam (Hooke's law of SPAM's strain of the displaced lattice) or continuum (of grad u)", "README", stress, stress, sizeof stress, NULL));
+  PetscCall(SpamSceneOptionInt(PetscOptionsObject, Table, "planewave_nx", &p->nx, NULL));
+  PetscCall(SpamSceneOptionInt(PetscOptionsObject, Table, "planewave_ny", &p->ny, NULL));
+  PetscCall(SpamSceneOptionString(PetscOptionsObject, Table, "planewave_mode", mode, sizeof mode, NULL));
+  PetscCall(SpamSceneOptionReal(PetscOptionsObject, Table, "planewave_amplitude", &p->amplitude, NULL));
+  PetscCall(SpamSceneOptionString(PetscOptionsObject, Table, "planewave_stress", stress, sizeof stress, NULL));
   PetscOptionsEnd();
   if (strcmp(mode, "transverse") && strcmp(mode, "longitudinal")) SPAM_BAD_INPUT("-planewave_mode", mode, "allowed: transverse, longitudinal");
   p->longitudinal = (PetscBool)!strcmp(mode, "longitudinal");
@@ -110,17 +127,17 @@ static PetscErrorCode SpamPlanewaveBuild(const SpamCommonParams *c, const SpamPl
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, SpamSolidParams *solid)
+static PetscErrorCode Options(const SpamCommonParams *c, void *p, SpamSolidParams *solid)
 {
   PetscFunctionBeginUser;
-  PetscCall(SpamPlanewaveOptions(c, &p->planewave));
-  *solid = p->planewave.solid;
+  PetscCall(SpamPlanewaveOptions(c, p));
+  *solid = ((const SpamPlanewaveParams *)p)->solid;
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p, const SpamSolidParams *solid, SpamParticles *out)
+static PetscErrorCode Build(const SpamCommonParams *c, const void *p, const SpamSolidParams *solid, SpamParticles *out)
 {
-  SpamPlanewaveParams q = p->planewave;
+  SpamPlanewaveParams q = *(const SpamPlanewaveParams *)p;
 
   PetscFunctionBeginUser;
   q.solid = *solid;
@@ -131,6 +148,6 @@ static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p,
 PetscErrorCode SpamScenePlanewave(SpamSceneOps *ops)
 {
   PetscFunctionBeginUser;
-  *ops = (SpamSceneOps){"planewave", 4, PETSC_FALSE, Options, Build};
+  *ops = (SpamSceneOps){"planewave", 4, PETSC_FALSE, Table, sizeof(SpamPlanewaveParams), PETSC_FALSE, NULL, Options, Build};
   PetscFunctionReturn(0);
 }

@@ -9,19 +9,28 @@
 #include <spam/scene.h>
 #include <spam/errors.h>
 
-static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, SpamSolidParams *solid)
+/* The channel's options (shear_channel.c reads them). */
+static const SpamSceneOption Table[] = {
+  {"poiseuille_speed", SPAM_SCENE_OPTION_REAL, "Steady peak speed U: the driving g = 8 nu U / H^2 along x is the default of -gravity; below the sound speed", NULL},
+  {"poiseuille_n", SPAM_SCENE_OPTION_INT, "Lattice rows across the channel: its width H = n (unit spacing)", NULL},
+  {"poiseuille_nx", SPAM_SCENE_OPTION_INT, "Lattice columns along the periodic x (and z) (0: n, at least 2 (h + skin))", NULL},
+  {"poiseuille_start", SPAM_SCENE_OPTION_STRING, "Initial velocity: rest, or parabolic (the exact steady profile)", NULL},
+  {NULL, SPAM_SCENE_OPTION_INT, NULL, NULL},
+};
+
+static PetscErrorCode Options(const SpamCommonParams *c, void *p, SpamSolidParams *solid)
 {
-  SpamShearParams *q = &p->poiseuille;
+  SpamShearParams *q = p;
 
   PetscFunctionBeginUser;
   SpamShearChannelDefaults(c, solid);
-  PetscCall(SpamShearChannelOptions(c, "poiseuille", "parabolic", "Steady peak speed U: the driving g = 8 nu U / H^2 along x is the default of -gravity; below the sound speed", q));
+  PetscCall(SpamShearChannelOptions(c, "poiseuille", "parabolic", Table, q));
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p, const SpamSolidParams *solid, SpamParticles *out)
+static PetscErrorCode Build(const SpamCommonParams *c, const void *p, const SpamSolidParams *solid, SpamParticles *out)
 {
-  const SpamShearParams *q   = &p->poiseuille;
+  const SpamShearParams *q   = p;
   const int              dim = c->dim;
   const double           H   = (double)q->n;
   double                 nu, cs, g;
@@ -52,6 +61,6 @@ static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p,
 PetscErrorCode SpamScenePoiseuille(SpamSceneOps *ops)
 {
   PetscFunctionBeginUser;
-  *ops = (SpamSceneOps){"poiseuille", 4 | 8, PETSC_FALSE, Options, Build};
+  *ops = (SpamSceneOps){"poiseuille", 4 | 8, PETSC_FALSE, Table, sizeof(SpamShearParams), PETSC_FALSE, NULL, Options, Build};
   PetscFunctionReturn(0);
 }

@@ -6,9 +6,29 @@
 #include <spam/scene.h>
 #include <spam/errors.h>
 
+typedef struct {
+  PetscInt  n;          /* shells: N = 1 + 3n + 3n^2                                */
+  double    speed;      /* speed of the vertices                                    */
+  double    gap;        /* rotor-pair: gap between the two hexagons                 */
+  PetscBool pair;
+  SpamSolidParams solid;
+} SpamRotorParams;
+
+/* The rotor's options; the pair's add the gap. */
+#define ROTOR_N     {"rotor_n", SPAM_SCENE_OPTION_INT, "Shells of the hexagon (N = 1 + 3n + 3n^2; 8 gives 217)", NULL}
+#define ROTOR_SPEED {"rotor_speed", SPAM_SCENE_OPTION_REAL, "Speed of the vertices of the rigidly rotating hexagon", NULL}
+static const SpamSceneOption TableOne[] = {ROTOR_N, ROTOR_SPEED, {NULL, SPAM_SCENE_OPTION_INT, NULL, NULL}};
+static const SpamSceneOption TablePair[] = {
+  ROTOR_N,
+  ROTOR_SPEED,
+  {"rotor_gap", SPAM_SCENE_OPTION_REAL, "Gap between the two hexagons' vertex circles (default h + 1: no contact)", NULL},
+  {NULL, SPAM_SCENE_OPTION_INT, NULL, NULL},
+};
+
 static PetscErrorCode SpamRotorOptions(const SpamCommonParams *c, PetscBool pair, SpamRotorParams *p)
 {
-  char val[64];
+  const SpamSceneOption *table = pair ? TablePair : TableOne;
+  char                   val[64];
 
   PetscFunctionBeginUser;
   p->n     = 8;
@@ -22,9 +42,9 @@ static PetscErrorCode SpamRotorOptions(const SpamCommonParams *c, PetscBool pair
     p->solid.angmom = SPAM_ANGMOM_TIJ;
   }
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, pair ? "Scene rotor-pair (Hoover, Hoover & Merritt 2004, Sec. IX)" : "Scene rotor (Hoover, Hoover & Merritt 2004, Sec. VI)", "spam-ark");
-  PetscCall(PetscOptionsInt("-rotor_n", "Shells of the hexagon (N = 1 + 3n + 3n^2; 8 gives 217)", "README", p->n, &p->n, NULL));
-  PetscCall(PetscOptionsReal("-rotor_speed", "Speed of the vertices of the rigidly rotating hexagon", "README", p->speed, &p->speed, NULL));
-  if (pair) PetscCall(PetscOptionsReal("-rotor_gap", "Gap between the two hexagons' vertex circles (default h + 1: no contact)", "README", p->gap, &p->gap, NULL));
+  PetscCall(SpamSceneOptionInt(PetscOptionsObject, table, "rotor_n", &p->n, NULL));
+  PetscCall(SpamSceneOptionReal(PetscOptionsObject, table, "rotor_speed", &p->speed, NULL));
+  if (pair) PetscCall(SpamSceneOptionReal(PetscOptionsObject, table, "rotor_gap", &p->gap, NULL));
   PetscOptionsEnd();
   PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->n));
   if (p->n < 1 || p->n > 1000) SPAM_BAD_INPUT("-rotor_n", val, "allowed: 1 to 1000 shells");
@@ -78,25 +98,29 @@ static PetscErrorCode SpamRotorBuild(const SpamCommonParams *c, const SpamRotorP
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode OptionsOne(const SpamCommonParams *c, SpamSceneParams *p, SpamSolidParams *solid)
+static PetscErrorCode OptionsOne(const SpamCommonParams *c, void *p, SpamSolidParams *solid)
 {
+  SpamRotorParams *q = p;
+
   PetscFunctionBeginUser;
-  PetscCall(SpamRotorOptions(c, PETSC_FALSE, &p->rotor));
-  *solid = p->rotor.solid;
+  PetscCall(SpamRotorOptions(c, PETSC_FALSE, q));
+  *solid = q->solid;
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode OptionsPair(const SpamCommonParams *c, SpamSceneParams *p, SpamSolidParams *solid)
+static PetscErrorCode OptionsPair(const SpamCommonParams *c, void *p, SpamSolidParams *solid)
 {
+  SpamRotorParams *q = p;
+
   PetscFunctionBeginUser;
-  PetscCall(SpamRotorOptions(c, PETSC_TRUE, &p->rotor));
-  *solid = p->rotor.solid;
+  PetscCall(SpamRotorOptions(c, PETSC_TRUE, q));
+  *solid = q->solid;
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p, const SpamSolidParams *solid, SpamParticles *out)
+static PetscErrorCode Build(const SpamCommonParams *c, const void *p, const SpamSolidParams *solid, SpamParticles *out)
 {
-  SpamRotorParams r = p->rotor;
+  SpamRotorParams r = *(const SpamRotorParams *)p;
 
   PetscFunctionBeginUser;
   r.solid = *solid;
@@ -107,13 +131,13 @@ static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p,
 PetscErrorCode SpamSceneRotor(SpamSceneOps *ops)
 {
   PetscFunctionBeginUser;
-  *ops = (SpamSceneOps){"rotor", 4, PETSC_FALSE, OptionsOne, Build};
+  *ops = (SpamSceneOps){"rotor", 4, PETSC_FALSE, TableOne, sizeof(SpamRotorParams), PETSC_FALSE, NULL, OptionsOne, Build};
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SpamSceneRotorPair(SpamSceneOps *ops)
 {
   PetscFunctionBeginUser;
-  *ops = (SpamSceneOps){"rotor-pair", 4, PETSC_FALSE, OptionsPair, Build};
+  *ops = (SpamSceneOps){"rotor-pair", 4, PETSC_FALSE, TablePair, sizeof(SpamRotorParams), PETSC_FALSE, NULL, OptionsPair, Build};
   PetscFunctionReturn(0);
 }

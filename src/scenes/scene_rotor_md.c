@@ -5,6 +5,19 @@
 #include <spam/scene.h>
 #include <spam/errors.h>
 
+typedef struct {
+  PetscInt n;
+  double   speed, k, range;
+} SpamRotorMdParams;
+
+static const SpamSceneOption Table[] = {
+  {"rotor_n", SPAM_SCENE_OPTION_INT, "Shells of the hexagon (N = 1 + 3n + 3n^2; 8 gives 217)", NULL},
+  {"rotor_speed", SPAM_SCENE_OPTION_REAL, "Speed of the vertices of the rigidly rotating hexagon", NULL},
+  {"spring_k", SPAM_SCENE_OPTION_REAL, "Spring constant k of phi = k/2 (1 - r)^2", NULL},
+  {"spring_range", SPAM_SCENE_OPTION_REAL, "Pairs closer than this at t = 0 are bonded (nearest neighbours: 1.1)", NULL},
+  {NULL, SPAM_SCENE_OPTION_INT, NULL, NULL},
+};
+
 static PetscErrorCode SpamRotorMdOptions(const SpamCommonParams *c, SpamRotorMdParams *p)
 {
   char val[64];
@@ -16,10 +29,10 @@ static PetscErrorCode SpamRotorMdOptions(const SpamCommonParams *c, SpamRotorMdP
   p->k     = 1.0;
   p->range = 1.1;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene rotor-md (Hoover, Hoover & Merritt 2004, Fig. 4a)", "spam-ark");
-  PetscCall(PetscOptionsInt("-rotor_n", "Shells of the hexagon (N = 1 + 3n + 3n^2; 8 gives 217)", "README", p->n, &p->n, NULL));
-  PetscCall(PetscOptionsReal("-rotor_speed", "Speed of the vertices of the rigidly rotating hexagon", "README", p->speed, &p->speed, NULL));
-  PetscCall(PetscOptionsReal("-spring_k", "Spring constant k of phi = k/2 (1 - r)^2", "README", p->k, &p->k, NULL));
-  PetscCall(PetscOptionsReal("-spring_range", "Pairs closer than this at t = 0 are bonded (nearest neighbours: 1.1)", "README", p->range, &p->range, NULL));
+  PetscCall(SpamSceneOptionInt(PetscOptionsObject, Table, "rotor_n", &p->n, NULL));
+  PetscCall(SpamSceneOptionReal(PetscOptionsObject, Table, "rotor_speed", &p->speed, NULL));
+  PetscCall(SpamSceneOptionReal(PetscOptionsObject, Table, "spring_k", &p->k, NULL));
+  PetscCall(SpamSceneOptionReal(PetscOptionsObject, Table, "spring_range", &p->range, NULL));
   PetscOptionsEnd();
   PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->n));
   if (p->n < 1 || p->n > 1000) SPAM_BAD_INPUT("-rotor_n", val, "allowed: 1 to 1000 shells");
@@ -57,25 +70,25 @@ static PetscErrorCode SpamRotorMdBuild(const SpamCommonParams *c, const SpamRoto
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, SpamSolidParams *solid)
+static PetscErrorCode Options(const SpamCommonParams *c, void *p, SpamSolidParams *solid)
 {
   PetscFunctionBeginUser;
   SpamSolidDefaults(solid);
-  PetscCall(SpamRotorMdOptions(c, &p->rotor_md));
+  PetscCall(SpamRotorMdOptions(c, p));
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p, const SpamSolidParams *solid, SpamParticles *out)
+static PetscErrorCode Build(const SpamCommonParams *c, const void *p, const SpamSolidParams *solid, SpamParticles *out)
 {
   PetscFunctionBeginUser;
   (void)solid;
-  PetscCall(SpamRotorMdBuild(c, &p->rotor_md, out));
+  PetscCall(SpamRotorMdBuild(c, p, out));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SpamSceneRotorMd(SpamSceneOps *ops)
 {
   PetscFunctionBeginUser;
-  *ops = (SpamSceneOps){"rotor-md", 4, PETSC_TRUE, Options, Build};
+  *ops = (SpamSceneOps){"rotor-md", 4, PETSC_TRUE, Table, sizeof(SpamRotorMdParams), PETSC_FALSE, NULL, Options, Build};
   PetscFunctionReturn(0);
 }

@@ -16,6 +16,17 @@
 #include <spam/scene.h>
 #include <spam/errors.h>
 
+typedef struct {
+  PetscInt n;      /* lattice points per direction of the periodic box                  */
+  double   energy; /* blast energy E0                                                   */
+} SpamSedovParams;
+
+static const SpamSceneOption Table[] = {
+  {"sedov_n", SPAM_SCENE_OPTION_INT, "Lattice points per direction of the periodic box (default 48 in 2D, 20 in 3D)", NULL},
+  {"sedov_energy", SPAM_SCENE_OPTION_REAL, "Blast energy E0, deposited kernel-weighted within h of the centre", NULL},
+  {NULL, SPAM_SCENE_OPTION_INT, NULL, NULL},
+};
+
 #define SEDOV_GAMMA     (5.0 / 3.0)
 #define SEDOV_E_AMBIENT 1e-3
 #define SEDOV_XI0_EST   1.1  /* for the default end time only                          */
@@ -29,8 +40,8 @@ static PetscErrorCode SedovOptions(const SpamCommonParams *c, SpamSedovParams *p
   p->n      = c->dim == 3 ? 20 : 48; /* about 9 s in 2D, a minute in 3D (one thread) */
   p->energy = 1e4;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene sedov (point blast)", "spam-ark");
-  PetscCall(PetscOptionsInt("-sedov_n", "Lattice points per direction of the periodic box (default 48 in 2D, 20 in 3D)", "README", p->n, &p->n, NULL));
-  PetscCall(PetscOptionsReal("-sedov_energy", "Blast energy E0, deposited kernel-weighted within h of the centre", "README", p->energy, &p->energy, NULL));
+  PetscCall(SpamSceneOptionInt(PetscOptionsObject, Table, "sedov_n", &p->n, NULL));
+  PetscCall(SpamSceneOptionReal(PetscOptionsObject, Table, "sedov_energy", &p->energy, NULL));
   PetscOptionsEnd();
   PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->n));
   if (p->n < 4) SPAM_BAD_INPUT("-sedov_n", val, "must be at least 4 lattice points per direction");
@@ -99,10 +110,10 @@ static PetscErrorCode SedovBuild(const SpamCommonParams *c, const SpamSedovParam
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, SpamSolidParams *solid)
+static PetscErrorCode Options(const SpamCommonParams *c, void *p, SpamSolidParams *solid)
 {
   PetscFunctionBeginUser;
-  PetscCall(SedovOptions(c, &p->sedov));
+  PetscCall(SedovOptions(c, p));
   SpamSolidGasDefaults(c->mass, solid); /* unit lattice */
   solid->gamma           = SEDOV_GAMMA;
   solid->gas_e0          = SEDOV_E_AMBIENT;
@@ -110,16 +121,16 @@ static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, Spa
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p, const SpamSolidParams *solid, SpamParticles *out)
+static PetscErrorCode Build(const SpamCommonParams *c, const void *p, const SpamSolidParams *solid, SpamParticles *out)
 {
   PetscFunctionBeginUser;
-  PetscCall(SedovBuild(c, &p->sedov, solid, out));
+  PetscCall(SedovBuild(c, p, solid, out));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SpamSceneSedov(SpamSceneOps *ops)
 {
   PetscFunctionBeginUser;
-  *ops = (SpamSceneOps){"sedov", 4 | 8, PETSC_FALSE, Options, Build};
+  *ops = (SpamSceneOps){"sedov", 4 | 8, PETSC_FALSE, Table, sizeof(SpamSedovParams), PETSC_FALSE, NULL, Options, Build};
   PetscFunctionReturn(0);
 }

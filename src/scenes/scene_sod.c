@@ -28,6 +28,19 @@
 #include <spam/scene.h>
 #include <spam/errors.h>
 
+typedef struct {
+  PetscInt n;      /* lattice spacings per unit length of the classical tube            */
+  double   length; /* tube length in those units (periodic)                             */
+  PetscInt width;  /* lattice points across the tube in each transverse direction       */
+} SpamSodParams;
+
+static const SpamSceneOption Table[] = {
+  {"sod_n", SPAM_SCENE_OPTION_INT, "Lattice spacings per unit length of the classical tube (the end time is 0.2 n; default 200, 100, 25 in 1D, 2D, 3D)", NULL},
+  {"sod_length", SPAM_SCENE_OPTION_REAL, "Tube length in those units, periodic (the jump at 0, its reverse at the ends)", NULL},
+  {"sod_width", SPAM_SCENE_OPTION_INT, "Lattice points across the tube in each transverse direction (2D, 3D; periodic)", NULL},
+  {NULL, SPAM_SCENE_OPTION_INT, NULL, NULL},
+};
+
 /* The left and right states (Sod 1978), in units of the left density and pressure. */
 #define SOD_RHO_LEFT  1.0
 #define SOD_P_LEFT    1.0
@@ -55,9 +68,9 @@ static PetscErrorCode SodOptions(const SpamCommonParams *c, SpamSodParams *p)
   p->length = 2.0;
   p->width  = 8;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene sod (Sod 1978 shock tube)", "spam-ark");
-  PetscCall(PetscOptionsInt("-sod_n", "Lattice spacings per unit length of the classical tube (the end time is 0.2 n; default 200, 100, 25 in 1D, 2D, 3D)", "README", p->n, &p->n, NULL));
-  PetscCall(PetscOptionsReal("-sod_length", "Tube length in those units, periodic (the jump at 0, its reverse at the ends)", "README", p->length, &p->length, NULL));
-  PetscCall(PetscOptionsInt("-sod_width", "Lattice points across the tube in each transverse direction (2D, 3D; periodic)", "README", p->width, &p->width, NULL));
+  PetscCall(SpamSceneOptionInt(PetscOptionsObject, Table, "sod_n", &p->n, NULL));
+  PetscCall(SpamSceneOptionReal(PetscOptionsObject, Table, "sod_length", &p->length, NULL));
+  PetscCall(SpamSceneOptionInt(PetscOptionsObject, Table, "sod_width", &p->width, NULL));
   PetscOptionsEnd();
   PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->n));
   if (p->n < 2) SPAM_BAD_INPUT("-sod_n", val, "must be at least 2 lattice spacings per unit length");
@@ -141,10 +154,10 @@ static PetscErrorCode SodBuild(const SpamCommonParams *c, const SpamSodParams *p
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, SpamSolidParams *solid)
+static PetscErrorCode Options(const SpamCommonParams *c, void *p, SpamSolidParams *solid)
 {
   PetscFunctionBeginUser;
-  PetscCall(SodOptions(c, &p->sod));
+  PetscCall(SodOptions(c, p));
   SpamSolidGasDefaults(c->mass * SOD_RHO_LEFT, solid);
   solid->gamma           = SOD_GAMMA;
   solid->gas_e0          = SOD_P_LEFT / (SOD_RHO_LEFT * (SOD_GAMMA - 1.0)); /* reference sound speed only */
@@ -152,19 +165,19 @@ static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, Spa
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p, const SpamSolidParams *solid, SpamParticles *out)
+static PetscErrorCode Build(const SpamCommonParams *c, const void *p, const SpamSolidParams *solid, SpamParticles *out)
 {
   SpamSolidParams s = *solid;
 
   PetscFunctionBeginUser;
   s.sound_speed = sqrt(s.gamma * (s.gamma - 1.0) * s.gas_e0); /* as the model will set it */
-  PetscCall(SodBuild(c, &p->sod, &s, out));
+  PetscCall(SodBuild(c, p, &s, out));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SpamSceneSod(SpamSceneOps *ops)
 {
   PetscFunctionBeginUser;
-  *ops = (SpamSceneOps){"sod", 2 | 4 | 8, PETSC_FALSE, Options, Build};
+  *ops = (SpamSceneOps){"sod", 2 | 4 | 8, PETSC_FALSE, Table, sizeof(SpamSodParams), PETSC_FALSE, NULL, Options, Build};
   PetscFunctionReturn(0);
 }

@@ -8,6 +8,17 @@
 #include <spam/scene.h>
 #include <spam/errors.h>
 
+typedef struct {
+  PetscInt n;          /* lattice points per direction: the box edge L               */
+  double   amplitude;  /* velocity amplitude U                                       */
+} SpamTaylorGreenParams;
+
+static const SpamSceneOption Table[] = {
+  {"taylorgreen_n", SPAM_SCENE_OPTION_INT, "Lattice points per direction: the periodic box edge L, the wavelength (N = n^D)", NULL},
+  {"taylorgreen_amplitude", SPAM_SCENE_OPTION_REAL, "Velocity amplitude U", NULL},
+  {NULL, SPAM_SCENE_OPTION_INT, NULL, NULL},
+};
+
 static PetscErrorCode SpamTaylorGreenOptions(const SpamCommonParams *c, SpamTaylorGreenParams *p)
 {
   char val[64];
@@ -16,8 +27,8 @@ static PetscErrorCode SpamTaylorGreenOptions(const SpamCommonParams *c, SpamTayl
   p->n         = 24;
   p->amplitude = 1e-4;
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene taylor-green (decaying Taylor-Green vortex)", "spam-ark");
-  PetscCall(PetscOptionsInt("-taylorgreen_n", "Lattice points per direction: the periodic box edge L, the wavelength (N = n^D)", "README", p->n, &p->n, NULL));
-  PetscCall(PetscOptionsReal("-taylorgreen_amplitude", "Velocity amplitude U", "README", p->amplitude, &p->amplitude, NULL));
+  PetscCall(SpamSceneOptionInt(PetscOptionsObject, Table, "taylorgreen_n", &p->n, NULL));
+  PetscCall(SpamSceneOptionReal(PetscOptionsObject, Table, "taylorgreen_amplitude", &p->amplitude, NULL));
   PetscOptionsEnd();
   PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->n));
   if (p->n < 1) SPAM_BAD_INPUT("-taylorgreen_n", val, "must be a positive number of lattice points");
@@ -64,27 +75,27 @@ static PetscErrorCode SpamTaylorGreenBuild(const SpamCommonParams *c, const Spam
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, SpamSolidParams *solid)
+static PetscErrorCode Options(const SpamCommonParams *c, void *p, SpamSolidParams *solid)
 {
   PetscFunctionBeginUser;
-  PetscCall(SpamTaylorGreenOptions(c, &p->taylor_green));
+  PetscCall(SpamTaylorGreenOptions(c, p));
   SpamSolidGasDefaults(c->mass, solid);
   solid->gas_e0          = 1e-4;
   solid->shear_visc      = 2.0;
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p, const SpamSolidParams *solid, SpamParticles *out)
+static PetscErrorCode Build(const SpamCommonParams *c, const void *p, const SpamSolidParams *solid, SpamParticles *out)
 {
   PetscFunctionBeginUser;
   PetscCall(SpamSceneRequireGas("taylor-green", solid));
-  PetscCall(SpamTaylorGreenBuild(c, &p->taylor_green, solid, out));
+  PetscCall(SpamTaylorGreenBuild(c, p, solid, out));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SpamSceneTaylorGreen(SpamSceneOps *ops)
 {
   PetscFunctionBeginUser;
-  *ops = (SpamSceneOps){"taylor-green", 4 | 8, PETSC_FALSE, Options, Build};
+  *ops = (SpamSceneOps){"taylor-green", 4 | 8, PETSC_FALSE, Table, sizeof(SpamTaylorGreenParams), PETSC_FALSE, NULL, Options, Build};
   PetscFunctionReturn(0);
 }

@@ -6,6 +6,20 @@
 #include <spam/scene.h>
 #include <spam/errors.h>
 
+typedef struct {
+  PetscInt nx, ny;
+  double   stress, kick;
+  SpamSolidParams solid;
+} SpamTensileParams;
+
+static const SpamSceneOption Table[] = {
+  {"tensile_nx", SPAM_SCENE_OPTION_INT, "Particles per lattice row", NULL},
+  {"tensile_ny", SPAM_SCENE_OPTION_INT, "Lattice rows (even)", NULL},
+  {"tensile_stress", SPAM_SCENE_OPTION_REAL, "Hydrostatic tension sigma0 (positive: tension)", NULL},
+  {"tensile_kick", SPAM_SCENE_OPTION_REAL, "Initial x velocity of the centre particle", NULL},
+  {NULL, SPAM_SCENE_OPTION_INT, NULL, NULL},
+};
+
 static PetscErrorCode SpamTensileOptions(const SpamCommonParams *c, SpamTensileParams *p)
 {
   char val[64];
@@ -18,10 +32,10 @@ static PetscErrorCode SpamTensileOptions(const SpamCommonParams *c, SpamTensileP
   SpamSolidDefaults(&p->solid);
   p->solid.rho0 = c->mass * sqrt(4.0 / 3.0);
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Scene tensile (Hoover, Hoover & Merritt 2004, Fig. 1)", "spam-ark");
-  PetscCall(PetscOptionsInt("-tensile_nx", "Particles per lattice row", "README", p->nx, &p->nx, NULL));
-  PetscCall(PetscOptionsInt("-tensile_ny", "Lattice rows (even)", "README", p->ny, &p->ny, NULL));
-  PetscCall(PetscOptionsReal("-tensile_stress", "Hydrostatic tension sigma0 (positive: tension)", "README", p->stress, &p->stress, NULL));
-  PetscCall(PetscOptionsReal("-tensile_kick", "Initial x velocity of the centre particle", "README", p->kick, &p->kick, NULL));
+  PetscCall(SpamSceneOptionInt(PetscOptionsObject, Table, "tensile_nx", &p->nx, NULL));
+  PetscCall(SpamSceneOptionInt(PetscOptionsObject, Table, "tensile_ny", &p->ny, NULL));
+  PetscCall(SpamSceneOptionReal(PetscOptionsObject, Table, "tensile_stress", &p->stress, NULL));
+  PetscCall(SpamSceneOptionReal(PetscOptionsObject, Table, "tensile_kick", &p->kick, NULL));
   PetscOptionsEnd();
   PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->ny));
   if (p->ny < 2 || p->ny % 2) SPAM_BAD_INPUT("-tensile_ny", val, "must be an even number of rows >= 2 (periodic triangular lattice)");
@@ -58,17 +72,17 @@ static PetscErrorCode SpamTensileBuild(const SpamCommonParams *c, const SpamTens
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Options(const SpamCommonParams *c, SpamSceneParams *p, SpamSolidParams *solid)
+static PetscErrorCode Options(const SpamCommonParams *c, void *p, SpamSolidParams *solid)
 {
   PetscFunctionBeginUser;
-  PetscCall(SpamTensileOptions(c, &p->tensile));
-  *solid = p->tensile.solid;
+  PetscCall(SpamTensileOptions(c, p));
+  *solid = ((const SpamTensileParams *)p)->solid;
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p, const SpamSolidParams *solid, SpamParticles *out)
+static PetscErrorCode Build(const SpamCommonParams *c, const void *p, const SpamSolidParams *solid, SpamParticles *out)
 {
-  SpamTensileParams q = p->tensile;
+  SpamTensileParams q = *(const SpamTensileParams *)p;
 
   PetscFunctionBeginUser;
   q.solid = *solid;
@@ -79,6 +93,6 @@ static PetscErrorCode Build(const SpamCommonParams *c, const SpamSceneParams *p,
 PetscErrorCode SpamSceneTensile(SpamSceneOps *ops)
 {
   PetscFunctionBeginUser;
-  *ops = (SpamSceneOps){"tensile", 4, PETSC_FALSE, Options, Build};
+  *ops = (SpamSceneOps){"tensile", 4, PETSC_FALSE, Table, sizeof(SpamTensileParams), PETSC_FALSE, NULL, Options, Build};
   PetscFunctionReturn(0);
 }

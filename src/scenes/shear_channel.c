@@ -20,9 +20,9 @@ static PetscInt Columns(const SpamCommonParams *c, const SpamShearParams *p)
   return PetscMax(p->n, (PetscInt)ceil(2.0 * (c->h + c->skin)));
 }
 
-PetscErrorCode SpamShearChannelOptions(const SpamCommonParams *c, const char *name, const char *start, const char *speed_help, SpamShearParams *p)
+PetscErrorCode SpamShearChannelOptions(const SpamCommonParams *c, const char *name, const char *start, const SpamSceneOption *table, SpamShearParams *p)
 {
-  char opt_n[40], opt_nx[40], opt_start[40], opt_speed[40], title[80], val[64], help[200], hs[32], choice[32] = "rest";
+  char opt_n[40], opt_nx[40], opt_start[40], opt_speed[40], title[80], val[64], hs[32], choice[32] = "rest";
 
   PetscFunctionBeginUser;
   p->n     = 16;
@@ -34,12 +34,11 @@ PetscErrorCode SpamShearChannelOptions(const SpamCommonParams *c, const char *na
   (void)snprintf(opt_speed, sizeof opt_speed, "-%s_speed", name);
   (void)snprintf(title, sizeof title, "Scene %s (shear flow between mirror walls)", name);
   (void)snprintf(hs, sizeof hs, "%g", c->h); /* PETSc's %g would print 3 as "3." */
-  (void)snprintf(help, sizeof help, "Initial velocity: rest, or %s (the exact steady profile)", start);
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, title, "spam-ark");
-  PetscCall(PetscOptionsReal(opt_speed, speed_help, "README", p->speed, &p->speed, NULL));
-  PetscCall(PetscOptionsInt(opt_n, "Lattice rows across the channel: its width H = n (unit spacing)", "README", p->n, &p->n, NULL));
-  PetscCall(PetscOptionsInt(opt_nx, "Lattice columns along the periodic x (and z) (0: n, at least 2 (h + skin))", "README", p->nx, &p->nx, NULL));
-  PetscCall(PetscOptionsString(opt_start, help, "README", choice, choice, sizeof choice, NULL));
+  PetscCall(SpamSceneOptionReal(PetscOptionsObject, table, opt_speed + 1, &p->speed, NULL));
+  PetscCall(SpamSceneOptionInt(PetscOptionsObject, table, opt_n + 1, &p->n, NULL));
+  PetscCall(SpamSceneOptionInt(PetscOptionsObject, table, opt_nx + 1, &p->nx, NULL));
+  PetscCall(SpamSceneOptionString(PetscOptionsObject, table, opt_start + 1, choice, sizeof choice, NULL));
   PetscOptionsEnd();
   PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, p->n));
   if (p->n < 2) SPAM_BAD_INPUT(opt_n, val, "must be at least 2 rows");
