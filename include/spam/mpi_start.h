@@ -3,7 +3,7 @@
 #define SPAM_MPI_START_H
 
 /* Before PetscInitialize: when no MPI launcher started this process, make OpenMPI start it
- * as an isolated singleton with the ob1 messaging layer, unless the user's environment
- * says otherwise. Under mpiexec nothing changes. */
+ * as an isolated singleton with the ob1 messaging layer and hwloc without its I/O-device
+ * plugins, unless the user's environment says otherwise. Under mpiexec nothing changes. */
 void SpamMpiSingletonDefaults(void);
 #endif

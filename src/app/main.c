@@ -59,7 +59,7 @@ static int StartMpi(int *argc, char ***argv)
 {
   int provided;
 
-  SpamMpiSingletonDefaults(); /* alone: no singleton daemon, no UCX probe (mpi_start.c) */
+  SpamMpiSingletonDefaults(); /* alone: no singleton daemon, no UCX probe, no hwloc I/O plugins (mpi_start.c) */
   if (MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS) {
     fprintf(stderr, "spam-ark: error: MPI_Init failed\n");
     return SPAM_EXIT_ERROR;
