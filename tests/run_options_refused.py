@@ -209,6 +209,8 @@ c.check(code == 0 and "-snes_type" in full and "-ksp_type" in full and "(README)
 out = full
 listed = set(re.findall(r"^\s+-([a-z0-9_]+) <.*\(README\)$", out, re.M))
 known = set(re.findall(r'\{"([a-z0-9_]+)", PETSC_(?:TRUE|FALSE), G_', open(os.path.join(REPO, "src", "integrate", "option_use.c")).read()))
+for method in glob.glob(os.path.join(REPO, "src", "integrate", "ts_*.c")):  # the TS types' own options
+    known |= set(re.findall(r'\{"([a-z0-9_]+)", PETSC_(?:TRUE|FALSE), PETSC_(?:TRUE|FALSE)\}', open(method).read()))
 for scene in glob.glob(os.path.join(REPO, "src", "scenes", "scene_*.c")):
     known |= set(re.findall(r'\{"([a-z0-9_]+)", SPAM_SCENE_OPTION_[A-Z]+,', open(scene).read()))
 c.check(len(listed) > 60 and not listed - known, f"{len(listed)} options in -help, all in the table of option_use.c or a scene's (missing: {sorted(listed - known)})")

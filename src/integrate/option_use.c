@@ -9,16 +9,16 @@
 #include <strings.h>
 #include <errno.h>
 #include <spam/errors.h>
-#include <spam/integrator.h>
+#include "ts_family.h"
 #include <spam/physics.h>
 #include <spam/scene.h>
 
 /* What an option of spam-ark applies to. G_SCENE: the scenes whose options tables hold it
  * (scene_list.h), found there rather than listed here. */
 typedef enum {
-  G_ALL, G_DT, G_ADAPTIVE, G_ARKODE, G_ARKODE_ADAPT, G_CVODE, G_TS, G_TS_ADAPT, G_RK, G_SSP, G_SYMP,
+  G_ALL, G_DT, G_ADAPTIVE, G_TS, G_TS_ADAPT, G_METHOD,
   G_SCENE, G_ISENTROPE,
-  G_SUNDIALS, G_MODEL, G_WALL, G_SOLID, G_SOLID_GAS, G_SOLID_GAMMA, G_SOLID_ELASTIC, G_SOLID_VISC, G_SOLID_R2, G_SOLID_TORQUE, G_SOLID_CONT, G_SOLID_FLOW, G_ENTROPY, G_RANKS
+  G_MODEL, G_WALL, G_SOLID, G_SOLID_GAS, G_SOLID_GAMMA, G_SOLID_ELASTIC, G_SOLID_VISC, G_SOLID_R2, G_SOLID_TORQUE, G_SOLID_CONT, G_SOLID_FLOW, G_ENTROPY, G_RANKS
 } Group;
 
 typedef struct {
@@ -41,12 +41,7 @@ static const Known KnownOptions[] = {
   {"initial_csv", PETSC_TRUE, G_ALL}, {"final_csv", PETSC_TRUE, G_ALL}, {"diag_grid_spacing", PETSC_TRUE, G_ENTROPY},
   {"ts_dt", PETSC_TRUE, G_DT}, {"ts_rtol", PETSC_TRUE, G_ADAPTIVE}, {"ts_atol", PETSC_TRUE, G_ADAPTIVE},
   {"arkode_classic_weights", PETSC_FALSE, G_ADAPTIVE}, {"step_cfl", PETSC_TRUE, G_ADAPTIVE}, {"step_force", PETSC_TRUE, G_ADAPTIVE},
-  {"arkode_table", PETSC_TRUE, G_ARKODE}, {"arkode_fixed_step", PETSC_TRUE, G_ARKODE}, {"arkode_adapt", PETSC_TRUE, G_ARKODE_ADAPT},
-  {"arkode_adapt_params", PETSC_TRUE, G_ARKODE_ADAPT}, {"arkode_safety", PETSC_TRUE, G_ARKODE_ADAPT},
-  {"arkode_max_growth", PETSC_TRUE, G_ARKODE_ADAPT}, {"arkode_max_first_growth", PETSC_TRUE, G_ARKODE_ADAPT},
-  {"arkode_max_efail_growth", PETSC_TRUE, G_ARKODE_ADAPT}, {"cvode_max_order", PETSC_TRUE, G_CVODE},
-  {"ts_adapt_type", PETSC_TRUE, G_TS}, {"ts_rk_type", PETSC_TRUE, G_RK}, {"ts_ssp_type", PETSC_TRUE, G_SSP},
-  {"ts_ssp_nstages", PETSC_TRUE, G_SSP}, {"ts_basicsymplectic_type", PETSC_TRUE, G_SYMP},
+  {"ts_adapt_type", PETSC_TRUE, G_TS},
   {"eos_gamma", PETSC_TRUE, G_ISENTROPE}, {"eos_kappa", PETSC_TRUE, G_ISENTROPE},
   {"material", PETSC_TRUE, G_MODEL}, {"density", PETSC_TRUE, G_SOLID}, {"density_mean", PETSC_TRUE, G_SOLID}, {"coordinates", PETSC_TRUE, G_SOLID},
   {"angmom", PETSC_TRUE, G_SOLID}, {"viscosity", PETSC_TRUE, G_SOLID}, {"viscosity_shear", PETSC_TRUE, G_SOLID}, {"viscosity_bulk", PETSC_TRUE, G_SOLID},
@@ -68,7 +63,7 @@ static const Known KnownOptions[] = {
   {"error_norm", PETSC_TRUE, G_ADAPTIVE},
   /* Outputs from the interpolant unless -output_stop (time_loop.c,
    * output_mode.c); ARKODE's / CVODE's statistics table (ts_arkode.c, ts_cvode.c). */
-  {"output_stop", PETSC_FALSE, G_ALL}, {"sundials_stats", PETSC_FALSE, G_SUNDIALS},
+  {"output_stop", PETSC_FALSE, G_ALL},
   /* Checkpoints and restart (checkpoint_*.c, restart_*.c). */
   {"checkpoint_interval", PETSC_TRUE, G_ALL}, {"checkpoint_wall", PETSC_TRUE, G_ALL}, {"restart", PETSC_TRUE, G_ALL},
   /* Canonical pair sums and a partition-independent norm (scene.c reads
@@ -98,16 +93,33 @@ static const SpamSceneOption *SceneOption(const char *name)
   return NULL;
 }
 
-/* Option name as known: from the table above or a scene's (group G_SCENE). */
+/* The row of option name in the first TS type's table that holds it (ts_family.h), or NULL. */
+static const SpamTSOption *MethodOption(const char *name)
+{
+  const SpamTSFamily *f;
+  const SpamTSOption *o;
+
+  for (int k = 0; (f = SpamTSFamilyAt(k)); k++)
+    if ((o = SpamTSFamilyOption(f, name))) return o;
+  return NULL;
+}
+
+/* Option name as known: from the table above, a TS type's (group G_METHOD) or a scene's
+ * (group G_SCENE). */
 static PetscBool Find(const char *name, Known *k)
 {
   const SpamSceneOption *o;
+  const SpamTSOption    *m;
 
   for (int j = 0; j < NKNOWN; j++)
     if (!strcasecmp(name, KnownOptions[j].name)) { /* PETSc ignores case */
       *k = KnownOptions[j];
       return PETSC_TRUE;
     }
+  if ((m = MethodOption(name))) {
+    *k = (Known){m->name, m->value, G_METHOD};
+    return PETSC_TRUE;
+  }
   o = SceneOption(name);
   if (!o) return PETSC_FALSE;
   *k = (Known){o->name, (PetscBool)(o->type != SPAM_SCENE_OPTION_BOOL), G_SCENE};
@@ -262,6 +274,8 @@ typedef struct {
   const SpamSolidParams *solid; /* NULL unless the model is the tensor-path solid */
   const SpamRunOptions  *o;
   char                   type[32], adapt[32], method[160];
+  const SpamTSFamily    *f;               /* the row of the method's TS type        */
+  PetscBool              own;             /* the type chooses its own steps         */
   PetscBool              adaptive;
   double                 arkode_fixed;    /* arkode's fixed step, or 0             */
   PetscBool              arkode_fixed_ts; /* ... given as -ts_adapt_type none -ts_dt */
@@ -269,10 +283,10 @@ typedef struct {
 
 static PetscErrorCode RunDescribe(const SpamSim *sim, const SpamRunOptions *o, TS ts, Run *r)
 {
-  TSType      type;
-  TSAdapt     adapt;
-  TSAdaptType atype;
-  const char *sub = NULL;
+  TSAdapt                   adapt;
+  TSAdaptType               atype;
+  const char               *sub = NULL;
+  const SpamArkodeSettings *s;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(r, sizeof *r));
@@ -281,35 +295,55 @@ static PetscErrorCode RunDescribe(const SpamSim *sim, const SpamRunOptions *o, T
   r->model = sim->model.name;
   r->o     = o;
   if (!strcmp(r->model, "elastic") || !strcmp(r->model, "gas")) r->solid = &sim->model.solid;
-  PetscCall(TSGetType(ts, &type));
-  PetscCall(PetscStrncpy(r->type, type, sizeof r->type));
+  PetscCall(SpamTSFamilyOf(ts, &r->f));
+  PetscCall(PetscStrncpy(r->type, r->f->type, sizeof r->type));
   PetscCall(TSGetAdapt(ts, &adapt));
   PetscCall(TSAdaptGetType(adapt, &atype));
   PetscCall(PetscStrncpy(r->adapt, atype, sizeof r->adapt));
-  if (!strcmp(type, SPAM_TSARKODE)) {
-    const SpamArkodeSettings *s;
-    PetscCall(SpamTSARKodeGetSettings(ts, &s));
+  r->own = (PetscBool)(r->f->steps == SPAM_TS_STEPS_OWN);
+  PetscCall(SpamTSARKodeGetSettings(ts, &s)); /* NULL but for the arkode type */
+  if (s) {
     r->arkode_fixed    = s->fixed_step;
     r->arkode_fixed_ts = s->fixed_by_ts;
-    r->adaptive        = (PetscBool)!(s->fixed_step > 0);
   }
-  else if (!strcmp(type, SPAM_TSCVODE)) r->adaptive = PETSC_TRUE;
-  else r->adaptive = (PetscBool)strcmp(atype, TSADAPTNONE);
-  if (!strcmp(type, TSRK)) PetscCall(TSRKGetType(ts, &sub));
-  if (!strcmp(type, TSSSP)) PetscCall(TSSSPGetType(ts, &sub));
-  if (!strcmp(type, TSBASICSYMPLECTIC)) PetscCall(TSBasicSymplecticGetType(ts, &sub));
-  if (sub) (void)snprintf(r->method, sizeof r->method, "-ts_type %s -ts_%s_type %s", type, type, sub);
-  else (void)snprintf(r->method, sizeof r->method, "-ts_type %s", type);
+  r->adaptive = r->own ? (PetscBool)!(r->arkode_fixed > 0) : (PetscBool)strcmp(atype, TSADAPTNONE);
+  if (r->f->sub_type) PetscCall(r->f->sub_type(ts, &sub));
+  if (sub) (void)snprintf(r->method, sizeof r->method, "-ts_type %s %s %s", r->type, r->f->sub_option, sub);
+  else (void)snprintf(r->method, sizeof r->method, "-ts_type %s", r->type);
   if (r->arkode_fixed > 0) (void)snprintf(r->method + strlen(r->method), sizeof r->method - strlen(r->method), r->arkode_fixed_ts ? " -ts_adapt_type none -ts_dt %.17g" : " -arkode_fixed_step %.17g", r->arkode_fixed);
   PetscFunctionReturn(0);
+}
+
+/* An option a TS type's implementation reads: relevant when this run's type reads it (and,
+ * for the adaptive-only ones, its steps are adaptive); if not, why[] names the types that
+ * read it, in the table's order. */
+static PetscBool RelevantToMethod(const char *name, const Run *r, char *why, size_t len)
+{
+  const SpamTSOption *mine = SpamTSFamilyOption(r->f, name);
+  const SpamTSFamily *f;
+  char                said[128] = "";
+  const char         *last = NULL;
+  int                 count = 0;
+
+  if (mine && (!mine->adaptive || r->adaptive)) return PETSC_TRUE;
+  if (mine) {
+    (void)snprintf(why, len, "applies to -ts_type %s with adaptive steps (this run: %s)", r->type, r->method);
+    return PETSC_FALSE;
+  }
+  for (int k = 0; (f = SpamTSFamilyAt(k)); k++) {
+    if (!SpamTSFamilyOption(f, name)) continue;
+    if (last) (void)snprintf(said + strlen(said), sizeof said - strlen(said), "%s%s", count > 1 ? ", " : "", last);
+    last = f->type;
+    count++;
+  }
+  (void)snprintf(why, len, "applies to -ts_type %s%s%s (this run: %s)", said, count > 1 ? " and " : "", last ? last : "", r->method);
+  return PETSC_FALSE;
 }
 
 /* The groups of the method and the outputs: whether g applies to run r (*known: g is one
  * of them); if not, why[] says what it applies to. */
 static PetscBool RelevantMethod(Group g, const Run *r, char *why, size_t len, PetscBool *known)
 {
-  const PetscBool arkode = (PetscBool)!strcmp(r->type, SPAM_TSARKODE), cvode = (PetscBool)!strcmp(r->type, SPAM_TSCVODE);
-
   *known = PETSC_TRUE;
   switch (g) {
   case G_ALL: return PETSC_TRUE;
@@ -328,50 +362,22 @@ static PetscBool RelevantMethod(Group g, const Run *r, char *why, size_t len, Pe
     (void)snprintf(why, len, "applies to the entropy estimates (this run: -diag_entropy false)");
     return PETSC_FALSE;
   case G_DT:
-    if (!(arkode && r->arkode_fixed > 0 && !r->arkode_fixed_ts)) return PETSC_TRUE;
+    if (!(r->arkode_fixed > 0 && !r->arkode_fixed_ts)) return PETSC_TRUE;
     (void)snprintf(why, len, "the step of this run is -arkode_fixed_step %.17g", r->arkode_fixed);
     return PETSC_FALSE;
   case G_ADAPTIVE:
     if (r->adaptive) return PETSC_TRUE;
-    (void)snprintf(why, len, "applies to adaptive steps (this run: %s%s takes fixed steps)", r->method, arkode || cvode ? "" : strcmp(r->adapt, TSADAPTNONE) ? "" : " -ts_adapt_type none");
-    return PETSC_FALSE;
-  case G_ARKODE:
-    if (arkode) return PETSC_TRUE;
-    (void)snprintf(why, len, "applies to -ts_type arkode (this run: %s)", r->method);
-    return PETSC_FALSE;
-  case G_ARKODE_ADAPT:
-    if (arkode && r->adaptive) return PETSC_TRUE;
-    (void)snprintf(why, len, "applies to -ts_type arkode with adaptive steps (this run: %s)", r->method);
-    return PETSC_FALSE;
-  case G_SUNDIALS:
-    if (arkode || cvode) return PETSC_TRUE;
-    (void)snprintf(why, len, "applies to -ts_type arkode and cvode (this run: %s)", r->method);
-    return PETSC_FALSE;
-  case G_CVODE:
-    if (cvode) return PETSC_TRUE;
-    (void)snprintf(why, len, "applies to -ts_type cvode (this run: %s)", r->method);
+    (void)snprintf(why, len, "applies to adaptive steps (this run: %s%s takes fixed steps)", r->method, r->own ? "" : strcmp(r->adapt, TSADAPTNONE) ? "" : " -ts_adapt_type none");
     return PETSC_FALSE;
   case G_TS:
     /* arkode takes -ts_adapt_type none (with -ts_dt) as its fixed step (arkode_options.c) */
-    if (!cvode && (!arkode || r->arkode_fixed_ts)) return PETSC_TRUE;
-    (void)snprintf(why, len, "applies to PETSc's methods rk, ssp, euler and basicsymplectic (this run: %s, which controls its own steps: see -%s)", r->method, arkode ? "arkode_adapt" : "ts_rtol");
+    if (!r->own || r->arkode_fixed_ts) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to PETSc's methods rk, ssp, euler and basicsymplectic (this run: %s, which controls its own steps: see -%s)", r->method, SpamTSFamilyOption(r->f, "arkode_adapt") ? "arkode_adapt" : "ts_rtol");
     return PETSC_FALSE;
   case G_TS_ADAPT:
-    if (!arkode && !cvode && strcmp(r->adapt, TSADAPTNONE)) return PETSC_TRUE;
-    if (arkode || cvode) (void)snprintf(why, len, "PETSc's step adaptor applies to rk, ssp, euler and basicsymplectic (this run: %s, which controls its own steps)", r->method);
+    if (!r->own && strcmp(r->adapt, TSADAPTNONE)) return PETSC_TRUE;
+    if (r->own) (void)snprintf(why, len, "PETSc's step adaptor applies to rk, ssp, euler and basicsymplectic (this run: %s, which controls its own steps)", r->method);
     else (void)snprintf(why, len, "applies to an active step adaptor (this run: %s -ts_adapt_type none)", r->method);
-    return PETSC_FALSE;
-  case G_RK:
-    if (!strcmp(r->type, TSRK)) return PETSC_TRUE;
-    (void)snprintf(why, len, "applies to -ts_type rk (this run: %s)", r->method);
-    return PETSC_FALSE;
-  case G_SSP:
-    if (!strcmp(r->type, TSSSP)) return PETSC_TRUE;
-    (void)snprintf(why, len, "applies to -ts_type ssp (this run: %s)", r->method);
-    return PETSC_FALSE;
-  case G_SYMP:
-    if (!strcmp(r->type, TSBASICSYMPLECTIC)) return PETSC_TRUE;
-    (void)snprintf(why, len, "applies to -ts_type basicsymplectic (this run: %s)", r->method);
     return PETSC_FALSE;
   default: break;
   }
@@ -498,28 +504,30 @@ static int Distance(const char *a, const char *b)
 }
 
 /* The known name nearest to name, if near enough to be a misspelling of it. */
+/* Keeps candidate in *best when it is nearer to name than *dbest. */
+static void Nearer(const char *name, const char *candidate, const char **best, int *dbest)
+{
+  const int d = Distance(name, candidate);
+
+  if (d < *dbest) {
+    *dbest = d;
+    *best  = candidate;
+  }
+}
+
 static const char *Nearest(const char *name)
 {
-  const char *best = NULL;
-  int         dbest = 1 << 30;
+  const char         *best = NULL;
+  int                 dbest = 1 << 30;
+  const SpamTSFamily *f;
 
-  for (int k = 0; k < NKNOWN; k++) {
-    const int d = Distance(name, KnownOptions[k].name);
-    if (d < dbest) {
-      dbest = d;
-      best  = KnownOptions[k].name;
-    }
-  }
+  for (int k = 0; k < NKNOWN; k++) Nearer(name, KnownOptions[k].name, &best, &dbest);
+  for (int k = 0; (f = SpamTSFamilyAt(k)); k++)
+    for (const SpamTSOption *o = f->options; o && o->name; o++) Nearer(name, o->name, &best, &dbest);
   for (int i = 0; i < SpamSceneCount(); i++) {
     SpamSceneOps ops;
     if (SpamSceneGet(i, &ops)) break; /* the list's own functions only fill in constants */
-    for (const SpamSceneOption *o = ops.options_table; o && o->name; o++) {
-      const int d = Distance(name, o->name);
-      if (d < dbest) {
-        dbest = d;
-        best  = o->name;
-      }
-    }
+    for (const SpamSceneOption *o = ops.options_table; o && o->name; o++) Nearer(name, o->name, &best, &dbest);
   }
   /* Near: at most 2 edits (a quarter of a long name), and fewer than half the name. */
   return dbest <= PetscMax(2, (int)strlen(name) / 4) && dbest < (int)strlen(name) / 2 + 1 ? best : NULL;
@@ -624,6 +632,7 @@ static PetscBool KnownRelevant(const Known *k, const Run *r, char *why, size_t l
 {
   if (k->group == G_WALL) return WallRelevant(k->name, r, why, len);
   if (k->group == G_SCENE) return RelevantToScene(k->name, r, why, len);
+  if (k->group == G_METHOD) return RelevantToMethod(k->name, r, why, len);
   return Relevant(k->group, r, why, len);
 }
 
@@ -661,7 +670,7 @@ static PetscErrorCode CheckReproducibleMethod(const Run *r)
 
   PetscFunctionBeginUser;
   if (!r->sim->reproducible || !r->adaptive || r->o->error_norm == SPAM_ERROR_NORM_MAX) PetscFunctionReturn(0);
-  if (!strcmp(r->type, SPAM_TSARKODE) || !strcmp(r->type, SPAM_TSCVODE)) PetscFunctionReturn(0);
+  if (r->own) PetscFunctionReturn(0); /* their vectors carry the partition-independent norm */
   PetscCallMPI(MPI_Comm_size(r->sim->comm, &size));
   if (size > 1) SPAM_BAD_INPUT("-reproducible", "true", "PETSc's step adaptor (this run: %s) sums its rms error norm rank by rank: on more than one rank use -ts_type arkode or cvode, or -error_norm max", r->method);
   PetscFunctionReturn(0);

@@ -451,7 +451,14 @@ static PetscErrorCode FollowPlacedARKode(TS ts, Vec X)
   PetscFunctionReturn(0);
 }
 
+static const SpamTSOption OptionsARKode[] = {
+  {"arkode_table", PETSC_TRUE, PETSC_FALSE},    {"arkode_fixed_step", PETSC_TRUE, PETSC_FALSE},     {"arkode_adapt", PETSC_TRUE, PETSC_TRUE},
+  {"arkode_adapt_params", PETSC_TRUE, PETSC_TRUE}, {"arkode_safety", PETSC_TRUE, PETSC_TRUE},        {"arkode_max_growth", PETSC_TRUE, PETSC_TRUE},
+  {"arkode_max_first_growth", PETSC_TRUE, PETSC_TRUE}, {"arkode_max_efail_growth", PETSC_TRUE, PETSC_TRUE}, {"sundials_stats", PETSC_FALSE, PETSC_FALSE},
+  {NULL, PETSC_FALSE, PETSC_FALSE}};
+
 const SpamTSFamily SpamTSFamilyARKode = {
+  .options       = OptionsARKode,
   .type          = SPAM_TSARKODE,
   .adapt_default = TSADAPTNONE,
   .steps         = SPAM_TS_STEPS_OWN,

@@ -259,7 +259,10 @@ static PetscErrorCode CkApplyCVode(TS ts, const SpamCkFile *c, double h_next, Pe
   PetscFunctionReturn(0);
 }
 
+static const SpamTSOption OptionsCVode[] = {{"cvode_max_order", PETSC_TRUE, PETSC_FALSE}, {"sundials_stats", PETSC_FALSE, PETSC_FALSE}, {NULL, PETSC_FALSE, PETSC_FALSE}};
+
 const SpamTSFamily SpamTSFamilyCVode = {
+  .options           = OptionsCVode,
   .type              = SPAM_TSCVODE,
   .adapt_default     = TSADAPTNONE,
   .steps             = SPAM_TS_STEPS_OWN,

@@ -1,6 +1,7 @@
 /* The table of TS types spam-ark runs: the one place a type's name is looked up. */
 #include "ts_family.h"
 #include <spam/errors.h>
+#include <strings.h>
 
 static const SpamTSFamily *const Families[] = {&SpamTSFamilyARKode, &SpamTSFamilyCVode, &SpamTSFamilyRK, &SpamTSFamilySSP, &SpamTSFamilyEuler, &SpamTSFamilySymplectic};
 #define NFAMILIES ((int)(sizeof Families / sizeof Families[0]))
@@ -41,4 +42,11 @@ PetscErrorCode SpamTSInterpolatesAlways(TS ts, PetscBool *yes)
   (void)ts;
   *yes = PETSC_TRUE;
   return 0;
+}
+
+const SpamTSOption *SpamTSFamilyOption(const SpamTSFamily *f, const char *name)
+{
+  for (const SpamTSOption *o = f->options; o && o->name; o++)
+    if (!strcasecmp(o->name, name)) return o; /* PETSc ignores case */
+  return NULL;
 }

@@ -17,6 +17,13 @@ typedef enum { SPAM_TS_STEPS_OWN, SPAM_TS_STEPS_ADAPTOR, SPAM_TS_STEPS_FIXED } S
  * 3.18 has no resize, and its adaptors keep a vector of the old length), or not at all. */
 typedef enum { SPAM_TS_FOLLOW_RESIZE, SPAM_TS_FOLLOW_RESET_FIXED, SPAM_TS_FOLLOW_NONE } SpamTSFollow;
 
+/* An option a type's implementation reads (name without '-'): whether it takes a value, and
+ * whether it applies only when the type's steps are adaptive. */
+typedef struct {
+  const char *name;
+  PetscBool   value, adaptive;
+} SpamTSOption;
+
 typedef struct SpamTSFamily {
   const char *type;
   /* the sub-type: its option, allowed names and our default (NULL: the type has none) */
@@ -28,6 +35,7 @@ typedef struct SpamTSFamily {
   SpamTSFollow        follow;
   PetscBool           bound_as_max_step; /* takes the physical step bound as its largest step */
   const char         *restart_inexact;   /* why a restart cannot continue bit for bit (NULL: it can) */
+  const SpamTSOption *options;           /* the options only this type reads, {NULL} ended (may be NULL) */
   /* hooks, each optional */
   PetscErrorCode (*sub_type)(TS ts, const char **sub);             /* the chosen sub-type              */
   PetscErrorCode (*created)(TS ts, SpamTsApp *app);                /* after TSSetType, before X is set */
@@ -63,6 +71,8 @@ PetscErrorCode SpamTSJumpPending(TS ts, PetscBool followed, PetscBool *pending);
 PetscErrorCode SpamTSAdaptNormType(TS ts, NormType *have, const NormType *want);
 PetscViewer    SpamTSAdaptMonitorViewer(TS ts);
 
+/* The row of f's options that names option name (without '-'), or NULL. */
+const SpamTSOption *SpamTSFamilyOption(const SpamTSFamily *f, const char *name);
 /* An interpolates hook for the types whose dense output every run has (ERKStep's Hermite
  * interpolant, CVODE's Nordsieck array). */
 PetscErrorCode SpamTSInterpolatesAlways(TS ts, PetscBool *yes);

@@ -67,7 +67,11 @@ static PetscErrorCode CkReusesRK(TS ts, const SpamCkFile *c, PetscBool *reused)
 /* rk's stages and solution summed term by term (det_combination.c), so that a restart
  * continues bit for bit: on every vector the TS is set onto, before TSSetUp duplicates it
  * into the stage vectors. */
+static const SpamTSOption OptionsRK[]  = {{"ts_rk_type", PETSC_TRUE, PETSC_FALSE}, {NULL, PETSC_FALSE, PETSC_FALSE}};
+static const SpamTSOption OptionsSSP[] = {{"ts_ssp_type", PETSC_TRUE, PETSC_FALSE}, {"ts_ssp_nstages", PETSC_TRUE, PETSC_FALSE}, {NULL, PETSC_FALSE, PETSC_FALSE}};
+
 const SpamTSFamily SpamTSFamilyRK = {
+  .options       = OptionsRK,
   .type          = TSRK,
   .sub_option    = "-ts_rk_type",
   .sub_default   = TSRK3BS,
@@ -84,6 +88,7 @@ const SpamTSFamily SpamTSFamilyRK = {
 };
 
 const SpamTSFamily SpamTSFamilySSP = {
+  .options       = OptionsSSP,
   .type          = TSSSP,
   .sub_option    = "-ts_ssp_type",
   .sub_default   = TSSSPRKS2,

@@ -137,7 +137,10 @@ static PetscErrorCode CkReusesSymplectic(TS ts, const SpamCkFile *c, PetscBool *
   PetscFunctionReturn(0);
 }
 
+static const SpamTSOption OptionsSymplectic[] = {{"ts_basicsymplectic_type", PETSC_TRUE, PETSC_FALSE}, {NULL, PETSC_FALSE, PETSC_FALSE}};
+
 const SpamTSFamily SpamTSFamilySymplectic = {
+  .options       = OptionsSymplectic,
   .type          = TSBASICSYMPLECTIC,
   .sub_option    = "-ts_basicsymplectic_type",
   .sub_default   = "kdk",
