@@ -347,7 +347,7 @@ static PetscErrorCode CheckBox(const SpamCommonParams *c)
   SpamBox box = {c->dim, {0, 0, 0}, {0, 0, 0}, {PETSC_FALSE, PETSC_FALSE, PETSC_FALSE}};
 
   PetscFunctionBeginUser;
-  if (!c->box_len_set) SPAM_BAD_INPUT("-box_len", "README", "the file scene needs the box edge lengths of a CSV file, e.g. -box_len 64,64 (an HDF5 snapshot carries its box)");
+  if (!c->box_len_set) SPAM_BAD_INPUT("-box_len", "(not given)", "the file scene needs the box edge lengths of a CSV file, e.g. -box_len 64,64 (an HDF5 snapshot carries its box)");
   for (int d = 0; d < c->dim; d++) {
     box.lo[d]       = c->box_lo[d];
     box.len[d]      = c->box_len[d];
@@ -394,8 +394,8 @@ static PetscErrorCode SpamFileBuild(const SpamCommonParams *c, const SpamFilePar
   PetscErrorCode ierr;
 
   PetscFunctionBeginUser;
-  if (!p->path[0]) SPAM_BAD_INPUT("-file_path", "README", "the file scene needs a CSV file of particles or an HDF5 snapshot");
   PetscCall(PetscMemzero(out, sizeof *out));
+  if (!p->path[0]) SPAM_BAD_INPUT("-file_path", "(not given)", "the file scene needs a CSV file of particles or an HDF5 snapshot");
   PetscCall(PetscNew(&r));
   r->path = p->path;
   ierr    = OpenRegular(p->path, &r->f);
