@@ -20,7 +20,6 @@
  * books, and the pass is one thread's (the thread buffers hold the local particles). */
 #include <omp.h>
 #include "../pair/pair_pass.h"
-#include "../pair/pair_walk.h"
 #include "../pair/pair_density.h"
 #include "../pair/pair_pressure_force.h"
 
@@ -201,36 +200,56 @@ static Rows RowsOf(const SpamPairPass *p, double c)
   return R;
 }
 
+/* The rows of one dimension and kernel are one function each, compiled twice, for the
+ * x86-64 baseline (SSE2) and for AVX2, and the loader picks the clone the processor runs
+ * (an ifunc): the binary stays portable, and on the benchmark machine the AVX2 force pass
+ * took 0.87 of the SSE2 one's time. AVX-512 was no faster (rows hold ~13 pairs, so 8-wide
+ * loops are mostly remainder) and FMA is not enabled: contracted products would round
+ * differently on different machines. (All dimensions and kernels in one function made it
+ * too large for gcc to optimise as well: its force pass took 1.07-1.12 of the time of this
+ * split, perf samples at N = 65536.) The tables below hold them by kind (kernel_list.h's
+ * row order is the kinds' order) and dimension. */
+#define SPAM_CLONES __attribute__((target_clones("avx2", "default")))
+typedef void (*DensityRowsFn)(const Rows *R, int uni, double *rho, int i0, int i1);
+typedef void (*ForceRowsFn)(const Rows *R, int uni, int uq, double *acc, int i0, int i1);
+#define SPAM_ROWS_DIM(Prefix, D, KIND) \
+  SPAM_CLONES static void Density##D##Prefix(const Rows *R, int uni, double *rho, int i0, int i1) \
+  { \
+    DensityKindRows(D, SPAM_KERNEL_##KIND, R, uni, rho, i0, i1); \
+  } \
+  SPAM_CLONES static void Force##D##Prefix(const Rows *R, int uni, int uq, double *acc, int i0, int i1) \
+  { \
+    ForceKindRows(D, SPAM_KERNEL_##KIND, R, uni, uq, acc, i0, i1); \
+  }
+#define SPAM_ROWS_KIND(ctx, KIND, name, Prefix) SPAM_ROWS_DIM(Prefix, 1, KIND) SPAM_ROWS_DIM(Prefix, 2, KIND) SPAM_ROWS_DIM(Prefix, 3, KIND)
+SPAM_KERNEL_LIST(SPAM_ROWS_KIND, ~)
+#define SPAM_DENSITY_ROW(ctx, KIND, name, Prefix) {Density1##Prefix, Density2##Prefix, Density3##Prefix},
+#define SPAM_FORCE_ROW(ctx, KIND, name, Prefix)   {Force1##Prefix, Force2##Prefix, Force3##Prefix},
+static const DensityRowsFn density_rows[SPAM_KERNEL_KINDS][3] = {SPAM_KERNEL_LIST(SPAM_DENSITY_ROW, ~)};
+static const ForceRowsFn   force_rows[SPAM_KERNEL_KINDS][3]   = {SPAM_KERNEL_LIST(SPAM_FORCE_ROW, ~)};
+
 /* One block of rows of a pass: thread t of the pass's T sums rows [i0, i1) into its own
  * buffer of len values, which it zeroes first (thread 0's is the output itself, whose
  * local densities start at the self term m_i w(0)). */
-SPAM_INLINE void DensityBlock(const SpamPairPass *p, const Rows *R, double *rho, int len, int i0, int i1, int t)
+static void DensityBlock(const SpamPairPass *p, const Rows *R, double *rho, int len, int i0, int i1, int t)
 {
   const double w0 = p->k->wnorm;
   for (int i = 0; i < len; i++) rho[i] = t || i >= p->n ? 0.0 : p->uniform_mass ? p->mass * w0 : p->f->m[i] * w0;
-  SPAM_WALK_DISPATCH(DensityKind, p->dim, p->k->kind, break, R, p->uniform_mass, rho, i0, i1)
+  density_rows[p->k->kind][p->dim - 1](R, p->uniform_mass, rho, i0, i1);
 }
 
-SPAM_INLINE void ForceBlock(const SpamPairPass *p, const Rows *R, double *acc, size_t len, int i0, int i1)
+static void ForceBlock(const SpamPairPass *p, const Rows *R, double *acc, size_t len, int i0, int i1)
 {
   for (size_t k = 0; k < len; k++) acc[k] = 0.0;
-  SPAM_WALK_DISPATCH(ForceKind, p->dim, p->k->kind, break, R, p->uniform_mass, p->uniform_q, acc, i0, i1)
+  force_rows[p->k->kind][p->dim - 1](R, p->uniform_mass, p->uniform_q, acc, i0, i1);
 }
 
-/* The two passes below are compiled twice, for the x86-64 baseline (SSE2) and for AVX2,
- * and the loader picks the clone the processor runs (an ifunc): the binary stays
- * portable, and on the benchmark machine the AVX2 force pass took 0.87 of the SSE2
- * one's time. AVX-512 was no faster (rows hold ~13 pairs, so 8-wide loops are mostly
- * remainder) and FMA is not enabled: contracted products would round differently on
- * different machines.
- *
- * With T > 1 threads the rows are split into T blocks of about equal pair counts, and
+/* With T > 1 threads the rows are split into T blocks of about equal pair counts, and
  * each thread sums its block into its own buffer (thread 0 into the output, the others
  * into the pass's tacc or trho); the buffers are then added in thread order. No two
  * threads write one address, and every sum is taken in an order fixed by the list and
  * T alone, so the results are the same run to run (and differ from T = 1 only by the
  * order of the additions). */
-#define SPAM_CLONES __attribute__((target_clones("avx2", "default")))
 
 /* Adds the T - 1 scratch buffers of len values to out, in thread order (inside a parallel
  * region: the values are shared out among the threads). */
@@ -241,8 +260,8 @@ static inline void AddThreadBuffers(double *out, const double *scratch, size_t l
     for (int s = 1; s < T; s++) out[k] += scratch[(size_t)(s - 1) * len + k];
 }
 
-/* A parallel region cannot return an error: the kind is checked before it, so the
- * dispatch's unknown case inside it is never taken. */
+/* The kind indexes the tables above, inside a parallel region, which cannot return an
+ * error: it is checked before. */
 static PetscErrorCode KnownKind(const SpamKernel *k)
 {
   PetscFunctionBeginUser;
@@ -250,7 +269,7 @@ static PetscErrorCode KnownKind(const SpamKernel *k)
   PetscFunctionReturn(0);
 }
 
-SPAM_CLONES PetscErrorCode SpamChunkedDensity(const SpamPairPass *p)
+PetscErrorCode SpamChunkedDensity(const SpamPairPass *p)
 {
   const Rows R   = RowsOf(p, p->uniform_mass ? p->mass * p->k->wnorm : p->k->wnorm);
   const int  T   = p->threads, len = p->ghost_newton ? p->slots : p->n;
@@ -274,7 +293,7 @@ SPAM_CLONES PetscErrorCode SpamChunkedDensity(const SpamPairPass *p)
   PetscFunctionReturn(0);
 }
 
-SPAM_CLONES PetscErrorCode SpamChunkedForce(const SpamPairPass *p)
+PetscErrorCode SpamChunkedForce(const SpamPairPass *p)
 {
   const Rows   R   = RowsOf(p, p->uniform_mass ? -p->mass * p->k->gnorm : -p->k->gnorm);
   const int    T   = p->threads;
