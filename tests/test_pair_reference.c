@@ -25,6 +25,12 @@
  *       by a whole periodic edge (a rebuild);
  *   E3  moves below skin/2 again (the rebuilt list kept), and SpamAccel on a compact
  *       position array of another stride.
+ * At E0 the law's other traversals run on the same particles and are compared with the
+ * case's: the half-list rows with the ghost setting flipped (minimum image against
+ * periodic images as ghost slots, which take the pairs' reactions) and the canonical rows
+ * of -reproducible; the law itself is coded once (src/pair/pair_density.h,
+ * pair_pressure_force.h), so a traversal that drops, doubles or misplaces a pair, or
+ * weighs it with the wrong mass, differs from the others by a whole term.
  *
  * Tensor path (elastic solid and gas with the energy equation), D = 1, 2, 3, every
  * kernel, random positions, velocities, energies, densities and stresses (D(D+1)/2
@@ -286,8 +292,8 @@ static PetscErrorCode GasCompare(TestCount *c, const Spoil *spoil, SpamSim *sim,
 }
 
 /* The gas model with kernel kname, the particles' masses (NULL: all 1) and, on request,
- * periodic images as ghost slots; -threads T as in TestMakeSim. */
-static PetscErrorCode MakeGasSim(const SpamBox *box, const char *kname, double h, double gamma, PetscInt n, const double *x, const double *v, const double *mass, PetscBool ghosts, SpamSim *sim)
+ * periodic images as ghost slots and -reproducible; -threads T as in TestMakeSim. */
+static PetscErrorCode MakeGasSim(const SpamBox *box, const char *kname, double h, double gamma, PetscInt n, const double *x, const double *v, const double *mass, PetscBool ghosts, PetscBool reproducible, SpamSim *sim)
 {
   SpamModel  model;
   SpamKernel kern;
@@ -300,6 +306,7 @@ static PetscErrorCode MakeGasSim(const SpamBox *box, const char *kname, double h
   PetscCall(PetscOptionsGetInt(NULL, NULL, "-threads", &threads, NULL));
   sim->threads         = (int)threads;
   sim->periodic_ghosts = ghosts;
+  sim->reproducible    = reproducible;
   PetscCall(SpamSimFill(sim, x, v, mass));
   PetscCall(SpamSimSetUp(sim));
   PetscFunctionReturn(0);
@@ -309,6 +316,53 @@ static PetscErrorCode MakeGasSim(const SpamBox *box, const char *kname, double h
 static void Masses(PetscBool unequal, int n, double *mass, uint64_t *seed)
 {
   for (int i = 0; i < n; i++) mass[i] = unequal ? 0.5 + TestUniform(seed) : 1.0;
+}
+
+/* The law's other traversals on the particles of sim at their first positions x: the
+ * half-list rows with the ghost setting flipped (periodic images as ghost slots, which take
+ * the pairs' reactions, or the minimum image) and the canonical rows of -reproducible. The
+ * three add the same pair terms (pair_density.h, pair_pressure_force.h) in different
+ * orders, so they agree to round-off of the sums of magnitudes S_i (rho_i for the
+ * density); compared by input row, whatever order each sim keeps its particles in. */
+static PetscErrorCode TraversalCompare(TestCount *c, SpamSim *sim, const GasOpts *o, const char *label, const double *x, const double *v, const double *mass, const double *S, double *ydot)
+{
+  static const char *names[2] = {"half-list rows, ghost setting flipped", "canonical rows (-reproducible)"};
+  const int          n = (int)sim->n, dim = sim->model.dim;
+  double            *a0, *r0, *s0;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc3((size_t)n * dim, &a0, n, &r0, n, &s0));
+  for (int i = 0; i < n; i++) { /* sim's values and scales by input row */
+    const PetscInt row = SpamSimRowOf(sim, i);
+    r0[row]            = sim->f.rho[i];
+    s0[row]            = S[i];
+    for (int d = 0; d < dim; d++) a0[(size_t)row * dim + d] = sim->f.acc[(size_t)i * dim + d];
+  }
+  for (int t = 0; t < 2; t++) {
+    SpamSim      other;
+    PetscScalar *y;
+    PetscInt     bad = -1, bad2 = -1;
+    Worst        wa = {0, -1}, wr = {0, -1};
+    PetscCall(MakeGasSim(&sim->box, o->kernel, sim->model.kernel.h, o->gamma, n, x, v, o->unequal ? mass : NULL, (PetscBool)(t == 0 ? !o->ghosts : o->ghosts), (PetscBool)(t == 1), &other));
+    PetscCall(VecGetArray(other.X, &y));
+    PetscCall(SpamRhs(&other, y, ydot, &bad));
+    PetscCall(SpamDensitySummation(&other, y, &bad2));
+    PetscCall(VecRestoreArray(other.X, &y));
+    for (int i = 0; i < n; i++) {
+      const PetscInt row = SpamSimRowOf(&other, i);
+      double         d2  = 0.0;
+      for (int d = 0; d < dim; d++) {
+        const double e = other.f.acc[(size_t)i * dim + d] - a0[(size_t)row * dim + d];
+        d2 += e * e;
+      }
+      Track(&wa, sqrt(d2), s0[row], (int)row);
+      Track(&wr, fabs(other.f.rho[i] - r0[row]), r0[row], (int)row);
+    }
+    TestCheck(c, bad < 0 && bad2 < 0 && wa.worst <= TOL && wr.worst <= TOL, "%s E0: %s against the case's traversal: max |a - a'| / S_i = %.2e, |rho - rho'| / rho = %.2e (< 1e-12)", label, names[t], wa.worst, wr.worst);
+    PetscCall(SpamSimDestroy(&other));
+  }
+  PetscCall(PetscFree3(a0, r0, s0));
+  PetscFunctionReturn(0);
 }
 
 static PetscErrorCode GasCase(TestCount *c, const Spoil *spoil, const GasGeometry *gg, const GasOpts *o, uint64_t seed)
@@ -340,12 +394,13 @@ static PetscErrorCode GasCase(TestCount *c, const Spoil *spoil, const GasGeometr
     }
   }
   Masses(o->unequal, n, mass, &seed);
-  PetscCall(MakeGasSim(&b, o->kernel, h, o->gamma, n, x, v, o->unequal ? mass : NULL, o->ghosts, &sim));
+  PetscCall(MakeGasSim(&b, o->kernel, h, o->gamma, n, x, v, o->unequal ? mass : NULL, o->ghosts, PETSC_FALSE, &sim));
   nv = sim.model.layout.nvar;
   PetscCall(PetscMalloc5((size_t)n * dim, &u, n, &rho, n, &q, (size_t)n * dim, &a, n, &S));
   PetscCall(PetscMalloc2((size_t)n * nv, &ydot, (size_t)n * dim, &xc));
 
   PetscCall(GasCompare(c, spoil, &sim, label, 0, 0, mass, u, rho, q, a, S, ydot, xc));
+  PetscCall(TraversalCompare(c, &sim, o, label, x, v, mass, S, ydot));
   PetscCall(VecGetArray(sim.X, &y));
   crossed = SmallMove(&b, n, y, nv, skin, &seed);
   PetscCall(VecRestoreArray(sim.X, &y));

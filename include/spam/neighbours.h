@@ -68,6 +68,9 @@ typedef struct {
   int        *csort;             /* [threads * csort_row] merge-sort scratch of a build */
   int         csort_row;
   long    builds, grows;         /* statistics                                       */
+  long    updates;               /* calls of SpamNeighboursUpdate                     */
+  long    placements;            /* ghost slots' positions placed (an exchange through */
+                                 /* the halo on several ranks): one per update or build */
   PetscLogEvent ev_build;        /* -log_view event of a list build (0: none)         */
 } SpamNeighbours;
 

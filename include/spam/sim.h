@@ -144,16 +144,12 @@ PetscErrorCode SpamMaxSoundSpeedIsentrope(SpamSim *sim, const double *y, double 
 /* Potential energy of the model's uniform gravity, -sum m g.(x - box corner), reduced
  * over the ranks (0 without gravity). */
 PetscErrorCode SpamGravityEnergy(SpamSim *sim, const double *y, double *pot);
-/* The isentropic gas's density and force passes through the pair driver (any kernel,
- * unequal masses, ghost slots; pass_pressure.c). */
-PetscErrorCode SpamPressureDensityWalk(SpamSim *sim);
-PetscErrorCode SpamPressureForceWalk(SpamSim *sim);
-/* -reproducible: the isentropic gas's density and force passes over the canonical rows
- * (pass_canonical.c): each particle's own sums in its row's order, no Newton update. */
-PetscErrorCode SpamCanonicalDensity(SpamSim *sim);
-PetscErrorCode SpamCanonicalForce(SpamSim *sim);
-/* Summation density of state y into sim->f.rho (diagnostics, or the density pass). */
+/* Summation density of state y into sim->f.rho, ghost slots included (diagnostics): a
+ * list update, then SpamDensityOfList. */
 PetscErrorCode SpamDensitySummation(SpamSim *sim, const double *y, PetscInt *bad);
+/* The same on the list as the caller's update left it, slots reserved (the tensor path,
+ * which has updated the list for its own passes). Collective once distributed. */
+PetscErrorCode SpamDensityOfList(SpamSim *sim);
 /* Particles beyond a mirror wall after a step reflected back into the box (wall_reflect.c):
  * position mirrored in the wall, normal velocity reversed; *changed counts them. */
 PetscErrorCode SpamWallReflect(SpamSim *sim, double *y, PetscInt *changed);

@@ -584,6 +584,7 @@ PetscErrorCode SpamNeighboursUpdate(SpamNeighbours *nl, const SpamBox *box, cons
   double    maxd2;
 
   PetscFunctionBeginUser;
+  nl->updates++;
   *bad  = -1;
   maxd2 = Displace(nl, dim, x, stride, &nonfinite);
   /* Two particles each moving skin/2 towards each other stay inside the list range. */

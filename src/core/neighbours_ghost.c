@@ -178,6 +178,7 @@ PetscErrorCode SpamNeighboursBuildGhosts(SpamNeighbours *nl, const SpamBox *box)
   PetscCall(SpamGhostsSelectRemote(g, box, nl->n, nl->u, sqrt(nl->rc2)));
   PetscCall(GrowSlots(nl));
   PetscCall(SpamGhostsPositions(g, nl->dim, nl->n, nl->u));
+  nl->placements++;
   PetscCall(BinGhosts(nl));
   PetscCall(GhostRows(nl));
   PetscFunctionReturn(0);
@@ -186,6 +187,8 @@ PetscErrorCode SpamNeighboursBuildGhosts(SpamNeighbours *nl, const SpamBox *box)
 PetscErrorCode SpamNeighboursMoveGhosts(SpamNeighbours *nl)
 {
   PetscFunctionBeginUser;
-  if (nl->ghosts.n || SpamHaloActive(&nl->ghosts.halo)) PetscCall(SpamGhostsPositions(&nl->ghosts, nl->dim, nl->n, nl->u));
+  if (!nl->ghosts.n && !SpamHaloActive(&nl->ghosts.halo)) PetscFunctionReturn(0);
+  PetscCall(SpamGhostsPositions(&nl->ghosts, nl->dim, nl->n, nl->u));
+  nl->placements++;
   PetscFunctionReturn(0);
 }

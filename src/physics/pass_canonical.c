@@ -5,14 +5,17 @@
  * So rho_i and a_i are the same bits whichever rank holds each partner, whether the
  * partner is a local particle, a periodic image or another rank's particle, and whatever
  * -threads is (a row is one thread's). The pair terms are those of pair_density.h and
- * pair_pressure_force.h (the default passes), taken from i's side:
- *   rho_i = m_i w(0) + sum_j m_j w_ij,
- *   a_i   = sum_j m_j c_ij (u_i - u_j),  c_ij = -(q_i + q_j) w'(r)/r,  q = P/rho^2.
+ * pair_pressure_force.h (the chunked passes' too), taken from i's side with the partner's
+ * mass outside the kernel's scale (masses may differ):
+ *   rho_i = m_i w(0) + sum_j m_j (wnorm F(s)),
+ *   a_i   = sum_j m_j f_ij (u_i - u_j),  f_ij = (-gnorm (q_i + q_j)) G(s),  q = P/rho^2.
  * The cost: every pair is evaluated twice (once in each row) instead of once.
  * Compiled with -ffp-contract=off (CMakeLists.txt): the same roundings on every machine. */
-#include <spam/sim.h>
 #include <omp.h>
+#include "../pair/pair_pass.h"
 #include "../pair/pair_walk.h"
+#include "../pair/pair_density.h"
+#include "../pair/pair_pressure_force.h"
 
 #define SPAM_INLINE static inline __attribute__((always_inline))
 #define CHUNK       64
@@ -54,7 +57,7 @@ SPAM_INLINE void DensityChunk(const int dim, const int kind, const Arrays *A, do
   for (int c = 0; c < np; c++) {
     const int    j = nb[c];
     const double x = x0 - u0[j], y = dim > 1 ? x1 - u1[j] : 0.0, z = dim > 2 ? x2 - u2[j] : 0.0;
-    t[c]           = m[j] * SpamKernelShapeScaledF(kind, dim, wnorm, sqrt(x * x + y * y + z * z) * hinv);
+    t[c]           = m[j] * SpamPairDensityTerm(kind, dim, wnorm, sqrt(x * x + y * y + z * z) * hinv);
   }
 }
 
@@ -69,8 +72,7 @@ SPAM_INLINE void ForceChunk(const int dim, const int kind, const Arrays *A, doub
   for (int c = 0; c < np; c++) {
     const int    j = nb[c];
     const double x = x0 - u0[j], y = dim > 1 ? x1 - u1[j] : 0.0, z = dim > 2 ? x2 - u2[j] : 0.0;
-    const double g  = SpamKernelShapeScaledG(kind, dim, gnorm, sqrt(x * x + y * y + z * z) * hinv);
-    const double mc = m[j] * (-(qi + q[j]) * g);
+    const double mc = m[j] * SpamPairPressureFactor(kind, dim, -gnorm, qi, q[j], sqrt(x * x + y * y + z * z) * hinv);
     t0[c]           = mc * x;
     if (dim > 1) t1[c] = mc * y;
     if (dim > 2) t2[c] = mc * z;
@@ -113,7 +115,7 @@ SPAM_INLINE void CanonForceRows(const int dim, const int kind, const Arrays *A, 
   }
 }
 
-/* Compiled for the x86-64 baseline and for AVX2, as the default passes are (rhs_isentrope.c):
+/* Compiled for the x86-64 baseline and for AVX2, as the chunked passes are (pass_chunked.c):
  * without contraction into FMA every lane rounds as the scalar code does, so both clones
  * give the same bits and a mixed cluster stays reproducible. The threads take blocks of
  * consecutive rows (rows are independent: any split gives the same bits); the dimension
@@ -130,12 +132,12 @@ static PetscErrorCode KnownKind(const SpamKernel *k)
 
 #define SPAM_CLONES __attribute__((target_clones("avx2", "default")))
 
-SPAM_CLONES PetscErrorCode SpamCanonicalDensity(SpamSim *sim)
+SPAM_CLONES PetscErrorCode SpamCanonicalDensity(const SpamPairPass *p)
 {
-  const SpamKernel *k = &sim->model.kernel;
-  const Arrays      A = ArraysOf(k->dim, &sim->nl, k, &sim->f);
-  const int         T = sim->threads, n = sim->nl.n;
-  double           *rho = sim->f.rho;
+  const SpamKernel *k = p->k;
+  const Arrays      A = ArraysOf(k->dim, p->nl, k, p->f);
+  const int         T = p->threads, n = p->n;
+  double           *rho = p->f->rho;
 
   PetscFunctionBeginUser;
   PetscCall(KnownKind(k));
@@ -147,12 +149,12 @@ SPAM_CLONES PetscErrorCode SpamCanonicalDensity(SpamSim *sim)
   PetscFunctionReturn(0);
 }
 
-SPAM_CLONES PetscErrorCode SpamCanonicalForce(SpamSim *sim)
+SPAM_CLONES PetscErrorCode SpamCanonicalForce(const SpamPairPass *p)
 {
-  const SpamKernel *k = &sim->model.kernel;
-  const Arrays      A = ArraysOf(k->dim, &sim->nl, k, &sim->f);
-  const int         T = sim->threads, n = sim->nl.n;
-  double           *acc = sim->f.acc;
+  const SpamKernel *k = p->k;
+  const Arrays      A = ArraysOf(k->dim, p->nl, k, p->f);
+  const int         T = p->threads, n = p->n;
+  double           *acc = p->f->acc;
 
   PetscFunctionBeginUser;
   PetscCall(KnownKind(k));

@@ -178,7 +178,7 @@ static PetscErrorCode FillFields(SpamSim *sim, const double *y, PetscInt *bad)
   PetscCall(SpamGhostsGather(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->e));
   PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_TEMPERATURE, f->T));
   if (p->density == SPAM_DENSITY_SUMMATION) {
-    PetscCall(SpamDensitySummation(sim, y, bad));
+    PetscCall(SpamDensityOfList(sim)); /* the list of the update above: one per evaluation */
     PetscFunctionReturn(0);
   }
   for (int i = 0; i < n; i++) {

@@ -1,0 +1,62 @@
+/* The context of the isentropic gas's pair passes, made once per right-hand side after its
+ * one list update (SpamPairPassOf): the list with its ghosts, the fields, the kernel, the
+ * threads and their buffers, and which traversal the passes take. The density and the
+ * force (pair_density.h, pair_pressure_force.h, each coded once) are traversed
+ *   - by the chunked half-list rows (pass_chunked.c): every kernel, equal or unequal
+ *     masses; with local ghost slots (periodic images, mirror walls) each ghost takes the
+ *     pair's reaction, folded or booked afterwards (ghosts.h), else only other ranks'
+ *     particles are ghosts and a row adds its particle's share alone;
+ *   - under -reproducible by the canonical full rows (pass_canonical.c): each particle's
+ *     own sum in the order of its row. */
+#ifndef SPAM_PAIR_PASS_H
+#define SPAM_PAIR_PASS_H
+#include <spam/sim.h>
+
+typedef struct {
+  const SpamNeighbours *nl;
+  const SpamKernel     *k;
+  SpamFields           *f;
+  const SpamGhosts     *gh;
+  int                   n, slots, dim;
+  int                   threads;        /* threads of the pass (1 where ghosts take reactions) */
+  double               *tacc, *trho;    /* thread buffers of threads 1 .. T-1                  */
+  int                   canonical;      /* -reproducible: the canonical rows                   */
+  int                   uniform_mass;   /* every particle has the mass m: folded into the scale */
+  double                mass;           /* that m                                              */
+  int                   uniform_q;      /* P/rho^2 is one constant (gamma = 2)                 */
+  int                   ghost_newton;   /* local ghost slots take their pairs' reactions       */
+} SpamPairPass;
+
+/* The context of sim's current list (after SpamNeighboursUpdate and the slots' reserve). */
+static inline SpamPairPass SpamPairPassOf(SpamSim *sim)
+{
+  const SpamGhosts *gh = &sim->nl.ghosts;
+  SpamPairPass      p  = {0};
+  p.nl                 = &sim->nl;
+  p.k                  = &sim->model.kernel;
+  p.f                  = &sim->f;
+  p.gh                 = gh;
+  p.n                  = (int)sim->n;
+  p.slots              = SpamNeighboursSlots(&sim->nl);
+  p.dim                = sim->model.dim;
+  p.ghost_newton       = gh->nlocal > 0 || gh->mirror;
+  p.canonical          = SpamNeighboursCanonical(&sim->nl);
+  /* the thread buffers hold the local particles only: ghost reactions are one thread's
+   * (the canonical rows take none: a row is one thread's whatever the ghosts) */
+  p.threads            = p.ghost_newton && !p.canonical ? 1 : sim->threads;
+  p.tacc               = sim->tacc;
+  p.trho               = sim->trho;
+  p.uniform_mass       = sim->f.uniform_mass;
+  p.mass               = sim->n ? sim->f.m[0] : sim->model.mass;
+  p.uniform_q          = sim->model.density_free;
+  return p;
+}
+
+/* Summation density into f->rho (local slots; ghost reactions folded), and the
+ * accelerations from f->q = P/rho^2 into f->acc (ghost reactions folded; mirror slots
+ * keep theirs for the walls' books): the chunked rows and the canonical rows. */
+PetscErrorCode SpamChunkedDensity(const SpamPairPass *p);
+PetscErrorCode SpamChunkedForce(const SpamPairPass *p);
+PetscErrorCode SpamCanonicalDensity(const SpamPairPass *p);
+PetscErrorCode SpamCanonicalForce(const SpamPairPass *p);
+#endif
