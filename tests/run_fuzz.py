@@ -342,7 +342,7 @@ OPTION_TABLE = {
     "-migrate_interval": ("E", {}),
 }
 for flag in ("-expansion_perturb_velocities", "-arkode_classic_weights", "-snapshot_hdf5", "-snapshot_csv",
-             "-monitor", "-diag_entropy", "-sort_particles", "-output_overwrite"):
+             "-monitor", "-quiet", "-diag_entropy", "-sort_particles", "-output_overwrite"):
     OPTION_TABLE[flag] = ("E", BOOL)
 # Outputs stop the integrator only when asked; SUNDIALS' statistics table
 # (the expansion context runs arkode, for which -sundials_stats is relevant).
