@@ -1,5 +1,5 @@
 /* The context of the isentropic gas's pair passes, made once per right-hand side after its
- * one list update (SpamPairPassOf): the list with its ghosts, the fields, the kernel, the
+ * one list update (rhs_isentrope.c makes it from the simulation): the list with its ghosts, the fields, the kernel, the
  * threads and their buffers, and which traversal the passes take. The density and the
  * force (pair_density.h, pair_pressure_force.h, each coded once) are traversed
  *   - by the chunked half-list rows (pass_chunked.c): every kernel, equal or unequal
@@ -10,7 +10,10 @@
  *     own sum in the order of its row. */
 #ifndef SPAM_PAIR_PASS_H
 #define SPAM_PAIR_PASS_H
-#include <spam/sim.h>
+#include <spam/neighbours.h>
+#include <spam/kernel.h>
+#include <spam/fields.h>
+#include <spam/ghosts.h>
 
 typedef struct {
   const SpamNeighbours *nl;
@@ -26,31 +29,6 @@ typedef struct {
   int                   uniform_q;      /* P/rho^2 is one constant (gamma = 2)                 */
   int                   ghost_newton;   /* local ghost slots take their pairs' reactions       */
 } SpamPairPass;
-
-/* The context of sim's current list (after SpamNeighboursUpdate and the slots' reserve). */
-static inline SpamPairPass SpamPairPassOf(SpamSim *sim)
-{
-  const SpamGhosts *gh = &sim->nl.ghosts;
-  SpamPairPass      p  = {0};
-  p.nl                 = &sim->nl;
-  p.k                  = &sim->model.kernel;
-  p.f                  = &sim->f;
-  p.gh                 = gh;
-  p.n                  = (int)sim->n;
-  p.slots              = SpamNeighboursSlots(&sim->nl);
-  p.dim                = sim->model.dim;
-  p.ghost_newton       = gh->nlocal > 0 || gh->mirror;
-  p.canonical          = SpamNeighboursCanonical(&sim->nl);
-  /* the thread buffers hold the local particles only: ghost reactions are one thread's
-   * (the canonical rows take none: a row is one thread's whatever the ghosts) */
-  p.threads            = p.ghost_newton && !p.canonical ? 1 : sim->threads;
-  p.tacc               = sim->tacc;
-  p.trho               = sim->trho;
-  p.uniform_mass       = sim->f.uniform_mass;
-  p.mass               = sim->n ? sim->f.m[0] : sim->model.mass;
-  p.uniform_q          = sim->model.density_free;
-  return p;
-}
 
 /* Summation density into f->rho (local slots; ghost reactions folded), and the
  * accelerations from f->q = P/rho^2 into f->acc (ghost reactions folded; mirror slots

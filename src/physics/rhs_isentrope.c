@@ -8,6 +8,31 @@
 #include <spam/sim.h>
 #include "../pair/pair_pass.h"
 
+/* The context of sim's current list (after SpamNeighboursUpdate and the slots' reserve). */
+static SpamPairPass SpamPairPassOf(SpamSim *sim)
+{
+  const SpamGhosts *gh = &sim->nl.ghosts;
+  SpamPairPass      p  = {0};
+  p.nl                 = &sim->nl;
+  p.k                  = &sim->model.kernel;
+  p.f                  = &sim->f;
+  p.gh                 = gh;
+  p.n                  = (int)sim->n;
+  p.slots              = SpamNeighboursSlots(&sim->nl);
+  p.dim                = sim->model.dim;
+  p.ghost_newton       = gh->nlocal > 0 || gh->mirror;
+  p.canonical          = SpamNeighboursCanonical(&sim->nl);
+  /* the thread buffers hold the local particles only: ghost reactions are one thread's
+   * (the canonical rows take none: a row is one thread's whatever the ghosts) */
+  p.threads            = p.ghost_newton && !p.canonical ? 1 : sim->threads;
+  p.tacc               = sim->tacc;
+  p.trho               = sim->trho;
+  p.uniform_mass       = sim->f.uniform_mass;
+  p.mass               = sim->n ? sim->f.m[0] : sim->model.mass;
+  p.uniform_q          = sim->model.density_free;
+  return p;
+}
+
 /* Room for the ghost slots of the current list in the fields (grows only when a list
  * build found more ghosts than ever before), and their masses after a build. */
 static PetscErrorCode ReserveSlots(SpamSim *sim)
