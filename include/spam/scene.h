@@ -166,6 +166,8 @@ PetscInt SpamLatticeHexagon(PetscInt n, double a, double *x);
 /* The unit simple-cubic lattice of n[0] x ... x n[dim-1] points at (i + 1/2, j + 1/2, ...),
  * x fastest, filling the box [0, n[0]) x ...; x has room for the points. */
 void     SpamLatticeSquare(int dim, const PetscInt n[], double *x);
+/* n^dim particles of mass m allocated into out on that lattice, n points a side. */
+PetscErrorCode SpamLatticeCube(int dim, PetscInt n, double mass, SpamParticles *out);
 /* The solid's defaults (PRE): lambda = eta = sqrt(3)/4, rho0 = sqrt(4/3), continuity
  * density from the ideal value, R0, eps 1, no angular-momentum treatment. */
 void SpamSolidDefaults(SpamSolidParams *p);

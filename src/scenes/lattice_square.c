@@ -14,3 +14,18 @@ void SpamLatticeSquare(int dim, const PetscInt n[], double *x)
     }
   }
 }
+
+PetscErrorCode SpamLatticeCube(int dim, PetscInt n, double mass, SpamParticles *out)
+{
+  PetscInt count = 1, side[3];
+
+  PetscFunctionBeginUser;
+  for (int d = 0; d < dim; d++) {
+    side[d] = n;
+    count *= n;
+  }
+  PetscCall(SpamParticlesAllocate(dim, count, out));
+  out->mass = mass;
+  SpamLatticeSquare(dim, side, out->x);
+  PetscFunctionReturn(0);
+}

@@ -44,17 +44,12 @@ static PetscErrorCode SpamTaylorGreenBuild(const SpamCommonParams *c, const Spam
   const int    dim = c->dim;
   const double L = (double)p->n, k = 2.0 * PETSC_PI / L, U = p->amplitude;
   const double nu = s->shear_visc / s->rho0, rate = 2.0 * dim * nu * k * k;
-  PetscInt     n = 1, side[3];
+  PetscInt     n;
   char         line[256];
 
   PetscFunctionBeginUser;
-  for (int d = 0; d < dim; d++) {
-    side[d] = p->n;
-    n *= p->n;
-  }
-  PetscCall(SpamParticlesAllocate(dim, n, out));
-  out->mass = c->mass;
-  SpamLatticeSquare(dim, side, out->x);
+  PetscCall(SpamLatticeCube(dim, p->n, c->mass, out));
+  n = out->n;
   for (PetscInt i = 0; i < n; i++) {
     const double *r  = &out->x[i * dim];
     const double  cz = dim == 3 ? cos(k * r[2]) : 1.0;

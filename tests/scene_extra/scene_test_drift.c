@@ -44,17 +44,12 @@ static PetscErrorCode Build(const SpamCommonParams *c, const void *params, const
 {
   const DriftParams *p = params;
   const int          dim = c->dim;
-  PetscInt           n = 1, side[3];
+  PetscInt           n;
 
   PetscFunctionBeginUser;
   (void)solid;
-  for (int d = 0; d < dim; d++) {
-    side[d] = p->n;
-    n *= p->n;
-  }
-  PetscCall(SpamParticlesAllocate(dim, n, out));
-  out->mass = c->mass;
-  SpamLatticeSquare(dim, side, out->x);
+  PetscCall(SpamLatticeCube(dim, p->n, c->mass, out));
+  n = out->n;
   for (PetscInt i = 0; i < n; i++) out->v[i * dim] = p->speed;
   out->box.dim = dim;
   for (int d = 0; d < dim; d++) {
