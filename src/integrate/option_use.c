@@ -314,6 +314,25 @@ static PetscErrorCode RunDescribe(const SpamSim *sim, const SpamRunOptions *o, T
   PetscFunctionReturn(0);
 }
 
+/* Names in the order given, written "a", "a and b" or "a, b and c" (the refusals' lists). */
+typedef struct {
+  char        said[256];
+  const char *last;
+  int         count;
+} NameList;
+
+static void NameListAdd(NameList *l, const char *name)
+{
+  if (l->last) (void)snprintf(l->said + strlen(l->said), sizeof l->said - strlen(l->said), "%s%s", l->count > 1 ? ", " : "", l->last);
+  l->last = name;
+  l->count++;
+}
+
+static void NameListText(const NameList *l, char *out, size_t len)
+{
+  (void)snprintf(out, len, "%s%s%s", l->said, l->count > 1 ? " and " : "", l->last ? l->last : "");
+}
+
 /* An option a TS type's implementation reads: relevant when this run's type reads it (and,
  * for the adaptive-only ones, its steps are adaptive); if not, why[] names the types that
  * read it, in the table's order. */
@@ -321,9 +340,8 @@ static PetscBool RelevantToMethod(const char *name, const Run *r, char *why, siz
 {
   const SpamTSOption *mine = SpamTSFamilyOption(r->f, name);
   const SpamTSFamily *f;
-  char                said[128] = "";
-  const char         *last = NULL;
-  int                 count = 0;
+  NameList            types = {"", NULL, 0};
+  char                said[256];
 
   if (mine && (!mine->adaptive || r->adaptive)) return PETSC_TRUE;
   if (mine) {
@@ -331,12 +349,10 @@ static PetscBool RelevantToMethod(const char *name, const Run *r, char *why, siz
     return PETSC_FALSE;
   }
   for (int k = 0; (f = SpamTSFamilyAt(k)); k++) {
-    if (!SpamTSFamilyOption(f, name)) continue;
-    if (last) (void)snprintf(said + strlen(said), sizeof said - strlen(said), "%s%s", count > 1 ? ", " : "", last);
-    last = f->type;
-    count++;
+    if (SpamTSFamilyOption(f, name)) NameListAdd(&types, f->type);
   }
-  (void)snprintf(why, len, "applies to -ts_type %s%s%s (this run: %s)", said, count > 1 ? " and " : "", last ? last : "", r->method);
+  NameListText(&types, said, sizeof said);
+  (void)snprintf(why, len, "applies to -ts_type %s (this run: %s)", said, r->method);
   return PETSC_FALSE;
 }
 
@@ -407,9 +423,9 @@ static PetscBool RelevantModel(Group g, const Run *r, char *why, size_t len, Pet
  * names them in the list's order ("a, b and c") and the note of the first one's row. */
 static PetscBool RelevantToScene(const char *name, const Run *r, char *why, size_t len)
 {
-  char        said[256] = "";
-  const char *note = NULL, *last = NULL;
-  int         count = 0;
+  NameList    scenes = {"", NULL, 0};
+  char        said[256];
+  const char *note = NULL;
 
   for (int i = 0; i < SpamSceneCount(); i++) {
     SpamSceneOps           ops;
@@ -417,12 +433,11 @@ static PetscBool RelevantToScene(const char *name, const Run *r, char *why, size
     if (SpamSceneGet(i, &ops)) break; /* the list's own functions only fill in constants */
     if (!(o = SpamSceneOptionFind(ops.options_table, name))) continue;
     if (!strcmp(r->scene, ops.name)) return PETSC_TRUE;
-    if (last) (void)snprintf(said + strlen(said), sizeof said - strlen(said), "%s%s", count > 1 ? ", " : "", last);
     if (!note) note = o->note;
-    last = ops.name;
-    count++;
+    NameListAdd(&scenes, ops.name);
   }
-  (void)snprintf(why, len, "applies to -scene %s%s%s (this run: -scene %s%s)", said, count > 1 ? " and " : "", last ? last : "", r->scene, note ? note : "");
+  NameListText(&scenes, said, sizeof said);
+  (void)snprintf(why, len, "applies to -scene %s (this run: -scene %s%s)", said, r->scene, note ? note : "");
   return PETSC_FALSE;
 }
 
