@@ -18,7 +18,10 @@ Derivation (signs of src/pair/*.h: grad_i w_ij = g (r_i - r_j)):
   displaced transverse mode through the stiffness alone (its density change is zero):
   dv/dt -= 2 (gamma - 1) e0 / rho D_ee xi. Longitudinal: rho' = -i rho K.xi, the pressure
   perturbation adds i rho K dq with dq = -(gamma-1)(e'/rho - e0 rho'/rho^2), the work term
-  gives de/dt = -i (P/rho) K.u, conduction de/dt = -(gamma-1) kappa |K|^2 e' / rho."""
+  gives de/dt = -i (P/rho) K.u, conduction de/dt = -(gamma-1) kappa |K|^2 e' / rho.
+The flow scheme's pair form of viscosity and conduction (src/pair/pair_diffusion.h) puts
+K2 = 2 D S1(k) / S0 in place of |K|^2, S1 = sum_s g(s) (1 - cos k.s), S0 = sum_s g(s) |s|^2
+(its normalisation -D / tr M makes K2 -> k^2 exactly as k -> 0)."""
 import itertools
 import math
 
@@ -54,7 +57,7 @@ def lattice_sums(dim, h, kvec, e_hat):
     return rho, K, ((1 - np.cos(ks[nz])) * hess).sum()
 
 
-def taylor_green(dim, L, h, eta, e0, gamma, stiffness=True):
+def taylor_green(dim, L, h, eta, e0, gamma, stiffness=True, form="gradient"):
     """The Taylor-Green mode k = (2 pi/L)(1, 1[, 1]) with velocity along (1, -1, 0):
     v'' + a v' + w2 v = 0 with a = (eta/rho)|K|^2, w2 = 2 (gamma-1) e0 D_ee / rho (0 without
     the pressure's stiffness: the gas flow scheme takes the uniform pressure out of the
@@ -67,7 +70,7 @@ def taylor_green(dim, L, h, eta, e0, gamma, stiffness=True):
     e_hat[0], e_hat[1] = 1.0, -1.0
     e_hat /= np.linalg.norm(e_hat)
     rho, K, dee = lattice_sums(dim, h, kvec, e_hat)
-    a = eta / rho * (K @ K)
+    a = eta / rho * diffusion_k2(form, dim, h, kvec, K)
     w2 = 2 * (gamma - 1) * e0 / rho * dee if stiffness else 0.0
     d = math.sqrt(a * a - 4 * w2)
     l1, l2 = (-a - d) / 2, (-a + d) / 2
@@ -78,18 +81,36 @@ def taylor_green(dim, L, h, eta, e0, gamma, stiffness=True):
     return a, w2, rho, ke
 
 
-def heat_mode_matrix(K2, stiff, rho, e0, gamma, kappa):
+def pair_laplacian(dim, h, kvec):
+    """K2 of the pair form (the module's docstring) on the unit simple-cubic lattice."""
+    n = int(math.floor(h))
+    s = np.array(list(itertools.product(range(-n, n + 1), repeat=dim)), float)
+    r = np.linalg.norm(s, axis=1)
+    keep = (r < h) & (r > 0)
+    s, r = s[keep], r[keep]
+    g = -12 * LUCY_C[dim] / h ** (dim + 2) * (1 - r / h) ** 2
+    return 2 * dim * (g * (1 - np.cos(s @ kvec))).sum() / (g * r * r).sum()
+
+
+def diffusion_k2(form, dim, h, kvec, K):
+    """What multiplies nu (or the conduction's (gamma - 1) kappa / rho) in a mode's decay:
+    |K|^2 of the gradient form, or the pair form's K2."""
+    return pair_laplacian(dim, h, kvec) if form == "pair" else K @ K
+
+
+def heat_mode_matrix(K2, stiff, rho, e0, gamma, kappa, K2c=None):
     """The longitudinal mode's matrix for (xi, u, e') with K2 = |K|^2 (or k^2 in the
     continuum), stiff the displacement stiffness (D_xx pressure term or its continuum
-    value), rho the density: d/dt (xi, u, e') = M (xi, u, e')."""
+    value), rho the density, K2c the conduction's (K2 when None, the gradient form):
+    d/dt (xi, u, e') = M (xi, u, e')."""
     K = math.sqrt(K2)
-    sig = (gamma - 1) * kappa * K2 / rho
+    sig = (gamma - 1) * kappa * (K2 if K2c is None else K2c) / rho
     return np.array([[0, 1, 0],
                      [-stiff + (gamma - 1) * e0 * K2, 0, -1j * (gamma - 1) * K],
                      [0, -1j * (gamma - 1) * e0 * K, -sig]], complex)
 
 
-def heat_mode(dim, L, h, e0, gamma, kappa):
+def heat_mode(dim, L, h, e0, gamma, kappa, form="gradient"):
     """The temperature mode e = e0 + de cos(2 pi x / L), gas at rest.
     Returns (discrete, continuum), each a function t -> e'(t)/e'(0) (real part of the
     mode evolved by the 3 x 3 matrix), and the continuum's thermal root (the slowest
@@ -101,7 +122,7 @@ def heat_mode(dim, L, h, e0, gamma, kappa):
     e_hat = np.zeros(dim)
     e_hat[0] = 1.0
     rho, K, dee = lattice_sums(dim, h, kvec, e_hat)
-    disc = heat_mode_matrix(K @ K, 2 * (gamma - 1) * e0 / rho * dee, rho, e0, gamma, kappa)
+    disc = heat_mode_matrix(K @ K, 2 * (gamma - 1) * e0 / rho * dee, rho, e0, gamma, kappa, diffusion_k2(form, dim, h, kvec, K))
     # Continuum: the displacement term of the pair force is 2 (P/rho^2) rho k^2 = 2 c_T^2 k^2.
     cont = heat_mode_matrix(k * k, 2 * (gamma - 1) * e0 * k * k, 1.0, e0, gamma, kappa)
 

@@ -8,22 +8,21 @@ Set-up: unit square lattice (rho = 1), Wendland C2 kernel with h = 3 (h/dx fixed
 U/c = 0.07, Re = U H / nu <= 3.2, adiabatic walls. The profile is binned by lattice row and
 averaged over the snapshots in [H^2/nu, 1.5 H^2/nu] (transient below 5e-5 of the peak).
 
-Monaghan's pair viscosity at alpha = 0.1 (beta = 0) is on. Why: SPAM's Newtonian viscosity
-takes two passes (grad v, then the divergence of the stress), and the velocity alternating
-row by row (the lattice's Nyquist mode) has zero gradient, so no viscous force damps it.
-At a no-slip wall the image v_g = -v_i continues the parabola oddly, its curvature flips
-sign across the wall, and the viscous force of the rows within h of the wall has a
-Nyquist component: without a damping the mode grows until the lattice noise saturates it
-(at n = 8 the kinetic energy is 3 times the parabola's; docs/scenes/poiseuille.md). The
-pair term damps relative velocities of neighbours, the Nyquist mode first; it adds a
-viscosity of order alpha c h / 8 = 0.05 (5% of nu) where pairs approach.
+The gas takes the flow scheme's default, viscosity as a pair Laplacian in one pass. The
+two-pass gradient form leaves the velocity that alternates row by row undamped (its SPAM
+gradient is zero); at a no-slip wall the image v_g = -v_i continues the parabola oddly
+and the rows within h of the wall drive that mode: with the gradient form the profile is
+6 % off at n = 16 even with Monaghan's pair viscosity at alpha = 0.1 as a damper
+(docs/scenes/poiseuille.md).
 
 Why the tolerances:
-  * Steady profile. Inside, the two passes are exact for a parabola on the full lattice up
-    to the lattice sums' quadrature error (a factor on nu at fixed h/dx); the near-wall band
+  * Steady profile. Inside, the pair Laplacian is exact for a parabola on the full lattice
+    (its normalisation makes a quadratic field's Laplacian exact); the near-wall band
     of width h, where the images' curvature is wrong, perturbs the profile by O((h/H)^2) of
-    the peak. Asserted: L2 error below C (h/H)^2 with C = 3 (measured C printed: 1.5 to 2.1)
-    and an order of at least 1.5 over n = 8, 16, 32.
+    the peak. Asserted: L2 error below C (h/H)^2 with C = 3 (measured C printed: 0.2 to 0.7),
+    and an order of at least 1.2 from n = 8 to 16 (measured 1.5). From n = 16 to 32 the
+    error meets the sliding lattice's noise, about 0.5 % of the peak (the Couette test's
+    row-pair profile: below 1 %), so its order there is printed, not asserted.
   * Force balance. At steady state the walls hold the whole body force: the two walls'
     forces on the gas (books wall_ylo_fx + wall_yhi_fx, averaged over the window) sum to
     -g M, up to the window's mean rate of change of momentum (the lattice noise's; measured
@@ -44,7 +43,6 @@ for n in ns:
     out = os.path.join(a.workdir, f"n{n}")
     code, _, err = run(a.spam_ark, ["-scene", "poiseuille", "-poiseuille_n", n, "-poiseuille_nx", NX, "-poiseuille_speed", U,
                                     "-h", H_KERNEL, "-kernel", "wendland_c2", "-viscosity_shear", ETA,
-                                    "-viscosity", "monaghan", "-viscosity_alpha", 0.1, "-viscosity_beta", 0,
                                     "-ts_max_time", 1.5 * diffusion, "-output_interval", diffusion / 32,
                                     "-snapshot_interval", diffusion / 32, "-snapshot_csv"], out)
     if not c.check(code == 0, f"n = {n}: poiseuille runs (exit {code}) {err.strip()}"):
@@ -62,6 +60,7 @@ for n in ns:
     gm = g * ts["mass"][0]
     c.check(abs(fw / -gm - 1) < BOUND_FORCE, f"n = {n}: walls' force on the gas {fw:.5f} against -g M = {-gm:.5f} (ratio {fw / -gm:.4f}; within {BOUND_FORCE:.0%})")
 if len(l2s) == len(ns):
-    p = order(ns, l2s)
-    c.check(p >= 1.5, f"profile L2 error falls with n ({', '.join(f'{e:.2e}' for e in l2s)}): order {p:.2f} (>= 1.5)")
+    p = order(ns[:2], l2s[:2])
+    c.check(p >= 1.2, f"profile L2 error falls with n ({', '.join(f'{e:.2e}' for e in l2s)}): order {p:.2f} from 8 to 16 (>= 1.2); "
+                      f"{order(ns[1:], l2s[1:]):.2f} from 16 to 32 (the noise floor)")
 c.finish()

@@ -23,6 +23,7 @@ typedef struct {
   double *gmom;            /* [cap*dim*dim] sum_j m_j g dx dx^T / rho_ij, the gradient's moment (gas_flow.h) */
   double *vol2;            /* [cap] (m / rho)^2 of every slot, for the shift's pair sum  */
   double *divv;            /* [cap] corrected div v less its volume mean (gas_flow.h)   */
+  double *lapn;            /* [cap] the pair Laplacian's normalisation -D / tr M (pair_diffusion.h) */
   double *edrift;          /* [cap] de/dt of the shift's drift, dv . grad e (gas_flow.h) */
   double *uc;              /* [cap*dim] velocity of the continuity equation            */
   double *acc;             /* [cap*dim] acceleration                                    */

@@ -15,6 +15,9 @@ typedef enum { SPAM_ANGMOM_NONE, SPAM_ANGMOM_GAUSS, SPAM_ANGMOM_TI, SPAM_ANGMOM_
  * gas_flow.c (background pressure out of the momentum equation, transport shifting). */
 typedef enum { SPAM_GAS_PLAIN, SPAM_GAS_FLOW } SpamGasScheme;
 typedef enum { SPAM_BACKGROUND_NONE, SPAM_BACKGROUND_MEAN } SpamBackgroundMode;
+/* How viscosity and conduction reach the pair force: through the particles' gradients
+ * (the papers' two passes) or as pair Laplacians in one pass (gas_flow.h). */
+typedef enum { SPAM_DIFFUSION_GRADIENT, SPAM_DIFFUSION_PAIR } SpamDiffusionForm;
 
 extern const char *const SpamDensityModeNames[];
 extern const char *const SpamDensityInitialNames[];
@@ -24,6 +27,7 @@ extern const char *const SpamViscosityModeNames[];
 extern const char *const SpamMaterialNames[];
 extern const char *const SpamGasSchemeNames[];
 extern const char *const SpamBackgroundModeNames[];
+extern const char *const SpamDiffusionFormNames[];
 
 typedef struct {
   SpamMaterial       material;      /* elastic (stress in the state), ideal gas with  */
@@ -47,6 +51,7 @@ typedef struct {
   SpamGasScheme      scheme;        /* gas: plain or flow (gas_flow.c)                 */
   SpamBackgroundMode background;    /* flow: pressure taken out of the momentum eq.   */
   double             shift_coef;    /* flow: transport shifting coefficient (0: off)  */
+  SpamDiffusionForm  diffusion;     /* flow: viscosity and conduction's pair form     */
   PetscBool          plain_default; /* the scene's gas keeps the plain scheme unless  */
                                     /* asked (gas_flow.h: expansion into vacuum, and  */
                                     /* the convection cell, whose onset it moves)      */

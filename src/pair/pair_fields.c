@@ -2,7 +2,7 @@
 #include <spam/fields.h>
 
 /* Every array with its number of values per slot (0: not allocated for this model). */
-static int Arrays(SpamFields *f, double **a[24], int per[24])
+static int Arrays(SpamFields *f, double **a[26], int per[26])
 {
   const int d = f->dim, t = f->tensor ? 1 : 0;
   int       k = 0;
@@ -22,6 +22,7 @@ static int Arrays(SpamFields *f, double **a[24], int per[24])
   SPAM_ARRAY(f->shift, t * d);
   SPAM_ARRAY(f->edrift, t);
   SPAM_ARRAY(f->divv, t);
+  SPAM_ARRAY(f->lapn, t);
   SPAM_ARRAY(f->vol2, t);
   SPAM_ARRAY(f->gmom, t * d * d);
   SPAM_ARRAY(f->uc, t * d);
@@ -36,8 +37,8 @@ static int Arrays(SpamFields *f, double **a[24], int per[24])
 
 PetscErrorCode SpamFieldsCreate(int dim, int n, int cap, PetscBool tensor, SpamFields *f)
 {
-  double **a[24];
-  int      per[24], na;
+  double **a[26];
+  int      per[26], na;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(f, sizeof *f));
@@ -54,8 +55,8 @@ PetscErrorCode SpamFieldsCreate(int dim, int n, int cap, PetscBool tensor, SpamF
 
 PetscErrorCode SpamFieldsReserve(SpamFields *f, int slots)
 {
-  double **a[24];
-  int      per[24], na, old = f->cap;
+  double **a[26];
+  int      per[26], na, old = f->cap;
 
   PetscFunctionBeginUser;
   if (slots + 1 <= f->cap) PetscFunctionReturn(0);
@@ -72,8 +73,8 @@ PetscErrorCode SpamFieldsReserve(SpamFields *f, int slots)
 
 PetscErrorCode SpamFieldsDestroy(SpamFields *f)
 {
-  double **a[24];
-  int      per[24], na = Arrays(f, a, per);
+  double **a[26];
+  int      per[26], na = Arrays(f, a, per);
 
   PetscFunctionBeginUser;
   for (int k = 0; k < na; k++) PetscCall(PetscFree(*a[k]));

@@ -20,6 +20,7 @@ static void TensorSettings(const SpamSolidParams *p, SpamSetting *s, int *n)
     if (p->scheme == SPAM_GAS_FLOW) {
       Str(s, n, "background_pressure", SpamBackgroundModeNames[p->background]);
       Num(s, n, "shift_coefficient", p->shift_coef);
+      Str(s, n, "diffusion_form", SpamDiffusionFormNames[p->diffusion]);
     }
   } else {
     Num(s, n, "solid_lambda", p->lambda);

@@ -6,6 +6,7 @@
  *     Newtonian and von Neumann viscosity, Hooke's stress rate, heat flux Q/rho^2
  *   walk 2 (2D torque scaling only): the pair torques and their scaling factors
  *   walk 3 (forces): pair force with Monaghan's viscosity, work, continuity, heat flux
+ *     (or, in the flow scheme's pair form, viscosity and conduction as pair Laplacians)
  *   Gauss's constraint, gravity.
  * Each walk runs the pair functions of src/pair/ in one pass over the list. Accumulations
  * on ghost slots are folded onto their sources after each walk. Nothing here allocates
@@ -21,6 +22,7 @@
 #include "../pair/pair_heat_flux.h"
 #include "../pair/pair_torque.h"
 #include "../pair/pair_shift.h"
+#include "../pair/pair_diffusion.h"
 
 typedef struct {
   SpamFields            *f;
@@ -31,6 +33,8 @@ typedef struct {
   int                    gradT;      /* grad T in walk 1 (conduction, the shift's drift) */
   int                    shift;      /* the transport shift's pair sum in walk 1       */
   int                    flow;       /* the flow scheme's corrections after walk 3     */
+  int                    moment;     /* the gradient's moment in walk 1 (flow, pairdiff) */
+  int                    pairdiff;   /* viscosity and conduction as pair Laplacians    */
   int                    scale;      /* torque scaling (Ti or Tij) in walk 3           */
   int                    continuity; /* drho/dt in walk 3 (the state's, or B's work)    */
   SpamBackground         bg;         /* the flow scheme's background pressure         */
@@ -55,7 +59,7 @@ static inline __attribute__((always_inline)) void GradientPair(const int dim, Te
   else if (c->coords == SPAM_COORDS_R2) SpamPairXsph(dim, f, i, j, c->p->xsph_eps * w / rho_ij);
   if (c->gradT) SpamPairTemperatureGradient(dim, f, i, j, dx, g / rho_ij);
   if (c->shift) SpamPairShift(dim, f, i, j, dx, g);
-  if (c->flow) SpamPairGradientMoment(dim, f, i, j, dx, g / rho_ij);
+  if (c->moment) SpamPairGradientMoment(dim, f, i, j, dx, g / rho_ij);
 }
 SPAM_PAIR_WALK(WalkGradients, TensorPass, GradientPair)
 
@@ -108,8 +112,12 @@ static inline __attribute__((always_inline)) void ForcePair(const int dim, Tenso
     const double pi     = SpamPairMonaghan(dim, c->p->visc_alpha, c->p->visc_beta, c->p->sound_speed, c->h, dx, f->v + (size_t)i * dim, f->v + (size_t)j * dim, r2, rho_ij);
     for (int d = 0; d < dim; d++) F[d] -= f->m[i] * f->m[j] * pi * g * dx[d];
   }
+  if (c->pairdiff) {
+    const double k = SpamPairDiffusionFactor(f, i, j, g);
+    SpamPairViscousDiffusion(dim, f, i, j, c->p->shear_visc, k, F);
+    if (c->conduction) SpamPairHeatDiffusion(f, i, j, c->p->conductivity, k);
+  } else if (c->conduction) SpamPairHeatFlux(dim, f, i, j, dx, g);
   SpamPairApplyForce(dim, f, i, j, dx, g, F, c->continuity);
-  if (c->conduction) SpamPairHeatFlux(dim, f, i, j, dx, g);
 }
 SPAM_PAIR_WALK(WalkForces, TensorPass, ForcePair)
 
@@ -192,6 +200,24 @@ static PetscErrorCode FillFields(SpamSim *sim, const double *y, PetscInt *bad)
   PetscFunctionReturn(0);
 }
 
+/* The pair Laplacian's normalisation N_i = -D / tr M_i of every local particle
+ * (pair_diffusion.h), gathered into the ghosts; 1 where the moment vanishes (an isolated
+ * particle, which has no pair to scale). */
+static PetscErrorCode DiffusionNorms(SpamSim *sim)
+{
+  SpamFields *f   = &sim->f;
+  const int   dim = f->dim, n = (int)sim->n;
+
+  PetscFunctionBeginUser;
+  for (int i = 0; i < n; i++) {
+    double tr = 0.0;
+    for (int a = 0; a < dim; a++) tr += f->gmom[(size_t)i * dim * dim + a * dim + a];
+    f->lapn[i] = tr < 0.0 ? -dim / tr : 1.0;
+  }
+  PetscCall(SpamGhostsGather(&sim->nl.ghosts, dim, n, 1, SPAM_GHOST_SCALAR, f->lapn));
+  PetscFunctionReturn(0);
+}
+
 /* Walk 1 and its folds: grad v, dr/dt (R0: v; R1: the normalised average with the self
  * term; R2: v plus XSPH) and grad T. */
 static PetscErrorCode Gradients(SpamSim *sim, TensorPass *c)
@@ -208,7 +234,7 @@ static PetscErrorCode Gradients(SpamSim *sim, TensorPass *c)
     Zero(f->shift, (size_t)slots * dim);
     for (int i = 0; i < slots; i++) f->vol2[i] = (f->m[i] / f->rho[i]) * (f->m[i] / f->rho[i]); /* no division per pair */
   }
-  if (c->flow) Zero(f->gmom, (size_t)slots * dim * dim);
+  if (c->moment) Zero(f->gmom, (size_t)slots * dim * dim);
   for (int i = 0; i < slots; i++) {
     const double self = c->coords == SPAM_COORDS_R1 ? (i < n ? w0 : 0.0) : (i < n ? 1.0 : 0.0);
     for (int d = 0; d < dim; d++) f->xdot[(size_t)i * dim + d] = self * f->v[(size_t)i * dim + d];
@@ -220,7 +246,8 @@ static PetscErrorCode Gradients(SpamSim *sim, TensorPass *c)
   SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->wsum);
   SpamGhostsFold(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->heat);
   if (c->shift) SpamGhostsFold(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->shift);
-  if (c->flow) SpamGhostsFold(gh, dim, n, dim * dim, SPAM_GHOST_TENSOR, f->gmom);
+  if (c->moment) SpamGhostsFold(gh, dim, n, dim * dim, SPAM_GHOST_TENSOR, f->gmom);
+  if (c->pairdiff) PetscCall(DiffusionNorms(sim));
   if (c->coords == SPAM_COORDS_R1)
     for (int i = 0; i < n; i++)
       for (int d = 0; d < dim; d++) f->xdot[(size_t)i * dim + d] /= f->wsum[i];
@@ -247,7 +274,10 @@ static void StressOverRho2(const SpamSim *sim, const SpamBackground *bg, const d
     SpamStressUnpack(dim, yi + l->s, q);
     for (int k = 0; k < dim * dim; k++) q[k] /= rho * rho;
   }
-  if (p->shear_visc > 0.0 || p->bulk_visc > 0.0) SpamNewtonianViscosity(dim, p->shear_visc, p->bulk_visc, g, rho, q);
+  /* The pair form carries eta lap v; what the shear stress adds beyond it in 3D,
+   * (1 - 2/D) eta grad div v, stays here with the bulk viscosity's grad div v. */
+  if (p->diffusion == SPAM_DIFFUSION_PAIR) SpamNewtonianViscosity(dim, 0.0, p->bulk_visc + (1.0 - 2.0 / dim) * p->shear_visc, g, rho, q);
+  else if (p->shear_visc > 0.0 || p->bulk_visc > 0.0) SpamNewtonianViscosity(dim, p->shear_visc, p->bulk_visc, g, rho, q);
   if (p->viscosity == SPAM_VISCOSITY_VON_NEUMANN) SpamVonNeumannViscosity(dim, p->visc_alpha, p->visc_beta, p->sound_speed, sim->model.kernel.h, g, rho, q);
 }
 
@@ -267,13 +297,13 @@ static PetscErrorCode ParticleLaws(SpamSim *sim, const TensorPass *c, const doub
     StressOverRho2(sim, &c->bg, yi, i, f->qs + (size_t)i * dim * dim);
     if (p->material == SPAM_MATERIAL_ELASTIC) SpamHookeStressRate(dim, p->lambda, p->eta, g, yi + l->s, ydot + (size_t)i * nv + l->s);
     for (int d = 0; d < dim; d++) {
-      f->heat[(size_t)i * dim + d] *= -p->conductivity / (f->rho[i] * f->rho[i]);
+      if (!c->pairdiff) f->heat[(size_t)i * dim + d] *= -p->conductivity / (f->rho[i] * f->rho[i]);
       f->uc[(size_t)i * dim + d] = p->density == SPAM_DENSITY_CHAIN_RULE ? f->xdot[(size_t)i * dim + d] : f->v[(size_t)i * dim + d];
     }
   }
   PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_STRESS, f->qs));
   if (gh->mirror && sim->model.gravity_on && p->material == SPAM_MATERIAL_GAS) HydrostaticImages(sim, &c->bg);
-  PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_HEAT_FLUX, f->heat));
+  if (!c->pairdiff) PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_HEAT_FLUX, f->heat));
   PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_VELOCITY, f->uc));
   PetscFunctionReturn(0);
 }
@@ -375,9 +405,11 @@ static TensorPass PassOf(SpamSim *sim)
   c.h                         = sim->model.kernel.h;
   c.coords                    = (int)p->coords;
   c.conduction                = p->conductivity > 0.0;
-  c.gradT                     = c.conduction || shift;
+  c.gradT                     = (c.conduction && !(gas && p->diffusion == SPAM_DIFFUSION_PAIR)) || shift;
   c.shift                     = shift;
   c.flow                      = bg || shift;
+  c.pairdiff                  = p->material == SPAM_MATERIAL_GAS && p->diffusion == SPAM_DIFFUSION_PAIR;
+  c.moment                    = c.flow || c.pairdiff;
   c.scale                     = p->angmom == SPAM_ANGMOM_TI || p->angmom == SPAM_ANGMOM_TIJ;
   c.continuity                = p->density != SPAM_DENSITY_SUMMATION;
   c.ps                        = sim->ps;

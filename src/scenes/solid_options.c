@@ -13,6 +13,7 @@ const char *const SpamViscosityModeNames[]  = {"none", "monaghan", "vonneumann"}
 const char *const SpamMaterialNames[]       = {"elastic", "gas", "isentrope"};
 const char *const SpamGasSchemeNames[]      = {"plain", "flow"};
 const char *const SpamBackgroundModeNames[] = {"none", "mean"};
+const char *const SpamDiffusionFormNames[]  = {"gradient", "pair"};
 
 /* Index of val in names, or a bad-input error listing them. */
 static PetscErrorCode Choice(const char *opt, const char *val, const char *const *names, int n, int *k)
@@ -47,25 +48,27 @@ static PetscErrorCode Positive(const char *opt, double v, PetscBool zero_ok)
  * scheme is its default; an inviscid gas keeps the papers' plain equations, and so does a
  * scene that asks for them (solid.h: plain_default). The laws'
  * options are read only with the flow scheme, so that the plain scheme refuses them. */
-static PetscErrorCode GasSchemeOptions(PetscOptionItems *PetscOptionsObject, PetscBool help, const char *mat, SpamSolidParams *p, char *scheme, size_t ls, char *bg, size_t lb)
+static PetscErrorCode GasSchemeOptions(PetscOptionItems *PetscOptionsObject, PetscBool help, const char *mat, SpamSolidParams *p, char *scheme, size_t ls, char *bg, size_t lb, char *form, size_t lf)
 {
   const PetscBool fluid = (PetscBool)(!strcmp(mat, "gas") && !p->plain_default && (p->shear_visc > 0.0 || p->bulk_visc > 0.0 || p->conductivity > 0.0));
 
   PetscFunctionBeginUser;
   PetscCall(PetscStrncpy(scheme, fluid ? "flow" : "plain", ls));
   PetscCall(PetscStrncpy(bg, "mean", lb));
+  PetscCall(PetscStrncpy(form, "pair", lf));
   if (p->shift_coef == 0.0) p->shift_coef = SPAM_SHIFT_COEF_DEFAULT;
   if (help || !strcmp(mat, "gas")) PetscCall(PetscOptionsString("-gas_scheme", "Gas pair scheme: plain (the papers' equations) or flow (background pressure out of the momentum equation, transport shifting); default flow for a gas with viscosity or conduction, else plain (and in the expansion and convection scenes)", "README", scheme, scheme, ls, NULL));
   if (help || !strcmp(scheme, "flow")) {
     PetscCall(PetscOptionsString("-background_pressure", "Flow scheme: pressure taken out of the momentum equation: mean (the particles' mean pressure, fitted along gravity where there is gravity) or none", "README", bg, bg, lb, NULL));
     PetscCall(PetscOptionsReal("-shift_coefficient", "Flow scheme: transport shifting coefficient C (shift velocity C c h times the particle-volume gradient; 0: off)", "README", p->shift_coef, &p->shift_coef, NULL));
+    PetscCall(PetscOptionsString("-diffusion_form", "Flow scheme: viscosity and conduction as pair Laplacians in one pass (pair: damps particle-scale noise) or through the particles' gradients (gradient: the papers' two passes)", "README", form, form, lf, NULL));
   }
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SpamSolidOptions(SpamSolidParams *p)
 {
-  char      dens[32], init[32], mean[32] = "arithmetic", coords[32], angm[32], scope[32] = "global", visc[32], mat[32], scheme[32], bg[32];
+  char      dens[32], init[32], mean[32] = "arithmetic", coords[32], angm[32], scope[32] = "global", visc[32], mat[32], scheme[32], bg[32], form[32];
   int       k;
   PetscBool help;
 
@@ -86,7 +89,7 @@ PetscErrorCode SpamSolidOptions(SpamSolidParams *p)
   PetscCall(PetscOptionsReal("-viscosity_bulk", "Newtonian bulk viscosity eta_b (0: off)", "README", p->bulk_visc, &p->bulk_visc, NULL));
   PetscCall(PetscOptionsReal("-conductivity", "Fourier heat conductivity kappa, Q = -kappa grad T (0: off)", "README", p->conductivity, &p->conductivity, NULL));
   if (help || !strcmp(mat, "gas") || p->conductivity != 0.0) PetscCall(PetscOptionsReal("-gas_gamma", "Gas: gamma of P = (gamma - 1) rho e (2 in 2D); also sets T = (gamma - 1) e (-material gas or -conductivity)", "README", p->gamma, &p->gamma, NULL));
-  PetscCall(GasSchemeOptions(PetscOptionsObject, help, mat, p, scheme, sizeof scheme, bg, sizeof bg));
+  PetscCall(GasSchemeOptions(PetscOptionsObject, help, mat, p, scheme, sizeof scheme, bg, sizeof bg, form, sizeof form));
   if (help || !strcmp(mat, "elastic")) {
     PetscCall(PetscOptionsReal("-solid_lambda", "Lame constant lambda (default sqrt(3)/4: springs k = 1; -material elastic)", "README", p->lambda, &p->lambda, NULL));
     PetscCall(PetscOptionsReal("-solid_eta", "Lame constant eta, the shear modulus (default sqrt(3)/4; -material elastic)", "README", p->eta, &p->eta, NULL));
@@ -129,9 +132,12 @@ PetscErrorCode SpamSolidOptions(SpamSolidParams *p)
     PetscCall(SpamOptionText("-shift_coefficient", p->shift_coef, val, sizeof val));
     SPAM_BAD_INPUT("-shift_coefficient", val, "allowed: 0 <= C <= 10 (the shift is a diffusion of coefficient C c h: beyond that it outruns sound)");
   }
-  if (p->scheme == SPAM_GAS_PLAIN) { /* the flow scheme's laws are off in the plain scheme */
+  PetscCall(Choice("-diffusion_form", form, SpamDiffusionFormNames, 2, &k));
+  p->diffusion = (SpamDiffusionForm)k;
+  if (p->scheme == SPAM_GAS_PLAIN || p->material != SPAM_MATERIAL_GAS) { /* the flow scheme's laws are off in the plain scheme */
     p->background = SPAM_BACKGROUND_NONE;
     p->shift_coef = 0.0;
+    p->diffusion  = SPAM_DIFFUSION_GRADIENT;
   }
   PetscCall(Choice("-viscosity", visc, SpamViscosityModeNames, 3, &k));
   p->viscosity = (SpamViscosityMode)k;
