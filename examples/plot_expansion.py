@@ -444,13 +444,16 @@ def draw(summary, series, picked, out_path, np, plt):
     steps_txt = fmt_num(steps)
     if rejected is not None:
         steps_txt += " (%s rejected)" % fmt_num(rejected)
+    # the scene as run: mirror walls (summary.json wall_F: noslip or freeslip) named with it
+    walls = sorted({v for k, v in summary.items() if re.fullmatch(r"wall_[xyz](lo|hi)", k)})
+    scene = summary.get("scene", "?") + (" with %s walls" % " and ".join(walls) if walls else "")
     fig.suptitle(
         "%s — %sD, N = %s, volume ratio %s\n"
         "method %s, rtol %s, atol %s    |    steps %s, RHS evals %s%s"
-        % (summary.get("scene", "?"), fmt_num(dim), fmt_num(n_particles),
+        % (scene, fmt_num(dim), fmt_num(n_particles),
            fmt_ratio(ratio), summary.get("method", "?"),
            fmt_num(summary.get("rtol")), fmt_num(summary.get("atol")),
-           steps_txt, fmt_num(summary.get("rhs_evals")),
+           steps_txt, fmt_num(summary.get("rhs_evals_total", summary.get("rhs_evals"))),
            ("" if summary.get("status") in (None, "", "ok")
             else "    |    status %s" % summary.get("status"))),
         fontsize=12)

@@ -78,6 +78,8 @@ def conservation(ax, ts, s):
         dev = np.linalg.norm(v - v[0], axis=1) / scale
         label = "%s%s / %s" % (name, " - walls' " + ("work - heat" if name == "energy" else "impulse") if walls else "",
                                scale_key)
+        if name == "angular momentum" and s.get("angular_momentum_not_conserved"):
+            label += " (%s)" % s["angular_momentum_not_conserved"]  # a change, not a drift
         ax.semilogy(t, np.maximum(dev, np.finfo(float).eps), "-", label=label)
         drawn += 1
     ax.set_xlabel("time t (reduced units)")

@@ -199,6 +199,14 @@ for extra in ([], ["-ts_type", "rk"], ["-ts_type", "cvode"], ["-scene", "convect
     c.check(code == 0 and len(lines) <= 400 and not petsc_words,
             f"-help {' '.join(extra)}: {len(lines)} lines (at most 400), {len(petsc_words)} in PETSc's form or of solvers "
             f"({petsc_words[:2]})")
+# The file scene lists its options without a particle file: -help needs no input, and the
+# set-up after the scene (model, outputs, time stepping) lists its options too.
+for extra in ([], ["-dim", "3"], ["-box_len", "64,32"]):
+    code, out, err = run(a.spam_ark, ["-scene", "file"] + extra + ["-help"])
+    missing = [w for w in ("-file_path", "-box_len", "-material", "-output_dir", "-ts_rtol", "-cvode_max_order")
+               if not re.search(r"^\s+" + re.escape(w) + r"  .*\[default ", out, re.M)]
+    c.check(code == 0 and not missing and "error" not in err,
+            f"-scene file {' '.join(extra)} -help without -file_path: exit {code}, missing {missing} {err.strip()[:200]}")
 code, full, _ = run(a.spam_ark, ["-help", "petsc"])
 c.check(code == 0 and "-snes_type" in full and "-ksp_type" in full and "(README)" in full,
         f"-help petsc: exit {code}, PETSc's whole text ({len(full.splitlines())} lines)")

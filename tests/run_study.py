@@ -27,11 +27,14 @@ c.check(p.returncode == 0, f"study runs (exit {p.returncode}) {p.stderr.strip()[
 with open(os.path.join(out, "precision.csv")) as f:
     rows = list(csv.DictReader(f))
 cols = ["method", "options", "rtol", "dt", "status", "steps", "rejected", "rhs_evals", "rhs_method", "rhs_interpolant", "wall_s", "rhs_share", "err_x_final",
-        "err_v_final", "err_x_max", "err_v_max", "energy_drift", "momentum_drift", "angmom_drift", "entropy_diff"]
+        "err_v_final", "err_x_max", "err_v_max", "energy_drift", "momentum_drift", "angmom_drift", "angmom_not_conserved", "entropy_diff"]
 c.check(len(rows) == 4 and list(rows[0]) == cols, f"precision.csv: {len(rows)} rows, columns {list(rows[0])}")
 # The cost plotted is the whole cost: the method's evaluations and the interpolant's.
 c.check(all(int(r["rhs_evals"]) == int(r["rhs_method"]) + int(r["rhs_interpolant"]) for r in rows if r["status"] == "ok"),
         "precision.csv: rhs_evals = rhs_method + rhs_interpolant in every row")
+# The periodic box does not conserve L: the measure is a change, with spam-ark's reason.
+c.check(all(r["angmom_not_conserved"] == "not conserved: periodic box" and float(r["angmom_drift"]) >= 0 for r in rows),
+        f"precision.csv: angular momentum a change with its reason {sorted({r['angmom_not_conserved'] for r in rows})}")
 dp = {float(r["rtol"]): float(r["err_x_final"]) for r in rows if r["method"] == "DP5"}
 c.check(dp[1e-8] < dp[1e-4] / 10, f"Dormand-Prince error {dp[1e-4]:.2e} at rtol 1e-4 -> {dp[1e-8]:.2e} at 1e-8")
 for png in ("error_vs_rhs.png", "error_vs_wall.png", "energy_drift_vs_tol.png", "angmom_drift_vs_tol.png",

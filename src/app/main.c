@@ -7,6 +7,7 @@
 #include <spam/options.h>
 #include <spam/mpi_start.h>
 #include "help_text.h"
+#include "mpi_yield.h"
 #include <signal.h>
 
 static const char help[] = "spam-ark " SPAM_VERSION ": smooth-particle applied mechanics (Lucy-Monaghan SPAM/SPH)\n"
@@ -60,6 +61,7 @@ static int StartMpi(int *argc, char ***argv)
   int provided;
 
   SpamMpiSingletonDefaults(); /* alone: no singleton daemon, no UCX probe, no hwloc I/O plugins (mpi_start.c) */
+  (void)SpamMpiYieldDefault(); /* under mpiexec: more ranks than idle cores yield while waiting (mpi_yield.c) */
   if (MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS) {
     fprintf(stderr, "spam-ark: error: MPI_Init failed\n");
     return SPAM_EXIT_ERROR;

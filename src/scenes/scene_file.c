@@ -430,11 +430,36 @@ static PetscErrorCode Options(const SpamCommonParams *c, void *p, SpamSolidParam
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Build(const SpamCommonParams *c, const void *p, const SpamSolidParams *solid, SpamParticles *out)
+/* -help without a file: one particle at rest in the middle of the box given, or of a box
+ * 8 h wide, so that the set-up after the scene lists its options too. The listing needs no
+ * file, and a swarm of no particles is one PETSc cannot set up. Nothing runs with -help. */
+static PetscErrorCode HelpPlaceholder(const SpamCommonParams *c, SpamParticles *out)
 {
   PetscFunctionBeginUser;
+  PetscCall(SpamParticlesAllocate(c->dim, 1, out));
+  out->box.dim = c->dim;
+  for (int d = 0; d < c->dim; d++) {
+    out->box.lo[d]       = c->box_lo[d];
+    out->box.len[d]      = c->box_len_set ? c->box_len[d] : 8.0 * c->h;
+    out->box.periodic[d] = c->periodic[d];
+    out->x[d]            = out->box.lo[d] + 0.5 * out->box.len[d];
+  }
+  out->mass = c->mass;
+  PetscCall(PetscStrncpy(out->info.name, "file", sizeof out->info.name));
+  out->info.t_end_default = 10.0;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode Build(const SpamCommonParams *c, const void *p, const SpamSolidParams *solid, SpamParticles *out)
+{
+  const SpamFileParams *fp = p;
+  PetscBool             help;
+
+  PetscFunctionBeginUser;
   (void)solid;
-  PetscCall(SpamFileBuild(c, p, out));
+  PetscCall(PetscOptionsHasHelp(NULL, &help));
+  if (help && !fp->path[0]) PetscCall(HelpPlaceholder(c, out));
+  else PetscCall(SpamFileBuild(c, fp, out));
   PetscFunctionReturn(0);
 }
 
