@@ -26,7 +26,7 @@ Asserted:
     angular momentum about the centre, sum m ((x - L/2) v_y - (y - L/2) v_x) / (M U L),
     is negative (noise contributes about 0.03 / sqrt(N), below 1e-3);
   * the lid drags the layer under it: u/U at y = 0.9766 L (Ghia: 0.84) is positive;
-  * at the finest n (unless --no-goal): min u on x = L/2 and max v on y = L/2 within
+  * at the finest n (unless --no-goal): min u on x = L/2, max v and min v on y = L/2 within
     SMOOTHING + 2 s / sqrt(4) of Ghia's extrema, and the mean profiles within LINF = 0.05 U
     of his points. SMOOTHING = 2 % is the resolution's: at n = 64 the kernel average over
     h = 3 spacings smooths a profile's peak of half-width w ~ 0.1 L by about (h / w)^2 / 10
@@ -38,9 +38,10 @@ Asserted:
     goal, printed, is within that noise.) The L-infinity bound: the profiles' steepest slopes, about 4 U / L
     near the lid, times the h/4 = 0.012 L that the kernel average's centre can sit off a
     particle ring: 0.05 U.
-    The third extremum, min v (the downflow beside the wall the lid runs into), is printed
-    with the same goal but not asserted: it is 5.8-7.7 % too strong at n = 64 (three runs,
-    means over 10-12 L/U and over 20-24 L/U), 1.4 % at n = 32; the cause is not found.
+    The third extremum, min v (the downflow beside the wall the lid runs into), was 5.8-7.7 %
+    too strong at n = 64 while the flow scheme's viscosity took two passes (grad v, then the
+    stress): measured with the pair form, +1.9 %, -0.7 % and -1.7 % for the three extrema,
+    spreads 1.2-1.3 %.
 Printed per resolution: the L-infinity errors, the extrema with their errors relative to
 Ghia's, the spread of the extrema over the averaged snapshots, the angular momentum and the
 change of the kinetic energy over the last L/U."""
@@ -146,18 +147,18 @@ for n in a.n:
         chart_reading(out, rel)
     if n != max(a.n):
         continue
-    held = {k: rel[k] for k in ("u_min", "v_max")}
+    held = {k: rel[k] for k in ("u_min", "v_max", "v_min")}
     bound = {k: SMOOTHING + 2 * spread[k] / math.sqrt(INDEPENDENT) for k in held}
     inside = all(abs(held[k]) <= bound[k] for k in held)
     worst = max(abs(x) for x in held.values())
     linf = max(r["linf_u"], r["linf_v"])
-    text = (f"n = {n}: min u and max v within the smoothing and the mean's noise of Ghia's ({held['u_min']:+.1%} within "
-            f"{bound['u_min']:.1%}, {held['v_max']:+.1%} within {bound['v_max']:.1%}) and profiles within {LINF} U of his "
+    text = (f"n = {n}: min u, max v and min v within the smoothing and the mean's noise of Ghia's ({held['u_min']:+.1%} within "
+            f"{bound['u_min']:.1%}, {held['v_max']:+.1%} within {bound['v_max']:.1%}, {held['v_min']:+.1%} within "
+            f"{bound['v_min']:.1%}) and profiles within {LINF} U of his "
             f"points (L-inf {linf:.3f} U)")
     if a.no_goal:
         print(f"goal (not asserted): {text}: {'met' if inside and linf <= LINF else 'not met'}; options given: {a.extra or '(none)'}")
     else:
         c.check(inside and linf <= LINF, text)
-    print(f"goal (not asserted): n = {n}: min u and max v within {GOAL:.0%} of Ghia's: {'met' if worst <= GOAL else 'not met'}")
-    print(f"goal (not asserted): n = {n}: min v within {GOAL:.0%} of Ghia's: {'met' if abs(rel['v_min']) <= GOAL else 'not met'} ({rel['v_min']:+.1%})")
+    print(f"goal (not asserted): n = {n}: the three extrema within {GOAL:.0%} of Ghia's: {'met' if worst <= GOAL else 'not met'}")
 c.finish()
