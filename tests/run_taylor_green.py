@@ -54,7 +54,7 @@ def run_case(a, c, dim, L, h, images="minimum", scheme="flow", rtol=1e-8):
     args = ["-dim", dim, "-scene", "taylor-green", "-taylorgreen_n", L, "-taylorgreen_amplitude", U, "-h", h,
             "-gas_gamma", GAMMA, "-gas_e0", E0, "-viscosity_shear", ETA,
             "-ts_max_time", 1 / rate, "-output_interval", 1 / rate / 25, "-ts_rtol", rtol, "-ts_atol", 1e-14,
-            "-snapshot_interval", 0, "-periodic_images", images, "-gas_scheme", scheme]
+            "-snapshot_interval", 0, "-periodic_images", images, "-gas_scheme", scheme, "-output_stop", "true"]
     code, _, err = run(a.spam_ark, args, out)
     if not c.check(code == 0, f"{name}: run completes (exit {code}) {err.strip()}"):
         c.finish()
