@@ -6,8 +6,8 @@
  * Morris, Fox and Zhu (1997) for the shear viscosity: 2 sum_j V_j (f_i - f_j) g_ij is the
  * Laplacian of f to second order in a smooth field. N_ij = (N_i + N_j)/2 with
  * N_i = -D / tr M_i (M the SPAM gradient's moment, -I in the continuum limit) makes the
- * Laplacian of a quadratic field exact on the particles' own arrangement: without it a
- * lattice at h = 3 conducts 2-5 % less than kappa, depending on the kernel.
+ * Laplacian of a quadratic field exact on the particles' own arrangement: without it the
+ * convection cell's lattice (Lucy, h = 3) conducts 4 % less than kappa.
  *
  * Why a second form: the gradient form (grad v, then the divergence of the stress) has a
  * null space at the particle scale. A velocity or temperature that alternates from one
@@ -18,7 +18,7 @@
  * the seed's kinetic energy for thousands of time units. The pair form damps every pair's
  * relative velocity and temperature.
  *
- * Both forms conserve momentum and energy pair by pair: the force is antisymmetric and
+ * The pair form conserves momentum and energy pair by pair: the force is antisymmetric and
  * its work, (v_j - v_i).F / 2 to each particle, heats both (F is along -(v_i - v_j)); the
  * heat rates m_i de_i and m_j de_j cancel. The force runs along v_i - v_j, not along the
  * pair's axis, so it does not conserve angular momentum exactly. */
