@@ -75,7 +75,7 @@ static PetscErrorCode RunCase(TestCount *tc, const Case *c)
   u0 = sim.nl.updates;
   p0 = sim.nl.placements;
   b0 = sim.nl.builds;
-  PetscCall(VecGetArray(sim.X, &y));
+  PetscCall(VecGetArray(sim.p.X, &y));
   for (int e = 0; e < K; e++) {
     const SpamLayout *l = &sim.model.layout;
     PetscInt          bad;
@@ -85,7 +85,7 @@ static PetscErrorCode RunCase(TestCount *tc, const Case *c)
     PetscCall(SpamRhs(&sim, y, ydot, &bad));
     TestCheck(tc, bad < 0, "%s: evaluation %d finite", c->name, e);
   }
-  PetscCall(VecRestoreArray(sim.X, &y));
+  PetscCall(VecRestoreArray(sim.p.X, &y));
   {
     const long du = sim.nl.updates - u0, dp = sim.nl.placements - p0, db = sim.nl.builds - b0, want = c->ghosts || c->reproducible ? K : 0;
     TestCheck(tc, du == K, "%s: %ld list updates for %d right-hand sides (one each)", c->name, du, K);

@@ -121,10 +121,10 @@ static PetscErrorCode UseHalo(SpamSim *sim)
 
   PetscFunctionBeginUser;
   PetscCall(SpamNeighboursDestroy(&sim->nl));
-  PetscCall(SpamNeighboursCreate((int)sim->n, &sim->box, sim->model.kernel.h, sim->skin, &sim->nl));
+  PetscCall(SpamNeighboursCreate((int)sim->p.n, &sim->box, sim->model.kernel.h, sim->skin, &sim->nl));
   if (sim->periodic_ghosts || sim->reproducible) PetscCall(SpamNeighboursSetPeriodicGhosts(&sim->nl, &sim->box, all));
-  if (sim->reproducible) PetscCall(SpamNeighboursSetCanonical(&sim->nl, sim->gid));
-  PetscCall(SpamNeighboursSetComm(&sim->nl, sim->comm));
+  if (sim->reproducible) PetscCall(SpamNeighboursSetCanonical(&sim->nl, sim->p.gid));
+  PetscCall(SpamNeighboursSetComm(&sim->nl, sim->p.comm));
   PetscCall(SpamNeighboursSetThreads(&sim->nl, sim->threads));
   PetscCall(SpamSimBuildList(sim));
   sim->nl.builds = builds + 1; /* the count goes on: what is kept per build (ghost masses) is made again */
@@ -140,29 +140,29 @@ static PetscErrorCode Evaluate(SpamSim *sim, double *res)
   PetscScalar      *y;
   double           *ydot, *mine, *all = NULL;
   PetscInt          bad;
-  PetscMPIInt       rank, size, n = (PetscMPIInt)sim->n, *cnt = NULL, *off = NULL;
+  PetscMPIInt       rank, size, n = (PetscMPIInt)sim->p.n, *cnt = NULL, *off = NULL;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(sim->comm, &rank));
-  PetscCallMPI(MPI_Comm_size(sim->comm, &size));
-  PetscCall(PetscMalloc2((size_t)sim->n * l->nvar + 1, &ydot, (size_t)sim->n * w + 1, &mine));
-  PetscCall(VecGetArray(sim->X, &y));
+  PetscCallMPI(MPI_Comm_rank(sim->p.comm, &rank));
+  PetscCallMPI(MPI_Comm_size(sim->p.comm, &size));
+  PetscCall(PetscMalloc2((size_t)sim->p.n * l->nvar + 1, &ydot, (size_t)sim->p.n * w + 1, &mine));
+  PetscCall(VecGetArray(sim->p.X, &y));
   PetscCall(SpamRhs(sim, y, ydot, &bad));
-  PetscCall(VecRestoreArray(sim->X, &y));
+  PetscCall(VecRestoreArray(sim->p.X, &y));
   PetscCheck(bad < 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "bad particle %" PetscInt_FMT, bad);
-  for (PetscInt i = 0; i < sim->n; i++) {
-    mine[i * w]     = (double)sim->gid[i];
+  for (PetscInt i = 0; i < sim->p.n; i++) {
+    mine[i * w]     = (double)sim->p.gid[i];
     mine[i * w + 1] = sim->model.density_free ? 0.0 : sim->f.rho[i]; /* gamma = 2: no density pass */
     for (int d = 0; d < dim; d++) mine[i * w + 2 + d] = ydot[(size_t)i * l->nvar + l->v + d];
   }
-  if (rank == 0) PetscCall(PetscMalloc3(size, &cnt, size, &off, (size_t)sim->nglobal * w + 1, &all));
+  if (rank == 0) PetscCall(PetscMalloc3(size, &cnt, size, &off, (size_t)sim->p.nglobal * w + 1, &all));
   n *= w;
-  PetscCallMPI(MPI_Gather(&n, 1, MPI_INT, cnt, 1, MPI_INT, 0, sim->comm));
+  PetscCallMPI(MPI_Gather(&n, 1, MPI_INT, cnt, 1, MPI_INT, 0, sim->p.comm));
   if (rank == 0)
     for (int r = 0; r < size; r++) off[r] = r ? off[r - 1] + cnt[r - 1] : 0;
-  PetscCallMPI(MPI_Gatherv(mine, n, MPI_DOUBLE, all, cnt, off, MPI_DOUBLE, 0, sim->comm));
+  PetscCallMPI(MPI_Gatherv(mine, n, MPI_DOUBLE, all, cnt, off, MPI_DOUBLE, 0, sim->p.comm));
   if (rank == 0) {
-    for (PetscInt k = 0; k < sim->nglobal; k++) {
+    for (PetscInt k = 0; k < sim->p.nglobal; k++) {
       const PetscInt64 g = (PetscInt64)all[k * w];
       for (int c = 0; c < 1 + dim; c++) res[g * (1 + dim) + c] = all[k * w + 1 + c];
     }
@@ -288,7 +288,7 @@ static PetscErrorCode CheckCase(Ctx *t, const Case *c)
     SpamDecomp      dec;
     SpamMigrateInfo info;
     PetscCall(MakeSim(t->comm, c, (PetscBool)(mode == 0), PETSC_FALSE, 1, &sim));
-    PetscCall(SpamDecompCreate(&sim, 0.0, &dec));
+    PetscCall(SpamDecompCreate(sim.p.comm, &sim.box, sim.model.kernel.h, 0.0, &dec));
     PetscCall(SpamSimMigrate(&sim, &dec, &info));
     PetscCall(UseHalo(&sim));
     PetscCall(Evaluate(&sim, mode == 0 ? dist_rep : dist_def));
@@ -310,7 +310,7 @@ static PetscErrorCode CheckCase(Ctx *t, const Case *c)
     PetscCall(PetscMalloc2(N, &brho, (size_t)N * c->dim, &bacc));
     PetscCall(DeriveBound(&rep, brho, bacc));
     for (PetscInt i = 0; i < N; i++) { /* the bound by local index, the values by gid */
-      const PetscInt64 g = rep.gid[i];
+      const PetscInt64 g = rep.p.gid[i];
       for (int k = 0; k < w; k++) {
         const double diff = fabs(ref_rep[g * w + k] - ref_def[g * w + k]), b = k == 0 ? brho[i] : bacc[(size_t)i * c->dim + k - 1];
         over += !(diff <= b);

@@ -84,14 +84,14 @@ static PetscErrorCode MaxRates(SpamSim *sim, double *amax, double *emax)
 
   PetscFunctionBeginUser;
   *amax = *emax = 0.0;
-  PetscCall(PetscMalloc1((size_t)sim->n * l->nvar, &f));
-  PetscCall(VecGetArrayRead(sim->X, &y));
+  PetscCall(PetscMalloc1((size_t)sim->p.n * l->nvar, &f));
+  PetscCall(VecGetArrayRead(sim->p.X, &y));
   PetscCall(SpamRhs(sim, y, f, &bad));
-  for (PetscInt i = 0; i < sim->n; i++) {
+  for (PetscInt i = 0; i < sim->p.n; i++) {
     for (int d = 0; d < 2; d++) *amax = PetscMax(*amax, fabs(f[(size_t)i * l->nvar + l->v + d]));
     *emax = PetscMax(*emax, fabs(f[(size_t)i * l->nvar + l->e]));
   }
-  PetscCall(VecRestoreArrayRead(sim->X, &y));
+  PetscCall(VecRestoreArrayRead(sim->p.X, &y));
   PetscCall(PetscFree(f));
   PetscFunctionReturn(0);
 }
@@ -125,7 +125,7 @@ static PetscErrorCode Ghosts(TestCount *c, const SpamSim *sim)
 {
   const SpamGhosts *g = &sim->nl.ghosts;
   const SpamFields *f = &sim->f;
-  const int         n = (int)sim->n;
+  const int         n = (int)sim->p.n;
   double            ex = 0, ev = 0, eT = 0;
   int               lo = 0, hi = 0;
 
@@ -163,10 +163,10 @@ static PetscErrorCode Books(TestCount *c)
   Wall(&w, 3, SPAM_WALL_FREESLIP, 0, 0);
   PetscCall(MakeGas(&sp, &w, 0.3, 11, &sim));
   l = &sim.model.layout;
-  PetscCall(PetscMalloc1((size_t)sim.n * l->nvar, &f));
-  PetscCall(VecGetArrayRead(sim.X, &y));
+  PetscCall(PetscMalloc1((size_t)sim.p.n * l->nvar, &f));
+  PetscCall(VecGetArrayRead(sim.p.X, &y));
   PetscCall(SpamRhs(&sim, y, f, &bad));
-  for (PetscInt i = 0; i < sim.n; i++) {
+  for (PetscInt i = 0; i < sim.p.n; i++) {
     const double *p = y + (size_t)i * l->nvar, *q = f + (size_t)i * l->nvar;
     for (int d = 0; d < 2; d++) {
       sm[d] += q[l->v + d];
@@ -187,7 +187,7 @@ static PetscErrorCode Books(TestCount *c)
   TestCheck(c, fabs(se - pw) < 1e-12 * scale, "sum m (v.a + de/dt) = %.6e, the walls' work + heat %.6e (of %.1e)", se, pw, scale);
   TestCheck(c, fabs(bw[0] + bw[1] - pw) < 1e-12 * scale && fabs(bp[0] - fm[0]) + fabs(bp[1] - fm[1]) < 1e-12 * (fabs(fm[0]) + fabs(fm[1])), "book rates: work + heat %.6e, impulse (%.6e, %.6e)", bw[0] + bw[1], bp[0], bp[1]);
   TestCheck(c, sim.wall_rates.heat[2] != 0.0 && fabs(sim.wall_rates.heat[3]) < 1e-13 * scale, "heat through the isothermal wall %.3e, through the adiabatic one %.1e", sim.wall_rates.heat[2], sim.wall_rates.heat[3]);
-  PetscCall(VecRestoreArrayRead(sim.X, &y));
+  PetscCall(VecRestoreArrayRead(sim.p.X, &y));
   PetscCall(PetscFree(f));
   PetscCall(Ghosts(c, &sim));
   PetscCall(SpamSimDestroy(&sim));

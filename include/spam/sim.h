@@ -2,7 +2,8 @@
  * the box, the model, neighbour list and the scratch that the right-hand side uses. */
 #ifndef SPAM_SIM_H
 #define SPAM_SIM_H
-#include <petscdmswarm.h>
+#include <spam/swarm.h>
+#include <spam/decompose.h>
 #include <spam/box.h>
 #include <spam/model.h>
 #include <spam/neighbours.h>
@@ -10,9 +11,6 @@
 #include <spam/wall_books.h>
 #include <spam/fields.h>
 
-#define SPAM_STATE_FIELD "spam_state"
-/* The particle's identity: its input row (file line, lattice site) over all ranks. */
-#define SPAM_GID_FIELD "spam_gid"
 /* Per-particle data kept outside the state, copied into the swarm only to travel with
  * their particle through a migration (migrate.c): the mass and the body label. */
 #define SPAM_MASS_FIELD "spam_mass"
@@ -43,11 +41,7 @@ typedef struct {
 } SpamSceneInfo;
 
 typedef struct SpamSim {
-  MPI_Comm       comm;
-  DM             swarm;
-  Vec            X;        /* state: view on the swarm's packed field                */
-  PetscInt       n;        /* local particles                                        */
-  PetscInt       nglobal;
+  SpamSwarm  p;        /* the swarm, the state X, the gids (swarm.h)         */
   SpamBox        box;
   SpamModel      model;
   SpamNeighbours nl;
@@ -67,8 +61,6 @@ typedef struct SpamSim {
   SpamLogEvents  ev;
   SpamSceneInfo  scene;
   struct SpamPhysicsScratch *ps; /* scratch of the tensor path and bonds (NULL for the gas) */
-  PetscInt64    *gid;      /* [n] the swarm's gid field, held open (as X holds the state) */
-  PetscInt      *at_row;   /* [n] local particles in increasing gid, NULL when in order */
   /* On more than one rank (sim_distribute.c): the decomposition the particles migrate by,
    * and with it the halo of the neighbour list; NULL on one rank. */
   struct SpamDecomp *dec;
@@ -77,17 +69,14 @@ typedef struct SpamSim {
   PetscInt64     migrated;       /* particles they moved between ranks                   */
 } SpamSim;
 
-/* Input row (file line, lattice site) of particle i, its gid: outputs and messages use
- * it, so the spatial reordering (set-up sort, migrations) is invisible to users. */
+/* Input row of particle i, and the local particle of the r-th smallest gid (swarm.h). */
 static inline PetscInt SpamSimRowOf(const SpamSim *sim, PetscInt i)
 {
-  return sim->gid ? (PetscInt)sim->gid[i] : i;
+  return SpamSwarmRowOf(&sim->p, i);
 }
-/* The local particle with the r-th smallest gid of this rank: on one rank the particle
- * at input row r (outputs written in input order use it). */
 static inline PetscInt SpamSimAtRow(const SpamSim *sim, PetscInt r)
 {
-  return sim->at_row ? sim->at_row[r] : r;
+  return SpamSwarmAtRow(&sim->p, r);
 }
 
 /* Creates the swarm with n local particles and the model's layout; X is not yet made.
@@ -96,14 +85,12 @@ static inline PetscInt SpamSimAtRow(const SpamSim *sim, PetscInt r)
 PetscErrorCode SpamSimCreate(MPI_Comm comm, const SpamModel *model, const SpamBox *box, PetscInt n, double skin, SpamSim *sim);
 /* The gids of a set-up reordering: particle i came from local input row row_of[i]. */
 PetscErrorCode SpamSimSetRows(SpamSim *sim, const PetscInt *row_of);
-/* After the gids changed (SpamSimSetRows, a migration): at_row made anew. */
-PetscErrorCode SpamSimIndexRows(SpamSim *sim);
 /* Copies positions and velocities ([n*dim] each) into the swarm's packed field, and the
  * masses ([n], or NULL: every particle has the model's mass). */
 PetscErrorCode SpamSimFill(SpamSim *sim, const double *x, const double *v, const double *m);
 /* Wraps the packed field in X (zero copy) and allocates scratch: call once the swarm is filled. */
 PetscErrorCode SpamSimSetUp(SpamSim *sim);
-/* After the local particles changed (a migration): sim->n from the swarm, the fields,
+/* After the local particles changed (a migration): sim->p.n from the swarm, the fields,
  * thread buffers, body labels and the (empty) neighbour list made to fit it, the masses
  * and body labels taken from the swarm's carried fields. The other per-particle fields
  * (density, accelerations, ...) hold nothing valid until the next right-hand side.
@@ -119,6 +106,14 @@ PetscErrorCode SpamSimDestroy(SpamSim *sim);
  * cells and sent to their owners; the neighbour list then takes other ranks' particles as
  * remote ghosts (halo.h). The bodies' count is shared. Nothing on one rank. */
 PetscErrorCode SpamSimDistribute(SpamSim *sim);
+/* The particles moved by the decomposition (SpamSwarmMigrate, decompose.h), the masses,
+ * reference positions and body labels carried in the swarm, the model's carry hooks
+ * around the move, then the scratch re-made and the list rebuilt at the carried reference
+ * positions (sim_migrate.c). Collective. */
+PetscErrorCode SpamSimMigrate(SpamSim *sim, SpamDecomp *dec, SpamMigrateInfo *info);
+/* A restart's placement of the particles in the checkpoint's blocks (SpamSwarmPlace),
+ * carried as by a migration; the list is left to the caller. Collective. */
+PetscErrorCode SpamSimPlace(SpamSim *sim, PetscInt n, const PetscInt64 *gids, PetscBool *changed);
 /* The masses (and inverse masses, and the gas's P/rho^2 when gamma = 2 makes it the same
  * for every particle) of the ghost slots: gathered once after each list build, since a
  * particle's mass never changes and the slots change only at builds. Collective on more

@@ -16,14 +16,14 @@ PetscErrorCode SpamLoopRemakeVectors(SpamSim *sim, SpamLoop *L)
 {
   PetscFunctionBeginUser;
   PetscCall(VecDestroy(&L->Xgood));
-  PetscCall(VecDuplicate(sim->X, &L->Xgood));
-  PetscCall(VecCopy(sim->X, L->Xgood));
+  PetscCall(VecDuplicate(sim->p.X, &L->Xgood));
+  PetscCall(VecCopy(sim->p.X, L->Xgood));
   if (L->s.Xout) {
     PetscCall(VecDestroy(&L->s.Xout));
-    PetscCall(VecDuplicate(sim->X, &L->s.Xout));
+    PetscCall(VecDuplicate(sim->p.X, &L->s.Xout));
   }
   PetscCall(PetscFree(L->xref_keep));
-  PetscCall(PetscMalloc1((size_t)sim->n * sim->model.dim + 1, &L->xref_keep));
+  PetscCall(PetscMalloc1((size_t)sim->p.n * sim->model.dim + 1, &L->xref_keep));
   PetscFunctionReturn(0);
 }
 
@@ -33,7 +33,7 @@ static PetscErrorCode HaloMax(const SpamSim *sim, double *halo)
   const double mine = sim->nl.ghosts.n - sim->nl.ghosts.nlocal;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPIU_Allreduce(&mine, halo, 1, MPI_DOUBLE, MPI_MAX, sim->comm));
+  PetscCallMPI(MPIU_Allreduce(&mine, halo, 1, MPI_DOUBLE, MPI_MAX, sim->p.comm));
   *halo = PetscMax(*halo, 1.0); /* a halo of none grows by no factor */
   PetscFunctionReturn(0);
 }

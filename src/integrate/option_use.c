@@ -686,7 +686,7 @@ static PetscErrorCode CheckReproducibleMethod(const Run *r)
   PetscFunctionBeginUser;
   if (!r->sim->reproducible || !r->adaptive || r->o->error_norm == SPAM_ERROR_NORM_MAX) PetscFunctionReturn(0);
   if (r->own) PetscFunctionReturn(0); /* their vectors carry the partition-independent norm */
-  PetscCallMPI(MPI_Comm_size(r->sim->comm, &size));
+  PetscCallMPI(MPI_Comm_size(r->sim->p.comm, &size));
   if (size > 1) SPAM_BAD_INPUT("-reproducible", "true", "PETSc's step adaptor (this run: %s) sums its rms error norm rank by rank: on more than one rank use -ts_type arkode or cvode, or -error_norm max", r->method);
   PetscFunctionReturn(0);
 }

@@ -204,7 +204,7 @@ static PetscErrorCode CheckRanksEntries(const SpamSim *sim, const SpamRestart *r
   PetscCall(SpamCkGetInt(&rs->file, "decomposition_cut", (size_t)P + 1, &cut));
   PetscCall(SpamCkGetInt(&rs->file, "decomposition_count", (size_t)P, &count));
   for (int r = 0; r < P; r++)
-    if (count[r] < 0 || count[r] > (int64_t)sim->nglobal) BAD_ENTRY(rs, "decomposition_count", "[%d] = %lld: must be from 0 to the particle count %lld", r, (long long)count[r], (long long)sim->nglobal);
+    if (count[r] < 0 || count[r] > (int64_t)sim->p.nglobal) BAD_ENTRY(rs, "decomposition_count", "[%d] = %lld: must be from 0 to the particle count %lld", r, (long long)count[r], (long long)sim->p.nglobal);
   PetscCall(CheckReals(rs, &rs->file, "decomposition", 5, 0.0, DBL_MAX, PETSC_FALSE));
   PetscCall(SpamCkGetReal(&rs->file, "decomposition", 5, &d));
   if ((d[0] != 0 && d[0] != 1) || d[3] != floor(d[3]) || d[4] != floor(d[4]) || d[3] > WHOLE_MAX || d[4] > WHOLE_MAX) BAD_ENTRY(rs, "decomposition", "holds a flag other than 0 or 1 or a count that is not whole");
@@ -227,7 +227,7 @@ PetscErrorCode SpamRestartCheck(const SpamSim *sim, const SpamRunOptions *o, con
    * that did has printed why), so that none goes on alone. */
   local  = CheckParticleValues(sim, rs, rs->ranks > 1 ? &rs->mine : &rs->file);
   failed = local ? 1 : 0;
-  PetscCallMPI(MPI_Allreduce(&failed, &any, 1, MPI_INT, MPI_MAX, sim->comm));
+  PetscCallMPI(MPI_Allreduce(&failed, &any, 1, MPI_INT, MPI_MAX, sim->p.comm));
   PetscCall(local);
   PetscCheck(!any, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "checkpoint %s: another rank's particles are refused", rs->path);
   PetscCall(SpamOutputResumeCheck(&rs->file, o->hdf5, oo, rs->t));

@@ -86,7 +86,7 @@ static PetscErrorCode TSSetUp_SpamARKode(TS ts)
   PetscFunctionBeginUser;
   PetscCall(TSGetApplicationContext(ts, &app));
   PetscCheck(app, PetscObjectComm((PetscObject)ts), PETSC_ERR_ORDER, "the arkode TS needs a SpamTsApp application context");
-  PetscCallARK(SUNContext_Create((void *)&app->sim->comm, &ark->sunctx));
+  PetscCallARK(SUNContext_Create((void *)&app->sim->p.comm, &ark->sunctx));
   ark->y = N_VMake_Petsc(ts->vec_sol, ark->sunctx);
   PetscCheck(ark->y, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "N_VMake_Petsc failed");
   /* Fused operations: a combination of k vectors is one pass over memory instead of k

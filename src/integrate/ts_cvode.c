@@ -83,7 +83,7 @@ static PetscErrorCode TSSetUp_SpamCVode(TS ts)
   PetscFunctionBeginUser;
   PetscCall(TSGetApplicationContext(ts, &app));
   PetscCheck(app, PetscObjectComm((PetscObject)ts), PETSC_ERR_ORDER, "the cvode TS needs a SpamTsApp application context");
-  PetscCallCV(SUNContext_Create((void *)&app->sim->comm, &cv->sunctx));
+  PetscCallCV(SUNContext_Create((void *)&app->sim->p.comm, &cv->sunctx));
   cv->y = N_VMake_Petsc(ts->vec_sol, cv->sunctx);
   PetscCheck(cv->y, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "N_VMake_Petsc failed");
   /* Fused operations: a stage or history combination of k vectors is one VecMAXPY pass

@@ -31,8 +31,8 @@ static PetscErrorCode SchemeEnergy(SpamSim *sim, const double *y, double *e)
   PetscFunctionBeginUser;
   *e = 0.0;
   if (l->fb < 0) PetscFunctionReturn(0);
-  for (PetscInt i = 0; i < sim->n; i++) loc += sim->f.m[i] * y[(size_t)i * l->nvar + l->fb];
-  PetscCallMPI(MPIU_Allreduce(&loc, e, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
+  for (PetscInt i = 0; i < sim->p.n; i++) loc += sim->f.m[i] * y[(size_t)i * l->nvar + l->fb];
+  PetscCallMPI(MPIU_Allreduce(&loc, e, 1, MPI_DOUBLE, MPI_SUM, sim->p.comm));
   PetscFunctionReturn(0);
 }
 
@@ -54,13 +54,13 @@ PetscErrorCode SpamDiagnosticsCompute(SpamSim *sim, const SpamDiagnosticsOptions
   {
     /* the input row of the first bad particle over all ranks (a rank whose own are all
      * finite learns it here): every rank stops, with one message */
-    PetscInt64 row = bad >= 0 && bad < sim->n ? (PetscInt64)SpamSimRowOf(sim, bad) : INT64_MAX;
+    PetscInt64 row = bad >= 0 && bad < sim->p.n ? (PetscInt64)SpamSimRowOf(sim, bad) : INT64_MAX;
     PetscInt   any = bad >= 0;
-    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &row, 1, MPIU_INT64, MPI_MIN, sim->comm));
-    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPIU_INT, MPI_MAX, sim->comm));
-    PetscCheck(!any, sim->comm, PETSC_ERR_FP, "non-finite position of particle %" PetscInt64_FMT " at t = %g", row, t);
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &row, 1, MPIU_INT64, MPI_MIN, sim->p.comm));
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPIU_INT, MPI_MAX, sim->p.comm));
+    PetscCheck(!any, sim->p.comm, PETSC_ERR_FP, "non-finite position of particle %" PetscInt64_FMT " at t = %g", row, t);
   }
-  for (PetscInt i = 0; i < sim->n; i++) {
+  for (PetscInt i = 0; i < sim->p.n; i++) {
     const double *p = y + (size_t)i * l->nvar, mi = sim->f.m[i];
     double        v2 = 0.0;
     for (int k = 0; k < dim; k++) {
@@ -71,7 +71,7 @@ PetscErrorCode SpamDiagnosticsCompute(SpamSim *sim, const SpamDiagnosticsOptions
     loc[0] += mi;
     loc[7] += 0.5 * mi * v2;
   }
-  PetscCallMPI(MPIU_Allreduce(loc, glob, 11, MPI_DOUBLE, MPI_SUM, sim->comm));
+  PetscCallMPI(MPIU_Allreduce(loc, glob, 11, MPI_DOUBLE, MPI_SUM, sim->p.comm));
   d->mass = glob[0];
   for (int k = 0; k < dim; k++) {
     d->p[k] = glob[1 + k];
@@ -81,7 +81,7 @@ PetscErrorCode SpamDiagnosticsCompute(SpamSim *sim, const SpamDiagnosticsOptions
   d->kinetic  = glob[7];
   d->total    = d->kinetic;
   /* Angular momentum about the centre of mass, in the centre-of-mass frame. */
-  for (PetscInt i = 0; i < sim->n && dim >= 2; i++) {
+  for (PetscInt i = 0; i < sim->p.n && dim >= 2; i++) {
     const double *p = y + (size_t)i * l->nvar;
     double        r[3] = {0, 0, 0}, v[3] = {0, 0, 0};
     for (int k = 0; k < dim; k++) {
@@ -94,7 +94,7 @@ PetscErrorCode SpamDiagnosticsCompute(SpamSim *sim, const SpamDiagnosticsOptions
     lloc[2] += mi * (r[0] * v[1] - r[1] * v[0]);
     lloc[3] += mi * (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
   }
-  PetscCallMPI(MPIU_Allreduce(lloc, lglob, 4, MPI_DOUBLE, MPI_SUM, sim->comm));
+  PetscCallMPI(MPIU_Allreduce(lloc, lglob, 4, MPI_DOUBLE, MPI_SUM, sim->p.comm));
   for (int k = 0; k < 3; k++) d->l[k] = lglob[k];
   d->gyration = sqrt(lglob[3] / d->mass);
   PetscCall(ModelDiagnostics(sim, y, d));

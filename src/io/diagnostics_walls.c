@@ -37,19 +37,19 @@ PetscErrorCode SpamWallDiagnostics(SpamSim *sim, const double *y, SpamDiagnostic
 
   PetscFunctionBeginUser;
   if (!sim->nl.ghosts.mirror) PetscFunctionReturn(0);
-  for (PetscInt i = 0; l->wb >= 0 && i < sim->n; i++)
+  for (PetscInt i = 0; l->wb >= 0 && i < sim->p.n; i++)
     for (int c = 0; c < nb; c++) loc[c] += y[(size_t)i * l->nvar + l->wb + c];
-  PetscCallMPI(MPIU_Allreduce(loc, glob, 5, MPI_DOUBLE, MPI_SUM, sim->comm));
+  PetscCallMPI(MPIU_Allreduce(loc, glob, 5, MPI_DOUBLE, MPI_SUM, sim->p.comm));
   d->wall_work = glob[0];
   d->wall_heat = glob[1];
   for (int k = 0; k < l->dim; k++) d->wall_impulse[k] = glob[2 + k];
   /* The rates at this state: one RHS evaluation, not counted in the run's statistics. */
-  PetscCall(PetscMalloc1((size_t)sim->n * l->nvar + 1, &scratch));
+  PetscCall(PetscMalloc1((size_t)sim->p.n * l->nvar + 1, &scratch));
   PetscCall(sim->model.rhs(sim, y, scratch, &bad));
   PetscCall(PetscFree(scratch));
   sim->stats = keep;
   d->wall    = sim->wall_rates;
-  PetscCall(SumOverRanks(sim->comm, &d->wall));
+  PetscCall(SumOverRanks(sim->p.comm, &d->wall));
   PetscFunctionReturn(0);
 }
 

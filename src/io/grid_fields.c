@@ -81,7 +81,7 @@ static int CellOf(const Bins *b, const double *u)
 static PetscErrorCode BinsBuild(const SpamSim *sim, const double *y, Bins *b)
 {
   const SpamLayout *l = &sim->model.layout;
-  const PetscInt    n = sim->n;
+  const PetscInt    n = sim->p.n;
   PetscInt          ncells, *fill;
 
   PetscFunctionBeginUser;
@@ -241,8 +241,8 @@ PetscErrorCode SpamGridFieldsEvaluate(const SpamSim *sim, const double *y, const
   PetscCall(BinsFree(&b));
   /* Every column is a sum over particles, linear in each particle's part: the ranks'
    * partial sums add up to the whole (nothing nonlinear has been applied yet). */
-  PetscCheck((double)f->ncol * g->npoints <= INT_MAX, sim->comm, PETSC_ERR_SUP, "grid of %" PetscInt_FMT " points: too many to reduce in one call", g->npoints);
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, f->block, f->ncol * (int)g->npoints, MPI_DOUBLE, MPI_SUM, sim->comm));
+  PetscCheck((double)f->ncol * g->npoints <= INT_MAX, sim->p.comm, PETSC_ERR_SUP, "grid of %" PetscInt_FMT " points: too many to reduce in one call", g->npoints);
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, f->block, f->ncol * (int)g->npoints, MPI_DOUBLE, MPI_SUM, sim->p.comm));
   PetscFunctionReturn(0);
 }
 

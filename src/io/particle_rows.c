@@ -10,8 +10,8 @@ static PetscErrorCode TargetLayout(const SpamSim *sim, PetscInt64 N, SpamRowsTar
   PetscMPIInt rank;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(sim->comm, &rank));
-  PetscCall(PetscLayoutCreate(sim->comm, layout));
+  PetscCallMPI(MPI_Comm_rank(sim->p.comm, &rank));
+  PetscCall(PetscLayoutCreate(sim->p.comm, layout));
   if (target == SPAM_ROWS_ON_ROOT) PetscCall(PetscLayoutSetLocalSize(*layout, rank ? 0 : (PetscInt)N));
   else PetscCall(PetscLayoutSetSize(*layout, (PetscInt)N));
   PetscCall(PetscLayoutSetUp(*layout));
@@ -36,15 +36,15 @@ static PetscErrorCode CheckRows(const SpamSim *sim, const SpamRows *rows)
   PetscFunctionBeginUser;
   for (PetscInt r = 0; r < rows->n && wrong < 0; r++)
     if (rows->gid[r] != rows->first + r) wrong = rows->first + r;
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &wrong, 1, MPIU_INT64, MPI_MAX, sim->comm));
-  PetscCheck(wrong < 0, sim->comm, PETSC_ERR_PLIB, "output rows: no particle or more than one holds gid %" PetscInt64_FMT " of %" PetscInt64_FMT, wrong, rows->nglobal);
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &wrong, 1, MPIU_INT64, MPI_MAX, sim->p.comm));
+  PetscCheck(wrong < 0, sim->p.comm, PETSC_ERR_PLIB, "output rows: no particle or more than one holds gid %" PetscInt64_FMT " of %" PetscInt64_FMT, wrong, rows->nglobal);
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SpamRowsGather(const SpamSim *sim, const double *y, SpamRowsTarget target, SpamRows *rows)
 {
   const SpamLayout *l = &sim->model.layout;
-  PetscInt64        N = sim->n;
+  PetscInt64        N = sim->p.n;
   PetscLayout       layout;
   PetscSF           sf;
   PetscInt         *at, lo, hi;
@@ -52,8 +52,8 @@ PetscErrorCode SpamRowsGather(const SpamSim *sim, const double *y, SpamRowsTarge
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(rows, sizeof *rows));
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &N, 1, MPIU_INT64, MPI_SUM, sim->comm));
-  PetscCheck(N <= PETSC_MAX_INT, sim->comm, PETSC_ERR_SUP, "output rows: %" PetscInt64_FMT " particles, more than a PetscInt indexes", N);
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &N, 1, MPIU_INT64, MPI_SUM, sim->p.comm));
+  PetscCheck(N <= PETSC_MAX_INT, sim->p.comm, PETSC_ERR_SUP, "output rows: %" PetscInt64_FMT " particles, more than a PetscInt indexes", N);
   PetscCall(TargetLayout(sim, N, target, &layout));
   PetscCall(PetscLayoutGetRange(layout, &lo, &hi));
   rows->n       = hi - lo;
@@ -65,10 +65,10 @@ PetscErrorCode SpamRowsGather(const SpamSim *sim, const double *y, SpamRowsTarge
   if (l->rho < 0) PetscCall(PetscMalloc1(rows->n + 1, &rows->rho_sum));
   for (PetscInt r = 0; r < rows->n; r++) rows->gid[r] = -1;
 
-  PetscCall(PetscMalloc1(sim->n + 1, &at));
-  for (PetscInt i = 0; i < sim->n; i++) at[i] = (PetscInt)SpamSimRowOf(sim, i);
-  PetscCall(PetscSFCreate(sim->comm, &sf));
-  PetscCall(PetscSFSetGraphLayout(sf, layout, sim->n, NULL, PETSC_COPY_VALUES, at));
+  PetscCall(PetscMalloc1(sim->p.n + 1, &at));
+  for (PetscInt i = 0; i < sim->p.n; i++) at[i] = (PetscInt)SpamSimRowOf(sim, i);
+  PetscCall(PetscSFCreate(sim->p.comm, &sf));
+  PetscCall(PetscSFSetGraphLayout(sf, layout, sim->p.n, NULL, PETSC_COPY_VALUES, at));
   PetscCall(PetscSFSetUp(sf));
   PetscCall(PetscFree(at));
   PetscCallMPI(MPI_Type_contiguous(l->nvar, MPI_DOUBLE, &state));
@@ -77,7 +77,7 @@ PetscErrorCode SpamRowsGather(const SpamSim *sim, const double *y, SpamRowsTarge
   PetscCallMPI(MPI_Type_free(&state));
   PetscCall(Move(sf, MPI_DOUBLE, sim->f.m, rows->m));
   if (rows->rho_sum) PetscCall(Move(sf, MPI_DOUBLE, sim->f.rho, rows->rho_sum));
-  if (sim->gid) PetscCall(Move(sf, MPIU_INT64, sim->gid, rows->gid));
+  if (sim->p.gid) PetscCall(Move(sf, MPIU_INT64, sim->p.gid, rows->gid));
   else
     for (PetscInt r = 0; r < rows->n; r++) rows->gid[r] = rows->first + r; /* a sim without a swarm gid field (unit tests): row = index */
   PetscCall(PetscSFDestroy(&sf));

@@ -22,7 +22,7 @@ typedef struct {
 
 typedef enum { SPAM_ROWS_BLOCKS, SPAM_ROWS_ON_ROOT } SpamRowsTarget;
 
-/* Collective on sim->comm: the rows of state y (sim->f.rho holding its summed density
+/* Collective on sim->p.comm: the rows of state y (sim->f.rho holding its summed density
  * when the model does not carry it), moved by gid to blocks of consecutive gids (the
  * split PetscLayout makes) or all to rank 0. Fails on every rank if the gids are not
  * 0 .. N-1 each once. */

@@ -68,7 +68,7 @@ static PetscErrorCode WriteRowsOnRoot(void *ctx)
   PetscFunctionReturn(0);
 }
 
-/* Collective on sim->comm. */
+/* Collective on sim->p.comm. */
 static PetscErrorCode WriteRows(const char *path, const SpamSim *sim, const double *y, const char *comment, PetscBool with_rho_sum)
 {
   SpamRows       rows;
@@ -77,7 +77,7 @@ static PetscErrorCode WriteRows(const char *path, const SpamSim *sim, const doub
 
   PetscFunctionBeginUser;
   PetscCall(SpamRowsGather(sim, y, SPAM_ROWS_ON_ROOT, &rows));
-  ierr = SpamRunAgreed(sim->comm, PETSC_TRUE, WriteRowsOnRoot, &w);
+  ierr = SpamRunAgreed(sim->p.comm, PETSC_TRUE, WriteRowsOnRoot, &w);
   PetscCall(SpamRowsFree(&rows));
   PetscCall(ierr);
   PetscFunctionReturn(0);

@@ -189,7 +189,7 @@ static PetscErrorCode WriteOnRoot(void *ctx)
   PetscFunctionReturn(0);
 }
 
-/* Collective on sim->comm. */
+/* Collective on sim->p.comm. */
 PetscErrorCode SpamSnapshotHdf5Write(const char *path, const SpamSim *sim, const double *y, double t, long step)
 {
   H5Out          h;
@@ -207,7 +207,7 @@ PetscErrorCode SpamSnapshotHdf5Write(const char *path, const SpamSim *sim, const
   PetscCall(SpamRowsGather(sim, y, SPAM_ROWS_ON_ROOT, &rows));
   h.rows = &rows;
   h.N    = (hsize_t)rows.nglobal;
-  ierr   = SpamRunAgreed(sim->comm, PETSC_TRUE, WriteOnRoot, &h);
+  ierr   = SpamRunAgreed(sim->p.comm, PETSC_TRUE, WriteOnRoot, &h);
   PetscCall(SpamRowsFree(&rows));
   PetscCall(ierr);
   PetscFunctionReturn(0);

@@ -179,7 +179,7 @@ static void Drifts(Summary *f, const SpamRunResult *r)
 static void Conservation(Summary *f, const SpamSim *sim, const SpamRunOptions *o, const SpamRunResult *r)
 {
   const SpamDiagnostics *a = &r->first, *b = &r->last;
-  const double           norm = (double)sim->nglobal * log(sim->scene.volume_ratio > 0 ? sim->scene.volume_ratio : 1.0);
+  const double           norm = (double)sim->p.nglobal * log(sim->scene.volume_ratio > 0 ? sim->scene.volume_ratio : 1.0);
 
   Num(f, "volume_ratio", sim->scene.volume_ratio);
   Num(f, "sound_traversal_time", sim->scene.sound_traversal_time);
@@ -250,7 +250,7 @@ PetscErrorCode SpamSummaryWrite(SpamOutput *out, const SpamSim *sim, const SpamR
   Outcome(&f, o, r);
   Str(&f, "scene", sim->scene.name);
   Int(&f, "dim", sim->model.dim);
-  Int(&f, "n_particles", (long)sim->nglobal);
+  Int(&f, "n_particles", (long)sim->p.nglobal);
   Num(&f, "h", sim->model.kernel.h);
   Num(&f, "mass", sim->model.mass);
   ModelFields(&f, &sim->model);

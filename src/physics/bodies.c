@@ -21,9 +21,9 @@ PetscErrorCode SpamBodiesLabel(SpamSim *sim, const double *y, double range)
 
   PetscFunctionBeginUser;
   PetscCall(SpamNeighboursUpdate(&sim->nl, &sim->box, y + sim->model.layout.x, sim->model.layout.nvar, PETSC_TRUE, &bad));
-  PetscCheck(bad < 0, sim->comm, PETSC_ERR_FP, "non-finite position of particle %" PetscInt_FMT, bad);
-  PetscCall(PetscMalloc2(sim->n + 1, &parent, sim->n + 1, &label));
-  for (PetscInt i = 0; i < sim->n; i++) parent[i] = (int)i, label[i] = -1;
+  PetscCheck(bad < 0, sim->p.comm, PETSC_ERR_FP, "non-finite position of particle %" PetscInt_FMT, bad);
+  PetscCall(PetscMalloc2(sim->p.n + 1, &parent, sim->p.n + 1, &label));
+  for (PetscInt i = 0; i < sim->p.n; i++) parent[i] = (int)i, label[i] = -1;
   for (int i = 0; i < sim->nl.n; i++) {
     for (int p = sim->nl.start[i]; p < sim->nl.start[i + 1]; p++) {
       double dx[2];
@@ -36,7 +36,7 @@ PetscErrorCode SpamBodiesLabel(SpamSim *sim, const double *y, double range)
     }
   }
   ps->nbody = 0;
-  for (PetscInt i = 0; i < sim->n; i++) {
+  for (PetscInt i = 0; i < sim->p.n; i++) {
     const int root = Find(parent, (int)i);
     if (label[root] < 0) label[root] = ps->nbody++;
     ps->body[i] = label[root];
@@ -56,7 +56,7 @@ PetscErrorCode SpamBodyAngularMomentum(SpamSim *sim, const double *y, double *lb
 
   PetscFunctionBeginUser;
   PetscCall(PetscCalloc2(5 * nb, &s, nb, &lz));
-  for (PetscInt i = 0; i < sim->n; i++) {
+  for (PetscInt i = 0; i < sim->p.n; i++) {
     const double *p = y + (size_t)i * l->nvar, m = sim->f.m[i];
     double       *b = s + 5 * sim->ps->body[i];
     b[0] += m;
@@ -65,13 +65,13 @@ PetscErrorCode SpamBodyAngularMomentum(SpamSim *sim, const double *y, double *lb
       b[3 + d] += m * p[l->v + d];
     }
   }
-  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, s, 5 * nb, MPI_DOUBLE, MPI_SUM, sim->comm));
-  for (PetscInt i = 0; i < sim->n; i++) {
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, s, 5 * nb, MPI_DOUBLE, MPI_SUM, sim->p.comm));
+  for (PetscInt i = 0; i < sim->p.n; i++) {
     const double *p = y + (size_t)i * l->nvar, *b = s + 5 * sim->ps->body[i], m = sim->f.m[i];
     const double  r[2] = {p[l->x] - b[1] / b[0], p[l->x + 1] - b[2] / b[0]}, v[2] = {p[l->v] - b[3] / b[0], p[l->v + 1] - b[4] / b[0]};
     lz[sim->ps->body[i]] += m * (r[0] * v[1] - r[1] * v[0]);
   }
-  PetscCallMPI(MPIU_Allreduce(lz, lbody, nb, MPI_DOUBLE, MPI_SUM, sim->comm));
+  PetscCallMPI(MPIU_Allreduce(lz, lbody, nb, MPI_DOUBLE, MPI_SUM, sim->p.comm));
   PetscCall(PetscFree2(s, lz));
   PetscFunctionReturn(0);
 }

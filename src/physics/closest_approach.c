@@ -14,7 +14,7 @@ PetscErrorCode SpamClosestApproachReflect(SpamSim *sim, double *y, double dmin, 
   PetscFunctionBeginUser;
   *nreflected = 0;
   PetscCall(SpamNeighboursUpdate(&sim->nl, &sim->box, y + l->x, nv, PETSC_FALSE, &bad));
-  PetscCheck(bad < 0, sim->comm, PETSC_ERR_FP, "non-finite position of particle %" PetscInt_FMT, bad);
+  PetscCheck(bad < 0, sim->p.comm, PETSC_ERR_FP, "non-finite position of particle %" PetscInt_FMT, bad);
   for (int i = 0; i < sim->nl.n; i++) {
     for (int p = sim->nl.start[i]; p < sim->nl.start[i + 1]; p++) {
       const int    j = sim->nl.nbr[p];

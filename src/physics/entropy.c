@@ -46,7 +46,7 @@ PetscErrorCode SpamEntropySum(SpamSim *sim, const double *y, double *S)
   const SpamModel  *m   = &sim->model;
   const SpamLayout *l   = &m->layout;
   const SpamGhosts *gh  = &sim->nl.ghosts;
-  const int         dim = m->dim, nv = l->nvar, n = (int)sim->n, slots = SpamNeighboursSlots(&sim->nl);
+  const int         dim = m->dim, nv = l->nvar, n = (int)sim->p.n, slots = SpamNeighboursSlots(&sim->nl);
   double           *v, *mom, sum = 0.0;
   Moments           c;
 
@@ -77,7 +77,7 @@ PetscErrorCode SpamEntropySum(SpamSim *sim, const double *y, double *S)
     sum += EntropyPerMass(m, sim->f.rho[i], mom[(size_t)i * (dim + 1) + dim] / sim->f.rho[i], vmean);
   }
   PetscCall(PetscFree2(v, mom));
-  PetscCallMPI(MPIU_Allreduce(&sum, S, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
+  PetscCallMPI(MPIU_Allreduce(&sum, S, 1, MPI_DOUBLE, MPI_SUM, sim->p.comm));
   PetscFunctionReturn(0);
 }
 
@@ -145,7 +145,7 @@ PetscErrorCode SpamEntropyGrid(SpamSim *sim, const double *y, double spacing, do
   const double points  = GridPoints(&sim->box, spacing, nd);
 
   PetscFunctionBeginUser;
-  PetscCheck(spacing > 0.0 && isfinite(spacing) && points <= SPAM_GRID_MAX, sim->comm, PETSC_ERR_ARG_OUTOFRANGE, "entropy grid spacing %g gives %g points; at most 2^30", spacing, points);
+  PetscCheck(spacing > 0.0 && isfinite(spacing) && points <= SPAM_GRID_MAX, sim->p.comm, PETSC_ERR_ARG_OUTOFRANGE, "entropy grid spacing %g gives %g points; at most 2^30", spacing, points);
   total = (PetscInt)points;
   for (int d = 0; d < dim; d++) {
     ng[d] = (PetscInt)nd[d];
@@ -156,7 +156,7 @@ PetscErrorCode SpamEntropyGrid(SpamSim *sim, const double *y, double spacing, do
   for (PetscInt k0 = 0; k0 < total; k0 += SPAM_GRID_CHUNK) {
     const PetscInt nk = PetscMin(total - k0, SPAM_GRID_CHUNK);
     PetscCall(PetscArrayzero(mom, (size_t)nm * nk));
-    for (PetscInt k = k0; k < k0 + nk && sim->n > 0; k++) {
+    for (PetscInt k = k0; k < k0 + nk && sim->p.n > 0; k++) {
       double u[3] = {0, 0, 0};
       for (int d = 0, rem = (int)k; d < dim; d++) {
         u[d] = (rem % ng[d] + 0.5) * g[d];
@@ -164,7 +164,7 @@ PetscErrorCode SpamEntropyGrid(SpamSim *sim, const double *y, double spacing, do
       }
       SampleAt(sim, y, u, mom + (size_t)nm * (k - k0));
     }
-    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, mom, nm * (int)nk, MPI_DOUBLE, MPI_SUM, sim->comm));
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, mom, nm * (int)nk, MPI_DOUBLE, MPI_SUM, sim->p.comm));
     for (PetscInt k = 0; k < nk; k++) {
       const double *p   = mom + (size_t)nm * k, rho = p[0];
       double        vmean[3] = {0, 0, 0};

@@ -22,7 +22,7 @@ PetscErrorCode SpamAccel(SpamSim *sim, const double *x, int stride, PetscInt *ba
   PetscLogDouble t0, t1;
 
   PetscFunctionBeginUser;
-  PetscCheck(sim->model.accel, sim->comm, PETSC_ERR_SUP, "model %s has no acceleration function", sim->model.name);
+  PetscCheck(sim->model.accel, sim->p.comm, PETSC_ERR_SUP, "model %s has no acceleration function", sim->model.name);
   PetscCall(PetscLogEventBegin(sim->ev.rhs, 0, 0, 0, 0));
   PetscCall(PetscTime(&t0));
   PetscCall(sim->model.accel(sim, x, stride, bad));
@@ -41,8 +41,8 @@ PetscErrorCode SpamGravityEnergy(SpamSim *sim, const double *y, double *pot)
   PetscFunctionBeginUser;
   *pot = 0.0;
   if (!sim->model.gravity_on) PetscFunctionReturn(0);
-  for (PetscInt i = 0; i < sim->n; i++)
+  for (PetscInt i = 0; i < sim->p.n; i++)
     for (int d = 0; d < sim->model.dim; d++) loc -= sim->f.m[i] * sim->model.gravity[d] * (y[(size_t)i * l->nvar + l->x + d] - sim->box.lo[d]);
-  PetscCallMPI(MPIU_Allreduce(&loc, pot, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
+  PetscCallMPI(MPIU_Allreduce(&loc, pot, 1, MPI_DOUBLE, MPI_SUM, sim->p.comm));
   PetscFunctionReturn(0);
 }

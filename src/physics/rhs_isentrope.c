@@ -17,7 +17,7 @@ static SpamPairPass SpamPairPassOf(SpamSim *sim)
   p.k                  = &sim->model.kernel;
   p.f                  = &sim->f;
   p.gh                 = gh;
-  p.n                  = (int)sim->n;
+  p.n                  = (int)sim->p.n;
   p.slots              = SpamNeighboursSlots(&sim->nl);
   p.dim                = sim->model.dim;
   p.ghost_newton       = gh->nlocal > 0 || gh->mirror;
@@ -28,7 +28,7 @@ static SpamPairPass SpamPairPassOf(SpamSim *sim)
   p.tacc               = sim->tacc;
   p.trho               = sim->trho;
   p.uniform_mass       = sim->f.uniform_mass;
-  p.mass               = sim->n ? sim->f.m[0] : sim->model.mass;
+  p.mass               = sim->p.n ? sim->f.m[0] : sim->model.mass;
   p.uniform_q          = sim->model.density_free;
   return p;
 }
@@ -102,12 +102,12 @@ PetscErrorCode SpamAccelIsentrope(SpamSim *sim, const double *x, int stride, Pet
   p = SpamPairPassOf(sim);
   if (!m->density_free) { /* gamma = 2: P/rho^2 is the same constant everywhere, ghosts included (ReserveSlots) */
     PetscCall(Density(sim, &p));
-    for (PetscInt i = 0; i < sim->n; i++) sim->f.q[i] = SpamEosPOverRho2(&m->eos, sim->f.rho[i]);
+    for (PetscInt i = 0; i < sim->p.n; i++) sim->f.q[i] = SpamEosPOverRho2(&m->eos, sim->f.rho[i]);
     PetscCall(SpamGhostsGather(p.gh, m->dim, p.n, 1, SPAM_GHOST_SCALAR, sim->f.q));
   }
   PetscCall(Force(sim, &p));
   if (m->gravity_on)
-    for (PetscInt i = 0; i < sim->n; i++)
+    for (PetscInt i = 0; i < sim->p.n; i++)
       for (int d = 0; d < m->dim; d++) sim->f.acc[(size_t)i * m->dim + d] += m->gravity[d];
   /* Canonical rows list every pair twice, once in each particle's row. */
   sim->stats.pair_visits += p.canonical ? (double)sim->nl.ncpairs : (double)(sim->nl.npairs + sim->nl.ngpairs);
@@ -123,7 +123,7 @@ PetscErrorCode SpamRhsIsentrope(SpamSim *sim, const double *y, double *ydot, Pet
   PetscCall(SpamAccelIsentrope(sim, y + l->x, nv, bad));
   if (*bad >= 0) PetscFunctionReturn(0);
 #pragma omp parallel for if (sim->threads > 1) num_threads(sim->threads) schedule(static)
-  for (PetscInt i = 0; i < sim->n; i++) {
+  for (PetscInt i = 0; i < sim->p.n; i++) {
     for (int d = 0; d < dim; d++) {
       ydot[(size_t)i * nv + l->x + d] = y[(size_t)i * nv + l->v + d];
       ydot[(size_t)i * nv + l->v + d] = sim->f.acc[(size_t)i * dim + d];

@@ -136,7 +136,7 @@ static void HydrostaticImages(SpamSim *sim, const SpamBackground *bg)
 {
   const SpamGhosts *gh  = &sim->nl.ghosts;
   SpamFields       *f   = &sim->f;
-  const int         dim = f->dim, n = (int)sim->n;
+  const int         dim = f->dim, n = (int)sim->p.n;
 
   for (int k = 0; k < gh->n; k++) {
     double dphi = 0.0; /* g.(x_g - x_i) */
@@ -161,7 +161,7 @@ static PetscErrorCode FillFields(SpamSim *sim, const double *y, PetscInt *bad)
   const SpamSolidParams *p   = &sim->model.solid;
   SpamFields            *f   = &sim->f;
   const SpamGhosts      *gh  = &sim->nl.ghosts;
-  const int              dim = l->dim, n = (int)sim->n, nv = l->nvar;
+  const int              dim = l->dim, n = (int)sim->p.n, nv = l->nvar;
 
   PetscFunctionBeginUser;
   PetscCall(SpamNeighboursUpdate(&sim->nl, &sim->box, y + l->x, nv, PETSC_FALSE, bad));
@@ -198,7 +198,7 @@ static PetscErrorCode Gradients(SpamSim *sim, TensorPass *c)
 {
   SpamFields       *f   = c->f;
   const SpamGhosts *gh  = &sim->nl.ghosts;
-  const int         dim = f->dim, n = (int)sim->n, slots = SpamNeighboursSlots(&sim->nl);
+  const int         dim = f->dim, n = (int)sim->p.n, slots = SpamNeighboursSlots(&sim->nl);
   const double      w0  = sim->model.kernel.wnorm;
 
   PetscFunctionBeginUser;
@@ -259,7 +259,7 @@ static PetscErrorCode ParticleLaws(SpamSim *sim, const TensorPass *c, const doub
   const SpamSolidParams *p   = &sim->model.solid;
   SpamFields            *f   = &sim->f;
   const SpamGhosts      *gh  = &sim->nl.ghosts;
-  const int              dim = l->dim, n = (int)sim->n, nv = l->nvar;
+  const int              dim = l->dim, n = (int)sim->p.n, nv = l->nvar;
 
   PetscFunctionBeginUser;
   for (int i = 0; i < n; i++) {
@@ -284,7 +284,7 @@ static PetscErrorCode TorqueFactors(SpamSim *sim, TensorPass *c)
 {
   SpamPhysicsScratch *ps   = sim->ps;
   SpamFields         *f    = &sim->f;
-  const int           n    = (int)sim->n, slots = SpamNeighboursSlots(&sim->nl);
+  const int           n    = (int)sim->p.n, slots = SpamNeighboursSlots(&sim->nl);
   const int           nb   = sim->model.solid.per_body ? ps->nbody : 1;
   const PetscBool     pair = (PetscBool)(sim->model.solid.angmom == SPAM_ANGMOM_TIJ);
 
@@ -299,8 +299,8 @@ static PetscErrorCode TorqueFactors(SpamSim *sim, TensorPass *c)
       if (f->ltorque[i] > 0.0) ps->bpos[BodyOf(c, i)] += f->ltorque[i];
       else ps->bneg[BodyOf(c, i)] += f->ltorque[i];
     }
-  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, ps->bpos, nb, MPI_DOUBLE, MPI_SUM, sim->comm));
-  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, ps->bneg, nb, MPI_DOUBLE, MPI_SUM, sim->comm));
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, ps->bpos, nb, MPI_DOUBLE, MPI_SUM, sim->p.comm));
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, ps->bneg, nb, MPI_DOUBLE, MPI_SUM, sim->p.comm));
   for (int b = 0; b < nb; b++) ps->bfac[b] = (ps->bpos[b] > 0.0 && ps->bneg[b] < 0.0) ? sqrt(ps->bpos[b] / -ps->bneg[b]) : 1.0;
   if (!pair) {
     for (int i = 0; i < n; i++) {
@@ -318,7 +318,7 @@ static PetscErrorCode Forces(SpamSim *sim, TensorPass *c, const double *y)
 {
   SpamFields       *f   = c->f;
   const SpamGhosts *gh  = &sim->nl.ghosts;
-  const int         dim = f->dim, n = (int)sim->n, slots = SpamNeighboursSlots(&sim->nl);
+  const int         dim = f->dim, n = (int)sim->p.n, slots = SpamNeighboursSlots(&sim->nl);
 
   PetscFunctionBeginUser;
   Zero(f->acc, (size_t)slots * dim);
@@ -341,7 +341,7 @@ static void Assemble(const SpamSim *sim, double *ydot)
   const SpamFields *f   = &sim->f;
   const int         dim = l->dim;
 
-  for (PetscInt i = 0; i < sim->n; i++) {
+  for (PetscInt i = 0; i < sim->p.n; i++) {
     double *r = ydot + (size_t)i * l->nvar;
     for (int d = 0; d < dim; d++) {
       r[l->x + d] = f->xdot[(size_t)i * dim + d];
@@ -381,7 +381,7 @@ static TensorPass PassOf(SpamSim *sim)
   c.scale                     = p->angmom == SPAM_ANGMOM_TI || p->angmom == SPAM_ANGMOM_TIJ;
   c.continuity                = p->density != SPAM_DENSITY_SUMMATION;
   c.ps                        = sim->ps;
-  c.remote0                   = (int)sim->n + sim->nl.ghosts.nlocal;
+  c.remote0                   = (int)sim->p.n + sim->nl.ghosts.nlocal;
   c.rkind                     = sim->nl.ghosts.kind ? sim->nl.ghosts.kind + sim->nl.ghosts.nlocal : NULL;
   c.own_rho                   = p->material == SPAM_MATERIAL_ELASTIC && p->density == SPAM_DENSITY_SUMMATION;
   return c;
@@ -405,7 +405,7 @@ PetscErrorCode SpamRhsSolid(SpamSim *sim, const double *y, double *ydot, PetscIn
   PetscCall(PetscLogEventEnd(sim->ev.force, 0, 0, 0, 0));
   if (sim->model.solid.angmom == SPAM_ANGMOM_GAUSS) PetscCall(SpamGaussConstraint(sim, y));
   Assemble(sim, ydot);
-  if (sim->nl.ghosts.mirror) PetscCall(SpamWallBooks(&sim->nl.ghosts, &sim->f, &sim->model.layout, (int)sim->n, PETSC_TRUE, &sim->wall_rates, ydot));
+  if (sim->nl.ghosts.mirror) PetscCall(SpamWallBooks(&sim->nl.ghosts, &sim->f, &sim->model.layout, (int)sim->p.n, PETSC_TRUE, &sim->wall_rates, ydot));
   sim->stats.pair_visits += (2.0 + (c.scale ? 1.0 : 0.0)) * (double)(sim->nl.npairs + sim->nl.ngpairs);
   PetscFunctionReturn(0);
 }
@@ -423,7 +423,7 @@ PetscErrorCode SpamTensorTorqueSum(SpamSim *sim, const double *y, double *total)
   if (bad >= 0 || sim->model.dim != 2) PetscFunctionReturn(0);
   c = PassOf(sim);
   if (c.flow) PetscCall(SpamGasFlowFit(sim, y, &c.bg));
-  PetscCall(PetscMalloc1((size_t)sim->n * sim->model.layout.nvar + 1, &scratch)); /* the stress rate, unused */
+  PetscCall(PetscMalloc1((size_t)sim->p.n * sim->model.layout.nvar + 1, &scratch)); /* the stress rate, unused */
   PetscCall(Gradients(sim, &c));
   PetscCall(ParticleLaws(sim, &c, y, scratch));
   PetscCall(PetscFree(scratch));
@@ -431,6 +431,6 @@ PetscErrorCode SpamTensorTorqueSum(SpamSim *sim, const double *y, double *total)
   Zero(sim->f.ltorque, (size_t)SpamNeighboursSlots(&sim->nl));
   c.torque = 0.0;
   PetscCall(WalkTorques(&sim->nl, &sim->model.kernel, &c));
-  PetscCallMPI(MPIU_Allreduce(&c.torque, total, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
+  PetscCallMPI(MPIU_Allreduce(&c.torque, total, 1, MPI_DOUBLE, MPI_SUM, sim->p.comm));
   PetscFunctionReturn(0);
 }

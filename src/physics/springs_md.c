@@ -16,8 +16,8 @@ static PetscErrorCode BuildBonds(SpamSim *sim, const double *y)
 
   PetscFunctionBeginUser;
   PetscCall(SpamNeighboursUpdate(&sim->nl, &sim->box, y + sim->model.layout.x, sim->model.layout.nvar, PETSC_TRUE, &bad));
-  PetscCheck(bad < 0, sim->comm, PETSC_ERR_FP, "non-finite position of particle %" PetscInt_FMT, bad);
-  PetscCall(PetscMalloc1(sim->n + 1, &ps->bond_start));
+  PetscCheck(bad < 0, sim->p.comm, PETSC_ERR_FP, "non-finite position of particle %" PetscInt_FMT, bad);
+  PetscCall(PetscMalloc1(sim->p.n + 1, &ps->bond_start));
   PetscCall(PetscMalloc1(sim->nl.npairs + 1, &ps->bond_nbr));
   ps->nbonds        = 0;
   ps->bond_start[0] = 0;
@@ -37,10 +37,10 @@ static PetscErrorCode SetUpSprings(SpamSim *sim)
 
   PetscFunctionBeginUser;
   PetscCall(SpamPhysicsScratchCreate(sim));
-  PetscCall(VecGetArray(sim->X, &y));
+  PetscCall(VecGetArray(sim->p.X, &y));
   PetscCall(SpamBodiesLabel(sim, y, sim->model.springs.range));
   PetscCall(BuildBonds(sim, y));
-  PetscCall(VecRestoreArray(sim->X, &y));
+  PetscCall(VecRestoreArray(sim->p.X, &y));
   PetscFunctionReturn(0);
 }
 
@@ -59,7 +59,7 @@ static double BondDelta(const SpamSim *sim, const SpamImage *im, const double *x
  * position SpamBondsGather brought. */
 static const double *PartnerAt(const SpamSim *sim, const double *x, int stride, int j)
 {
-  return j < sim->n ? x + (size_t)j * stride : sim->ps->bond_halo.xremote + (size_t)(j - sim->n) * sim->model.dim;
+  return j < sim->p.n ? x + (size_t)j * stride : sim->ps->bond_halo.xremote + (size_t)(j - sim->p.n) * sim->model.dim;
 }
 
 static PetscErrorCode AccelSprings(SpamSim *sim, const double *x, int stride, PetscInt *bad)
@@ -72,8 +72,8 @@ static PetscErrorCode AccelSprings(SpamSim *sim, const double *x, int stride, Pe
   PetscFunctionBeginUser;
   *bad = -1;
   PetscCall(SpamBondsGather(sim, x, stride)); /* before any return: it is collective */
-  for (PetscInt k = 0; k < sim->n * dim; k++) sim->f.acc[k] = 0.0;
-  for (PetscInt i = 0; i < sim->n; i++) {
+  for (PetscInt k = 0; k < sim->p.n * dim; k++) sim->f.acc[k] = 0.0;
+  for (PetscInt i = 0; i < sim->p.n; i++) {
     for (int b = ps->bond_start[i]; b < ps->bond_start[i + 1]; b++) {
       const int    j = ps->bond_nbr[b];
       double       dx[3];
@@ -84,7 +84,7 @@ static PetscErrorCode AccelSprings(SpamSim *sim, const double *x, int stride, Pe
       }
       /* A remote partner's rank keeps this bond too and adds the opposite force to its
        * own particle (newton off across ranks, as the gas's remote pairs). */
-      if (j < sim->n) SpamPairSpring(dim, &sim->f, sp->k, sp->r0, (int)i, j, dx, r);
+      if (j < sim->p.n) SpamPairSpring(dim, &sim->f, sp->k, sp->r0, (int)i, j, dx, r);
       else SpamPairSpringOne(dim, &sim->f, sp->k, sp->r0, (int)i, dx, r);
     }
   }
@@ -99,7 +99,7 @@ static PetscErrorCode RhsSprings(SpamSim *sim, const double *y, double *ydot, Pe
   PetscFunctionBeginUser;
   PetscCall(AccelSprings(sim, y + l->x, l->nvar, bad));
   if (*bad >= 0) PetscFunctionReturn(0);
-  for (PetscInt i = 0; i < sim->n; i++)
+  for (PetscInt i = 0; i < sim->p.n; i++)
     for (int d = 0; d < sim->model.dim; d++) {
       ydot[(size_t)i * l->nvar + l->x + d] = y[(size_t)i * l->nvar + l->v + d];
       ydot[(size_t)i * l->nvar + l->v + d] = sim->f.acc[(size_t)i * sim->model.dim + d];
@@ -118,15 +118,15 @@ static PetscErrorCode DiagSprings(SpamSim *sim, const double *y, SpamModelDiag *
 
   PetscFunctionBeginUser;
   PetscCall(SpamBondsGather(sim, y + l->x, l->nvar));
-  for (PetscInt i = 0; i < sim->n; i++)
+  for (PetscInt i = 0; i < sim->p.n; i++)
     for (int b = ps->bond_start[i]; b < ps->bond_start[i + 1]; b++) {
       const int    j = ps->bond_nbr[b];
       double       dx[3];
       const double r = BondDelta(sim, &im, y + (size_t)i * l->nvar + l->x, PartnerAt(sim, y + l->x, l->nvar, j), dx);
-      const double share = j < sim->n ? 0.5 : 0.25;
+      const double share = j < sim->p.n ? 0.5 : 0.25;
       pe += share * sim->model.springs.k * (sim->model.springs.r0 - r) * (sim->model.springs.r0 - r);
     }
-  PetscCallMPI(MPIU_Allreduce(&pe, &d->internal, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
+  PetscCallMPI(MPIU_Allreduce(&pe, &d->internal, 1, MPI_DOUBLE, MPI_SUM, sim->p.comm));
   d->torque = 0.0;
   PetscCall(SpamBodiesDiag(sim, y, d));
   PetscFunctionReturn(0);

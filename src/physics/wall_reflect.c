@@ -16,7 +16,7 @@ PetscErrorCode SpamWallReflect(SpamSim *sim, double *y, PetscInt *changed)
 
   PetscFunctionBeginUser;
   *changed = 0;
-  for (PetscInt i = 0; i < sim->n; i++) {
+  for (PetscInt i = 0; i < sim->p.n; i++) {
     double *p = y + (size_t)i * l->nvar;
     for (int d = 0; d < sim->model.dim; d++) {
       const double lo = sim->box.lo[d], hi = lo + sim->box.len[d];
