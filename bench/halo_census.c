@@ -276,7 +276,7 @@ static PetscErrorCode Ranks(MPI_Comm comm, const Args *a)
 
   PetscFunctionBeginUser;
   PetscCall(MakeSim(comm, a, &sim));
-  PetscCall(SpamDecompCreate(sim.p.comm, &sim.box, sim.model.kernel.h, 0.0, &dec));
+  PetscCall(SpamDecompCreate(sim.p.comm, &sim.geo.box, sim.model.kernel.h, 0.0, &dec));
   PetscCall(SpamSimMigrate(&sim, &dec, &info));
   PetscCall(PetscMalloc1(dec.nranks, &halo));
   PetscCall(CutHalo(&dec, a, halo));

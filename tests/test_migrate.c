@@ -202,9 +202,9 @@ static PetscErrorCode Consistent(Ctx *t, const Scene *s, const SpamSim *sim, con
     int            c[3];
     uint64_t       key;
     for (int d = 0; d < s->dim; d++) wrong_state += p[l->x + d] != PositionOf(s, g, d) || p[l->v + d] != VelocityOf(g, d);
-    wrong_mass += sim->f.m[i] != MassOf(g) || sim->f.minv[i] != 1.0 / MassOf(g);
+    wrong_mass += sim->pair.f.m[i] != MassOf(g) || sim->pair.f.minv[i] != 1.0 / MassOf(g);
     misplaced += SpamDecompOwner(dec, SpamDecompKey(dec, p + l->x)) != t->rank;
-    SpamCellOf(&dec->grid, &sim->box, p + l->x, c);
+    SpamCellOf(&dec->grid, &sim->geo.box, p + l->x, c);
     key = SpamCellHilbertKey(&dec->grid, c);
     if (i > 0) unsorted += key < prev || (key == prev && g <= sim->p.gid[i - 1]);
     prev = key;
@@ -221,8 +221,8 @@ static PetscErrorCode Consistent(Ctx *t, const Scene *s, const SpamSim *sim, con
     PetscCall(Check(t, bad[2] == 0, "%s: every particle on the owner of its cell (%ld misplaced)", when, bad[2]));
     PetscCall(Check(t, bad[3] == 0 && bad[4] == 0, "%s: local order sorted by (cell, gid), at_row in gid order (%ld, %ld out of order)", when, bad[3], bad[4]));
   }
-  PetscCall(Check(t, swarm_n == sim->p.n && lsize == sim->p.n * l->nvar && gsize == s->N * l->nvar && sim->f.n == sim->p.n && sim->nl.n == sim->p.n && sim->p.nglobal == s->N,
-                  "%s: X, fields and list have the new local size (rank 0: swarm %ld, sim %ld, X %ld/%ld, fields %d, list %d)", when, (long)swarm_n, (long)sim->p.n, (long)lsize, (long)gsize, sim->f.n, sim->nl.n));
+  PetscCall(Check(t, swarm_n == sim->p.n && lsize == sim->p.n * l->nvar && gsize == s->N * l->nvar && sim->pair.f.n == sim->p.n && sim->pair.nl.n == sim->p.n && sim->p.nglobal == s->N,
+                  "%s: X, fields and list have the new local size (rank 0: swarm %ld, sim %ld, X %ld/%ld, fields %d, list %d)", when, (long)swarm_n, (long)sim->p.n, (long)lsize, (long)gsize, sim->pair.f.n, sim->pair.nl.n));
   PetscFunctionReturn(0);
 }
 
@@ -324,7 +324,7 @@ static PetscErrorCode Corner(Ctx *t, int dim, int side)
 
   PetscFunctionBeginUser;
   PetscCall(MakeSim(t, &s, &sim));
-  PetscCall(SpamDecompCreate(sim.p.comm, &sim.box, sim.model.kernel.h, 0.0, &dec));
+  PetscCall(SpamDecompCreate(sim.p.comm, &sim.geo.box, sim.model.kernel.h, 0.0, &dec));
   PetscCall(Check(t, dec.recut_above == SPAM_RECUT_ABOVE_DEFAULT, "%dD: recut threshold defaults to %.2f", dim, SPAM_RECUT_ABOVE_DEFAULT));
 
   PetscCall(PetscSNPrintf(when, sizeof when, "%dD N = %ld, first cut from rank 0", dim, (long)s.N));
@@ -436,7 +436,7 @@ static PetscErrorCode Timing(Ctx *t)
 
   PetscFunctionBeginUser;
   PetscCall(MakeSim(t, &s, &sim));
-  PetscCall(SpamDecompCreate(sim.p.comm, &sim.box, sim.model.kernel.h, 0.0, &dec));
+  PetscCall(SpamDecompCreate(sim.p.comm, &sim.geo.box, sim.model.kernel.h, 0.0, &dec));
   PetscCall(TimeMigration(t, &sim, &dec, &first, &t_first));
   PetscCall(PetscMalloc1((size_t)(s.N / 2 + 1000) * sim.model.layout.nvar, &ydot));
   for (int k = 0; k < ROUNDS; k++) {

@@ -123,7 +123,7 @@ static PetscErrorCode SetValues(SpamSim *sim)
     const PetscInt64 g = SpamSimRowOf(sim, i);
     double          *p = y + (size_t)i * l->nvar;
     if (l->rho >= 0) p[l->rho] = DensityOf(g);
-    else sim->f.rho[i] = DensityOf(g);
+    else sim->pair.f.rho[i] = DensityOf(g);
     if (l->e >= 0) p[l->e] = EnergyOf(g);
     for (int k = 0; l->s >= 0 && k < sim->model.dim * (sim->model.dim + 1) / 2; k++) p[l->s + k] = StressOf(g, k);
   }
@@ -158,7 +158,7 @@ static PetscErrorCode MakeSim(MPI_Comm comm, const Case *c, SpamSim *sim)
   PetscCall(SpamSimFill(sim, x, v, m));
   PetscCall(PetscFree3(x, v, m));
   PetscCall(SpamSimSetUp(sim));
-  PetscCall(SpamDecompCreate(sim->p.comm, &sim->box, sim->model.kernel.h, 0.0, &dec));
+  PetscCall(SpamDecompCreate(sim->p.comm, &sim->geo.box, sim->model.kernel.h, 0.0, &dec));
   PetscCall(SpamSimMigrate(sim, &dec, &info));
   PetscCheck(info.bad < 0, comm, PETSC_ERR_PLIB, "bad position in the test's particles");
   PetscCall(SpamDecompDestroy(&dec));
@@ -176,7 +176,7 @@ static PetscErrorCode LocalCopy(const Case *c, const SpamSim *sim, SpamSim *loc)
   double            *x, *v;
 
   PetscFunctionBeginUser;
-  PetscCall(SpamSimCreate(PETSC_COMM_SELF, &sim->model, &c->box, sim->p.n, sim->skin, loc));
+  PetscCall(SpamSimCreate(PETSC_COMM_SELF, &sim->model, &c->box, sim->p.n, sim->pair.skin, loc));
   PetscCall(PetscMalloc2((size_t)sim->p.n * c->dim + 1, &x, (size_t)sim->p.n * c->dim + 1, &v));
   PetscCall(VecGetArrayRead(sim->p.X, &y));
   for (PetscInt i = 0; i < sim->p.n; i++)
@@ -184,14 +184,14 @@ static PetscErrorCode LocalCopy(const Case *c, const SpamSim *sim, SpamSim *loc)
       x[i * c->dim + d] = y[(size_t)i * l->nvar + l->x + d];
       v[i * c->dim + d] = y[(size_t)i * l->nvar + l->v + d];
     }
-  PetscCall(SpamSimFill(loc, x, v, sim->f.m));
+  PetscCall(SpamSimFill(loc, x, v, sim->pair.f.m));
   PetscCall(PetscFree2(x, v));
   PetscCall(SpamSimSetUp(loc));
   PetscCall(VecGetArray(loc->p.X, &z));
   PetscCall(PetscArraycpy(z, y, (size_t)sim->p.n * l->nvar));
   PetscCall(VecRestoreArray(loc->p.X, &z));
   PetscCall(VecRestoreArrayRead(sim->p.X, &y));
-  PetscCall(PetscArraycpy(loc->f.rho, sim->f.rho, sim->p.n));
+  PetscCall(PetscArraycpy(loc->pair.f.rho, sim->pair.f.rho, sim->p.n));
   PetscFunctionReturn(0);
 }
 

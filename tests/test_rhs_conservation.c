@@ -13,7 +13,7 @@ static double DensityRateBruteForce(const SpamSim *sim, const double *y, int i)
     double dx[3], r2 = 0.0, dv = 0.0;
     if (j == i) continue;
     for (int d = 0; d < dim; d++) {
-      dx[d] = SpamBoxMinImage(SpamBoxLocal(&sim->box, d, y[i * nv + d]) - SpamBoxLocal(&sim->box, d, y[j * nv + d]), sim->box.len[d], 0.5 * sim->box.len[d], sim->box.periodic[d]);
+      dx[d] = SpamBoxMinImage(SpamBoxLocal(&sim->geo.box, d, y[i * nv + d]) - SpamBoxLocal(&sim->geo.box, d, y[j * nv + d]), sim->geo.box.len[d], 0.5 * sim->geo.box.len[d], sim->geo.box.periodic[d]);
       r2 += dx[d] * dx[d];
     }
     const double g = SpamKernelDWOverR(&sim->model.kernel, r2);
@@ -47,7 +47,7 @@ static PetscErrorCode Case(TestCount *c, int dim, double gamma, PetscBool period
   PetscCall(SpamRhs(&sim, y, ydot, &bad));
   if (sim.model.density_free) PetscCall(SpamDensitySummation(&sim, y, &bad));
   for (int i = 0; i < n; i++) {
-    const double dedrho = sim.model.eos.kappa * pow(sim.f.rho[i], gamma - 2.0); /* P/rho^2 */
+    const double dedrho = sim.model.eos.kappa * pow(sim.pair.f.rho[i], gamma - 2.0); /* P/rho^2 */
     const double rate   = dedrho * DensityRateBruteForce(&sim, y, i);
     for (int d = 0; d < dim; d++) {
       const double a = ydot[i * 2 * dim + dim + d];

@@ -205,7 +205,7 @@ static PetscErrorCode TurnAndMigrate(Ctx *t, SpamSim *sim, double angle, const c
   PetscFunctionBeginUser;
   PetscCall(Turn(t, sim, angle));
   if (t->size == 1) PetscFunctionReturn(0); /* one rank: nothing to migrate */
-  PetscCall(SpamSimMigrate(sim, sim->dec, &info));
+  PetscCall(SpamSimMigrate(sim, sim->geo.dec, &info));
   PetscCall(Check(t, info.moved > 0 && info.bad < 0, "%s, %d ranks: %ld particles changed rank", when, t->size, (long)info.moved));
   PetscFunctionReturn(0);
 }

@@ -146,8 +146,8 @@ PetscErrorCode SpamStepsAppend(SpamOutput *o, const SpamProgress *pr);
 
 /* Per-particle snapshot fields: the density the model uses, the stress in Tensor6 order. */
 double SpamSnapshotDensity(const SpamSim *sim, const double *y, PetscInt i);
-double SpamSnapshotPosition(const SpamSim *sim, int d, double x);
-void   SpamSnapshotStress6(const SpamSim *sim, const double *y, PetscInt i, double t6[6]);
+double SpamSnapshotPosition(const SpamBox *box, int d, double x);
+void   SpamSnapshotStress6(const SpamLayout *l, const double *y, PetscInt i, double t6[6]);
 /* Particle snapshot: HDF5 + XDMF (ParaView) and/or CSV (positions, velocities, density,
  * and energy and stress where the state has them). Needs sim->rho of state y. All four
  * are collective on sim->p.comm (every rank calls them) and write one file each whatever

@@ -25,6 +25,10 @@ typedef struct {
   long   rhs_evals;
   double rhs_time;      /* seconds inside the right-hand side, list builds included */
   double pair_visits;   /* pair-list entries visited in force passes                */
+  /* This process's evaluations (rhs_evals also holds a checkpoint's and leaves out the
+   * interpolant's), and the list updates and ghost placements (on several ranks the
+   * halo's exchange of positions) they made: one each per evaluation is the rule. */
+  long counted, list_updates, ghost_placements;
 } SpamRhsStats;
 
 /* PETSc log events (-log_view) of the right-hand side and its passes; registered per
@@ -40,10 +44,17 @@ typedef struct {
   double t_end_default;
 } SpamSceneInfo;
 
-typedef struct SpamSim {
-  SpamSwarm  p;        /* the swarm, the state X, the gids (swarm.h)         */
-  SpamBox        box;
-  SpamModel      model;
+/* Where the particles are: the box, its mirror walls and, on more than one rank
+ * (sim_distribute.c), the decomposition the particles migrate by, and with it the halo of
+ * the neighbour list (NULL on one rank). */
+typedef struct {
+  SpamBox            box;
+  SpamWalls          walls; /* mirror walls of the box faces (walls.h) */
+  struct SpamDecomp *dec;
+} SpamGeometry;
+
+/* What the pair passes work on: the list, the per-particle fields and the threads. */
+typedef struct {
   SpamNeighbours nl;
   double         skin;
   SpamFields     f;        /* per-particle fields of the passes, with ghost slots:    */
@@ -55,18 +66,31 @@ typedef struct SpamSim {
   PetscBool      periodic_ghosts; /* periodic images as ghost slots (-periodic_images) */
   PetscBool      reproducible;    /* -reproducible: canonical pair sums (the list's      */
                                   /* canonical rows) and a partition-independent norm  */
-  SpamWalls      walls;           /* mirror walls of the box faces (walls.h)           */
-  SpamWallRates  wall_rates;      /* what the walls gave the fluid at the last RHS     */
-  SpamRhsStats   stats;
-  SpamLogEvents  ev;
-  SpamSceneInfo  scene;
-  struct SpamPhysicsScratch *ps; /* scratch of the tensor path and bonds (NULL for the gas) */
-  /* On more than one rank (sim_distribute.c): the decomposition the particles migrate by,
-   * and with it the halo of the neighbour list; NULL on one rank. */
-  struct SpamDecomp *dec;
   long           ghost_mass_build; /* the list build whose ghost slots hold their masses */
-  long           migrations_run; /* migrations between steps, after the first distribution */
-  PetscInt64     migrated;       /* particles they moved between ranks                   */
+} SpamPairState;
+
+/* What the run counts and times. */
+typedef struct {
+  SpamRhsStats  stats;
+  SpamLogEvents ev;
+  long          migrations_run; /* migrations between steps, after the first distribution */
+  PetscInt64    migrated;       /* particles they moved between ranks                   */
+} SpamRunCounts;
+
+/* What the outputs report beyond the state. */
+typedef struct {
+  SpamSceneInfo scene;
+  SpamWallRates wall_rates; /* what the walls gave the fluid at the last RHS */
+} SpamSimReport;
+
+typedef struct SpamSim {
+  SpamSwarm     p;     /* the swarm, the state X, the gids (swarm.h) */
+  SpamGeometry  geo;
+  SpamModel     model; /* the law and its parameters                 */
+  SpamPairState pair;
+  struct SpamPhysicsScratch *ps; /* scratch of the tensor path and bonds (NULL for the gas) */
+  SpamRunCounts run;
+  SpamSimReport out;
 } SpamSim;
 
 /* Input row of particle i, and the local particle of the r-th smallest gid (swarm.h). */
@@ -83,8 +107,6 @@ static inline PetscInt SpamSimAtRow(const SpamSim *sim, PetscInt r)
  * Collective on comm: the particles get gids in rank order (this rank's first gid is the
  * count on the ranks before it). */
 PetscErrorCode SpamSimCreate(MPI_Comm comm, const SpamModel *model, const SpamBox *box, PetscInt n, double skin, SpamSim *sim);
-/* The gids of a set-up reordering: particle i came from local input row row_of[i]. */
-PetscErrorCode SpamSimSetRows(SpamSim *sim, const PetscInt *row_of);
 /* Copies positions and velocities ([n*dim] each) into the swarm's packed field, and the
  * masses ([n], or NULL: every particle has the model's mass). */
 PetscErrorCode SpamSimFill(SpamSim *sim, const double *x, const double *v, const double *m);
@@ -122,7 +144,7 @@ PetscErrorCode SpamSimGhostMasses(SpamSim *sim);
 /* Whether the run is on more than one rank. */
 static inline PetscBool SpamSimDistributed(const SpamSim *sim)
 {
-  return (PetscBool)(sim->dec != NULL);
+  return (PetscBool)(sim->geo.dec != NULL);
 }
 
 /* The right-hand side ydot = f(y) of the sim's model on raw arrays of length n*nvar,

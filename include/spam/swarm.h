@@ -31,6 +31,8 @@ static inline PetscInt SpamSwarmAtRow(const SpamSwarm *p, PetscInt r)
 {
   return p->at_row ? p->at_row[r] : r;
 }
+/* The gids of a set-up reordering: particle i came from local input row row_of[i]. */
+PetscErrorCode SpamSwarmSetRows(SpamSwarm *p, const PetscInt *row_of);
 /* After the gids changed (a set-up reordering, a migration): at_row made anew. */
 PetscErrorCode SpamSwarmIndexRows(SpamSwarm *p);
 

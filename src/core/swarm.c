@@ -1,5 +1,6 @@
 /* The gid index of the local particles (swarm.h). */
 #include <spam/swarm.h>
+#include <stdint.h>
 
 typedef struct {
   PetscInt64 gid;
@@ -10,6 +11,17 @@ static int CompareGids(const void *a, const void *b)
 {
   const GidIndex *p = a, *q = b;
   return (p->gid > q->gid) - (p->gid < q->gid);
+}
+
+PetscErrorCode SpamSwarmSetRows(SpamSwarm *p, const PetscInt *row_of)
+{
+  PetscInt64 first = INT64_MAX; /* this rank's gids are first .. first + n - 1 */
+
+  PetscFunctionBeginUser;
+  for (PetscInt i = 0; i < p->n; i++) first = PetscMin(first, p->gid[i]);
+  for (PetscInt i = 0; i < p->n; i++) p->gid[i] = first + row_of[i];
+  PetscCall(SpamSwarmIndexRows(p));
+  PetscFunctionReturn(0);
 }
 
 PetscErrorCode SpamSwarmIndexRows(SpamSwarm *p)

@@ -80,15 +80,15 @@ static PetscErrorCode PutParticles(SpamSim *sim, SpamCkFile *pc, SpamCkFile *c)
   PetscCall(PetscMalloc2((size_t)n * dim + 1, &xref, (size_t)n + 1, &id));
   for (int i = 0; i < n; i++) {
     id[i] = SpamSimRowOf(sim, i);
-    for (int d = 0; d < dim; d++) xref[(size_t)i * dim + d] = sim->nl.xref[d][i];
+    for (int d = 0; d < dim; d++) xref[(size_t)i * dim + d] = sim->pair.nl.xref[d][i];
   }
   PetscCall(SpamCkPutInt(pc, "id", (size_t)n, id));
   PetscCall(SpamCkPutReal(pc, "xref", (size_t)n * dim, xref));
-  PetscCall(SpamCkPutReal(pc, "mass", (size_t)n, sim->f.m));
-  PetscCall(SpamCkPutReal(pc, "acc", (size_t)n * dim, sim->f.acc));
-  PetscCall(SpamCkPutLong(c, "list_builds", sim->nl.builds));
+  PetscCall(SpamCkPutReal(pc, "mass", (size_t)n, sim->pair.f.m));
+  PetscCall(SpamCkPutReal(pc, "acc", (size_t)n * dim, sim->pair.f.acc));
+  PetscCall(SpamCkPutLong(c, "list_builds", sim->pair.nl.builds));
   {
-    const double stats[3] = {(double)sim->stats.rhs_evals, sim->stats.rhs_time, sim->stats.pair_visits};
+    const double stats[3] = {(double)sim->run.stats.rhs_evals, sim->run.stats.rhs_time, sim->run.stats.pair_visits};
     PetscCall(SpamCkPutReal(pc, "rhs_stats", 3, stats));
   }
   PetscCall(PetscFree2(xref, id));
@@ -99,7 +99,7 @@ static PetscErrorCode PutParticles(SpamSim *sim, SpamCkFile *pc, SpamCkFile *c)
  * so that a restart migrates when and as the uninterrupted run does. */
 static PetscErrorCode PutRanks(const SpamSim *sim, const SpamLoop *L, SpamCkFile *c)
 {
-  const SpamDecomp *dec = sim->dec;
+  const SpamDecomp *dec = sim->geo.dec;
   int64_t          *cut;
 
   PetscFunctionBeginUser;
@@ -113,7 +113,7 @@ static PetscErrorCode PutRanks(const SpamSim *sim, const SpamLoop *L, SpamCkFile
     PetscCall(SpamCkPutReal(c, "decomposition", 5, v));
   }
   {
-    const double v[6] = {(double)L->builds_migrated, (double)L->builds_checked, L->halo_migrated, (double)sim->migrations_run, (double)sim->migrated, L->followed};
+    const double v[6] = {(double)L->builds_migrated, (double)L->builds_checked, L->halo_migrated, (double)sim->run.migrations_run, (double)sim->run.migrated, L->followed};
     PetscCall(SpamCkPutReal(c, "migration_loop", 6, v));
   }
   PetscFunctionReturn(0);

@@ -108,7 +108,7 @@ static PetscErrorCode CheckTimes(const SpamRunOptions *o)
 
 /* The grid of the entropy integral: cells counted in double, so a tiny spacing cannot
  * overflow the count. */
-static PetscErrorCode CheckGrid(const SpamSim *sim, const SpamRunOptions *o)
+static PetscErrorCode CheckGrid(const SpamGeometry *geo, const SpamRunOptions *o)
 {
   double cells = 1.0;
   char   val[128];
@@ -116,7 +116,7 @@ static PetscErrorCode CheckGrid(const SpamSim *sim, const SpamRunOptions *o)
   PetscFunctionBeginUser;
   PetscCall(CheckRange("-diag_grid_spacing", o->diag.grid_spacing, 0.0, PETSC_FALSE, "must be zero (off) or a positive spacing"));
   if (!(o->diag.entropy && o->diag.grid_spacing > 0)) PetscFunctionReturn(0);
-  for (int d = 0; d < sim->box.dim; d++) cells *= PetscMax(1.0, ceil(sim->box.len[d] / o->diag.grid_spacing));
+  for (int d = 0; d < geo->box.dim; d++) cells *= PetscMax(1.0, ceil(geo->box.len[d] / o->diag.grid_spacing));
   PetscCall(SpamOptionText("-diag_grid_spacing", o->diag.grid_spacing, val, sizeof val));
   if (!(cells <= MAX_GRID_CELLS)) SPAM_BAD_INPUT("-diag_grid_spacing", val, "the box would hold %.3g grid cells, at most %.0e (sampled at every output row)", cells, MAX_GRID_CELLS);
   PetscFunctionReturn(0);
@@ -130,7 +130,7 @@ PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o)
   /* The -arkode_* and -cvode_* options are the arkode and cvode TS types' own, read by
    * their setfromoptions (arkode_options.c, ts_cvode.c). */
   PetscCall(PetscMemzero(o, sizeof *o));
-  o->t_end             = sim->scene.t_end_default;
+  o->t_end             = sim->out.scene.t_end_default;
   o->max_steps         = 1000000000;
   o->rtol              = 1e-6;
   o->atol              = 1e-9;
@@ -186,7 +186,7 @@ PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o)
     PetscCall(SpamOptionText("-step_force", o->force, val, sizeof val));
     if (o->force > 0 && o->force < MIN_BOUND_FRACTION) SPAM_BAD_INPUT("-step_force", val, "too small: must be 0 (off) or at least %g", MIN_BOUND_FRACTION);
   }
-  PetscCall(CheckGrid(sim, o));
+  PetscCall(CheckGrid(&sim->geo, o));
   {
     char val[32];
     PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, o->migrate_interval));

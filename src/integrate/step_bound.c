@@ -23,7 +23,7 @@ PetscErrorCode SpamStepBound(SpamSim *sim, const SpamRunOptions *o, const double
     double a2 = 0.0;
     for (PetscInt i = 0; i < sim->p.n; i++) {
       double s = 0.0;
-      const double *a = sim->f.acc + (size_t)i * sim->model.dim;
+      const double *a = sim->pair.f.acc + (size_t)i * sim->model.dim;
       for (int d = 0; d < sim->model.dim; d++) s += a[d] * a[d];
       a2 = PetscMax(a2, s);
     }

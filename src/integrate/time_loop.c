@@ -127,10 +127,10 @@ static PetscErrorCode InterpolatedOutputs(TS ts, SpamSim *sim, const SpamRunOpti
     /* ERKStep's Hermite interpolant of degree 4 or 5 evaluates the right-hand side (it
      * does not keep those evaluations between calls): output work, booked apart so that
      * rhs_evals stays the method's work whatever the output cadence. */
-    keep = sim->stats.rhs_evals;
+    keep = sim->run.stats.rhs_evals;
     PetscCall(TSInterpolate(ts, tout, s->Xout));
-    r->interpolation_rhs_evals += sim->stats.rhs_evals - keep;
-    sim->stats.rhs_evals = keep;
+    r->interpolation_rhs_evals += sim->run.stats.rhs_evals - keep;
+    sim->run.stats.rhs_evals = keep;
     q.t = tout;
     PetscCall(OutputOf(s->Xout, sim, o, out, &q, snap, r));
     r->interpolated_rows++;
@@ -241,7 +241,7 @@ static PetscErrorCode CheckState(const SpamSim *sim, const SpamRunOptions *o, co
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Progress(TS ts, const SpamSim *sim, PetscLogDouble wall0, double dt, SpamProgress *p)
+static PetscErrorCode Progress(TS ts, const SpamRunCounts *run, PetscLogDouble wall0, double dt, SpamProgress *p)
 {
   PetscInt       steps, rejected;
   PetscReal      t;
@@ -255,8 +255,8 @@ static PetscErrorCode Progress(TS ts, const SpamSim *sim, PetscLogDouble wall0, 
   p->t         = t;
   p->steps     = steps;
   p->rejected  = rejected;
-  p->rhs_evals = sim->stats.rhs_evals;
-  p->rhs_time  = sim->stats.rhs_time;
+  p->rhs_evals = run->stats.rhs_evals;
+  p->rhs_time  = run->stats.rhs_time;
   p->dt        = dt;
   p->wall      = now - wall0;
   PetscFunctionReturn(0);
@@ -322,9 +322,9 @@ static PetscErrorCode PostStep(TS ts, SpamSim *sim, SpamRunResult *r)
   PetscInt     changed = 0, crossed = 0;
 
   PetscFunctionBeginUser;
-  if (!sim->model.post_step && !sim->nl.ghosts.mirror) PetscFunctionReturn(0);
+  if (!sim->model.post_step && !sim->pair.nl.ghosts.mirror) PetscFunctionReturn(0);
   PetscCall(VecGetArray(sim->p.X, &y));
-  if (sim->nl.ghosts.mirror) PetscCall(SpamWallReflect(sim, y, &crossed));
+  if (sim->pair.nl.ghosts.mirror) PetscCall(SpamWallReflect(sim, y, &crossed));
   if (sim->model.post_step) PetscCall(sim->model.post_step(sim, y, &changed));
   PetscCall(VecRestoreArray(sim->p.X, &y));
   changed += crossed;
@@ -469,14 +469,14 @@ static PetscErrorCode Reschedule(SpamSim *sim, const SpamRunOptions *o, double f
  * largest list growth count and Gauss maxima. */
 static PetscErrorCode RunFigures(SpamSim *sim)
 {
-  double mx[4] = {sim->stats.rhs_time, (double)sim->nl.grows, sim->ps ? sim->ps->gauss_accel_max : 0.0, sim->ps ? sim->ps->gauss_momentum_residual : 0.0}, visits = sim->stats.pair_visits;
+  double mx[4] = {sim->run.stats.rhs_time, (double)sim->pair.nl.grows, sim->ps ? sim->ps->gauss_accel_max : 0.0, sim->ps ? sim->ps->gauss_momentum_residual : 0.0}, visits = sim->run.stats.pair_visits;
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, mx, 4, MPI_DOUBLE, MPI_MAX, sim->p.comm));
   PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &visits, 1, MPI_DOUBLE, MPI_SUM, sim->p.comm));
-  sim->stats.rhs_time    = mx[0];
-  sim->nl.grows          = (long)mx[1];
-  sim->stats.pair_visits = visits;
+  sim->run.stats.rhs_time    = mx[0];
+  sim->pair.nl.grows          = (long)mx[1];
+  sim->run.stats.pair_visits = visits;
   if (sim->ps) {
     sim->ps->gauss_accel_max         = mx[2];
     sim->ps->gauss_momentum_residual = mx[3];
@@ -488,13 +488,13 @@ static PetscErrorCode RunFigures(SpamSim *sim)
 static PetscErrorCode RanksResult(SpamSim *sim, SpamRunResult *r)
 {
   PetscMPIInt size;
-  double      halo = sim->nl.ghosts.n - sim->nl.ghosts.nlocal, n = (double)sim->p.n, nmax;
+  double      halo = sim->pair.nl.ghosts.n - sim->pair.nl.ghosts.nlocal, n = (double)sim->p.n, nmax;
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Comm_size(sim->p.comm, &size));
   r->ranks      = size;
-  r->migrations = sim->migrations_run;
-  r->migrated   = (double)sim->migrated;
+  r->migrations = sim->run.migrations_run;
+  r->migrated   = (double)sim->run.migrated;
   PetscCallMPI(MPIU_Allreduce(&halo, &r->halo_max, 1, MPI_DOUBLE, MPI_MAX, sim->p.comm));
   PetscCallMPI(MPIU_Allreduce(&n, &nmax, 1, MPI_DOUBLE, MPI_MAX, sim->p.comm));
   r->imbalance = nmax * size / PetscMax((double)sim->p.nglobal, 1.0);
@@ -519,7 +519,7 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
     L->xref_keep = keep;
     L->Xgood     = good;
     L->s.Xout    = xout;
-    L->builds_migrated = sim->nl.builds;
+    L->builds_migrated = sim->pair.nl.builds;
   }
   PetscCall(PetscTime(&L->wall0));
   L->last_ckpt_wall = L->wall0;
@@ -527,7 +527,7 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
   PetscCall(SpamTSDescribe(ts, r->method, sizeof r->method, r->adapt, sizeof r->adapt, &r->fixed_dt));
   {
     char line[512]; /* snprintf: PETSc's printf writes 3 as "3." */
-    (void)snprintf(line, sizeof line, "spam-ark: scene %s, %ld particles in %dD, h %g, %s, step %s, rtol %g atol %g, to t = %g\n", sim->scene.name, (long)sim->p.nglobal, sim->model.dim, sim->model.kernel.h, r->method, r->fixed_dt > 0 ? "fixed" : r->adapt, o->rtol, o->atol, o->t_end);
+    (void)snprintf(line, sizeof line, "spam-ark: scene %s, %ld particles in %dD, h %g, %s, step %s, rtol %g atol %g, to t = %g\n", sim->out.scene.name, (long)sim->p.nglobal, sim->model.dim, sim->model.kernel.h, r->method, r->fixed_dt > 0 ? "fixed" : r->adapt, o->rtol, o->atol, o->t_end);
     if (!o->quiet) PetscCall(PetscPrintf(sim->p.comm, "%s", line));
   }
   PetscCall(SpamTSOutputMode(ts, app, r->fixed_dt, &sp->mode, r->output_mode_reason, sizeof r->output_mode_reason));
@@ -576,7 +576,7 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
       tnew = tstop;
       PetscCall(TSSetTime(ts, tnew));
     }
-    PetscCall(Progress(ts, sim, L->wall0, tnew - t, pp));
+    PetscCall(Progress(ts, &sim->run, L->wall0, tnew - t, pp));
     pp->rejected += L->rejected_base;
     if (app->self_stepping && isfinite(app->bound) && pp->dt >= app->bound * (1.0 - 1e-9)) limit = app->bound_which;
     if (app->self_stepping && tnew >= tstop && limit == SPAM_LIMIT_ACCURACY && r->fixed_dt <= 0) limit = cut;
@@ -601,7 +601,7 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
       SeriesRow w = {out, sim, pp, NULL, NULL};
       PetscCall(SpamRunAgreed(sim->p.comm, PETSC_TRUE, AppendSteps, &w));
     }
-    if (o->monitor) PetscCall(SpamMonitorStep(sim, pp));
+    if (o->monitor) PetscCall(SpamMonitorStep(sim->p.comm, pp));
     /* TSSolve would call the -ts_monitor monitors; this loop steps the TS itself. */
     PetscCall(TSMonitor(ts, (PetscInt)pp->steps, t, sim->p.X));
     PetscCall(SpamTSAdaptMonitorSelf(ts, pp->steps - 1, t - pp->dt, pp->dt, pp->rejected));
@@ -609,7 +609,7 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
      * right-hand sides make is undone, so the method's next right-hand sides (and a
      * restart from a checkpoint taken now) see the list the step left. */
     const PetscBool outputs = (PetscBool)(PetscMin(sp->next_out, sp->next_snap) <= t * (1.0 + SPAM_TIME_ROUNDOFF) || t >= o->t_end);
-    if (outputs) PetscCall(SpamNeighboursKeep(&sim->nl, L->xref_keep, &L->builds_keep)); /* only a step with outputs copies */
+    if (outputs) PetscCall(SpamNeighboursKeep(&sim->pair.nl, L->xref_keep, &L->builds_keep)); /* only a step with outputs copies */
     if (dense) PetscCall(InterpolatedOutputs(ts, sim, o, out, pp, sp, r));
     if (Reached(t, PetscMin(sp->next_out, sp->next_snap)) || t >= o->t_end) {
       const PetscBool snap = (PetscBool)(o->snapshot_interval > 0 && (Reached(t, sp->next_snap) || t >= o->t_end));
@@ -619,7 +619,7 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
       if (Reached(t, sp->next_out)) sp->next_out = NextMultiple(t, sp->out_interval, o->t_end);
       if (Reached(t, sp->next_snap)) sp->next_snap = NextMultiple(t, sp->snap_interval, o->t_end);
     }
-    if (outputs) PetscCall(SpamNeighboursRevert(&sim->nl, &sim->box, L->xref_keep, L->builds_keep));
+    if (outputs) PetscCall(SpamNeighboursRevert(&sim->pair.nl, &sim->geo.box, L->xref_keep, L->builds_keep));
     /* After the step's outputs, which read ERKStep's interpolant of the step (a resize drops
      * it); before a checkpoint, which then holds the particles where the next step finds
      * them, so that a restart on the same ranks needs no migration of its own. */
@@ -643,7 +643,7 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
   r->steps     = pp->steps;
   r->rejected  = pp->rejected;
   r->attempts  = pp->steps + pp->rejected;
-  r->rhs_evals = sim->stats.rhs_evals;
+  r->rhs_evals = sim->run.stats.rhs_evals;
   PetscCall(RanksResult(sim, r));
   r->checkpoints      = L->ckpt_count;
   r->checkpoint_bytes = L->ckpt_bytes;

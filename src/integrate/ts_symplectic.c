@@ -52,7 +52,7 @@ static PetscErrorCode Kick(TS ts, PetscReal t, Vec X, Vec F, void *ctx)
       app->tbad = t;
     }
     if (bad >= 0) PetscCall(PetscArrayzero(app->acache, len));
-    else PetscCall(PetscArraycpy(app->acache, sim->f.acc, len)); /* same layout, a[i*dim + d] */
+    else PetscCall(PetscArraycpy(app->acache, sim->pair.f.acc, len)); /* same layout, a[i*dim + d] */
     PetscCall(PetscArraycpy(app->xcache, x, len));
     app->cache_valid = (PetscBool)(bad < 0);
   }

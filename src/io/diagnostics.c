@@ -31,7 +31,7 @@ static PetscErrorCode SchemeEnergy(SpamSim *sim, const double *y, double *e)
   PetscFunctionBeginUser;
   *e = 0.0;
   if (l->fb < 0) PetscFunctionReturn(0);
-  for (PetscInt i = 0; i < sim->p.n; i++) loc += sim->f.m[i] * y[(size_t)i * l->nvar + l->fb];
+  for (PetscInt i = 0; i < sim->p.n; i++) loc += sim->pair.f.m[i] * y[(size_t)i * l->nvar + l->fb];
   PetscCallMPI(MPIU_Allreduce(&loc, e, 1, MPI_DOUBLE, MPI_SUM, sim->p.comm));
   PetscFunctionReturn(0);
 }
@@ -61,11 +61,11 @@ PetscErrorCode SpamDiagnosticsCompute(SpamSim *sim, const SpamDiagnosticsOptions
     PetscCheck(!any, sim->p.comm, PETSC_ERR_FP, "non-finite position of particle %" PetscInt64_FMT " at t = %g", row, t);
   }
   for (PetscInt i = 0; i < sim->p.n; i++) {
-    const double *p = y + (size_t)i * l->nvar, mi = sim->f.m[i];
+    const double *p = y + (size_t)i * l->nvar, mi = sim->pair.f.m[i];
     double        v2 = 0.0;
     for (int k = 0; k < dim; k++) {
       loc[1 + k] += mi * p[l->v + k];
-      loc[4 + k] += mi * (p[l->x + k] - sim->box.lo[k]);
+      loc[4 + k] += mi * (p[l->x + k] - sim->geo.box.lo[k]);
       v2 += p[l->v + k] * p[l->v + k];
     }
     loc[0] += mi;
@@ -85,10 +85,10 @@ PetscErrorCode SpamDiagnosticsCompute(SpamSim *sim, const SpamDiagnosticsOptions
     const double *p = y + (size_t)i * l->nvar;
     double        r[3] = {0, 0, 0}, v[3] = {0, 0, 0};
     for (int k = 0; k < dim; k++) {
-      r[k] = p[l->x + k] - sim->box.lo[k] - xc[k];
+      r[k] = p[l->x + k] - sim->geo.box.lo[k] - xc[k];
       v[k] = p[l->v + k] - vc[k];
     }
-    const double  mi = sim->f.m[i];
+    const double  mi = sim->pair.f.m[i];
     lloc[0] += mi * (r[1] * v[2] - r[2] * v[1]);
     lloc[1] += mi * (r[2] * v[0] - r[0] * v[2]);
     lloc[2] += mi * (r[0] * v[1] - r[1] * v[0]);
@@ -107,6 +107,6 @@ PetscErrorCode SpamDiagnosticsCompute(SpamSim *sim, const SpamDiagnosticsOptions
   d->energy_in = d->wall_work + d->wall_heat + d->scheme_energy;
   /* Walls without books (the isentrope's: its state is [x v]) exchange momentum unmeasured:
    * its drift is then not defined (null in summary.json). */
-  for (int k = 0; k < dim; k++) d->momentum_in[k] = sim->nl.ghosts.mirror && l->wb < 0 ? NAN : d->wall_impulse[k] + d->mass * m->gravity[k] * t;
+  for (int k = 0; k < dim; k++) d->momentum_in[k] = sim->pair.nl.ghosts.mirror && l->wb < 0 ? NAN : d->wall_impulse[k] + d->mass * m->gravity[k] * t;
   PetscFunctionReturn(0);
 }

@@ -291,7 +291,7 @@ PetscErrorCode SpamGridWrite(SpamOutput *o, const SpamSim *sim, const double *y,
   PetscErrorCode ierr;
 
   PetscFunctionBeginUser;
-  PetscCall(SpamGridSetUp(&sim->box, o->opt.grid_interval, &g));
+  PetscCall(SpamGridSetUp(&sim->geo.box, o->opt.grid_interval, &g));
   ierr = SpamGridFieldsEvaluate(sim, y, &g, &f);
   if (!ierr) ierr = WriteFiles(o, sim, &g, &f, t);
   PetscCall(SpamGridFieldsFree(&f));

@@ -60,13 +60,13 @@ static PetscErrorCode FieldsFromRows(const SpamSim *sim, const SpamRows *rows, F
   if (l->s >= 0) PetscCall(PetscCalloc1(6 * n + 1, &f->s6));
   for (PetscInt r = 0; r < n; r++) {
     const double *p = rows->y + (size_t)r * l->nvar;
-    f->rho[r]       = SpamRowsDensity(sim, rows, r);
+    f->rho[r]       = SpamRowsDensity(&sim->model.layout, rows, r);
     f->m[r]         = rows->m[r];
     f->id[r]        = rows->gid[r];
     if (f->e) f->e[r] = p[l->e];
-    if (f->s6) SpamSnapshotStress6(sim, rows->y, r, f->s6 + 6 * r);
+    if (f->s6) SpamSnapshotStress6(&sim->model.layout, rows->y, r, f->s6 + 6 * r);
     for (int d = 0; d < sim->model.dim; d++) {
-      f->x[3 * r + d] = SpamSnapshotPosition(sim, d, p[l->x + d]);
+      f->x[3 * r + d] = SpamSnapshotPosition(&sim->geo.box, d, p[l->x + d]);
       f->v[3 * r + d] = p[l->v + d];
     }
   }

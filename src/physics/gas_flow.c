@@ -54,15 +54,15 @@ PetscErrorCode SpamGasFlowFit(SpamSim *sim, const double *y, SpamBackground *b)
   /* Along gravity only where gravity crosses no periodic face: a pressure that falls along
    * a periodic direction is not periodic (the Poiseuille channel's driving gravity runs
    * along its periodic axis, and the pressure there is uniform). */
-  for (int d = 0; d < dim; d++) gn += sim->box.periodic[d] && sim->model.gravity[d] != 0.0 ? INFINITY : sim->model.gravity[d] * sim->model.gravity[d];
+  for (int d = 0; d < dim; d++) gn += sim->geo.box.periodic[d] && sim->model.gravity[d] != 0.0 ? INFINITY : sim->model.gravity[d] * sim->model.gravity[d];
   if (!isfinite(gn)) gn = 0.0;
   if (gn > 0.0)
     for (int d = 0; d < dim; d++) {
       b->up[d]     = -sim->model.gravity[d] / sqrt(gn);
-      b->origin[d] = sim->box.lo[d] + 0.5 * sim->box.len[d];
+      b->origin[d] = sim->geo.box.lo[d] + 0.5 * sim->geo.box.len[d];
     }
   for (PetscInt i = 0; i < sim->p.n; i++) {
-    const double s = SpamBackgroundHeight(b, dim, y + (size_t)i * l->nvar + l->x), P = (p->gamma - 1.0) * sim->f.rho[i] * sim->f.e[i];
+    const double s = SpamBackgroundHeight(b, dim, y + (size_t)i * l->nvar + l->x), P = (p->gamma - 1.0) * sim->pair.f.rho[i] * sim->pair.f.e[i];
     const double s2 = s * s;
     m[0] += 1.0;
     m[1] += s;
@@ -92,7 +92,7 @@ PetscErrorCode SpamGasFlowFit(SpamSim *sim, const double *y, SpamBackground *b)
 void SpamGasFlowShift(SpamSim *sim)
 {
   const SpamSolidParams *p   = &sim->model.solid;
-  SpamFields            *f   = &sim->f;
+  SpamFields            *f   = &sim->pair.f;
   const int              dim = f->dim;
   const double           ch  = p->shift_coef * sim->model.kernel.h;
 
@@ -146,7 +146,7 @@ static double CorrectedDivergence(int dim, const double *M, const double *G)
  * cost no energy). One reduction of two sums over the ranks. */
 PetscErrorCode SpamGasFlowDivergence(SpamSim *sim)
 {
-  SpamFields *f   = &sim->f;
+  SpamFields *f   = &sim->pair.f;
   const int   dim = f->dim;
   double      s[2] = {0.0, 0.0};
 
@@ -171,7 +171,7 @@ void SpamGasFlowCorrect(SpamSim *sim, const double *y, const SpamBackground *b)
 {
   const SpamLayout      *l     = &sim->model.layout;
   const SpamSolidParams *p     = &sim->model.solid;
-  SpamFields            *f     = &sim->f;
+  SpamFields            *f     = &sim->pair.f;
   const int              dim   = f->dim;
   const PetscBool        shift = (PetscBool)(p->shift_coef > 0.0), bg = (PetscBool)(p->background != SPAM_BACKGROUND_NONE);
 

@@ -9,7 +9,7 @@ PetscErrorCode SpamDiagSolid(SpamSim *sim, const double *y, SpamModelDiag *d)
   double            loc = 0.0;
 
   PetscFunctionBeginUser;
-  for (PetscInt i = 0; i < sim->p.n; i++) loc += sim->f.m[i] * y[(size_t)i * l->nvar + l->e];
+  for (PetscInt i = 0; i < sim->p.n; i++) loc += sim->pair.f.m[i] * y[(size_t)i * l->nvar + l->e];
   PetscCallMPI(MPIU_Allreduce(&loc, &d->internal, 1, MPI_DOUBLE, MPI_SUM, sim->p.comm));
   PetscCall(SpamTensorTorqueSum(sim, y, &d->torque));
   PetscCall(SpamBodiesDiag(sim, y, d));
@@ -35,7 +35,7 @@ PetscErrorCode SpamSetUpSolid(SpamSim *sim)
     for (int c = 0; c < 2 + l->dim; c++) y[(size_t)i * l->nvar + l->wb + c] = 0.0;
   if (l->rho >= 0 && sim->model.solid.density_initial == SPAM_DENSITY_INITIAL_SUMMED) {
     PetscCall(SpamDensitySummation(sim, y, &bad));
-    for (PetscInt i = 0; i < sim->p.n; i++) y[(size_t)i * l->nvar + l->rho] = sim->f.rho[i];
+    for (PetscInt i = 0; i < sim->p.n; i++) y[(size_t)i * l->nvar + l->rho] = sim->pair.f.rho[i];
   }
   PetscCall(VecRestoreArray(sim->p.X, &y));
   PetscFunctionReturn(0);

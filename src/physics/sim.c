@@ -2,21 +2,20 @@
 #include <spam/sim.h>
 #include <spam/physics.h>
 #include <spam/decompose.h>
-#include <stdint.h>
 
 /* Gids in rank order: this rank's particles follow those of the ranks before it. */
-static PetscErrorCode NumberParticles(SpamSim *sim)
+static PetscErrorCode NumberParticles(SpamSwarm *sw)
 {
-  PetscInt64 n = sim->p.n, first = 0;
+  PetscInt64 n = sw->n, first = 0;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Exscan(&n, &first, 1, MPIU_INT64, MPI_SUM, sim->p.comm));
+  PetscCallMPI(MPI_Exscan(&n, &first, 1, MPIU_INT64, MPI_SUM, sw->comm));
   {
     PetscMPIInt rank;
-    PetscCallMPI(MPI_Comm_rank(sim->p.comm, &rank));
+    PetscCallMPI(MPI_Comm_rank(sw->comm, &rank));
     if (rank == 0) first = 0; /* MPI_Exscan leaves rank 0's result undefined */
   }
-  for (PetscInt i = 0; i < sim->p.n; i++) sim->p.gid[i] = first + i;
+  for (PetscInt i = 0; i < sw->n; i++) sw->gid[i] = first + i;
   PetscFunctionReturn(0);
 }
 
@@ -26,11 +25,11 @@ PetscErrorCode SpamSimCreate(MPI_Comm comm, const SpamModel *model, const SpamBo
   PetscCall(PetscMemzero(sim, sizeof *sim));
   sim->p.comm  = comm;
   sim->model = *model;
-  sim->box   = *box;
+  sim->geo.box   = *box;
   sim->p.n     = n;
-  sim->skin  = skin;
-  sim->threads = 1;
-  sim->ghost_mass_build = -1;
+  sim->pair.skin  = skin;
+  sim->pair.threads = 1;
+  sim->pair.ghost_mass_build = -1;
   PetscCall(DMCreate(comm, &sim->p.swarm));
   PetscCall(DMSetType(sim->p.swarm, DMSWARM));
   PetscCall(DMSetDimension(sim->p.swarm, model->dim));
@@ -44,9 +43,9 @@ PetscErrorCode SpamSimCreate(MPI_Comm comm, const SpamModel *model, const SpamBo
   PetscCall(DMSwarmFinalizeFieldRegister(sim->p.swarm));
   PetscCall(DMSwarmSetLocalSizes(sim->p.swarm, n, 0));
   PetscCall(DMSwarmGetField(sim->p.swarm, SPAM_GID_FIELD, NULL, NULL, (void **)&sim->p.gid));
-  PetscCall(NumberParticles(sim));
-  PetscCall(SpamFieldsCreate(model->dim, (int)n, (int)n, model->tensor, &sim->f));
-  SpamFieldsSetMasses(&sim->f, NULL, model->mass);
+  PetscCall(NumberParticles(&sim->p));
+  PetscCall(SpamFieldsCreate(model->dim, (int)n, (int)n, model->tensor, &sim->pair.f));
+  SpamFieldsSetMasses(&sim->pair.f, NULL, model->mass);
   PetscFunctionReturn(0);
 }
 
@@ -67,18 +66,7 @@ PetscErrorCode SpamSimFill(SpamSim *sim, const double *x, const double *v, const
     }
   }
   PetscCall(DMSwarmRestoreField(sim->p.swarm, SPAM_STATE_FIELD, &bs, &type, (void **)&s));
-  if (m) SpamFieldsSetMasses(&sim->f, m, 0.0);
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode SpamSimSetRows(SpamSim *sim, const PetscInt *row_of)
-{
-  PetscInt64 first = INT64_MAX; /* this rank's gids are first .. first + n - 1 */
-
-  PetscFunctionBeginUser;
-  for (PetscInt i = 0; i < sim->p.n; i++) first = PetscMin(first, sim->p.gid[i]);
-  for (PetscInt i = 0; i < sim->p.n; i++) sim->p.gid[i] = first + row_of[i];
-  PetscCall(SpamSwarmIndexRows(&sim->p));
+  if (m) SpamFieldsSetMasses(&sim->pair.f, m, 0.0);
   PetscFunctionReturn(0);
 }
 
@@ -88,10 +76,10 @@ static PetscErrorCode RegisterEvents(SpamSim *sim)
 
   PetscFunctionBeginUser;
   PetscCall(PetscClassIdRegister("spam-ark", &id));
-  PetscCall(PetscLogEventRegister("SpamRHS", id, &sim->ev.rhs));
-  PetscCall(PetscLogEventRegister("SpamNbrBuild", id, &sim->nl.ev_build));
-  PetscCall(PetscLogEventRegister("SpamDensity", id, &sim->ev.density));
-  PetscCall(PetscLogEventRegister("SpamForce", id, &sim->ev.force));
+  PetscCall(PetscLogEventRegister("SpamRHS", id, &sim->run.ev.rhs));
+  PetscCall(PetscLogEventRegister("SpamNbrBuild", id, &sim->pair.nl.ev_build));
+  PetscCall(PetscLogEventRegister("SpamDensity", id, &sim->run.ev.density));
+  PetscCall(PetscLogEventRegister("SpamForce", id, &sim->run.ev.force));
   PetscFunctionReturn(0);
 }
 
@@ -106,7 +94,7 @@ static PetscErrorCode FirstBuild(SpamSim *sim)
 
   PetscFunctionBeginUser;
   PetscCall(VecGetArrayRead(sim->p.X, &y));
-  PetscCall(SpamNeighboursUpdate(&sim->nl, &sim->box, y + l->x, l->nvar, PETSC_TRUE, &bad));
+  PetscCall(SpamNeighboursUpdate(&sim->pair.nl, &sim->geo.box, y + l->x, l->nvar, PETSC_TRUE, &bad));
   PetscCall(VecRestoreArrayRead(sim->p.X, &y));
   PetscCheck(bad < 0, sim->p.comm, PETSC_ERR_FP, "non-finite position of particle %" PetscInt_FMT " at set-up", SpamSimRowOf(sim, bad));
   PetscFunctionReturn(0);
@@ -117,18 +105,18 @@ static PetscErrorCode FirstBuild(SpamSim *sim)
 static PetscErrorCode CreateScratch(SpamSim *sim)
 {
   PetscFunctionBeginUser;
-  if (sim->threads > 1) PetscCall(PetscMalloc2((size_t)(sim->threads - 1) * sim->model.dim * sim->f.cap + 1, &sim->tacc, (size_t)(sim->threads - 1) * sim->f.cap + 1, &sim->trho));
+  if (sim->pair.threads > 1) PetscCall(PetscMalloc2((size_t)(sim->pair.threads - 1) * sim->model.dim * sim->pair.f.cap + 1, &sim->pair.tacc, (size_t)(sim->pair.threads - 1) * sim->pair.f.cap + 1, &sim->pair.trho));
   /* gamma = 2: P/rho^2 = kappa for every particle, set once. */
-  for (PetscInt i = 0; i < sim->f.cap; i++) sim->f.q[i] = sim->model.eos.kappa;
-  PetscCall(SpamNeighboursCreate((int)sim->p.n, &sim->box, sim->model.kernel.h, sim->skin, &sim->nl));
-  if (sim->dec) PetscCall(SpamNeighboursSetComm(&sim->nl, sim->p.comm)); /* other ranks' particles as ghosts */
-  if (sim->periodic_ghosts || sim->reproducible) { /* -reproducible: images as ghost slots */
+  for (PetscInt i = 0; i < sim->pair.f.cap; i++) sim->pair.f.q[i] = sim->model.eos.kappa;
+  PetscCall(SpamNeighboursCreate((int)sim->p.n, &sim->geo.box, sim->model.kernel.h, sim->pair.skin, &sim->pair.nl));
+  if (sim->geo.dec) PetscCall(SpamNeighboursSetComm(&sim->pair.nl, sim->p.comm)); /* other ranks' particles as ghosts */
+  if (sim->pair.periodic_ghosts || sim->pair.reproducible) { /* -reproducible: images as ghost slots */
     const PetscBool all[3] = {PETSC_TRUE, PETSC_TRUE, PETSC_TRUE};
-    PetscCall(SpamNeighboursSetPeriodicGhosts(&sim->nl, &sim->box, all));
+    PetscCall(SpamNeighboursSetPeriodicGhosts(&sim->pair.nl, &sim->geo.box, all));
   }
-  if (SpamWallsAny(&sim->walls, sim->model.dim)) PetscCall(SpamNeighboursSetWalls(&sim->nl, &sim->walls));
-  if (sim->reproducible) PetscCall(SpamNeighboursSetCanonical(&sim->nl, sim->p.gid));
-  PetscCall(SpamNeighboursSetThreads(&sim->nl, sim->threads));
+  if (SpamWallsAny(&sim->geo.walls, sim->model.dim)) PetscCall(SpamNeighboursSetWalls(&sim->pair.nl, &sim->geo.walls));
+  if (sim->pair.reproducible) PetscCall(SpamNeighboursSetCanonical(&sim->pair.nl, sim->p.gid));
+  PetscCall(SpamNeighboursSetThreads(&sim->pair.nl, sim->pair.threads));
   PetscFunctionReturn(0);
 }
 
@@ -148,11 +136,11 @@ PetscErrorCode SpamSimSetUp(SpamSim *sim)
 static PetscErrorCode UniformMassEverywhere(SpamSim *sim)
 {
   const PetscBool have = (PetscBool)(sim->p.n > 0);
-  double          v[3] = {have && !sim->f.uniform_mass ? 1.0 : 0.0, have ? -sim->f.m[0] : -INFINITY, have ? sim->f.m[0] : -INFINITY}, g[3];
+  double          v[3] = {have && !sim->pair.f.uniform_mass ? 1.0 : 0.0, have ? -sim->pair.f.m[0] : -INFINITY, have ? sim->pair.f.m[0] : -INFINITY}, g[3];
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPIU_Allreduce(v, g, 3, MPI_DOUBLE, MPI_MAX, sim->p.comm)); /* [any non-uniform, -min m0, max m0] */
-  sim->f.uniform_mass = (int)(g[0] == 0.0 && -g[1] == g[2]);
+  sim->pair.f.uniform_mass = (int)(g[0] == 0.0 && -g[1] == g[2]);
   PetscFunctionReturn(0);
 }
 
@@ -164,9 +152,9 @@ static PetscErrorCode TakeCarried(SpamSim *sim)
 
   PetscFunctionBeginUser;
   PetscCall(DMSwarmGetField(sim->p.swarm, SPAM_MASS_FIELD, NULL, NULL, (void **)&m));
-  SpamFieldsSetMasses(&sim->f, m, 0.0);
+  SpamFieldsSetMasses(&sim->pair.f, m, 0.0);
   PetscCall(DMSwarmRestoreField(sim->p.swarm, SPAM_MASS_FIELD, NULL, NULL, (void **)&m));
-  if (sim->dec) PetscCall(UniformMassEverywhere(sim));
+  if (sim->geo.dec) PetscCall(UniformMassEverywhere(sim));
   if (sim->ps) {
     PetscCall(PetscFree(sim->ps->body));
     PetscCall(PetscMalloc1(sim->p.n + 1, &sim->ps->body));
@@ -180,39 +168,39 @@ static PetscErrorCode TakeCarried(SpamSim *sim)
 
 PetscErrorCode SpamSimResize(SpamSim *sim)
 {
-  const long          builds = sim->nl.builds, grows = sim->nl.grows;
-  const PetscLogEvent ev     = sim->nl.ev_build;
+  const long          builds = sim->pair.nl.builds, grows = sim->pair.nl.grows;
+  const PetscLogEvent ev     = sim->pair.nl.ev_build;
 
   PetscFunctionBeginUser;
   PetscCall(DMSwarmGetLocalSize(sim->p.swarm, &sim->p.n));
   /* The fields keep their arrays while they have room: every value but the masses (taken
    * here) is made again by the next right-hand side. */
-  sim->f.n = (int)sim->p.n;
-  PetscCall(SpamFieldsReserve(&sim->f, (int)sim->p.n));
+  sim->pair.f.n = (int)sim->p.n;
+  PetscCall(SpamFieldsReserve(&sim->pair.f, (int)sim->p.n));
   PetscCall(TakeCarried(sim));
   /* The list has no resize: made anew, as are the thread buffers sized by the fields. */
-  PetscCall(PetscFree2(sim->tacc, sim->trho));
-  PetscCall(SpamNeighboursDestroy(&sim->nl));
+  PetscCall(PetscFree2(sim->pair.tacc, sim->pair.trho));
+  PetscCall(SpamNeighboursDestroy(&sim->pair.nl));
   PetscCall(CreateScratch(sim));
-  sim->nl.builds   = builds;
-  sim->ghost_mass_build = -1;
-  sim->nl.grows    = grows;
-  sim->nl.ev_build = ev;
+  sim->pair.nl.builds   = builds;
+  sim->pair.ghost_mass_build = -1;
+  sim->pair.nl.grows    = grows;
+  sim->pair.nl.ev_build = ev;
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SpamSimGhostMasses(SpamSim *sim)
 {
-  const SpamGhosts *g = &sim->nl.ghosts;
+  const SpamGhosts *g = &sim->pair.nl.ghosts;
   const int         dim = sim->model.dim, n = (int)sim->p.n;
 
   PetscFunctionBeginUser;
-  if (sim->ghost_mass_build == sim->nl.builds) PetscFunctionReturn(0);
-  PetscCall(SpamFieldsReserve(&sim->f, SpamNeighboursSlots(&sim->nl)));
-  PetscCall(SpamGhostsGather(g, dim, n, 1, SPAM_GHOST_SCALAR, sim->f.m));
-  PetscCall(SpamGhostsGather(g, dim, n, 1, SPAM_GHOST_SCALAR, sim->f.minv));
-  if (!sim->model.tensor && sim->model.density_free) PetscCall(SpamGhostsGather(g, dim, n, 1, SPAM_GHOST_SCALAR, sim->f.q));
-  sim->ghost_mass_build = sim->nl.builds;
+  if (sim->pair.ghost_mass_build == sim->pair.nl.builds) PetscFunctionReturn(0);
+  PetscCall(SpamFieldsReserve(&sim->pair.f, SpamNeighboursSlots(&sim->pair.nl)));
+  PetscCall(SpamGhostsGather(g, dim, n, 1, SPAM_GHOST_SCALAR, sim->pair.f.m));
+  PetscCall(SpamGhostsGather(g, dim, n, 1, SPAM_GHOST_SCALAR, sim->pair.f.minv));
+  if (!sim->model.tensor && sim->model.density_free) PetscCall(SpamGhostsGather(g, dim, n, 1, SPAM_GHOST_SCALAR, sim->pair.f.q));
+  sim->pair.ghost_mass_build = sim->pair.nl.builds;
   PetscFunctionReturn(0);
 }
 
@@ -227,14 +215,14 @@ PetscErrorCode SpamSimDestroy(SpamSim *sim)
 {
   PetscFunctionBeginUser;
   if (sim->p.X) PetscCall(DMSwarmDestroyGlobalVectorFromField(sim->p.swarm, SPAM_STATE_FIELD, &sim->p.X));
-  PetscCall(SpamFieldsDestroy(&sim->f));
-  if (sim->nl.start) {
-    PetscCall(PetscFree2(sim->tacc, sim->trho));
-    PetscCall(SpamNeighboursDestroy(&sim->nl));
+  PetscCall(SpamFieldsDestroy(&sim->pair.f));
+  if (sim->pair.nl.start) {
+    PetscCall(PetscFree2(sim->pair.tacc, sim->pair.trho));
+    PetscCall(SpamNeighboursDestroy(&sim->pair.nl));
   }
   PetscCall(PetscFree(sim->p.at_row));
-  if (sim->dec) PetscCall(SpamDecompDestroy(sim->dec));
-  PetscCall(PetscFree(sim->dec));
+  if (sim->geo.dec) PetscCall(SpamDecompDestroy(sim->geo.dec));
+  PetscCall(PetscFree(sim->geo.dec));
   if (sim->p.gid) PetscCall(DMSwarmRestoreField(sim->p.swarm, SPAM_GID_FIELD, NULL, NULL, (void **)&sim->p.gid));
   PetscCall(DMDestroy(&sim->p.swarm));
   PetscFunctionReturn(0);

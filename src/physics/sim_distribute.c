@@ -35,9 +35,9 @@ PetscErrorCode SpamSimDistribute(SpamSim *sim)
   PetscCallMPI(MPI_Comm_size(sim->p.comm, &size));
   if (size == 1) PetscFunctionReturn(0);
   PetscCall(ShareBodies(sim));
-  PetscCall(PetscNew(&sim->dec));
-  PetscCall(SpamDecompCreate(sim->p.comm, &sim->box, sim->model.kernel.h, 0.0, sim->dec));
-  PetscCall(SpamSimMigrate(sim, sim->dec, &info));
+  PetscCall(PetscNew(&sim->geo.dec));
+  PetscCall(SpamDecompCreate(sim->p.comm, &sim->geo.box, sim->model.kernel.h, 0.0, sim->geo.dec));
+  PetscCall(SpamSimMigrate(sim, sim->geo.dec, &info));
   PetscCheck(info.bad < 0, sim->p.comm, PETSC_ERR_FP, "non-finite position of particle %" PetscInt64_FMT " at set-up", info.bad);
   if (!info.changed) { /* already in place: the list still needs the halo */
     PetscCall(SpamSimResize(sim));

@@ -16,11 +16,11 @@ static PetscErrorCode Stow(SpamSim *sim)
 
   PetscFunctionBeginUser;
   PetscCall(DMSwarmGetField(sim->p.swarm, SPAM_MASS_FIELD, NULL, NULL, (void **)&m));
-  PetscCall(PetscArraycpy(m, sim->f.m, sim->p.n));
+  PetscCall(PetscArraycpy(m, sim->pair.f.m, sim->p.n));
   PetscCall(DMSwarmRestoreField(sim->p.swarm, SPAM_MASS_FIELD, NULL, NULL, (void **)&m));
   PetscCall(DMSwarmGetField(sim->p.swarm, SPAM_XREF_FIELD, NULL, NULL, (void **)&xref));
   for (PetscInt i = 0; i < sim->p.n; i++)
-    for (int d = 0; d < sim->model.dim; d++) xref[(size_t)i * sim->model.dim + d] = sim->nl.builds ? sim->nl.xref[d][i] : 0.0;
+    for (int d = 0; d < sim->model.dim; d++) xref[(size_t)i * sim->model.dim + d] = sim->pair.nl.builds ? sim->pair.nl.xref[d][i] : 0.0;
   PetscCall(DMSwarmRestoreField(sim->p.swarm, SPAM_XREF_FIELD, NULL, NULL, (void **)&xref));
   if (sim->ps) {
     PetscCall(DMSwarmGetField(sim->p.swarm, SPAM_BODY_FIELD, NULL, NULL, (void **)&body));
@@ -64,12 +64,12 @@ static PetscErrorCode RebuildList(SpamSim *sim)
   PetscReal *xref;
 
   PetscFunctionBeginUser;
-  if (!sim->nl.builds) {
+  if (!sim->pair.nl.builds) {
     PetscCall(SpamSimBuildList(sim));
     PetscFunctionReturn(0);
   }
   PetscCall(DMSwarmGetField(sim->p.swarm, SPAM_XREF_FIELD, NULL, NULL, (void **)&xref));
-  PetscCall(SpamNeighboursRestore(&sim->nl, &sim->box, xref));
+  PetscCall(SpamNeighboursRestore(&sim->pair.nl, &sim->geo.box, xref));
   PetscCall(DMSwarmRestoreField(sim->p.swarm, SPAM_XREF_FIELD, NULL, NULL, (void **)&xref));
   PetscFunctionReturn(0);
 }
