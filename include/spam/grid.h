@@ -43,7 +43,7 @@ typedef struct {
  * holds); the option check compares it with SPAM_GRID_MAX_POINTS. */
 double         SpamGridPointCount(const SpamBox *box, double dx);
 PetscErrorCode SpamGridSetUp(const SpamBox *box, double dx, SpamGrid *g);
-/* Evaluates the fields of state y (sim->f.rho must hold its summed density when the
+/* Evaluates the fields of state y (sim->pair.f.rho must hold its summed density when the
  * model does not carry the density) at the points of g; allocates f's columns.
  * Collective on sim->p.comm: every rank gets the sums over all ranks. */
 PetscErrorCode SpamGridFieldsEvaluate(const SpamSim *sim, const double *y, const SpamGrid *g, SpamGridFields *f);

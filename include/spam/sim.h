@@ -148,7 +148,7 @@ static inline PetscBool SpamSimDistributed(const SpamSim *sim)
 }
 
 /* The right-hand side ydot = f(y) of the sim's model on raw arrays of length n*nvar,
- * timed and counted in sim->stats. *bad is the first particle with a non-finite (or
+ * timed and counted in sim->run.stats. *bad is the first particle with a non-finite (or
  * unphysical) state, or -1. Every integrator calls this one function. */
 PetscErrorCode SpamRhs(SpamSim *sim, const double *y, double *ydot, PetscInt *bad);
 /* Accelerations of positions x (stride between particles) into sim->acc, timed and counted
@@ -161,7 +161,7 @@ PetscErrorCode SpamMaxSoundSpeedIsentrope(SpamSim *sim, const double *y, double 
 /* Potential energy of the model's uniform gravity, -sum m g.(x - box corner), reduced
  * over the ranks (0 without gravity). */
 PetscErrorCode SpamGravityEnergy(SpamSim *sim, const double *y, double *pot);
-/* Summation density of state y into sim->f.rho, ghost slots included (diagnostics): a
+/* Summation density of state y into sim->pair.f.rho, ghost slots included (diagnostics): a
  * list update, then SpamDensityOfList. */
 PetscErrorCode SpamDensitySummation(SpamSim *sim, const double *y, PetscInt *bad);
 /* The same on the list as the caller's update left it, slots reserved (the tensor path,
