@@ -32,7 +32,7 @@
  * Both print one JSON object on standard output (rank 0). */
 #define _POSIX_C_SOURCE 200809L /* clock_gettime */
 #include <time.h>
-#include <spam/decompose.h>
+#include <spam/sim.h>
 #include <spam/neighbours.h>
 #include <petsctime.h>
 
@@ -117,11 +117,11 @@ static PetscErrorCode LocalPositions(const SpamSim *sim, double **x)
   const PetscScalar *y;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMalloc1(3 * (size_t)sim->n + 1, x));
-  PetscCall(VecGetArrayRead(sim->X, &y));
-  for (PetscInt i = 0; i < sim->n; i++)
+  PetscCall(PetscMalloc1(3 * (size_t)sim->p.n + 1, x));
+  PetscCall(VecGetArrayRead(sim->p.X, &y));
+  for (PetscInt i = 0; i < sim->p.n; i++)
     for (int d = 0; d < 3; d++) (*x)[3 * i + d] = y[(size_t)i * l->nvar + l->x + d];
-  PetscCall(VecRestoreArrayRead(sim->X, &y));
+  PetscCall(VecRestoreArrayRead(sim->p.X, &y));
   PetscFunctionReturn(0);
 }
 
@@ -276,12 +276,12 @@ static PetscErrorCode Ranks(MPI_Comm comm, const Args *a)
 
   PetscFunctionBeginUser;
   PetscCall(MakeSim(comm, a, &sim));
-  PetscCall(SpamDecompCreate(&sim, 0.0, &dec));
+  PetscCall(SpamDecompCreate(sim.p.comm, &sim.geo.box, sim.model.kernel.h, 0.0, &dec));
   PetscCall(SpamSimMigrate(&sim, &dec, &info));
   PetscCall(PetscMalloc1(dec.nranks, &halo));
   PetscCall(CutHalo(&dec, a, halo));
   PetscCall(LocalPositions(&sim, &x));
-  PetscCall(SpamNeighboursCreate((int)sim.n, &box, a->h, a->skin, &nl));
+  PetscCall(SpamNeighboursCreate((int)sim.p.n, &box, a->h, a->skin, &nl));
   PetscCall(SpamNeighboursSetComm(&nl, comm));
   PetscCall(SpamNeighboursUpdate(&nl, &box, x, 3, PETSC_TRUE, &bad));
   PetscCheck(bad < 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "non-finite position in the census lattice");

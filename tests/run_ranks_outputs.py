@@ -11,7 +11,12 @@ On 2 and 3 ranks, each with a migration after every list build where the model m
 (b) the Couette flow (mirror walls with their books, the tensor path) and the chain of
     springs (bonds across ranks; its file's Verlet steps): exit 0, the energy at the last row
     within 1e-11 relative of the one-rank run's (fixed steps; run_ranks derives the bound);
-(c) no sanitizer report (spamrun's check, and the exit code 86 it would set).
+(c) no sanitizer report (spamrun's check, and the exit code 86 it would set);
+(d) summary.json's list updates and ghost placements per RHS evaluation (on several ranks
+    the placement is the halo's exchange of positions) exactly 1 for the gas (the
+    expansion of (a) on 2 and 3 ranks) and for the tensor path (the Couette flow on 1, 2 and 3
+    ranks, whose mirror walls give ghost slots on one rank too): a pass that updates the
+    list again or exchanges the positions twice makes it 2.
 """
 import os
 import subprocess
@@ -35,6 +40,12 @@ def spam(ranks, name, args):
     return p.returncode, p.stderr, out
 
 
+def check_passes(what, s):
+    c.check(s["rhs_evals_process"] > 0 and s["list_updates_per_rhs"] == 1 and s["ghost_placements_per_rhs"] == 1,
+            f"{what}: {s['list_updates_per_rhs']} list updates and {s['ghost_placements_per_rhs']} ghost placements per RHS "
+            f"over {s['rhs_evals_process']} evaluations (1 and 1)")
+
+
 # (a) every output
 expansion = ["-scene", "expansion", "-dim", 2, "-expansion_n", 16, "-h", 3, "-eos_gamma", 2, "-eos_kappa", 0.5,
              "-expansion_amplitude", 0.01, "-expansion_seed", 1, "-ts_max_time", 3, "-output_interval", 1,
@@ -51,6 +62,7 @@ for ranks in (2, 3):
             f"{ranks} ranks: final ids 0..255 once each ({len(ids)} rows), {s['n_particles']} particles, {s['migrations']} migrations")
     # -snapshot_interval 1 to t = 3: t = 0, 1, 2, 3, each as HDF5 and as CSV
     c.check(len(snaps) == 8 and all(os.path.getsize(f) > 0 for f in snaps), f"{ranks} ranks: {len(snaps)} snapshots listed and written (8 due)")
+    check_passes(f"expansion on {ranks} ranks", s)
 
 # (b) walls with books (migrating on several ranks; -migrate_interval is refused on one),
 #     springs (which never migrate)
@@ -62,6 +74,8 @@ for name, args in (("couette", ["-options_file", os.path.join(OPTS, "couette.opt
         code, err, out = spam(ranks, name, args + (["-migrate_interval", 1] if ranks > 1 and name == "couette" else []))
         if c.check(code == 0, f"{name} on {ranks} ranks: exit {code} {err.strip()[-300:]}"):
             runs[ranks] = table(os.path.join(out, "timeseries.csv"))["total"]
+            if name == "couette":
+                check_passes(f"couette on {ranks} ranks", summary(out))
     for ranks in (2, 3):
         if 1 in runs and ranks in runs:
             d = abs(runs[ranks][-1] - runs[1][-1]) / abs(runs[1][-1])

@@ -36,7 +36,7 @@ int main(int argc, char **argv)
   PetscCall(SpamSimFill(&sim, p.x, p.v, NULL));
   PetscCall(SpamSimFillFields(&sim, &p));
   PetscCall(SpamSimSetUp(&sim));
-  PetscCall(VecGetArray(sim.X, &y));
+  PetscCall(VecGetArray(sim.p.X, &y));
   for (PetscInt i = 0; i < p.n; i++)
     for (int d = 0; d < 2; d++) p0[d] += y[i * sim.model.layout.nvar + sim.model.layout.v + d], k0 += 0.5 * PetscSqr(y[i * sim.model.layout.nvar + sim.model.layout.v + d]);
   PetscCall(SpamClosestApproachReflect(&sim, y, 0.5, &n1));
@@ -49,7 +49,7 @@ int main(int argc, char **argv)
   TestCheck(&c, n2 == 0, "a second pass finds no approaching pair (%d)", (int)n2);
   PetscCall(SpamClosestApproachReflect(&sim, y, 0.2, &n2));
   TestCheck(&c, n2 == 0, "pairs beyond dmin are untouched (%d)", (int)n2);
-  PetscCall(VecRestoreArray(sim.X, &y));
+  PetscCall(VecRestoreArray(sim.p.X, &y));
   PetscCall(SpamParticlesFree(&p));
   PetscCall(SpamSimDestroy(&sim));
   PetscCall(PetscFinalize());

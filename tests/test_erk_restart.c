@@ -286,7 +286,7 @@ static PetscErrorCode GasRestart(SpamSim *sim, const SpamRunOptions *o, SpamTsAp
   if (arkode) PetscCall(SpamTSARKodeGetHistory(*ts, &h));
   PetscCall(TSDestroy(ts));
   PetscCall(SpamTSAppDestroy(app));
-  /* sim->X holds the checkpoint's state (and, here, the neighbour list its run built) */
+  /* sim->p.X holds the checkpoint's state (and, here, the neighbour list its run built) */
   PetscCall(SpamTSCreate(sim, o, app, ts));
   PetscCall(SpamTSSetVelocityScale(*ts, app, c0));
   PetscCall(TSSetTime(*ts, t));
@@ -339,8 +339,8 @@ static PetscErrorCode GasRun(PetscBool arkode, int restart, PetscBool force, Gas
       } else tr->deferred++;
     }
   }
-  PetscCall(VecDuplicate(sim.X, &tr->X));
-  PetscCall(VecCopy(sim.X, tr->X));
+  PetscCall(VecDuplicate(sim.p.X, &tr->X));
+  PetscCall(VecCopy(sim.p.X, tr->X));
   PetscCall(TSDestroy(&ts));
   PetscCall(SpamTSAppDestroy(&app));
   PetscCall(SpamSimDestroy(&sim));

@@ -122,10 +122,10 @@ static PetscErrorCode ApplyMoves(const Scene *s, SpamSim *sim)
   PetscScalar      *y;
 
   PetscFunctionBeginUser;
-  PetscCall(VecGetArray(sim->X, &y));
-  for (PetscInt i = 0; i < sim->n; i++)
-    for (int d = 0; d < s->dim; d++) y[(size_t)i * l->nvar + l->x + d] = PositionOf(s, sim->gid[i], d);
-  PetscCall(VecRestoreArray(sim->X, &y));
+  PetscCall(VecGetArray(sim->p.X, &y));
+  for (PetscInt i = 0; i < sim->p.n; i++)
+    for (int d = 0; d < s->dim; d++) y[(size_t)i * l->nvar + l->x + d] = PositionOf(s, sim->p.gid[i], d);
+  PetscCall(VecRestoreArray(sim->p.X, &y));
   PetscFunctionReturn(0);
 }
 
@@ -142,23 +142,23 @@ static PetscErrorCode LargestCell(const SpamSim *sim, const SpamDecomp *dec, con
   PetscInt64 run = 0;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMalloc1(sim->n + 1, &key));
-  for (PetscInt i = 0; i < sim->n; i++) key[i] = SpamDecompKey(dec, y + (size_t)i * sim->model.layout.nvar + sim->model.layout.x);
-  qsort(key, (size_t)sim->n, sizeof *key, CompareKeys);
+  PetscCall(PetscMalloc1(sim->p.n + 1, &key));
+  for (PetscInt i = 0; i < sim->p.n; i++) key[i] = SpamDecompKey(dec, y + (size_t)i * sim->model.layout.nvar + sim->model.layout.x);
+  qsort(key, (size_t)sim->p.n, sizeof *key, CompareKeys);
   *cmax = 0;
-  for (PetscInt i = 0; i < sim->n; i++) {
+  for (PetscInt i = 0; i < sim->p.n; i++) {
     run   = i > 0 && key[i] == key[i - 1] ? run + 1 : 1;
     *cmax = PetscMax(*cmax, run);
   }
   PetscCall(PetscFree(key));
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, cmax, 1, MPIU_INT64, MPI_MAX, sim->comm));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, cmax, 1, MPIU_INT64, MPI_MAX, sim->p.comm));
   PetscFunctionReturn(0);
 }
 
 /* Every gid 0 .. N-1 exactly once over the ranks. */
 static PetscErrorCode GidsOnce(Ctx *t, const SpamSim *sim, PetscInt N, const char *when)
 {
-  PetscMPIInt *cnt, *off, n = (PetscMPIInt)sim->n;
+  PetscMPIInt *cnt, *off, n = (PetscMPIInt)sim->p.n;
   PetscInt64  *all;
   PetscInt    *seen;
   long         missing = 0, twice = 0, outside = 0;
@@ -169,7 +169,7 @@ static PetscErrorCode GidsOnce(Ctx *t, const SpamSim *sim, PetscInt N, const cha
   off[0] = 0;
   for (int r = 1; r < t->size; r++) off[r] = off[r - 1] + cnt[r - 1];
   if (off[t->size - 1] + cnt[t->size - 1] == N) {
-    PetscCallMPI(MPI_Allgatherv(sim->gid, n, MPIU_INT64, all, cnt, off, MPIU_INT64, t->comm));
+    PetscCallMPI(MPI_Allgatherv(sim->p.gid, n, MPIU_INT64, all, cnt, off, MPIU_INT64, t->comm));
     PetscCall(PetscArrayzero(seen, N));
     for (PetscInt k = 0; k < N; k++) {
       if (all[k] < 0 || all[k] >= N) outside++;
@@ -195,25 +195,25 @@ static PetscErrorCode Consistent(Ctx *t, const Scene *s, const SpamSim *sim, con
   uint64_t           prev = 0;
 
   PetscFunctionBeginUser;
-  PetscCall(VecGetArrayRead(sim->X, &y));
-  for (PetscInt i = 0; i < sim->n; i++) {
+  PetscCall(VecGetArrayRead(sim->p.X, &y));
+  for (PetscInt i = 0; i < sim->p.n; i++) {
     const double  *p = y + (size_t)i * l->nvar;
-    const PetscInt64 g = sim->gid[i];
+    const PetscInt64 g = sim->p.gid[i];
     int            c[3];
     uint64_t       key;
     for (int d = 0; d < s->dim; d++) wrong_state += p[l->x + d] != PositionOf(s, g, d) || p[l->v + d] != VelocityOf(g, d);
-    wrong_mass += sim->f.m[i] != MassOf(g) || sim->f.minv[i] != 1.0 / MassOf(g);
+    wrong_mass += sim->pair.f.m[i] != MassOf(g) || sim->pair.f.minv[i] != 1.0 / MassOf(g);
     misplaced += SpamDecompOwner(dec, SpamDecompKey(dec, p + l->x)) != t->rank;
-    SpamCellOf(&dec->grid, &sim->box, p + l->x, c);
+    SpamCellOf(&dec->grid, &sim->geo.box, p + l->x, c);
     key = SpamCellHilbertKey(&dec->grid, c);
-    if (i > 0) unsorted += key < prev || (key == prev && g <= sim->gid[i - 1]);
+    if (i > 0) unsorted += key < prev || (key == prev && g <= sim->p.gid[i - 1]);
     prev = key;
-    if (i > 0) at_row += sim->gid[SpamSimAtRow(sim, i)] <= sim->gid[SpamSimAtRow(sim, i - 1)];
+    if (i > 0) at_row += sim->p.gid[SpamSimAtRow(sim, i)] <= sim->p.gid[SpamSimAtRow(sim, i - 1)];
   }
-  PetscCall(VecRestoreArrayRead(sim->X, &y));
-  PetscCall(VecGetLocalSize(sim->X, &lsize));
-  PetscCall(VecGetSize(sim->X, &gsize));
-  PetscCall(DMSwarmGetLocalSize(sim->swarm, &swarm_n));
+  PetscCall(VecRestoreArrayRead(sim->p.X, &y));
+  PetscCall(VecGetLocalSize(sim->p.X, &lsize));
+  PetscCall(VecGetSize(sim->p.X, &gsize));
+  PetscCall(DMSwarmGetLocalSize(sim->p.swarm, &swarm_n));
   {
     long bad[5] = {wrong_state, wrong_mass, misplaced, unsorted, at_row};
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, bad, 5, MPI_LONG, MPI_SUM, t->comm));
@@ -221,8 +221,8 @@ static PetscErrorCode Consistent(Ctx *t, const Scene *s, const SpamSim *sim, con
     PetscCall(Check(t, bad[2] == 0, "%s: every particle on the owner of its cell (%ld misplaced)", when, bad[2]));
     PetscCall(Check(t, bad[3] == 0 && bad[4] == 0, "%s: local order sorted by (cell, gid), at_row in gid order (%ld, %ld out of order)", when, bad[3], bad[4]));
   }
-  PetscCall(Check(t, swarm_n == sim->n && lsize == sim->n * l->nvar && gsize == s->N * l->nvar && sim->f.n == sim->n && sim->nl.n == sim->n && sim->nglobal == s->N,
-                  "%s: X, fields and list have the new local size (rank 0: swarm %ld, sim %ld, X %ld/%ld, fields %d, list %d)", when, (long)swarm_n, (long)sim->n, (long)lsize, (long)gsize, sim->f.n, sim->nl.n));
+  PetscCall(Check(t, swarm_n == sim->p.n && lsize == sim->p.n * l->nvar && gsize == s->N * l->nvar && sim->pair.f.n == sim->p.n && sim->pair.nl.n == sim->p.n && sim->p.nglobal == s->N,
+                  "%s: X, fields and list have the new local size (rank 0: swarm %ld, sim %ld, X %ld/%ld, fields %d, list %d)", when, (long)swarm_n, (long)sim->p.n, (long)lsize, (long)gsize, sim->pair.f.n, sim->pair.nl.n));
   PetscFunctionReturn(0);
 }
 
@@ -233,13 +233,13 @@ static PetscErrorCode Balanced(Ctx *t, const Scene *s, const SpamSim *sim, const
 {
   const PetscScalar *y;
   PetscInt64         cmax;
-  const double       mean = (double)s->N / t->size, dev = PetscAbsReal((double)sim->n - mean);
+  const double       mean = (double)s->N / t->size, dev = PetscAbsReal((double)sim->p.n - mean);
   double             maxdev;
 
   PetscFunctionBeginUser;
-  PetscCall(VecGetArrayRead(sim->X, &y));
+  PetscCall(VecGetArrayRead(sim->p.X, &y));
   PetscCall(LargestCell(sim, dec, y, &cmax));
-  PetscCall(VecRestoreArrayRead(sim->X, &y));
+  PetscCall(VecRestoreArrayRead(sim->p.X, &y));
   PetscCallMPI(MPI_Allreduce(&dev, &maxdev, 1, MPI_DOUBLE, MPI_MAX, t->comm));
   PetscCall(Check(t, dev <= (double)cmax + 1.0, "%s: counts within one cell of N/P = %.1f: largest deviation %.1f <= %ld + 1 (the fullest cell)", when, mean, maxdev, (long)cmax));
   PetscFunctionReturn(0);
@@ -248,7 +248,7 @@ static PetscErrorCode Balanced(Ctx *t, const Scene *s, const SpamSim *sim, const
 /* The imbalance the migration reports is max/mean of the counts now held. */
 static PetscErrorCode ImbalanceMeasured(Ctx *t, const Scene *s, const SpamSim *sim, const SpamMigrateInfo *info, const char *when)
 {
-  PetscInt64 n = sim->n, max;
+  PetscInt64 n = sim->p.n, max;
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Allreduce(&n, &max, 1, MPIU_INT64, MPI_MAX, t->comm));
@@ -263,13 +263,13 @@ static PetscErrorCode Traffic(Ctx *t, const SpamMigrateInfo *info, PetscInt n_be
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, sr, 2, MPIU_INT64, MPI_SUM, t->comm));
-  PetscCall(Check(t, sr[0] == info->moved && sr[1] == info->moved && info->resized == (sim->n != n_before), "%s: %ld moved, %ld sent, %ld received; resized flag as the count changed", when, (long)info->moved, (long)sr[0], (long)sr[1]));
+  PetscCall(Check(t, sr[0] == info->moved && sr[1] == info->moved && info->resized == (sim->p.n != n_before), "%s: %ld moved, %ld sent, %ld received; resized flag as the count changed", when, (long)info->moved, (long)sr[0], (long)sr[1]));
   PetscFunctionReturn(0);
 }
 
 static PetscErrorCode Migrate(Ctx *t, const Scene *s, SpamSim *sim, SpamDecomp *dec, SpamMigrateInfo *info, const char *when)
 {
-  const PetscInt n_before = sim->n;
+  const PetscInt n_before = sim->p.n;
 
   PetscFunctionBeginUser;
   PetscCall(SpamSimMigrate(sim, dec, info));
@@ -286,31 +286,31 @@ static PetscErrorCode Migrate(Ctx *t, const Scene *s, SpamSim *sim, SpamDecomp *
 static PetscErrorCode NonFinite(Ctx *t, const Scene *s, SpamSim *sim, SpamDecomp *dec)
 {
   const SpamLayout *l = &sim->model.layout;
-  PetscMPIInt       holder = sim->n > 0 ? t->rank : -1, last;
+  PetscMPIInt       holder = sim->p.n > 0 ? t->rank : -1, last;
   PetscInt64        planted = -1, agreed[2];
-  PetscInt          n_before = sim->n;
+  PetscInt          n_before = sim->p.n;
   SpamMigrateInfo   info;
   PetscScalar      *y;
   double            keep = 0.0;
 
   PetscFunctionBeginUser;
   PetscCallMPI(MPI_Allreduce(&holder, &last, 1, MPI_INT, MPI_MAX, t->comm));
-  PetscCall(VecGetArray(sim->X, &y));
+  PetscCall(VecGetArray(sim->p.X, &y));
   if (t->rank == last) {
-    planted = sim->gid[0];
+    planted = sim->p.gid[0];
     keep    = y[l->x];
     y[l->x] = NAN;
   }
-  PetscCall(VecRestoreArray(sim->X, &y));
+  PetscCall(VecRestoreArray(sim->p.X, &y));
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &planted, 1, MPIU_INT64, MPI_MAX, t->comm));
   PetscCall(SpamSimMigrate(sim, dec, &info));
   agreed[0] = info.bad;
   agreed[1] = -info.bad;
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, agreed, 2, MPIU_INT64, MPI_MAX, t->comm));
-  PetscCall(Check(t, info.bad == planted && agreed[0] == -agreed[1] && !info.changed && sim->n == n_before, "%dD non-finite x of gid %ld on rank %d only: every rank reports bad gid %ld, nothing changed", s->dim, (long)planted, last, (long)info.bad));
-  PetscCall(VecGetArray(sim->X, &y));
+  PetscCall(Check(t, info.bad == planted && agreed[0] == -agreed[1] && !info.changed && sim->p.n == n_before, "%dD non-finite x of gid %ld on rank %d only: every rank reports bad gid %ld, nothing changed", s->dim, (long)planted, last, (long)info.bad));
+  PetscCall(VecGetArray(sim->p.X, &y));
   if (t->rank == last) y[l->x] = keep;
-  PetscCall(VecRestoreArray(sim->X, &y));
+  PetscCall(VecRestoreArray(sim->p.X, &y));
   PetscFunctionReturn(0);
 }
 
@@ -324,7 +324,7 @@ static PetscErrorCode Corner(Ctx *t, int dim, int side)
 
   PetscFunctionBeginUser;
   PetscCall(MakeSim(t, &s, &sim));
-  PetscCall(SpamDecompCreate(&sim, 0.0, &dec));
+  PetscCall(SpamDecompCreate(sim.p.comm, &sim.geo.box, sim.model.kernel.h, 0.0, &dec));
   PetscCall(Check(t, dec.recut_above == SPAM_RECUT_ABOVE_DEFAULT, "%dD: recut threshold defaults to %.2f", dim, SPAM_RECUT_ABOVE_DEFAULT));
 
   PetscCall(PetscSNPrintf(when, sizeof when, "%dD N = %ld, first cut from rank 0", dim, (long)s.N));
@@ -390,12 +390,12 @@ static PetscErrorCode TimeRhs(const Ctx *t, SpamSim *sim, double *ydot, double *
   double       t0;
 
   PetscFunctionBeginUser;
-  PetscCall(VecGetArray(sim->X, &y));
+  PetscCall(VecGetArray(sim->p.X, &y));
   PetscCallMPI(MPI_Barrier(t->comm));
   t0 = MPI_Wtime();
   PetscCall(SpamRhs(sim, y, ydot, &bad));
   *seconds = MPI_Wtime() - t0;
-  PetscCall(VecRestoreArray(sim->X, &y));
+  PetscCall(VecRestoreArray(sim->p.X, &y));
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, seconds, 1, MPI_DOUBLE, MPI_MAX, t->comm));
   PetscFunctionReturn(0);
 }
@@ -407,10 +407,10 @@ static PetscErrorCode Jiggle(const Scene *s, SpamSim *sim, int round)
   PetscScalar      *y;
 
   PetscFunctionBeginUser;
-  PetscCall(VecGetArray(sim->X, &y));
-  for (PetscInt i = 0; i < sim->n; i++)
-    for (int d = 0; d < s->dim; d++) y[(size_t)i * l->nvar + l->x + d] += 0.5 * s->h * (2.0 * Uniform(sim->gid[i], d, round) - 1.0);
-  PetscCall(VecRestoreArray(sim->X, &y));
+  PetscCall(VecGetArray(sim->p.X, &y));
+  for (PetscInt i = 0; i < sim->p.n; i++)
+    for (int d = 0; d < s->dim; d++) y[(size_t)i * l->nvar + l->x + d] += 0.5 * s->h * (2.0 * Uniform(sim->p.gid[i], d, round) - 1.0);
+  PetscCall(VecRestoreArray(sim->p.X, &y));
   PetscFunctionReturn(0);
 }
 
@@ -436,13 +436,13 @@ static PetscErrorCode Timing(Ctx *t)
 
   PetscFunctionBeginUser;
   PetscCall(MakeSim(t, &s, &sim));
-  PetscCall(SpamDecompCreate(&sim, 0.0, &dec));
+  PetscCall(SpamDecompCreate(sim.p.comm, &sim.geo.box, sim.model.kernel.h, 0.0, &dec));
   PetscCall(TimeMigration(t, &sim, &dec, &first, &t_first));
   PetscCall(PetscMalloc1((size_t)(s.N / 2 + 1000) * sim.model.layout.nvar, &ydot));
   for (int k = 0; k < ROUNDS; k++) {
     PetscCall(Jiggle(&s, &sim, 10 + k));
     PetscCall(TimeMigration(t, &sim, &dec, &later, &t_mig[k]));
-    PetscCheck(sim.n <= s.N / 2 + 1000, PETSC_COMM_SELF, PETSC_ERR_PLIB, "rank %d holds %ld particles", t->rank, (long)sim.n);
+    PetscCheck(sim.p.n <= s.N / 2 + 1000, PETSC_COMM_SELF, PETSC_ERR_PLIB, "rank %d holds %ld particles", t->rank, (long)sim.p.n);
     PetscCall(TimeRhs(t, &sim, ydot, &t_rhs[k]));
     moved += later.moved;
   }

@@ -118,16 +118,16 @@ static PetscErrorCode SetValues(SpamSim *sim)
   PetscScalar      *y;
 
   PetscFunctionBeginUser;
-  PetscCall(VecGetArray(sim->X, &y));
-  for (PetscInt i = 0; i < sim->n; i++) {
+  PetscCall(VecGetArray(sim->p.X, &y));
+  for (PetscInt i = 0; i < sim->p.n; i++) {
     const PetscInt64 g = SpamSimRowOf(sim, i);
     double          *p = y + (size_t)i * l->nvar;
     if (l->rho >= 0) p[l->rho] = DensityOf(g);
-    else sim->f.rho[i] = DensityOf(g);
+    else sim->pair.f.rho[i] = DensityOf(g);
     if (l->e >= 0) p[l->e] = EnergyOf(g);
     for (int k = 0; l->s >= 0 && k < sim->model.dim * (sim->model.dim + 1) / 2; k++) p[l->s + k] = StressOf(g, k);
   }
-  PetscCall(VecRestoreArray(sim->X, &y));
+  PetscCall(VecRestoreArray(sim->p.X, &y));
   PetscFunctionReturn(0);
 }
 
@@ -158,7 +158,7 @@ static PetscErrorCode MakeSim(MPI_Comm comm, const Case *c, SpamSim *sim)
   PetscCall(SpamSimFill(sim, x, v, m));
   PetscCall(PetscFree3(x, v, m));
   PetscCall(SpamSimSetUp(sim));
-  PetscCall(SpamDecompCreate(sim, 0.0, &dec));
+  PetscCall(SpamDecompCreate(sim->p.comm, &sim->geo.box, sim->model.kernel.h, 0.0, &dec));
   PetscCall(SpamSimMigrate(sim, &dec, &info));
   PetscCheck(info.bad < 0, comm, PETSC_ERR_PLIB, "bad position in the test's particles");
   PetscCall(SpamDecompDestroy(&dec));
@@ -176,22 +176,22 @@ static PetscErrorCode LocalCopy(const Case *c, const SpamSim *sim, SpamSim *loc)
   double            *x, *v;
 
   PetscFunctionBeginUser;
-  PetscCall(SpamSimCreate(PETSC_COMM_SELF, &sim->model, &c->box, sim->n, sim->skin, loc));
-  PetscCall(PetscMalloc2((size_t)sim->n * c->dim + 1, &x, (size_t)sim->n * c->dim + 1, &v));
-  PetscCall(VecGetArrayRead(sim->X, &y));
-  for (PetscInt i = 0; i < sim->n; i++)
+  PetscCall(SpamSimCreate(PETSC_COMM_SELF, &sim->model, &c->box, sim->p.n, sim->pair.skin, loc));
+  PetscCall(PetscMalloc2((size_t)sim->p.n * c->dim + 1, &x, (size_t)sim->p.n * c->dim + 1, &v));
+  PetscCall(VecGetArrayRead(sim->p.X, &y));
+  for (PetscInt i = 0; i < sim->p.n; i++)
     for (int d = 0; d < c->dim; d++) {
       x[i * c->dim + d] = y[(size_t)i * l->nvar + l->x + d];
       v[i * c->dim + d] = y[(size_t)i * l->nvar + l->v + d];
     }
-  PetscCall(SpamSimFill(loc, x, v, sim->f.m));
+  PetscCall(SpamSimFill(loc, x, v, sim->pair.f.m));
   PetscCall(PetscFree2(x, v));
   PetscCall(SpamSimSetUp(loc));
-  PetscCall(VecGetArray(loc->X, &z));
-  PetscCall(PetscArraycpy(z, y, (size_t)sim->n * l->nvar));
-  PetscCall(VecRestoreArray(loc->X, &z));
-  PetscCall(VecRestoreArrayRead(sim->X, &y));
-  PetscCall(PetscArraycpy(loc->f.rho, sim->f.rho, sim->n));
+  PetscCall(VecGetArray(loc->p.X, &z));
+  PetscCall(PetscArraycpy(z, y, (size_t)sim->p.n * l->nvar));
+  PetscCall(VecRestoreArray(loc->p.X, &z));
+  PetscCall(VecRestoreArrayRead(sim->p.X, &y));
+  PetscCall(PetscArraycpy(loc->pair.f.rho, sim->pair.f.rho, sim->p.n));
   PetscFunctionReturn(0);
 }
 
@@ -210,7 +210,7 @@ static PetscErrorCode WriteOutputs(const Case *c, SpamSim *sim, const char *dir)
    * output with no open file */
   {
     PetscMPIInt rank;
-    PetscCallMPI(MPI_Comm_rank(sim->comm, &rank));
+    PetscCallMPI(MPI_Comm_rank(sim->p.comm, &rank));
     if (rank == 0) PetscCall(SpamOutputInit(dir, PETSC_TRUE, PETSC_TRUE, &opt, &o));
     else {
       PetscCall(PetscMemzero(&o, sizeof o));
@@ -219,15 +219,15 @@ static PetscErrorCode WriteOutputs(const Case *c, SpamSim *sim, const char *dir)
       o.opt          = opt;
       PetscCall(PetscStrncpy(o.dir, dir, sizeof o.dir));
     }
-    PetscCallMPI(MPI_Barrier(sim->comm)); /* the directory exists */
+    PetscCallMPI(MPI_Barrier(sim->p.comm)); /* the directory exists */
   }
   o.step = 17;
-  PetscCall(VecGetArrayRead(sim->X, &y));
+  PetscCall(VecGetArrayRead(sim->p.X, &y));
   PetscCall(SpamSnapshotWrite(&o, sim, y, 0.25, NULL));
   PetscCall(SpamSnapshotWrite(&o, sim, y, 0.5, NULL)); /* an index of two */
   PetscCall(SpamOutputPath(&o, "particles.csv", path, sizeof path));
   PetscCall(SpamParticlesCsvWrite(path, sim, y));
-  PetscCall(VecRestoreArrayRead(sim->X, &y));
+  PetscCall(VecRestoreArrayRead(sim->p.X, &y));
   PetscCall(PetscFree(o.snap_times));
   PetscCall(PetscFree(o.grid.times));
   PetscCall(PetscFree(o.files));
@@ -653,15 +653,15 @@ static PetscErrorCode CompareSums(Ctx *t, const Case *c, SpamSim *ref, SpamSim *
   PetscFunctionBeginUser;
   PetscCall(SpamGridSetUp(&c->box, c->spacing, &g));
   if (t->rank == 0) {
-    PetscCall(VecGetArrayRead(ref->X, &y));
+    PetscCall(VecGetArrayRead(ref->p.X, &y));
     PetscCall(SpamGridFieldsEvaluate(ref, y, &g, &fr));
     if (!c->solid) PetscCall(SpamEntropyGrid(ref, y, c->spacing, &Sref));
-    PetscCall(VecRestoreArrayRead(ref->X, &y));
+    PetscCall(VecRestoreArrayRead(ref->p.X, &y));
   }
-  PetscCall(VecGetArrayRead(sim->X, &y));
+  PetscCall(VecGetArrayRead(sim->p.X, &y));
   PetscCall(SpamGridFieldsEvaluate(sim, y, &g, &fp));
   if (!c->solid) PetscCall(SpamEntropyGrid(sim, y, c->spacing, &Sp));
-  PetscCall(VecRestoreArrayRead(sim->X, &y));
+  PetscCall(VecRestoreArrayRead(sim->p.X, &y));
   if (t->rank == 0) worst = GridExcess(&fr, &fp, g.npoints, tol);
   PetscCall(Check(t, t->rank || worst <= 1.0, "%s on %d ranks: grid fields (%d columns, %ld points) equal the one-rank sums within 2 K u = %.2e relative: worst at %.3f of the bound", c->name, t->size, fp.ncol, (long)g.npoints, tol, worst));
   if (!c->solid) {
@@ -673,11 +673,11 @@ static PetscErrorCode CompareSums(Ctx *t, const Case *c, SpamSim *ref, SpamSim *
   }
   if (t->size > 1) { /* controls: the sums of this rank's particles only */
     PetscCall(LocalCopy(c, sim, &loc));
-    PetscCall(VecGetArrayRead(loc.X, &y));
+    PetscCall(VecGetArrayRead(loc.p.X, &y));
     PetscCall(SpamGridFieldsEvaluate(&loc, y, &g, &fl));
     Sloc = 0.0;
     if (!c->solid) PetscCall(SpamEntropyGrid(&loc, y, c->spacing, &Sloc));
-    PetscCall(VecRestoreArrayRead(loc.X, &y));
+    PetscCall(VecRestoreArrayRead(loc.p.X, &y));
     PetscCallMPI(MPI_Allreduce(&Sloc, &Sparts, 1, MPI_DOUBLE, MPI_SUM, t->comm));
     if (t->rank == 0) worst_loc = GridExcess(&fr, &fl, g.npoints, tol);
     PetscCall(Check(t, t->rank || worst_loc > 1e6, "%s on %d ranks, control: rank 0's grid fields without the reduction are off by %.3g times the bound", c->name, t->size, worst_loc));
@@ -704,7 +704,7 @@ static PetscErrorCode UlpControl(Ctx *t, const Case *c, SpamSim *ref)
   if (t->rank == 0) {
     CasePath(t, c, "ulp", NULL, dir, sizeof dir);
     PetscCall(SpamOutputMakeDirs(dir));
-    PetscCall(VecGetArray(ref->X, &y));
+    PetscCall(VecGetArray(ref->p.X, &y));
     keep           = y[l->v];
     y[l->v]        = nextafter(keep, 2.0);
     CasePath(t, c, "ulp", "snap_00000.h5", pb, sizeof pb);
@@ -712,7 +712,7 @@ static PetscErrorCode UlpControl(Ctx *t, const Case *c, SpamSim *ref)
     CasePath(t, c, "ulp", "particles_00000.csv", pb, sizeof pb);
     PetscCall(SpamSnapshotCsvWrite(pb, ref, y, 0.25));
     y[l->v] = keep;
-    PetscCall(VecRestoreArray(ref->X, &y));
+    PetscCall(VecRestoreArray(ref->p.X, &y));
     CasePath(t, c, "ref", "snap_00000.h5", pa, sizeof pa);
     CasePath(t, c, "ulp", "snap_00000.h5", pb, sizeof pb);
     CompareH5(pa, pb, 0.0, &r);
@@ -773,11 +773,11 @@ static PetscErrorCode SnapshotFailure(Ctx *t)
   setenv("SPAM_TEST_FAIL_WRITE", "fail.h5:3", 1);
   {
     const PetscScalar *y;
-    PetscCall(VecGetArrayRead(sim.X, &y));
+    PetscCall(VecGetArrayRead(sim.p.X, &y));
     PetscCall(PetscPushErrorHandler(PetscReturnErrorHandler, NULL));
     ierr = SpamSnapshotHdf5Write(path, &sim, y, 0.0, 0);
     PetscCall(PetscPopErrorHandler());
-    PetscCall(VecRestoreArrayRead(sim.X, &y));
+    PetscCall(VecRestoreArrayRead(sim.p.X, &y));
   }
   unsetenv("SPAM_TEST_FAIL_WRITE");
   codes[0] = (int)ierr;
@@ -808,7 +808,7 @@ static PetscErrorCode RunCase(Ctx *t, Case *c)
   PetscCallMPI(MPI_Bcast(&b, (int)sizeof b, MPI_BYTE, 0, t->comm));
   PetscCall(MakeSim(t->comm, c, &sim));
   {
-    PetscInt n = sim.n, nmin;
+    PetscInt n = sim.p.n, nmin;
     PetscCallMPI(MPI_Allreduce(&n, &nmin, 1, MPIU_INT, MPI_MIN, t->comm));
     PetscCall(Check(t, nmin > 0, "%s on %d ranks: %ld particles distributed, every rank holds some (fewest %ld)", c->name, t->size, (long)c->N, (long)nmin));
   }
@@ -840,7 +840,7 @@ static PetscErrorCode TimeWrite(Ctx *t, PetscInt N)
   CaseBox(&c);
   PetscCall(MakeSim(t->comm, &c, &sim));
   PetscCall(PetscSNPrintf(path, sizeof path, "%s/timing.h5", t->dir));
-  PetscCall(VecGetArrayRead(sim.X, &y));
+  PetscCall(VecGetArrayRead(sim.p.X, &y));
   for (int k = 0; k < 3; k++) {
     double t0;
     PetscCallMPI(MPI_Barrier(t->comm));
@@ -861,7 +861,7 @@ static PetscErrorCode TimeWrite(Ctx *t, PetscInt N)
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &t0, 1, MPI_DOUBLE, MPI_MAX, t->comm));
     best_rows = PetscMin(best_rows, t0);
   }
-  PetscCall(VecRestoreArrayRead(sim.X, &y));
+  PetscCall(VecRestoreArrayRead(sim.p.X, &y));
   if (t->rank == 0)
     printf("timing: one HDF5 snapshot of %ld 3D particles on %d ranks: %.4f s (best of 3, slowest rank); of which moving the rows to their gid blocks %.4f s (%.2f of the write)\n", (long)c.N, t->size, best, best_rows, best_rows / best);
   PetscCall(SpamSimDestroy(&sim));

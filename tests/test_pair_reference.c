@@ -6,7 +6,7 @@
  * nothing here reads the neighbour list or the ghost slots. Masses m_j are per particle
  * (all 1, or uniform in [0.5, 1.5]); periodic directions use the minimum image here, in
  * the library either the minimum image or periodic images as ghost slots
- * (sim.periodic_ghosts).
+ * (sim.pair.periodic_ghosts).
  *
  * Isentropic gas, D = 1, 2, 3:
  *   rho_i = sum_j m_j w_ij (self term included),  q = P/rho^2 from the model's EOS,
@@ -246,7 +246,7 @@ typedef struct {
 static PetscErrorCode GasCompare(TestCount *c, const Spoil *spoil, SpamSim *sim, const char *label, int stage, int crossed, const double *mass, double *u, double *rho, double *q, double *a, double *S, double *ydot, double *xc)
 {
   const SpamModel *m = &sim->model;
-  const int        dim = m->dim, nv = m->layout.nvar, n = (int)sim->n;
+  const int        dim = m->dim, nv = m->layout.nvar, n = (int)sim->p.n;
   PetscScalar     *y;
   PetscInt         bad = -1, bad2 = -1, bad3 = -1;
   Worst            wa = {0, -1}, wr = {0, -1}, wacc = {0, -1};
@@ -254,9 +254,9 @@ static PetscErrorCode GasCompare(TestCount *c, const Spoil *spoil, SpamSim *sim,
   static const char *what[4] = {"E0 first", "E1 moves < skin/2", "E2 rebuild", "E3 rebuilt list kept"};
 
   PetscFunctionBeginUser;
-  PetscCall(VecGetArray(sim->X, &y));
-  Local(&sim->box, n, y, nv, u);
-  GasReference(spoil, m, &sim->box, n, u, mass, rho, q, a, S);
+  PetscCall(VecGetArray(sim->p.X, &y));
+  Local(&sim->geo.box, n, y, nv, u);
+  GasReference(spoil, m, &sim->geo.box, n, u, mass, rho, q, a, S);
   PetscCall(SpamRhs(sim, y, ydot, &bad));
   for (int i = 0; i < n; i++) {
     double d2 = 0.0;
@@ -268,7 +268,7 @@ static PetscErrorCode GasCompare(TestCount *c, const Spoil *spoil, SpamSim *sim,
     Track(&wa, sqrt(d2), S[i], i);
   }
   PetscCall(SpamDensitySummation(sim, y, &bad2));
-  for (int i = 0; i < n; i++) Track(&wr, fabs(sim->f.rho[i] - rho[i]), rho[i], i);
+  for (int i = 0; i < n; i++) Track(&wr, fabs(sim->pair.f.rho[i] - rho[i]), rho[i], i);
   if (stage == 3) { /* SpamAccel on a compact copy of the positions (stride dim) */
     for (int i = 0; i < n; i++)
       for (int d = 0; d < dim; d++) xc[i * dim + d] = y[(size_t)i * nv + m->layout.x + d];
@@ -276,13 +276,13 @@ static PetscErrorCode GasCompare(TestCount *c, const Spoil *spoil, SpamSim *sim,
     for (int i = 0; i < n; i++) {
       double d2 = 0.0;
       for (int d = 0; d < dim; d++) {
-        const double e = sim->f.acc[(size_t)i * dim + d] - a[i * dim + d];
+        const double e = sim->pair.f.acc[(size_t)i * dim + d] - a[i * dim + d];
         d2 += e * e;
       }
       Track(&wacc, sqrt(d2), S[i], i);
     }
   }
-  PetscCall(VecRestoreArray(sim->X, &y));
+  PetscCall(VecRestoreArray(sim->p.X, &y));
   char extra[64] = "";
   if (crossed) (void)snprintf(extra, sizeof extra, ", %d across a periodic face", crossed);
   TestCheck(c, bad < 0 && wa.worst <= TOL && xerr == 0.0, "%s %s%s: SpamRhs max |a - a_ref| / S_i = %.2e (particle %d; < 1e-12), dr/dt = v exactly (%.0e)", label, what[stage], extra, wa.worst, wa.at, xerr);
@@ -304,9 +304,9 @@ static PetscErrorCode MakeGasSim(const SpamBox *box, const char *kname, double h
   PetscCall(SpamModelIsentropeSetUp(box->dim, &kern, 1.0, gamma, 1.0 / gamma, &model));
   PetscCall(SpamSimCreate(PETSC_COMM_SELF, &model, box, n, 0.1 * h, sim));
   PetscCall(PetscOptionsGetInt(NULL, NULL, "-threads", &threads, NULL));
-  sim->threads         = (int)threads;
-  sim->periodic_ghosts = ghosts;
-  sim->reproducible    = reproducible;
+  sim->pair.threads         = (int)threads;
+  sim->pair.periodic_ghosts = ghosts;
+  sim->pair.reproducible    = reproducible;
   PetscCall(SpamSimFill(sim, x, v, mass));
   PetscCall(SpamSimSetUp(sim));
   PetscFunctionReturn(0);
@@ -327,36 +327,36 @@ static void Masses(PetscBool unequal, int n, double *mass, uint64_t *seed)
 static PetscErrorCode TraversalCompare(TestCount *c, SpamSim *sim, const GasOpts *o, const char *label, const double *x, const double *v, const double *mass, const double *S, double *ydot)
 {
   static const char *names[2] = {"half-list rows, ghost setting flipped", "canonical rows (-reproducible)"};
-  const int          n = (int)sim->n, dim = sim->model.dim;
+  const int          n = (int)sim->p.n, dim = sim->model.dim;
   double            *a0, *r0, *s0;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMalloc3((size_t)n * dim, &a0, n, &r0, n, &s0));
   for (int i = 0; i < n; i++) { /* sim's values and scales by input row */
     const PetscInt row = SpamSimRowOf(sim, i);
-    r0[row]            = sim->f.rho[i];
+    r0[row]            = sim->pair.f.rho[i];
     s0[row]            = S[i];
-    for (int d = 0; d < dim; d++) a0[(size_t)row * dim + d] = sim->f.acc[(size_t)i * dim + d];
+    for (int d = 0; d < dim; d++) a0[(size_t)row * dim + d] = sim->pair.f.acc[(size_t)i * dim + d];
   }
   for (int t = 0; t < 2; t++) {
     SpamSim      other;
     PetscScalar *y;
     PetscInt     bad = -1, bad2 = -1;
     Worst        wa = {0, -1}, wr = {0, -1};
-    PetscCall(MakeGasSim(&sim->box, o->kernel, sim->model.kernel.h, o->gamma, n, x, v, o->unequal ? mass : NULL, (PetscBool)(t == 0 ? !o->ghosts : o->ghosts), (PetscBool)(t == 1), &other));
-    PetscCall(VecGetArray(other.X, &y));
+    PetscCall(MakeGasSim(&sim->geo.box, o->kernel, sim->model.kernel.h, o->gamma, n, x, v, o->unequal ? mass : NULL, (PetscBool)(t == 0 ? !o->ghosts : o->ghosts), (PetscBool)(t == 1), &other));
+    PetscCall(VecGetArray(other.p.X, &y));
     PetscCall(SpamRhs(&other, y, ydot, &bad));
     PetscCall(SpamDensitySummation(&other, y, &bad2));
-    PetscCall(VecRestoreArray(other.X, &y));
+    PetscCall(VecRestoreArray(other.p.X, &y));
     for (int i = 0; i < n; i++) {
       const PetscInt row = SpamSimRowOf(&other, i);
       double         d2  = 0.0;
       for (int d = 0; d < dim; d++) {
-        const double e = other.f.acc[(size_t)i * dim + d] - a0[(size_t)row * dim + d];
+        const double e = other.pair.f.acc[(size_t)i * dim + d] - a0[(size_t)row * dim + d];
         d2 += e * e;
       }
       Track(&wa, sqrt(d2), s0[row], (int)row);
-      Track(&wr, fabs(other.f.rho[i] - r0[row]), r0[row], (int)row);
+      Track(&wr, fabs(other.pair.f.rho[i] - r0[row]), r0[row], (int)row);
     }
     TestCheck(c, bad < 0 && bad2 < 0 && wa.worst <= TOL && wr.worst <= TOL, "%s E0: %s against the case's traversal: max |a - a'| / S_i = %.2e, |rho - rho'| / rho = %.2e (< 1e-12)", label, names[t], wa.worst, wr.worst);
     PetscCall(SpamSimDestroy(&other));
@@ -401,17 +401,17 @@ static PetscErrorCode GasCase(TestCount *c, const Spoil *spoil, const GasGeometr
 
   PetscCall(GasCompare(c, spoil, &sim, label, 0, 0, mass, u, rho, q, a, S, ydot, xc));
   PetscCall(TraversalCompare(c, &sim, o, label, x, v, mass, S, ydot));
-  PetscCall(VecGetArray(sim.X, &y));
+  PetscCall(VecGetArray(sim.p.X, &y));
   crossed = SmallMove(&b, n, y, nv, skin, &seed);
-  PetscCall(VecRestoreArray(sim.X, &y));
+  PetscCall(VecRestoreArray(sim.p.X, &y));
   PetscCall(GasCompare(c, spoil, &sim, label, 1, crossed, mass, u, rho, q, a, S, ydot, xc));
-  PetscCall(VecGetArray(sim.X, &y));
+  PetscCall(VecGetArray(sim.p.X, &y));
   LargeMove(&b, n, y, nv, h, &seed);
-  PetscCall(VecRestoreArray(sim.X, &y));
+  PetscCall(VecRestoreArray(sim.p.X, &y));
   PetscCall(GasCompare(c, spoil, &sim, label, 2, 0, mass, u, rho, q, a, S, ydot, xc));
-  PetscCall(VecGetArray(sim.X, &y));
+  PetscCall(VecGetArray(sim.p.X, &y));
   crossed = SmallMove(&b, n, y, nv, skin, &seed);
-  PetscCall(VecRestoreArray(sim.X, &y));
+  PetscCall(VecRestoreArray(sim.p.X, &y));
   PetscCall(GasCompare(c, spoil, &sim, label, 3, crossed, mass, u, rho, q, a, S, ydot, xc));
 
   PetscCall(PetscFree2(ydot, xc));
@@ -765,15 +765,15 @@ static PetscErrorCode TensorCompare(TestCount *c, const Spoil *spoil, SpamSim *s
 {
   const SpamModel  *m = &sim->model;
   const SpamLayout *l = &m->layout;
-  const int         D = m->dim, nv = l->nvar, n = (int)sim->n, ns = l->s >= 0 ? D * (D + 1) / 2 : 0;
+  const int         D = m->dim, nv = l->nvar, n = (int)sim->p.n, ns = l->s >= 0 ? D * (D + 1) / 2 : 0;
   PetscScalar      *y;
   PetscInt          bad = -1;
   Worst             wx = {0, -1}, wv = {0, -1}, we = {0, -1}, wrd = {0, -1}, ws = {0, -1}, wr = {0, -1};
 
   PetscFunctionBeginUser;
-  PetscCall(VecGetArray(sim->X, &y));
-  Local(&sim->box, n, y, nv, u);
-  TensorReference(spoil, m, &sim->box, n, y, u, mass, w, ref, scl);
+  PetscCall(VecGetArray(sim->p.X, &y));
+  Local(&sim->geo.box, n, y, nv, u);
+  TensorReference(spoil, m, &sim->geo.box, n, y, u, mass, w, ref, scl);
   PetscCall(SpamRhs(sim, y, ydot, &bad));
   for (int i = 0; i < n; i++) {
     const double *f = ydot + (size_t)i * nv, *r = ref + (size_t)i * nv, *s = scl + (size_t)i * nv;
@@ -787,9 +787,9 @@ static PetscErrorCode TensorCompare(TestCount *c, const Spoil *spoil, SpamSim *s
     Track(&we, fabs(f[l->e] - r[l->e]), s[l->e], i);
     if (l->rho >= 0) Track(&wrd, fabs(f[l->rho] - r[l->rho]), s[l->rho], i);
     for (int k = 0; k < ns; k++) Track(&ws, fabs(f[l->s + k] - r[l->s + k]), s[l->s + k], i);
-    if (m->solid.density == SPAM_DENSITY_SUMMATION) Track(&wr, fabs(sim->f.rho[i] - w->rho[i]), w->rho[i], i);
+    if (m->solid.density == SPAM_DENSITY_SUMMATION) Track(&wr, fabs(sim->pair.f.rho[i] - w->rho[i]), w->rho[i], i);
   }
-  PetscCall(VecRestoreArray(sim->X, &y));
+  PetscCall(VecRestoreArray(sim->p.X, &y));
   TestCheck(c, bad < 0 && wx.worst <= TOL, "%s %s: dr/dt (%s) max |diff| / scale = %.2e (< 1e-12)", label, stage, SpamCoordsModeNames[m->solid.coords], wx.worst);
   TestCheck(c, bad < 0 && wv.worst <= TOL, "%s %s: dv/dt max |a - a_ref| / S_i = %.2e (particle %d; < 1e-12)", label, stage, wv.worst, wv.at);
   TestCheck(c, bad < 0 && we.worst <= TOL, "%s %s: de/dt max |diff| / sum|terms| = %.2e (particle %d; < 1e-12)", label, stage, we.worst, we.at);
@@ -949,24 +949,24 @@ static PetscErrorCode TensorCase(TestCount *c, const Spoil *spoil, const GasGeom
     TestCheck(c, w.nbody == 2, "%s: the reference finds %d bodies (2)", label, w.nbody);
   }
   PetscCall(SpamSimCreate(PETSC_COMM_SELF, &m, &b, n, skin, &sim));
-  sim.periodic_ghosts = o->ghosts;
+  sim.pair.periodic_ghosts = o->ghosts;
   PetscCall(SpamSimFill(&sim, x, v, o->unequal ? mass : NULL));
   PetscCall(SpamSimSetUp(&sim));
   PetscCall(sim.model.setup(&sim));
   nv = sim.model.layout.nvar;
-  PetscCall(VecGetArray(sim.X, &y));
+  PetscCall(VecGetArray(sim.p.X, &y));
   TensorState(&sim.model, n, y, &seed);
-  PetscCall(VecRestoreArray(sim.X, &y));
+  PetscCall(VecRestoreArray(sim.p.X, &y));
 
   PetscCall(TensorCompare(c, spoil, &sim, label, "E0 first", mass, u, &w, ref, scl, ydot));
-  PetscCall(VecGetArray(sim.X, &y));
-  crossed = SmallMove(&sim.box, n, y, nv, skin, &seed);
-  PetscCall(VecRestoreArray(sim.X, &y));
+  PetscCall(VecGetArray(sim.p.X, &y));
+  crossed = SmallMove(&sim.geo.box, n, y, nv, skin, &seed);
+  PetscCall(VecRestoreArray(sim.p.X, &y));
   (void)snprintf(stage, sizeof stage, "E1 moves < skin/2, %d across a face", crossed);
   PetscCall(TensorCompare(c, spoil, &sim, label, stage, mass, u, &w, ref, scl, ydot));
-  PetscCall(VecGetArray(sim.X, &y));
-  LargeMove(&sim.box, n, y, nv, 0.5 * h, &seed);
-  PetscCall(VecRestoreArray(sim.X, &y));
+  PetscCall(VecGetArray(sim.p.X, &y));
+  LargeMove(&sim.geo.box, n, y, nv, 0.5 * h, &seed);
+  PetscCall(VecRestoreArray(sim.p.X, &y));
   PetscCall(TensorCompare(c, spoil, &sim, label, "E2 rebuild", mass, u, &w, ref, scl, ydot));
 
   PetscCall(PetscFree4(u, ref, scl, ydot));

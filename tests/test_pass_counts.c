@@ -3,11 +3,13 @@
  * path (a Taylor-Green-like gas: periodic square lattice, summed density, gamma = 2,
  * Newtonian viscosity, as options/taylor-green.opts) and the isentropic gas (the
  * expansion's model), each with the periodic directions made by the minimum image and by
- * ghost images, and the gas also under -reproducible. K evaluations of SpamRhs at moving
- * positions (one of them far enough for a rebuild) must add K to the list's update count
- * and, where there are ghost slots, K to its placement count: a pass that updates the
- * list again (the summed density of the tensor path did) or places the ghosts twice
- * fails. */
+ * ghost images, and the gas also under -reproducible; on one rank and, under mpiexec,
+ * with the particles distributed over the ranks (every rank then has ghost slots: the
+ * halo). K evaluations of SpamRhs at moving positions (one of them far enough for a
+ * rebuild) must add K to the list's update count and, where there are ghost slots, K to
+ * its placement count, and the RHS's own counters (summary.json reports them) must say
+ * the same: a pass that updates the list again (the summed density of the tensor path
+ * did) or places the ghosts twice fails. */
 #include <spam/physics.h>
 #include <spam/scene.h>
 #include "test_util.h"
@@ -60,37 +62,44 @@ static PetscErrorCode RunCase(TestCount *tc, const Case *c)
   uint64_t    seed = 17;
   PetscScalar *y;
   long         u0, p0, b0;
+  PetscMPIInt  rank, size;
 
   PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_rank(PETSC_COMM_WORLD, &rank));
+  PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &size));
   Lattice(x, &seed);
   for (int i = 0; i < 2 * n; i++) v[i] = 0.01 * (TestUniform(&seed) - 0.5);
   PetscCall(MakeModel(c, &model));
-  PetscCall(SpamSimCreate(PETSC_COMM_SELF, &model, &box, n, 0.1 * H, &sim));
-  sim.periodic_ghosts = c->ghosts;
-  sim.reproducible    = c->reproducible;
+  /* rank 0 holds the scene until the distribution, as scene.c does */
+  PetscCall(SpamSimCreate(PETSC_COMM_WORLD, &model, &box, rank ? 0 : n, 0.1 * H, &sim));
+  sim.pair.periodic_ghosts = c->ghosts;
+  sim.pair.reproducible    = c->reproducible;
   PetscCall(SpamSimFill(&sim, x, v, NULL));
   PetscCall(SpamSimSetUp(&sim));
   if (sim.model.setup) PetscCall(sim.model.setup(&sim));
-  PetscCall(PetscMalloc1((size_t)n * sim.model.layout.nvar, &ydot));
-  u0 = sim.nl.updates;
-  p0 = sim.nl.placements;
-  b0 = sim.nl.builds;
-  PetscCall(VecGetArray(sim.X, &y));
+  PetscCall(SpamSimDistribute(&sim));
+  PetscCall(PetscMalloc1((size_t)sim.p.n * sim.model.layout.nvar + 1, &ydot));
+  u0 = sim.pair.nl.updates;
+  p0 = sim.pair.nl.placements;
+  b0 = sim.pair.nl.builds;
+  PetscCall(VecGetArray(sim.p.X, &y));
   for (int e = 0; e < K; e++) {
     const SpamLayout *l = &sim.model.layout;
     PetscInt          bad;
     /* moves of a twentieth of the skin, and at e = 3 of the whole skin: a rebuild */
-    for (int i = 0; i < n; i++)
+    for (PetscInt i = 0; i < sim.p.n; i++)
       for (int d = 0; d < 2; d++) y[(size_t)i * l->nvar + l->x + d] += (e == 3 ? 1.0 : 0.05) * 0.1 * H * (TestUniform(&seed) - 0.5);
     PetscCall(SpamRhs(&sim, y, ydot, &bad));
     TestCheck(tc, bad < 0, "%s: evaluation %d finite", c->name, e);
   }
-  PetscCall(VecRestoreArray(sim.X, &y));
+  PetscCall(VecRestoreArray(sim.p.X, &y));
   {
-    const long du = sim.nl.updates - u0, dp = sim.nl.placements - p0, db = sim.nl.builds - b0, want = c->ghosts || c->reproducible ? K : 0;
-    TestCheck(tc, du == K, "%s: %ld list updates for %d right-hand sides (one each)", c->name, du, K);
-    TestCheck(tc, dp == want, "%s: %ld placements of the ghost positions for %d right-hand sides (%ld: %s)", c->name, dp, K, want, want ? "one each" : "no ghost slots");
-    TestCheck(tc, db >= 1 && db < K, "%s: %ld list builds among them (the large move rebuilds, the small ones keep the list)", c->name, db);
+    const SpamRhsStats *st = &sim.run.stats;
+    const long du = sim.pair.nl.updates - u0, dp = sim.pair.nl.placements - p0, db = sim.pair.nl.builds - b0, want = c->ghosts || c->reproducible || size > 1 ? K : 0;
+    TestCheck(tc, du == K, "%s, rank %d of %d: %ld list updates for %d right-hand sides (one each)", c->name, rank, size, du, K);
+    TestCheck(tc, dp == want, "%s, rank %d of %d: %ld placements of the ghost positions (the halo's exchange on ranks) for %d right-hand sides (%ld: %s)", c->name, rank, size, dp, K, want, want ? "one each" : "no ghost slots");
+    TestCheck(tc, db >= 1 && db < K, "%s, rank %d of %d: %ld list builds among them (the large move rebuilds, the small ones keep the list)", c->name, rank, size, db);
+    TestCheck(tc, st->counted == K && st->list_updates == du && st->ghost_placements == dp, "%s, rank %d of %d: the RHS counted %ld evaluations, %ld list updates, %ld ghost placements", c->name, rank, size, st->counted, st->list_updates, st->ghost_placements);
   }
   PetscCall(PetscFree(ydot));
   PetscCall(SpamSimDestroy(&sim));

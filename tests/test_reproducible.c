@@ -92,8 +92,8 @@ static PetscErrorCode MakeSim(MPI_Comm comm, const Case *c, PetscBool reproducib
   PetscCall(SpamKernelCreate(c->kernel, c->dim, c->h, &kern));
   PetscCall(SpamModelIsentropeSetUp(c->dim, &kern, 1.0, c->gamma, 1.0 / c->gamma, &model));
   PetscCall(SpamSimCreate(comm, &model, &box, n, 0.1 * c->h, sim));
-  sim->threads      = threads;
-  sim->reproducible = reproducible;
+  sim->pair.threads      = threads;
+  sim->pair.reproducible = reproducible;
   PetscCall(PetscMalloc4((size_t)n * c->dim + 1, &x, (size_t)n * c->dim + 1, &v, n + 1, &m, n + 1, &row_of));
   for (PetscInt i = 0; i < n; i++) {
     const PetscInt64 g = reversed ? n - 1 - i : i;
@@ -104,7 +104,7 @@ static PetscErrorCode MakeSim(MPI_Comm comm, const Case *c, PetscBool reproducib
     }
     m[i] = MassOf(c, g);
   }
-  if (reversed) PetscCall(SpamSimSetRows(sim, row_of));
+  if (reversed) PetscCall(SpamSwarmSetRows(&sim->p, row_of));
   PetscCall(SpamSimFill(sim, x, v, m));
   PetscCall(PetscFree4(x, v, m, row_of));
   PetscCall(SpamSimSetUp(sim));
@@ -112,22 +112,22 @@ static PetscErrorCode MakeSim(MPI_Comm comm, const Case *c, PetscBool reproducib
 }
 
 /* The list made anew with the other ranks' particles as remote ghosts (halo.h). The
- * program's set-up attaches its decomposition to the sim (sim->dec), which sets the halo;
+ * program's set-up attaches its decomposition to the sim (sim->geo.dec), which sets the halo;
  * this test distributes with a decomposition of its own, so it sets the halo here. */
 static PetscErrorCode UseHalo(SpamSim *sim)
 {
   const PetscBool all[3] = {PETSC_TRUE, PETSC_TRUE, PETSC_TRUE};
-  const long      builds = sim->nl.builds;
+  const long      builds = sim->pair.nl.builds;
 
   PetscFunctionBeginUser;
-  PetscCall(SpamNeighboursDestroy(&sim->nl));
-  PetscCall(SpamNeighboursCreate((int)sim->n, &sim->box, sim->model.kernel.h, sim->skin, &sim->nl));
-  if (sim->periodic_ghosts || sim->reproducible) PetscCall(SpamNeighboursSetPeriodicGhosts(&sim->nl, &sim->box, all));
-  if (sim->reproducible) PetscCall(SpamNeighboursSetCanonical(&sim->nl, sim->gid));
-  PetscCall(SpamNeighboursSetComm(&sim->nl, sim->comm));
-  PetscCall(SpamNeighboursSetThreads(&sim->nl, sim->threads));
+  PetscCall(SpamNeighboursDestroy(&sim->pair.nl));
+  PetscCall(SpamNeighboursCreate((int)sim->p.n, &sim->geo.box, sim->model.kernel.h, sim->pair.skin, &sim->pair.nl));
+  if (sim->pair.periodic_ghosts || sim->pair.reproducible) PetscCall(SpamNeighboursSetPeriodicGhosts(&sim->pair.nl, &sim->geo.box, all));
+  if (sim->pair.reproducible) PetscCall(SpamNeighboursSetCanonical(&sim->pair.nl, sim->p.gid));
+  PetscCall(SpamNeighboursSetComm(&sim->pair.nl, sim->p.comm));
+  PetscCall(SpamNeighboursSetThreads(&sim->pair.nl, sim->pair.threads));
   PetscCall(SpamSimBuildList(sim));
-  sim->nl.builds = builds + 1; /* the count goes on: what is kept per build (ghost masses) is made again */
+  sim->pair.nl.builds = builds + 1; /* the count goes on: what is kept per build (ghost masses) is made again */
   PetscFunctionReturn(0);
 }
 
@@ -140,29 +140,29 @@ static PetscErrorCode Evaluate(SpamSim *sim, double *res)
   PetscScalar      *y;
   double           *ydot, *mine, *all = NULL;
   PetscInt          bad;
-  PetscMPIInt       rank, size, n = (PetscMPIInt)sim->n, *cnt = NULL, *off = NULL;
+  PetscMPIInt       rank, size, n = (PetscMPIInt)sim->p.n, *cnt = NULL, *off = NULL;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(sim->comm, &rank));
-  PetscCallMPI(MPI_Comm_size(sim->comm, &size));
-  PetscCall(PetscMalloc2((size_t)sim->n * l->nvar + 1, &ydot, (size_t)sim->n * w + 1, &mine));
-  PetscCall(VecGetArray(sim->X, &y));
+  PetscCallMPI(MPI_Comm_rank(sim->p.comm, &rank));
+  PetscCallMPI(MPI_Comm_size(sim->p.comm, &size));
+  PetscCall(PetscMalloc2((size_t)sim->p.n * l->nvar + 1, &ydot, (size_t)sim->p.n * w + 1, &mine));
+  PetscCall(VecGetArray(sim->p.X, &y));
   PetscCall(SpamRhs(sim, y, ydot, &bad));
-  PetscCall(VecRestoreArray(sim->X, &y));
+  PetscCall(VecRestoreArray(sim->p.X, &y));
   PetscCheck(bad < 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "bad particle %" PetscInt_FMT, bad);
-  for (PetscInt i = 0; i < sim->n; i++) {
-    mine[i * w]     = (double)sim->gid[i];
-    mine[i * w + 1] = sim->model.density_free ? 0.0 : sim->f.rho[i]; /* gamma = 2: no density pass */
+  for (PetscInt i = 0; i < sim->p.n; i++) {
+    mine[i * w]     = (double)sim->p.gid[i];
+    mine[i * w + 1] = sim->model.density_free ? 0.0 : sim->pair.f.rho[i]; /* gamma = 2: no density pass */
     for (int d = 0; d < dim; d++) mine[i * w + 2 + d] = ydot[(size_t)i * l->nvar + l->v + d];
   }
-  if (rank == 0) PetscCall(PetscMalloc3(size, &cnt, size, &off, (size_t)sim->nglobal * w + 1, &all));
+  if (rank == 0) PetscCall(PetscMalloc3(size, &cnt, size, &off, (size_t)sim->p.nglobal * w + 1, &all));
   n *= w;
-  PetscCallMPI(MPI_Gather(&n, 1, MPI_INT, cnt, 1, MPI_INT, 0, sim->comm));
+  PetscCallMPI(MPI_Gather(&n, 1, MPI_INT, cnt, 1, MPI_INT, 0, sim->p.comm));
   if (rank == 0)
     for (int r = 0; r < size; r++) off[r] = r ? off[r - 1] + cnt[r - 1] : 0;
-  PetscCallMPI(MPI_Gatherv(mine, n, MPI_DOUBLE, all, cnt, off, MPI_DOUBLE, 0, sim->comm));
+  PetscCallMPI(MPI_Gatherv(mine, n, MPI_DOUBLE, all, cnt, off, MPI_DOUBLE, 0, sim->p.comm));
   if (rank == 0) {
-    for (PetscInt k = 0; k < sim->nglobal; k++) {
+    for (PetscInt k = 0; k < sim->p.nglobal; k++) {
       const PetscInt64 g = (PetscInt64)all[k * w];
       for (int c = 0; c < 1 + dim; c++) res[g * (1 + dim) + c] = all[k * w + 1 + c];
     }
@@ -194,7 +194,7 @@ static long DiffBits(const double *a, const double *b, PetscInt N, int dim, doub
 /* Every canonical row in strictly increasing key order (on every rank). */
 static PetscErrorCode RowsSorted(Ctx *t, const Case *c, const SpamSim *sim)
 {
-  const SpamNeighbours *nl   = &sim->nl;
+  const SpamNeighbours *nl   = &sim->pair.nl;
   long                  bad  = 0, rows = 0;
 
   PetscFunctionBeginUser;
@@ -221,9 +221,9 @@ static PetscErrorCode RowsSorted(Ctx *t, const Case *c, const SpamSim *sim)
  * brho[i] and bacc[i * dim + d] by local index; dq over the slots. */
 static void RowBound(const SpamSim *s, int i, const double *dq, double *brho, double *bacc)
 {
-  const SpamNeighbours *nl = &s->nl;
+  const SpamNeighbours *nl = &s->pair.nl;
   const SpamKernel     *k  = &s->model.kernel;
-  const SpamFields     *f  = &s->f;
+  const SpamFields     *f  = &s->pair.f;
   const int             dim = s->model.dim;
   const double          u = 0.5 * DBL_EPSILON;
   double                sabs = f->m[i] * k->wnorm, sep = 0.0, sacc[3] = {0, 0, 0}, sq[3] = {0, 0, 0}, sdx = 0.0;
@@ -235,7 +235,7 @@ static void RowBound(const SpamSim *s, int i, const double *dq, double *brho, do
     for (int d = 0; d < dim; d++) {
       dx[d] = nl->u[d][i] - nl->u[d][j];
       r2 += dx[d] * dx[d];
-      delta = PetscMax(delta, 2.0 * u * (fabs(nl->u[d][i]) + fabs(nl->u[d][j]) + s->box.len[d]));
+      delta = PetscMax(delta, 2.0 * u * (fabs(nl->u[d][i]) + fabs(nl->u[d][j]) + s->geo.box.len[d]));
     }
     if (r2 >= k->h2) continue;
     const double r = sqrt(r2), sc = r * k->hinv, qq = f->q[i] + f->q[j];
@@ -256,7 +256,7 @@ static void RowBound(const SpamSim *s, int i, const double *dq, double *brho, do
 
 static PetscErrorCode DeriveBound(const SpamSim *s, double *brho, double *bacc)
 {
-  const SpamNeighbours *nl = &s->nl;
+  const SpamNeighbours *nl = &s->pair.nl;
   const int             n = nl->n, dim = s->model.dim;
   const double          u = 0.5 * DBL_EPSILON, gam = s->model.eos.gamma;
   double               *dq;
@@ -266,7 +266,7 @@ static PetscErrorCode DeriveBound(const SpamSim *s, double *brho, double *bacc)
   for (int i = 0; i < n; i++) {
     RowBound(s, i, NULL, &brho[i], NULL);
     /* gamma = 2: q = kappa for every particle, no density pass (rho holds nothing) */
-    dq[i] = s->model.density_free ? 0.0 : fabs(gam - 2.0) * s->f.q[i] * brho[i] / s->f.rho[i] * 1.01 + 4.0 * u * s->f.q[i];
+    dq[i] = s->model.density_free ? 0.0 : fabs(gam - 2.0) * s->pair.f.q[i] * brho[i] / s->pair.f.rho[i] * 1.01 + 4.0 * u * s->pair.f.q[i];
   }
   for (int q = 0; q < nl->ghosts.n; q++) dq[n + q] = dq[nl->ghosts.src[q]]; /* one rank: every ghost is an image */
   for (int i = 0; i < n; i++) RowBound(s, i, dq, NULL, bacc + (size_t)i * dim);
@@ -288,7 +288,7 @@ static PetscErrorCode CheckCase(Ctx *t, const Case *c)
     SpamDecomp      dec;
     SpamMigrateInfo info;
     PetscCall(MakeSim(t->comm, c, (PetscBool)(mode == 0), PETSC_FALSE, 1, &sim));
-    PetscCall(SpamDecompCreate(&sim, 0.0, &dec));
+    PetscCall(SpamDecompCreate(sim.p.comm, &sim.geo.box, sim.model.kernel.h, 0.0, &dec));
     PetscCall(SpamSimMigrate(&sim, &dec, &info));
     PetscCall(UseHalo(&sim));
     PetscCall(Evaluate(&sim, mode == 0 ? dist_rep : dist_def));
@@ -310,7 +310,7 @@ static PetscErrorCode CheckCase(Ctx *t, const Case *c)
     PetscCall(PetscMalloc2(N, &brho, (size_t)N * c->dim, &bacc));
     PetscCall(DeriveBound(&rep, brho, bacc));
     for (PetscInt i = 0; i < N; i++) { /* the bound by local index, the values by gid */
-      const PetscInt64 g = rep.gid[i];
+      const PetscInt64 g = rep.p.gid[i];
       for (int k = 0; k < w; k++) {
         const double diff = fabs(ref_rep[g * w + k] - ref_def[g * w + k]), b = k == 0 ? brho[i] : bacc[(size_t)i * c->dim + k - 1];
         over += !(diff <= b);

@@ -9,11 +9,11 @@ static double DensityRateBruteForce(const SpamSim *sim, const double *y, int i)
   const SpamLayout *l = &sim->model.layout;
   const int         dim = sim->model.dim, nv = l->nvar;
   double            rate = 0.0;
-  for (int j = 0; j < sim->n; j++) {
+  for (int j = 0; j < sim->p.n; j++) {
     double dx[3], r2 = 0.0, dv = 0.0;
     if (j == i) continue;
     for (int d = 0; d < dim; d++) {
-      dx[d] = SpamBoxMinImage(SpamBoxLocal(&sim->box, d, y[i * nv + d]) - SpamBoxLocal(&sim->box, d, y[j * nv + d]), sim->box.len[d], 0.5 * sim->box.len[d], sim->box.periodic[d]);
+      dx[d] = SpamBoxMinImage(SpamBoxLocal(&sim->geo.box, d, y[i * nv + d]) - SpamBoxLocal(&sim->geo.box, d, y[j * nv + d]), sim->geo.box.len[d], 0.5 * sim->geo.box.len[d], sim->geo.box.periodic[d]);
       r2 += dx[d] * dx[d];
     }
     const double g = SpamKernelDWOverR(&sim->model.kernel, r2);
@@ -42,12 +42,12 @@ static PetscErrorCode Case(TestCount *c, int dim, double gamma, PetscBool period
   }
   PetscCall(TestMakeSim(&b, h, gamma, n, x, v, &sim));
   PetscCall(PetscMalloc1((size_t)n * 2 * dim, &ydot));
-  PetscCall(VecGetArrayRead(sim.X, &y));
+  PetscCall(VecGetArrayRead(sim.p.X, &y));
   PetscCall(SpamDensitySummation(&sim, y, &bad));
   PetscCall(SpamRhs(&sim, y, ydot, &bad));
   if (sim.model.density_free) PetscCall(SpamDensitySummation(&sim, y, &bad));
   for (int i = 0; i < n; i++) {
-    const double dedrho = sim.model.eos.kappa * pow(sim.f.rho[i], gamma - 2.0); /* P/rho^2 */
+    const double dedrho = sim.model.eos.kappa * pow(sim.pair.f.rho[i], gamma - 2.0); /* P/rho^2 */
     const double rate   = dedrho * DensityRateBruteForce(&sim, y, i);
     for (int d = 0; d < dim; d++) {
       const double a = ydot[i * 2 * dim + dim + d];
@@ -59,7 +59,7 @@ static PetscErrorCode Case(TestCount *c, int dim, double gamma, PetscBool period
     work += sim.model.mass * rate;
     scale += sim.model.mass * fabs(rate);
   }
-  PetscCall(VecRestoreArrayRead(sim.X, &y));
+  PetscCall(VecRestoreArrayRead(sim.p.X, &y));
   const double pnorm = sqrt(p[0] * p[0] + p[1] * p[1] + p[2] * p[2]);
   TestCheck(c, pnorm < 1e-13 * pabs, "D=%d gamma=%g %s: |sum m a| / sum m|a| = %.2e (< 1e-13)", dim, gamma, periodic ? "periodic" : "open", pnorm / pabs);
   TestCheck(c, fabs(power + work) < 1e-12 * scale, "D=%d gamma=%g %s: dE/dt = %.2e relative to its terms (< 1e-12)", dim, gamma, periodic ? "periodic" : "open", fabs(power + work) / scale);

@@ -56,10 +56,10 @@ static PetscErrorCode Evaluate(SpamSim *sim, Rates *r)
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(r, sizeof *r));
-  PetscCall(PetscMalloc1((size_t)sim->n * l->nvar, &f));
-  PetscCall(VecGetArrayRead(sim->X, &y));
+  PetscCall(PetscMalloc1((size_t)sim->p.n * l->nvar, &f));
+  PetscCall(VecGetArrayRead(sim->p.X, &y));
   PetscCall(SpamRhs(sim, y, f, &bad));
-  for (PetscInt i = 0; i < sim->n; i++) {
+  for (PetscInt i = 0; i < sim->p.n; i++) {
     const double *p = y + (size_t)i * l->nvar, *q = f + (size_t)i * l->nvar;
     const double  xv = q[l->x] * p[l->v + 1] - q[l->x + 1] * p[l->v], ra = p[l->x] * q[l->v + 1] - p[l->x + 1] * q[l->v];
     for (int d = 0; d < 2; d++) {
@@ -73,7 +73,7 @@ static PetscErrorCode Evaluate(SpamSim *sim, Rates *r)
     r->l += xv + ra;
     r->scale_l += fabs(xv) + fabs(ra);
   }
-  PetscCall(VecRestoreArrayRead(sim->X, &y));
+  PetscCall(VecRestoreArrayRead(sim->p.X, &y));
   PetscCall(PetscFree(f));
   PetscFunctionReturn(0);
 }

@@ -96,9 +96,9 @@ static PetscErrorCode Turn(Ctx *t, SpamSim *sim, double angle)
 
   PetscFunctionBeginUser;
   t->angle += angle;
-  PetscCall(VecGetArray(sim->X, &y));
-  for (PetscInt i = 0; i < sim->n; i++) PositionOf(t, sim->gid[i], y + (size_t)i * l->nvar + l->x);
-  PetscCall(VecRestoreArray(sim->X, &y));
+  PetscCall(VecGetArray(sim->p.X, &y));
+  for (PetscInt i = 0; i < sim->p.n; i++) PositionOf(t, sim->p.gid[i], y + (size_t)i * l->nvar + l->x);
+  PetscCall(VecRestoreArray(sim->p.X, &y));
   PetscFunctionReturn(0);
 }
 
@@ -128,9 +128,9 @@ static PetscErrorCode CheckCount(Ctx *t, const SpamSim *sim, const char *when)
   double                    c[2] = {0, 0}; /* bonds, remote entries */
 
   PetscFunctionBeginUser;
-  for (PetscInt i = 0; i < sim->n; i++)
+  for (PetscInt i = 0; i < sim->p.n; i++)
     for (int b = ps->bond_start[i]; b < ps->bond_start[i + 1]; b++) {
-      const PetscBool remote = (PetscBool)(ps->bond_nbr[b] >= sim->n);
+      const PetscBool remote = (PetscBool)(ps->bond_nbr[b] >= sim->p.n);
       c[0] += remote ? 0.5 : 1.0;
       c[1] += remote;
     }
@@ -148,13 +148,13 @@ static PetscErrorCode CheckForces(Ctx *t, SpamSim *sim, const char *when)
   PetscInt           bad;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMalloc1((size_t)sim->n * l->nvar + 1, &ydot));
-  PetscCall(VecGetArrayRead(sim->X, &y));
+  PetscCall(PetscMalloc1((size_t)sim->p.n * l->nvar + 1, &ydot));
+  PetscCall(VecGetArrayRead(sim->p.X, &y));
   PetscCall(SpamRhs(sim, y, ydot, &bad));
-  PetscCall(VecRestoreArrayRead(sim->X, &y));
-  for (PetscInt i = 0; i < sim->n; i++) {
+  PetscCall(VecRestoreArrayRead(sim->p.X, &y));
+  for (PetscInt i = 0; i < sim->p.n; i++) {
     double a[2];
-    ReferenceAccel(t, sim->gid[i], a);
+    ReferenceAccel(t, sim->p.gid[i], a);
     for (int d = 0; d < 2; d++) worst = PetscMax(worst, fabs(ydot[(size_t)i * l->nvar + l->v + d] - a[d]));
   }
   PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &worst, 1, MPI_DOUBLE, MPI_MAX, t->comm));
@@ -181,9 +181,9 @@ static PetscErrorCode CheckEnergy(Ctx *t, SpamSim *sim, const char *when)
   }
   tol += t->nbond * eps * pe;
   PetscCall(PetscMemzero(&diag, sizeof diag));
-  PetscCall(VecGetArrayRead(sim->X, &y));
+  PetscCall(VecGetArrayRead(sim->p.X, &y));
   PetscCall(sim->model.diag(sim, y, &diag));
-  PetscCall(VecRestoreArrayRead(sim->X, &y));
+  PetscCall(VecRestoreArrayRead(sim->p.X, &y));
   PetscCall(Check(t, fabs(diag.internal - pe) <= tol, "%s, %d ranks: potential energy %.15e, direct sum %.15e: difference %.1e (bound %.1e)", when, t->size, diag.internal, pe, fabs(diag.internal - pe), tol));
   PetscFunctionReturn(0);
 }
@@ -205,7 +205,7 @@ static PetscErrorCode TurnAndMigrate(Ctx *t, SpamSim *sim, double angle, const c
   PetscFunctionBeginUser;
   PetscCall(Turn(t, sim, angle));
   if (t->size == 1) PetscFunctionReturn(0); /* one rank: nothing to migrate */
-  PetscCall(SpamSimMigrate(sim, sim->dec, &info));
+  PetscCall(SpamSimMigrate(sim, sim->geo.dec, &info));
   PetscCall(Check(t, info.moved > 0 && info.bad < 0, "%s, %d ranks: %ld particles changed rank", when, t->size, (long)info.moved));
   PetscFunctionReturn(0);
 }

@@ -41,9 +41,9 @@ static PetscErrorCode MakeGas(const SpamSolidParams *sp, double d, int field, do
   PetscCall(sim->model.setup(sim)); /* sets e = gas_e0 */
   {
     PetscScalar *y;
-    PetscCall(VecGetArray(sim->X, &y));
+    PetscCall(VecGetArray(sim->p.X, &y));
     for (PetscInt i = 0; i < p.n; i++) y[(size_t)i * m.layout.nvar + m.layout.e] += p.e[i];
-    PetscCall(VecRestoreArray(sim->X, &y));
+    PetscCall(VecRestoreArray(sim->p.X, &y));
   }
   PetscCall(SpamParticlesFree(&p));
   PetscFunctionReturn(0);
@@ -60,14 +60,14 @@ static PetscErrorCode RateError(SpamSim *sim, int c, double base, double amp, do
 
   PetscFunctionBeginUser;
   *err = 0.0;
-  PetscCall(PetscMalloc1((size_t)sim->n * nv, &f));
-  PetscCall(VecGetArrayRead(sim->X, &y));
+  PetscCall(PetscMalloc1((size_t)sim->p.n * nv, &f));
+  PetscCall(VecGetArrayRead(sim->p.X, &y));
   PetscCall(SpamRhs(sim, y, f, &bad));
-  for (PetscInt i = 0; i < sim->n; i++) {
+  for (PetscInt i = 0; i < sim->p.n; i++) {
     const double dy = y[(size_t)i * nv + c] - base;
     if (fabs(dy) > 0.5 * amp) *err = PetscMax(*err, fabs(f[(size_t)i * nv + c] / dy + rate) / (rate > 0.0 ? rate : 1.0));
   }
-  PetscCall(VecRestoreArrayRead(sim->X, &y));
+  PetscCall(VecRestoreArrayRead(sim->p.X, &y));
   PetscCall(PetscFree(f));
   PetscFunctionReturn(0);
 }

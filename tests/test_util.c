@@ -66,7 +66,7 @@ PetscErrorCode TestMakeSim(const SpamBox *box, double h, double gamma, PetscInt 
   { /* -threads T runs the pair passes and list builds with T OpenMP threads */
     PetscInt threads = 1;
     PetscCall(PetscOptionsGetInt(NULL, NULL, "-threads", &threads, NULL));
-    sim->threads = (int)threads;
+    sim->pair.threads = (int)threads;
   }
   PetscCall(SpamSimFill(sim, x, v, NULL));
   PetscCall(SpamSimSetUp(sim));

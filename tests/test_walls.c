@@ -46,7 +46,7 @@ static PetscErrorCode MakeGas(const SpamSolidParams *sp, const SpamWalls *w, dou
   m.energy_given = PETSC_TRUE;
   if (SpamWallsAny(w, 2)) PetscCall(SpamLayoutAddWallBooks(&m.layout));
   PetscCall(SpamSimCreate(PETSC_COMM_WORLD, &m, &p.box, p.n, 0.3, sim));
-  sim->walls = *w;
+  sim->geo.walls = *w;
   PetscCall(SpamSimFill(sim, p.x, p.v, NULL));
   PetscCall(SpamSimFillFields(sim, &p));
   PetscCall(SpamParticlesFree(&p));
@@ -84,14 +84,14 @@ static PetscErrorCode MaxRates(SpamSim *sim, double *amax, double *emax)
 
   PetscFunctionBeginUser;
   *amax = *emax = 0.0;
-  PetscCall(PetscMalloc1((size_t)sim->n * l->nvar, &f));
-  PetscCall(VecGetArrayRead(sim->X, &y));
+  PetscCall(PetscMalloc1((size_t)sim->p.n * l->nvar, &f));
+  PetscCall(VecGetArrayRead(sim->p.X, &y));
   PetscCall(SpamRhs(sim, y, f, &bad));
-  for (PetscInt i = 0; i < sim->n; i++) {
+  for (PetscInt i = 0; i < sim->p.n; i++) {
     for (int d = 0; d < 2; d++) *amax = PetscMax(*amax, fabs(f[(size_t)i * l->nvar + l->v + d]));
     *emax = PetscMax(*emax, fabs(f[(size_t)i * l->nvar + l->e]));
   }
-  PetscCall(VecRestoreArrayRead(sim->X, &y));
+  PetscCall(VecRestoreArrayRead(sim->p.X, &y));
   PetscCall(PetscFree(f));
   PetscFunctionReturn(0);
 }
@@ -123,19 +123,19 @@ static PetscErrorCode LatticeAtRest(TestCount *c)
  * isothermal wall at y = 0 moving at 0.3 with T_w = 0.5, the adiabatic free-slip one at NY). */
 static PetscErrorCode Ghosts(TestCount *c, const SpamSim *sim)
 {
-  const SpamGhosts *g = &sim->nl.ghosts;
-  const SpamFields *f = &sim->f;
-  const int         n = (int)sim->n;
+  const SpamGhosts *g = &sim->pair.nl.ghosts;
+  const SpamFields *f = &sim->pair.f;
+  const int         n = (int)sim->p.n;
   double            ex = 0, ev = 0, eT = 0;
   int               lo = 0, hi = 0;
 
   PetscFunctionBeginUser;
   for (int k = 0; k < g->n; k++) {
     const int    i = g->src[k], j = n + k, up = (g->face[k] >> 1) & 1;
-    const double y = sim->nl.u[1][i], vx = f->v[2 * i], vy = f->v[2 * i + 1];
+    const double y = sim->pair.nl.u[1][i], vx = f->v[2 * i], vy = f->v[2 * i + 1];
     if (g->kind[k] != SPAM_GHOST_MIRROR || g->flip[k] != 2) continue;
     up ? hi++ : lo++;
-    ex = PetscMax(ex, fabs(sim->nl.u[1][j] - (up ? 2.0 * NY - y : -y)) + fabs(sim->nl.u[0][j] - sim->nl.u[0][i]));
+    ex = PetscMax(ex, fabs(sim->pair.nl.u[1][j] - (up ? 2.0 * NY - y : -y)) + fabs(sim->pair.nl.u[0][j] - sim->pair.nl.u[0][i]));
     ev = PetscMax(ev, fabs(f->v[2 * j] - (up ? vx : 0.6 - vx)) + fabs(f->v[2 * j + 1] + vy));
     eT = PetscMax(eT, fabs(f->T[j] - (up ? f->T[i] : 1.0 - f->T[i])));
   }
@@ -163,10 +163,10 @@ static PetscErrorCode Books(TestCount *c)
   Wall(&w, 3, SPAM_WALL_FREESLIP, 0, 0);
   PetscCall(MakeGas(&sp, &w, 0.3, 11, &sim));
   l = &sim.model.layout;
-  PetscCall(PetscMalloc1((size_t)sim.n * l->nvar, &f));
-  PetscCall(VecGetArrayRead(sim.X, &y));
+  PetscCall(PetscMalloc1((size_t)sim.p.n * l->nvar, &f));
+  PetscCall(VecGetArrayRead(sim.p.X, &y));
   PetscCall(SpamRhs(&sim, y, f, &bad));
-  for (PetscInt i = 0; i < sim.n; i++) {
+  for (PetscInt i = 0; i < sim.p.n; i++) {
     const double *p = y + (size_t)i * l->nvar, *q = f + (size_t)i * l->nvar;
     for (int d = 0; d < 2; d++) {
       sm[d] += q[l->v + d];
@@ -180,14 +180,14 @@ static PetscErrorCode Books(TestCount *c)
     bw[1] += q[l->wb + 1];
   }
   for (int s = 0; s < 4; s++) {
-    for (int d = 0; d < 2; d++) fm[d] += sim.wall_rates.force[s][d];
-    pw += sim.wall_rates.work[s] + sim.wall_rates.heat[s];
+    for (int d = 0; d < 2; d++) fm[d] += sim.out.wall_rates.force[s][d];
+    pw += sim.out.wall_rates.work[s] + sim.out.wall_rates.heat[s];
   }
   TestCheck(c, fabs(sm[0] - fm[0]) + fabs(sm[1] - fm[1]) < 1e-12 * (fabs(fm[0]) + fabs(fm[1])), "sum m a = (%.6e, %.6e), the walls' force (%.6e, %.6e)", sm[0], sm[1], fm[0], fm[1]);
   TestCheck(c, fabs(se - pw) < 1e-12 * scale, "sum m (v.a + de/dt) = %.6e, the walls' work + heat %.6e (of %.1e)", se, pw, scale);
   TestCheck(c, fabs(bw[0] + bw[1] - pw) < 1e-12 * scale && fabs(bp[0] - fm[0]) + fabs(bp[1] - fm[1]) < 1e-12 * (fabs(fm[0]) + fabs(fm[1])), "book rates: work + heat %.6e, impulse (%.6e, %.6e)", bw[0] + bw[1], bp[0], bp[1]);
-  TestCheck(c, sim.wall_rates.heat[2] != 0.0 && fabs(sim.wall_rates.heat[3]) < 1e-13 * scale, "heat through the isothermal wall %.3e, through the adiabatic one %.1e", sim.wall_rates.heat[2], sim.wall_rates.heat[3]);
-  PetscCall(VecRestoreArrayRead(sim.X, &y));
+  TestCheck(c, sim.out.wall_rates.heat[2] != 0.0 && fabs(sim.out.wall_rates.heat[3]) < 1e-13 * scale, "heat through the isothermal wall %.3e, through the adiabatic one %.1e", sim.out.wall_rates.heat[2], sim.out.wall_rates.heat[3]);
+  PetscCall(VecRestoreArrayRead(sim.p.X, &y));
   PetscCall(PetscFree(f));
   PetscCall(Ghosts(c, &sim));
   PetscCall(SpamSimDestroy(&sim));

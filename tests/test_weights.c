@@ -27,13 +27,13 @@ int main(int argc, char **argv)
   PetscCall(TestMakeSim(&b, 3.0, 2.0, n, x, v, &sim));
   w.sim = &sim, w.rtol = 1e-6, w.atol = 1e-9, w.vscale = 0.3;
   PetscCall(SUNContext_Create(NULL, &sunctx));
-  PetscCall(VecDuplicate(sim.X, &Y));
-  PetscCall(VecDuplicate(sim.X, &W0));
-  PetscCall(VecDuplicate(sim.X, &W1));
+  PetscCall(VecDuplicate(sim.p.X, &Y));
+  PetscCall(VecDuplicate(sim.p.X, &W0));
+  PetscCall(VecDuplicate(sim.p.X, &W1));
   y  = N_VMake_Petsc(Y, sunctx);
   w0 = N_VMake_Petsc(W0, sunctx);
   w1 = N_VMake_Petsc(W1, sunctx);
-  PetscCall(VecCopy(sim.X, Y));
+  PetscCall(VecCopy(sim.p.X, Y));
   TestCheck(&c, SpamErrorWeights(y, w0, &w) == 0, "weights evaluate");
   {
     PetscScalar *ya;

@@ -56,9 +56,14 @@ static inline SpamImage SpamBoxImage(const SpamBox *b)
 static inline double SpamImageDelta(const SpamImage *im, int d, double du)
 {
   /* The shift is selected, the subtraction always done (du - 0 is du), so that no
-   * floating-point operation is conditional: SSE2 has no masked arithmetic. */
-  du -= du > im->half[d] ? im->len[d] : 0.0;
-  du += du < -im->half[d] ? im->len[d] : 0.0;
+   * floating-point operation is conditional: SSE2 has no masked arithmetic. The edge is
+   * read before the choice: read only when chosen, through a pointer the compiler may not
+   * assume readable, it kept the force pass's pair loop scalar in the rows of particles
+   * near a periodic face (callgrind, gas N = 16384: 34 instructions a pair instead of
+   * about 17 in the vector loop). */
+  const double len = im->len[d];
+  du -= du > im->half[d] ? len : 0.0;
+  du += du < -im->half[d] ? len : 0.0;
   return du;
 }
 

@@ -14,7 +14,8 @@
  * particle moving into a cell nobody occupied still has a destination. */
 #ifndef SPAM_DECOMPOSE_H
 #define SPAM_DECOMPOSE_H
-#include <spam/sim.h>
+#include <spam/swarm.h>
+#include <spam/box.h>
 #include <spam/cell_keys.h>
 
 /* Default of SpamDecomp.recut_above: a re-cut when the fullest rank holds 25 % more than
@@ -45,7 +46,7 @@ typedef struct SpamDecomp {
 
 typedef struct {
   PetscBool  changed;  /* on some rank particles left, came or were re-sorted: X, the gid
-                          field and the sim's scratch were re-made on EVERY rank, so every
+                          field and the owner's scratch were re-made on EVERY rank, so every
                           vector an integrator holds must follow on every rank
                           (ERKStepResize, TSReset + TSSetSolution; CVODE re-created)      */
   PetscBool  resized;  /* this rank's local count changed                                */
@@ -59,9 +60,9 @@ typedef struct {
                           same on every rank) nothing was changed                          */
 } SpamMigrateInfo;
 
-/* A decomposition of sim's box for sim's communicator; no cut yet (the first migration
- * makes it). recut_above <= 1 asks for the default. */
-PetscErrorCode SpamDecompCreate(const SpamSim *sim, double recut_above, SpamDecomp *dec);
+/* A decomposition of the box into cells of width h for comm; no cut yet (the first
+ * migration makes it). recut_above <= 1 asks for the default. */
+PetscErrorCode SpamDecompCreate(MPI_Comm comm, const SpamBox *box, double h, double recut_above, SpamDecomp *dec);
 PetscErrorCode SpamDecompDestroy(SpamDecomp *dec);
 /* Hilbert key of the cell of point x (wrapped in periodic directions). */
 uint64_t SpamDecompKey(const SpamDecomp *dec, const double *x);
@@ -77,32 +78,31 @@ double SpamDecompImbalance(PetscMPIInt nranks, const PetscInt64 *count);
 
 /* Collective, at a step boundary (never inside a step): every particle to the owner of
  * its cell (re-cut first when the imbalance would pass dec->recut_above), then the local
- * order sorted by (cell, gid) and X, the gid field and the scratch re-made. Positions are
- * not changed (wrapping is only for the owner). When nothing moved and every rank's order
- * is already sorted it does nothing (info->changed false). An error on one rank is
+ * order sorted by (cell, gid), X and the gid field re-made and m's arrive called. Positions
+ * are not changed (wrapping is only for the owner). When nothing moved and every rank's
+ * order is already sorted it does nothing (info->changed false). An error on one rank is
  * raised on every rank. */
-PetscErrorCode SpamSimMigrate(SpamSim *sim, SpamDecomp *dec, SpamMigrateInfo *info);
+PetscErrorCode SpamSwarmMigrate(SpamSwarm *p, const SpamMigration *m, SpamDecomp *dec, SpamMigrateInfo *info);
 /* The swarm's local particles (with X closed and the gid field restored) sorted by
- * (order key of their cell, gid), every field that belongs to a particle permuted, and
+ * (order key of their cell, gid), the state, the gids and m's carried fields permuted, and
  * those whose DMSwarm_rank names another rank (sent by a migration) dropped. *permuted
  * tells whether the order or the count changed (local_order.c). */
-PetscErrorCode SpamSwarmSortLocal(SpamSim *sim, const SpamCellGrid *grid, PetscBool *permuted);
+PetscErrorCode SpamSwarmSortLocal(const SpamSwarm *p, const SpamMigration *m, const SpamDecomp *dec, PetscBool *permuted);
 /* The local particles sorted as the gids of gids[n] (a checkpoint's local order), those
  * sent away dropped, as SpamSwarmSortLocal does; a particle whose gid is not in gids goes
  * last (the caller finds it by the count). */
-PetscErrorCode SpamSwarmSortLocalAs(SpamSim *sim, PetscInt n, const PetscInt64 *gids, PetscBool *permuted);
-/* The migration's first half: the carried data (mass, reference positions, body labels)
- * into the swarm, dest[i] into DMSwarm_rank, X and the gid field closed so that the swarm
- * may resize (local). */
-PetscErrorCode SpamSimDetach(SpamSim *sim, const PetscInt *dest);
+PetscErrorCode SpamSwarmSortLocalAs(const SpamSwarm *p, const SpamMigration *m, PetscInt n, const PetscInt64 *gids, PetscBool *permuted);
 /* A restart on the rank count of its checkpoint (restart_load.c): each particle sent to
  * the rank whose block of the checkpoint holds its gid, and the local order made that of
- * the block, gids[n] (this rank's, in the checkpoint's order); X, the gid field and the
- * scratch re-made as after a migration, the list left to the caller (built at the
- * checkpoint's reference positions). *changed (the same on every rank): something moved or
- * was re-ordered. A gid outside the scene, one the checkpoint lacks, or another count
- * than the block's is refused (PETSC_ERR_USER_INPUT) on every rank. Collective. */
-PetscErrorCode SpamSimPlace(SpamSim *sim, PetscInt n, const PetscInt64 *gids, PetscBool *changed);
-/* Whether the local particles are in that order; x: the state (X's array). */
-PetscBool SpamSimIsSortedLocal(const SpamSim *sim, const SpamCellGrid *grid, const double *y);
+ * the block, gids[n] (this rank's, in the checkpoint's order); X and the gid field re-made
+ * and m's arrive called as after a migration. *changed (the same on every rank):
+ * something moved or was re-ordered. A gid outside the scene, one the checkpoint lacks,
+ * or another count than the block's is refused (PETSC_ERR_USER_INPUT) on every rank.
+ * Collective. */
+PetscErrorCode SpamSwarmPlace(SpamSwarm *p, const SpamMigration *m, PetscInt n, const PetscInt64 *gids, PetscBool *changed);
+/* The swarm closed so that it may resize (a migration's first half, after the owner's
+ * depart): dest[i] into DMSwarm_rank, the gid field restored and X destroyed (local). */
+PetscErrorCode SpamSwarmClose(SpamSwarm *p, const PetscInt *dest);
+/* Whether the local particles are in that order; y: the state (X's array). */
+PetscBool SpamSwarmSortedLocal(const SpamSwarm *p, const SpamMigration *m, const SpamDecomp *dec, const double *y);
 #endif

@@ -43,13 +43,13 @@ typedef struct {
  * holds); the option check compares it with SPAM_GRID_MAX_POINTS. */
 double         SpamGridPointCount(const SpamBox *box, double dx);
 PetscErrorCode SpamGridSetUp(const SpamBox *box, double dx, SpamGrid *g);
-/* Evaluates the fields of state y (sim->f.rho must hold its summed density when the
+/* Evaluates the fields of state y (sim->pair.f.rho must hold its summed density when the
  * model does not carry the density) at the points of g; allocates f's columns.
- * Collective on sim->comm: every rank gets the sums over all ranks. */
+ * Collective on sim->p.comm: every rank gets the sums over all ranks. */
 PetscErrorCode SpamGridFieldsEvaluate(const SpamSim *sim, const double *y, const SpamGrid *g, SpamGridFields *f);
 PetscErrorCode SpamGridFieldsFree(SpamGridFields *f);
 /* grid_NNNNN.h5 (with -snapshot_hdf5, and the index grid.xmf) and grid_NNNNN.csv (with
  * -snapshot_csv) of state y at time t, numbered like the grid files before them.
- * Collective on sim->comm; rank 0 writes the files. */
+ * Collective on sim->p.comm; rank 0 writes the files. */
 PetscErrorCode SpamGridWrite(SpamOutput *o, const SpamSim *sim, const double *y, double t);
 #endif

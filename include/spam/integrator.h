@@ -98,7 +98,7 @@ PetscErrorCode SpamTSARKodeCheckpointable(TS ts, PetscBool *ok);
  * new solution vector X of another local length, its step and error history kept
  * (ERKStepResize). */
 PetscErrorCode SpamTSARKodeResize(TS ts, Vec X);
-/* After a migration: the TS continues on app->sim->X (another local length). arkode keeps
+/* After a migration: the TS continues on app->sim->p.X (another local length). arkode keeps
  * its step and error history (SpamTSARKodeResize); rk, ssp and euler with fixed steps are
  * reset on the new vector with their time, step number and step size (TSReset +
  * TSSetSolution: PETSc 3.18 has no resize; rk evaluates its first stage again). The
@@ -152,7 +152,7 @@ PetscErrorCode SpamTSCreate_ARKode(TS ts);
 PetscErrorCode SpamTSCreate_CVode(TS ts);
 PetscErrorCode SpamSymplecticRegister(void);
 
-/* Creates the TS on sim->X from the options (validated: an unknown type or scheme is bad
+/* Creates the TS on sim->p.X from the options (validated: an unknown type or scheme is bad
  * input) with the RHS, tolerances and, for basicsymplectic, the position/momentum split. */
 PetscErrorCode SpamTSCreate(SpamSim *sim, const SpamRunOptions *o, SpamTsApp *app, TS *ts);
 PetscErrorCode SpamTSAppDestroy(SpamTsApp *app);

@@ -21,7 +21,7 @@ typedef PetscErrorCode (*SpamSoundSpeedFn)(struct SpamSim *sim, const double *y,
 /* Model-specific diagnostics of state y: the internal energy sum m e (or the potential
  * energy of a molecular model), the spurious torque sum_{i<j} Ldot_ij before any
  * scaling (0 where the forces are central, NaN where not computed), and the bodies. The
- * summed density of y is in sim->f.rho when it is called. */
+ * summed density of y is in sim->pair.f.rho when it is called. */
 typedef struct {
   double internal, torque;
   double potential;       /* energy of the external field (gravity), else 0              */

@@ -146,11 +146,11 @@ PetscErrorCode SpamStepsAppend(SpamOutput *o, const SpamProgress *pr);
 
 /* Per-particle snapshot fields: the density the model uses, the stress in Tensor6 order. */
 double SpamSnapshotDensity(const SpamSim *sim, const double *y, PetscInt i);
-double SpamSnapshotPosition(const SpamSim *sim, int d, double x);
-void   SpamSnapshotStress6(const SpamSim *sim, const double *y, PetscInt i, double t6[6]);
+double SpamSnapshotPosition(const SpamBox *box, int d, double x);
+void   SpamSnapshotStress6(const SpamLayout *l, const double *y, PetscInt i, double t6[6]);
 /* Particle snapshot: HDF5 + XDMF (ParaView) and/or CSV (positions, velocities, density,
  * and energy and stress where the state has them). Needs sim->rho of state y. All four
- * are collective on sim->comm (every rank calls them) and write one file each whatever
+ * are collective on sim->p.comm (every rank calls them) and write one file each whatever
  * the number of ranks, rows in gid order, the same contents as on one rank: the HDF5
  * file through MPI-IO by every rank, the CSV, the XDMF index and the manifest by rank 0
  * (an error on one rank is raised on all, SpamRunAgreed). */

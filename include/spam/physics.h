@@ -53,7 +53,7 @@ void           SpamGasFlowShift(SpamSim *sim);
 PetscErrorCode SpamGasFlowDivergence(SpamSim *sim);
 void           SpamGasFlowCorrect(SpamSim *sim, const double *y, const SpamBackground *b);
 
-/* Allocates sim->ps for sim->n particles; it is freed with the swarm. */
+/* Allocates sim->ps for sim->p.n particles; it is freed with the swarm. */
 PetscErrorCode SpamPhysicsScratchCreate(SpamSim *sim);
 /* Labels the connected bodies: particles closer than range at the current positions y
  * share a body (union-find over the neighbour list, ghost pairs joining their sources). */

@@ -24,7 +24,7 @@ PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o);
  * then names. */
 PetscErrorCode SpamRunOptionsCheckIntervals(const SpamRunOptions *o, const char *from);
 /* Per-step monitor line and the progress line with ETA. */
-PetscErrorCode SpamMonitorStep(const SpamSim *sim, const SpamProgress *p);
+PetscErrorCode SpamMonitorStep(MPI_Comm comm, const SpamProgress *p);
 PetscErrorCode SpamMonitorProgress(const SpamSim *sim, const SpamRunOptions *o, const SpamProgress *p, const SpamRunResult *r);
 /* Drifts of the conserved quantities between two diagnostics. */
 void SpamRunUpdateDrifts(const SpamDiagnostics *d, SpamRunResult *r);

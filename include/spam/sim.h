@@ -2,7 +2,8 @@
  * the box, the model, neighbour list and the scratch that the right-hand side uses. */
 #ifndef SPAM_SIM_H
 #define SPAM_SIM_H
-#include <petscdmswarm.h>
+#include <spam/swarm.h>
+#include <spam/decompose.h>
 #include <spam/box.h>
 #include <spam/model.h>
 #include <spam/neighbours.h>
@@ -10,9 +11,6 @@
 #include <spam/wall_books.h>
 #include <spam/fields.h>
 
-#define SPAM_STATE_FIELD "spam_state"
-/* The particle's identity: its input row (file line, lattice site) over all ranks. */
-#define SPAM_GID_FIELD "spam_gid"
 /* Per-particle data kept outside the state, copied into the swarm only to travel with
  * their particle through a migration (migrate.c): the mass and the body label. */
 #define SPAM_MASS_FIELD "spam_mass"
@@ -27,6 +25,10 @@ typedef struct {
   long   rhs_evals;
   double rhs_time;      /* seconds inside the right-hand side, list builds included */
   double pair_visits;   /* pair-list entries visited in force passes                */
+  /* This process's evaluations (rhs_evals also holds a checkpoint's and leaves out the
+   * interpolant's), and the list updates and ghost placements (on several ranks the
+   * halo's exchange of positions) they made: one each per evaluation is the rule. */
+  long counted, list_updates, ghost_placements;
 } SpamRhsStats;
 
 /* PETSc log events (-log_view) of the right-hand side and its passes; registered per
@@ -42,14 +44,17 @@ typedef struct {
   double t_end_default;
 } SpamSceneInfo;
 
-typedef struct SpamSim {
-  MPI_Comm       comm;
-  DM             swarm;
-  Vec            X;        /* state: view on the swarm's packed field                */
-  PetscInt       n;        /* local particles                                        */
-  PetscInt       nglobal;
-  SpamBox        box;
-  SpamModel      model;
+/* Where the particles are: the box, its mirror walls and, on more than one rank
+ * (sim_distribute.c), the decomposition the particles migrate by, and with it the halo of
+ * the neighbour list (NULL on one rank). */
+typedef struct {
+  SpamBox            box;
+  SpamWalls          walls; /* mirror walls of the box faces (walls.h) */
+  struct SpamDecomp *dec;
+} SpamGeometry;
+
+/* What the pair passes work on: the list, the per-particle fields and the threads. */
+typedef struct {
   SpamNeighbours nl;
   double         skin;
   SpamFields     f;        /* per-particle fields of the passes, with ghost slots:    */
@@ -61,49 +66,53 @@ typedef struct SpamSim {
   PetscBool      periodic_ghosts; /* periodic images as ghost slots (-periodic_images) */
   PetscBool      reproducible;    /* -reproducible: canonical pair sums (the list's      */
                                   /* canonical rows) and a partition-independent norm  */
-  SpamWalls      walls;           /* mirror walls of the box faces (walls.h)           */
-  SpamWallRates  wall_rates;      /* what the walls gave the fluid at the last RHS     */
-  SpamRhsStats   stats;
-  SpamLogEvents  ev;
-  SpamSceneInfo  scene;
-  struct SpamPhysicsScratch *ps; /* scratch of the tensor path and bonds (NULL for the gas) */
-  PetscInt64    *gid;      /* [n] the swarm's gid field, held open (as X holds the state) */
-  PetscInt      *at_row;   /* [n] local particles in increasing gid, NULL when in order */
-  /* On more than one rank (sim_distribute.c): the decomposition the particles migrate by,
-   * and with it the halo of the neighbour list; NULL on one rank. */
-  struct SpamDecomp *dec;
   long           ghost_mass_build; /* the list build whose ghost slots hold their masses */
-  long           migrations_run; /* migrations between steps, after the first distribution */
-  PetscInt64     migrated;       /* particles they moved between ranks                   */
+} SpamPairState;
+
+/* What the run counts and times. */
+typedef struct {
+  SpamRhsStats  stats;
+  SpamLogEvents ev;
+  long          migrations_run; /* migrations between steps, after the first distribution */
+  PetscInt64    migrated;       /* particles they moved between ranks                   */
+} SpamRunCounts;
+
+/* What the outputs report beyond the state. */
+typedef struct {
+  SpamSceneInfo scene;
+  SpamWallRates wall_rates; /* what the walls gave the fluid at the last RHS */
+} SpamSimReport;
+
+typedef struct SpamSim {
+  SpamSwarm     p;     /* the swarm, the state X, the gids (swarm.h) */
+  SpamGeometry  geo;
+  SpamModel     model; /* the law and its parameters                 */
+  SpamPairState pair;
+  struct SpamPhysicsScratch *ps; /* scratch of the tensor path and bonds (NULL for the gas) */
+  SpamRunCounts run;
+  SpamSimReport out;
 } SpamSim;
 
-/* Input row (file line, lattice site) of particle i, its gid: outputs and messages use
- * it, so the spatial reordering (set-up sort, migrations) is invisible to users. */
+/* Input row of particle i, and the local particle of the r-th smallest gid (swarm.h). */
 static inline PetscInt SpamSimRowOf(const SpamSim *sim, PetscInt i)
 {
-  return sim->gid ? (PetscInt)sim->gid[i] : i;
+  return SpamSwarmRowOf(&sim->p, i);
 }
-/* The local particle with the r-th smallest gid of this rank: on one rank the particle
- * at input row r (outputs written in input order use it). */
 static inline PetscInt SpamSimAtRow(const SpamSim *sim, PetscInt r)
 {
-  return sim->at_row ? sim->at_row[r] : r;
+  return SpamSwarmAtRow(&sim->p, r);
 }
 
 /* Creates the swarm with n local particles and the model's layout; X is not yet made.
  * Collective on comm: the particles get gids in rank order (this rank's first gid is the
  * count on the ranks before it). */
 PetscErrorCode SpamSimCreate(MPI_Comm comm, const SpamModel *model, const SpamBox *box, PetscInt n, double skin, SpamSim *sim);
-/* The gids of a set-up reordering: particle i came from local input row row_of[i]. */
-PetscErrorCode SpamSimSetRows(SpamSim *sim, const PetscInt *row_of);
-/* After the gids changed (SpamSimSetRows, a migration): at_row made anew. */
-PetscErrorCode SpamSimIndexRows(SpamSim *sim);
 /* Copies positions and velocities ([n*dim] each) into the swarm's packed field, and the
  * masses ([n], or NULL: every particle has the model's mass). */
 PetscErrorCode SpamSimFill(SpamSim *sim, const double *x, const double *v, const double *m);
 /* Wraps the packed field in X (zero copy) and allocates scratch: call once the swarm is filled. */
 PetscErrorCode SpamSimSetUp(SpamSim *sim);
-/* After the local particles changed (a migration): sim->n from the swarm, the fields,
+/* After the local particles changed (a migration): sim->p.n from the swarm, the fields,
  * thread buffers, body labels and the (empty) neighbour list made to fit it, the masses
  * and body labels taken from the swarm's carried fields. The other per-particle fields
  * (density, accelerations, ...) hold nothing valid until the next right-hand side.
@@ -119,6 +128,14 @@ PetscErrorCode SpamSimDestroy(SpamSim *sim);
  * cells and sent to their owners; the neighbour list then takes other ranks' particles as
  * remote ghosts (halo.h). The bodies' count is shared. Nothing on one rank. */
 PetscErrorCode SpamSimDistribute(SpamSim *sim);
+/* The particles moved by the decomposition (SpamSwarmMigrate, decompose.h), the masses,
+ * reference positions and body labels carried in the swarm, the model's carry hooks
+ * around the move, then the scratch re-made and the list rebuilt at the carried reference
+ * positions (sim_migrate.c). Collective. */
+PetscErrorCode SpamSimMigrate(SpamSim *sim, SpamDecomp *dec, SpamMigrateInfo *info);
+/* A restart's placement of the particles in the checkpoint's blocks (SpamSwarmPlace),
+ * carried as by a migration; the list is left to the caller. Collective. */
+PetscErrorCode SpamSimPlace(SpamSim *sim, PetscInt n, const PetscInt64 *gids, PetscBool *changed);
 /* The masses (and inverse masses, and the gas's P/rho^2 when gamma = 2 makes it the same
  * for every particle) of the ghost slots: gathered once after each list build, since a
  * particle's mass never changes and the slots change only at builds. Collective on more
@@ -127,11 +144,11 @@ PetscErrorCode SpamSimGhostMasses(SpamSim *sim);
 /* Whether the run is on more than one rank. */
 static inline PetscBool SpamSimDistributed(const SpamSim *sim)
 {
-  return (PetscBool)(sim->dec != NULL);
+  return (PetscBool)(sim->geo.dec != NULL);
 }
 
 /* The right-hand side ydot = f(y) of the sim's model on raw arrays of length n*nvar,
- * timed and counted in sim->stats. *bad is the first particle with a non-finite (or
+ * timed and counted in sim->run.stats. *bad is the first particle with a non-finite (or
  * unphysical) state, or -1. Every integrator calls this one function. */
 PetscErrorCode SpamRhs(SpamSim *sim, const double *y, double *ydot, PetscInt *bad);
 /* Accelerations of positions x (stride between particles) into sim->acc, timed and counted
@@ -144,7 +161,7 @@ PetscErrorCode SpamMaxSoundSpeedIsentrope(SpamSim *sim, const double *y, double 
 /* Potential energy of the model's uniform gravity, -sum m g.(x - box corner), reduced
  * over the ranks (0 without gravity). */
 PetscErrorCode SpamGravityEnergy(SpamSim *sim, const double *y, double *pot);
-/* Summation density of state y into sim->f.rho, ghost slots included (diagnostics): a
+/* Summation density of state y into sim->pair.f.rho, ghost slots included (diagnostics): a
  * list update, then SpamDensityOfList. */
 PetscErrorCode SpamDensitySummation(SpamSim *sim, const double *y, PetscInt *bad);
 /* The same on the list as the caller's update left it, slots reserved (the tensor path,

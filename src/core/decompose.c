@@ -1,15 +1,15 @@
 /* The balanced cut of the Hilbert curve through the global h-cell grid (decompose.h). */
 #include <spam/decompose.h>
 
-PetscErrorCode SpamDecompCreate(const SpamSim *sim, double recut_above, SpamDecomp *dec)
+PetscErrorCode SpamDecompCreate(MPI_Comm comm, const SpamBox *box, double h, double recut_above, SpamDecomp *dec)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(dec, sizeof *dec));
-  dec->comm = sim->comm;
-  dec->box  = sim->box;
+  dec->comm = comm;
+  dec->box  = *box;
   PetscCallMPI(MPI_Comm_size(dec->comm, &dec->nranks));
   PetscCallMPI(MPI_Comm_rank(dec->comm, &dec->rank));
-  SpamCellGridInit(&sim->box, sim->model.kernel.h, &dec->grid);
+  SpamCellGridInit(box, h, &dec->grid);
   dec->recut_above = recut_above > 1.0 ? recut_above : SPAM_RECUT_ABOVE_DEFAULT;
   PetscCall(PetscCalloc2(dec->nranks + 1, &dec->cut, dec->nranks, &dec->count));
   PetscFunctionReturn(0);

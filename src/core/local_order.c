@@ -34,22 +34,17 @@ static uint64_t OrderKeyOf(const SpamCellGrid *g, const SpamBox *box, const doub
   return SpamCellHilbertKey(g, c);
 }
 
-PetscBool SpamSimIsSortedLocal(const SpamSim *sim, const SpamCellGrid *grid, const double *y)
+PetscBool SpamSwarmSortedLocal(const SpamSwarm *p, const SpamMigration *m, const SpamDecomp *dec, const double *y)
 {
-  const SpamLayout *l    = &sim->model.layout;
-  uint64_t          prev = 0;
+  uint64_t prev = 0;
 
-  for (PetscInt i = 0; i < sim->n; i++) {
-    const uint64_t k = OrderKeyOf(grid, &sim->box, y + (size_t)i * l->nvar + l->x);
-    if (i > 0 && (k < prev || (k == prev && sim->gid[i] < sim->gid[i - 1]))) return PETSC_FALSE;
+  for (PetscInt i = 0; i < p->n; i++) {
+    const uint64_t k = OrderKeyOf(&dec->grid, &dec->box, y + (size_t)i * m->nvar + m->x);
+    if (i > 0 && (k < prev || (k == prev && p->gid[i] < p->gid[i - 1]))) return PETSC_FALSE;
     prev = k;
   }
   return PETSC_TRUE;
 }
-
-/* Every field that belongs to a particle; PETSc's DMSwarm_pid (unused) and DMSwarm_rank
- * (set before each migration) need no order. */
-static const char *const particle_fields[] = {SPAM_STATE_FIELD, SPAM_GID_FIELD, SPAM_MASS_FIELD, SPAM_BODY_FIELD, SPAM_XREF_FIELD};
 
 /* a[i] = old a[order[i].i] for i < keep, for the field's whole block of bytes; tmp holds
  * n blocks. */
@@ -103,71 +98,80 @@ static uint64_t PlaceOf(const Places *p, PetscInt64 gid)
 /* The sort keys of the n local particles, straight from the swarm's fields: the order
  * key of the cell, or (places given) the particle's place; *keep counts those whose
  * DMSwarm_rank is this rank. */
-static PetscErrorCode MakeKeys(SpamSim *sim, const SpamCellGrid *grid, const Places *places, PetscInt n, LocalKey *key, PetscInt *keep)
+static PetscErrorCode MakeKeys(const SpamSwarm *p, const SpamMigration *m, const SpamDecomp *dec, const Places *places, PetscInt n, LocalKey *key, PetscInt *keep)
 {
-  const SpamLayout *l = &sim->model.layout;
-  PetscReal        *s;
-  PetscInt64       *gid;
-  PetscInt         *rank;
-  PetscMPIInt       me;
+  PetscReal  *s;
+  PetscInt64 *gid;
+  PetscInt   *rank;
+  PetscMPIInt me;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(sim->comm, &me));
-  PetscCall(DMSwarmGetField(sim->swarm, SPAM_STATE_FIELD, NULL, NULL, (void **)&s));
-  PetscCall(DMSwarmGetField(sim->swarm, SPAM_GID_FIELD, NULL, NULL, (void **)&gid));
-  PetscCall(DMSwarmGetField(sim->swarm, DMSwarmField_rank, NULL, NULL, (void **)&rank));
+  PetscCallMPI(MPI_Comm_rank(p->comm, &me));
+  PetscCall(DMSwarmGetField(p->swarm, SPAM_STATE_FIELD, NULL, NULL, (void **)&s));
+  PetscCall(DMSwarmGetField(p->swarm, SPAM_GID_FIELD, NULL, NULL, (void **)&gid));
+  PetscCall(DMSwarmGetField(p->swarm, DMSwarmField_rank, NULL, NULL, (void **)&rank));
   *keep = 0;
   for (PetscInt i = 0; i < n; i++) {
-    const uint64_t k = places ? PlaceOf(places, gid[i]) : OrderKeyOf(grid, &sim->box, s + (size_t)i * l->nvar + l->x);
+    const uint64_t k = places ? PlaceOf(places, gid[i]) : OrderKeyOf(&dec->grid, &dec->box, s + (size_t)i * m->nvar + m->x);
     key[i]           = (LocalKey){rank[i] != me, k, gid[i], i};
     *keep += rank[i] == me;
   }
-  PetscCall(DMSwarmRestoreField(sim->swarm, DMSwarmField_rank, NULL, NULL, (void **)&rank));
-  PetscCall(DMSwarmRestoreField(sim->swarm, SPAM_GID_FIELD, NULL, NULL, (void **)&gid));
-  PetscCall(DMSwarmRestoreField(sim->swarm, SPAM_STATE_FIELD, NULL, NULL, (void **)&s));
+  PetscCall(DMSwarmRestoreField(p->swarm, DMSwarmField_rank, NULL, NULL, (void **)&rank));
+  PetscCall(DMSwarmRestoreField(p->swarm, SPAM_GID_FIELD, NULL, NULL, (void **)&gid));
+  PetscCall(DMSwarmRestoreField(p->swarm, SPAM_STATE_FIELD, NULL, NULL, (void **)&s));
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode SortBy(SpamSim *sim, const SpamCellGrid *grid, const Places *places, PetscBool *permuted)
+/* Every field that belongs to a particle: the state, the gid and the owner's carried
+ * fields; PETSc's DMSwarm_pid (unused) and DMSwarm_rank (set before each migration) need
+ * no order. tmp holds n blocks of the largest, the state's (nvar reals). */
+static PetscErrorCode PermuteAll(const SpamSwarm *p, const SpamMigration *m, PetscInt n, PetscInt keep, const LocalKey *key)
+{
+  char *tmp;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc1((size_t)n * m->nvar * sizeof(PetscReal) + 1, &tmp));
+  PetscCall(PermuteField(p->swarm, SPAM_STATE_FIELD, n, keep, key, tmp));
+  PetscCall(PermuteField(p->swarm, SPAM_GID_FIELD, n, keep, key, tmp));
+  for (int f = 0; f < m->ncarried; f++) PetscCall(PermuteField(p->swarm, m->carried[f], n, keep, key, tmp));
+  PetscCall(PetscFree(tmp));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode SortBy(const SpamSwarm *p, const SpamMigration *m, const SpamDecomp *dec, const Places *places, PetscBool *permuted)
 {
   PetscInt  n, keep;
   LocalKey *key;
-  char     *tmp;
 
   PetscFunctionBeginUser;
-  PetscCall(DMSwarmGetLocalSize(sim->swarm, &n));
+  PetscCall(DMSwarmGetLocalSize(p->swarm, &n));
   PetscCall(PetscMalloc1(n + 1, &key));
-  PetscCall(MakeKeys(sim, grid, places, n, key, &keep));
+  PetscCall(MakeKeys(p, m, dec, places, n, key, &keep));
   qsort(key, (size_t)n, sizeof *key, CompareLocal);
   *permuted = (PetscBool)(keep < n);
   for (PetscInt i = 0; i < keep && !*permuted; i++) *permuted = (PetscBool)(key[i].i != i);
-  if (*permuted) {
-    /* the state's block (nvar reals) is the largest of the fields */
-    PetscCall(PetscMalloc1((size_t)n * sim->model.layout.nvar * sizeof(PetscReal) + 1, &tmp));
-    for (size_t f = 0; f < sizeof particle_fields / sizeof *particle_fields; f++) PetscCall(PermuteField(sim->swarm, particle_fields[f], n, keep, key, tmp));
-    PetscCall(PetscFree(tmp));
-  }
+  if (*permuted) PetscCall(PermuteAll(p, m, n, keep, key));
   PetscCall(PetscFree(key));
-  if (keep < n) PetscCall(DMSwarmSetLocalSizes(sim->swarm, keep, 0));
+  if (keep < n) PetscCall(DMSwarmSetLocalSizes(p->swarm, keep, 0));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamSwarmSortLocal(SpamSim *sim, const SpamCellGrid *grid, PetscBool *permuted)
+PetscErrorCode SpamSwarmSortLocal(const SpamSwarm *p, const SpamMigration *m, const SpamDecomp *dec, PetscBool *permuted)
 {
   PetscFunctionBeginUser;
-  PetscCall(SortBy(sim, grid, NULL, permuted));
+  PetscCall(SortBy(p, m, dec, NULL, permuted));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamSwarmSortLocalAs(SpamSim *sim, PetscInt n, const PetscInt64 *gids, PetscBool *permuted)
+PetscErrorCode SpamSwarmSortLocalAs(const SpamSwarm *p, const SpamMigration *m, PetscInt n, const PetscInt64 *gids, PetscBool *permuted)
 {
-  Places p = {n, NULL};
+  Places at = {n, NULL};
 
   PetscFunctionBeginUser;
-  PetscCall(PetscMalloc1(n + 1, &p.p));
-  for (PetscInt i = 0; i < n; i++) p.p[i] = (Place){gids[i], i};
-  qsort(p.p, (size_t)n, sizeof *p.p, ComparePlaces);
-  PetscCall(SortBy(sim, NULL, &p, permuted));
-  PetscCall(PetscFree(p.p));
+  PetscCall(PetscMalloc1(n + 1, &at.p));
+  for (PetscInt i = 0; i < n; i++) at.p[i] = (Place){gids[i], i};
+  qsort(at.p, (size_t)n, sizeof *at.p, ComparePlaces);
+  PetscCall(SortBy(p, m, NULL, &at, permuted));
+  PetscCall(PetscFree(at.p));
   PetscFunctionReturn(0);
 }

@@ -7,31 +7,29 @@
  * Every local phase ends in Agree: an error raised on some ranks only would leave the
  * others waiting in the next collective call for ever (the design note's t2 hung so).
  * The swarm may only resize while no field is open, so X (which holds the state field)
- * and the gid field are closed around DMSwarmMigrate; the masses and body labels, which
- * live outside the swarm, ride in its carried fields; spring bonds travel by gid in a
- * swarm of their own (springs_bonds.c). */
+ * and the gid field are closed around DMSwarmMigrate; what the particles' owner keeps
+ * outside the swarm it puts into the swarm's carried fields, or sends otherwise, in its
+ * depart (swarm.h). */
 #include <spam/decompose.h>
-#include <spam/physics.h>
 #include <spam/errors.h>
 #include <stdint.h>
 
 /* Curve key of each particle's cell; *bad: the smallest gid with a non-finite position
  * (INT64_MAX if none), whose owner cannot be known. */
-static PetscErrorCode CurveKeys(const SpamSim *sim, const SpamDecomp *dec, uint64_t *key, PetscInt64 *bad)
+static PetscErrorCode CurveKeys(const SpamSwarm *p, const SpamMigration *m, const SpamDecomp *dec, uint64_t *key, PetscInt64 *bad)
 {
-  const SpamLayout  *l = &sim->model.layout;
   const PetscScalar *y;
 
   PetscFunctionBeginUser;
   *bad = INT64_MAX;
-  PetscCall(VecGetArrayRead(sim->X, &y));
-  for (PetscInt i = 0; i < sim->n; i++) {
-    const double *x = y + (size_t)i * l->nvar + l->x;
-    for (int d = 0; d < sim->model.dim; d++)
-      if (!isfinite(x[d])) *bad = PetscMin(*bad, sim->gid[i]);
+  PetscCall(VecGetArrayRead(p->X, &y));
+  for (PetscInt i = 0; i < p->n; i++) {
+    const double *x = y + (size_t)i * m->nvar + m->x;
+    for (int d = 0; d < m->dim; d++)
+      if (!isfinite(x[d])) *bad = PetscMin(*bad, p->gid[i]);
     key[i] = SpamDecompKey(dec, x);
   }
-  PetscCall(VecRestoreArrayRead(sim->X, &y));
+  PetscCall(VecRestoreArrayRead(p->X, &y));
   PetscFunctionReturn(0);
 }
 
@@ -75,99 +73,66 @@ static PetscErrorCode Destinations(const SpamDecomp *dec, PetscInt n, const uint
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamSimDetach(SpamSim *sim, const PetscInt *dest)
+PetscErrorCode SpamSwarmClose(SpamSwarm *p, const PetscInt *dest)
 {
-  PetscReal *m, *xref;
-  PetscInt  *body, *rank;
+  PetscInt *rank;
 
   PetscFunctionBeginUser;
-  PetscCall(DMSwarmGetField(sim->swarm, SPAM_MASS_FIELD, NULL, NULL, (void **)&m));
-  PetscCall(PetscArraycpy(m, sim->f.m, sim->n));
-  PetscCall(DMSwarmRestoreField(sim->swarm, SPAM_MASS_FIELD, NULL, NULL, (void **)&m));
-  PetscCall(DMSwarmGetField(sim->swarm, SPAM_XREF_FIELD, NULL, NULL, (void **)&xref));
-  for (PetscInt i = 0; i < sim->n; i++)
-    for (int d = 0; d < sim->model.dim; d++) xref[(size_t)i * sim->model.dim + d] = sim->nl.builds ? sim->nl.xref[d][i] : 0.0;
-  PetscCall(DMSwarmRestoreField(sim->swarm, SPAM_XREF_FIELD, NULL, NULL, (void **)&xref));
-  if (sim->ps) {
-    PetscCall(DMSwarmGetField(sim->swarm, SPAM_BODY_FIELD, NULL, NULL, (void **)&body));
-    for (PetscInt i = 0; i < sim->n; i++) body[i] = sim->ps->body[i];
-    PetscCall(DMSwarmRestoreField(sim->swarm, SPAM_BODY_FIELD, NULL, NULL, (void **)&body));
-  }
-  PetscCall(DMSwarmGetField(sim->swarm, DMSwarmField_rank, NULL, NULL, (void **)&rank));
-  PetscCall(PetscArraycpy(rank, dest, sim->n));
-  PetscCall(DMSwarmRestoreField(sim->swarm, DMSwarmField_rank, NULL, NULL, (void **)&rank));
-  PetscCall(DMSwarmRestoreField(sim->swarm, SPAM_GID_FIELD, NULL, NULL, (void **)&sim->gid));
-  sim->gid = NULL;
-  PetscCall(DMSwarmDestroyGlobalVectorFromField(sim->swarm, SPAM_STATE_FIELD, &sim->X));
+  PetscCall(DMSwarmGetField(p->swarm, DMSwarmField_rank, NULL, NULL, (void **)&rank));
+  PetscCall(PetscArraycpy(rank, dest, p->n));
+  PetscCall(DMSwarmRestoreField(p->swarm, DMSwarmField_rank, NULL, NULL, (void **)&rank));
+  PetscCall(DMSwarmRestoreField(p->swarm, SPAM_GID_FIELD, NULL, NULL, (void **)&p->gid));
+  p->gid = NULL;
+  PetscCall(DMSwarmDestroyGlobalVectorFromField(p->swarm, SPAM_STATE_FIELD, &p->X));
   PetscFunctionReturn(0);
 }
 
 /* The arrived particles in order, the gid field re-opened and its index re-made. */
-static PetscErrorCode Reorder(SpamSim *sim, const SpamDecomp *dec)
+static PetscErrorCode Reorder(SpamSwarm *p, const SpamMigration *m, const SpamDecomp *dec)
 {
   PetscBool permuted;
 
   PetscFunctionBeginUser;
-  PetscCall(SpamSwarmSortLocal(sim, &dec->grid, &permuted));
-  PetscCall(DMSwarmGetField(sim->swarm, SPAM_GID_FIELD, NULL, NULL, (void **)&sim->gid));
-  PetscCall(DMSwarmGetLocalSize(sim->swarm, &sim->n));
-  PetscCall(SpamSimIndexRows(sim));
+  PetscCall(SpamSwarmSortLocal(p, m, dec, &permuted));
+  PetscCall(DMSwarmGetField(p->swarm, SPAM_GID_FIELD, NULL, NULL, (void **)&p->gid));
+  PetscCall(DMSwarmGetLocalSize(p->swarm, &p->n));
+  PetscCall(SpamSwarmIndexRows(p));
   PetscFunctionReturn(0);
 }
 
 /* Whether every rank's particles are already in (cell, gid) order. */
-static PetscErrorCode AllSorted(const SpamSim *sim, const SpamDecomp *dec, PetscBool *sorted)
+static PetscErrorCode AllSorted(const SpamSwarm *p, const SpamMigration *m, const SpamDecomp *dec, PetscBool *sorted)
 {
   const PetscScalar *y;
   int                mine, all;
 
   PetscFunctionBeginUser;
-  PetscCall(VecGetArrayRead(sim->X, &y));
-  mine = SpamSimIsSortedLocal(sim, &dec->grid, y);
-  PetscCall(VecRestoreArrayRead(sim->X, &y));
-  PetscCallMPI(MPIU_Allreduce(&mine, &all, 1, MPI_INT, MPI_LAND, sim->comm));
+  PetscCall(VecGetArrayRead(p->X, &y));
+  mine = SpamSwarmSortedLocal(p, m, dec, y);
+  PetscCall(VecRestoreArrayRead(p->X, &y));
+  PetscCallMPI(MPIU_Allreduce(&mine, &all, 1, MPI_INT, MPI_LAND, p->comm));
   *sorted = (PetscBool)all;
   PetscFunctionReturn(0);
 }
 
-/* The list of the migrated particles, built at the reference positions they carried (the
- * positions of the last build, as if no migration had happened: same shifts, same rebuild
- * times); at the current positions when no list was built yet (collective). */
-static PetscErrorCode RebuildList(SpamSim *sim)
-{
-  PetscReal *xref;
-
-  PetscFunctionBeginUser;
-  if (!sim->nl.builds) {
-    PetscCall(SpamSimBuildList(sim));
-    PetscFunctionReturn(0);
-  }
-  PetscCall(DMSwarmGetField(sim->swarm, SPAM_XREF_FIELD, NULL, NULL, (void **)&xref));
-  PetscCall(SpamNeighboursRestore(&sim->nl, &sim->box, xref));
-  PetscCall(DMSwarmRestoreField(sim->swarm, SPAM_XREF_FIELD, NULL, NULL, (void **)&xref));
-  PetscFunctionReturn(0);
-}
-
-/* Sends the particles by dest, sorts and re-makes X and the scratch (collective). */
-static PetscErrorCode Move(SpamSim *sim, const SpamDecomp *dec, const PetscInt *dest, PetscInt64 moved)
+/* Sends the particles by dest, sorts and re-makes X, then the owner's arrival (collective). */
+static PetscErrorCode Move(SpamSwarm *p, const SpamMigration *m, const SpamDecomp *dec, const PetscInt *dest, PetscInt64 moved)
 {
   PetscFunctionBeginUser;
-  if (sim->model.carry_depart) PetscCall(sim->model.carry_depart(sim, dest)); /* by the old gids and order */
-  PetscCall(SpamAgreeOnFailure(sim->comm, SpamSimDetach(sim, dest), "closing the swarm for a migration"));
+  PetscCall(m->depart(m->ctx, dest)); /* by the old gids and order */
+  PetscCall(SpamAgreeOnFailure(p->comm, SpamSwarmClose(p, dest), "closing the swarm for a migration"));
   /* Sent particles stay until the sort drops them all at once (local_order.c says why). */
-  if (moved) PetscCall(DMSwarmMigrate(sim->swarm, PETSC_FALSE));
-  PetscCall(SpamAgreeOnFailure(sim->comm, Reorder(sim, dec), "the local sort after a migration"));
-  PetscCall(DMSwarmCreateGlobalVectorFromField(sim->swarm, SPAM_STATE_FIELD, &sim->X));
-  PetscCall(SpamAgreeOnFailure(sim->comm, SpamSimResize(sim), "re-making the scratch after a migration"));
-  if (sim->model.carry_arrive) PetscCall(sim->model.carry_arrive(sim));
-  PetscCall(RebuildList(sim));
+  if (moved) PetscCall(DMSwarmMigrate(p->swarm, PETSC_FALSE));
+  PetscCall(SpamAgreeOnFailure(p->comm, Reorder(p, m, dec), "the local sort after a migration"));
+  PetscCall(DMSwarmCreateGlobalVectorFromField(p->swarm, SPAM_STATE_FIELD, &p->X));
+  PetscCall(m->arrive(m->ctx));
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamSimMigrate(SpamSim *sim, SpamDecomp *dec, SpamMigrateInfo *info)
+PetscErrorCode SpamSwarmMigrate(SpamSwarm *p, const SpamMigration *m, SpamDecomp *dec, SpamMigrateInfo *info)
 {
   const PetscMPIInt P  = dec->nranks;
-  const PetscInt    n0 = sim->n;
+  const PetscInt    n0 = p->n;
   uint64_t         *key  = NULL;
   PetscInt         *dest = NULL;
   PetscInt64       *tally = NULL, bad = INT64_MAX;
@@ -178,9 +143,9 @@ PetscErrorCode SpamSimMigrate(SpamSim *sim, SpamDecomp *dec, SpamMigrateInfo *in
   PetscCall(PetscMemzero(info, sizeof *info));
   info->bad = -1;
   ierr = PetscMalloc3(n0 + 1, &key, n0 + 1, &dest, P + 1, &tally);
-  if (!ierr) ierr = CurveKeys(sim, dec, key, &bad);
-  PetscCall(SpamAgreeOnFailure(sim->comm, ierr, "the owners of a migration"));
-  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &bad, 1, MPIU_INT64, MPI_MIN, sim->comm));
+  if (!ierr) ierr = CurveKeys(p, m, dec, key, &bad);
+  PetscCall(SpamAgreeOnFailure(p->comm, ierr, "the owners of a migration"));
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &bad, 1, MPIU_INT64, MPI_MIN, p->comm));
   if (bad != INT64_MAX) {
     info->bad = bad;
     PetscCall(PetscFree3(key, dest, tally));
@@ -195,7 +160,7 @@ PetscErrorCode SpamSimMigrate(SpamSim *sim, SpamDecomp *dec, SpamMigrateInfo *in
   } else { /* no cut yet: the particles as they are placed now */
     PetscInt64 n = n0;
     PetscCall(PetscArrayzero(tally, P));
-    PetscCallMPI(MPI_Allgather(&n, 1, MPIU_INT64, tally, 1, MPIU_INT64, sim->comm));
+    PetscCallMPI(MPI_Allgather(&n, 1, MPIU_INT64, tally, 1, MPIU_INT64, p->comm));
     info->imbalance_before = SpamDecompImbalance(P, tally);
     info->recut            = PETSC_TRUE;
   }
@@ -206,12 +171,12 @@ PetscErrorCode SpamSimMigrate(SpamSim *sim, SpamDecomp *dec, SpamMigrateInfo *in
   info->moved     = tally[P];
   info->imbalance = SpamDecompImbalance(P, tally);
   for (PetscInt i = 0; i < n0; i++) info->sent += dest[i] != dec->rank;
-  if (!info->moved) PetscCall(AllSorted(sim, dec, &sorted));
+  if (!info->moved) PetscCall(AllSorted(p, m, dec, &sorted));
   if (!sorted) {
-    PetscCall(Move(sim, dec, dest, info->moved));
+    PetscCall(Move(p, m, dec, dest, info->moved));
     info->changed  = PETSC_TRUE;
-    info->resized  = (PetscBool)(sim->n != n0);
-    info->received = sim->n - (n0 - info->sent);
+    info->resized  = (PetscBool)(p->n != n0);
+    info->received = p->n - (n0 - info->sent);
   }
   dec->imbalance = info->imbalance;
   dec->migrations++;

@@ -57,7 +57,7 @@ static PetscErrorCode PutIdentity(SpamSim *sim, const SpamRunResult *r, SpamCkFi
   PetscCall(SpamCkPutText(c, "options", all ? all : "", all ? strlen(all) : 0));
   PetscCall(PetscFree(all));
   PetscCall(SpamCkPutText(c, "method", r->method, strlen(r->method)));
-  PetscCall(SpamCkPutLong(c, "nglobal", (long)sim->nglobal));
+  PetscCall(SpamCkPutLong(c, "nglobal", (long)sim->p.nglobal));
   PetscCall(SpamCkPutLong(c, "nvar", sim->model.layout.nvar));
   PetscCall(SpamCkPutLong(c, "dim", sim->model.dim));
   PetscFunctionReturn(0);
@@ -68,27 +68,27 @@ static PetscErrorCode PutIdentity(SpamSim *sim, const SpamRunResult *r, SpamCkFi
  * the list's build count into c. */
 static PetscErrorCode PutParticles(SpamSim *sim, SpamCkFile *pc, SpamCkFile *c)
 {
-  const int          dim = sim->model.dim, n = (int)sim->n;
+  const int          dim = sim->model.dim, n = (int)sim->p.n;
   const PetscScalar *y;
   double            *xref;
   int64_t           *id;
 
   PetscFunctionBeginUser;
-  PetscCall(VecGetArrayRead(sim->X, &y));
+  PetscCall(VecGetArrayRead(sim->p.X, &y));
   PetscCall(SpamCkPutReal(pc, "state", (size_t)n * sim->model.layout.nvar, y));
-  PetscCall(VecRestoreArrayRead(sim->X, &y));
+  PetscCall(VecRestoreArrayRead(sim->p.X, &y));
   PetscCall(PetscMalloc2((size_t)n * dim + 1, &xref, (size_t)n + 1, &id));
   for (int i = 0; i < n; i++) {
     id[i] = SpamSimRowOf(sim, i);
-    for (int d = 0; d < dim; d++) xref[(size_t)i * dim + d] = sim->nl.xref[d][i];
+    for (int d = 0; d < dim; d++) xref[(size_t)i * dim + d] = sim->pair.nl.xref[d][i];
   }
   PetscCall(SpamCkPutInt(pc, "id", (size_t)n, id));
   PetscCall(SpamCkPutReal(pc, "xref", (size_t)n * dim, xref));
-  PetscCall(SpamCkPutReal(pc, "mass", (size_t)n, sim->f.m));
-  PetscCall(SpamCkPutReal(pc, "acc", (size_t)n * dim, sim->f.acc));
-  PetscCall(SpamCkPutLong(c, "list_builds", sim->nl.builds));
+  PetscCall(SpamCkPutReal(pc, "mass", (size_t)n, sim->pair.f.m));
+  PetscCall(SpamCkPutReal(pc, "acc", (size_t)n * dim, sim->pair.f.acc));
+  PetscCall(SpamCkPutLong(c, "list_builds", sim->pair.nl.builds));
   {
-    const double stats[3] = {(double)sim->stats.rhs_evals, sim->stats.rhs_time, sim->stats.pair_visits};
+    const double stats[3] = {(double)sim->run.stats.rhs_evals, sim->run.stats.rhs_time, sim->run.stats.pair_visits};
     PetscCall(SpamCkPutReal(pc, "rhs_stats", 3, stats));
   }
   PetscCall(PetscFree2(xref, id));
@@ -99,7 +99,7 @@ static PetscErrorCode PutParticles(SpamSim *sim, SpamCkFile *pc, SpamCkFile *c)
  * so that a restart migrates when and as the uninterrupted run does. */
 static PetscErrorCode PutRanks(const SpamSim *sim, const SpamLoop *L, SpamCkFile *c)
 {
-  const SpamDecomp *dec = sim->dec;
+  const SpamDecomp *dec = sim->geo.dec;
   int64_t          *cut;
 
   PetscFunctionBeginUser;
@@ -113,7 +113,7 @@ static PetscErrorCode PutRanks(const SpamSim *sim, const SpamLoop *L, SpamCkFile
     PetscCall(SpamCkPutReal(c, "decomposition", 5, v));
   }
   {
-    const double v[6] = {(double)L->builds_migrated, (double)L->builds_checked, L->halo_migrated, (double)sim->migrations_run, (double)sim->migrated, L->followed};
+    const double v[6] = {(double)L->builds_migrated, (double)L->builds_checked, L->halo_migrated, (double)sim->run.migrations_run, (double)sim->run.migrated, L->followed};
     PetscCall(SpamCkPutReal(c, "migration_loop", 6, v));
   }
   PetscFunctionReturn(0);
@@ -138,13 +138,13 @@ static PetscErrorCode PutIntegrator(TS ts, const SpamTsApp *app, PetscBool follo
     const PetscScalar *y;
     const SpamSim     *sim = app->sim;
     if (cached) {
-      PetscCall(VecGetArrayRead(sim->X, &y));
-      for (PetscInt i = 0; i < sim->n && cached; i++)
+      PetscCall(VecGetArrayRead(sim->p.X, &y));
+      for (PetscInt i = 0; i < sim->p.n && cached; i++)
         for (int d = 0; d < sim->model.dim; d++)
           if (memcmp(&y[(size_t)i * sim->model.layout.nvar + sim->model.layout.x + d], &app->xcache[(size_t)i * sim->model.dim + d], sizeof(double))) cached = PETSC_FALSE;
-      PetscCall(VecRestoreArrayRead(sim->X, &y));
+      PetscCall(VecRestoreArrayRead(sim->p.X, &y));
     }
-    if (SpamSimDistributed(sim)) PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &cached, 1, MPIU_BOOL, MPI_LAND, sim->comm));
+    if (SpamSimDistributed(sim)) PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &cached, 1, MPIU_BOOL, MPI_LAND, sim->p.comm));
     PetscCall(SpamCkPutLong(c, "kick_cached", cached));
   }
   {
@@ -202,10 +202,10 @@ PetscErrorCode SpamCheckpointWrite(SpamSim *sim, const SpamRunOptions *o, TS ts,
   if (!ierr) ierr = SpamOutputPath(out, SPAM_CHECKPOINT_FILE, path, sizeof path);
   if (ranks) { /* a rank that failed to gather its part must not leave the others in the write */
     int bad = ierr != 0;
-    PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &bad, 1, MPI_INT, MPI_MAX, sim->comm));
+    PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &bad, 1, MPI_INT, MPI_MAX, sim->p.comm));
     if (bad && !ierr) ierr = PetscError(PETSC_COMM_SELF, __LINE__, PETSC_FUNCTION_NAME, __FILE__, PETSC_ERR_FILE_WRITE, PETSC_ERROR_INITIAL, "cannot write the checkpoint: another rank failed to gather its part");
   }
-  if (!ierr) ierr = ranks ? SpamCkFileWriteRanks(sim->comm, &c, &mine, path, &bytes) : SpamCkFileWrite(sim->comm, &c, path, &bytes);
+  if (!ierr) ierr = ranks ? SpamCkFileWriteRanks(sim->p.comm, &c, &mine, path, &bytes) : SpamCkFileWrite(sim->p.comm, &c, path, &bytes);
   PetscCall(SpamCkFileDestroy(&mine));
   PetscCall(SpamCkFileDestroy(&c));
   PetscCall(ierr);
@@ -218,7 +218,7 @@ PetscErrorCode SpamCheckpointWrite(SpamSim *sim, const SpamRunOptions *o, TS ts,
   {
     char line[PETSC_MAX_PATH_LEN + 256];
     (void)snprintf(line, sizeof line, "spam-ark: checkpoint at t = %.6g (step %ld%s): %s, %.3g MB in %.3f s\n", L->t, L->p.steps, exact ? "" : ", inexact: a stop-time clamp was pending", path, 1e-6 * (double)bytes, t1 - t0);
-    PetscCall(PetscPrintf(sim->comm, "%s", line));
+    PetscCall(PetscPrintf(sim->p.comm, "%s", line));
   }
   PetscFunctionReturn(0);
 }

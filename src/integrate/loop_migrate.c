@@ -16,24 +16,24 @@ PetscErrorCode SpamLoopRemakeVectors(SpamSim *sim, SpamLoop *L)
 {
   PetscFunctionBeginUser;
   PetscCall(VecDestroy(&L->Xgood));
-  PetscCall(VecDuplicate(sim->X, &L->Xgood));
-  PetscCall(VecCopy(sim->X, L->Xgood));
+  PetscCall(VecDuplicate(sim->p.X, &L->Xgood));
+  PetscCall(VecCopy(sim->p.X, L->Xgood));
   if (L->s.Xout) {
     PetscCall(VecDestroy(&L->s.Xout));
-    PetscCall(VecDuplicate(sim->X, &L->s.Xout));
+    PetscCall(VecDuplicate(sim->p.X, &L->s.Xout));
   }
   PetscCall(PetscFree(L->xref_keep));
-  PetscCall(PetscMalloc1((size_t)sim->n * sim->model.dim + 1, &L->xref_keep));
+  PetscCall(PetscMalloc1((size_t)sim->p.n * sim->model.dim + 1, &L->xref_keep));
   PetscFunctionReturn(0);
 }
 
 /* The largest halo of any rank: other ranks' particles it holds as ghosts (collective). */
 static PetscErrorCode HaloMax(const SpamSim *sim, double *halo)
 {
-  const double mine = sim->nl.ghosts.n - sim->nl.ghosts.nlocal;
+  const double mine = sim->pair.nl.ghosts.n - sim->pair.nl.ghosts.nlocal;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPIU_Allreduce(&mine, halo, 1, MPI_DOUBLE, MPI_MAX, sim->comm));
+  PetscCallMPI(MPIU_Allreduce(&mine, halo, 1, MPI_DOUBLE, MPI_MAX, sim->p.comm));
   *halo = PetscMax(*halo, 1.0); /* a halo of none grows by no factor */
   PetscFunctionReturn(0);
 }
@@ -44,13 +44,13 @@ static PetscErrorCode HaloMax(const SpamSim *sim, double *halo)
  * 4.4-fold in 20 builds). The build count is the same on every rank, so is the decision. */
 static PetscErrorCode MigrationDue(const SpamSim *sim, const SpamRunOptions *o, SpamLoop *L, PetscBool *due)
 {
-  const long since = sim->nl.builds - L->builds_migrated;
+  const long since = sim->pair.nl.builds - L->builds_migrated;
   double     halo;
 
   PetscFunctionBeginUser;
   *due = (PetscBool)(since >= o->migrate_interval);
-  if (*due || since == 0 || sim->nl.builds == L->builds_checked) PetscFunctionReturn(0);
-  L->builds_checked = sim->nl.builds;
+  if (*due || since == 0 || sim->pair.nl.builds == L->builds_checked) PetscFunctionReturn(0);
+  L->builds_checked = sim->pair.nl.builds;
   PetscCall(HaloMax(sim, &halo));
   *due = (PetscBool)(halo > SPAM_MIGRATE_HALO_GROWTH * L->halo_migrated);
   PetscFunctionReturn(0);
@@ -66,14 +66,14 @@ PetscErrorCode SpamLoopMigrate(SpamSim *sim, const SpamRunOptions *o, TS ts, Spa
   if (L->halo_migrated <= 0) PetscCall(HaloMax(sim, &L->halo_migrated)); /* the first distribution's */
   PetscCall(MigrationDue(sim, o, L, &due));
   if (!due) PetscFunctionReturn(0);
-  PetscCall(SpamSimMigrate(sim, sim->dec, &info));
+  PetscCall(SpamSimMigrate(sim, sim->geo.dec, &info));
   /* A non-finite position was caught by the step's own checks before this point; a
    * migration that found one changed nothing, and the next step reports it. */
-  L->builds_migrated = sim->nl.builds;
+  L->builds_migrated = sim->pair.nl.builds;
   PetscCall(HaloMax(sim, &L->halo_migrated));
   if (!info.changed) PetscFunctionReturn(0);
-  sim->migrations_run++;
-  sim->migrated += info.moved;
+  sim->run.migrations_run++;
+  sim->run.migrated += info.moved;
   PetscCall(SpamTSFollowParticles(ts, app, &followed));
   L->followed = followed;
   PetscCall(SpamLoopRemakeVectors(sim, L));

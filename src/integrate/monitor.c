@@ -1,10 +1,10 @@
 /* Monitor lines and the drift bookkeeping of conserved quantities. */
 #include <spam/run.h>
 
-PetscErrorCode SpamMonitorStep(const SpamSim *sim, const SpamProgress *p)
+PetscErrorCode SpamMonitorStep(MPI_Comm comm, const SpamProgress *p)
 {
   PetscFunctionBeginUser;
-  PetscCall(PetscPrintf(sim->comm, "step %6ld  t %-12.6g dt %-11.4e set by %-8s rejected %-5ld rhs %-7ld bound-limited %ld\n", p->steps, p->t, p->dt, p->limit ? p->limit : "-", p->rejected, p->rhs_evals, p->limited));
+  PetscCall(PetscPrintf(comm, "step %6ld  t %-12.6g dt %-11.4e set by %-8s rejected %-5ld rhs %-7ld bound-limited %ld\n", p->steps, p->t, p->dt, p->limit ? p->limit : "-", p->rejected, p->rhs_evals, p->limited));
   PetscFunctionReturn(0);
 }
 
@@ -12,12 +12,12 @@ PetscErrorCode SpamMonitorProgress(const SpamSim *sim, const SpamRunOptions *o, 
 {
   const double frac = o->t_end > 0 ? p->t / o->t_end : 1.0;
   const double eta  = frac > 0 ? p->wall * (1.0 - frac) / frac : 0.0;
-  const double norm = (double)sim->nglobal * log(sim->scene.volume_ratio > 0 ? sim->scene.volume_ratio : 1.0);
+  const double norm = (double)sim->p.nglobal * log(sim->out.scene.volume_ratio > 0 ? sim->out.scene.volume_ratio : 1.0);
 
   PetscFunctionBeginUser;
-  PetscCall(PetscPrintf(sim->comm, "t %-10.5g %5.1f%%  steps %-6ld rejected %-4ld rhs %-7ld dt %-10.3e dE/E %-9.2e", p->t, 100.0 * frac, p->steps, p->rejected, p->rhs_evals, p->dt, r->energy_drift_max));
-  if (norm > 0) PetscCall(PetscPrintf(sim->comm, " dS/NklnV %6.3f", (r->last.entropy_sum - r->first.entropy_sum) / norm));
-  PetscCall(PetscPrintf(sim->comm, "  rhs %3.0f%% of wall %.1fs eta %.1fs\n", p->wall > 0 ? 100.0 * p->rhs_time / p->wall : 0.0, p->wall, eta));
+  PetscCall(PetscPrintf(sim->p.comm, "t %-10.5g %5.1f%%  steps %-6ld rejected %-4ld rhs %-7ld dt %-10.3e dE/E %-9.2e", p->t, 100.0 * frac, p->steps, p->rejected, p->rhs_evals, p->dt, r->energy_drift_max));
+  if (norm > 0) PetscCall(PetscPrintf(sim->p.comm, " dS/NklnV %6.3f", (r->last.entropy_sum - r->first.entropy_sum) / norm));
+  PetscCall(PetscPrintf(sim->p.comm, "  rhs %3.0f%% of wall %.1fs eta %.1fs\n", p->wall > 0 ? 100.0 * p->rhs_time / p->wall : 0.0, p->wall, eta));
   PetscFunctionReturn(0);
 }
 

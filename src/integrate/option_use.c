@@ -291,7 +291,7 @@ static PetscErrorCode RunDescribe(const SpamSim *sim, const SpamRunOptions *o, T
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(r, sizeof *r));
   r->sim   = sim;
-  r->scene = sim->scene.name;
+  r->scene = sim->out.scene.name;
   r->model = sim->model.name;
   r->o     = o;
   if (!strcmp(r->model, "elastic") || !strcmp(r->model, "gas")) r->solid = &sim->model.solid;
@@ -631,12 +631,12 @@ static PetscBool WallRelevant(const char *name, const Run *r, char *why, size_t 
     return PETSC_FALSE;
   }
   if (!*suffix) return PETSC_TRUE;
-  if (!strcasecmp(suffix, "_velocity") && (sim->walls.slip[f] != SPAM_WALL_NOSLIP || !r->solid)) {
-    (void)snprintf(why, len, "applies to a no-slip wall on the %s face of -material gas or elastic (this run: %s wall %s, model %s)", SpamFaceNames[f], SpamFaceNames[f], SpamWallSlipNames[sim->walls.slip[f]], r->model);
+  if (!strcasecmp(suffix, "_velocity") && (sim->geo.walls.slip[f] != SPAM_WALL_NOSLIP || !r->solid)) {
+    (void)snprintf(why, len, "applies to a no-slip wall on the %s face of -material gas or elastic (this run: %s wall %s, model %s)", SpamFaceNames[f], SpamFaceNames[f], SpamWallSlipNames[sim->geo.walls.slip[f]], r->model);
     return PETSC_FALSE;
   }
-  if (!strcasecmp(suffix, "_temperature") && (!SpamWallOn(&sim->walls, f) || !r->solid || !(r->solid->conductivity > 0))) {
-    (void)snprintf(why, len, "applies to a wall on the %s face of a model that conducts heat, -conductivity > 0 (this run: %s wall %s, model %s%s)", SpamFaceNames[f], SpamFaceNames[f], SpamWallSlipNames[sim->walls.slip[f]], r->model, r->solid ? ", -conductivity 0" : "");
+  if (!strcasecmp(suffix, "_temperature") && (!SpamWallOn(&sim->geo.walls, f) || !r->solid || !(r->solid->conductivity > 0))) {
+    (void)snprintf(why, len, "applies to a wall on the %s face of a model that conducts heat, -conductivity > 0 (this run: %s wall %s, model %s%s)", SpamFaceNames[f], SpamFaceNames[f], SpamWallSlipNames[sim->geo.walls.slip[f]], r->model, r->solid ? ", -conductivity 0" : "");
     return PETSC_FALSE;
   }
   return PETSC_TRUE;
@@ -684,9 +684,9 @@ static PetscErrorCode CheckReproducibleMethod(const Run *r)
   PetscMPIInt size;
 
   PetscFunctionBeginUser;
-  if (!r->sim->reproducible || !r->adaptive || r->o->error_norm == SPAM_ERROR_NORM_MAX) PetscFunctionReturn(0);
+  if (!r->sim->pair.reproducible || !r->adaptive || r->o->error_norm == SPAM_ERROR_NORM_MAX) PetscFunctionReturn(0);
   if (r->own) PetscFunctionReturn(0); /* their vectors carry the partition-independent norm */
-  PetscCallMPI(MPI_Comm_size(r->sim->comm, &size));
+  PetscCallMPI(MPI_Comm_size(r->sim->p.comm, &size));
   if (size > 1) SPAM_BAD_INPUT("-reproducible", "true", "PETSc's step adaptor (this run: %s) sums its rms error norm rank by rank: on more than one rank use -ts_type arkode or cvode, or -error_norm max", r->method);
   PetscFunctionReturn(0);
 }

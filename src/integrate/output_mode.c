@@ -24,11 +24,11 @@ PetscErrorCode SpamTSOutputMode(TS ts, const SpamTsApp *app, double fixed_dt, Sp
     *mode = SPAM_OUTPUT_STEPS;
     (void)snprintf(why, len, "fixed step %.6g: the output intervals are rounded to whole steps, which land on the output times", fixed_dt);
   } else if (app->o->output_stop) (void)snprintf(why, len, "-output_stop true");
-  else if (sim->model.post_step || sim->nl.ghosts.mirror) {
+  else if (sim->model.post_step || sim->pair.nl.ghosts.mirror) {
     /* A wall reflection or closest-approach jump happens after a step: the interpolant of
      * that step holds the particle beyond the wall (or the pair too close) at the times in
      * between, a state the run never had. Stopping keeps every output a state it had. */
-    (void)snprintf(why, len, "the state jumps after steps (%s): an interpolant across a jump is not a state of the run", sim->nl.ghosts.mirror ? "mirror-wall reflections" : "closest-approach reflections");
+    (void)snprintf(why, len, "the state jumps after steps (%s): an interpolant across a jump is not a state of the run", sim->pair.nl.ghosts.mirror ? "mirror-wall reflections" : "closest-approach reflections");
   } else if (!interp) {
     const char *sub = "";
     if (f->sub_type) PetscCall(f->sub_type(ts, &sub));

@@ -152,12 +152,12 @@ static PetscErrorCode CheckPositions(const SpamSim *sim, const SpamRestart *rs, 
   char      why[160];
 
   PetscFunctionBeginUser;
-  for (int f = 0; f < 2 * sim->model.dim; f++) walls[f] = SpamWallOn(&sim->walls, f);
+  for (int f = 0; f < 2 * sim->model.dim; f++) walls[f] = SpamWallOn(&sim->geo.walls, f);
   for (size_t i = 0; i < n; i++) {
     const double *x = x0 + i * (size_t)stride;
     for (int d = 0; d < sim->model.dim; d++)
       if (!isfinite(x[d])) BAD_ENTRY(rs, name, "holds a particle (row %zu) whose position %d is %g, not finite", i, d, x[d]);
-    if (SpamBoxOutside(sim->model.dim, sim->box.lo, sim->box.len, walls, x, why, sizeof why) >= 0) BAD_ENTRY(rs, name, "holds a particle (row %zu) beyond a mirror wall: %s", i, why);
+    if (SpamBoxOutside(sim->model.dim, sim->geo.box.lo, sim->geo.box.len, walls, x, why, sizeof why) >= 0) BAD_ENTRY(rs, name, "holds a particle (row %zu) beyond a mirror wall: %s", i, why);
   }
   PetscFunctionReturn(0);
 }
@@ -188,7 +188,7 @@ static PetscErrorCode CheckParticleValues(const SpamSim *sim, const SpamRestart 
 }
 
 /* The migration state (ApplyRanks, ReusedDerivative) and, on several ranks, the cut. */
-static PetscErrorCode CheckRanksEntries(const SpamSim *sim, const SpamRestart *rs)
+static PetscErrorCode CheckRanksEntries(const SpamSwarm *sw, const SpamRestart *rs)
 {
   const int64_t *cut, *count;
   const double  *d, *m;
@@ -204,7 +204,7 @@ static PetscErrorCode CheckRanksEntries(const SpamSim *sim, const SpamRestart *r
   PetscCall(SpamCkGetInt(&rs->file, "decomposition_cut", (size_t)P + 1, &cut));
   PetscCall(SpamCkGetInt(&rs->file, "decomposition_count", (size_t)P, &count));
   for (int r = 0; r < P; r++)
-    if (count[r] < 0 || count[r] > (int64_t)sim->nglobal) BAD_ENTRY(rs, "decomposition_count", "[%d] = %lld: must be from 0 to the particle count %lld", r, (long long)count[r], (long long)sim->nglobal);
+    if (count[r] < 0 || count[r] > (int64_t)sw->nglobal) BAD_ENTRY(rs, "decomposition_count", "[%d] = %lld: must be from 0 to the particle count %lld", r, (long long)count[r], (long long)sw->nglobal);
   PetscCall(CheckReals(rs, &rs->file, "decomposition", 5, 0.0, DBL_MAX, PETSC_FALSE));
   PetscCall(SpamCkGetReal(&rs->file, "decomposition", 5, &d));
   if ((d[0] != 0 && d[0] != 1) || d[3] != floor(d[3]) || d[4] != floor(d[4]) || d[3] > WHOLE_MAX || d[4] > WHOLE_MAX) BAD_ENTRY(rs, "decomposition", "holds a flag other than 0 or 1 or a count that is not whole");
@@ -221,13 +221,13 @@ PetscErrorCode SpamRestartCheck(const SpamSim *sim, const SpamRunOptions *o, con
   PetscCall(CheckLoop(o, rs));
   PetscCall(CheckIntegrator(rs));
   PetscCall(CheckResult(rs));
-  PetscCall(CheckRanksEntries(sim, rs));
+  PetscCall(CheckRanksEntries(&sim->p, rs));
   /* The shared entries are the same on every rank, and so is their verdict; the
    * particles are each rank's own: every rank learns whether any refused them (the one
    * that did has printed why), so that none goes on alone. */
   local  = CheckParticleValues(sim, rs, rs->ranks > 1 ? &rs->mine : &rs->file);
   failed = local ? 1 : 0;
-  PetscCallMPI(MPI_Allreduce(&failed, &any, 1, MPI_INT, MPI_MAX, sim->comm));
+  PetscCallMPI(MPI_Allreduce(&failed, &any, 1, MPI_INT, MPI_MAX, sim->p.comm));
   PetscCall(local);
   PetscCheck(!any, PETSC_COMM_SELF, PETSC_ERR_USER_INPUT, "checkpoint %s: another rank's particles are refused", rs->path);
   PetscCall(SpamOutputResumeCheck(&rs->file, o->hdf5, oo, rs->t));

@@ -78,12 +78,12 @@ static PetscErrorCode CheckOptions(const SpamRestart *rs)
 
 /* The checkpoint continues on the rank count that wrote it: each rank takes back its own
  * block in its own order (another count would need a new cut and other pair orders). */
-static PetscErrorCode CheckRanks(const SpamSim *sim, SpamRestart *rs)
+static PetscErrorCode CheckRanks(const SpamSwarm *sw, SpamRestart *rs)
 {
   PetscMPIInt size;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_size(sim->comm, &size));
+  PetscCallMPI(MPI_Comm_size(sw->comm, &size));
   PetscCall(SpamCkFileRanks(&rs->file, &rs->ranks));
   if (rs->ranks != size) SPAM_BAD_INPUT("-restart", rs->path, "was written on %d rank%s and this run has %d: a checkpoint continues on the rank count that wrote it (mpiexec -n %d)", (int)rs->ranks, rs->ranks == 1 ? "" : "s", (int)size, (int)rs->ranks);
   PetscFunctionReturn(0);
@@ -101,16 +101,16 @@ static PetscErrorCode CheckParticles(SpamSim *sim, SpamRestart *rs)
   PetscCall(SpamCkGetLong(&rs->file, "nglobal", &ng));
   PetscCall(SpamCkGetLong(&rs->file, "nvar", &nvar));
   PetscCall(SpamCkGetLong(&rs->file, "dim", &dim));
-  if (ng != (long)sim->nglobal || nvar != sim->model.layout.nvar || dim != sim->model.dim) SPAM_BAD_INPUT("-restart", rs->path, "holds %ld particles of %ld variables in %ldD; these options make %ld of %d in %dD", ng, nvar, dim, (long)sim->nglobal, sim->model.layout.nvar, sim->model.dim);
+  if (ng != (long)sim->p.nglobal || nvar != sim->model.layout.nvar || dim != sim->model.dim) SPAM_BAD_INPUT("-restart", rs->path, "holds %ld particles of %ld variables in %ldD; these options make %ld of %d in %dD", ng, nvar, dim, (long)sim->p.nglobal, sim->model.layout.nvar, sim->model.dim);
   if (rs->ranks > 1) {
-    PetscCall(SpamCkFileReadRank(sim->comm, &rs->file, &rs->mine));
+    PetscCall(SpamCkFileReadRank(sim->p.comm, &rs->file, &rs->mine));
     PetscFunctionReturn(0);
   }
-  PetscCall(SpamCkGetInt(&rs->file, "id", (size_t)sim->n, &id));
-  PetscCall(SpamCkGetReal(&rs->file, "mass", (size_t)sim->n, &m));
-  for (PetscInt i = 0; i < sim->n; i++) {
+  PetscCall(SpamCkGetInt(&rs->file, "id", (size_t)sim->p.n, &id));
+  PetscCall(SpamCkGetReal(&rs->file, "mass", (size_t)sim->p.n, &m));
+  for (PetscInt i = 0; i < sim->p.n; i++) {
     if (id[i] != SpamSimRowOf(sim, i)) SPAM_BAD_INPUT("-restart", rs->path, "row %ld holds particle %lld; the scene made here puts particle %ld there (the scene or its input file changed)", (long)i, (long long)id[i], (long)SpamSimRowOf(sim, i));
-    if (memcmp(&m[i], &sim->f.m[i], sizeof m[i])) SPAM_BAD_INPUT("-restart", rs->path, "particle %ld has mass %.17g in the checkpoint and %.17g here (the scene or its input file changed)", (long)SpamSimRowOf(sim, i), m[i], sim->f.m[i]);
+    if (memcmp(&m[i], &sim->pair.f.m[i], sizeof m[i])) SPAM_BAD_INPUT("-restart", rs->path, "particle %ld has mass %.17g in the checkpoint and %.17g here (the scene or its input file changed)", (long)SpamSimRowOf(sim, i), m[i], sim->pair.f.m[i]);
   }
   PetscFunctionReturn(0);
 }
@@ -170,9 +170,9 @@ PetscErrorCode SpamRestartLoad(SpamSim *sim, SpamRunOptions *o, const SpamOutput
   PetscCall(SpamCkFileInit(&rs->file));
   PetscCall(SpamCkFileInit(&rs->mine));
   if (access(rs->path, R_OK)) SPAM_BAD_INPUT("-restart", rs->path, "cannot be read: %s", strerror(errno));
-  PetscCall(SpamCkFileRead(sim->comm, rs->path, &rs->file));
+  PetscCall(SpamCkFileRead(sim->p.comm, rs->path, &rs->file));
   PetscCall(CheckVersion(rs));
-  PetscCall(CheckRanks(sim, rs));
+  PetscCall(CheckRanks(&sim->p, rs));
   PetscCall(CheckOptions(rs));
   PetscCall(CheckParticles(sim, rs));
   PetscCall(SpamCkGetScalar(&rs->file, "time", &rs->t));
@@ -207,10 +207,10 @@ static PetscErrorCode FollowPlaced(TS ts, SpamTsApp *app, SpamLoop *L)
   PetscFunctionBeginUser;
   PetscCall(SpamTSFamilyOf(ts, &f));
   if (f->follow_placed) {
-    PetscCall(f->follow_placed(ts, app->sim->X));
+    PetscCall(f->follow_placed(ts, app->sim->p.X));
     followed = PETSC_TRUE;
   } else PetscCall(SpamTSFollowParticles(ts, app, &followed));
-  PetscCheck(followed, app->sim->comm, PETSC_ERR_PLIB, "the checkpoint's particles moved, but this method keeps the start's distribution");
+  PetscCheck(followed, app->sim->p.comm, PETSC_ERR_PLIB, "the checkpoint's particles moved, but this method keeps the start's distribution");
   PetscCall(SpamLoopRemakeVectors(app->sim, L));
   PetscFunctionReturn(0);
 }
@@ -218,7 +218,7 @@ static PetscErrorCode FollowPlaced(TS ts, SpamTsApp *app, SpamLoop *L)
 /* Several ranks: the cut in force and the migration state at the checkpoint. */
 static PetscErrorCode ApplyRanks(SpamSim *sim, const SpamCkFile *c, SpamLoop *L)
 {
-  SpamDecomp    *dec = sim->dec;
+  SpamDecomp    *dec = sim->geo.dec;
   const int64_t *cut, *count;
   const double  *d, *m;
 
@@ -237,8 +237,8 @@ static PetscErrorCode ApplyRanks(SpamSim *sim, const SpamCkFile *c, SpamLoop *L)
   L->builds_migrated = (long)m[0];
   L->builds_checked  = (long)m[1];
   L->halo_migrated   = m[2];
-  sim->migrations_run = (long)m[3];
-  sim->migrated      = (PetscInt64)m[4];
+  sim->run.migrations_run = (long)m[3];
+  sim->run.migrated      = (PetscInt64)m[4];
   L->followed        = (PetscBool)(m[5] != 0);
   PetscFunctionReturn(0);
 }
@@ -258,9 +258,9 @@ static PetscErrorCode PlaceParticles(SpamSim *sim, TS ts, SpamTsApp *app, const 
   PetscCall(SpamSimPlace(sim, (PetscInt)n, id, &changed));
   if (changed) PetscCall(FollowPlaced(ts, app, L));
   PetscCall(SpamCkGetReal(&rs->mine, "mass", n, &m));
-  for (PetscInt i = 0; i < sim->n && bad < 0; i++)
-    if (memcmp(&m[i], &sim->f.m[i], sizeof m[i])) bad = SpamSimRowOf(sim, i);
-  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &bad, 1, MPIU_INT64, MPI_MAX, sim->comm));
+  for (PetscInt i = 0; i < sim->p.n && bad < 0; i++)
+    if (memcmp(&m[i], &sim->pair.f.m[i], sizeof m[i])) bad = SpamSimRowOf(sim, i);
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &bad, 1, MPIU_INT64, MPI_MAX, sim->p.comm));
   if (bad >= 0) SPAM_BAD_INPUT("-restart", rs->path, "particle %lld has another mass in the checkpoint than here (the scene or its input file changed)", (long long)bad);
   PetscCall(ApplyRanks(sim, &rs->file, L));
   PetscFunctionReturn(0);
@@ -271,7 +271,7 @@ static PetscErrorCode ApplyParticles(SpamSim *sim, const SpamRestart *rs)
 {
   const SpamCkFile *pc  = rs->ranks > 1 ? &rs->mine : &rs->file; /* the particles' entries */
   const int         dim = sim->model.dim;
-  const size_t      n   = (size_t)sim->n;
+  const size_t      n   = (size_t)sim->p.n;
   const double     *state, *xref, *acc, *stats;
   PetscScalar      *y;
   long              builds;
@@ -282,17 +282,17 @@ static PetscErrorCode ApplyParticles(SpamSim *sim, const SpamRestart *rs)
   PetscCall(SpamCkGetReal(pc, "acc", n * dim, &acc));
   PetscCall(SpamCkGetReal(pc, "rhs_stats", 3, &stats));
   PetscCall(SpamCkGetLong(&rs->file, "list_builds", &builds));
-  PetscCall(VecGetArrayWrite(sim->X, &y));
+  PetscCall(VecGetArrayWrite(sim->p.X, &y));
   PetscCall(PetscArraycpy(y, state, n * sim->model.layout.nvar));
-  PetscCall(VecRestoreArrayWrite(sim->X, &y));
-  PetscCall(SpamNeighboursRestore(&sim->nl, &sim->box, xref));
-  sim->nl.builds        = builds;
-  sim->ghost_mass_build = -1; /* the slots were laid out anew: their masses with them */
-  PetscCall(SpamFieldsReserve(&sim->f, SpamNeighboursSlots(&sim->nl)));
-  PetscCall(PetscArraycpy(sim->f.acc, acc, n * dim));
-  sim->stats.rhs_evals   = (long)stats[0];
-  sim->stats.rhs_time    = stats[1];
-  sim->stats.pair_visits = stats[2];
+  PetscCall(VecRestoreArrayWrite(sim->p.X, &y));
+  PetscCall(SpamNeighboursRestore(&sim->pair.nl, &sim->geo.box, xref));
+  sim->pair.nl.builds        = builds;
+  sim->pair.ghost_mass_build = -1; /* the slots were laid out anew: their masses with them */
+  PetscCall(SpamFieldsReserve(&sim->pair.f, SpamNeighboursSlots(&sim->pair.nl)));
+  PetscCall(PetscArraycpy(sim->pair.f.acc, acc, n * dim));
+  sim->run.stats.rhs_evals   = (long)stats[0];
+  sim->run.stats.rhs_time    = stats[1];
+  sim->run.stats.pair_visits = stats[2];
   PetscFunctionReturn(0);
 }
 
@@ -397,12 +397,12 @@ PetscErrorCode SpamRestartApply(SpamSim *sim, const SpamRunOptions *o, TS ts, Sp
   r->restart_exact     = rs->exact;
   r->restart_rhs_evals = reused ? 1 : 0;
   PetscCall(PetscStrncpy(r->restart_why, rs->why, sizeof r->restart_why));
-  sim->stats.rhs_evals -= r->restart_rhs_evals;
+  sim->run.stats.rhs_evals -= r->restart_rhs_evals;
   (void)o;
   {
     char line[PETSC_MAX_PATH_LEN + 512];
     (void)snprintf(line, sizeof line, "spam-ark: restart from %s at t = %.10g (step %ld): %s%s\n", rs->path, rs->t, rs->step, rs->exact ? "the method continues bit for bit" : "approximate: ", rs->exact ? "" : rs->why);
-    PetscCall(PetscPrintf(sim->comm, "%s", line));
+    PetscCall(PetscPrintf(sim->p.comm, "%s", line));
   }
   PetscFunctionReturn(0);
 }

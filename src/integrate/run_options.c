@@ -108,7 +108,7 @@ static PetscErrorCode CheckTimes(const SpamRunOptions *o)
 
 /* The grid of the entropy integral: cells counted in double, so a tiny spacing cannot
  * overflow the count. */
-static PetscErrorCode CheckGrid(const SpamSim *sim, const SpamRunOptions *o)
+static PetscErrorCode CheckGrid(const SpamGeometry *geo, const SpamRunOptions *o)
 {
   double cells = 1.0;
   char   val[128];
@@ -116,7 +116,7 @@ static PetscErrorCode CheckGrid(const SpamSim *sim, const SpamRunOptions *o)
   PetscFunctionBeginUser;
   PetscCall(CheckRange("-diag_grid_spacing", o->diag.grid_spacing, 0.0, PETSC_FALSE, "must be zero (off) or a positive spacing"));
   if (!(o->diag.entropy && o->diag.grid_spacing > 0)) PetscFunctionReturn(0);
-  for (int d = 0; d < sim->box.dim; d++) cells *= PetscMax(1.0, ceil(sim->box.len[d] / o->diag.grid_spacing));
+  for (int d = 0; d < geo->box.dim; d++) cells *= PetscMax(1.0, ceil(geo->box.len[d] / o->diag.grid_spacing));
   PetscCall(SpamOptionText("-diag_grid_spacing", o->diag.grid_spacing, val, sizeof val));
   if (!(cells <= MAX_GRID_CELLS)) SPAM_BAD_INPUT("-diag_grid_spacing", val, "the box would hold %.3g grid cells, at most %.0e (sampled at every output row)", cells, MAX_GRID_CELLS);
   PetscFunctionReturn(0);
@@ -130,7 +130,7 @@ PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o)
   /* The -arkode_* and -cvode_* options are the arkode and cvode TS types' own, read by
    * their setfromoptions (arkode_options.c, ts_cvode.c). */
   PetscCall(PetscMemzero(o, sizeof *o));
-  o->t_end             = sim->scene.t_end_default;
+  o->t_end             = sim->out.scene.t_end_default;
   o->max_steps         = 1000000000;
   o->rtol              = 1e-6;
   o->atol              = 1e-9;
@@ -141,7 +141,7 @@ PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o)
   o->diag.entropy      = PETSC_TRUE;
   o->diag.grid_spacing = 1.0;
   PetscCall(PetscStrncpy(o->output_dir, "./out", sizeof o->output_dir));
-  PetscOptionsBegin(sim->comm, NULL, "Time integration: -ts_type arkode (default), cvode, rk, ssp, euler, basicsymplectic; PETSc's own -ts_* options are listed under TS", "spam-ark");
+  PetscOptionsBegin(sim->p.comm, NULL, "Time integration: -ts_type arkode (default), cvode, rk, ssp, euler, basicsymplectic; PETSc's own -ts_* options are listed under TS", "spam-ark");
   PetscCall(PetscOptionsReal("-ts_max_time", "End time (default: the scene's, 2 sound traversal times for expansion)", "README", o->t_end, &o->t_end, NULL));
   PetscCall(PetscOptionsInt("-ts_max_steps", "Stop after this many steps", "README", o->max_steps, &o->max_steps, NULL));
   PetscCall(PetscOptionsReal("-ts_dt", "First step of adaptive methods, the step of fixed-step TS methods (0: arkode/cvode estimate it, TS methods take 0.05 h/c0)", "README", o->dt_first, &o->dt_first, NULL));
@@ -172,7 +172,7 @@ PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o)
   PetscCall(PetscOptionsString("-restart", "Continue the run saved in this checkpoint (its options must be the same but for outputs and the end)", "README", o->restart, o->restart, sizeof o->restart, &restart));
   PetscOptionsEnd();
   if (restart && !o->restart[0]) SPAM_BAD_INPUT("-restart", "", "names no file: give the checkpoint to continue from (OUTPUT_DIR/checkpoint.h5)");
-  PetscCall(SpamErrorNormOptions(sim->comm, &o->error_norm));
+  PetscCall(SpamErrorNormOptions(sim->p.comm, &o->error_norm));
   PetscCall(CheckTimes(o));
   PetscCall(CheckRange("-ts_rtol", o->rtol, 0.0, PETSC_TRUE, "a tolerance must be positive"));
   PetscCall(CheckRange("-ts_atol", o->atol, 0.0, PETSC_TRUE, "a tolerance must be positive"));
@@ -186,7 +186,7 @@ PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o)
     PetscCall(SpamOptionText("-step_force", o->force, val, sizeof val));
     if (o->force > 0 && o->force < MIN_BOUND_FRACTION) SPAM_BAD_INPUT("-step_force", val, "too small: must be 0 (off) or at least %g", MIN_BOUND_FRACTION);
   }
-  PetscCall(CheckGrid(sim, o));
+  PetscCall(CheckGrid(&sim->geo, o));
   {
     char val[32];
     PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, o->migrate_interval));

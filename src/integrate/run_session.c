@@ -44,27 +44,27 @@ static PetscErrorCode WriteParticles(const char *path, SpamSim *sim, SpamOutput 
   Listed             w = {path, kind, out};
 
   PetscFunctionBeginUser;
-  PetscCall(VecGetArrayRead(sim->X, &y));
+  PetscCall(VecGetArrayRead(sim->p.X, &y));
   PetscCall(SpamParticlesCsvWrite(path, sim, y));
-  PetscCall(VecRestoreArrayRead(sim->X, &y));
-  PetscCall(SpamRunAgreed(sim->comm, PETSC_TRUE, ListParticles, &w));
+  PetscCall(VecRestoreArrayRead(sim->p.X, &y));
+  PetscCall(SpamRunAgreed(sim->p.comm, PETSC_TRUE, ListParticles, &w));
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Report(const SpamSim *sim, const SpamRunOptions *o, const SpamRunResult *r)
+static PetscErrorCode Report(const SpamSwarm *sw, const SpamRunOptions *o, const SpamRunResult *r)
 {
   PetscFunctionBeginUser;
   if (r->status == SPAM_STATUS_INTERRUPTED) {
     char line[512]; /* snprintf: PETSc's printf writes 3 as "3." */
     (void)snprintf(line, sizeof line, "spam-ark: %s; outputs complete at t = %g of %g after %ld steps", r->reason, r->t, o->t_end, r->steps);
-    PetscCall(PetscPrintf(sim->comm, "%s; results in %s\n", line, o->output_dir));
+    PetscCall(PetscPrintf(sw->comm, "%s; results in %s\n", line, o->output_dir));
   } else {
     /* Every evaluation the run made: ARKODE's and CVODE's dense output evaluates the RHS at
      * each output time, and SUNDIALS' own statistics (-sundials_stats) count those too. */
     const long extra = r->interpolation_rhs_evals + r->restart_rhs_evals;
     char       cost[160] = "";
     if (extra) (void)snprintf(cost, sizeof cost, " (+%ld by the interpolant%s: %ld in all)", extra, r->restart_rhs_evals ? " and the restart" : "", r->rhs_evals + extra);
-    PetscCall(PetscPrintf(sim->comm, "spam-ark: %s after %ld steps (%ld rejected), %ld RHS evaluations%s, %.2f s; energy drift %.3e; results in %s\n", r->status == SPAM_STATUS_UNSTABLE ? "unstable" : "done", r->steps, r->rejected, r->rhs_evals, cost, r->wall, r->energy_drift_max, o->output_dir));
+    PetscCall(PetscPrintf(sw->comm, "spam-ark: %s after %ld steps (%ld rejected), %ld RHS evaluations%s, %.2f s; energy drift %.3e; results in %s\n", r->status == SPAM_STATUS_UNSTABLE ? "unstable" : "done", r->steps, r->rejected, r->rhs_evals, cost, r->wall, r->energy_drift_max, o->output_dir));
   }
   PetscFunctionReturn(0);
 }
@@ -72,17 +72,17 @@ static PetscErrorCode Report(const SpamSim *sim, const SpamRunOptions *o, const 
 /* Rank 0 owns the output directory: its lock, manifest, text series and summary. The
  * other ranks take part in every collective of the run with an output that has no open
  * file (appends to it do nothing). */
-static PetscBool DirectoryOwner(const SpamSim *sim)
+static PetscBool DirectoryOwner(const SpamSwarm *sw)
 {
   PetscMPIInt rank = 0;
-  (void)MPI_Comm_rank(sim->comm, &rank);
+  (void)MPI_Comm_rank(sw->comm, &rank);
   return (PetscBool)(rank == 0);
 }
 
 /* Everything that writes, in order; any error returns at once to SpamRunSession. */
 static PetscErrorCode Session(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamOutput *out, SpamRestart *rs, SpamRunResult *r)
 {
-  const PetscBool owner = DirectoryOwner(sim);
+  const PetscBool owner = DirectoryOwner(&sim->p);
 
   PetscFunctionBeginUser;
   if (o->initial_csv[0] && !rs) PetscCall(WriteParticles(o->initial_csv, sim, out, "initial_particles"));
@@ -103,7 +103,7 @@ static PetscErrorCode OpenOutputs(SpamSim *sim, const SpamRunOptions *o, const S
 {
   PetscErrorCode ierr = 0;
 
-  if (DirectoryOwner(sim)) {
+  if (DirectoryOwner(&sim->p)) {
     if (rs) ierr = SpamOutputResume(o->output_dir, o->hdf5, o->csv, more, &rs->file, out);
     else ierr = SpamOutputOpen(o->output_dir, o->hdf5, o->csv, more, out);
   } else {
@@ -115,7 +115,7 @@ static PetscErrorCode OpenOutputs(SpamSim *sim, const SpamRunOptions *o, const S
     (void)PetscStrncpy(out->dir, o->output_dir, sizeof out->dir);
     if (rs) ierr = SpamOutputResumeLists(&rs->file, out); /* the same list of files as rank 0 */
   }
-  if (MPI_Bcast(&ierr, 1, MPI_INT, 0, sim->comm) != MPI_SUCCESS) return PETSC_ERR_MPI;
+  if (MPI_Bcast(&ierr, 1, MPI_INT, 0, sim->p.comm) != MPI_SUCCESS) return PETSC_ERR_MPI;
   return ierr;
 }
 
@@ -158,7 +158,7 @@ PetscErrorCode SpamRunSession(SpamSim *sim, const SpamRunOptions *o, const SpamO
   if (ierr) Failed(sim, o, &out, &r, ierr);
   PetscCall(SpamInterruptRestore(&sig));
   PetscCall(ierr);
-  PetscCall(Report(sim, o, &r));
+  PetscCall(Report(&sim->p, o, &r));
   *exit_code = SpamRunExitCode(&r);
   PetscFunctionReturn(0);
 }

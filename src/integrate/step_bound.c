@@ -21,13 +21,13 @@ PetscErrorCode SpamStepBound(SpamSim *sim, const SpamRunOptions *o, const double
   }
   if (o->force > 0) {
     double a2 = 0.0;
-    for (PetscInt i = 0; i < sim->n; i++) {
+    for (PetscInt i = 0; i < sim->p.n; i++) {
       double s = 0.0;
-      const double *a = sim->f.acc + (size_t)i * sim->model.dim;
+      const double *a = sim->pair.f.acc + (size_t)i * sim->model.dim;
       for (int d = 0; d < sim->model.dim; d++) s += a[d] * a[d];
       a2 = PetscMax(a2, s);
     }
-    PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &a2, 1, MPI_DOUBLE, MPI_MAX, sim->comm));
+    PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &a2, 1, MPI_DOUBLE, MPI_MAX, sim->p.comm));
     if (a2 > 0) {
       const double dtf = o->force * sqrt(h / sqrt(a2));
       if (dtf < *dt) {

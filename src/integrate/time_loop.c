@@ -55,7 +55,7 @@ static void ScheduleInit(const SpamRunOptions *o, double fixed_dt, Schedule *s)
   s->next_snap = NextMultiple(0.0, s->snap_interval, o->t_end);
 }
 
-/* Diagnostics row (and snapshot when due) of state X at time p->t: sim->X, or an
+/* Diagnostics row (and snapshot when due) of state X at time p->t: sim->p.X, or an
  * interpolated state. The writers read the state only through y; the density summation
  * they start from checks the neighbour list against y's own positions. */
 /* Rank 0's rows of the text series, run through SpamRunAgreed: a failed write there ends
@@ -92,7 +92,7 @@ static PetscErrorCode OutputOf(Vec X, SpamSim *sim, const SpamRunOptions *o, Spa
   SpamRunUpdateDrifts(&d, r);
   {
     SeriesRow w = {out, sim, p, &d, &r->first};
-    PetscCall(SpamRunAgreed(sim->comm, PETSC_TRUE, AppendTimeseries, &w));
+    PetscCall(SpamRunAgreed(sim->p.comm, PETSC_TRUE, AppendTimeseries, &w));
   }
   /* Every rank's: the snapshot's step attribute is written collectively (rank 0's row set
    * it there only, and the other ranks wrote 0 into P-rank snapshots). */
@@ -106,7 +106,7 @@ static PetscErrorCode OutputOf(Vec X, SpamSim *sim, const SpamRunOptions *o, Spa
 static PetscErrorCode Output(SpamSim *sim, const SpamRunOptions *o, SpamOutput *out, const SpamProgress *p, PetscBool snapshot, SpamRunResult *r)
 {
   PetscFunctionBeginUser;
-  PetscCall(OutputOf(sim->X, sim, o, out, p, snapshot, r));
+  PetscCall(OutputOf(sim->p.X, sim, o, out, p, snapshot, r));
   PetscFunctionReturn(0);
 }
 
@@ -127,10 +127,10 @@ static PetscErrorCode InterpolatedOutputs(TS ts, SpamSim *sim, const SpamRunOpti
     /* ERKStep's Hermite interpolant of degree 4 or 5 evaluates the right-hand side (it
      * does not keep those evaluations between calls): output work, booked apart so that
      * rhs_evals stays the method's work whatever the output cadence. */
-    keep = sim->stats.rhs_evals;
+    keep = sim->run.stats.rhs_evals;
     PetscCall(TSInterpolate(ts, tout, s->Xout));
-    r->interpolation_rhs_evals += sim->stats.rhs_evals - keep;
-    sim->stats.rhs_evals = keep;
+    r->interpolation_rhs_evals += sim->run.stats.rhs_evals - keep;
+    sim->run.stats.rhs_evals = keep;
     q.t = tout;
     PetscCall(OutputOf(s->Xout, sim, o, out, &q, snap, r));
     r->interpolated_rows++;
@@ -153,7 +153,7 @@ static PetscErrorCode Unstable(SpamSim *sim, SpamOutput *out, Vec Xgood, double 
   PetscCall(SpamDensitySummation(sim, g, &bad));
   if (bad < 0) PetscCall(SpamSnapshotWrite(out, sim, g, tgood, "last_good"));
   PetscCall(VecRestoreArrayRead(Xgood, &g));
-  PetscCall(PetscPrintf(sim->comm, "spam-ark: unstable: %s\n", r->reason));
+  PetscCall(PetscPrintf(sim->p.comm, "spam-ark: unstable: %s\n", r->reason));
   PetscFunctionReturn(0);
 }
 
@@ -171,9 +171,9 @@ static PetscErrorCode EnergyScale(SpamSim *sim, SpamRunResult *r)
   PetscFunctionBeginUser;
   if (sim->model.max_sound_speed) {
     const PetscScalar *y;
-    PetscCall(VecGetArrayRead(sim->X, &y));
+    PetscCall(VecGetArrayRead(sim->p.X, &y));
     PetscCall(sim->model.max_sound_speed(sim, y, &c));
-    PetscCall(VecRestoreArrayRead(sim->X, &y));
+    PetscCall(VecRestoreArrayRead(sim->p.X, &y));
   }
   floor_ke        = 0.5 * r->first.mass * (1e-3 * c) * (1e-3 * c);
   r->energy_scale = PetscMax(fabs(r->first.total), r->first.kinetic);
@@ -191,9 +191,9 @@ static PetscErrorCode FinalOutputs(SpamSim *sim, const SpamRunOptions *o, SpamOu
   if (!row_done) PetscCall(Output(sim, o, out, p, snap, r));
   else if (snap) {
     const PetscScalar *y;
-    PetscCall(VecGetArrayRead(sim->X, &y));
+    PetscCall(VecGetArrayRead(sim->p.X, &y));
     PetscCall(SpamSnapshotWrite(out, sim, y, p->t, NULL));
-    PetscCall(VecRestoreArrayRead(sim->X, &y));
+    PetscCall(VecRestoreArrayRead(sim->p.X, &y));
   }
   PetscFunctionReturn(0);
 }
@@ -222,16 +222,16 @@ static PetscErrorCode CheckState(const SpamSim *sim, const SpamRunOptions *o, co
 
   PetscFunctionBeginUser;
   why[0] = 0;
-  PetscCall(VecGetArrayRead(sim->X, &y));
-  for (PetscInt i = 0; i < sim->n; i++) {
+  PetscCall(VecGetArrayRead(sim->p.X, &y));
+  for (PetscInt i = 0; i < sim->p.n; i++) {
     const PetscScalar *s = y + (size_t)i * nv;
     for (int k = 0; k < nv; k++)
       if (!isfinite(s[k]) && bad < 0) bad = i;
     if (l->rho >= 0 && !(s[l->rho] > 0) && neg < 0) neg = i;
     for (int d = 0; d < sim->model.dim; d++) ke += 0.5 * sim->model.mass * s[l->v + d] * s[l->v + d];
   }
-  PetscCall(VecRestoreArrayRead(sim->X, &y));
-  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &ke, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
+  PetscCall(VecRestoreArrayRead(sim->p.X, &y));
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &ke, 1, MPI_DOUBLE, MPI_SUM, sim->p.comm));
   {
     const double e0 = PetscMax(r->energy_scale, 1e-300);
     if (bad >= 0) (void)snprintf(why, len, "non-finite state of particle %" PetscInt_FMT " at t = %.6g (step %ld)", SpamSimRowOf(sim, bad), t, step);
@@ -241,7 +241,7 @@ static PetscErrorCode CheckState(const SpamSim *sim, const SpamRunOptions *o, co
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode Progress(TS ts, const SpamSim *sim, PetscLogDouble wall0, double dt, SpamProgress *p)
+static PetscErrorCode Progress(TS ts, const SpamRunCounts *run, PetscLogDouble wall0, double dt, SpamProgress *p)
 {
   PetscInt       steps, rejected;
   PetscReal      t;
@@ -255,8 +255,8 @@ static PetscErrorCode Progress(TS ts, const SpamSim *sim, PetscLogDouble wall0, 
   p->t         = t;
   p->steps     = steps;
   p->rejected  = rejected;
-  p->rhs_evals = sim->stats.rhs_evals;
-  p->rhs_time  = sim->stats.rhs_time;
+  p->rhs_evals = run->stats.rhs_evals;
+  p->rhs_time  = run->stats.rhs_time;
   p->dt        = dt;
   p->wall      = now - wall0;
   PetscFunctionReturn(0);
@@ -279,9 +279,9 @@ static PetscErrorCode ChooseStep(TS ts, SpamTsApp *app, double fixed_dt, double 
   *limit = fixed_dt > 0 ? SPAM_LIMIT_FIXED : SPAM_LIMIT_ACCURACY;
   if (fixed_dt > 0) dt = fixed_dt;
   else if (app->o->cfl > 0 || app->o->force > 0) {
-    PetscCall(VecGetArrayRead(sim->X, &y));
+    PetscCall(VecGetArrayRead(sim->p.X, &y));
     PetscCall(SpamStepBound(sim, app->o, y, &app->bound, &app->bound_which));
-    PetscCall(VecRestoreArrayRead(sim->X, &y));
+    PetscCall(VecRestoreArrayRead(sim->p.X, &y));
     PetscCall(TSGetAdapt(ts, &adapt));
     PetscCall(TSAdaptSetStepLimits(adapt, PETSC_DEFAULT, app->bound));
     if (dt > app->bound) {
@@ -307,9 +307,9 @@ static PetscErrorCode SelfSteppingBound(TS ts, SpamTsApp *app)
   PetscFunctionBeginUser;
   PetscCall(SpamTSFamilyOf(ts, &f));
   if (!f->bound_as_max_step || !(app->o->cfl > 0 || app->o->force > 0)) PetscFunctionReturn(0);
-  PetscCall(VecGetArrayRead(app->sim->X, &y));
+  PetscCall(VecGetArrayRead(app->sim->p.X, &y));
   PetscCall(SpamStepBound(app->sim, app->o, y, &app->bound, &app->bound_which));
-  PetscCall(VecRestoreArrayRead(app->sim->X, &y));
+  PetscCall(VecRestoreArrayRead(app->sim->p.X, &y));
   PetscFunctionReturn(0);
 }
 
@@ -322,14 +322,14 @@ static PetscErrorCode PostStep(TS ts, SpamSim *sim, SpamRunResult *r)
   PetscInt     changed = 0, crossed = 0;
 
   PetscFunctionBeginUser;
-  if (!sim->model.post_step && !sim->nl.ghosts.mirror) PetscFunctionReturn(0);
-  PetscCall(VecGetArray(sim->X, &y));
-  if (sim->nl.ghosts.mirror) PetscCall(SpamWallReflect(sim, y, &crossed));
+  if (!sim->model.post_step && !sim->pair.nl.ghosts.mirror) PetscFunctionReturn(0);
+  PetscCall(VecGetArray(sim->p.X, &y));
+  if (sim->pair.nl.ghosts.mirror) PetscCall(SpamWallReflect(sim, y, &crossed));
   if (sim->model.post_step) PetscCall(sim->model.post_step(sim, y, &changed));
-  PetscCall(VecRestoreArray(sim->X, &y));
+  PetscCall(VecRestoreArray(sim->p.X, &y));
   changed += crossed;
   /* Every rank restarts its method together (TSRestartStep is collective), and the counts are the run's. */
-  if (SpamSimDistributed(sim)) PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &changed, 1, MPIU_INT, MPI_SUM, sim->comm));
+  if (SpamSimDistributed(sim)) PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &changed, 1, MPIU_INT, MPI_SUM, sim->p.comm));
   if (changed > 0) {
     r->jumps += changed;
     r->jump_steps++;
@@ -380,7 +380,7 @@ static PetscErrorCode CheckpointAsked(const SpamSim *sim, const SpamRunOptions *
     if (now - L->last_ckpt_wall >= o->checkpoint_wall) L->ckpt_due = PETSC_TRUE;
     /* Each rank has its own clock: one rank's due checkpoint is every rank's, or the
      * others would never join its collective write. */
-    if (SpamSimDistributed(sim)) PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &L->ckpt_due, 1, MPIU_BOOL, MPI_LOR, sim->comm));
+    if (SpamSimDistributed(sim)) PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &L->ckpt_due, 1, MPIU_BOOL, MPI_LOR, sim->p.comm));
   }
   PetscFunctionReturn(0);
 }
@@ -395,7 +395,7 @@ static int SignalAgreed(const SpamSim *sim)
 {
   int mine = SpamInterruptSignal(), agreed = mine;
 
-  if (SpamSimDistributed(sim) && MPI_Allreduce(&mine, &agreed, 1, MPI_INT, MPI_MAX, sim->comm) != MPI_SUCCESS) return SIGTERM;
+  if (SpamSimDistributed(sim) && MPI_Allreduce(&mine, &agreed, 1, MPI_INT, MPI_MAX, sim->p.comm) != MPI_SUCCESS) return SIGTERM;
   return agreed;
 }
 
@@ -437,7 +437,7 @@ static PetscErrorCode Start(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamOu
   PetscCall(Output(sim, o, out, &L->p, o->snapshot_interval > 0, r));
   L->t_snap = o->snapshot_interval > 0 ? 0.0 : -1.0;
   PetscCall(EnergyScale(sim, r));
-  PetscCall(TSMonitor(ts, 0, 0.0, sim->X));
+  PetscCall(TSMonitor(ts, 0, 0.0, sim->p.X));
   PetscFunctionReturn(0);
 }
 
@@ -469,14 +469,14 @@ static PetscErrorCode Reschedule(SpamSim *sim, const SpamRunOptions *o, double f
  * largest list growth count and Gauss maxima. */
 static PetscErrorCode RunFigures(SpamSim *sim)
 {
-  double mx[4] = {sim->stats.rhs_time, (double)sim->nl.grows, sim->ps ? sim->ps->gauss_accel_max : 0.0, sim->ps ? sim->ps->gauss_momentum_residual : 0.0}, visits = sim->stats.pair_visits;
+  double mx[4] = {sim->run.stats.rhs_time, (double)sim->pair.nl.grows, sim->ps ? sim->ps->gauss_accel_max : 0.0, sim->ps ? sim->ps->gauss_momentum_residual : 0.0}, visits = sim->run.stats.pair_visits;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, mx, 4, MPI_DOUBLE, MPI_MAX, sim->comm));
-  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &visits, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
-  sim->stats.rhs_time    = mx[0];
-  sim->nl.grows          = (long)mx[1];
-  sim->stats.pair_visits = visits;
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, mx, 4, MPI_DOUBLE, MPI_MAX, sim->p.comm));
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &visits, 1, MPI_DOUBLE, MPI_SUM, sim->p.comm));
+  sim->run.stats.rhs_time    = mx[0];
+  sim->pair.nl.grows          = (long)mx[1];
+  sim->run.stats.pair_visits = visits;
   if (sim->ps) {
     sim->ps->gauss_accel_max         = mx[2];
     sim->ps->gauss_momentum_residual = mx[3];
@@ -488,16 +488,16 @@ static PetscErrorCode RunFigures(SpamSim *sim)
 static PetscErrorCode RanksResult(SpamSim *sim, SpamRunResult *r)
 {
   PetscMPIInt size;
-  double      halo = sim->nl.ghosts.n - sim->nl.ghosts.nlocal, n = (double)sim->n, nmax;
+  double      halo = sim->pair.nl.ghosts.n - sim->pair.nl.ghosts.nlocal, n = (double)sim->p.n, nmax;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_size(sim->comm, &size));
+  PetscCallMPI(MPI_Comm_size(sim->p.comm, &size));
   r->ranks      = size;
-  r->migrations = sim->migrations_run;
-  r->migrated   = (double)sim->migrated;
-  PetscCallMPI(MPIU_Allreduce(&halo, &r->halo_max, 1, MPI_DOUBLE, MPI_MAX, sim->comm));
-  PetscCallMPI(MPIU_Allreduce(&n, &nmax, 1, MPI_DOUBLE, MPI_MAX, sim->comm));
-  r->imbalance = nmax * size / PetscMax((double)sim->nglobal, 1.0);
+  r->migrations = sim->run.migrations_run;
+  r->migrated   = (double)sim->run.migrated;
+  PetscCallMPI(MPIU_Allreduce(&halo, &r->halo_max, 1, MPI_DOUBLE, MPI_MAX, sim->p.comm));
+  PetscCallMPI(MPIU_Allreduce(&n, &nmax, 1, MPI_DOUBLE, MPI_MAX, sim->p.comm));
+  r->imbalance = nmax * size / PetscMax((double)sim->p.nglobal, 1.0);
   if (size > 1) PetscCall(RunFigures(sim));
   PetscFunctionReturn(0);
 }
@@ -519,7 +519,7 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
     L->xref_keep = keep;
     L->Xgood     = good;
     L->s.Xout    = xout;
-    L->builds_migrated = sim->nl.builds;
+    L->builds_migrated = sim->pair.nl.builds;
   }
   PetscCall(PetscTime(&L->wall0));
   L->last_ckpt_wall = L->wall0;
@@ -527,8 +527,8 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
   PetscCall(SpamTSDescribe(ts, r->method, sizeof r->method, r->adapt, sizeof r->adapt, &r->fixed_dt));
   {
     char line[512]; /* snprintf: PETSc's printf writes 3 as "3." */
-    (void)snprintf(line, sizeof line, "spam-ark: scene %s, %ld particles in %dD, h %g, %s, step %s, rtol %g atol %g, to t = %g\n", sim->scene.name, (long)sim->nglobal, sim->model.dim, sim->model.kernel.h, r->method, r->fixed_dt > 0 ? "fixed" : r->adapt, o->rtol, o->atol, o->t_end);
-    if (!o->quiet) PetscCall(PetscPrintf(sim->comm, "%s", line));
+    (void)snprintf(line, sizeof line, "spam-ark: scene %s, %ld particles in %dD, h %g, %s, step %s, rtol %g atol %g, to t = %g\n", sim->out.scene.name, (long)sim->p.nglobal, sim->model.dim, sim->model.kernel.h, r->method, r->fixed_dt > 0 ? "fixed" : r->adapt, o->rtol, o->atol, o->t_end);
+    if (!o->quiet) PetscCall(PetscPrintf(sim->p.comm, "%s", line));
   }
   PetscCall(SpamTSOutputMode(ts, app, r->fixed_dt, &sp->mode, r->output_mode_reason, sizeof r->output_mode_reason));
   PetscCall(PetscStrncpy(r->output_mode, SpamOutputModeNames[sp->mode], sizeof r->output_mode));
@@ -536,7 +536,7 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
     PetscCall(SpamRestartApply(sim, o, ts, app, rs, r, L));
     PetscCall(Reschedule(sim, o, r->fixed_dt, rs, L));
   } else PetscCall(Start(sim, o, ts, out, r, L));
-  PetscCall(VecCopy(sim->X, L->Xgood));
+  PetscCall(VecCopy(sim->p.X, L->Xgood));
   while (L->t < o->t_end && pp->steps < o->max_steps) {
     /* Interpolating, the only stop is t_end; a step cut there is an "end" step. */
     const PetscBool     dense = (PetscBool)(sp->mode == SPAM_OUTPUT_INTERPOLATED);
@@ -576,7 +576,7 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
       tnew = tstop;
       PetscCall(TSSetTime(ts, tnew));
     }
-    PetscCall(Progress(ts, sim, L->wall0, tnew - t, pp));
+    PetscCall(Progress(ts, &sim->run, L->wall0, tnew - t, pp));
     pp->rejected += L->rejected_base;
     if (app->self_stepping && isfinite(app->bound) && pp->dt >= app->bound * (1.0 - 1e-9)) limit = app->bound_which;
     if (app->self_stepping && tnew >= tstop && limit == SPAM_LIMIT_ACCURACY && r->fixed_dt <= 0) limit = cut;
@@ -594,22 +594,22 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
       break;
     }
     PetscCall(PostStep(ts, sim, r));
-    PetscCall(VecCopy(sim->X, L->Xgood));
+    PetscCall(VecCopy(sim->p.X, L->Xgood));
     if (limit != cut) L->dt_prev = pp->dt;
     r->t = t;
     {
       SeriesRow w = {out, sim, pp, NULL, NULL};
-      PetscCall(SpamRunAgreed(sim->comm, PETSC_TRUE, AppendSteps, &w));
+      PetscCall(SpamRunAgreed(sim->p.comm, PETSC_TRUE, AppendSteps, &w));
     }
-    if (o->monitor) PetscCall(SpamMonitorStep(sim, pp));
+    if (o->monitor) PetscCall(SpamMonitorStep(sim->p.comm, pp));
     /* TSSolve would call the -ts_monitor monitors; this loop steps the TS itself. */
-    PetscCall(TSMonitor(ts, (PetscInt)pp->steps, t, sim->X));
+    PetscCall(TSMonitor(ts, (PetscInt)pp->steps, t, sim->p.X));
     PetscCall(SpamTSAdaptMonitorSelf(ts, pp->steps - 1, t - pp->dt, pp->dt, pp->rejected));
     /* Outputs do not steer the run: a list build their density sums or the interpolant's
      * right-hand sides make is undone, so the method's next right-hand sides (and a
      * restart from a checkpoint taken now) see the list the step left. */
     const PetscBool outputs = (PetscBool)(PetscMin(sp->next_out, sp->next_snap) <= t * (1.0 + SPAM_TIME_ROUNDOFF) || t >= o->t_end);
-    if (outputs) PetscCall(SpamNeighboursKeep(&sim->nl, L->xref_keep, &L->builds_keep)); /* only a step with outputs copies */
+    if (outputs) PetscCall(SpamNeighboursKeep(&sim->pair.nl, L->xref_keep, &L->builds_keep)); /* only a step with outputs copies */
     if (dense) PetscCall(InterpolatedOutputs(ts, sim, o, out, pp, sp, r));
     if (Reached(t, PetscMin(sp->next_out, sp->next_snap)) || t >= o->t_end) {
       const PetscBool snap = (PetscBool)(o->snapshot_interval > 0 && (Reached(t, sp->next_snap) || t >= o->t_end));
@@ -619,7 +619,7 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
       if (Reached(t, sp->next_out)) sp->next_out = NextMultiple(t, sp->out_interval, o->t_end);
       if (Reached(t, sp->next_snap)) sp->next_snap = NextMultiple(t, sp->snap_interval, o->t_end);
     }
-    if (outputs) PetscCall(SpamNeighboursRevert(&sim->nl, &sim->box, L->xref_keep, L->builds_keep));
+    if (outputs) PetscCall(SpamNeighboursRevert(&sim->pair.nl, &sim->geo.box, L->xref_keep, L->builds_keep));
     /* After the step's outputs, which read ERKStep's interpolant of the step (a resize drops
      * it); before a checkpoint, which then holds the particles where the next step finds
      * them, so that a restart on the same ranks needs no migration of its own. */
@@ -643,7 +643,7 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
   r->steps     = pp->steps;
   r->rejected  = pp->rejected;
   r->attempts  = pp->steps + pp->rejected;
-  r->rhs_evals = sim->stats.rhs_evals;
+  r->rhs_evals = sim->run.stats.rhs_evals;
   PetscCall(RanksResult(sim, r));
   r->checkpoints      = L->ckpt_count;
   r->checkpoint_bytes = L->ckpt_bytes;
@@ -665,9 +665,9 @@ PetscErrorCode SpamRun(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *
 
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&L));
-  PetscCall(PetscMalloc1((size_t)sim->n * sim->model.dim + 1, &L->xref_keep));
-  PetscCall(VecDuplicate(sim->X, &L->Xgood));
-  PetscCall(VecDuplicate(sim->X, &L->s.Xout));
+  PetscCall(PetscMalloc1((size_t)sim->p.n * sim->model.dim + 1, &L->xref_keep));
+  PetscCall(VecDuplicate(sim->p.X, &L->Xgood));
+  PetscCall(VecDuplicate(sim->p.X, &L->s.Xout));
   ierr = Loop(sim, o, ts, app, out, r, rs, L);
   PetscCall(VecDestroy(&L->s.Xout));
   PetscCall(VecDestroy(&L->Xgood));

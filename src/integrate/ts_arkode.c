@@ -86,13 +86,13 @@ static PetscErrorCode TSSetUp_SpamARKode(TS ts)
   PetscFunctionBeginUser;
   PetscCall(TSGetApplicationContext(ts, &app));
   PetscCheck(app, PetscObjectComm((PetscObject)ts), PETSC_ERR_ORDER, "the arkode TS needs a SpamTsApp application context");
-  PetscCallARK(SUNContext_Create((void *)&app->sim->comm, &ark->sunctx));
+  PetscCallARK(SUNContext_Create((void *)&app->sim->p.comm, &ark->sunctx));
   ark->y = N_VMake_Petsc(ts->vec_sol, ark->sunctx);
   PetscCheck(ark->y, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "N_VMake_Petsc failed");
   /* Fused operations: a combination of k vectors is one pass over memory instead of k
    * (clones inherit the setting); the linear combination itself is replaced below. */
   PetscCheck(N_VEnableFusedOps_Petsc(ark->y, SUNTRUE) == 0, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "N_VEnableFusedOps_Petsc failed");
-  PetscCall(SpamErrorNormAttach(ark->y, app->o->error_norm, app->sim->reproducible)); /* -error_norm: cloned with y */
+  PetscCall(SpamErrorNormAttach(ark->y, app->o->error_norm, app->sim->pair.reproducible)); /* -error_norm: cloned with y */
   /* Stages and solution summed term by term (det_combination.c): an FSAL table's last
    * stage is then y_n+1 bit for bit, which a restart needs. */
   PetscCall(SpamNVectorDeterministic(ark->y));
@@ -187,7 +187,7 @@ PetscErrorCode SpamTSARKodeResize(TS ts, Vec X)
   y = N_VMake_Petsc(X, ark->sunctx);
   PetscCheck(y, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "N_VMake_Petsc failed");
   PetscCheck(N_VEnableFusedOps_Petsc(y, SUNTRUE) == 0, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "N_VEnableFusedOps_Petsc failed");
-  PetscCall(SpamErrorNormAttach(y, app->o->error_norm, app->sim->reproducible));
+  PetscCall(SpamErrorNormAttach(y, app->o->error_norm, app->sim->pair.reproducible));
   PetscCall(SpamNVectorDeterministic(y));
   PetscCallARK(ERKStepResize(ark->mem, y, 1.0, ts->ptime, NULL, NULL));
   N_VDestroy(ark->y);

@@ -47,7 +47,7 @@ static PetscErrorCode TsRhs(TS ts, PetscReal t, Vec X, Vec F, void *ctx)
       app->bad  = bad;
       app->tbad = t;
     }
-    PetscCall(PetscArrayzero(f, (size_t)app->sim->n * app->sim->model.layout.nvar));
+    PetscCall(PetscArrayzero(f, (size_t)app->sim->p.n * app->sim->model.layout.nvar));
   }
   PetscCall(VecRestoreArrayWrite(F, &f));
   PetscCall(VecRestoreArrayRead(X, &x));
@@ -67,14 +67,14 @@ static PetscErrorCode Tolerances(TS ts, const SpamTsApp *app)
   PetscScalar      *a, *r;
 
   PetscFunctionBeginUser;
-  PetscCall(VecDuplicate(sim->X, &va));
-  PetscCall(VecDuplicate(sim->X, &vr));
+  PetscCall(VecDuplicate(sim->p.X, &va));
+  PetscCall(VecDuplicate(sim->p.X, &vr));
   PetscCall(VecSet(va, atol));
   PetscCall(VecSet(vr, rtol));
   if (!app->o->classic_weights) {
     PetscCall(VecGetArray(va, &a));
     PetscCall(VecGetArray(vr, &r));
-    for (PetscInt i = 0; i < sim->n; i++)
+    for (PetscInt i = 0; i < sim->p.n; i++)
       for (int d = 0; d < sim->model.dim; d++) {
         a[(size_t)i * l->nvar + l->x + d] = rtol * sim->model.kernel.h + atol;
         r[(size_t)i * l->nvar + l->x + d] = 0.0;
@@ -115,9 +115,9 @@ static PetscErrorCode InitialSoundSpeed(SpamSim *sim, double *c0)
   PetscFunctionBeginUser;
   *c0 = 1.0;
   if (sim->model.max_sound_speed) {
-    PetscCall(VecGetArrayRead(sim->X, &y));
+    PetscCall(VecGetArrayRead(sim->p.X, &y));
     PetscCall(sim->model.max_sound_speed(sim, y, c0));
-    PetscCall(VecRestoreArrayRead(sim->X, &y));
+    PetscCall(VecRestoreArrayRead(sim->p.X, &y));
   }
   if (!(*c0 > 0)) *c0 = 1.0;
   PetscFunctionReturn(0);
@@ -154,14 +154,14 @@ PetscErrorCode SpamTSCreate(SpamSim *sim, const SpamRunOptions *o, SpamTsApp *ap
   app->w.rtol = o->rtol;
   app->w.atol = o->atol;
   PetscCall(InitialSoundSpeed(sim, &app->w.vscale));
-  PetscCall(TSCreate(sim->comm, ts));
+  PetscCall(TSCreate(sim->p.comm, ts));
   PetscCall(TSSetProblemType(*ts, TS_NONLINEAR));
   PetscCall(TSSetApplicationContext(*ts, app));
   PetscCall(ChooseType(*ts, &f));
   PetscCall(TSSetRHSFunction(*ts, NULL, TsRhs, app));
   if (f->created) PetscCall(f->created(*ts, app));
-  if (f->on_vector) PetscCall(f->on_vector(sim->X));
-  PetscCall(TSSetSolution(*ts, sim->X));
+  if (f->on_vector) PetscCall(f->on_vector(sim->p.X));
+  PetscCall(TSSetSolution(*ts, sim->p.X));
   PetscCall(TSSetTime(*ts, 0.0));
   PetscCall(TSSetMaxTime(*ts, o->t_end));
   PetscCall(TSSetMaxSteps(*ts, PETSC_MAX_INT - 1));
@@ -194,7 +194,7 @@ PetscErrorCode SpamTSCreate(SpamSim *sim, const SpamRunOptions *o, SpamTsApp *ap
   PetscFunctionReturn(0);
 }
 
-/* The velocity scale c0 is the sound speed of the state SpamTSCreate finds in sim->X: a
+/* The velocity scale c0 is the sound speed of the state SpamTSCreate finds in sim->p.X: a
  * run restarted from a checkpoint must get back the one of its start, or its error
  * weights (and so its steps) differ from the uninterrupted run's. */
 PetscErrorCode SpamTSSetVelocityScale(TS ts, SpamTsApp *app, double c0)
@@ -237,7 +237,7 @@ PetscErrorCode SpamTSFollowParticles(TS ts, SpamTsApp *app, PetscBool *followed)
   *followed = PETSC_FALSE;
   PetscCall(SpamTSFamilyOf(ts, &f));
   if (f->follow == SPAM_TS_FOLLOW_RESIZE) {
-    PetscCall(SpamTSARKodeResize(ts, app->sim->X));
+    PetscCall(SpamTSARKodeResize(ts, app->sim->p.X));
     *followed = PETSC_TRUE;
     PetscFunctionReturn(0);
   }
@@ -248,8 +248,8 @@ PetscErrorCode SpamTSFollowParticles(TS ts, SpamTsApp *app, PetscBool *followed)
   PetscCall(TSGetTimeStep(ts, &dt));
   PetscCall(TSGetStepNumber(ts, &step));
   PetscCall(TSReset(ts));
-  if (f->on_vector) PetscCall(f->on_vector(app->sim->X));
-  PetscCall(TSSetSolution(ts, app->sim->X));
+  if (f->on_vector) PetscCall(f->on_vector(app->sim->p.X));
+  PetscCall(TSSetSolution(ts, app->sim->p.X));
   PetscCall(Tolerances(ts, app));
   PetscCall(TSSetUp(ts));
   PetscCall(TSSetTime(ts, t));

@@ -83,13 +83,13 @@ static PetscErrorCode TSSetUp_SpamCVode(TS ts)
   PetscFunctionBeginUser;
   PetscCall(TSGetApplicationContext(ts, &app));
   PetscCheck(app, PetscObjectComm((PetscObject)ts), PETSC_ERR_ORDER, "the cvode TS needs a SpamTsApp application context");
-  PetscCallCV(SUNContext_Create((void *)&app->sim->comm, &cv->sunctx));
+  PetscCallCV(SUNContext_Create((void *)&app->sim->p.comm, &cv->sunctx));
   cv->y = N_VMake_Petsc(ts->vec_sol, cv->sunctx);
   PetscCheck(cv->y, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "N_VMake_Petsc failed");
   /* Fused operations: a stage or history combination of k vectors is one VecMAXPY pass
    * instead of k VecAXPY passes over memory (clones inherit the setting). */
   PetscCheck(N_VEnableFusedOps_Petsc(cv->y, SUNTRUE) == 0, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "N_VEnableFusedOps_Petsc failed");
-  PetscCall(SpamErrorNormAttach(cv->y, app->o->error_norm, app->sim->reproducible)); /* -error_norm: cloned with y */
+  PetscCall(SpamErrorNormAttach(cv->y, app->o->error_norm, app->sim->pair.reproducible)); /* -error_norm: cloned with y */
   cv->mem = CVodeCreate(CV_ADAMS, cv->sunctx);
   PetscCheck(cv->mem, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "CVodeCreate failed");
   PetscCallCV(CVodeInit(cv->mem, SpamSundialsRhs, ts->ptime, cv->y));

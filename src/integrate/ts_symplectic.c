@@ -36,7 +36,7 @@ static PetscErrorCode Kick(TS ts, PetscReal t, Vec X, Vec F, void *ctx)
   SpamTsApp         *app = (SpamTsApp *)ctx;
   SpamSim           *sim = app->sim;
   const int          dim = sim->model.dim;
-  const size_t       len = (size_t)sim->n * dim;
+  const size_t       len = (size_t)sim->p.n * dim;
   const PetscScalar *x;
   PetscScalar       *f;
 
@@ -52,7 +52,7 @@ static PetscErrorCode Kick(TS ts, PetscReal t, Vec X, Vec F, void *ctx)
       app->tbad = t;
     }
     if (bad >= 0) PetscCall(PetscArrayzero(app->acache, len));
-    else PetscCall(PetscArraycpy(app->acache, sim->f.acc, len)); /* same layout, a[i*dim + d] */
+    else PetscCall(PetscArraycpy(app->acache, sim->pair.f.acc, len)); /* same layout, a[i*dim + d] */
     PetscCall(PetscArraycpy(app->xcache, x, len));
     app->cache_valid = (PetscBool)(bad < 0);
   }
@@ -72,10 +72,10 @@ static PetscErrorCode SplitIS(const SpamSim *sim, int offset, IS *is)
   PetscInt          lo, *idx;
 
   PetscFunctionBeginUser;
-  PetscCall(VecGetOwnershipRange(sim->X, &lo, NULL));
-  PetscCall(PetscMalloc1(sim->n + 1, &idx));
-  for (PetscInt i = 0; i < sim->n; i++) idx[i] = (lo + i * l->nvar + offset) / dim;
-  PetscCall(ISCreateBlock(sim->comm, dim, sim->n, idx, PETSC_OWN_POINTER, is));
+  PetscCall(VecGetOwnershipRange(sim->p.X, &lo, NULL));
+  PetscCall(PetscMalloc1(sim->p.n + 1, &idx));
+  for (PetscInt i = 0; i < sim->p.n; i++) idx[i] = (lo + i * l->nvar + offset) / dim;
+  PetscCall(ISCreateBlock(sim->p.comm, dim, sim->p.n, idx, PETSC_OWN_POINTER, is));
   PetscFunctionReturn(0);
 }
 
@@ -91,7 +91,7 @@ PetscErrorCode SpamSymplecticSetUp(TS ts, SpamTsApp *app)
     PetscCall(SpamLayoutDescribe(l, fields, sizeof fields));
     SPAM_BAD_INPUT("-ts_type", "basicsymplectic", "a symplectic split needs a state of positions and velocities only; model %s carries [%s]: use rk, ssp, euler, arkode or cvode", sim->model.name, fields);
   }
-  PetscCall(SpamVecCacheSubVectors(sim->X)); /* before TSSetUp duplicates it */
+  PetscCall(SpamVecCacheSubVectors(sim->p.X)); /* before TSSetUp duplicates it */
   PetscCall(SplitIS(sim, l->x, &isx));
   PetscCall(SplitIS(sim, l->v, &isv));
   PetscCall(TSRHSSplitSetIS(ts, "position", isx));
@@ -100,7 +100,7 @@ PetscErrorCode SpamSymplecticSetUp(TS ts, SpamTsApp *app)
   PetscCall(ISDestroy(&isv));
   PetscCall(TSRHSSplitSetRHSFunction(ts, "position", NULL, Drift, app));
   PetscCall(TSRHSSplitSetRHSFunction(ts, "momentum", NULL, Kick, app));
-  PetscCall(PetscMalloc2((size_t)sim->n * sim->model.dim + 1, &app->xcache, (size_t)sim->n * sim->model.dim + 1, &app->acache));
+  PetscCall(PetscMalloc2((size_t)sim->p.n * sim->model.dim + 1, &app->xcache, (size_t)sim->p.n * sim->model.dim + 1, &app->acache));
   app->cache_valid = PETSC_FALSE;
   PetscFunctionReturn(0);
 }

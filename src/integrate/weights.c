@@ -18,7 +18,7 @@ int SpamErrorWeights(N_Vector y, N_Vector ewt, void *ctx)
 
   if (VecGetArrayRead(N_VGetVector_Petsc(y), &ya)) return -1;
   if (VecGetArrayWrite(N_VGetVector_Petsc(ewt), &wa)) return -1;
-  for (PetscInt i = 0; i < w->sim->n; i++) {
+  for (PetscInt i = 0; i < w->sim->p.n; i++) {
     const PetscScalar *p = ya + (size_t)i * l->nvar;
     PetscScalar       *q = wa + (size_t)i * l->nvar;
     double             v2 = 0.0;

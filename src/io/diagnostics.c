@@ -31,8 +31,8 @@ static PetscErrorCode SchemeEnergy(SpamSim *sim, const double *y, double *e)
   PetscFunctionBeginUser;
   *e = 0.0;
   if (l->fb < 0) PetscFunctionReturn(0);
-  for (PetscInt i = 0; i < sim->n; i++) loc += sim->f.m[i] * y[(size_t)i * l->nvar + l->fb];
-  PetscCallMPI(MPIU_Allreduce(&loc, e, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
+  for (PetscInt i = 0; i < sim->p.n; i++) loc += sim->pair.f.m[i] * y[(size_t)i * l->nvar + l->fb];
+  PetscCallMPI(MPIU_Allreduce(&loc, e, 1, MPI_DOUBLE, MPI_SUM, sim->p.comm));
   PetscFunctionReturn(0);
 }
 
@@ -54,24 +54,24 @@ PetscErrorCode SpamDiagnosticsCompute(SpamSim *sim, const SpamDiagnosticsOptions
   {
     /* the input row of the first bad particle over all ranks (a rank whose own are all
      * finite learns it here): every rank stops, with one message */
-    PetscInt64 row = bad >= 0 && bad < sim->n ? (PetscInt64)SpamSimRowOf(sim, bad) : INT64_MAX;
+    PetscInt64 row = bad >= 0 && bad < sim->p.n ? (PetscInt64)SpamSimRowOf(sim, bad) : INT64_MAX;
     PetscInt   any = bad >= 0;
-    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &row, 1, MPIU_INT64, MPI_MIN, sim->comm));
-    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPIU_INT, MPI_MAX, sim->comm));
-    PetscCheck(!any, sim->comm, PETSC_ERR_FP, "non-finite position of particle %" PetscInt64_FMT " at t = %g", row, t);
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &row, 1, MPIU_INT64, MPI_MIN, sim->p.comm));
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &any, 1, MPIU_INT, MPI_MAX, sim->p.comm));
+    PetscCheck(!any, sim->p.comm, PETSC_ERR_FP, "non-finite position of particle %" PetscInt64_FMT " at t = %g", row, t);
   }
-  for (PetscInt i = 0; i < sim->n; i++) {
-    const double *p = y + (size_t)i * l->nvar, mi = sim->f.m[i];
+  for (PetscInt i = 0; i < sim->p.n; i++) {
+    const double *p = y + (size_t)i * l->nvar, mi = sim->pair.f.m[i];
     double        v2 = 0.0;
     for (int k = 0; k < dim; k++) {
       loc[1 + k] += mi * p[l->v + k];
-      loc[4 + k] += mi * (p[l->x + k] - sim->box.lo[k]);
+      loc[4 + k] += mi * (p[l->x + k] - sim->geo.box.lo[k]);
       v2 += p[l->v + k] * p[l->v + k];
     }
     loc[0] += mi;
     loc[7] += 0.5 * mi * v2;
   }
-  PetscCallMPI(MPIU_Allreduce(loc, glob, 11, MPI_DOUBLE, MPI_SUM, sim->comm));
+  PetscCallMPI(MPIU_Allreduce(loc, glob, 11, MPI_DOUBLE, MPI_SUM, sim->p.comm));
   d->mass = glob[0];
   for (int k = 0; k < dim; k++) {
     d->p[k] = glob[1 + k];
@@ -81,20 +81,20 @@ PetscErrorCode SpamDiagnosticsCompute(SpamSim *sim, const SpamDiagnosticsOptions
   d->kinetic  = glob[7];
   d->total    = d->kinetic;
   /* Angular momentum about the centre of mass, in the centre-of-mass frame. */
-  for (PetscInt i = 0; i < sim->n && dim >= 2; i++) {
+  for (PetscInt i = 0; i < sim->p.n && dim >= 2; i++) {
     const double *p = y + (size_t)i * l->nvar;
     double        r[3] = {0, 0, 0}, v[3] = {0, 0, 0};
     for (int k = 0; k < dim; k++) {
-      r[k] = p[l->x + k] - sim->box.lo[k] - xc[k];
+      r[k] = p[l->x + k] - sim->geo.box.lo[k] - xc[k];
       v[k] = p[l->v + k] - vc[k];
     }
-    const double  mi = sim->f.m[i];
+    const double  mi = sim->pair.f.m[i];
     lloc[0] += mi * (r[1] * v[2] - r[2] * v[1]);
     lloc[1] += mi * (r[2] * v[0] - r[0] * v[2]);
     lloc[2] += mi * (r[0] * v[1] - r[1] * v[0]);
     lloc[3] += mi * (r[0] * r[0] + r[1] * r[1] + r[2] * r[2]);
   }
-  PetscCallMPI(MPIU_Allreduce(lloc, lglob, 4, MPI_DOUBLE, MPI_SUM, sim->comm));
+  PetscCallMPI(MPIU_Allreduce(lloc, lglob, 4, MPI_DOUBLE, MPI_SUM, sim->p.comm));
   for (int k = 0; k < 3; k++) d->l[k] = lglob[k];
   d->gyration = sqrt(lglob[3] / d->mass);
   PetscCall(ModelDiagnostics(sim, y, d));
@@ -107,6 +107,6 @@ PetscErrorCode SpamDiagnosticsCompute(SpamSim *sim, const SpamDiagnosticsOptions
   d->energy_in = d->wall_work + d->wall_heat + d->scheme_energy;
   /* Walls without books (the isentrope's: its state is [x v]) exchange momentum unmeasured:
    * its drift is then not defined (null in summary.json). */
-  for (int k = 0; k < dim; k++) d->momentum_in[k] = sim->nl.ghosts.mirror && l->wb < 0 ? NAN : d->wall_impulse[k] + d->mass * m->gravity[k] * t;
+  for (int k = 0; k < dim; k++) d->momentum_in[k] = sim->pair.nl.ghosts.mirror && l->wb < 0 ? NAN : d->wall_impulse[k] + d->mass * m->gravity[k] * t;
   PetscFunctionReturn(0);
 }

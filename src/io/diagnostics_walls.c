@@ -33,23 +33,23 @@ PetscErrorCode SpamWallDiagnostics(SpamSim *sim, const double *y, SpamDiagnostic
   const int         nb = 2 + l->dim;
   double            loc[5] = {0, 0, 0, 0, 0}, glob[5], *scratch;
   PetscInt          bad;
-  SpamRhsStats      keep = sim->stats;
+  SpamRhsStats      keep = sim->run.stats;
 
   PetscFunctionBeginUser;
-  if (!sim->nl.ghosts.mirror) PetscFunctionReturn(0);
-  for (PetscInt i = 0; l->wb >= 0 && i < sim->n; i++)
+  if (!sim->pair.nl.ghosts.mirror) PetscFunctionReturn(0);
+  for (PetscInt i = 0; l->wb >= 0 && i < sim->p.n; i++)
     for (int c = 0; c < nb; c++) loc[c] += y[(size_t)i * l->nvar + l->wb + c];
-  PetscCallMPI(MPIU_Allreduce(loc, glob, 5, MPI_DOUBLE, MPI_SUM, sim->comm));
+  PetscCallMPI(MPIU_Allreduce(loc, glob, 5, MPI_DOUBLE, MPI_SUM, sim->p.comm));
   d->wall_work = glob[0];
   d->wall_heat = glob[1];
   for (int k = 0; k < l->dim; k++) d->wall_impulse[k] = glob[2 + k];
   /* The rates at this state: one RHS evaluation, not counted in the run's statistics. */
-  PetscCall(PetscMalloc1((size_t)sim->n * l->nvar + 1, &scratch));
+  PetscCall(PetscMalloc1((size_t)sim->p.n * l->nvar + 1, &scratch));
   PetscCall(sim->model.rhs(sim, y, scratch, &bad));
   PetscCall(PetscFree(scratch));
-  sim->stats = keep;
-  d->wall    = sim->wall_rates;
-  PetscCall(SumOverRanks(sim->comm, &d->wall));
+  sim->run.stats = keep;
+  d->wall    = sim->out.wall_rates;
+  PetscCall(SumOverRanks(sim->p.comm, &d->wall));
   PetscFunctionReturn(0);
 }
 
@@ -59,11 +59,11 @@ void SpamWallColumns(const SpamSim *sim, char *buf, size_t len)
   size_t    u   = 0;
 
   buf[0] = 0;
-  if (!SpamWallsAny(&sim->walls, dim)) return;
+  if (!SpamWallsAny(&sim->geo.walls, dim)) return;
   u += (size_t)snprintf(buf + u, len - u, ",wall_work,wall_heat");
   for (int k = 0; k < dim && u < len; k++) u += (size_t)snprintf(buf + u, len - u, ",wall_impulse_%s", Axis[k]);
   for (int f = 0; f < 2 * dim && u < len; f++) {
-    if (!SpamWallOn(&sim->walls, f)) continue;
+    if (!SpamWallOn(&sim->geo.walls, f)) continue;
     for (int k = 0; k < dim && u < len; k++) u += (size_t)snprintf(buf + u, len - u, ",wall_%s_f%s", SpamFaceNames[f], Axis[k]);
     if (u < len) u += (size_t)snprintf(buf + u, len - u, ",wall_%s_work_rate,wall_%s_heat_rate", SpamFaceNames[f], SpamFaceNames[f]);
   }
@@ -75,11 +75,11 @@ void SpamWallValues(const SpamSim *sim, const SpamDiagnostics *d, char *buf, siz
   size_t    u   = 0;
 
   buf[0] = 0;
-  if (!SpamWallsAny(&sim->walls, dim)) return;
+  if (!SpamWallsAny(&sim->geo.walls, dim)) return;
   u += (size_t)snprintf(buf + u, len - u, ",%.12e,%.12e", d->wall_work, d->wall_heat);
   for (int k = 0; k < dim && u < len; k++) u += (size_t)snprintf(buf + u, len - u, ",%.12e", d->wall_impulse[k]);
   for (int f = 0; f < 2 * dim && u < len; f++) {
-    if (!SpamWallOn(&sim->walls, f)) continue;
+    if (!SpamWallOn(&sim->geo.walls, f)) continue;
     for (int k = 0; k < dim && u < len; k++) u += (size_t)snprintf(buf + u, len - u, ",%.12e", d->wall.force[f][k]);
     if (u < len) u += (size_t)snprintf(buf + u, len - u, ",%.12e,%.12e", d->wall.energy ? d->wall.work[f] : NAN, d->wall.energy ? d->wall.heat[f] : NAN);
   }

@@ -81,19 +81,19 @@ static int CellOf(const Bins *b, const double *u)
 static PetscErrorCode BinsBuild(const SpamSim *sim, const double *y, Bins *b)
 {
   const SpamLayout *l = &sim->model.layout;
-  const PetscInt    n = sim->n;
+  const PetscInt    n = sim->p.n;
   PetscInt          ncells, *fill;
 
   PetscFunctionBeginUser;
-  BinsShape(&sim->box, sim->model.kernel.h, n, b);
-  b->im = SpamBoxImage(&sim->box);
+  BinsShape(&sim->geo.box, sim->model.kernel.h, n, b);
+  b->im = SpamBoxImage(&sim->geo.box);
   ncells = (PetscInt)b->ncell[0] * b->ncell[1] * b->ncell[2];
   PetscCall(PetscCalloc1(ncells + 1, &b->start));
   PetscCall(PetscCalloc1(n + 1, &b->list));
   PetscCall(PetscCalloc1(3 * n + 1, &b->u));
   PetscCall(PetscCalloc1(ncells + 1, &fill));
   for (PetscInt i = 0; i < n; i++) {
-    for (int d = 0; d < b->dim; d++) b->u[3 * i + d] = SpamBoxLocal(&sim->box, d, y[(size_t)i * l->nvar + l->x + d]);
+    for (int d = 0; d < b->dim; d++) b->u[3 * i + d] = SpamBoxLocal(&sim->geo.box, d, y[(size_t)i * l->nvar + l->x + d]);
     b->start[CellOf(b, b->u + 3 * i) + 1]++;
   }
   for (PetscInt c = 0; c < ncells; c++) b->start[c + 1] += b->start[c];
@@ -142,12 +142,12 @@ typedef struct {
 } ColumnMap;
 
 /* Particle j's fields in column order into val. */
-static void ParticleValues(const SpamSim *sim, const double *y, PetscInt j, const ColumnMap *lc, const SpamGridFields *f, double *val)
+static void ParticleValues(const SpamModel *model, const double *y, PetscInt j, const ColumnMap *lc, const SpamGridFields *f, double *val)
 {
-  const SpamLayout *l = &sim->model.layout;
+  const SpamLayout *l = &model->layout;
   const double     *p = y + (size_t)j * l->nvar;
 
-  for (int d = 0; d < sim->model.dim; d++) val[f->v + d] = p[l->v + d];
+  for (int d = 0; d < model->dim; d++) val[f->v + d] = p[l->v + d];
   if (lc->ne >= 0) val[lc->ne] = p[l->e];
   if (lc->nt >= 0) val[lc->nt] = lc->gamma1 * p[l->e];
   for (int k = 0; k < lc->nstress; k++) val[lc->ns + k] = p[l->s + k];
@@ -179,8 +179,8 @@ static void EvaluatePoint(const SpamSim *sim, const double *y, const Bins *b, co
           }
           const double w = SpamKernelW(&sim->model.kernel, r2);
           if (w == 0.0) continue;
-          const double mw = sim->f.m[j] * w, vw = mw / SpamSnapshotDensity(sim, y, j);
-          ParticleValues(sim, y, j, lc, f, val);
+          const double mw = sim->pair.f.m[j] * w, vw = mw / SpamSnapshotDensity(sim, y, j);
+          ParticleValues(&sim->model, y, j, lc, f, val);
           sum[0] += mw;
           for (int col = 1; col < f->ncol - 1; col++) sum[col] += vw * val[col];
           sum[f->ncol - 1] += vw;
@@ -189,26 +189,26 @@ static void EvaluatePoint(const SpamSim *sim, const double *y, const Bins *b, co
 }
 
 /* Columns rho, vx.., e, T (gas), the stress components in the state's order, S. */
-static PetscErrorCode Columns(const SpamSim *sim, const SpamGrid *g, SpamGridFields *f, ColumnMap *lc)
+static PetscErrorCode Columns(const SpamModel *model, const SpamGrid *g, SpamGridFields *f, ColumnMap *lc)
 {
   static const char *vn[3] = {"vx", "vy", "vz"};
   static const char *s1[1] = {"sxx"}, *s2[3] = {"sxx", "sxy", "syy"}, *s3[6] = {"sxx", "sxy", "sxz", "syy", "syz", "szz"};
-  const SpamLayout  *l   = &sim->model.layout;
-  const int          dim = sim->model.dim;
+  const SpamLayout  *l   = &model->layout;
+  const int          dim = model->dim;
   const char *const *sn  = dim == 1 ? s1 : dim == 2 ? s2 : s3;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(f, sizeof *f));
   lc->ne = lc->nt = lc->ns = -1;
   lc->nstress              = l->s >= 0 ? dim * (dim + 1) / 2 : 0;
-  lc->gamma1               = sim->model.solid.gamma - 1.0;
+  lc->gamma1               = model->solid.gamma - 1.0;
   f->name[f->ncol++]       = "rho";
   f->v                     = f->ncol;
   for (int d = 0; d < dim; d++) f->name[f->ncol++] = vn[d];
   if (l->e >= 0) {
     lc->ne             = f->ncol;
     f->name[f->ncol++] = "e";
-    if (sim->model.solid.material == SPAM_MATERIAL_GAS) {
+    if (model->solid.material == SPAM_MATERIAL_GAS) {
       lc->nt             = f->ncol;
       f->name[f->ncol++] = "T";
     }
@@ -229,7 +229,7 @@ PetscErrorCode SpamGridFieldsEvaluate(const SpamSim *sim, const double *y, const
   double sum[SPAM_GRID_MAX_COLUMNS];
 
   PetscFunctionBeginUser;
-  PetscCall(Columns(sim, g, f, &lc));
+  PetscCall(Columns(&sim->model, g, f, &lc));
   PetscCall(BinsBuild(sim, y, &b));
   for (PetscInt p = 0; p < g->npoints; p++) {
     const PetscInt idx[3] = {p % g->n[0], (p / g->n[0]) % g->n[1], p / (g->n[0] * g->n[1])};
@@ -241,8 +241,8 @@ PetscErrorCode SpamGridFieldsEvaluate(const SpamSim *sim, const double *y, const
   PetscCall(BinsFree(&b));
   /* Every column is a sum over particles, linear in each particle's part: the ranks'
    * partial sums add up to the whole (nothing nonlinear has been applied yet). */
-  PetscCheck((double)f->ncol * g->npoints <= INT_MAX, sim->comm, PETSC_ERR_SUP, "grid of %" PetscInt_FMT " points: too many to reduce in one call", g->npoints);
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, f->block, f->ncol * (int)g->npoints, MPI_DOUBLE, MPI_SUM, sim->comm));
+  PetscCheck((double)f->ncol * g->npoints <= INT_MAX, sim->p.comm, PETSC_ERR_SUP, "grid of %" PetscInt_FMT " points: too many to reduce in one call", g->npoints);
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, f->block, f->ncol * (int)g->npoints, MPI_DOUBLE, MPI_SUM, sim->p.comm));
   PetscFunctionReturn(0);
 }
 

@@ -265,7 +265,7 @@ static PetscErrorCode WriteFiles(SpamOutput *o, const SpamSim *sim, const SpamGr
     o->grid.cap = 2 * o->grid.cap + 16;
     PetscCall(PetscRealloc(sizeof(double) * o->grid.cap, &o->grid.times));
   }
-  PetscCall(SpamRunAgreed(sim->comm, PETSC_TRUE, WriteGridFiles, &w));
+  PetscCall(SpamRunAgreed(sim->p.comm, PETSC_TRUE, WriteGridFiles, &w));
   if (o->hdf5) {
     PetscCall(GridFileName(o, "h5", name, sizeof name));
     PetscCall(SpamManifestAdd(o, name, "grid_h5", t, PETSC_FALSE));
@@ -276,13 +276,13 @@ static PetscErrorCode WriteFiles(SpamOutput *o, const SpamSim *sim, const SpamGr
   }
   o->grid.times[o->grid.n++] = t;
   if (o->hdf5) {
-    PetscCall(SpamRunAgreed(sim->comm, PETSC_TRUE, WriteGridIndex, &w));
+    PetscCall(SpamRunAgreed(sim->p.comm, PETSC_TRUE, WriteGridIndex, &w));
     PetscCall(SpamManifestAdd(o, "grid.xmf", "grid_xdmf_index", NAN, PETSC_FALSE));
   }
   PetscFunctionReturn(0);
 }
 
-/* Collective on sim->comm: the fields are sums over every rank's particles
+/* Collective on sim->p.comm: the fields are sums over every rank's particles
  * (SpamGridFieldsEvaluate reduces them); rank 0 writes the files. */
 PetscErrorCode SpamGridWrite(SpamOutput *o, const SpamSim *sim, const double *y, double t)
 {
@@ -291,7 +291,7 @@ PetscErrorCode SpamGridWrite(SpamOutput *o, const SpamSim *sim, const double *y,
   PetscErrorCode ierr;
 
   PetscFunctionBeginUser;
-  PetscCall(SpamGridSetUp(&sim->box, o->opt.grid_interval, &g));
+  PetscCall(SpamGridSetUp(&sim->geo.box, o->opt.grid_interval, &g));
   ierr = SpamGridFieldsEvaluate(sim, y, &g, &f);
   if (!ierr) ierr = WriteFiles(o, sim, &g, &f, t);
   PetscCall(SpamGridFieldsFree(&f));

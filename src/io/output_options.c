@@ -29,7 +29,7 @@ static PetscErrorCode CheckSnapshotCount(const SpamRunOptions *ro, const SpamOut
 /* The grid fields are written at the snapshot times, in the snapshots' formats: a spacing
  * without snapshots, or without a format, would be given in vain. A tiny spacing would
  * ask for more memory and disk than any run should: the count is named. */
-static PetscErrorCode CheckGrid(const SpamSim *sim, const SpamRunOptions *ro, const SpamOutputOptions *o)
+static PetscErrorCode CheckGrid(const SpamGeometry *geo, const SpamRunOptions *ro, const SpamOutputOptions *o)
 {
   char   val[128];
   double points;
@@ -38,7 +38,7 @@ static PetscErrorCode CheckGrid(const SpamSim *sim, const SpamRunOptions *ro, co
   if (o->grid_interval == 0.0) PetscFunctionReturn(0);
   PetscCall(SpamOptionText("-grid_interval", o->grid_interval, val, sizeof val));
   if (!(o->grid_interval > 0.0 && isfinite(o->grid_interval))) SPAM_BAD_INPUT("-grid_interval", val, "must be zero (off) or a positive finite grid spacing");
-  points = SpamGridPointCount(&sim->box, o->grid_interval);
+  points = SpamGridPointCount(&geo->box, o->grid_interval);
   if (!isfinite(points)) SPAM_BAD_INPUT("-grid_interval", val, "the box would hold more than 1e308 grid points, at most %.0e; raise the spacing", SPAM_GRID_MAX_POINTS);
   if (!(points <= SPAM_GRID_MAX_POINTS)) SPAM_BAD_INPUT("-grid_interval", val, "the box would hold %.3g grid points, at most %.0e; raise the spacing", points, SPAM_GRID_MAX_POINTS);
   if (!(ro->snapshot_interval > 0)) SPAM_BAD_INPUT("-grid_interval", val, "the grid fields are written at the snapshot times, and -snapshot_interval is 0 (no snapshots)");
@@ -70,6 +70,6 @@ PetscErrorCode SpamOutputOptionsCheckSnapshots(const SpamSim *sim, const SpamRun
 {
   PetscFunctionBeginUser;
   PetscCall(CheckSnapshotCount(ro, o, from));
-  PetscCall(CheckGrid(sim, ro, o));
+  PetscCall(CheckGrid(&sim->geo, ro, o));
   PetscFunctionReturn(0);
 }

@@ -5,13 +5,13 @@
  * moves each array (every root has exactly one leaf). */
 #include "particle_rows.h"
 
-static PetscErrorCode TargetLayout(const SpamSim *sim, PetscInt64 N, SpamRowsTarget target, PetscLayout *layout)
+static PetscErrorCode TargetLayout(const SpamSwarm *sw, PetscInt64 N, SpamRowsTarget target, PetscLayout *layout)
 {
   PetscMPIInt rank;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(sim->comm, &rank));
-  PetscCall(PetscLayoutCreate(sim->comm, layout));
+  PetscCallMPI(MPI_Comm_rank(sw->comm, &rank));
+  PetscCall(PetscLayoutCreate(sw->comm, layout));
   if (target == SPAM_ROWS_ON_ROOT) PetscCall(PetscLayoutSetLocalSize(*layout, rank ? 0 : (PetscInt)N));
   else PetscCall(PetscLayoutSetSize(*layout, (PetscInt)N));
   PetscCall(PetscLayoutSetUp(*layout));
@@ -29,22 +29,22 @@ static PetscErrorCode Move(PetscSF sf, MPI_Datatype unit, const void *leaves, vo
 
 /* Every row got the particle of its gid: a gid repeated or missing (a broken migration)
  * would otherwise write a row of zeros. Agreed by all ranks. */
-static PetscErrorCode CheckRows(const SpamSim *sim, const SpamRows *rows)
+static PetscErrorCode CheckRows(const SpamSwarm *sw, const SpamRows *rows)
 {
   PetscInt64 wrong = -1;
 
   PetscFunctionBeginUser;
   for (PetscInt r = 0; r < rows->n && wrong < 0; r++)
     if (rows->gid[r] != rows->first + r) wrong = rows->first + r;
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &wrong, 1, MPIU_INT64, MPI_MAX, sim->comm));
-  PetscCheck(wrong < 0, sim->comm, PETSC_ERR_PLIB, "output rows: no particle or more than one holds gid %" PetscInt64_FMT " of %" PetscInt64_FMT, wrong, rows->nglobal);
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &wrong, 1, MPIU_INT64, MPI_MAX, sw->comm));
+  PetscCheck(wrong < 0, sw->comm, PETSC_ERR_PLIB, "output rows: no particle or more than one holds gid %" PetscInt64_FMT " of %" PetscInt64_FMT, wrong, rows->nglobal);
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SpamRowsGather(const SpamSim *sim, const double *y, SpamRowsTarget target, SpamRows *rows)
 {
   const SpamLayout *l = &sim->model.layout;
-  PetscInt64        N = sim->n;
+  PetscInt64        N = sim->p.n;
   PetscLayout       layout;
   PetscSF           sf;
   PetscInt         *at, lo, hi;
@@ -52,9 +52,9 @@ PetscErrorCode SpamRowsGather(const SpamSim *sim, const double *y, SpamRowsTarge
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(rows, sizeof *rows));
-  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &N, 1, MPIU_INT64, MPI_SUM, sim->comm));
-  PetscCheck(N <= PETSC_MAX_INT, sim->comm, PETSC_ERR_SUP, "output rows: %" PetscInt64_FMT " particles, more than a PetscInt indexes", N);
-  PetscCall(TargetLayout(sim, N, target, &layout));
+  PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, &N, 1, MPIU_INT64, MPI_SUM, sim->p.comm));
+  PetscCheck(N <= PETSC_MAX_INT, sim->p.comm, PETSC_ERR_SUP, "output rows: %" PetscInt64_FMT " particles, more than a PetscInt indexes", N);
+  PetscCall(TargetLayout(&sim->p, N, target, &layout));
   PetscCall(PetscLayoutGetRange(layout, &lo, &hi));
   rows->n       = hi - lo;
   rows->first   = lo;
@@ -65,24 +65,24 @@ PetscErrorCode SpamRowsGather(const SpamSim *sim, const double *y, SpamRowsTarge
   if (l->rho < 0) PetscCall(PetscMalloc1(rows->n + 1, &rows->rho_sum));
   for (PetscInt r = 0; r < rows->n; r++) rows->gid[r] = -1;
 
-  PetscCall(PetscMalloc1(sim->n + 1, &at));
-  for (PetscInt i = 0; i < sim->n; i++) at[i] = (PetscInt)SpamSimRowOf(sim, i);
-  PetscCall(PetscSFCreate(sim->comm, &sf));
-  PetscCall(PetscSFSetGraphLayout(sf, layout, sim->n, NULL, PETSC_COPY_VALUES, at));
+  PetscCall(PetscMalloc1(sim->p.n + 1, &at));
+  for (PetscInt i = 0; i < sim->p.n; i++) at[i] = (PetscInt)SpamSimRowOf(sim, i);
+  PetscCall(PetscSFCreate(sim->p.comm, &sf));
+  PetscCall(PetscSFSetGraphLayout(sf, layout, sim->p.n, NULL, PETSC_COPY_VALUES, at));
   PetscCall(PetscSFSetUp(sf));
   PetscCall(PetscFree(at));
   PetscCallMPI(MPI_Type_contiguous(l->nvar, MPI_DOUBLE, &state));
   PetscCallMPI(MPI_Type_commit(&state));
   PetscCall(Move(sf, state, y, rows->y));
   PetscCallMPI(MPI_Type_free(&state));
-  PetscCall(Move(sf, MPI_DOUBLE, sim->f.m, rows->m));
-  if (rows->rho_sum) PetscCall(Move(sf, MPI_DOUBLE, sim->f.rho, rows->rho_sum));
-  if (sim->gid) PetscCall(Move(sf, MPIU_INT64, sim->gid, rows->gid));
+  PetscCall(Move(sf, MPI_DOUBLE, sim->pair.f.m, rows->m));
+  if (rows->rho_sum) PetscCall(Move(sf, MPI_DOUBLE, sim->pair.f.rho, rows->rho_sum));
+  if (sim->p.gid) PetscCall(Move(sf, MPIU_INT64, sim->p.gid, rows->gid));
   else
     for (PetscInt r = 0; r < rows->n; r++) rows->gid[r] = rows->first + r; /* a sim without a swarm gid field (unit tests): row = index */
   PetscCall(PetscSFDestroy(&sf));
   PetscCall(PetscLayoutDestroy(&layout));
-  PetscCall(CheckRows(sim, rows));
+  PetscCall(CheckRows(&sim->p, rows));
   PetscFunctionReturn(0);
 }
 
@@ -96,8 +96,7 @@ PetscErrorCode SpamRowsFree(SpamRows *rows)
   PetscFunctionReturn(0);
 }
 
-double SpamRowsDensity(const SpamSim *sim, const SpamRows *rows, PetscInt r)
+double SpamRowsDensity(const SpamLayout *l, const SpamRows *rows, PetscInt r)
 {
-  const SpamLayout *l = &sim->model.layout;
   return l->rho >= 0 ? rows->y[(size_t)r * l->nvar + l->rho] : rows->rho_sum[r];
 }

@@ -16,18 +16,18 @@ typedef struct {
   int         nvar;
   double     *y;        /* [n * nvar] the state of gid first + r in row r               */
   double     *m;        /* [n] masses                                                   */
-  double     *rho_sum;  /* [n] summed density (sim->f.rho), or NULL when it is state    */
+  double     *rho_sum;  /* [n] summed density (sim->pair.f.rho), or NULL when it is state    */
   PetscInt64 *gid;      /* [n] the gids as they arrived: first + r (checked)            */
 } SpamRows;
 
 typedef enum { SPAM_ROWS_BLOCKS, SPAM_ROWS_ON_ROOT } SpamRowsTarget;
 
-/* Collective on sim->comm: the rows of state y (sim->f.rho holding its summed density
+/* Collective on sim->p.comm: the rows of state y (sim->pair.f.rho holding its summed density
  * when the model does not carry it), moved by gid to blocks of consecutive gids (the
  * split PetscLayout makes) or all to rank 0. Fails on every rank if the gids are not
  * 0 .. N-1 each once. */
 PetscErrorCode SpamRowsGather(const SpamSim *sim, const double *y, SpamRowsTarget target, SpamRows *rows);
 PetscErrorCode SpamRowsFree(SpamRows *rows);
 /* The density a snapshot writes for row r: the carried one, else the summed one. */
-double SpamRowsDensity(const SpamSim *sim, const SpamRows *rows, PetscInt r);
+double SpamRowsDensity(const SpamLayout *l, const SpamRows *rows, PetscInt r);
 #endif

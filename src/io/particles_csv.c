@@ -37,7 +37,7 @@ typedef struct {
   PetscBool       rho_sum;
 } CsvWork;
 
-/* rho_sum: the summed density of a model that does not carry it (sim->f.rho of state y),
+/* rho_sum: the summed density of a model that does not carry it (sim->pair.f.rho of state y),
  * for charts; the file scene recognises the column and does not read it. Rank 0 only. */
 static PetscErrorCode WriteRowsOnRoot(void *ctx)
 {
@@ -54,7 +54,7 @@ static PetscErrorCode WriteRowsOnRoot(void *ctx)
   Header(&f, l, w->rho_sum);
   for (PetscInt r = 0; r < rows->n; r++) {
     const double *p = rows->y + (size_t)r * l->nvar;
-    for (int d = 0; d < dim; d++) SpamFilePrintf(&f, "%s%.17g", d ? "," : "", SpamSnapshotPosition(sim, d, p[l->x + d]));
+    for (int d = 0; d < dim; d++) SpamFilePrintf(&f, "%s%.17g", d ? "," : "", SpamSnapshotPosition(&sim->geo.box, d, p[l->x + d]));
     for (int d = 0; d < dim; d++) SpamFilePrintf(&f, ",%.17g", p[l->v + d]);
     SpamFilePrintf(&f, ",%.17g", rows->m[r]);
     if (l->e >= 0) SpamFilePrintf(&f, ",%.17g", p[l->e]);
@@ -68,7 +68,7 @@ static PetscErrorCode WriteRowsOnRoot(void *ctx)
   PetscFunctionReturn(0);
 }
 
-/* Collective on sim->comm. */
+/* Collective on sim->p.comm. */
 static PetscErrorCode WriteRows(const char *path, const SpamSim *sim, const double *y, const char *comment, PetscBool with_rho_sum)
 {
   SpamRows       rows;
@@ -77,7 +77,7 @@ static PetscErrorCode WriteRows(const char *path, const SpamSim *sim, const doub
 
   PetscFunctionBeginUser;
   PetscCall(SpamRowsGather(sim, y, SPAM_ROWS_ON_ROOT, &rows));
-  ierr = SpamRunAgreed(sim->comm, PETSC_TRUE, WriteRowsOnRoot, &w);
+  ierr = SpamRunAgreed(sim->p.comm, PETSC_TRUE, WriteRowsOnRoot, &w);
   PetscCall(SpamRowsFree(&rows));
   PetscCall(ierr);
   PetscFunctionReturn(0);

@@ -37,12 +37,12 @@ herr_t SpamSnapshotAttributes(hid_t file, const SpamSim *sim, double t, long ste
   int       periodic[3];
   long long st = step;
 
-  for (int d = 0; d < dim; d++) periodic[d] = sim->box.periodic[d] ? 1 : 0;
+  for (int d = 0; d < dim; d++) periodic[d] = sim->geo.box.periodic[d] ? 1 : 0;
   if (Attribute(file, "time", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 0, &t) < 0) return -1;
   if (Attribute(file, "step", H5T_STD_I64LE, H5T_NATIVE_LLONG, 0, &st) < 0) return -1;
   if (Attribute(file, "dim", H5T_STD_I32LE, H5T_NATIVE_INT, 0, &dim) < 0) return -1;
-  if (Attribute(file, "box_lo", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, (hsize_t)dim, sim->box.lo) < 0) return -1;
-  if (Attribute(file, "box_len", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, (hsize_t)dim, sim->box.len) < 0) return -1;
+  if (Attribute(file, "box_lo", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, (hsize_t)dim, sim->geo.box.lo) < 0) return -1;
+  if (Attribute(file, "box_len", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, (hsize_t)dim, sim->geo.box.len) < 0) return -1;
   if (Attribute(file, "periodic", H5T_STD_I32LE, H5T_NATIVE_INT, (hsize_t)dim, periodic) < 0) return -1;
   if (Attribute(file, "kernel_h", H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, 0, &sim->model.kernel.h) < 0) return -1;
   if (StringAttribute(file, "units", "reduced") < 0) return -1;

@@ -6,9 +6,8 @@
 /* The state's coordinate where it lies in the box, so that a file read back (the file
  * scene) holds bitwise the state; else wrapped into the box in a periodic direction (an
  * open direction keeps it). lo + SpamBoxLocal alone would round x when lo is not 0. */
-double SpamSnapshotPosition(const SpamSim *sim, int d, double x)
+double SpamSnapshotPosition(const SpamBox *b, int d, double x)
 {
-  const SpamBox *b = &sim->box;
   if (!b->periodic[d] || (x >= b->lo[d] && x < b->lo[d] + b->len[d])) return x;
   return b->lo[d] + SpamBoxLocal(b, d, x);
 }
@@ -16,15 +15,14 @@ double SpamSnapshotPosition(const SpamSim *sim, int d, double x)
 double SpamSnapshotDensity(const SpamSim *sim, const double *y, PetscInt i)
 {
   const SpamLayout *l = &sim->model.layout;
-  return l->rho >= 0 ? y[(size_t)i * l->nvar + l->rho] : sim->f.rho[i];
+  return l->rho >= 0 ? y[(size_t)i * l->nvar + l->rho] : sim->pair.f.rho[i];
 }
 
 /* ParaView's Tensor6 order: xx, xy, xz, yy, yz, zz. The state holds the upper triangle
  * row by row (2D: xx, xy, yy; 3D: xx, xy, xz, yy, yz, zz). */
-void SpamSnapshotStress6(const SpamSim *sim, const double *y, PetscInt i, double t6[6])
+void SpamSnapshotStress6(const SpamLayout *l, const double *y, PetscInt i, double t6[6])
 {
-  const SpamLayout *l = &sim->model.layout;
-  const double     *s = y + (size_t)i * l->nvar + l->s;
+  const double *s = y + (size_t)i * l->nvar + l->s;
 
   for (int k = 0; k < 6; k++) t6[k] = 0.0;
   if (l->s < 0) return;

@@ -60,13 +60,13 @@ static PetscErrorCode FieldsFromRows(const SpamSim *sim, const SpamRows *rows, F
   if (l->s >= 0) PetscCall(PetscCalloc1(6 * n + 1, &f->s6));
   for (PetscInt r = 0; r < n; r++) {
     const double *p = rows->y + (size_t)r * l->nvar;
-    f->rho[r]       = SpamRowsDensity(sim, rows, r);
+    f->rho[r]       = SpamRowsDensity(&sim->model.layout, rows, r);
     f->m[r]         = rows->m[r];
     f->id[r]        = rows->gid[r];
     if (f->e) f->e[r] = p[l->e];
-    if (f->s6) SpamSnapshotStress6(sim, rows->y, r, f->s6 + 6 * r);
+    if (f->s6) SpamSnapshotStress6(&sim->model.layout, rows->y, r, f->s6 + 6 * r);
     for (int d = 0; d < sim->model.dim; d++) {
-      f->x[3 * r + d] = SpamSnapshotPosition(sim, d, p[l->x + d]);
+      f->x[3 * r + d] = SpamSnapshotPosition(&sim->geo.box, d, p[l->x + d]);
       f->v[3 * r + d] = p[l->v + d];
     }
   }
@@ -189,7 +189,7 @@ static PetscErrorCode WriteOnRoot(void *ctx)
   PetscFunctionReturn(0);
 }
 
-/* Collective on sim->comm. */
+/* Collective on sim->p.comm. */
 PetscErrorCode SpamSnapshotHdf5Write(const char *path, const SpamSim *sim, const double *y, double t, long step)
 {
   H5Out          h;
@@ -207,7 +207,7 @@ PetscErrorCode SpamSnapshotHdf5Write(const char *path, const SpamSim *sim, const
   PetscCall(SpamRowsGather(sim, y, SPAM_ROWS_ON_ROOT, &rows));
   h.rows = &rows;
   h.N    = (hsize_t)rows.nglobal;
-  ierr   = SpamRunAgreed(sim->comm, PETSC_TRUE, WriteOnRoot, &h);
+  ierr   = SpamRunAgreed(sim->p.comm, PETSC_TRUE, WriteOnRoot, &h);
   PetscCall(SpamRowsFree(&rows));
   PetscCall(ierr);
   PetscFunctionReturn(0);

@@ -84,7 +84,7 @@ static PetscErrorCode WriteIndex(void *ctx)
   IndexWork *w = ctx;
 
   PetscFunctionBeginUser;
-  PetscCall(WriteXdmfIndex(w->o, &w->sim->model.layout, w->sim->nglobal));
+  PetscCall(WriteXdmfIndex(w->o, &w->sim->model.layout, w->sim->p.nglobal));
   PetscFunctionReturn(0);
 }
 
@@ -99,7 +99,7 @@ static PetscErrorCode WriteManifest(void *ctx)
 
 /* A run writes no more than -snapshot_max snapshots: a tiny -snapshot_interval must not
  * fill the disk with files. Parsing refuses an interval that would pass the cap; this is
- * the writer's own guard. Collective on sim->comm; every rank keeps the same list of
+ * the writer's own guard. Collective on sim->p.comm; every rank keeps the same list of
  * files (the manifest's), rank 0 writes the text files. */
 PetscErrorCode SpamSnapshotWrite(SpamOutput *o, SpamSim *sim, const double *y, double t, const char *tag)
 {
@@ -107,7 +107,7 @@ PetscErrorCode SpamSnapshotWrite(SpamOutput *o, SpamSim *sim, const double *y, d
   IndexWork w = {o, sim};
 
   PetscFunctionBeginUser;
-  PetscCheck(o->opt.snapshot_max <= 0 || o->nsnap < o->opt.snapshot_max, sim->comm, PETSC_ERR_FILE_WRITE, "cannot write another snapshot into %s: -snapshot_max = %" PetscInt_FMT " reached", o->dir, o->opt.snapshot_max);
+  PetscCheck(o->opt.snapshot_max <= 0 || o->nsnap < o->opt.snapshot_max, sim->p.comm, PETSC_ERR_FILE_WRITE, "cannot write another snapshot into %s: -snapshot_max = %" PetscInt_FMT " reached", o->dir, o->opt.snapshot_max);
   if (o->hdf5) {
     if (o->nsnap == o->snap_cap) {
       o->snap_cap = 2 * o->snap_cap + 16;
@@ -129,9 +129,9 @@ PetscErrorCode SpamSnapshotWrite(SpamOutput *o, SpamSim *sim, const double *y, d
   o->nsnap++;
   if (o->opt.grid_interval > 0) PetscCall(SpamGridWrite(o, sim, y, t)); /* fields on a grid, same time */
   if (o->hdf5) {
-    PetscCall(SpamRunAgreed(sim->comm, PETSC_TRUE, WriteIndex, &w));
+    PetscCall(SpamRunAgreed(sim->p.comm, PETSC_TRUE, WriteIndex, &w));
     PetscCall(SpamManifestAdd(o, "snapshots.xmf", "xdmf_index", NAN, PETSC_FALSE));
   }
-  PetscCall(SpamRunAgreed(sim->comm, PETSC_TRUE, WriteManifest, &w));
+  PetscCall(SpamRunAgreed(sim->p.comm, PETSC_TRUE, WriteManifest, &w));
   PetscFunctionReturn(0);
 }

@@ -95,6 +95,17 @@ static void Outcome(Summary *f, const SpamRunOptions *o, const SpamRunResult *r)
   if (r->status == SPAM_STATUS_INTERRUPTED) Int(f, "signal", r->signal);
 }
 
+/* The rule of one list update and one placement of the ghost positions (on several
+ * ranks the halo's exchange of positions) per evaluation, over this process's evaluations. */
+static void RhsPasses(Summary *f, const SpamRhsStats *s)
+{
+  const double n = s->counted ? (double)s->counted : NAN;
+
+  Int(f, "rhs_evals_process", s->counted);
+  Num(f, "list_updates_per_rhs", (double)s->list_updates / n);
+  Num(f, "ghost_placements_per_rhs", (double)s->ghost_placements / n);
+}
+
 static void Counts(Summary *f, const SpamSim *sim, const SpamRunResult *r)
 {
   Int(f, "steps", r->steps);
@@ -114,8 +125,9 @@ static void Counts(Summary *f, const SpamSim *sim, const SpamRunResult *r)
   /* Gauss's constraint: the largest acceleration it added (0 without it). */
   Num(f, "gauss_accel_max", sim->ps ? sim->ps->gauss_accel_max : 0.0);
   Num(f, "gauss_momentum_residual_max", sim->ps ? sim->ps->gauss_momentum_residual : 0.0);
-  Int(f, "neighbour_builds", sim->nl.builds);
-  Int(f, "neighbour_list_grows", sim->nl.grows);
+  Int(f, "neighbour_builds", sim->pair.nl.builds);
+  Int(f, "neighbour_list_grows", sim->pair.nl.grows);
+  RhsPasses(f, &sim->run.stats);
 }
 
 /* The checkpoints this run wrote, and the one it continued (null when new). */
@@ -136,16 +148,16 @@ static void Checkpoints(Summary *f, const SpamRunResult *r)
   Int(f, "restart_rhs_evals", r->restart_rhs_evals);
 }
 
-static void Performance(Summary *f, const SpamSim *sim, const SpamRunResult *r)
+static void Performance(Summary *f, const SpamRunCounts *run, const SpamRunResult *r)
 {
   struct rusage ru;
 
   getrusage(RUSAGE_SELF, &ru);
   Num(f, "wall_time_s", r->wall);
-  Num(f, "rhs_time_s", sim->stats.rhs_time);
-  Num(f, "rhs_time_share", r->wall > 0 ? sim->stats.rhs_time / r->wall : 0.0);
-  Num(f, "pair_interactions_per_s", sim->stats.rhs_time > 0 ? sim->stats.pair_visits / sim->stats.rhs_time : 0.0);
-  Num(f, "ns_per_pair", sim->stats.pair_visits > 0 ? 1e9 * sim->stats.rhs_time / sim->stats.pair_visits : 0.0);
+  Num(f, "rhs_time_s", run->stats.rhs_time);
+  Num(f, "rhs_time_share", r->wall > 0 ? run->stats.rhs_time / r->wall : 0.0);
+  Num(f, "pair_interactions_per_s", run->stats.rhs_time > 0 ? run->stats.pair_visits / run->stats.rhs_time : 0.0);
+  Num(f, "ns_per_pair", run->stats.pair_visits > 0 ? 1e9 * run->stats.rhs_time / run->stats.pair_visits : 0.0);
   Int(f, "peak_rss_bytes", (long)ru.ru_maxrss * 1024L);
 }
 
@@ -197,10 +209,10 @@ static void Drifts(Summary *f, const SpamRunResult *r, const char *angmom_not_co
 static void Conservation(Summary *f, const SpamSim *sim, const SpamRunOptions *o, const SpamRunResult *r)
 {
   const SpamDiagnostics *a = &r->first, *b = &r->last;
-  const double           norm = (double)sim->nglobal * log(sim->scene.volume_ratio > 0 ? sim->scene.volume_ratio : 1.0);
+  const double           norm = (double)sim->p.nglobal * log(sim->out.scene.volume_ratio > 0 ? sim->out.scene.volume_ratio : 1.0);
 
-  Num(f, "volume_ratio", sim->scene.volume_ratio);
-  Num(f, "sound_traversal_time", sim->scene.sound_traversal_time);
+  Num(f, "volume_ratio", sim->out.scene.volume_ratio);
+  Num(f, "sound_traversal_time", sim->out.scene.sound_traversal_time);
   Num(f, "energy_initial", a->total);
   Num(f, "energy_final", b->total);
   Num(f, "kinetic_final", b->kinetic);
@@ -234,13 +246,13 @@ static void Walls(Summary *f, const SpamSim *sim)
   char key[48];
 
   for (int s = 0; s < 2 * sim->model.dim; s++) {
-    if (!SpamWallOn(&sim->walls, s)) continue;
+    if (!SpamWallOn(&sim->geo.walls, s)) continue;
     (void)snprintf(key, sizeof key, "wall_%s", SpamFaceNames[s]);
-    Str(f, key, SpamWallSlipNames[sim->walls.slip[s]]);
+    Str(f, key, SpamWallSlipNames[sim->geo.walls.slip[s]]);
     (void)snprintf(key, sizeof key, "wall_%s_velocity", SpamFaceNames[s]);
-    Vec3(f, key, sim->walls.velocity[s]);
+    Vec3(f, key, sim->geo.walls.velocity[s]);
     (void)snprintf(key, sizeof key, "wall_%s_temperature", SpamFaceNames[s]);
-    if (sim->walls.isothermal[s]) Num(f, key, sim->walls.temperature[s]);
+    if (sim->geo.walls.isothermal[s]) Num(f, key, sim->geo.walls.temperature[s]);
     else Str(f, key, "adiabatic");
   }
 }
@@ -267,14 +279,14 @@ PetscErrorCode SpamSummaryWrite(SpamOutput *out, const SpamSim *sim, const SpamR
   PetscCall(SpamFileBegin(path, &f.f));
   SpamFilePrintf(&f.f, "{\n");
   Outcome(&f, o, r);
-  Str(&f, "scene", sim->scene.name);
+  Str(&f, "scene", sim->out.scene.name);
   Int(&f, "dim", sim->model.dim);
-  Int(&f, "n_particles", (long)sim->nglobal);
+  Int(&f, "n_particles", (long)sim->p.nglobal);
   Num(&f, "h", sim->model.kernel.h);
   Num(&f, "mass", sim->model.mass);
   ModelFields(&f, &sim->model);
-  Vec3(&f, "box_lo", sim->box.lo);
-  Vec3(&f, "box_len", sim->box.len);
+  Vec3(&f, "box_lo", sim->geo.box.lo);
+  Vec3(&f, "box_len", sim->geo.box.len);
   Walls(&f, sim);
   Str(&f, "method", r->method);
   Str(&f, "adapt", r->adapt);
@@ -286,7 +298,7 @@ PetscErrorCode SpamSummaryWrite(SpamOutput *out, const SpamSim *sim, const SpamR
   Counts(&f, sim, r);
   Ranks(&f, r);
   Checkpoints(&f, r);
-  Performance(&f, sim, r);
+  Performance(&f, &sim->run, r);
   Conservation(&f, sim, o, r);
   Str(&f, "output_dir", out->dir);
   NullNote(&f, r);

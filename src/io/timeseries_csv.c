@@ -3,7 +3,7 @@
 
 PetscErrorCode SpamTimeseriesAppend(SpamOutput *o, const SpamSim *sim, const SpamProgress *pr, const SpamDiagnostics *d, const SpamDiagnostics *d0)
 {
-  const double norm = (double)sim->nglobal * log(sim->scene.volume_ratio > 0 ? sim->scene.volume_ratio : 1.0);
+  const double norm = (double)sim->p.nglobal * log(sim->out.scene.volume_ratio > 0 ? sim->out.scene.volume_ratio : 1.0);
   double       rs = NAN, rg = NAN;
   char         walls[2048];
 

@@ -14,36 +14,36 @@
 static PetscErrorCode Moments(SpamSim *sim, const double *y, double c[4], double rc[2], double vc[2])
 {
   const SpamLayout *l = &sim->model.layout;
-  const double     *mass = sim->f.m;
+  const double     *mass = sim->pair.f.m;
   double            s[7] = {0, 0, 0, 0, 0, 0, 0}, xc[2];
 
   PetscFunctionBeginUser;
-  for (PetscInt i = 0; i < sim->n; i++) {
+  for (PetscInt i = 0; i < sim->p.n; i++) {
     const double *p = y + (size_t)i * l->nvar, m = mass[i];
     s[0] += m;
     for (int d = 0; d < 2; d++) {
       s[1 + d] += m * p[l->x + d];
       s[3 + d] += m * p[l->v + d];
-      s[5 + d] += m * sim->f.xdot[2 * i + d];
+      s[5 + d] += m * sim->pair.f.xdot[2 * i + d];
     }
   }
-  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, s, 7, MPI_DOUBLE, MPI_SUM, sim->comm));
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, s, 7, MPI_DOUBLE, MPI_SUM, sim->p.comm));
   for (int d = 0; d < 2; d++) {
     rc[d] = s[1 + d] / s[0];
     vc[d] = s[3 + d] / s[0];
     xc[d] = s[5 + d] / s[0];
   }
   c[0] = c[1] = c[2] = c[3] = 0.0;
-  for (PetscInt i = 0; i < sim->n; i++) {
+  for (PetscInt i = 0; i < sim->p.n; i++) {
     const double *p = y + (size_t)i * l->nvar, m = mass[i];
     const double  r[2] = {p[l->x] - rc[0], p[l->x + 1] - rc[1]}, v[2] = {p[l->v] - vc[0], p[l->v + 1] - vc[1]};
-    const double  rd[2] = {sim->f.xdot[2 * i] - xc[0], sim->f.xdot[2 * i + 1] - xc[1]};
+    const double  rd[2] = {sim->pair.f.xdot[2 * i] - xc[0], sim->pair.f.xdot[2 * i + 1] - xc[1]};
     c[0] += m * (r[0] * v[1] - r[1] * v[0]);
     c[1] += 0.5 * m * (v[0] * v[0] + v[1] * v[1]);
     c[2] += m * (r[0] * r[0] + r[1] * r[1]);
-    c[3] += m * (rd[0] * v[1] - rd[1] * v[0] + r[0] * sim->f.acc[2 * i + 1] - r[1] * sim->f.acc[2 * i]);
+    c[3] += m * (rd[0] * v[1] - rd[1] * v[0] + r[0] * sim->pair.f.acc[2 * i + 1] - r[1] * sim->pair.f.acc[2 * i]);
   }
-  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, c, 4, MPI_DOUBLE, MPI_SUM, sim->comm));
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, c, 4, MPI_DOUBLE, MPI_SUM, sim->p.comm));
   PetscFunctionReturn(0);
 }
 
@@ -56,7 +56,7 @@ static PetscErrorCode ReportSingular(SpamSim *sim, double den, double inertia, d
   if (sim->ps->gauss_reported) PetscFunctionReturn(0);
   sim->ps->gauss_reported = PETSC_TRUE;
   (void)snprintf(msg, sizeof msg, "spam-ark: Gauss's principle is singular (I - L^2/2K = %.3e, I = %.6g, K = %.6g: rigid rotation or rest); the constraint force is skipped while singular (counted in timeseries column gauss_singular)\n", den, inertia, K);
-  PetscCall(PetscPrintf(sim->comm, "%s", msg));
+  PetscCall(PetscPrintf(sim->p.comm, "%s", msg));
   PetscFunctionReturn(0);
 }
 
@@ -76,17 +76,17 @@ PetscErrorCode SpamGaussConstraint(SpamSim *sim, const double *y)
     }
     const double beta = -Ldot / den, alpha = beta * L / (2.0 * K);
     double       amax = 0.0, pm[2] = {0.0, 0.0};
-    for (PetscInt i = 0; i < sim->n; i++) {
+    for (PetscInt i = 0; i < sim->p.n; i++) {
       const double *p = y + (size_t)i * l->nvar;
       const double  r[2] = {p[l->x] - rc[0], p[l->x + 1] - rc[1]};
       const double  a[2] = {-alpha * (p[l->v] - vc[0]) - beta * r[1], -alpha * (p[l->v + 1] - vc[1]) + beta * r[0]};
-      sim->f.acc[2 * i] += a[0];
-      sim->f.acc[2 * i + 1] += a[1];
+      sim->pair.f.acc[2 * i] += a[0];
+      sim->pair.f.acc[2 * i + 1] += a[1];
       amax = PetscMax(amax, PetscMax(fabs(a[0]), fabs(a[1])));
-      pm[0] += sim->f.m[i] * a[0];
-      pm[1] += sim->f.m[i] * a[1];
+      pm[0] += sim->pair.f.m[i] * a[0];
+      pm[1] += sim->pair.f.m[i] * a[1];
     }
-    PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, pm, 2, MPI_DOUBLE, MPI_SUM, sim->comm));
+    PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, pm, 2, MPI_DOUBLE, MPI_SUM, sim->p.comm));
     sim->ps->gauss_accel_max = PetscMax(sim->ps->gauss_accel_max, amax);
     /* sum m a of the constraint is zero only in exact arithmetic: r_i - rc rounds at the
      * scale of the absolute positions, so near a rigid rotation (beta large) this residual,

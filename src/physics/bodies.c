@@ -15,28 +15,28 @@ static int Find(int *parent, int i)
 PetscErrorCode SpamBodiesLabel(SpamSim *sim, const double *y, double range)
 {
   SpamPhysicsScratch *ps = sim->ps;
-  const SpamImage     im = sim->nl.im;
+  const SpamImage     im = sim->pair.nl.im;
   int                *parent, *label;
   PetscInt            bad;
 
   PetscFunctionBeginUser;
-  PetscCall(SpamNeighboursUpdate(&sim->nl, &sim->box, y + sim->model.layout.x, sim->model.layout.nvar, PETSC_TRUE, &bad));
-  PetscCheck(bad < 0, sim->comm, PETSC_ERR_FP, "non-finite position of particle %" PetscInt_FMT, bad);
-  PetscCall(PetscMalloc2(sim->n + 1, &parent, sim->n + 1, &label));
-  for (PetscInt i = 0; i < sim->n; i++) parent[i] = (int)i, label[i] = -1;
-  for (int i = 0; i < sim->nl.n; i++) {
-    for (int p = sim->nl.start[i]; p < sim->nl.start[i + 1]; p++) {
+  PetscCall(SpamNeighboursUpdate(&sim->pair.nl, &sim->geo.box, y + sim->model.layout.x, sim->model.layout.nvar, PETSC_TRUE, &bad));
+  PetscCheck(bad < 0, sim->p.comm, PETSC_ERR_FP, "non-finite position of particle %" PetscInt_FMT, bad);
+  PetscCall(PetscMalloc2(sim->p.n + 1, &parent, sim->p.n + 1, &label));
+  for (PetscInt i = 0; i < sim->p.n; i++) parent[i] = (int)i, label[i] = -1;
+  for (int i = 0; i < sim->pair.nl.n; i++) {
+    for (int p = sim->pair.nl.start[i]; p < sim->pair.nl.start[i + 1]; p++) {
       double dx[2];
-      if (SpamPairDelta2(&sim->nl, &im, i, sim->nl.nbr[p], dx) < range * range) parent[Find(parent, i)] = Find(parent, sim->nl.nbr[p]);
+      if (SpamPairDelta2(&sim->pair.nl, &im, i, sim->pair.nl.nbr[p], dx) < range * range) parent[Find(parent, i)] = Find(parent, sim->pair.nl.nbr[p]);
     }
-    for (int p = sim->nl.gstart[i]; p < sim->nl.gstart[i + 1]; p++) { /* a periodic image joins its source */
-      const int j = sim->nl.gnbr[p], src = sim->nl.ghosts.src[j - sim->nl.n];
+    for (int p = sim->pair.nl.gstart[i]; p < sim->pair.nl.gstart[i + 1]; p++) { /* a periodic image joins its source */
+      const int j = sim->pair.nl.gnbr[p], src = sim->pair.nl.ghosts.src[j - sim->pair.nl.n];
       double    dx[2];
-      if (sim->nl.ghosts.kind[j - sim->nl.n] == SPAM_GHOST_PERIODIC && SpamPairDelta2(&sim->nl, &im, i, j, dx) < range * range) parent[Find(parent, i)] = Find(parent, src);
+      if (sim->pair.nl.ghosts.kind[j - sim->pair.nl.n] == SPAM_GHOST_PERIODIC && SpamPairDelta2(&sim->pair.nl, &im, i, j, dx) < range * range) parent[Find(parent, i)] = Find(parent, src);
     }
   }
   ps->nbody = 0;
-  for (PetscInt i = 0; i < sim->n; i++) {
+  for (PetscInt i = 0; i < sim->p.n; i++) {
     const int root = Find(parent, (int)i);
     if (label[root] < 0) label[root] = ps->nbody++;
     ps->body[i] = label[root];
@@ -56,8 +56,8 @@ PetscErrorCode SpamBodyAngularMomentum(SpamSim *sim, const double *y, double *lb
 
   PetscFunctionBeginUser;
   PetscCall(PetscCalloc2(5 * nb, &s, nb, &lz));
-  for (PetscInt i = 0; i < sim->n; i++) {
-    const double *p = y + (size_t)i * l->nvar, m = sim->f.m[i];
+  for (PetscInt i = 0; i < sim->p.n; i++) {
+    const double *p = y + (size_t)i * l->nvar, m = sim->pair.f.m[i];
     double       *b = s + 5 * sim->ps->body[i];
     b[0] += m;
     for (int d = 0; d < 2; d++) {
@@ -65,13 +65,13 @@ PetscErrorCode SpamBodyAngularMomentum(SpamSim *sim, const double *y, double *lb
       b[3 + d] += m * p[l->v + d];
     }
   }
-  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, s, 5 * nb, MPI_DOUBLE, MPI_SUM, sim->comm));
-  for (PetscInt i = 0; i < sim->n; i++) {
-    const double *p = y + (size_t)i * l->nvar, *b = s + 5 * sim->ps->body[i], m = sim->f.m[i];
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, s, 5 * nb, MPI_DOUBLE, MPI_SUM, sim->p.comm));
+  for (PetscInt i = 0; i < sim->p.n; i++) {
+    const double *p = y + (size_t)i * l->nvar, *b = s + 5 * sim->ps->body[i], m = sim->pair.f.m[i];
     const double  r[2] = {p[l->x] - b[1] / b[0], p[l->x + 1] - b[2] / b[0]}, v[2] = {p[l->v] - b[3] / b[0], p[l->v + 1] - b[4] / b[0]};
     lz[sim->ps->body[i]] += m * (r[0] * v[1] - r[1] * v[0]);
   }
-  PetscCallMPI(MPIU_Allreduce(lz, lbody, nb, MPI_DOUBLE, MPI_SUM, sim->comm));
+  PetscCallMPI(MPIU_Allreduce(lz, lbody, nb, MPI_DOUBLE, MPI_SUM, sim->p.comm));
   PetscCall(PetscFree2(s, lz));
   PetscFunctionReturn(0);
 }

@@ -8,18 +8,18 @@ PetscErrorCode SpamClosestApproachReflect(SpamSim *sim, double *y, double dmin, 
 {
   const SpamLayout *l  = &sim->model.layout;
   const int         nv = l->nvar;
-  const SpamImage   im = sim->nl.im;
+  const SpamImage   im = sim->pair.nl.im;
   PetscInt          bad;
 
   PetscFunctionBeginUser;
   *nreflected = 0;
-  PetscCall(SpamNeighboursUpdate(&sim->nl, &sim->box, y + l->x, nv, PETSC_FALSE, &bad));
-  PetscCheck(bad < 0, sim->comm, PETSC_ERR_FP, "non-finite position of particle %" PetscInt_FMT, bad);
-  for (int i = 0; i < sim->nl.n; i++) {
-    for (int p = sim->nl.start[i]; p < sim->nl.start[i + 1]; p++) {
-      const int    j = sim->nl.nbr[p];
+  PetscCall(SpamNeighboursUpdate(&sim->pair.nl, &sim->geo.box, y + l->x, nv, PETSC_FALSE, &bad));
+  PetscCheck(bad < 0, sim->p.comm, PETSC_ERR_FP, "non-finite position of particle %" PetscInt_FMT, bad);
+  for (int i = 0; i < sim->pair.nl.n; i++) {
+    for (int p = sim->pair.nl.start[i]; p < sim->pair.nl.start[i + 1]; p++) {
+      const int    j = sim->pair.nl.nbr[p];
       double       dx[2];
-      const double r2 = SpamPairDelta2(&sim->nl, &im, i, j, dx);
+      const double r2 = SpamPairDelta2(&sim->pair.nl, &im, i, j, dx);
       if (r2 >= dmin * dmin || r2 == 0.0) continue;
       double      *vi = y + (size_t)i * nv + l->v, *vj = y + (size_t)j * nv + l->v;
       const double vr = ((vi[0] - vj[0]) * dx[0] + (vi[1] - vj[1]) * dx[1]) / r2; /* (v_ij.r_ij)/r^2 */

@@ -45,15 +45,15 @@ PetscErrorCode SpamEntropySum(SpamSim *sim, const double *y, double *S)
 {
   const SpamModel  *m   = &sim->model;
   const SpamLayout *l   = &m->layout;
-  const SpamGhosts *gh  = &sim->nl.ghosts;
-  const int         dim = m->dim, nv = l->nvar, n = (int)sim->n, slots = SpamNeighboursSlots(&sim->nl);
+  const SpamGhosts *gh  = &sim->pair.nl.ghosts;
+  const int         dim = m->dim, nv = l->nvar, n = (int)sim->p.n, slots = SpamNeighboursSlots(&sim->pair.nl);
   double           *v, *mom, sum = 0.0;
   Moments           c;
 
   PetscFunctionBeginUser;
   PetscCall(PetscCalloc2((size_t)dim * slots + 1, &v, (size_t)(dim + 1) * slots + 1, &mom));
   for (int i = 0; i < n; i++) {
-    const double *vi = y + (size_t)i * nv + l->v, w0 = sim->f.m[i] * m->kernel.wnorm; /* the self term */
+    const double *vi = y + (size_t)i * nv + l->v, w0 = sim->pair.f.m[i] * m->kernel.wnorm; /* the self term */
     double        v2 = 0.0;
     for (int d = 0; d < dim; d++) {
       v[(size_t)i * dim + d]           = vi[d];
@@ -63,8 +63,8 @@ PetscErrorCode SpamEntropySum(SpamSim *sim, const double *y, double *S)
     mom[(size_t)i * (dim + 1) + dim] = w0 * v2;
   }
   PetscCall(SpamGhostsGather(gh, dim, n, dim, SPAM_GHOST_VECTOR, v));
-  c = (Moments){v, sim->f.m, mom};
-  PetscCall(WalkMoments(&sim->nl, &m->kernel, &c));
+  c = (Moments){v, sim->pair.f.m, mom};
+  PetscCall(WalkMoments(&sim->pair.nl, &m->kernel, &c));
   /* |v|^2 is a scalar under a mirror; the mean velocity a vector */
   for (int k = 0; k < gh->n; k++) {
     if (gh->kind[k] != SPAM_GHOST_PERIODIC) continue; /* a remote ghost has no local source */
@@ -73,11 +73,11 @@ PetscErrorCode SpamEntropySum(SpamSim *sim, const double *y, double *S)
   }
   for (int i = 0; i < n; i++) {
     double vmean[3] = {0, 0, 0};
-    for (int d = 0; d < dim; d++) vmean[d] = mom[(size_t)i * (dim + 1) + d] / sim->f.rho[i];
-    sum += EntropyPerMass(m, sim->f.rho[i], mom[(size_t)i * (dim + 1) + dim] / sim->f.rho[i], vmean);
+    for (int d = 0; d < dim; d++) vmean[d] = mom[(size_t)i * (dim + 1) + d] / sim->pair.f.rho[i];
+    sum += EntropyPerMass(m, sim->pair.f.rho[i], mom[(size_t)i * (dim + 1) + dim] / sim->pair.f.rho[i], vmean);
   }
   PetscCall(PetscFree2(v, mom));
-  PetscCallMPI(MPIU_Allreduce(&sum, S, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
+  PetscCallMPI(MPIU_Allreduce(&sum, S, 1, MPI_DOUBLE, MPI_SUM, sim->p.comm));
   PetscFunctionReturn(0);
 }
 
@@ -87,11 +87,11 @@ PetscErrorCode SpamEntropySum(SpamSim *sim, const double *y, double *S)
 static void SampleAt(const SpamSim *sim, const double *y, const double *u, double *mom)
 {
   const SpamModel      *m  = &sim->model;
-  const SpamNeighbours *nl = &sim->nl;
+  const SpamNeighbours *nl = &sim->pair.nl;
   const int             dim = m->dim;
-  const SpamImage       im = SpamBoxImage(&sim->box);
+  const SpamImage       im = SpamBoxImage(&sim->geo.box);
   int                   adj[27];
-  const int             na  = SpamNeighboursAdjacentCells(nl, &sim->box, SpamNeighboursCellOf(nl, &sim->box, u), adj);
+  const int             na  = SpamNeighboursAdjacentCells(nl, &sim->geo.box, SpamNeighboursCellOf(nl, &sim->geo.box, u), adj);
 
   for (int a = 0; a < na; a++) {
     for (int k = nl->cell_start[adj[a]]; k < nl->cell_start[adj[a] + 1]; k++) {
@@ -142,21 +142,21 @@ PetscErrorCode SpamEntropyGrid(SpamSim *sim, const double *y, double spacing, do
   double           g[3]  = {1, 1, 1}, nd[3], cellvol = 1.0, sum = 0.0, *mom;
   /* Below this density the point is empty space: s -> 0 as rho -> 0. */
   const double rho_min = 1e-12 * m->mass * m->kernel.wnorm;
-  const double points  = GridPoints(&sim->box, spacing, nd);
+  const double points  = GridPoints(&sim->geo.box, spacing, nd);
 
   PetscFunctionBeginUser;
-  PetscCheck(spacing > 0.0 && isfinite(spacing) && points <= SPAM_GRID_MAX, sim->comm, PETSC_ERR_ARG_OUTOFRANGE, "entropy grid spacing %g gives %g points; at most 2^30", spacing, points);
+  PetscCheck(spacing > 0.0 && isfinite(spacing) && points <= SPAM_GRID_MAX, sim->p.comm, PETSC_ERR_ARG_OUTOFRANGE, "entropy grid spacing %g gives %g points; at most 2^30", spacing, points);
   total = (PetscInt)points;
   for (int d = 0; d < dim; d++) {
     ng[d] = (PetscInt)nd[d];
-    g[d]  = sim->box.len[d] / ng[d];
+    g[d]  = sim->geo.box.len[d] / ng[d];
     cellvol *= g[d];
   }
   PetscCall(PetscMalloc1((size_t)nm * SPAM_GRID_CHUNK, &mom));
   for (PetscInt k0 = 0; k0 < total; k0 += SPAM_GRID_CHUNK) {
     const PetscInt nk = PetscMin(total - k0, SPAM_GRID_CHUNK);
     PetscCall(PetscArrayzero(mom, (size_t)nm * nk));
-    for (PetscInt k = k0; k < k0 + nk && sim->n > 0; k++) {
+    for (PetscInt k = k0; k < k0 + nk && sim->p.n > 0; k++) {
       double u[3] = {0, 0, 0};
       for (int d = 0, rem = (int)k; d < dim; d++) {
         u[d] = (rem % ng[d] + 0.5) * g[d];
@@ -164,7 +164,7 @@ PetscErrorCode SpamEntropyGrid(SpamSim *sim, const double *y, double spacing, do
       }
       SampleAt(sim, y, u, mom + (size_t)nm * (k - k0));
     }
-    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, mom, nm * (int)nk, MPI_DOUBLE, MPI_SUM, sim->comm));
+    PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, mom, nm * (int)nk, MPI_DOUBLE, MPI_SUM, sim->p.comm));
     for (PetscInt k = 0; k < nk; k++) {
       const double *p   = mom + (size_t)nm * k, rho = p[0];
       double        vmean[3] = {0, 0, 0};

@@ -13,8 +13,8 @@ static PetscErrorCode DiagIsentrope(SpamSim *sim, const double *y, SpamModelDiag
 
   PetscFunctionBeginUser;
   (void)y;
-  for (PetscInt i = 0; i < sim->n; i++) loc += sim->f.m[i] * SpamEosEnergy(&sim->model.eos, sim->f.rho[i]);
-  PetscCallMPI(MPIU_Allreduce(&loc, &d->internal, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
+  for (PetscInt i = 0; i < sim->p.n; i++) loc += sim->pair.f.m[i] * SpamEosEnergy(&sim->model.eos, sim->pair.f.rho[i]);
+  PetscCallMPI(MPIU_Allreduce(&loc, &d->internal, 1, MPI_DOUBLE, MPI_SUM, sim->p.comm));
   d->torque = NAN; /* not computed: the pair forces are central */
   PetscFunctionReturn(0);
 }
@@ -47,8 +47,8 @@ PetscErrorCode SpamMaxSoundSpeedIsentrope(SpamSim *sim, const double *y, double 
 
   PetscFunctionBeginUser;
   PetscCall(SpamDensitySummation(sim, y, &bad));
-  for (PetscInt i = 0; i < sim->n && bad < 0; i++) rmax = PetscMax(rmax, sim->f.rho[i]);
-  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &rmax, 1, MPI_DOUBLE, MPI_MAX, sim->comm));
+  for (PetscInt i = 0; i < sim->p.n && bad < 0; i++) rmax = PetscMax(rmax, sim->pair.f.rho[i]);
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &rmax, 1, MPI_DOUBLE, MPI_MAX, sim->p.comm));
   /* gamma > 1: the sound speed grows with density. */
   *cmax = SpamEosSoundSpeed(&sim->model.eos, rmax);
   PetscFunctionReturn(0);

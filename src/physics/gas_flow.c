@@ -54,15 +54,15 @@ PetscErrorCode SpamGasFlowFit(SpamSim *sim, const double *y, SpamBackground *b)
   /* Along gravity only where gravity crosses no periodic face: a pressure that falls along
    * a periodic direction is not periodic (the Poiseuille channel's driving gravity runs
    * along its periodic axis, and the pressure there is uniform). */
-  for (int d = 0; d < dim; d++) gn += sim->box.periodic[d] && sim->model.gravity[d] != 0.0 ? INFINITY : sim->model.gravity[d] * sim->model.gravity[d];
+  for (int d = 0; d < dim; d++) gn += sim->geo.box.periodic[d] && sim->model.gravity[d] != 0.0 ? INFINITY : sim->model.gravity[d] * sim->model.gravity[d];
   if (!isfinite(gn)) gn = 0.0;
   if (gn > 0.0)
     for (int d = 0; d < dim; d++) {
       b->up[d]     = -sim->model.gravity[d] / sqrt(gn);
-      b->origin[d] = sim->box.lo[d] + 0.5 * sim->box.len[d];
+      b->origin[d] = sim->geo.box.lo[d] + 0.5 * sim->geo.box.len[d];
     }
-  for (PetscInt i = 0; i < sim->n; i++) {
-    const double s = SpamBackgroundHeight(b, dim, y + (size_t)i * l->nvar + l->x), P = (p->gamma - 1.0) * sim->f.rho[i] * sim->f.e[i];
+  for (PetscInt i = 0; i < sim->p.n; i++) {
+    const double s = SpamBackgroundHeight(b, dim, y + (size_t)i * l->nvar + l->x), P = (p->gamma - 1.0) * sim->pair.f.rho[i] * sim->pair.f.e[i];
     const double s2 = s * s;
     m[0] += 1.0;
     m[1] += s;
@@ -73,7 +73,7 @@ PetscErrorCode SpamGasFlowFit(SpamSim *sim, const double *y, SpamBackground *b)
     m[6] += P * s;
     m[7] += P * s2;
   }
-  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, m, 8, MPI_DOUBLE, MPI_SUM, sim->comm));
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, m, 8, MPI_DOUBLE, MPI_SUM, sim->p.comm));
   if (!(m[0] > 0.0)) PetscFunctionReturn(0);
   b->c[0] = m[5] / m[0];
   if (gn > 0.0) {
@@ -92,11 +92,11 @@ PetscErrorCode SpamGasFlowFit(SpamSim *sim, const double *y, SpamBackground *b)
 void SpamGasFlowShift(SpamSim *sim)
 {
   const SpamSolidParams *p   = &sim->model.solid;
-  SpamFields            *f   = &sim->f;
+  SpamFields            *f   = &sim->pair.f;
   const int              dim = f->dim;
   const double           ch  = p->shift_coef * sim->model.kernel.h;
 
-  for (PetscInt i = 0; i < sim->n; i++) {
+  for (PetscInt i = 0; i < sim->p.n; i++) {
     const double c  = sqrt(p->gamma * (p->gamma - 1.0) * PetscMax(f->e[i], 0.0));
     const double k  = -ch * c * f->rho[i] / f->m[i]; /* 1 / V_i */
     double      *dv = f->shift + (size_t)i * dim, de = 0.0;
@@ -146,19 +146,19 @@ static double CorrectedDivergence(int dim, const double *M, const double *G)
  * cost no energy). One reduction of two sums over the ranks. */
 PetscErrorCode SpamGasFlowDivergence(SpamSim *sim)
 {
-  SpamFields *f   = &sim->f;
+  SpamFields *f   = &sim->pair.f;
   const int   dim = f->dim;
   double      s[2] = {0.0, 0.0};
 
   PetscFunctionBeginUser;
-  for (PetscInt i = 0; i < sim->n; i++) {
+  for (PetscInt i = 0; i < sim->p.n; i++) {
     const double V = f->m[i] / f->rho[i];
     f->divv[i]     = CorrectedDivergence(dim, f->gmom + (size_t)i * dim * dim, f->gradv + (size_t)i * dim * dim);
     s[0] += V * f->divv[i];
     s[1] += V;
   }
-  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, s, 2, MPI_DOUBLE, MPI_SUM, sim->comm));
-  for (PetscInt i = 0; i < sim->n && s[1] > 0.0; i++) f->divv[i] -= s[0] / s[1];
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, s, 2, MPI_DOUBLE, MPI_SUM, sim->p.comm));
+  for (PetscInt i = 0; i < sim->p.n && s[1] > 0.0; i++) f->divv[i] -= s[0] / s[1];
   PetscFunctionReturn(0);
 }
 
@@ -171,11 +171,11 @@ void SpamGasFlowCorrect(SpamSim *sim, const double *y, const SpamBackground *b)
 {
   const SpamLayout      *l     = &sim->model.layout;
   const SpamSolidParams *p     = &sim->model.solid;
-  SpamFields            *f     = &sim->f;
+  SpamFields            *f     = &sim->pair.f;
   const int              dim   = f->dim;
   const PetscBool        shift = (PetscBool)(p->shift_coef > 0.0), bg = (PetscBool)(p->background != SPAM_BACKGROUND_NONE);
 
-  for (PetscInt i = 0; i < sim->n; i++) {
+  for (PetscInt i = 0; i < sim->p.n; i++) {
     const double *x = y + (size_t)i * l->nvar + l->x, *v = f->v + (size_t)i * dim, *g = f->gradv + (size_t)i * dim * dim, rho = f->rho[i];
     double        da[3] = {0, 0, 0}, de = 0.0, power = 0.0;
     if (shift) {

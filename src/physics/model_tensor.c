@@ -9,8 +9,8 @@ PetscErrorCode SpamDiagSolid(SpamSim *sim, const double *y, SpamModelDiag *d)
   double            loc = 0.0;
 
   PetscFunctionBeginUser;
-  for (PetscInt i = 0; i < sim->n; i++) loc += sim->f.m[i] * y[(size_t)i * l->nvar + l->e];
-  PetscCallMPI(MPIU_Allreduce(&loc, &d->internal, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
+  for (PetscInt i = 0; i < sim->p.n; i++) loc += sim->pair.f.m[i] * y[(size_t)i * l->nvar + l->e];
+  PetscCallMPI(MPIU_Allreduce(&loc, &d->internal, 1, MPI_DOUBLE, MPI_SUM, sim->p.comm));
   PetscCall(SpamTensorTorqueSum(sim, y, &d->torque));
   PetscCall(SpamBodiesDiag(sim, y, d));
   PetscFunctionReturn(0);
@@ -26,18 +26,18 @@ PetscErrorCode SpamSetUpSolid(SpamSim *sim)
 
   PetscFunctionBeginUser;
   PetscCall(SpamPhysicsScratchCreate(sim));
-  PetscCall(VecGetArray(sim->X, &y));
+  PetscCall(VecGetArray(sim->p.X, &y));
   PetscCall(SpamBodiesLabel(sim, y, sim->model.kernel.h));
   if (sim->model.solid.material == SPAM_MATERIAL_GAS && !sim->model.energy_given)
-    for (PetscInt i = 0; i < sim->n; i++) y[(size_t)i * l->nvar + l->e] = sim->model.solid.gas_e0;
-  for (PetscInt i = 0; l->fb >= 0 && i < sim->n; i++) y[(size_t)i * l->nvar + l->fb] = 0.0;
-  for (PetscInt i = 0; l->wb >= 0 && i < sim->n; i++) /* the walls' books start empty */
+    for (PetscInt i = 0; i < sim->p.n; i++) y[(size_t)i * l->nvar + l->e] = sim->model.solid.gas_e0;
+  for (PetscInt i = 0; l->fb >= 0 && i < sim->p.n; i++) y[(size_t)i * l->nvar + l->fb] = 0.0;
+  for (PetscInt i = 0; l->wb >= 0 && i < sim->p.n; i++) /* the walls' books start empty */
     for (int c = 0; c < 2 + l->dim; c++) y[(size_t)i * l->nvar + l->wb + c] = 0.0;
   if (l->rho >= 0 && sim->model.solid.density_initial == SPAM_DENSITY_INITIAL_SUMMED) {
     PetscCall(SpamDensitySummation(sim, y, &bad));
-    for (PetscInt i = 0; i < sim->n; i++) y[(size_t)i * l->nvar + l->rho] = sim->f.rho[i];
+    for (PetscInt i = 0; i < sim->p.n; i++) y[(size_t)i * l->nvar + l->rho] = sim->pair.f.rho[i];
   }
-  PetscCall(VecRestoreArray(sim->X, &y));
+  PetscCall(VecRestoreArray(sim->p.X, &y));
   PetscFunctionReturn(0);
 }
 

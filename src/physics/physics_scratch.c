@@ -18,20 +18,20 @@ static PetscErrorCode ScratchDestroy(void *ctx)
 
 PetscErrorCode SpamPhysicsScratchCreate(SpamSim *sim)
 {
-  const PetscInt      n = sim->n + 1;
+  const PetscInt      n = sim->p.n + 1;
   SpamPhysicsScratch *ps;
   PetscContainer      c;
 
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&ps));
-  ps->n = sim->n;
+  ps->n = sim->p.n;
   PetscCall(PetscCalloc1(n, &ps->body));
   ps->nbody = 1;
   PetscCall(PetscCalloc3(1, &ps->bpos, 1, &ps->bneg, 1, &ps->bfac));
-  PetscCall(PetscContainerCreate(sim->comm, &c));
+  PetscCall(PetscContainerCreate(sim->p.comm, &c));
   PetscCall(PetscContainerSetPointer(c, ps));
   PetscCall(PetscContainerSetUserDestroy(c, ScratchDestroy));
-  PetscCall(PetscObjectCompose((PetscObject)sim->swarm, "spam_physics_scratch", (PetscObject)c));
+  PetscCall(PetscObjectCompose((PetscObject)sim->p.swarm, "spam_physics_scratch", (PetscObject)c));
   PetscCall(PetscContainerDestroy(&c));
   sim->ps = ps;
   PetscFunctionReturn(0);

@@ -2,34 +2,59 @@
  * counted so that each method reports the same statistics. */
 #include <spam/sim.h>
 
-PetscErrorCode SpamRhs(SpamSim *sim, const double *y, double *ydot, PetscInt *bad)
+/* Where an evaluation starts: the clock and the list's counters. */
+typedef struct {
+  PetscLogDouble t;
+  long           updates, placements;
+} Mark;
+
+static PetscErrorCode Start(SpamSim *sim, Mark *m)
 {
-  PetscLogDouble t0, t1;
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(sim->run.ev.rhs, 0, 0, 0, 0));
+  m->updates    = sim->pair.nl.updates;
+  m->placements = sim->pair.nl.placements;
+  PetscCall(PetscTime(&m->t));
+  PetscFunctionReturn(0);
+}
+
+/* One evaluation counted with its time, list updates and ghost placements. */
+static PetscErrorCode Finish(SpamSim *sim, const Mark *m)
+{
+  SpamRhsStats  *s = &sim->run.stats;
+  PetscLogDouble t1;
 
   PetscFunctionBeginUser;
-  PetscCall(PetscLogEventBegin(sim->ev.rhs, 0, 0, 0, 0));
-  PetscCall(PetscTime(&t0));
-  PetscCall(sim->model.rhs(sim, y, ydot, bad));
   PetscCall(PetscTime(&t1));
-  PetscCall(PetscLogEventEnd(sim->ev.rhs, 0, 0, 0, 0));
-  sim->stats.rhs_evals++;
-  sim->stats.rhs_time += t1 - t0;
+  PetscCall(PetscLogEventEnd(sim->run.ev.rhs, 0, 0, 0, 0));
+  s->rhs_evals++;
+  s->rhs_time += t1 - m->t;
+  s->counted++;
+  s->list_updates += sim->pair.nl.updates - m->updates;
+  s->ghost_placements += sim->pair.nl.placements - m->placements;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamRhs(SpamSim *sim, const double *y, double *ydot, PetscInt *bad)
+{
+  Mark m = {0, 0, 0};
+
+  PetscFunctionBeginUser;
+  PetscCall(Start(sim, &m));
+  PetscCall(sim->model.rhs(sim, y, ydot, bad));
+  PetscCall(Finish(sim, &m));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SpamAccel(SpamSim *sim, const double *x, int stride, PetscInt *bad)
 {
-  PetscLogDouble t0, t1;
+  Mark m = {0, 0, 0};
 
   PetscFunctionBeginUser;
-  PetscCheck(sim->model.accel, sim->comm, PETSC_ERR_SUP, "model %s has no acceleration function", sim->model.name);
-  PetscCall(PetscLogEventBegin(sim->ev.rhs, 0, 0, 0, 0));
-  PetscCall(PetscTime(&t0));
+  PetscCheck(sim->model.accel, sim->p.comm, PETSC_ERR_SUP, "model %s has no acceleration function", sim->model.name);
+  PetscCall(Start(sim, &m));
   PetscCall(sim->model.accel(sim, x, stride, bad));
-  PetscCall(PetscTime(&t1));
-  PetscCall(PetscLogEventEnd(sim->ev.rhs, 0, 0, 0, 0));
-  sim->stats.rhs_evals++;
-  sim->stats.rhs_time += t1 - t0;
+  PetscCall(Finish(sim, &m));
   PetscFunctionReturn(0);
 }
 
@@ -41,8 +66,8 @@ PetscErrorCode SpamGravityEnergy(SpamSim *sim, const double *y, double *pot)
   PetscFunctionBeginUser;
   *pot = 0.0;
   if (!sim->model.gravity_on) PetscFunctionReturn(0);
-  for (PetscInt i = 0; i < sim->n; i++)
-    for (int d = 0; d < sim->model.dim; d++) loc -= sim->f.m[i] * sim->model.gravity[d] * (y[(size_t)i * l->nvar + l->x + d] - sim->box.lo[d]);
-  PetscCallMPI(MPIU_Allreduce(&loc, pot, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
+  for (PetscInt i = 0; i < sim->p.n; i++)
+    for (int d = 0; d < sim->model.dim; d++) loc -= sim->pair.f.m[i] * sim->model.gravity[d] * (y[(size_t)i * l->nvar + l->x + d] - sim->geo.box.lo[d]);
+  PetscCallMPI(MPIU_Allreduce(&loc, pot, 1, MPI_DOUBLE, MPI_SUM, sim->p.comm));
   PetscFunctionReturn(0);
 }

@@ -11,24 +11,24 @@
 /* The context of sim's current list (after SpamNeighboursUpdate and the slots' reserve). */
 static SpamPairPass SpamPairPassOf(SpamSim *sim)
 {
-  const SpamGhosts *gh = &sim->nl.ghosts;
+  const SpamGhosts *gh = &sim->pair.nl.ghosts;
   SpamPairPass      p  = {0};
-  p.nl                 = &sim->nl;
+  p.nl                 = &sim->pair.nl;
   p.k                  = &sim->model.kernel;
-  p.f                  = &sim->f;
+  p.f                  = &sim->pair.f;
   p.gh                 = gh;
-  p.n                  = (int)sim->n;
-  p.slots              = SpamNeighboursSlots(&sim->nl);
+  p.n                  = (int)sim->p.n;
+  p.slots              = SpamNeighboursSlots(&sim->pair.nl);
   p.dim                = sim->model.dim;
   p.ghost_newton       = gh->nlocal > 0 || gh->mirror;
-  p.canonical          = SpamNeighboursCanonical(&sim->nl);
+  p.canonical          = SpamNeighboursCanonical(&sim->pair.nl);
   /* the thread buffers hold the local particles only: ghost reactions are one thread's
    * (the canonical rows take none: a row is one thread's whatever the ghosts) */
-  p.threads            = p.ghost_newton && !p.canonical ? 1 : sim->threads;
-  p.tacc               = sim->tacc;
-  p.trho               = sim->trho;
-  p.uniform_mass       = sim->f.uniform_mass;
-  p.mass               = sim->n ? sim->f.m[0] : sim->model.mass;
+  p.threads            = p.ghost_newton && !p.canonical ? 1 : sim->pair.threads;
+  p.tacc               = sim->pair.tacc;
+  p.trho               = sim->pair.trho;
+  p.uniform_mass       = sim->pair.f.uniform_mass;
+  p.mass               = sim->p.n ? sim->pair.f.m[0] : sim->model.mass;
   p.uniform_q          = sim->model.density_free;
   return p;
 }
@@ -38,19 +38,19 @@ static SpamPairPass SpamPairPassOf(SpamSim *sim)
 static PetscErrorCode ReserveSlots(SpamSim *sim)
 {
   PetscFunctionBeginUser;
-  PetscCall(SpamFieldsReserve(&sim->f, SpamNeighboursSlots(&sim->nl)));
+  PetscCall(SpamFieldsReserve(&sim->pair.f, SpamNeighboursSlots(&sim->pair.nl)));
   PetscCall(SpamSimGhostMasses(sim));
   PetscFunctionReturn(0);
 }
 
 /* Summation density of the context's list into f->rho (local slots). */
-static PetscErrorCode Density(SpamSim *sim, const SpamPairPass *p)
+static PetscErrorCode Density(SpamRunCounts *run, const SpamPairPass *p)
 {
   PetscFunctionBeginUser;
-  PetscCall(PetscLogEventBegin(sim->ev.density, 0, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(run->ev.density, 0, 0, 0, 0));
   if (p->canonical) PetscCall(SpamCanonicalDensity(p));
   else PetscCall(SpamChunkedDensity(p));
-  PetscCall(PetscLogEventEnd(sim->ev.density, 0, 0, 0, 0));
+  PetscCall(PetscLogEventEnd(run->ev.density, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
 
@@ -58,12 +58,12 @@ static PetscErrorCode Density(SpamSim *sim, const SpamPairPass *p)
 static PetscErrorCode Force(SpamSim *sim, const SpamPairPass *p)
 {
   PetscFunctionBeginUser;
-  PetscCall(PetscLogEventBegin(sim->ev.force, 0, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(sim->run.ev.force, 0, 0, 0, 0));
   if (p->canonical) PetscCall(SpamCanonicalForce(p));
   else PetscCall(SpamChunkedForce(p));
   /* The isentrope's walls: their forces only (its energy has no equation to book work in). */
-  if (p->gh->mirror) PetscCall(SpamWallBooks(p->gh, p->f, &sim->model.layout, p->n, PETSC_FALSE, &sim->wall_rates, NULL));
-  PetscCall(PetscLogEventEnd(sim->ev.force, 0, 0, 0, 0));
+  if (p->gh->mirror) PetscCall(SpamWallBooks(p->gh, p->f, &sim->model.layout, p->n, PETSC_FALSE, &sim->out.wall_rates, NULL));
+  PetscCall(PetscLogEventEnd(sim->run.ev.force, 0, 0, 0, 0));
   PetscFunctionReturn(0);
 }
 
@@ -72,7 +72,7 @@ PetscErrorCode SpamDensityOfList(SpamSim *sim)
   const SpamPairPass p = SpamPairPassOf(sim);
 
   PetscFunctionBeginUser;
-  PetscCall(Density(sim, &p));
+  PetscCall(Density(&sim->run, &p));
   /* The callers (the tensor path, diagnostics) read the ghosts' densities too. */
   PetscCall(SpamGhostsGather(p.gh, p.dim, p.n, 1, SPAM_GHOST_SCALAR, p.f->rho));
   PetscFunctionReturn(0);
@@ -83,7 +83,7 @@ PetscErrorCode SpamDensitySummation(SpamSim *sim, const double *y, PetscInt *bad
   const SpamLayout *l = &sim->model.layout;
 
   PetscFunctionBeginUser;
-  PetscCall(SpamNeighboursUpdate(&sim->nl, &sim->box, y + l->x, l->nvar, PETSC_FALSE, bad));
+  PetscCall(SpamNeighboursUpdate(&sim->pair.nl, &sim->geo.box, y + l->x, l->nvar, PETSC_FALSE, bad));
   if (*bad >= 0) PetscFunctionReturn(0);
   PetscCall(ReserveSlots(sim));
   PetscCall(SpamDensityOfList(sim));
@@ -96,21 +96,21 @@ PetscErrorCode SpamAccelIsentrope(SpamSim *sim, const double *x, int stride, Pet
   SpamPairPass     p;
 
   PetscFunctionBeginUser;
-  PetscCall(SpamNeighboursUpdate(&sim->nl, &sim->box, x, stride, PETSC_FALSE, bad));
+  PetscCall(SpamNeighboursUpdate(&sim->pair.nl, &sim->geo.box, x, stride, PETSC_FALSE, bad));
   if (*bad >= 0) PetscFunctionReturn(0);
   PetscCall(ReserveSlots(sim));
   p = SpamPairPassOf(sim);
   if (!m->density_free) { /* gamma = 2: P/rho^2 is the same constant everywhere, ghosts included (ReserveSlots) */
-    PetscCall(Density(sim, &p));
-    for (PetscInt i = 0; i < sim->n; i++) sim->f.q[i] = SpamEosPOverRho2(&m->eos, sim->f.rho[i]);
-    PetscCall(SpamGhostsGather(p.gh, m->dim, p.n, 1, SPAM_GHOST_SCALAR, sim->f.q));
+    PetscCall(Density(&sim->run, &p));
+    for (PetscInt i = 0; i < sim->p.n; i++) sim->pair.f.q[i] = SpamEosPOverRho2(&m->eos, sim->pair.f.rho[i]);
+    PetscCall(SpamGhostsGather(p.gh, m->dim, p.n, 1, SPAM_GHOST_SCALAR, sim->pair.f.q));
   }
   PetscCall(Force(sim, &p));
   if (m->gravity_on)
-    for (PetscInt i = 0; i < sim->n; i++)
-      for (int d = 0; d < m->dim; d++) sim->f.acc[(size_t)i * m->dim + d] += m->gravity[d];
+    for (PetscInt i = 0; i < sim->p.n; i++)
+      for (int d = 0; d < m->dim; d++) sim->pair.f.acc[(size_t)i * m->dim + d] += m->gravity[d];
   /* Canonical rows list every pair twice, once in each particle's row. */
-  sim->stats.pair_visits += p.canonical ? (double)sim->nl.ncpairs : (double)(sim->nl.npairs + sim->nl.ngpairs);
+  sim->run.stats.pair_visits += p.canonical ? (double)sim->pair.nl.ncpairs : (double)(sim->pair.nl.npairs + sim->pair.nl.ngpairs);
   PetscFunctionReturn(0);
 }
 
@@ -122,11 +122,11 @@ PetscErrorCode SpamRhsIsentrope(SpamSim *sim, const double *y, double *ydot, Pet
   PetscFunctionBeginUser;
   PetscCall(SpamAccelIsentrope(sim, y + l->x, nv, bad));
   if (*bad >= 0) PetscFunctionReturn(0);
-#pragma omp parallel for if (sim->threads > 1) num_threads(sim->threads) schedule(static)
-  for (PetscInt i = 0; i < sim->n; i++) {
+#pragma omp parallel for if (sim->pair.threads > 1) num_threads(sim->pair.threads) schedule(static)
+  for (PetscInt i = 0; i < sim->p.n; i++) {
     for (int d = 0; d < dim; d++) {
       ydot[(size_t)i * nv + l->x + d] = y[(size_t)i * nv + l->v + d];
-      ydot[(size_t)i * nv + l->v + d] = sim->f.acc[(size_t)i * dim + d];
+      ydot[(size_t)i * nv + l->v + d] = sim->pair.f.acc[(size_t)i * dim + d];
     }
   }
   PetscFunctionReturn(0);

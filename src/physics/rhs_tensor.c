@@ -142,17 +142,17 @@ static double SourcePosition(const SpamGhosts *gh, double *const u[3], int n, in
 
 static void HydrostaticImages(SpamSim *sim, const SpamBackground *bg)
 {
-  const SpamGhosts *gh  = &sim->nl.ghosts;
-  SpamFields       *f   = &sim->f;
-  const int         dim = f->dim, n = (int)sim->n;
+  const SpamGhosts *gh  = &sim->pair.nl.ghosts;
+  SpamFields       *f   = &sim->pair.f;
+  const int         dim = f->dim, n = (int)sim->p.n;
 
   for (int k = 0; k < gh->n; k++) {
     double dphi = 0.0; /* g.(x_g - x_i) */
     if (gh->kind[k] != SPAM_GHOST_MIRROR) continue;
     double xg[3] = {0, 0, 0}, xs[3] = {0, 0, 0};
     for (int d = 0; d < dim; d++) {
-      xg[d] = sim->nl.u[d][n + k] + sim->box.lo[d];
-      xs[d] = SourcePosition(gh, sim->nl.u, n, k, d) + sim->box.lo[d];
+      xg[d] = sim->pair.nl.u[d][n + k] + sim->geo.box.lo[d];
+      xs[d] = SourcePosition(gh, sim->pair.nl.u, n, k, d) + sim->geo.box.lo[d];
       dphi += sim->model.gravity[d] * (xg[d] - xs[d]);
     }
     /* The flow scheme's background is a function of place: the image takes B at its own. */
@@ -167,14 +167,14 @@ static PetscErrorCode FillFields(SpamSim *sim, const double *y, PetscInt *bad)
 {
   const SpamLayout      *l   = &sim->model.layout;
   const SpamSolidParams *p   = &sim->model.solid;
-  SpamFields            *f   = &sim->f;
-  const SpamGhosts      *gh  = &sim->nl.ghosts;
-  const int              dim = l->dim, n = (int)sim->n, nv = l->nvar;
+  SpamFields            *f   = &sim->pair.f;
+  const SpamGhosts      *gh  = &sim->pair.nl.ghosts;
+  const int              dim = l->dim, n = (int)sim->p.n, nv = l->nvar;
 
   PetscFunctionBeginUser;
-  PetscCall(SpamNeighboursUpdate(&sim->nl, &sim->box, y + l->x, nv, PETSC_FALSE, bad));
+  PetscCall(SpamNeighboursUpdate(&sim->pair.nl, &sim->geo.box, y + l->x, nv, PETSC_FALSE, bad));
   if (*bad >= 0) PetscFunctionReturn(0);
-  PetscCall(SpamFieldsReserve(f, SpamNeighboursSlots(&sim->nl)));
+  PetscCall(SpamFieldsReserve(f, SpamNeighboursSlots(&sim->pair.nl)));
   for (int i = 0; i < n; i++) {
     const double *yi = y + (size_t)i * nv;
     for (int d = 0; d < dim; d++) f->v[(size_t)i * dim + d] = yi[l->v + d];
@@ -223,8 +223,8 @@ static PetscErrorCode DiffusionNorms(SpamSim *sim)
 static PetscErrorCode Gradients(SpamSim *sim, TensorPass *c)
 {
   SpamFields       *f   = c->f;
-  const SpamGhosts *gh  = &sim->nl.ghosts;
-  const int         dim = f->dim, n = (int)sim->n, slots = SpamNeighboursSlots(&sim->nl);
+  const SpamGhosts *gh  = &sim->pair.nl.ghosts;
+  const int         dim = f->dim, n = (int)sim->p.n, slots = SpamNeighboursSlots(&sim->pair.nl);
   const double      w0  = sim->model.kernel.wnorm;
 
   PetscFunctionBeginUser;
@@ -240,7 +240,7 @@ static PetscErrorCode Gradients(SpamSim *sim, TensorPass *c)
     for (int d = 0; d < dim; d++) f->xdot[(size_t)i * dim + d] = self * f->v[(size_t)i * dim + d];
     f->wsum[i] = c->coords == SPAM_COORDS_R1 && i < n ? w0 : 0.0;
   }
-  PetscCall(WalkGradients(&sim->nl, &sim->model.kernel, c));
+  PetscCall(WalkGradients(&sim->pair.nl, &sim->model.kernel, c));
   SpamGhostsFold(gh, dim, n, dim * dim, SPAM_GHOST_TENSOR, f->gradv);
   SpamGhostsFold(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->xdot);
   SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->wsum);
@@ -261,7 +261,7 @@ static void StressOverRho2(const SpamSim *sim, const SpamBackground *bg, const d
 {
   const SpamLayout      *l   = &sim->model.layout;
   const SpamSolidParams *p   = &sim->model.solid;
-  const SpamFields      *f   = &sim->f;
+  const SpamFields      *f   = &sim->pair.f;
   const int              dim = l->dim;
   const double           rho = f->rho[i], *g = f->gradv + (size_t)i * dim * dim;
 
@@ -287,9 +287,9 @@ static PetscErrorCode ParticleLaws(SpamSim *sim, const TensorPass *c, const doub
 {
   const SpamLayout      *l   = &sim->model.layout;
   const SpamSolidParams *p   = &sim->model.solid;
-  SpamFields            *f   = &sim->f;
-  const SpamGhosts      *gh  = &sim->nl.ghosts;
-  const int              dim = l->dim, n = (int)sim->n, nv = l->nvar;
+  SpamFields            *f   = &sim->pair.f;
+  const SpamGhosts      *gh  = &sim->pair.nl.ghosts;
+  const int              dim = l->dim, n = (int)sim->p.n, nv = l->nvar;
 
   PetscFunctionBeginUser;
   for (int i = 0; i < n; i++) {
@@ -313,8 +313,8 @@ static PetscErrorCode ParticleLaws(SpamSim *sim, const TensorPass *c, const doub
 static PetscErrorCode TorqueFactors(SpamSim *sim, TensorPass *c)
 {
   SpamPhysicsScratch *ps   = sim->ps;
-  SpamFields         *f    = &sim->f;
-  const int           n    = (int)sim->n, slots = SpamNeighboursSlots(&sim->nl);
+  SpamFields         *f    = &sim->pair.f;
+  const int           n    = (int)sim->p.n, slots = SpamNeighboursSlots(&sim->pair.nl);
   const int           nb   = sim->model.solid.per_body ? ps->nbody : 1;
   const PetscBool     pair = (PetscBool)(sim->model.solid.angmom == SPAM_ANGMOM_TIJ);
 
@@ -322,22 +322,22 @@ static PetscErrorCode TorqueFactors(SpamSim *sim, TensorPass *c)
   for (int b = 0; b < ps->nbody; b++) ps->bpos[b] = ps->bneg[b] = 0.0;
   Zero(f->ltorque, (size_t)slots);
   c->torque = 0.0;
-  PetscCall(WalkTorques(&sim->nl, &sim->model.kernel, c));
-  SpamGhostsFold(&sim->nl.ghosts, 2, n, 1, SPAM_GHOST_SCALAR, f->ltorque);
+  PetscCall(WalkTorques(&sim->pair.nl, &sim->model.kernel, c));
+  SpamGhostsFold(&sim->pair.nl.ghosts, 2, n, 1, SPAM_GHOST_SCALAR, f->ltorque);
   if (!pair)
     for (int i = 0; i < n; i++) {
       if (f->ltorque[i] > 0.0) ps->bpos[BodyOf(c, i)] += f->ltorque[i];
       else ps->bneg[BodyOf(c, i)] += f->ltorque[i];
     }
-  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, ps->bpos, nb, MPI_DOUBLE, MPI_SUM, sim->comm));
-  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, ps->bneg, nb, MPI_DOUBLE, MPI_SUM, sim->comm));
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, ps->bpos, nb, MPI_DOUBLE, MPI_SUM, sim->p.comm));
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, ps->bneg, nb, MPI_DOUBLE, MPI_SUM, sim->p.comm));
   for (int b = 0; b < nb; b++) ps->bfac[b] = (ps->bpos[b] > 0.0 && ps->bneg[b] < 0.0) ? sqrt(ps->bpos[b] / -ps->bneg[b]) : 1.0;
   if (!pair) {
     for (int i = 0; i < n; i++) {
       const double R = ps->bfac[BodyOf(c, i)];
       f->tfac[i]     = f->ltorque[i] > 0.0 ? 1.0 / R : R;
     }
-    PetscCall(SpamGhostsGather(&sim->nl.ghosts, 2, n, 1, SPAM_GHOST_SCALAR, f->tfac));
+    PetscCall(SpamGhostsGather(&sim->pair.nl.ghosts, 2, n, 1, SPAM_GHOST_SCALAR, f->tfac));
   }
   PetscFunctionReturn(0);
 }
@@ -347,15 +347,15 @@ static PetscErrorCode TorqueFactors(SpamSim *sim, TensorPass *c)
 static PetscErrorCode Forces(SpamSim *sim, TensorPass *c, const double *y)
 {
   SpamFields       *f   = c->f;
-  const SpamGhosts *gh  = &sim->nl.ghosts;
-  const int         dim = f->dim, n = (int)sim->n, slots = SpamNeighboursSlots(&sim->nl);
+  const SpamGhosts *gh  = &sim->pair.nl.ghosts;
+  const int         dim = f->dim, n = (int)sim->p.n, slots = SpamNeighboursSlots(&sim->pair.nl);
 
   PetscFunctionBeginUser;
   Zero(f->acc, (size_t)slots * dim);
   Zero(f->edot, (size_t)slots);
   Zero(f->qdot, (size_t)slots);
   Zero(f->rhodot, (size_t)slots);
-  PetscCall(WalkForces(&sim->nl, &sim->model.kernel, c));
+  PetscCall(WalkForces(&sim->pair.nl, &sim->model.kernel, c));
   SpamGhostsFold(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->acc);
   SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->edot);
   SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->qdot);
@@ -368,10 +368,10 @@ static PetscErrorCode Forces(SpamSim *sim, TensorPass *c, const double *y)
 static void Assemble(const SpamSim *sim, double *ydot)
 {
   const SpamLayout *l   = &sim->model.layout;
-  const SpamFields *f   = &sim->f;
+  const SpamFields *f   = &sim->pair.f;
   const int         dim = l->dim;
 
-  for (PetscInt i = 0; i < sim->n; i++) {
+  for (PetscInt i = 0; i < sim->p.n; i++) {
     double *r = ydot + (size_t)i * l->nvar;
     for (int d = 0; d < dim; d++) {
       r[l->x + d] = f->xdot[(size_t)i * dim + d];
@@ -400,7 +400,7 @@ static TensorPass PassOf(SpamSim *sim)
   const int              gas  = p->material == SPAM_MATERIAL_GAS && p->scheme == SPAM_GAS_FLOW;
   const int              bg   = gas && p->background != SPAM_BACKGROUND_NONE, shift = gas && p->shift_coef > 0.0;
   TensorPass             c    = {0};
-  c.f                         = &sim->f;
+  c.f                         = &sim->pair.f;
   c.p                         = p;
   c.h                         = sim->model.kernel.h;
   c.coords                    = (int)p->coords;
@@ -413,8 +413,8 @@ static TensorPass PassOf(SpamSim *sim)
   c.scale                     = p->angmom == SPAM_ANGMOM_TI || p->angmom == SPAM_ANGMOM_TIJ;
   c.continuity                = p->density != SPAM_DENSITY_SUMMATION;
   c.ps                        = sim->ps;
-  c.remote0                   = (int)sim->n + sim->nl.ghosts.nlocal;
-  c.rkind                     = sim->nl.ghosts.kind ? sim->nl.ghosts.kind + sim->nl.ghosts.nlocal : NULL;
+  c.remote0                   = (int)sim->p.n + sim->pair.nl.ghosts.nlocal;
+  c.rkind                     = sim->pair.nl.ghosts.kind ? sim->pair.nl.ghosts.kind + sim->pair.nl.ghosts.nlocal : NULL;
   c.own_rho                   = p->material == SPAM_MATERIAL_ELASTIC && p->density == SPAM_DENSITY_SUMMATION;
   return c;
 }
@@ -428,17 +428,17 @@ PetscErrorCode SpamRhsSolid(SpamSim *sim, const double *y, double *ydot, PetscIn
   if (*bad >= 0) PetscFunctionReturn(0);
   c = PassOf(sim);
   if (c.flow) PetscCall(SpamGasFlowFit(sim, y, &c.bg));
-  PetscCall(PetscLogEventBegin(sim->ev.force, 0, 0, 0, 0));
+  PetscCall(PetscLogEventBegin(sim->run.ev.force, 0, 0, 0, 0));
   PetscCall(Gradients(sim, &c));
   if (c.flow && sim->model.solid.background != SPAM_BACKGROUND_NONE) PetscCall(SpamGasFlowDivergence(sim));
   PetscCall(ParticleLaws(sim, &c, y, ydot));
   if (c.scale) PetscCall(TorqueFactors(sim, &c));
   PetscCall(Forces(sim, &c, y));
-  PetscCall(PetscLogEventEnd(sim->ev.force, 0, 0, 0, 0));
+  PetscCall(PetscLogEventEnd(sim->run.ev.force, 0, 0, 0, 0));
   if (sim->model.solid.angmom == SPAM_ANGMOM_GAUSS) PetscCall(SpamGaussConstraint(sim, y));
   Assemble(sim, ydot);
-  if (sim->nl.ghosts.mirror) PetscCall(SpamWallBooks(&sim->nl.ghosts, &sim->f, &sim->model.layout, (int)sim->n, PETSC_TRUE, &sim->wall_rates, ydot));
-  sim->stats.pair_visits += (2.0 + (c.scale ? 1.0 : 0.0)) * (double)(sim->nl.npairs + sim->nl.ngpairs);
+  if (sim->pair.nl.ghosts.mirror) PetscCall(SpamWallBooks(&sim->pair.nl.ghosts, &sim->pair.f, &sim->model.layout, (int)sim->p.n, PETSC_TRUE, &sim->out.wall_rates, ydot));
+  sim->run.stats.pair_visits += (2.0 + (c.scale ? 1.0 : 0.0)) * (double)(sim->pair.nl.npairs + sim->pair.nl.ngpairs);
   PetscFunctionReturn(0);
 }
 
@@ -455,14 +455,14 @@ PetscErrorCode SpamTensorTorqueSum(SpamSim *sim, const double *y, double *total)
   if (bad >= 0 || sim->model.dim != 2) PetscFunctionReturn(0);
   c = PassOf(sim);
   if (c.flow) PetscCall(SpamGasFlowFit(sim, y, &c.bg));
-  PetscCall(PetscMalloc1((size_t)sim->n * sim->model.layout.nvar + 1, &scratch)); /* the stress rate, unused */
+  PetscCall(PetscMalloc1((size_t)sim->p.n * sim->model.layout.nvar + 1, &scratch)); /* the stress rate, unused */
   PetscCall(Gradients(sim, &c));
   PetscCall(ParticleLaws(sim, &c, y, scratch));
   PetscCall(PetscFree(scratch));
   for (int b = 0; b < sim->ps->nbody; b++) sim->ps->bpos[b] = sim->ps->bneg[b] = 0.0;
-  Zero(sim->f.ltorque, (size_t)SpamNeighboursSlots(&sim->nl));
+  Zero(sim->pair.f.ltorque, (size_t)SpamNeighboursSlots(&sim->pair.nl));
   c.torque = 0.0;
-  PetscCall(WalkTorques(&sim->nl, &sim->model.kernel, &c));
-  PetscCallMPI(MPIU_Allreduce(&c.torque, total, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
+  PetscCall(WalkTorques(&sim->pair.nl, &sim->model.kernel, &c));
+  PetscCallMPI(MPIU_Allreduce(&c.torque, total, 1, MPI_DOUBLE, MPI_SUM, sim->p.comm));
   PetscFunctionReturn(0);
 }

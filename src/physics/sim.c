@@ -2,21 +2,20 @@
 #include <spam/sim.h>
 #include <spam/physics.h>
 #include <spam/decompose.h>
-#include <stdint.h>
 
 /* Gids in rank order: this rank's particles follow those of the ranks before it. */
-static PetscErrorCode NumberParticles(SpamSim *sim)
+static PetscErrorCode NumberParticles(SpamSwarm *sw)
 {
-  PetscInt64 n = sim->n, first = 0;
+  PetscInt64 n = sw->n, first = 0;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Exscan(&n, &first, 1, MPIU_INT64, MPI_SUM, sim->comm));
+  PetscCallMPI(MPI_Exscan(&n, &first, 1, MPIU_INT64, MPI_SUM, sw->comm));
   {
     PetscMPIInt rank;
-    PetscCallMPI(MPI_Comm_rank(sim->comm, &rank));
+    PetscCallMPI(MPI_Comm_rank(sw->comm, &rank));
     if (rank == 0) first = 0; /* MPI_Exscan leaves rank 0's result undefined */
   }
-  for (PetscInt i = 0; i < sim->n; i++) sim->gid[i] = first + i;
+  for (PetscInt i = 0; i < sw->n; i++) sw->gid[i] = first + i;
   PetscFunctionReturn(0);
 }
 
@@ -24,29 +23,29 @@ PetscErrorCode SpamSimCreate(MPI_Comm comm, const SpamModel *model, const SpamBo
 {
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(sim, sizeof *sim));
-  sim->comm  = comm;
+  sim->p.comm  = comm;
   sim->model = *model;
-  sim->box   = *box;
-  sim->n     = n;
-  sim->skin  = skin;
-  sim->threads = 1;
-  sim->ghost_mass_build = -1;
-  PetscCall(DMCreate(comm, &sim->swarm));
-  PetscCall(DMSetType(sim->swarm, DMSWARM));
-  PetscCall(DMSetDimension(sim->swarm, model->dim));
-  PetscCall(DMSwarmSetType(sim->swarm, DMSWARM_BASIC));
-  PetscCall(DMSwarmInitializeFieldRegister(sim->swarm));
-  PetscCall(DMSwarmRegisterPetscDatatypeField(sim->swarm, SPAM_STATE_FIELD, model->layout.nvar, PETSC_REAL));
-  PetscCall(DMSwarmRegisterPetscDatatypeField(sim->swarm, SPAM_GID_FIELD, 1, PETSC_INT64));
-  PetscCall(DMSwarmRegisterPetscDatatypeField(sim->swarm, SPAM_MASS_FIELD, 1, PETSC_REAL));
-  PetscCall(DMSwarmRegisterPetscDatatypeField(sim->swarm, SPAM_BODY_FIELD, 1, PETSC_INT));
-  PetscCall(DMSwarmRegisterPetscDatatypeField(sim->swarm, SPAM_XREF_FIELD, model->dim, PETSC_REAL));
-  PetscCall(DMSwarmFinalizeFieldRegister(sim->swarm));
-  PetscCall(DMSwarmSetLocalSizes(sim->swarm, n, 0));
-  PetscCall(DMSwarmGetField(sim->swarm, SPAM_GID_FIELD, NULL, NULL, (void **)&sim->gid));
-  PetscCall(NumberParticles(sim));
-  PetscCall(SpamFieldsCreate(model->dim, (int)n, (int)n, model->tensor, &sim->f));
-  SpamFieldsSetMasses(&sim->f, NULL, model->mass);
+  sim->geo.box   = *box;
+  sim->p.n     = n;
+  sim->pair.skin  = skin;
+  sim->pair.threads = 1;
+  sim->pair.ghost_mass_build = -1;
+  PetscCall(DMCreate(comm, &sim->p.swarm));
+  PetscCall(DMSetType(sim->p.swarm, DMSWARM));
+  PetscCall(DMSetDimension(sim->p.swarm, model->dim));
+  PetscCall(DMSwarmSetType(sim->p.swarm, DMSWARM_BASIC));
+  PetscCall(DMSwarmInitializeFieldRegister(sim->p.swarm));
+  PetscCall(DMSwarmRegisterPetscDatatypeField(sim->p.swarm, SPAM_STATE_FIELD, model->layout.nvar, PETSC_REAL));
+  PetscCall(DMSwarmRegisterPetscDatatypeField(sim->p.swarm, SPAM_GID_FIELD, 1, PETSC_INT64));
+  PetscCall(DMSwarmRegisterPetscDatatypeField(sim->p.swarm, SPAM_MASS_FIELD, 1, PETSC_REAL));
+  PetscCall(DMSwarmRegisterPetscDatatypeField(sim->p.swarm, SPAM_BODY_FIELD, 1, PETSC_INT));
+  PetscCall(DMSwarmRegisterPetscDatatypeField(sim->p.swarm, SPAM_XREF_FIELD, model->dim, PETSC_REAL));
+  PetscCall(DMSwarmFinalizeFieldRegister(sim->p.swarm));
+  PetscCall(DMSwarmSetLocalSizes(sim->p.swarm, n, 0));
+  PetscCall(DMSwarmGetField(sim->p.swarm, SPAM_GID_FIELD, NULL, NULL, (void **)&sim->p.gid));
+  PetscCall(NumberParticles(&sim->p));
+  PetscCall(SpamFieldsCreate(model->dim, (int)n, (int)n, model->tensor, &sim->pair.f));
+  SpamFieldsSetMasses(&sim->pair.f, NULL, model->mass);
   PetscFunctionReturn(0);
 }
 
@@ -59,55 +58,15 @@ PetscErrorCode SpamSimFill(SpamSim *sim, const double *x, const double *v, const
   PetscDataType     type;
 
   PetscFunctionBeginUser;
-  PetscCall(DMSwarmGetField(sim->swarm, SPAM_STATE_FIELD, &bs, &type, (void **)&s));
-  for (PetscInt i = 0; i < sim->n; i++) {
+  PetscCall(DMSwarmGetField(sim->p.swarm, SPAM_STATE_FIELD, &bs, &type, (void **)&s));
+  for (PetscInt i = 0; i < sim->p.n; i++) {
     for (int d = 0; d < dim; d++) {
       s[i * bs + l->x + d] = x[i * dim + d];
       s[i * bs + l->v + d] = v[i * dim + d];
     }
   }
-  PetscCall(DMSwarmRestoreField(sim->swarm, SPAM_STATE_FIELD, &bs, &type, (void **)&s));
-  if (m) SpamFieldsSetMasses(&sim->f, m, 0.0);
-  PetscFunctionReturn(0);
-}
-
-PetscErrorCode SpamSimSetRows(SpamSim *sim, const PetscInt *row_of)
-{
-  PetscInt64 first = INT64_MAX; /* this rank's gids are first .. first + n - 1 */
-
-  PetscFunctionBeginUser;
-  for (PetscInt i = 0; i < sim->n; i++) first = PetscMin(first, sim->gid[i]);
-  for (PetscInt i = 0; i < sim->n; i++) sim->gid[i] = first + row_of[i];
-  PetscCall(SpamSimIndexRows(sim));
-  PetscFunctionReturn(0);
-}
-
-typedef struct {
-  PetscInt64 gid;
-  PetscInt   i;
-} GidIndex;
-
-static int CompareGids(const void *a, const void *b)
-{
-  const GidIndex *p = a, *q = b;
-  return (p->gid > q->gid) - (p->gid < q->gid);
-}
-
-PetscErrorCode SpamSimIndexRows(SpamSim *sim)
-{
-  PetscBool sorted = PETSC_TRUE;
-  GidIndex *key;
-
-  PetscFunctionBeginUser;
-  PetscCall(PetscFree(sim->at_row));
-  for (PetscInt i = 1; i < sim->n && sorted; i++) sorted = (PetscBool)(sim->gid[i] > sim->gid[i - 1]);
-  if (sorted) PetscFunctionReturn(0); /* at_row would be the identity */
-  PetscCall(PetscMalloc1(sim->n, &key));
-  PetscCall(PetscMalloc1(sim->n, &sim->at_row));
-  for (PetscInt i = 0; i < sim->n; i++) key[i] = (GidIndex){sim->gid[i], i};
-  qsort(key, (size_t)sim->n, sizeof *key, CompareGids);
-  for (PetscInt r = 0; r < sim->n; r++) sim->at_row[r] = key[r].i;
-  PetscCall(PetscFree(key));
+  PetscCall(DMSwarmRestoreField(sim->p.swarm, SPAM_STATE_FIELD, &bs, &type, (void **)&s));
+  if (m) SpamFieldsSetMasses(&sim->pair.f, m, 0.0);
   PetscFunctionReturn(0);
 }
 
@@ -117,10 +76,10 @@ static PetscErrorCode RegisterEvents(SpamSim *sim)
 
   PetscFunctionBeginUser;
   PetscCall(PetscClassIdRegister("spam-ark", &id));
-  PetscCall(PetscLogEventRegister("SpamRHS", id, &sim->ev.rhs));
-  PetscCall(PetscLogEventRegister("SpamNbrBuild", id, &sim->nl.ev_build));
-  PetscCall(PetscLogEventRegister("SpamDensity", id, &sim->ev.density));
-  PetscCall(PetscLogEventRegister("SpamForce", id, &sim->ev.force));
+  PetscCall(PetscLogEventRegister("SpamRHS", id, &sim->run.ev.rhs));
+  PetscCall(PetscLogEventRegister("SpamNbrBuild", id, &sim->pair.nl.ev_build));
+  PetscCall(PetscLogEventRegister("SpamDensity", id, &sim->run.ev.density));
+  PetscCall(PetscLogEventRegister("SpamForce", id, &sim->run.ev.force));
   PetscFunctionReturn(0);
 }
 
@@ -134,38 +93,38 @@ static PetscErrorCode FirstBuild(SpamSim *sim)
   PetscInt           bad;
 
   PetscFunctionBeginUser;
-  PetscCall(VecGetArrayRead(sim->X, &y));
-  PetscCall(SpamNeighboursUpdate(&sim->nl, &sim->box, y + l->x, l->nvar, PETSC_TRUE, &bad));
-  PetscCall(VecRestoreArrayRead(sim->X, &y));
-  PetscCheck(bad < 0, sim->comm, PETSC_ERR_FP, "non-finite position of particle %" PetscInt_FMT " at set-up", SpamSimRowOf(sim, bad));
+  PetscCall(VecGetArrayRead(sim->p.X, &y));
+  PetscCall(SpamNeighboursUpdate(&sim->pair.nl, &sim->geo.box, y + l->x, l->nvar, PETSC_TRUE, &bad));
+  PetscCall(VecRestoreArrayRead(sim->p.X, &y));
+  PetscCheck(bad < 0, sim->p.comm, PETSC_ERR_FP, "non-finite position of particle %" PetscInt_FMT " at set-up", SpamSimRowOf(sim, bad));
   PetscFunctionReturn(0);
 }
 
-/* The per-particle scratch of n = sim->n local particles once the fields are made:
+/* The per-particle scratch of n = sim->p.n local particles once the fields are made:
  * thread buffers, P/rho^2, and the neighbour list with the sim's ghosts and threads. */
 static PetscErrorCode CreateScratch(SpamSim *sim)
 {
   PetscFunctionBeginUser;
-  if (sim->threads > 1) PetscCall(PetscMalloc2((size_t)(sim->threads - 1) * sim->model.dim * sim->f.cap + 1, &sim->tacc, (size_t)(sim->threads - 1) * sim->f.cap + 1, &sim->trho));
+  if (sim->pair.threads > 1) PetscCall(PetscMalloc2((size_t)(sim->pair.threads - 1) * sim->model.dim * sim->pair.f.cap + 1, &sim->pair.tacc, (size_t)(sim->pair.threads - 1) * sim->pair.f.cap + 1, &sim->pair.trho));
   /* gamma = 2: P/rho^2 = kappa for every particle, set once. */
-  for (PetscInt i = 0; i < sim->f.cap; i++) sim->f.q[i] = sim->model.eos.kappa;
-  PetscCall(SpamNeighboursCreate((int)sim->n, &sim->box, sim->model.kernel.h, sim->skin, &sim->nl));
-  if (sim->dec) PetscCall(SpamNeighboursSetComm(&sim->nl, sim->comm)); /* other ranks' particles as ghosts */
-  if (sim->periodic_ghosts || sim->reproducible) { /* -reproducible: images as ghost slots */
+  for (PetscInt i = 0; i < sim->pair.f.cap; i++) sim->pair.f.q[i] = sim->model.eos.kappa;
+  PetscCall(SpamNeighboursCreate((int)sim->p.n, &sim->geo.box, sim->model.kernel.h, sim->pair.skin, &sim->pair.nl));
+  if (sim->geo.dec) PetscCall(SpamNeighboursSetComm(&sim->pair.nl, sim->p.comm)); /* other ranks' particles as ghosts */
+  if (sim->pair.periodic_ghosts || sim->pair.reproducible) { /* -reproducible: images as ghost slots */
     const PetscBool all[3] = {PETSC_TRUE, PETSC_TRUE, PETSC_TRUE};
-    PetscCall(SpamNeighboursSetPeriodicGhosts(&sim->nl, &sim->box, all));
+    PetscCall(SpamNeighboursSetPeriodicGhosts(&sim->pair.nl, &sim->geo.box, all));
   }
-  if (SpamWallsAny(&sim->walls, sim->model.dim)) PetscCall(SpamNeighboursSetWalls(&sim->nl, &sim->walls));
-  if (sim->reproducible) PetscCall(SpamNeighboursSetCanonical(&sim->nl, sim->gid));
-  PetscCall(SpamNeighboursSetThreads(&sim->nl, sim->threads));
+  if (SpamWallsAny(&sim->geo.walls, sim->model.dim)) PetscCall(SpamNeighboursSetWalls(&sim->pair.nl, &sim->geo.walls));
+  if (sim->pair.reproducible) PetscCall(SpamNeighboursSetCanonical(&sim->pair.nl, sim->p.gid));
+  PetscCall(SpamNeighboursSetThreads(&sim->pair.nl, sim->pair.threads));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SpamSimSetUp(SpamSim *sim)
 {
   PetscFunctionBeginUser;
-  PetscCall(DMSwarmGetSize(sim->swarm, &sim->nglobal));
-  PetscCall(DMSwarmCreateGlobalVectorFromField(sim->swarm, SPAM_STATE_FIELD, &sim->X));
+  PetscCall(DMSwarmGetSize(sim->p.swarm, &sim->p.nglobal));
+  PetscCall(DMSwarmCreateGlobalVectorFromField(sim->p.swarm, SPAM_STATE_FIELD, &sim->p.X));
   PetscCall(CreateScratch(sim));
   PetscCall(RegisterEvents(sim));
   PetscCall(FirstBuild(sim));
@@ -176,12 +135,12 @@ PetscErrorCode SpamSimSetUp(SpamSim *sim)
  * model's mass: equal masses must hold over every rank, not only this one's. */
 static PetscErrorCode UniformMassEverywhere(SpamSim *sim)
 {
-  const PetscBool have = (PetscBool)(sim->n > 0);
-  double          v[3] = {have && !sim->f.uniform_mass ? 1.0 : 0.0, have ? -sim->f.m[0] : -INFINITY, have ? sim->f.m[0] : -INFINITY}, g[3];
+  const PetscBool have = (PetscBool)(sim->p.n > 0);
+  double          v[3] = {have && !sim->pair.f.uniform_mass ? 1.0 : 0.0, have ? -sim->pair.f.m[0] : -INFINITY, have ? sim->pair.f.m[0] : -INFINITY}, g[3];
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPIU_Allreduce(v, g, 3, MPI_DOUBLE, MPI_MAX, sim->comm)); /* [any non-uniform, -min m0, max m0] */
-  sim->f.uniform_mass = (int)(g[0] == 0.0 && -g[1] == g[2]);
+  PetscCallMPI(MPIU_Allreduce(v, g, 3, MPI_DOUBLE, MPI_MAX, sim->p.comm)); /* [any non-uniform, -min m0, max m0] */
+  sim->pair.f.uniform_mass = (int)(g[0] == 0.0 && -g[1] == g[2]);
   PetscFunctionReturn(0);
 }
 
@@ -192,56 +151,56 @@ static PetscErrorCode TakeCarried(SpamSim *sim)
   PetscInt  *body;
 
   PetscFunctionBeginUser;
-  PetscCall(DMSwarmGetField(sim->swarm, SPAM_MASS_FIELD, NULL, NULL, (void **)&m));
-  SpamFieldsSetMasses(&sim->f, m, 0.0);
-  PetscCall(DMSwarmRestoreField(sim->swarm, SPAM_MASS_FIELD, NULL, NULL, (void **)&m));
-  if (sim->dec) PetscCall(UniformMassEverywhere(sim));
+  PetscCall(DMSwarmGetField(sim->p.swarm, SPAM_MASS_FIELD, NULL, NULL, (void **)&m));
+  SpamFieldsSetMasses(&sim->pair.f, m, 0.0);
+  PetscCall(DMSwarmRestoreField(sim->p.swarm, SPAM_MASS_FIELD, NULL, NULL, (void **)&m));
+  if (sim->geo.dec) PetscCall(UniformMassEverywhere(sim));
   if (sim->ps) {
     PetscCall(PetscFree(sim->ps->body));
-    PetscCall(PetscMalloc1(sim->n + 1, &sim->ps->body));
-    sim->ps->n = sim->n;
-    PetscCall(DMSwarmGetField(sim->swarm, SPAM_BODY_FIELD, NULL, NULL, (void **)&body));
-    for (PetscInt i = 0; i < sim->n; i++) sim->ps->body[i] = (int)body[i];
-    PetscCall(DMSwarmRestoreField(sim->swarm, SPAM_BODY_FIELD, NULL, NULL, (void **)&body));
+    PetscCall(PetscMalloc1(sim->p.n + 1, &sim->ps->body));
+    sim->ps->n = sim->p.n;
+    PetscCall(DMSwarmGetField(sim->p.swarm, SPAM_BODY_FIELD, NULL, NULL, (void **)&body));
+    for (PetscInt i = 0; i < sim->p.n; i++) sim->ps->body[i] = (int)body[i];
+    PetscCall(DMSwarmRestoreField(sim->p.swarm, SPAM_BODY_FIELD, NULL, NULL, (void **)&body));
   }
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SpamSimResize(SpamSim *sim)
 {
-  const long          builds = sim->nl.builds, grows = sim->nl.grows;
-  const PetscLogEvent ev     = sim->nl.ev_build;
+  const long          builds = sim->pair.nl.builds, grows = sim->pair.nl.grows;
+  const PetscLogEvent ev     = sim->pair.nl.ev_build;
 
   PetscFunctionBeginUser;
-  PetscCall(DMSwarmGetLocalSize(sim->swarm, &sim->n));
+  PetscCall(DMSwarmGetLocalSize(sim->p.swarm, &sim->p.n));
   /* The fields keep their arrays while they have room: every value but the masses (taken
    * here) is made again by the next right-hand side. */
-  sim->f.n = (int)sim->n;
-  PetscCall(SpamFieldsReserve(&sim->f, (int)sim->n));
+  sim->pair.f.n = (int)sim->p.n;
+  PetscCall(SpamFieldsReserve(&sim->pair.f, (int)sim->p.n));
   PetscCall(TakeCarried(sim));
   /* The list has no resize: made anew, as are the thread buffers sized by the fields. */
-  PetscCall(PetscFree2(sim->tacc, sim->trho));
-  PetscCall(SpamNeighboursDestroy(&sim->nl));
+  PetscCall(PetscFree2(sim->pair.tacc, sim->pair.trho));
+  PetscCall(SpamNeighboursDestroy(&sim->pair.nl));
   PetscCall(CreateScratch(sim));
-  sim->nl.builds   = builds;
-  sim->ghost_mass_build = -1;
-  sim->nl.grows    = grows;
-  sim->nl.ev_build = ev;
+  sim->pair.nl.builds   = builds;
+  sim->pair.ghost_mass_build = -1;
+  sim->pair.nl.grows    = grows;
+  sim->pair.nl.ev_build = ev;
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SpamSimGhostMasses(SpamSim *sim)
 {
-  const SpamGhosts *g = &sim->nl.ghosts;
-  const int         dim = sim->model.dim, n = (int)sim->n;
+  const SpamGhosts *g = &sim->pair.nl.ghosts;
+  const int         dim = sim->model.dim, n = (int)sim->p.n;
 
   PetscFunctionBeginUser;
-  if (sim->ghost_mass_build == sim->nl.builds) PetscFunctionReturn(0);
-  PetscCall(SpamFieldsReserve(&sim->f, SpamNeighboursSlots(&sim->nl)));
-  PetscCall(SpamGhostsGather(g, dim, n, 1, SPAM_GHOST_SCALAR, sim->f.m));
-  PetscCall(SpamGhostsGather(g, dim, n, 1, SPAM_GHOST_SCALAR, sim->f.minv));
-  if (!sim->model.tensor && sim->model.density_free) PetscCall(SpamGhostsGather(g, dim, n, 1, SPAM_GHOST_SCALAR, sim->f.q));
-  sim->ghost_mass_build = sim->nl.builds;
+  if (sim->pair.ghost_mass_build == sim->pair.nl.builds) PetscFunctionReturn(0);
+  PetscCall(SpamFieldsReserve(&sim->pair.f, SpamNeighboursSlots(&sim->pair.nl)));
+  PetscCall(SpamGhostsGather(g, dim, n, 1, SPAM_GHOST_SCALAR, sim->pair.f.m));
+  PetscCall(SpamGhostsGather(g, dim, n, 1, SPAM_GHOST_SCALAR, sim->pair.f.minv));
+  if (!sim->model.tensor && sim->model.density_free) PetscCall(SpamGhostsGather(g, dim, n, 1, SPAM_GHOST_SCALAR, sim->pair.f.q));
+  sim->pair.ghost_mass_build = sim->pair.nl.builds;
   PetscFunctionReturn(0);
 }
 
@@ -255,16 +214,16 @@ PetscErrorCode SpamSimBuildList(SpamSim *sim)
 PetscErrorCode SpamSimDestroy(SpamSim *sim)
 {
   PetscFunctionBeginUser;
-  if (sim->X) PetscCall(DMSwarmDestroyGlobalVectorFromField(sim->swarm, SPAM_STATE_FIELD, &sim->X));
-  PetscCall(SpamFieldsDestroy(&sim->f));
-  if (sim->nl.start) {
-    PetscCall(PetscFree2(sim->tacc, sim->trho));
-    PetscCall(SpamNeighboursDestroy(&sim->nl));
+  if (sim->p.X) PetscCall(DMSwarmDestroyGlobalVectorFromField(sim->p.swarm, SPAM_STATE_FIELD, &sim->p.X));
+  PetscCall(SpamFieldsDestroy(&sim->pair.f));
+  if (sim->pair.nl.start) {
+    PetscCall(PetscFree2(sim->pair.tacc, sim->pair.trho));
+    PetscCall(SpamNeighboursDestroy(&sim->pair.nl));
   }
-  PetscCall(PetscFree(sim->at_row));
-  if (sim->dec) PetscCall(SpamDecompDestroy(sim->dec));
-  PetscCall(PetscFree(sim->dec));
-  if (sim->gid) PetscCall(DMSwarmRestoreField(sim->swarm, SPAM_GID_FIELD, NULL, NULL, (void **)&sim->gid));
-  PetscCall(DMDestroy(&sim->swarm));
+  PetscCall(PetscFree(sim->p.at_row));
+  if (sim->geo.dec) PetscCall(SpamDecompDestroy(sim->geo.dec));
+  PetscCall(PetscFree(sim->geo.dec));
+  if (sim->p.gid) PetscCall(DMSwarmRestoreField(sim->p.swarm, SPAM_GID_FIELD, NULL, NULL, (void **)&sim->p.gid));
+  PetscCall(DMDestroy(&sim->p.swarm));
   PetscFunctionReturn(0);
 }

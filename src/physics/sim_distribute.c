@@ -18,7 +18,7 @@ static PetscErrorCode ShareBodies(SpamSim *sim)
   PetscFunctionBeginUser;
   if (!ps) PetscFunctionReturn(0);
   nb = ps->nbody;
-  PetscCallMPI(MPI_Bcast(&nb, 1, MPI_INT, 0, sim->comm));
+  PetscCallMPI(MPI_Bcast(&nb, 1, MPI_INT, 0, sim->p.comm));
   if (nb == ps->nbody) PetscFunctionReturn(0);
   PetscCall(PetscFree3(ps->bpos, ps->bneg, ps->bfac));
   PetscCall(PetscCalloc3(nb, &ps->bpos, nb, &ps->bneg, nb, &ps->bfac));
@@ -32,13 +32,13 @@ PetscErrorCode SpamSimDistribute(SpamSim *sim)
   SpamMigrateInfo info;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_size(sim->comm, &size));
+  PetscCallMPI(MPI_Comm_size(sim->p.comm, &size));
   if (size == 1) PetscFunctionReturn(0);
   PetscCall(ShareBodies(sim));
-  PetscCall(PetscNew(&sim->dec));
-  PetscCall(SpamDecompCreate(sim, 0.0, sim->dec));
-  PetscCall(SpamSimMigrate(sim, sim->dec, &info));
-  PetscCheck(info.bad < 0, sim->comm, PETSC_ERR_FP, "non-finite position of particle %" PetscInt64_FMT " at set-up", info.bad);
+  PetscCall(PetscNew(&sim->geo.dec));
+  PetscCall(SpamDecompCreate(sim->p.comm, &sim->geo.box, sim->model.kernel.h, 0.0, sim->geo.dec));
+  PetscCall(SpamSimMigrate(sim, sim->geo.dec, &info));
+  PetscCheck(info.bad < 0, sim->p.comm, PETSC_ERR_FP, "non-finite position of particle %" PetscInt64_FMT " at set-up", info.bad);
   if (!info.changed) { /* already in place: the list still needs the halo */
     PetscCall(SpamSimResize(sim));
     PetscCall(SpamSimBuildList(sim));

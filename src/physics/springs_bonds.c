@@ -32,7 +32,7 @@ PetscErrorCode SpamBondHaloDestroy(SpamBondHalo *bh)
 static PetscErrorCode CreateCarrier(SpamSim *sim, DM *carrier)
 {
   PetscFunctionBeginUser;
-  PetscCall(DMCreate(sim->comm, carrier));
+  PetscCall(DMCreate(sim->p.comm, carrier));
   PetscCall(DMSetType(*carrier, DMSWARM));
   PetscCall(DMSetDimension(*carrier, sim->model.dim));
   PetscCall(DMSwarmSetType(*carrier, DMSWARM_BASIC));
@@ -67,18 +67,18 @@ static PetscErrorCode Pack(void *ctx)
   PetscInt           *rank, nrec = 0, k = 0;
 
   PetscFunctionBeginUser;
-  for (PetscInt i = 0; i < sim->n; i++)
-    for (int b = ps->bond_start[i]; b < ps->bond_start[i + 1]; b++) nrec += ps->bond_nbr[b] < sim->n ? 2 : 1;
+  for (PetscInt i = 0; i < sim->p.n; i++)
+    for (int b = ps->bond_start[i]; b < ps->bond_start[i + 1]; b++) nrec += ps->bond_nbr[b] < sim->p.n ? 2 : 1;
   PetscCall(DMSwarmSetLocalSizes(carrier, nrec, 0));
   PetscCall(DMSwarmGetField(carrier, BOND_RECORD_FIELD, NULL, NULL, (void **)&rec));
   PetscCall(DMSwarmGetField(carrier, DMSwarmField_rank, NULL, NULL, (void **)&rank));
-  for (PetscInt i = 0; i < sim->n; i++)
+  for (PetscInt i = 0; i < sim->p.n; i++)
     for (int b = ps->bond_start[i]; b < ps->bond_start[i + 1]; b++) {
       const int j = ps->bond_nbr[b];
-      if (j < sim->n) {
-        PutRecord(rec, rank, k++, sim->gid[i], sim->gid[j], dest[i]);
-        PutRecord(rec, rank, k++, sim->gid[j], sim->gid[i], dest[j]);
-      } else PutRecord(rec, rank, k++, sim->gid[i], ps->bond_halo.gid[j - sim->n], dest[i]);
+      if (j < sim->p.n) {
+        PutRecord(rec, rank, k++, sim->p.gid[i], sim->p.gid[j], dest[i]);
+        PutRecord(rec, rank, k++, sim->p.gid[j], sim->p.gid[i], dest[j]);
+      } else PutRecord(rec, rank, k++, sim->p.gid[i], ps->bond_halo.gid[j - sim->p.n], dest[i]);
     }
   PetscCall(DMSwarmRestoreField(carrier, DMSwarmField_rank, NULL, NULL, (void **)&rank));
   PetscCall(DMSwarmRestoreField(carrier, BOND_RECORD_FIELD, NULL, NULL, (void **)&rec));
@@ -93,7 +93,7 @@ PetscErrorCode SpamBondsDepart(SpamSim *sim, const PetscInt *dest)
   if (!SpamBondsAny(sim)) PetscFunctionReturn(0); /* before the set-up made them */
   PetscCall(DMDestroy(&sim->ps->bond_halo.carrier));
   PetscCall(CreateCarrier(sim, &sim->ps->bond_halo.carrier));
-  PetscCall(SpamRunAgreed(sim->comm, PETSC_FALSE, Pack, &ctx));
+  PetscCall(SpamRunAgreed(sim->p.comm, PETSC_FALSE, Pack, &ctx));
   /* Sent records stay (as the particles do: local_order.c says why PETSc's removal is
    * slow); Arrive keeps only those addressed to this rank. */
   PetscCall(DMSwarmMigrate(sim->ps->bond_halo.carrier, PETSC_FALSE));
@@ -103,11 +103,11 @@ PetscErrorCode SpamBondsDepart(SpamSim *sim, const PetscInt *dest)
 /* The local particle of gid g (binary search in gid order), or -1. */
 static PetscInt LocalOf(const SpamSim *sim, PetscInt64 g)
 {
-  PetscInt lo = 0, hi = sim->n - 1;
+  PetscInt lo = 0, hi = sim->p.n - 1;
 
   while (lo <= hi) {
     const PetscInt   mid = lo + (hi - lo) / 2, i = SpamSimAtRow(sim, mid);
-    const PetscInt64 gm  = sim->gid[i];
+    const PetscInt64 gm  = sim->p.gid[i];
     if (gm == g) return i;
     if (gm < g) lo = mid + 1;
     else hi = mid - 1;
@@ -152,7 +152,7 @@ static PetscErrorCode Entries(SpamSim *sim, Entry **entry, PetscInt *nentry)
   PetscInt   *rank, nrec, m = 0;
 
   PetscFunctionBeginUser;
-  PetscCallMPI(MPI_Comm_rank(sim->comm, &me));
+  PetscCallMPI(MPI_Comm_rank(sim->p.comm, &me));
   PetscCall(DMSwarmGetLocalSize(carrier, &nrec));
   PetscCall(PetscMalloc1(nrec + 1, entry));
   PetscCall(DMSwarmGetField(carrier, BOND_RECORD_FIELD, NULL, NULL, (void **)&rec));
@@ -204,16 +204,16 @@ static PetscErrorCode Unpack(void *ctx)
   PetscCall(RemoteGids(bh, entry, m));
   PetscCall(PetscFree(ps->bond_start));
   PetscCall(PetscFree(ps->bond_nbr));
-  PetscCall(PetscCalloc1(sim->n + 1, &ps->bond_start));
+  PetscCall(PetscCalloc1(sim->p.n + 1, &ps->bond_start));
   PetscCall(PetscMalloc1(m + 1, &ps->bond_nbr));
   for (PetscInt k = 0; k < m; k++) {
     ps->bond_start[entry[k].i + 1]++;
-    ps->bond_nbr[k] = (int)(entry[k].j >= 0 ? entry[k].j : sim->n + SlotOf(bh, entry[k].partner));
+    ps->bond_nbr[k] = (int)(entry[k].j >= 0 ? entry[k].j : sim->p.n + SlotOf(bh, entry[k].partner));
   }
-  for (PetscInt i = 0; i < sim->n; i++) ps->bond_start[i + 1] += ps->bond_start[i];
+  for (PetscInt i = 0; i < sim->p.n; i++) ps->bond_start[i + 1] += ps->bond_start[i];
   ps->nbonds = (int)m;
   PetscCall(PetscFree2(bh->xlocal, bh->xremote));
-  PetscCall(PetscMalloc2((size_t)sim->n * sim->model.dim + 1, &bh->xlocal, (size_t)bh->nremote * sim->model.dim + 1, &bh->xremote));
+  PetscCall(PetscMalloc2((size_t)sim->p.n * sim->model.dim + 1, &bh->xlocal, (size_t)bh->nremote * sim->model.dim + 1, &bh->xremote));
   PetscCall(PetscFree(entry));
   PetscFunctionReturn(0);
 }
@@ -228,24 +228,24 @@ static PetscErrorCode Connect(SpamSim *sim)
   int           mine, all;
 
   PetscFunctionBeginUser;
-  PetscCheck(sim->nglobal <= PETSC_MAX_INT, sim->comm, PETSC_ERR_SUP, "spring bonds across ranks match gids as PetscInt: at most %" PetscInt_FMT " particles", (PetscInt)PETSC_MAX_INT);
+  PetscCheck(sim->p.nglobal <= PETSC_MAX_INT, sim->p.comm, PETSC_ERR_SUP, "spring bonds across ranks match gids as PetscInt: at most %" PetscInt_FMT " particles", (PetscInt)PETSC_MAX_INT);
   if (bh->sf) PetscCallMPI(MPI_Type_free(&bh->unit));
   PetscCall(PetscSFDestroy(&bh->sf));
-  PetscCall(PetscMalloc2(sim->n + 1, &roots, bh->nremote + 1, &leaves));
-  for (PetscInt i = 0; i < sim->n; i++) roots[i] = (PetscInt)sim->gid[i];
+  PetscCall(PetscMalloc2(sim->p.n + 1, &roots, bh->nremote + 1, &leaves));
+  for (PetscInt i = 0; i < sim->p.n; i++) roots[i] = (PetscInt)sim->p.gid[i];
   for (int k = 0; k < bh->nremote; k++) leaves[k] = (PetscInt)bh->gid[k];
-  PetscCall(PetscLayoutCreate(sim->comm, &layout));
-  PetscCall(PetscLayoutSetSize(layout, sim->nglobal));
+  PetscCall(PetscLayoutCreate(sim->p.comm, &layout));
+  PetscCall(PetscLayoutSetSize(layout, sim->p.nglobal));
   PetscCall(PetscLayoutSetUp(layout));
-  PetscCall(PetscSFCreateByMatchingIndices(layout, sim->n, roots, NULL, 0, bh->nremote, leaves, NULL, 0, NULL, &bh->sf));
+  PetscCall(PetscSFCreateByMatchingIndices(layout, sim->p.n, roots, NULL, 0, bh->nremote, leaves, NULL, 0, NULL, &bh->sf));
   PetscCall(PetscLayoutDestroy(&layout));
   PetscCall(PetscFree2(roots, leaves));
   PetscCallMPI(MPI_Type_contiguous(sim->model.dim, MPI_DOUBLE, &bh->unit));
   PetscCallMPI(MPI_Type_commit(&bh->unit));
   PetscCall(PetscSFGetGraph(bh->sf, NULL, &nleaves, NULL, NULL));
   mine = nleaves == bh->nremote;
-  PetscCallMPI(MPIU_Allreduce(&mine, &all, 1, MPI_INT, MPI_LAND, sim->comm));
-  PetscCheck(all, sim->comm, PETSC_ERR_PLIB, "a spring bond's partner is held by no rank");
+  PetscCallMPI(MPIU_Allreduce(&mine, &all, 1, MPI_INT, MPI_LAND, sim->p.comm));
+  PetscCheck(all, sim->p.comm, PETSC_ERR_PLIB, "a spring bond's partner is held by no rank");
   PetscFunctionReturn(0);
 }
 
@@ -253,7 +253,7 @@ PetscErrorCode SpamBondsArrive(SpamSim *sim)
 {
   PetscFunctionBeginUser;
   if (!SpamBondsAny(sim)) PetscFunctionReturn(0);
-  PetscCall(SpamRunAgreed(sim->comm, PETSC_FALSE, Unpack, sim));
+  PetscCall(SpamRunAgreed(sim->p.comm, PETSC_FALSE, Unpack, sim));
   PetscCall(DMDestroy(&sim->ps->bond_halo.carrier));
   PetscCall(Connect(sim));
   PetscFunctionReturn(0);
@@ -266,7 +266,7 @@ PetscErrorCode SpamBondsGather(SpamSim *sim, const double *x, int stride)
 
   PetscFunctionBeginUser;
   if (!bh->sf) PetscFunctionReturn(0);
-  for (PetscInt i = 0; i < sim->n; i++)
+  for (PetscInt i = 0; i < sim->p.n; i++)
     for (int d = 0; d < dim; d++) bh->xlocal[(size_t)i * dim + d] = x[(size_t)i * stride + d];
   PetscCall(PetscSFBcastBegin(bh->sf, bh->unit, bh->xlocal, bh->xremote, MPI_REPLACE));
   PetscCall(PetscSFBcastEnd(bh->sf, bh->unit, bh->xlocal, bh->xremote, MPI_REPLACE));

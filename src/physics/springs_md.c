@@ -10,21 +10,21 @@
 static PetscErrorCode BuildBonds(SpamSim *sim, const double *y)
 {
   SpamPhysicsScratch *ps = sim->ps;
-  const SpamImage     im = SpamBoxImage(&sim->box);
+  const SpamImage     im = SpamBoxImage(&sim->geo.box);
   const double        r2max = sim->model.springs.range * sim->model.springs.range;
   PetscInt            bad;
 
   PetscFunctionBeginUser;
-  PetscCall(SpamNeighboursUpdate(&sim->nl, &sim->box, y + sim->model.layout.x, sim->model.layout.nvar, PETSC_TRUE, &bad));
-  PetscCheck(bad < 0, sim->comm, PETSC_ERR_FP, "non-finite position of particle %" PetscInt_FMT, bad);
-  PetscCall(PetscMalloc1(sim->n + 1, &ps->bond_start));
-  PetscCall(PetscMalloc1(sim->nl.npairs + 1, &ps->bond_nbr));
+  PetscCall(SpamNeighboursUpdate(&sim->pair.nl, &sim->geo.box, y + sim->model.layout.x, sim->model.layout.nvar, PETSC_TRUE, &bad));
+  PetscCheck(bad < 0, sim->p.comm, PETSC_ERR_FP, "non-finite position of particle %" PetscInt_FMT, bad);
+  PetscCall(PetscMalloc1(sim->p.n + 1, &ps->bond_start));
+  PetscCall(PetscMalloc1(sim->pair.nl.npairs + 1, &ps->bond_nbr));
   ps->nbonds        = 0;
   ps->bond_start[0] = 0;
-  for (int i = 0; i < sim->nl.n; i++) {
-    for (int p = sim->nl.start[i]; p < sim->nl.start[i + 1]; p++) {
+  for (int i = 0; i < sim->pair.nl.n; i++) {
+    for (int p = sim->pair.nl.start[i]; p < sim->pair.nl.start[i + 1]; p++) {
       double dx[2];
-      if (SpamPairDelta2(&sim->nl, &im, i, sim->nl.nbr[p], dx) < r2max) ps->bond_nbr[ps->nbonds++] = sim->nl.nbr[p];
+      if (SpamPairDelta2(&sim->pair.nl, &im, i, sim->pair.nl.nbr[p], dx) < r2max) ps->bond_nbr[ps->nbonds++] = sim->pair.nl.nbr[p];
     }
     ps->bond_start[i + 1] = ps->nbonds;
   }
@@ -37,10 +37,10 @@ static PetscErrorCode SetUpSprings(SpamSim *sim)
 
   PetscFunctionBeginUser;
   PetscCall(SpamPhysicsScratchCreate(sim));
-  PetscCall(VecGetArray(sim->X, &y));
+  PetscCall(VecGetArray(sim->p.X, &y));
   PetscCall(SpamBodiesLabel(sim, y, sim->model.springs.range));
   PetscCall(BuildBonds(sim, y));
-  PetscCall(VecRestoreArray(sim->X, &y));
+  PetscCall(VecRestoreArray(sim->p.X, &y));
   PetscFunctionReturn(0);
 }
 
@@ -49,7 +49,7 @@ static double BondDelta(const SpamSim *sim, const SpamImage *im, const double *x
 {
   double r2 = 0.0;
   for (int d = 0; d < sim->model.dim; d++) {
-    dx[d] = SpamImageDelta(im, d, SpamBoxLocal(&sim->box, d, xi[d]) - SpamBoxLocal(&sim->box, d, xj[d]));
+    dx[d] = SpamImageDelta(im, d, SpamBoxLocal(&sim->geo.box, d, xi[d]) - SpamBoxLocal(&sim->geo.box, d, xj[d]));
     r2 += dx[d] * dx[d];
   }
   return sqrt(r2);
@@ -59,21 +59,21 @@ static double BondDelta(const SpamSim *sim, const SpamImage *im, const double *x
  * position SpamBondsGather brought. */
 static const double *PartnerAt(const SpamSim *sim, const double *x, int stride, int j)
 {
-  return j < sim->n ? x + (size_t)j * stride : sim->ps->bond_halo.xremote + (size_t)(j - sim->n) * sim->model.dim;
+  return j < sim->p.n ? x + (size_t)j * stride : sim->ps->bond_halo.xremote + (size_t)(j - sim->p.n) * sim->model.dim;
 }
 
 static PetscErrorCode AccelSprings(SpamSim *sim, const double *x, int stride, PetscInt *bad)
 {
   const SpamPhysicsScratch *ps = sim->ps;
   const SpamSpringParams   *sp = &sim->model.springs;
-  const SpamImage           im = SpamBoxImage(&sim->box);
+  const SpamImage           im = SpamBoxImage(&sim->geo.box);
   const int                 dim = sim->model.dim;
 
   PetscFunctionBeginUser;
   *bad = -1;
   PetscCall(SpamBondsGather(sim, x, stride)); /* before any return: it is collective */
-  for (PetscInt k = 0; k < sim->n * dim; k++) sim->f.acc[k] = 0.0;
-  for (PetscInt i = 0; i < sim->n; i++) {
+  for (PetscInt k = 0; k < sim->p.n * dim; k++) sim->pair.f.acc[k] = 0.0;
+  for (PetscInt i = 0; i < sim->p.n; i++) {
     for (int b = ps->bond_start[i]; b < ps->bond_start[i + 1]; b++) {
       const int    j = ps->bond_nbr[b];
       double       dx[3];
@@ -84,11 +84,11 @@ static PetscErrorCode AccelSprings(SpamSim *sim, const double *x, int stride, Pe
       }
       /* A remote partner's rank keeps this bond too and adds the opposite force to its
        * own particle (newton off across ranks, as the gas's remote pairs). */
-      if (j < sim->n) SpamPairSpring(dim, &sim->f, sp->k, sp->r0, (int)i, j, dx, r);
-      else SpamPairSpringOne(dim, &sim->f, sp->k, sp->r0, (int)i, dx, r);
+      if (j < sim->p.n) SpamPairSpring(dim, &sim->pair.f, sp->k, sp->r0, (int)i, j, dx, r);
+      else SpamPairSpringOne(dim, &sim->pair.f, sp->k, sp->r0, (int)i, dx, r);
     }
   }
-  sim->stats.pair_visits += (double)ps->nbonds;
+  sim->run.stats.pair_visits += (double)ps->nbonds;
   PetscFunctionReturn(0);
 }
 
@@ -99,10 +99,10 @@ static PetscErrorCode RhsSprings(SpamSim *sim, const double *y, double *ydot, Pe
   PetscFunctionBeginUser;
   PetscCall(AccelSprings(sim, y + l->x, l->nvar, bad));
   if (*bad >= 0) PetscFunctionReturn(0);
-  for (PetscInt i = 0; i < sim->n; i++)
+  for (PetscInt i = 0; i < sim->p.n; i++)
     for (int d = 0; d < sim->model.dim; d++) {
       ydot[(size_t)i * l->nvar + l->x + d] = y[(size_t)i * l->nvar + l->v + d];
-      ydot[(size_t)i * l->nvar + l->v + d] = sim->f.acc[(size_t)i * sim->model.dim + d];
+      ydot[(size_t)i * l->nvar + l->v + d] = sim->pair.f.acc[(size_t)i * sim->model.dim + d];
     }
   PetscFunctionReturn(0);
 }
@@ -112,21 +112,21 @@ static PetscErrorCode RhsSprings(SpamSim *sim, const double *y, double *ydot, Pe
 static PetscErrorCode DiagSprings(SpamSim *sim, const double *y, SpamModelDiag *d)
 {
   const SpamPhysicsScratch *ps = sim->ps;
-  const SpamImage           im = SpamBoxImage(&sim->box);
+  const SpamImage           im = SpamBoxImage(&sim->geo.box);
   const SpamLayout         *l  = &sim->model.layout;
   double                    pe = 0.0;
 
   PetscFunctionBeginUser;
   PetscCall(SpamBondsGather(sim, y + l->x, l->nvar));
-  for (PetscInt i = 0; i < sim->n; i++)
+  for (PetscInt i = 0; i < sim->p.n; i++)
     for (int b = ps->bond_start[i]; b < ps->bond_start[i + 1]; b++) {
       const int    j = ps->bond_nbr[b];
       double       dx[3];
       const double r = BondDelta(sim, &im, y + (size_t)i * l->nvar + l->x, PartnerAt(sim, y + l->x, l->nvar, j), dx);
-      const double share = j < sim->n ? 0.5 : 0.25;
+      const double share = j < sim->p.n ? 0.5 : 0.25;
       pe += share * sim->model.springs.k * (sim->model.springs.r0 - r) * (sim->model.springs.r0 - r);
     }
-  PetscCallMPI(MPIU_Allreduce(&pe, &d->internal, 1, MPI_DOUBLE, MPI_SUM, sim->comm));
+  PetscCallMPI(MPIU_Allreduce(&pe, &d->internal, 1, MPI_DOUBLE, MPI_SUM, sim->p.comm));
   d->torque = 0.0;
   PetscCall(SpamBodiesDiag(sim, y, d));
   PetscFunctionReturn(0);

@@ -12,21 +12,21 @@
 PetscErrorCode SpamWallReflect(SpamSim *sim, double *y, PetscInt *changed)
 {
   const SpamLayout *l = &sim->model.layout;
-  const SpamWalls  *w = &sim->walls;
+  const SpamWalls  *w = &sim->geo.walls;
 
   PetscFunctionBeginUser;
   *changed = 0;
-  for (PetscInt i = 0; i < sim->n; i++) {
+  for (PetscInt i = 0; i < sim->p.n; i++) {
     double *p = y + (size_t)i * l->nvar;
     for (int d = 0; d < sim->model.dim; d++) {
-      const double lo = sim->box.lo[d], hi = lo + sim->box.len[d];
+      const double lo = sim->geo.box.lo[d], hi = lo + sim->geo.box.len[d];
       const double x = p[l->x + d];
       if (SpamWallOn(w, 2 * d) && x < lo) p[l->x + d] = 2.0 * lo - x;
       else if (SpamWallOn(w, 2 * d + 1) && x > hi) p[l->x + d] = 2.0 * hi - x;
       else continue;
       if (l->wb >= 0) {
-        p[l->wb] -= sim->f.m[i] * sim->model.gravity[d] * (p[l->x + d] - x);
-        p[l->wb + 2 + d] -= 2.0 * sim->f.m[i] * p[l->v + d];
+        p[l->wb] -= sim->pair.f.m[i] * sim->model.gravity[d] * (p[l->x + d] - x);
+        p[l->wb + 2 + d] -= 2.0 * sim->pair.f.m[i] * p[l->v + d];
       }
       p[l->v + d] = -p[l->v + d];
       (*changed)++;

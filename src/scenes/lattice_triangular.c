@@ -94,12 +94,12 @@ PetscErrorCode SpamSimFillFields(SpamSim *sim, const SpamParticles *p)
 
   PetscFunctionBeginUser;
   if (!p->e) PetscFunctionReturn(0);
-  PetscCall(DMSwarmGetField(sim->swarm, SPAM_STATE_FIELD, &bs, &type, (void **)&s));
-  for (PetscInt i = 0; i < sim->n; i++) {
+  PetscCall(DMSwarmGetField(sim->p.swarm, SPAM_STATE_FIELD, &bs, &type, (void **)&s));
+  for (PetscInt i = 0; i < sim->p.n; i++) {
     if (l->e >= 0) s[i * bs + l->e] = p->e[i];
     if (l->rho >= 0) s[i * bs + l->rho] = p->rho[i];
     for (int k = 0; l->s >= 0 && k < ns; k++) s[i * bs + l->s + k] = p->sigma[ns * i + k];
   }
-  PetscCall(DMSwarmRestoreField(sim->swarm, SPAM_STATE_FIELD, &bs, &type, (void **)&s));
+  PetscCall(DMSwarmRestoreField(sim->p.swarm, SPAM_STATE_FIELD, &bs, &type, (void **)&s));
   PetscFunctionReturn(0);
 }

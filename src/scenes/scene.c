@@ -458,16 +458,16 @@ static PetscErrorCode CreateSim(MPI_Comm comm, const SpamCommonParams *c, PetscB
   PetscCallMPI(MPI_Comm_rank(comm, &rank));
   /* Rank 0 holds the whole scene until SpamSimDistribute (sim_distribute.c says why). */
   PetscCall(SpamSimCreate(comm, model, &p->box, rank ? 0 : p->n, c->skin, sim));
-  sim->scene           = p->info;
-  sim->threads         = (int)c->threads;
-  sim->periodic_ghosts = c->periodic_ghosts;
-  sim->reproducible    = c->reproducible;
-  sim->walls           = p->walls;
+  sim->out.scene           = p->info;
+  sim->pair.threads         = (int)c->threads;
+  sim->pair.periodic_ghosts = c->periodic_ghosts;
+  sim->pair.reproducible    = c->reproducible;
+  sim->geo.walls           = p->walls;
   if (sort) {
     PetscInt *row_of;
     PetscCall(PetscMalloc1(p->n + 1, &row_of));
     PetscCall(SpamParticlesSortByCell(p, c->h, row_of));
-    PetscCall(SpamSimSetRows(sim, row_of));
+    PetscCall(SpamSwarmSetRows(&sim->p, row_of));
     PetscCall(PetscFree(row_of));
   }
   PetscCall(SpamSimFill(sim, p->x, p->v, p->m));
