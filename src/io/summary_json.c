@@ -177,9 +177,9 @@ static PetscBool ZeroEnergy(const SpamRunResult *r)
 static const char *AngmomNotConserved(const SpamSim *sim)
 {
   for (int d = 0; d < sim->model.dim; d++)
-    if (sim->box.periodic[d]) return "not conserved: periodic box";
+    if (sim->geo.box.periodic[d]) return "not conserved: periodic box";
   for (int s = 0; s < 2 * sim->model.dim; s++)
-    if (SpamWallOn(&sim->walls, s)) return "not conserved: walls";
+    if (SpamWallOn(&sim->geo.walls, s)) return "not conserved: walls";
   return NULL;
 }
 

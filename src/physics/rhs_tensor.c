@@ -205,8 +205,8 @@ static PetscErrorCode FillFields(SpamSim *sim, const double *y, PetscInt *bad)
  * particle, which has no pair to scale). */
 static PetscErrorCode DiffusionNorms(SpamSim *sim)
 {
-  SpamFields *f   = &sim->f;
-  const int   dim = f->dim, n = (int)sim->n;
+  SpamFields *f   = &sim->pair.f;
+  const int   dim = f->dim, n = (int)sim->p.n;
 
   PetscFunctionBeginUser;
   for (int i = 0; i < n; i++) {
@@ -214,7 +214,7 @@ static PetscErrorCode DiffusionNorms(SpamSim *sim)
     for (int a = 0; a < dim; a++) tr += f->gmom[(size_t)i * dim * dim + a * dim + a];
     f->lapn[i] = tr < 0.0 ? -dim / tr : 1.0;
   }
-  PetscCall(SpamGhostsGather(&sim->nl.ghosts, dim, n, 1, SPAM_GHOST_SCALAR, f->lapn));
+  PetscCall(SpamGhostsGather(&sim->pair.nl.ghosts, dim, n, 1, SPAM_GHOST_SCALAR, f->lapn));
   PetscFunctionReturn(0);
 }
 
