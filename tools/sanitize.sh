@@ -4,8 +4,17 @@
 # the run: reports are fatal (halt_on_error, no UB recovery) and change the exit code to 86,
 # which no test expects; the fuzz test also scans stderr. Leaks inside OpenMPI's initialisation
 # are suppressed by tests/lsan.supp (by library), leak checking stays on for everything else.
-# Run after the normal build and tests (README's test command).
+# Run after the normal build and tests (README's test command). With --build-only it
+# configures and builds build-asan and stops (.ci/run builds it that way, at the lowest CPU
+# priority, while the normal build's tests run; the run after it then finds it built).
 set -euo pipefail
+build_only=0
+for flag in "$@"; do
+  case "$flag" in
+    --build-only) build_only=1 ;;
+    *) echo "tools/sanitize.sh: unknown flag $flag (accepted: --build-only)" >&2; exit 2 ;;
+  esac
+done
 cd "$(dirname "$0")/.."
 root=$PWD
 # fast_unwind_on_malloc=0: full allocation stacks through the libraries built without frame
@@ -25,4 +34,5 @@ export OMPI_MCA_ess_singleton_isolated=1
 export SPAM_FUZZ_STRIDE="${SPAM_FUZZ_STRIDE:-48}"
 cmake -S . -B build-asan -DSPAM_SANITIZE=ON -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build-asan -j2
+((build_only)) && exit 0
 ctest --test-dir build-asan -L 'fast|fuzz' -j2 --output-on-failure
