@@ -17,7 +17,11 @@ hold these invariants:
 The corpus (see tests/fuzz/cases.txt for the curated part):
   curated  the inputs found by an earlier review, with their codes;
   options  every option printed by `spam-ark -help petsc` (lines ending "(README)") with each value of
-           HOSTILE and with no value, in a tiny run of a scene that reads it. Expected: 2, except
+           HOSTILE and with no value, in a tiny run of a scene that reads it; of the values that
+           PETSc's reader of the option's kind refuses alike for every option (SHARED: "abc" for
+           a number, "1e300" for an integer, a name for a flag) and of the empty and the missing
+           value, each option runs only its turn's, so each runs on several options of every
+           kind (values_of). Expected: 2, except
            the values listed as valid in OPTION_TABLE (0, or a set where the outcome is not
            determined by the input alone: a physical run may also go unstable, exit 3). The
            rule: nan, inf, -inf, text, 7 values, 5000 digits, control bytes and an empty or
