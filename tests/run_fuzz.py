@@ -17,7 +17,11 @@ hold these invariants:
 The corpus (see tests/fuzz/cases.txt for the curated part):
   curated  the inputs found by an earlier review, with their codes;
   options  every option printed by `spam-ark -help petsc` (lines ending "(README)") with each value of
-           HOSTILE and with no value, in a tiny run of a scene that reads it. Expected: 2, except
+           HOSTILE and with no value, in a tiny run of a scene that reads it; of the values that
+           PETSc's reader of the option's kind refuses alike for every option (SHARED: "abc" for
+           a number, "1e300" for an integer, a name for a flag) and of the empty and the missing
+           value, each option runs only its turn's, so each runs on several options of every
+           kind (values_of). Expected: 2, except
            the values listed as valid in OPTION_TABLE (0, or a set where the outcome is not
            determined by the input alone: a physical run may also go unstable, exit 3). The
            rule: nan, inf, -inf, text, 7 values, 5000 digits, control bytes and an empty or
@@ -353,12 +357,28 @@ OPTION_TABLE["-reproducible"] = ("E", BOOL)
 
 
 def help_options():
+    """The options -help lists, each with the kind of PETSc reader its line shows (PETSc prints
+    each reader's line in its own form): bool "-x: <FALSE : FALSE>", int "-x <now 2 : formerly 2>",
+    string "-x <now lucy : formerly lucy>", real "-x <2. : 2.>"; anything else (the lists,
+    "-x <0.>:") is None."""
     p = subprocess.run([SPAM, "-help", "petsc"], capture_output=True, text=True, env=ENV, timeout=60, cwd=w)
-    names = re.findall(r"^ +(-[a-z0-9_]+)[ :].*\(README\)$", p.stdout, re.M)
-    return list(dict.fromkeys(names))
+    kinds = {}
+    for name, rest in re.findall(r"^ +(-[a-z0-9_]+)([ :].*)\(README\)$", p.stdout, re.M):
+        kind = None
+        if rest.startswith(": <"):
+            kind = "bool"
+        elif re.match(r" <now -?\d+ : formerly -?\d+>", rest):
+            kind = "int"
+        elif re.match(r" <now [^>]* : formerly [^>]*>", rest):
+            kind = "string"
+        elif re.match(r" <[-+0-9.e]+ : [-+0-9.e]+>", rest):
+            kind = "real"
+        kinds.setdefault(name, kind)
+    return kinds
 
 
-OPTIONS = help_options()
+KINDS = help_options()
+OPTIONS = list(KINDS)
 c.check(len(OPTIONS) >= 80, f"-help lists {len(OPTIONS)} spam-ark options (lines ending '(README)')")
 # A new option missing from OPTION_TABLE is fuzzed in the expansion run, every value refused.
 unknown = [o for o in OPTIONS if o not in OPTION_TABLE]
@@ -367,12 +387,47 @@ if unknown:
 # The six faces' wall options share one parser (core/walls.c) and one relevance rule
 # (option_use.c WallRelevant): the ylo face's three stand for all of them.
 SAME_PARSER = {f"-wall_{f}{s}" for f in ("xlo", "xhi", "yhi", "zlo", "zhi") for s in ("", "_velocity", "_temperature")}
+# Values that PETSc's reader of the option's kind refuses before the option's own code sees
+# them (the syntax of a number, an integer, a flag; a name that is none of a choice's), and the
+# empty and the missing value, which SpamOptionsCheckValues refuses for every option alike.
+# Each such value takes the same path for every option of the kind, the option's part being
+# only that the refusal names it: every option runs KEEP[kind] of them, taken in turn along
+# the options of the kind, so that each value still runs on several options of every kind.
+# Every other value (the range
+# checks, an option's own parsing, the valid ones) runs on every option. The file names
+# (-file_path, -restart and the outputs) and the lists keep every value: each value is
+# another file, or another list element.
+MISSING = ["", None]
+SHARED = {"bool": ["nan", "inf", "-inf", "-1", "1e-300", "4.9e-324", "1e300", "2147483648", "abc", "1,2,3,4,5,6,7", "9" * 5000, b"\x01\xff"],
+          "int": ["nan", "inf", "-inf", "1e-300", "4.9e-324", "1e300", "abc", "1,2,3,4,5,6,7", b"\x01\xff"],
+          "real": ["abc", "1,2,3,4,5,6,7", b"\x01\xff"],
+          "string": ["nan", "inf", "-inf", "-1", "0", "1e-300", "4.9e-324", "1e300", "2147483648", "abc", "1,2,3,4,5,6,7", "9" * 5000, b"\x01\xff"]}
+KEEP = {"bool": 2, "int": 2, "real": 1, "string": 2}
+FILE_NAMES = {"-file_path", "-restart", "-output_dir", "-initial_csv", "-final_csv"}
+turn = {}
+
+
+def values_of(opt, valid):
+    """The values option opt runs: every value of HOSTILE and the missing one, but of each
+    shared class (SHARED[kind], MISSING) refused alike only its turn's."""
+    kind = KINDS.get(opt)
+    if kind not in SHARED or opt in FILE_NAMES:
+        return HOSTILE + [None]
+    k = turn[kind] = turn.get(kind, -1) + 1
+    skip = set()
+    for group, keep in ((SHARED[kind], KEEP[kind]), (MISSING, 1)):
+        refused = [v for v in group if valid.get(v, {2}) == {2}]
+        chosen = {refused[(k * keep + j) % len(refused)] for j in range(min(keep, len(refused)))} if refused else set()
+        skip |= {v for v in refused if v not in chosen}
+    return [v for v in HOSTILE + [None] if v not in skip]
+
+
 generated = []
 for opt in OPTIONS:
     if opt in SAME_PARSER:
         continue
     context, valid = OPTION_TABLE.get(opt, ("E", {}))
-    for value in HOSTILE + [None]:
+    for value in values_of(opt, valid):
         expect = valid.get(value, {2})
         shown = HNAME.get(value, value) if value is not None else "(no value)"
         args = argv(context, [(opt, value)])

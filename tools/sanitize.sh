@@ -4,10 +4,32 @@
 # the run: reports are fatal (halt_on_error, no UB recovery) and change the exit code to 86,
 # which no test expects; the fuzz test also scans stderr. Leaks inside OpenMPI's initialisation
 # are suppressed by tests/lsan.supp (by library), leak checking stays on for everything else.
-# Run after the normal build and tests (README's test command).
+# Run after the normal build and tests (README's test command). With --build-only it
+# configures and builds build-asan and stops (.ci/run builds it that way, at the lowest CPU
+# priority, while the normal build's tests run). SPAM_ASAN_PREBUILD (set by .ci/run) names the
+# directory of that background build (its process group, exit status and log): this run
+# returns it to the normal priority, waits for it and fails if it failed.
 set -euo pipefail
+build_only=0
+for flag in "$@"; do
+  case "$flag" in
+    --build-only) build_only=1 ;;
+    *) echo "tools/sanitize.sh: unknown flag $flag (accepted: --build-only)" >&2; exit 2 ;;
+  esac
+done
 cd "$(dirname "$0")/.."
 root=$PWD
+if [[ -n "${SPAM_ASAN_PREBUILD:-}" && $build_only == 0 ]]; then
+  # Raising the priority again needs root (CI runs as root); without it the build goes on at 19.
+  renice -n 0 -g "$(cat "$SPAM_ASAN_PREBUILD/pgid")" > /dev/null 2>&1 || true
+  while [[ ! -s "$SPAM_ASAN_PREBUILD/status" ]]; do sleep 2; done
+  tail -n 3 "$SPAM_ASAN_PREBUILD/log"
+  if [[ $(cat "$SPAM_ASAN_PREBUILD/status") != 0 ]]; then
+    cat "$SPAM_ASAN_PREBUILD/log"
+    echo "tools/sanitize.sh: the background sanitizer build failed" >&2
+    exit 1
+  fi
+fi
 # fast_unwind_on_malloc=0: full allocation stacks through the libraries built without frame
 # pointers (OpenMPI, PETSc), so the suppressions see libmpi.so; allow_user_segv_handler=0 keeps
 # ASan's SIGSEGV report instead of PETSc's handler.
@@ -25,4 +47,5 @@ export OMPI_MCA_ess_singleton_isolated=1
 export SPAM_FUZZ_STRIDE="${SPAM_FUZZ_STRIDE:-48}"
 cmake -S . -B build-asan -DSPAM_SANITIZE=ON -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build-asan -j2
+((build_only)) && exit 0
 ctest --test-dir build-asan -L 'fast|fuzz' -j2 --output-on-failure
