@@ -405,10 +405,10 @@ static TensorPass PassOf(SpamSim *sim)
   c.h                         = sim->model.kernel.h;
   c.coords                    = (int)p->coords;
   c.conduction                = p->conductivity > 0.0;
-  c.gradT                     = (c.conduction && !(gas && p->diffusion == SPAM_DIFFUSION_PAIR)) || shift;
+  c.pairdiff                  = p->material == SPAM_MATERIAL_GAS && p->diffusion == SPAM_DIFFUSION_PAIR;
+  c.gradT                     = (c.conduction && !c.pairdiff) || shift; /* the pair form reads T, not its gradient */
   c.shift                     = shift;
   c.flow                      = bg || shift;
-  c.pairdiff                  = p->material == SPAM_MATERIAL_GAS && p->diffusion == SPAM_DIFFUSION_PAIR;
   c.moment                    = c.flow || c.pairdiff;
   c.scale                     = p->angmom == SPAM_ANGMOM_TI || p->angmom == SPAM_ANGMOM_TIJ;
   c.continuity                = p->density != SPAM_DENSITY_SUMMATION;
