@@ -162,7 +162,8 @@ PetscErrorCode SpamMaxSoundSpeedIsentrope(SpamSim *sim, const double *y, double 
  * over the ranks (0 without gravity). */
 PetscErrorCode SpamGravityEnergy(SpamSim *sim, const double *y, double *pot);
 /* Summation density of state y into sim->pair.f.rho, ghost slots included (diagnostics): a
- * list update, then SpamDensityOfList. */
+ * list update, then SpamDensityOfList (in the flow scheme with mirror walls, after the
+ * ghosts' temperatures, which set the images' densities: gas_images.h). */
 PetscErrorCode SpamDensitySummation(SpamSim *sim, const double *y, PetscInt *bad);
 /* The same on the list as the caller's update left it, slots reserved (the tensor path,
  * which has updated the list for its own passes). Collective once distributed. */

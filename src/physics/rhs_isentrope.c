@@ -6,6 +6,7 @@
  * half-list rows (pass_chunked.c), or under -reproducible the canonical rows
  * (pass_canonical.c). Nothing here allocates. */
 #include <spam/sim.h>
+#include <spam/gas_images.h>
 #include "../pair/pair_pass.h"
 
 /* The context of sim's current list (after SpamNeighboursUpdate and the slots' reserve). */
@@ -72,9 +73,11 @@ PetscErrorCode SpamDensityOfList(SpamSim *sim)
   const SpamPairPass p = SpamPairPassOf(sim);
 
   PetscFunctionBeginUser;
+  if (SpamGasImagesOfPlace(sim)) SpamGasImagesMasses(sim); /* the ghosts' temperatures are current */
   PetscCall(Density(&sim->run, &p));
   /* The callers (the tensor path, diagnostics) read the ghosts' densities too. */
   PetscCall(SpamGhostsGather(p.gh, p.dim, p.n, 1, SPAM_GHOST_SCALAR, p.f->rho));
+  if (SpamGasImagesOfPlace(sim)) SpamGasImagesDensities(sim);
   PetscFunctionReturn(0);
 }
 
@@ -86,6 +89,7 @@ PetscErrorCode SpamDensitySummation(SpamSim *sim, const double *y, PetscInt *bad
   PetscCall(SpamNeighboursUpdate(&sim->pair.nl, &sim->geo.box, y + l->x, l->nvar, PETSC_FALSE, bad));
   if (*bad >= 0) PetscFunctionReturn(0);
   PetscCall(ReserveSlots(sim));
+  if (SpamGasImagesOfPlace(sim)) PetscCall(SpamGasImagesTemperatures(sim, y));
   PetscCall(SpamDensityOfList(sim));
   PetscFunctionReturn(0);
 }

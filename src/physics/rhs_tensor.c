@@ -15,6 +15,7 @@
 #include <spam/stress.h>
 #include <spam/wall_books.h>
 #include <spam/gas_flow.h>
+#include <spam/gas_images.h>
 #include "../pair/pair_walk.h"
 #include "../pair/pair_gradients.h"
 #include "../pair/pair_coordinates.h"
@@ -126,41 +127,6 @@ static void Zero(double *a, size_t len)
   for (size_t k = 0; k < len; k++) a[k] = 0.0;
 }
 
-/* Under gravity a mirror image of the gas stands deeper in the field than its source:
- * its pressure is the hydrostatic continuation P_g = P_i + rho_i g.(x_g - x_i), so that a
- * column at rest is in balance at the wall as in its interior: sigma_g/rho^2 loses
- * g.(x_g - x_i)/rho on its diagonal (the gas's; a solid's images keep their stress). (Without it the image's pressure equals its source's
- * and the bottom layer lacks the push that holds up the column.) */
-/* The source's position along d of mirror ghost k: read from it on this rank, from the
- * ghost's own position (the image undone) for another rank's particle. */
-static double SourcePosition(const SpamGhosts *gh, double *const u[3], int n, int k, int d)
-{
-  const double x = u[d][n + k];
-  if (gh->src[k] >= 0) return u[d][gh->src[k]];
-  return (gh->flip[k] >> d) & 1 ? gh->shift[d][k] - x : x - gh->shift[d][k]; /* another rank's: undo the image */
-}
-
-static void HydrostaticImages(SpamSim *sim, const SpamBackground *bg)
-{
-  const SpamGhosts *gh  = &sim->pair.nl.ghosts;
-  SpamFields       *f   = &sim->pair.f;
-  const int         dim = f->dim, n = (int)sim->p.n;
-
-  for (int k = 0; k < gh->n; k++) {
-    double dphi = 0.0; /* g.(x_g - x_i) */
-    if (gh->kind[k] != SPAM_GHOST_MIRROR) continue;
-    double xg[3] = {0, 0, 0}, xs[3] = {0, 0, 0};
-    for (int d = 0; d < dim; d++) {
-      xg[d] = sim->pair.nl.u[d][n + k] + sim->geo.box.lo[d];
-      xs[d] = SourcePosition(gh, sim->pair.nl.u, n, k, d) + sim->geo.box.lo[d];
-      dphi += sim->model.gravity[d] * (xg[d] - xs[d]);
-    }
-    /* The flow scheme's background is a function of place: the image takes B at its own. */
-    const double dB = SpamBackgroundAt(bg, dim, xg) - SpamBackgroundAt(bg, dim, xs), r = f->rho[n + k];
-    for (int a = 0; a < dim; a++) f->qs[(size_t)(n + k) * dim * dim + a * dim + a] += -dphi / r + dB / (r * r);
-  }
-}
-
 /* Per-particle fields of y for the local slots, then gathered into the ghosts: velocity,
  * energy and temperature, mass, and the density (summed, or the state's). */
 static PetscErrorCode FillFields(SpamSim *sim, const double *y, PetscInt *bad)
@@ -197,6 +163,10 @@ static PetscErrorCode FillFields(SpamSim *sim, const double *y, PetscInt *bad)
     }
   }
   PetscCall(SpamGhostsGather(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->rho));
+  if (SpamGasImagesOfPlace(sim)) {
+    SpamGasImagesMasses(sim);
+    SpamGasImagesDensities(sim);
+  }
   PetscFunctionReturn(0);
 }
 
@@ -302,7 +272,7 @@ static PetscErrorCode ParticleLaws(SpamSim *sim, const TensorPass *c, const doub
     }
   }
   PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_STRESS, f->qs));
-  if (gh->mirror && sim->model.gravity_on && p->material == SPAM_MATERIAL_GAS) HydrostaticImages(sim, &c->bg);
+  if (gh->mirror && p->material == SPAM_MATERIAL_GAS && (sim->model.gravity_on || SpamGasImagesOfPlace(sim))) SpamGasImagesStresses(sim, &c->bg);
   if (!c->pairdiff) PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_HEAT_FLUX, f->heat));
   PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_VELOCITY, f->uc));
   PetscFunctionReturn(0);
