@@ -33,6 +33,8 @@ typedef struct {
   int                    conduction; /* heat flux in walk 3                            */
   int                    gradT;      /* grad T in walk 1 (conduction, the shift's drift) */
   int                    shift;      /* the transport shift's pair sum in walk 1       */
+  int                    shift_own;  /* the shift's kernel is the walk's (model.h)     */
+  double                 shift_gnorm, shift_hinv; /* else its gradient's scale and 1/h */
   int                    flow;       /* the flow scheme's corrections after walk 3     */
   int                    moment;     /* the gradient's moment in walk 1 (flow, pairdiff) */
   int                    pairdiff;   /* viscosity and conduction as pair Laplacians    */
@@ -53,13 +55,12 @@ static inline __attribute__((always_inline)) void GradientPair(const int dim, Te
 {
   SpamFields  *f      = c->f;
   const double rho_ij = SpamPairMeanDensity(c->p->rho_geometric, f->rho[i], f->rho[j]);
-  (void)r2;
   if (c->own_rho) SpamPairVelocityGradient(dim, f, i, j, dx, g / f->rho[i], g / f->rho[j]);
   else SpamPairVelocityGradient(dim, f, i, j, dx, g / rho_ij, g / rho_ij);
   if (c->coords == SPAM_COORDS_R1) SpamPairAverageVelocity(dim, f, i, j, w);
   else if (c->coords == SPAM_COORDS_R2) SpamPairXsph(dim, f, i, j, c->p->xsph_eps * w / rho_ij);
   if (c->gradT) SpamPairTemperatureGradient(dim, f, i, j, dx, g / rho_ij);
-  if (c->shift) SpamPairShift(dim, f, i, j, dx, g);
+  if (c->shift) SpamPairShift(dim, f, i, j, dx, c->shift_own ? g : SpamKernelShapeScaledG(SPAM_KERNEL_WENDLAND_C2, dim, c->shift_gnorm, sqrt(r2) * c->shift_hinv));
   if (c->moment) SpamPairGradientMoment(dim, f, i, j, dx, g / rho_ij);
 }
 SPAM_PAIR_WALK(WalkGradients, TensorPass, GradientPair)
@@ -378,6 +379,9 @@ static TensorPass PassOf(SpamSim *sim)
   c.pairdiff                  = p->material == SPAM_MATERIAL_GAS && p->diffusion == SPAM_DIFFUSION_PAIR;
   c.gradT                     = (c.conduction && !c.pairdiff) || shift; /* the pair form reads T, not its gradient */
   c.shift                     = shift;
+  c.shift_own                 = sim->model.kernel.kind == SPAM_KERNEL_WENDLAND_C2;
+  c.shift_gnorm               = sim->model.shift_kernel.gnorm;
+  c.shift_hinv                = sim->model.shift_kernel.hinv;
   c.flow                      = bg || shift;
   c.moment                    = c.flow || c.pairdiff;
   c.scale                     = p->angmom == SPAM_ANGMOM_TI || p->angmom == SPAM_ANGMOM_TIJ;
