@@ -15,9 +15,10 @@ precision: every adaptive method x tolerance, and every fixed-step method of --f
     the symplectic Verlet, Symp3 and Symp4 of PETSc's basicsymplectic types kdk, 3 and 4) x
     step --dt (each must divide the output interval t_end/20), runs in its own
     directory DIR/runs/<label>_<tol or dt>/ (a finished run, one whose manifest.json says ok, max_steps
-    or unstable, and whose summary.json names the same spam-ark executable (its SHA-1), is
-    skipped: an interrupted study resumes, rerunning with -output_overwrite any run that was
-    interrupted, failed or made by another build). A reference (ARKODE Dormand-Prince 5(4) at rtol 1e-13) is run once
+    or unstable, and whose summary.json names the same spam-ark executable (its SHA-1) and
+    the same options, scene's included, is skipped: an interrupted study resumes, rerunning
+    with -output_overwrite any run that was interrupted, failed, made by another build or
+    with other options). A reference (ARKODE Dormand-Prince 5(4) at rtol 1e-13) is run once
     per scene and cached in DIR/reference_<hash>/. Errors are RMS position and velocity
     differences from it at every snapshot time (minimum image across periodic faces);
     drifts of energy, momentum and angular momentum come from each summary.json, the
@@ -134,13 +135,13 @@ class Progress:
 
 def spam(binary, args, outdir, refused_ok=False):
     """Runs spam-ark unless outdir already holds a finished run made by this same build of
-    spam-ark (a run of another build is stale: the gallery regenerated after a change to the
-    program must not reuse it); returns (code, skipped). Exit 2 (spam-ark refused the input)
+    spam-ark with these same args (a run of another build, or of other scene options under
+    the same label, is stale: the gallery regenerated after a change must not reuse it); returns (code, skipped). Exit 2 (spam-ark refused the input)
     is returned rather than raised when refused_ok."""
     summ = os.path.join(outdir, "summary.json")
     if spam_manifest.status(outdir) in spam_manifest.FINISHED and os.path.exists(summ):
         s = json.load(open(summ))
-        if spam_manifest.same_build(s, binary):
+        if spam_manifest.same_build(s, binary, args):
             return s.get("exit_code", 0), True
     os.makedirs(os.path.dirname(outdir) or ".", exist_ok=True)
     # Not finished (absent, interrupted, failed): run it afresh over whatever is left.
@@ -150,7 +151,7 @@ def spam(binary, args, outdir, refused_ok=False):
         return 2, False
     if p.returncode not in (0, 3):
         raise SystemExit(f"spam-ark failed (exit {p.returncode}): {' '.join(map(str, args))}\n{p.stderr.strip()}")
-    spam_manifest.remember_build(outdir, binary, p.returncode)  # a resumed study needs no rerun
+    spam_manifest.remember_build(outdir, binary, p.returncode, args)  # a resumed study needs no rerun
     return p.returncode, False
 
 
