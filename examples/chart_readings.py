@@ -58,16 +58,20 @@ def table(columns, rows):
 
 
 def write(png, readings, runs=(), argv=None):
-    """Writes PNG's readings to the same path with .json; runs: the run directories read
-    (their summary.json's scene is recorded). Returns the path written."""
-    doc = {"chart": os.path.basename(png), "command": command(argv)}
+    """Writes PNG's readings to the same path with .json; runs: the run directories (or
+    files) read. Returns the path written."""
+    return write_json(os.path.splitext(png)[0] + ".json", readings, runs, argv, chart=os.path.basename(png))
+
+
+def write_json(path, readings, runs=(), argv=None, chart=None):
+    """Writes readings with their provenance to path (a study's section has no chart)."""
+    doc = {"chart": chart, "command": command(argv)}
     doc.update(provenance())
     doc["made_utc"] = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
     doc.update(machine())
     doc["runs"] = [os.path.relpath(os.path.abspath(d), REPO) if not os.path.relpath(os.path.abspath(d), REPO).startswith("..")
                    else d for d in runs]
     doc["readings"] = readings
-    path = os.path.splitext(png)[0] + ".json"
     with open(path + ".tmp", "w", encoding="utf-8") as fh:
         json.dump(doc, fh, indent=1, sort_keys=False)
         fh.write("\n")

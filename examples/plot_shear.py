@@ -62,6 +62,20 @@ def load(d):
     return dict(scene=s["scene"], n=n, nu=nu, snaps=snaps, exact=exact, peak=peak, dir=d, summary=s)
 
 
+def row_heating(r):
+    """The rise of e over the run, relative to the start's mean e, in the two wall rows and
+    in the two middle rows (the viscous heating is largest where the shear is)."""
+    n, (_, first), (_, last) = r["n"], r["snaps"][0], r["snaps"][-1]
+    if "e" not in first[0]:
+        return None, None
+    e0 = sum(p["e"] for p in first) / len(first)
+
+    def rise(rows_j):
+        sel = [p["e"] for p in last if min(n - 1, max(0, int(math.floor(p["y"])))) in rows_j]
+        return sum(sel) / len(sel) / e0 - 1
+    return rise({0, n - 1}), rise({n // 2 - 1, n // 2})
+
+
 def run_readings(r, l2, mx, l2p):
     """What the page quotes of one run: errors (of the peak), the walls' forces averaged over
     the error's window against the exact force on the gas, heating and the books."""
@@ -74,10 +88,15 @@ def run_readings(r, l2, mx, l2p):
         exact = s["viscosity_shear"] * s["wall_yhi_velocity"][0] * L / n  # each wall, eta U A / H
     else:
         exact = -s["gravity_x"] * s["mass"] * s["n_particles"]         # both walls, -g M
-    return {"H": n, "h_over_H": s["h"] / n, "l2_rows": l2, "max_rows": mx, "l2_row_pairs": l2p,
+    if r["scene"] == "couette":  # each wall against eta U A / H, the lower one pulling back
+        force_err = max(abs(-flo / exact - 1), abs(fhi / exact - 1))
+    else:
+        force_err = abs((flo + fhi) / exact - 1)
+    return {"H": n, "h_over_H": s["h"] / n, "wall_force_rel_err": force_err, "nyquist_over_l2_rows": 1 / (2 * n) / l2, "l2_rows": l2, "max_rows": mx, "l2_row_pairs": l2p,
             "nyquist": 1 / (2 * n), "l2_over_h_over_H_sq": l2 / (s["h"] / n) ** 2,
             "wall_ylo_fx": flo, "wall_yhi_fx": fhi, "wall_sum_fx": flo + fhi, "exact_force": exact,
             "heating": s["internal_final"] / s["energy_initial"] - 1,
+            "heating_wall_rows": row_heating(r)[0], "heating_middle_rows": row_heating(r)[1],
             "momentum_rel_drift_max": s["momentum_rel_drift_max"], "energy_rel_drift_max": s["energy_rel_drift_max"],
             "steps": s["steps"], "rhs_evals": s["rhs_evals"]}
 
@@ -132,7 +151,9 @@ def main():
     fig.tight_layout()
     fig.savefig(out, dpi=110)
     print(f"png={out}")
-    readings = {"scene": scene, "runs": per_run}
+    readings = {"scene": scene, "runs": per_run, "range": {
+        k: [min(v[k] for v in per_run.values()), max(v[k] for v in per_run.values())]
+        for k in ("heating", "momentum_rel_drift_max", "wall_force_rel_err", "nyquist_over_l2_rows")}}
     if len(ns) > 1:
         readings["order_rows"], readings["order_row_pairs"] = order(ns, e_rows), order(ns, e_pairs)
         readings["order_rows_steps"] = [order(ns[k:k + 2], e_rows[k:k + 2]) for k in range(len(ns) - 1)]

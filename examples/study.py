@@ -77,6 +77,7 @@ except ImportError:
         os.execv("/usr/bin/python3", ["/usr/bin/python3"] + sys.argv)
     sys.exit("study.py needs numpy and matplotlib (Debian: python3-numpy python3-matplotlib)")
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import chart_readings  # noqa: E402
 import spam_manifest  # noqa: E402
 from chart_style import style, UNSTABLE  # noqa: E402
 
@@ -549,13 +550,17 @@ def update_report(out, part, lines, made=None):
     """Replaces (or appends) the section of one study in DIR/study.md, so the studies run
     one at a time (and resumed) each keep their own lines; sections written by other
     scripts (any <!-- name --> ... <!-- /name --> pair) are left as they are. The line
-    `made` (the command) follows the section's heading."""
+    `made` (the command) follows the section's heading. The section's text is also written
+    to DIR/<part>.json with the command, commit and machine load that made it, and the page
+    marks it as that file's text (tools/docs_numbers.py checks the two agree)."""
     path = os.path.join(out, "study.md")
     text = open(path).read() if os.path.exists(path) else "# spam-ark study\n"
     if made:
         lines = lines[:1] + ["", made, ""] + (lines[2:] if lines[1:2] == [""] else lines[1:])
     begin, end = f"<!-- {part} -->\n", f"<!-- /{part} -->\n"
-    section = begin + "\n".join(lines) + "\n" + end
+    body = "\n".join(lines) + "\n"
+    chart_readings.write_json(os.path.join(out, part + ".json"), {"section": body})
+    section = begin + f"<!--text {part}.json section-->\n" + body + "<!--/text-->\n" + end
     if begin in text and end in text:
         text = text[:text.index(begin)] + section + text[text.index(end) + len(end):]
     else:

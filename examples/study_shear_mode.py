@@ -554,23 +554,29 @@ def rows_of_csv(path):
 
 
 def cell_readings(rows):
-    """Every run's measures by "lattice.kernel.variant.X<c h/nu>", and the range of the
-    decay ratio over the kernels of each variant, start and c h/nu (for the page's prose)."""
+    """Every run's measures as cells[start][kernel][variant][X] (X = "X" + c h/nu, "." as
+    "_"), the range of the decay ratio over the kernels as ranges[variant][start or "any"][X],
+    and counts per variant and start: within 5 % of nu k^2 (flagged runs too, and unflagged
+    only), runs that ring, runs."""
+    variants = list(dict.fromkeys(r["variant"] for r in rows))
+    starts = ("ordered", "disordered", "any")
     cells, ranges = {}, {}
     for r in rows:
-        X = f"X{r['ch_over_nu']:g}"
-        cells[f"{r['lattice']}.{r['kernel']}.{r['variant']}.{X}"] = {
+        X = f"X{r['ch_over_nu']:g}".replace(".", "_")
+        cells.setdefault(r["lattice"], {}).setdefault(r["kernel"], {}).setdefault(r["variant"], {})[X] = {
             k: r[k] for k in ("decay_ratio", "ringing_ratio", "theory_decay_ratio", "flag", "noise_vy_over_U", "crossings")}
         for lat in (r["lattice"], "any"):
-            rng = ranges.setdefault(f"{r['variant']}.{lat}.{X}", {"min": math.inf, "max": -math.inf})
+            rng = ranges.setdefault(r["variant"], {}).setdefault(lat, {}).setdefault(X, {"min": math.inf, "max": -math.inf})
             rng["min"], rng["max"] = min(rng["min"], r["decay_ratio"]), max(rng["max"], r["decay_ratio"])
+
+    def count(v, lat, unflagged):
+        return sum(1 for r in rows if r["variant"] == v and lat in (r["lattice"], "any")
+                   and abs(r["decay_ratio"] - 1) <= 0.05 and not (unflagged and r["flag"]))
     return {"cells": cells, "ranges": ranges,
-            "within_5pct": {f"{v}.{lat}": sum(1 for r in rows if r["variant"] == v and lat in (r["lattice"], "any")
-                                              and abs(r["decay_ratio"] - 1) <= 0.05)
-                            for v in dict.fromkeys(r["variant"] for r in rows) for lat in ("ordered", "disordered", "any")},
-            "ringing_runs": {v: sum(1 for r in rows if r["variant"] == v and r["crossings"] > 0)
-                             for v in dict.fromkeys(r["variant"] for r in rows)},
-            "runs": {v: sum(1 for r in rows if r["variant"] == v) for v in dict.fromkeys(r["variant"] for r in rows)}}
+            "within_5pct": {v: {lat: count(v, lat, False) for lat in starts} for v in variants},
+            "within_5pct_unflagged": {v: {lat: count(v, lat, True) for lat in starts} for v in variants},
+            "ringing_runs": {v: sum(1 for r in rows if r["variant"] == v and r["crossings"] > 0) for v in variants},
+            "runs": {v: sum(1 for r in rows if r["variant"] == v) for v in variants}}
 
 
 def made_line(argv):

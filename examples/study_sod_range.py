@@ -2,6 +2,7 @@
 """Sod's shock tube against the kernel's range h: the errors of tests/run_sod.py's measures.
 
     examples/study_sod_range.py [--h 3 --h 4 ...] [--sod-n 400] [--spam-ark build/spam-ark] [--out out/sod_range]
+                                [--chart OUT.png]
 
 Runs options/sod.opts (1D) at each h (lattice spacings) into OUT/hH/, measures each run's
 last snapshot as tests/run_sod.py does (plateaus u*, p*, rho*L, rho*R leaving 2h at each end
@@ -91,6 +92,7 @@ def main():
     ap.add_argument("--sod-n", type=int, default=400)
     ap.add_argument("--spam-ark", default=os.path.join(REPO, "build", "spam-ark"))
     ap.add_argument("--out", default="out/sod_range")
+    ap.add_argument("--chart", help="PNG path (default OUT/sod_range.png; the readings go beside it)")
     a = ap.parse_args()
     hs = a.h or [3, 4, 5, 6, 7, 8, 10]
     dirs, rows = [], []
@@ -99,7 +101,7 @@ def main():
         dirs.append(d)
         rows.append(r)
         print(f"h={h:g} " + " ".join(f"{k}={v:+.4f}" for k, v in r.items()), flush=True)
-    png = os.path.join(a.out, "sod_range.png")
+    png = a.chart or os.path.join(a.out, "sod_range.png")
     chart(hs, rows, png, a.sod_n)
     cells = [[f"{h:g}"] + [pct(r[k]) for k, _ in PLATEAUS] + [off(r[k]) for k in FRONTS] for h, r in zip(hs, rows)]
     readings = {"sod_n": a.sod_n,

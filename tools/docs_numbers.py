@@ -16,6 +16,10 @@ between the marker and its end is what a reader sees, and is rewritten from the 
     <!--/table-->
         a whole table: the reading is {"columns": [...], "rows": [[cell, ...], ...]} of
         formatted cells.
+    <!--text FILE KEY-->
+    ... generated markdown ...
+    <!--/text-->
+        a generated section (a study's text, examples/study.py): the reading is the text itself.
     <!--test PATH [TOKEN]-->3%<!--/test-->
         a number a test asserts: PATH (from the repository's root) must be a test ctest runs
         (a tests/run_*.py, or named in tests/CMakeLists.txt), and TOKEN, when given, must occur in it (the
@@ -38,6 +42,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 W = r"((?:(?!-->)\S)+)"  # a word of a marker, which ends at -->
 NUM = re.compile(rf"<!--num\s+{W}\s+{W}(?:\s+{W})?\s*-->(.*?)<!--/num-->")
 TABLE = re.compile(rf"<!--table\s+{W}\s+{W}\s*-->\n(.*?)<!--/table-->", re.S)
+TEXT = re.compile(rf"<!--text\s+{W}\s+{W}\s*-->\n(.*?)<!--/text-->", re.S)
 TEST = re.compile(rf"<!--test\s+{W}(?:\s+{W})?\s*-->(.*?)<!--/test-->")
 SUPER = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
 
@@ -146,6 +151,17 @@ def process(page, text, problems):
             problems.append(f"{page}: table {name} {key} differs from the file")
         return m.group(0)[:m.start(3) - m.start(0)] + want + "<!--/table-->"
 
+    def text_(m):
+        name, key, shown = m.groups()
+        try:
+            want = lookup(source(page, name), key)
+        except Missing as exc:
+            problems.append(f"{page}: <!--text {name} {key}-->: {exc}")
+            return m.group(0)
+        if want != shown:
+            problems.append(f"{page}: text {name} {key} differs from the file")
+        return m.group(0)[:m.start(3) - m.start(0)] + want + "<!--/text-->"
+
     cmake = registered_tests()
 
     def test(m):
@@ -160,13 +176,14 @@ def process(page, text, problems):
             problems.append(f"{page}: <!--test {path} {token}-->: the test does not say {token}")
         return m.group(0)
 
+    text = TEXT.sub(text_, text)
     text = TABLE.sub(table, text)
     text = NUM.sub(num, text)
     return TEST.sub(test, text)
 
 
 def count(text):
-    return len(NUM.findall(text)) + len(TABLE.findall(text)) + len(TEST.findall(text))
+    return sum(len(r.findall(text)) for r in (NUM, TABLE, TEXT, TEST))
 
 
 def main():
