@@ -24,10 +24,11 @@ def _git(*args):
 
 def provenance():
     """{"commit", "describe", "dirty"} of the repository the script runs from; a tree with
-    uncommitted changes to tracked files is dirty (its results may not be the commit's)."""
-    dirty = bool(_git("status", "--porcelain", "--untracked-files=no"))
+    uncommitted changes to tracked files other than the pages (docs/, *.md: the charts,
+    readings and pages these runs rewrite) is dirty: its results may not be the commit's."""
+    dirty = bool(_git("status", "--porcelain", "--untracked-files=no", "--", ".", ":!docs", ":!*.md"))
     return {"commit": _git("rev-parse", "HEAD") or "unknown",
-            "describe": _git("describe", "--always", "--dirty", "--abbrev=12") or "unknown",
+            "describe": (_git("describe", "--always", "--abbrev=12") or "unknown") + ("-dirty" if dirty else ""),
             "dirty": dirty}
 
 
