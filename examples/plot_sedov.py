@@ -123,7 +123,7 @@ def main():
     bx.loglog(ts, rs, "x", color="tab:orange", label="half-level radius of the kernel-averaged exact profile")
     bx.loglog(ts, rm, "o", color="tab:blue", ms=4, label="half-level radius, SPAM")
     slope = np.polyfit(np.log(ts), np.log(rm), 1)[0] if len(ts) > 1 else float("nan")
-    bx.set_xlabel("t")
+    bx.set_xlabel("time t (reduced units)")
     bx.set_ylabel("shock radius R (lattice spacings)")
     bx.set_title("fitted exponent %.3f (self-similar %.3f)" % (slope, 2.0 / (dim + 2)), fontsize=10)
     bx.legend(fontsize=8)

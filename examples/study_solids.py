@@ -98,7 +98,7 @@ def main():
         print(name, " ".join(f"{k}={v:.4g}" for k, v in r.items() if v is not None), flush=True)
     ax.set_xlabel("nominal rotation (degrees)")
     ax.set_ylabel("|L / L0 - 1| of the body (floor 1e-17)")
-    ax.set_title("Rotor, 217 particles: angular momentum over one revolution", fontsize=10)
+    ax.set_title("Scenes rotor and rotor-md, 217 particles: angular momentum, one revolution", fontsize=10)
     bx.set_xlabel("time t (reduced units)")
     bx.set_ylabel("|E / E0 - 1|, E = KE + IE (floor 1e-17)")
     bx.set_title("Scene planewave, A = 0.25, rtol 1e-10: energy", fontsize=10)
