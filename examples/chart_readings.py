@@ -82,7 +82,8 @@ def write_json(path, readings, runs=(), argv=None, chart=None):
 
 
 BOOKS = ("n_particles", "steps", "rejected_steps", "rhs_evals", "interpolation_rhs_evals", "rhs_evals_total",
-         "energy_rel_drift_max", "momentum_rel_drift_max", "post_step_jumps", "wall_time_s", "t_final")
+         "energy_rel_drift_max", "momentum_rel_drift_max", "momentum_final", "momentum_scale", "post_step_jumps",
+         "wall_time_s", "t_final")
 
 
 def books(run_dir):
