@@ -63,17 +63,18 @@ def load(d):
 
 
 def row_heating(r):
-    """The rise of e over the run, relative to the start's mean e, in the two wall rows and
-    in the two middle rows (the viscous heating is largest where the shear is)."""
+    """The rise of the mean e over the run (last snapshot against the first), relative to
+    the start's mean e: over all rows, in the two wall rows and in the two middle rows (the
+    viscous heating is largest where the shear is)."""
     n, (_, first), (_, last) = r["n"], r["snaps"][0], r["snaps"][-1]
     if "e" not in first[0]:
-        return None, None
+        return None, None, None
     e0 = sum(p["e"] for p in first) / len(first)
 
     def rise(rows_j):
-        sel = [p["e"] for p in last if min(n - 1, max(0, int(math.floor(p["y"])))) in rows_j]
+        sel = [p["e"] for p in last if rows_j is None or min(n - 1, max(0, int(math.floor(p["y"])))) in rows_j]
         return sum(sel) / len(sel) / e0 - 1
-    return rise({0, n - 1}), rise({n // 2 - 1, n // 2})
+    return rise(None), rise({0, n - 1}), rise({n // 2 - 1, n // 2})
 
 
 def run_readings(r, l2, mx, l2p):
@@ -95,8 +96,7 @@ def run_readings(r, l2, mx, l2p):
     return {"H": n, "h_over_H": s["h"] / n, "wall_force_rel_err": force_err, "nyquist_over_l2_rows": 1 / (2 * n) / l2, "l2_rows": l2, "max_rows": mx, "l2_row_pairs": l2p,
             "nyquist": 1 / (2 * n), "l2_over_h_over_H_sq": l2 / (s["h"] / n) ** 2,
             "wall_ylo_fx": flo, "wall_yhi_fx": fhi, "wall_sum_fx": flo + fhi, "exact_force": exact,
-            "heating": s["internal_final"] / s["energy_initial"] - 1,
-            "heating_wall_rows": row_heating(r)[0], "heating_middle_rows": row_heating(r)[1],
+            "heating": row_heating(r)[0], "heating_wall_rows": row_heating(r)[1], "heating_middle_rows": row_heating(r)[2],
             "momentum_rel_drift_max": s["momentum_rel_drift_max"], "energy_rel_drift_max": s["energy_rel_drift_max"],
             "steps": s["steps"], "rhs_evals": s["rhs_evals"]}
 
