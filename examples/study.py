@@ -513,7 +513,7 @@ def report(out, rows, charts, common, made=None):
         lines += [f"![error vs wall time]({charts['err_wall']})", "",
                   f"Reading: wall time follows RHS evaluations (the RHS takes {100 * np.median([r['rhs_share'] for r in ok]):.0f}% "
                   f"of the wall time, median); the fastest run was {fastest['method']} at {knob(fastest)} "
-                  f"({fastest['wall_s']:.2f} s).", ""]
+                  f"({fastest['wall_s']:.2f} s; the machine's load {machine_load()} when the study was written).", ""]
         slope = energy_slopes(rows)
         lines += [f"![energy drift]({charts['energy']})", "",
                   "Reading: energy drift against tolerance, fitted slopes " +
@@ -530,6 +530,12 @@ def report(out, rows, charts, common, made=None):
         lines += [f"![steps]({charts['steps']})", "",
                   f"Reading: steps grow as rtol tightens; {rej} rejected steps in all {len(adaptive)} adaptive runs.", ""]
     update_report(out, "precision", lines, made)
+
+
+def machine_load():
+    """The 1-minute load average and the cores, as a page quotes them beside a timing."""
+    m = chart_readings.machine()
+    return f"{m['load_1min']:.1f} on {m['cores']} cores" if m["load_1min"] is not None else f"unknown on {m['cores']} cores"
 
 
 def relative(text):
