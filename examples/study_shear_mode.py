@@ -649,7 +649,9 @@ def main():
     readings.append(f"runs: {len(rows)}")  # their wall times are in the CSV, without the load they ran under
     chart_path = a.chart or os.path.join(a.out, "shear_mode.png")
     chart(rows, chart_path, readings, lattices, vnames, kernels, a.efolds)
-    chart_readings.write(chart_path, cell_readings(rows), runs=[a.from_csv or a.out])
+    # Not CHART.json: OUT/shear_mode.json is the rows' file, and the chart defaults to OUT/shear_mode.png.
+    chart_readings.write_json(os.path.splitext(chart_path)[0] + "_readings.json", cell_readings(rows),
+                              runs=[a.from_csv or a.out], chart=os.path.basename(chart_path))
     md = markdown(rows, vnames, lattices, kernels, ratios, readings, made_line(sys.argv[1:]))
     with open(os.path.join(a.out, "shear_mode.md"), "w") as f:
         f.write(md)
