@@ -31,6 +31,8 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import ghia1982  # noqa: E402
 from cavity_profile import compare, read_particles  # noqa: E402
 from spamrun import manifest, summary  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import chart_readings  # noqa: E402
 
 try:
     import matplotlib  # noqa: E402
@@ -142,6 +144,11 @@ def main():
     fig.savefig(out, dpi=100)
     print("\n".join(lines))
     print(f"png={out}")
+    m = r["cmp"]
+    chart_readings.write(out, dict(chart_readings.books(a.dir), re=r["re"], n=r["n"], t_over_LU=r["t"] * r["U"] / r["L"],
+                                   snapshots=m["snapshots"], linf_u=m["linf_u"], linf_v=m["linf_v"],
+                                   extrema=m["extrema"], ghia_extrema=m["ghia_extrema"], rel=m["rel"],
+                                   ke_change_last_LU=r["dke"]), runs=[a.dir])
 
 
 if __name__ == "__main__":

@@ -180,6 +180,10 @@ def main():
     fig.savefig(out, dpi=110)
     print(f"Ra={ra:.6g} Ra_c={RA_CRITICAL} Nu={nu:.5g} Nu_bottom={nub:.5g} Nu_top={nut:.5g} "
           f"ke_final={series['kinetic'][-1]:.5g} png={out}")
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import chart_readings
+    chart_readings.write(out, dict(chart_readings.books(a.dir), Ra=ra, Ra_c=RA_CRITICAL, Nu=nu, Nu_bottom=nub, Nu_top=nut,
+                                   ke_final=float(series["kinetic"][-1])), runs=[a.dir])
 
 
 if __name__ == "__main__":

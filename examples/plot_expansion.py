@@ -490,6 +490,11 @@ def main(argv=None):
     print("final dS_sum_ratio=%r dS_grid_ratio=%r max_rel_energy_drift=%r png=%s"
           % (float(series["dS_sum_ratio"][-1]), float(series["dS_grid_ratio"][-1]),
              float(drift), out_path))
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import chart_readings
+    readings = dict(chart_readings.books(run_dir), max_rel_energy_drift=float(drift),
+                    dS_sum_ratio={"t%g" % t: float(v) for t, v in zip(series["t"], series["dS_sum_ratio"])})
+    chart_readings.write(out_path, readings, runs=[run_dir])
     return 0
 
 

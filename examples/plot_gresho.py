@@ -27,6 +27,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import chart_readings  # noqa: E402
 import spam_manifest  # noqa: E402
 
 BINS = 25
@@ -106,6 +107,8 @@ def main():
     fig.tight_layout()
     fig.savefig(out, dpi=110)
     print(f"t/L={t1 / L:.4f} L1_binned={l1:.5f} peak_binned={mean.max():.4f} png={out}")
+    chart_readings.write(out, dict(chart_readings.books(a.dir), t_over_L=t1 / L, l1_binned=l1,
+                                   peak_binned=float(mean.max())), runs=[a.dir])
 
 
 if __name__ == "__main__":

@@ -170,6 +170,16 @@ def main():
     out = a.output or os.path.join(a.dir, "grid_%s_%05d.png" % (a.field, index))
     fig.savefig(out, dpi=110)
     print("field=%s t=%.10g peak_k=%.10g peak_wavelength=%.10g png=%s" % (a.field, t, peak, 2 * math.pi / peak if peak > 0 else float("nan"), out))
+    readings = {"field": a.field, "t": t, "peak_k": float(peak), "dims": dims}
+    if "rho" in header and "S" in header:  # the grid integral of rho (the mass) and the Shepard sum's range
+        cell = float(np.prod([s for s in (dx, dy, dx) [:sum(1 for d in dims if d > 1)]]))
+        rho, S = data[:, header.index("rho")], data[:, header.index("S")]
+        high = S > 1.05
+        readings.update(rho_integral=float(rho.sum() * cell), S_min=float(S.min()), S_max=float(S.max()),
+                        points_S_above_1_05=int(high.sum()), rho_mean_S_above_1_05=float(rho[high].mean()) if high.any() else None)
+    sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+    import chart_readings
+    chart_readings.write(out, readings, runs=[a.dir])
 
 
 if __name__ == "__main__":

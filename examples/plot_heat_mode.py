@@ -27,6 +27,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import chart_readings  # noqa: E402
 import spam_manifest  # noqa: E402
 
 
@@ -81,6 +82,9 @@ def main():
     fig.tight_layout()
     fig.savefig(out, dpi=110)
     print(f"rate={fit:.6g} isochoric={sigma_v:.6g} relative_error={fit / sigma_v - 1:+.4f} png={out}")
+    chart_readings.write(out, dict(chart_readings.books(a.dir), rate=fit, isochoric=sigma_v, isobaric=sigma_v / gamma,
+                                   relative_error=fit / sigma_v - 1, over_isobaric=fit / (sigma_v / gamma) - 1),
+                         runs=[a.dir])
 
 
 if __name__ == "__main__":

@@ -33,6 +33,7 @@ import matplotlib  # noqa: E402
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+import chart_readings  # noqa: E402
 import spam_manifest  # noqa: E402
 from shock_exact import half_level_radius, sedov_profile, sedov_smoothed_density, sedov_xi0  # noqa: E402
 
@@ -122,7 +123,7 @@ def main():
     bx.loglog(ts, rs, "x", color="tab:orange", label="half-level radius of the kernel-averaged exact profile")
     bx.loglog(ts, rm, "o", color="tab:blue", ms=4, label="half-level radius, SPAM")
     slope = np.polyfit(np.log(ts), np.log(rm), 1)[0] if len(ts) > 1 else float("nan")
-    bx.set_xlabel("t")
+    bx.set_xlabel("time t (reduced units)")
     bx.set_ylabel("shock radius R (lattice spacings)")
     bx.set_title("fitted exponent %.3f (self-similar %.3f)" % (slope, 2.0 / (dim + 2)), fontsize=10)
     bx.legend(fontsize=8)
@@ -134,6 +135,10 @@ def main():
     fig.savefig(out, dpi=110)
     print("xi0=%.5f t=%.4g R=%.3f (smoothed exact %.3f, power law %.3f) peak=%.3f (smoothed exact %.3f, limit %.3g) exponent=%.4f png=%s"
           % (xi0, ts[-1], rm[-1], rs[-1], xi0 * (e0 * ts[-1] ** 2 / mass) ** (1.0 / (dim + 2)), peak, peak_sm, limit, slope, out))
+    chart_readings.write(out, dict(chart_readings.books(a.dir), xi0=xi0, t=ts[-1], R=rm[-1], R_smoothed_exact=rs[-1],
+                                   R_power_law=xi0 * (e0 * ts[-1] ** 2 / mass) ** (1.0 / (dim + 2)),
+                                   R_power_law_over_h=xi0 * (e0 * ts[-1] ** 2 / mass) ** (1.0 / (dim + 2)) / h,
+                                   peak=peak, peak_smoothed_exact=peak_sm, limit=limit, exponent=slope), runs=[a.dir])
 
 
 if __name__ == "__main__":

@@ -14,7 +14,10 @@ Left panel: v_x against y of the run with the largest H at several snapshot time
 rows (points) against the exact start-up series (lines) and the steady profile (dashed).
 Right panel: the error of the row profile averaged over t in [H^2/nu, 1.5 H^2/nu] against
 H/dx (log-log), rows and row pairs (the lattice's Nyquist mode cancels), with the fitted
-slope of each. Prints one line per run: H, L2 and max error. Needs matplotlib;
+slope of each. Prints one line per run: H, L2 and max error. Beside the chart, OUT.json
+(examples/chart_readings.py) holds per run the errors, the walls' forces on the gas
+(timeseries.csv wall_ylo_fx and wall_yhi_fx averaged over the same window) against the
+exact one, the heating and the books' drifts, and the fitted orders. Needs matplotlib;
 re-runs itself with /usr/bin/python3 when the python3 first on PATH lacks it.
 """
 import argparse
@@ -23,9 +26,11 @@ import os
 import sys
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import chart_readings  # noqa: E402
 from shear_profile import (couette_exact, errors, mean_profile, order, poiseuille_exact,  # noqa: E402
-                           profile, row_pairs, snapshots)
-from spamrun import summary  # noqa: E402
+                           profile, row_pairs, snapshots, window_mean)
+from spamrun import summary, table  # noqa: E402
 
 try:
     import matplotlib  # noqa: E402
@@ -54,7 +59,46 @@ def load(d):
         peak = g * n * n / (8 * nu)
     else:
         sys.exit(f"plot_shear: error: {d} is a run of -scene {s['scene']}, not couette or poiseuille")
-    return dict(scene=s["scene"], n=n, nu=nu, snaps=snaps, exact=exact, peak=peak)
+    return dict(scene=s["scene"], n=n, nu=nu, snaps=snaps, exact=exact, peak=peak, dir=d, summary=s)
+
+
+def row_heating(r):
+    """The rise of the mean e over the run (last snapshot against the first), relative to
+    the start's mean e: over all rows, in the two wall rows and in the two middle rows (the
+    viscous heating is largest where the shear is)."""
+    n, (_, first), (_, last) = r["n"], r["snaps"][0], r["snaps"][-1]
+    if "e" not in first[0]:
+        return None, None, None
+    e0 = sum(p["e"] for p in first) / len(first)
+
+    def rise(rows_j):
+        sel = [p["e"] for p in last if rows_j is None or min(n - 1, max(0, int(math.floor(p["y"])))) in rows_j]
+        return sum(sel) / len(sel) / e0 - 1
+    return rise(None), rise({0, n - 1}), rise({n // 2 - 1, n // 2})
+
+
+def run_readings(r, l2, mx, l2p):
+    """What the page quotes of one run: errors (of the peak), the walls' forces averaged over
+    the error's window against the exact force on the gas, heating and the books."""
+    s, n = r["summary"], r["n"]
+    ts = table(os.path.join(r["dir"], "timeseries.csv"))
+    D = n * n / r["nu"]
+    flo, fhi = window_mean(ts, "wall_ylo_fx", D), window_mean(ts, "wall_yhi_fx", D)
+    L = s["box_len"][0] * (s["box_len"][2] or 1)
+    if r["scene"] == "couette":
+        exact = s["viscosity_shear"] * s["wall_yhi_velocity"][0] * L / n  # each wall, eta U A / H
+    else:
+        exact = -s["gravity_x"] * s["mass"] * s["n_particles"]         # both walls, -g M
+    if r["scene"] == "couette":  # each wall against eta U A / H, the lower one pulling back
+        force_err = max(abs(-flo / exact - 1), abs(fhi / exact - 1))
+    else:
+        force_err = abs((flo + fhi) / exact - 1)
+    return {"H": n, "h_over_H": s["h"] / n, "wall_force_rel_err": force_err, "nyquist_over_l2_rows": 1 / (2 * n) / l2, "l2_rows": l2, "max_rows": mx, "l2_row_pairs": l2p,
+            "nyquist": 1 / (2 * n), "l2_over_h_over_H_sq": l2 / (s["h"] / n) ** 2,
+            "wall_ylo_fx": flo, "wall_yhi_fx": fhi, "wall_sum_fx": flo + fhi, "exact_force": exact,
+            "heating": row_heating(r)[0], "heating_wall_rows": row_heating(r)[1], "heating_middle_rows": row_heating(r)[2],
+            "momentum_rel_drift_max": s["momentum_rel_drift_max"], "energy_rel_drift_max": s["energy_rel_drift_max"],
+            "steps": s["steps"], "rhs_evals": s["rhs_evals"]}
 
 
 def main():
@@ -90,7 +134,7 @@ def main():
     ax1.set_ylabel("y / H")
     ax1.set_title(f"{scene}: profiles, H/dx = {big['n']} (lines: exact series)")
     ax1.legend(fontsize=7)
-    ns, e_rows, e_pairs = [], [], []
+    ns, e_rows, e_pairs, per_run = [], [], [], {}
     for r in runs:
         Dr = r["n"] ** 2 / r["nu"]
         prof = mean_profile(r["snaps"], r["n"], Dr)
@@ -100,12 +144,21 @@ def main():
         ns.append(r["n"])
         e_rows.append(l2)
         e_pairs.append(l2p)
+        per_run[f"n{r['n']}"] = run_readings(r, l2, mx, l2p)
         print(f"{scene} H/dx = {r['n']}: L2 {l2:.3e} max {mx:.3e} (rows), L2 {l2p:.3e} (row pairs), of the peak")
     if ax2 is not None:
         error_panel(ax2, scene, ns, e_rows, e_pairs)
     fig.tight_layout()
     fig.savefig(out, dpi=110)
     print(f"png={out}")
+    readings = {"scene": scene, "runs": per_run, "range": {
+        k: [min(v[k] for v in per_run.values()), max(v[k] for v in per_run.values())]
+        for k in ("heating", "momentum_rel_drift_max", "wall_force_rel_err", "nyquist_over_l2_rows")}}
+    if len(ns) > 1:
+        readings["order_rows"], readings["order_row_pairs"] = order(ns, e_rows), order(ns, e_pairs)
+        readings["order_rows_steps"] = [order(ns[k:k + 2], e_rows[k:k + 2]) for k in range(len(ns) - 1)]
+        readings["ratio_rows_steps"] = [e_rows[k] / e_rows[k + 1] for k in range(len(ns) - 1)]
+    chart_readings.write(out, readings, runs=[r["dir"] for r in runs])
 
 
 def error_panel(ax2, scene, ns, e_rows, e_pairs):

@@ -14,8 +14,11 @@ faint dot and the means of slices one lattice spacing thick as dots. The exact s
 (tests/shock_exact.py, Newton's iteration for p*) is the line. Densities and pressures are
 shown in units of the left state (divided by -mass).
 
-One line goes to stdout: t, N, the plateau means and png=<path>. A missing or malformed
-input is one line on stderr and exit status 2.
+One line goes to stdout: t, N, the plateau means and png=<path>. Beside the chart, OUT.json
+(examples/chart_readings.py) holds what the page quotes: the plateaus and fronts as
+tests/run_sod.py measures them (slice means; plateaus leave 2h at each end of the star
+regions) and the run's steps and energy drift. A missing or malformed input is one line on
+stderr and exit status 2.
 """
 import argparse
 import csv
@@ -31,7 +34,9 @@ import matplotlib  # noqa: E402
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 
+import chart_readings  # noqa: E402
 import spam_manifest  # noqa: E402
+from run_sod import measure, profile  # noqa: E402
 from shock_exact import Riemann  # noqa: E402
 
 
@@ -118,6 +123,23 @@ def main():
               % (ts, sm["n_particles"], rho[star].mean(), exact.rho_star_l, p[star].mean(), exact.p_star, out))
     else:  # h too coarse for a plateau 2h clear of the fan tail and the contact
         print("t=%.6g N=%d rho*L plateau narrower than 4h png=%s" % (ts, sm["n_particles"], out))
+    chart_readings.write(out, readings(snaps[-1][1], n, h, sm), runs=[a.dir])
+
+
+def readings(snapshot, n, h, sm):
+    """The test's measures of one run: plateaus (value, exact, relative error) and the
+    fronts' offsets from the exact positions in units of h."""
+    t, x, rho, u, p = profile(snapshot, n)
+    plateaus, fronts = measure(t, x, rho, u, p, h / n)
+    out = {"dim": int(sm["dim"]), "n_particles": sm["n_particles"], "h": h, "sod_n": n, "h_over_n": h / n,
+           "steps": sm.get("steps"), "rhs_evals": sm.get("rhs_evals"),
+           "energy_rel_drift_max": sm.get("energy_rel_drift_max")}
+    names = {"u*": "u_star", "p*": "p_star", "rho*L": "rho_star_l", "rho*R": "rho_star_r"}
+    for k, (got, want) in plateaus.items():
+        out[names[k]] = {"value": got, "exact": want, "rel": got / want - 1.0}
+    for k, (got, want) in fronts.items():
+        out[k.replace(" ", "_")] = {"exact": want, "offset_h": [(g - want) / (h / n) for g in got]}
+    return out
 
 
 if __name__ == "__main__":

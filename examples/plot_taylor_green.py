@@ -26,6 +26,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import chart_readings  # noqa: E402
 import spam_manifest  # noqa: E402
 
 
@@ -65,6 +66,8 @@ def main():
     fig.tight_layout()
     fig.savefig(out, dpi=110)
     print(f"rate={fit:.6g} continuum={rate:.6g} relative_error={fit / rate - 1:+.4f} png={out}")
+    chart_readings.write(out, dict(chart_readings.books(a.dir), rate=fit, continuum=rate, relative_error=fit / rate - 1),
+                         runs=[a.dir])
 
 
 if __name__ == "__main__":

@@ -99,15 +99,23 @@ def binary_id(binary):
         return hashlib.sha1(f.read()).hexdigest()[:16]
 
 
-def same_build(summary, binary):
-    """Whether a finished run's summary was made by this build of spam-ark: a study rerun
-    after a change to the program must not reuse the old build's runs."""
+def run_options(args):
+    """The options of a run as one string: the key a study's cache compares."""
+    return " ".join(map(str, args))
+
+
+def same_build(summary, binary, args=None):
+    """Whether a finished run's summary was made by this build of spam-ark and, given args,
+    with these options: a study rerun after a change to the program, or with another scene
+    or method in the same run directory, must not reuse the old run."""
+    if args is not None and summary.get("run_options") != run_options(args):
+        return False
     return summary.get("binary_sha1") == binary_id(binary)
 
 
-def remember_build(run_dir, binary, exit_code):
-    """Records the build and exit code in run_dir/summary.json (if the run wrote one), so
-    that a resumed study can reuse the run without running it again."""
+def remember_build(run_dir, binary, exit_code, args=None):
+    """Records the build, the options (args) and the exit code in run_dir/summary.json (if
+    the run wrote one), so that a resumed study can reuse the run without running it again."""
     summ = os.path.join(run_dir, "summary.json")
     if not os.path.exists(summ):
         return
@@ -115,6 +123,8 @@ def remember_build(run_dir, binary, exit_code):
         s = json.load(fh)
     s["exit_code"] = exit_code
     s["binary_sha1"] = binary_id(binary)
+    if args is not None:
+        s["run_options"] = run_options(args)
     with open(summ + ".tmp", "w", encoding="utf-8") as fh:
         json.dump(s, fh, indent=1)
     os.replace(summ + ".tmp", summ)

@@ -15,9 +15,10 @@ precision: every adaptive method x tolerance, and every fixed-step method of --f
     the symplectic Verlet, Symp3 and Symp4 of PETSc's basicsymplectic types kdk, 3 and 4) x
     step --dt (each must divide the output interval t_end/20), runs in its own
     directory DIR/runs/<label>_<tol or dt>/ (a finished run, one whose manifest.json says ok, max_steps
-    or unstable, and whose summary.json names the same spam-ark executable (its SHA-1), is
-    skipped: an interrupted study resumes, rerunning with -output_overwrite any run that was
-    interrupted, failed or made by another build). A reference (ARKODE Dormand-Prince 5(4) at rtol 1e-13) is run once
+    or unstable, and whose summary.json names the same spam-ark executable (its SHA-1) and
+    the same options, scene's included, is skipped: an interrupted study resumes, rerunning
+    with -output_overwrite any run that was interrupted, failed, made by another build or
+    with other options). A reference (ARKODE Dormand-Prince 5(4) at rtol 1e-13) is run once
     per scene and cached in DIR/reference_<hash>/. Errors are RMS position and velocity
     differences from it at every snapshot time (minimum image across periodic faces);
     drifts of energy, momentum and angular momentum come from each summary.json, the
@@ -76,6 +77,7 @@ except ImportError:
         os.execv("/usr/bin/python3", ["/usr/bin/python3"] + sys.argv)
     sys.exit("study.py needs numpy and matplotlib (Debian: python3-numpy python3-matplotlib)")
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import chart_readings  # noqa: E402
 import spam_manifest  # noqa: E402
 from chart_style import style, UNSTABLE  # noqa: E402
 
@@ -134,13 +136,13 @@ class Progress:
 
 def spam(binary, args, outdir, refused_ok=False):
     """Runs spam-ark unless outdir already holds a finished run made by this same build of
-    spam-ark (a run of another build is stale: the gallery regenerated after a change to the
-    program must not reuse it); returns (code, skipped). Exit 2 (spam-ark refused the input)
+    spam-ark with these same args (a run of another build, or of other scene options under
+    the same label, is stale: the gallery regenerated after a change must not reuse it); returns (code, skipped). Exit 2 (spam-ark refused the input)
     is returned rather than raised when refused_ok."""
     summ = os.path.join(outdir, "summary.json")
     if spam_manifest.status(outdir) in spam_manifest.FINISHED and os.path.exists(summ):
         s = json.load(open(summ))
-        if spam_manifest.same_build(s, binary):
+        if spam_manifest.same_build(s, binary, args):
             return s.get("exit_code", 0), True
     os.makedirs(os.path.dirname(outdir) or ".", exist_ok=True)
     # Not finished (absent, interrupted, failed): run it afresh over whatever is left.
@@ -150,7 +152,7 @@ def spam(binary, args, outdir, refused_ok=False):
         return 2, False
     if p.returncode not in (0, 3):
         raise SystemExit(f"spam-ark failed (exit {p.returncode}): {' '.join(map(str, args))}\n{p.stderr.strip()}")
-    spam_manifest.remember_build(outdir, binary, p.returncode)  # a resumed study needs no rerun
+    spam_manifest.remember_build(outdir, binary, p.returncode, args)  # a resumed study needs no rerun
     return p.returncode, False
 
 
@@ -511,7 +513,7 @@ def report(out, rows, charts, common, made=None):
         lines += [f"![error vs wall time]({charts['err_wall']})", "",
                   f"Reading: wall time follows RHS evaluations (the RHS takes {100 * np.median([r['rhs_share'] for r in ok]):.0f}% "
                   f"of the wall time, median); the fastest run was {fastest['method']} at {knob(fastest)} "
-                  f"({fastest['wall_s']:.2f} s).", ""]
+                  f"({fastest['wall_s']:.2f} s; the machine's load {machine_load()} when the study was written).", ""]
         slope = energy_slopes(rows)
         lines += [f"![energy drift]({charts['energy']})", "",
                   "Reading: energy drift against tolerance, fitted slopes " +
@@ -528,6 +530,12 @@ def report(out, rows, charts, common, made=None):
         lines += [f"![steps]({charts['steps']})", "",
                   f"Reading: steps grow as rtol tightens; {rej} rejected steps in all {len(adaptive)} adaptive runs.", ""]
     update_report(out, "precision", lines, made)
+
+
+def machine_load():
+    """The 1-minute load average and the cores, as a page quotes them beside a timing."""
+    m = chart_readings.machine()
+    return f"{m['load_1min']:.1f} on {m['cores']} cores" if m["load_1min"] is not None else f"unknown on {m['cores']} cores"
 
 
 def relative(text):
@@ -548,13 +556,17 @@ def update_report(out, part, lines, made=None):
     """Replaces (or appends) the section of one study in DIR/study.md, so the studies run
     one at a time (and resumed) each keep their own lines; sections written by other
     scripts (any <!-- name --> ... <!-- /name --> pair) are left as they are. The line
-    `made` (the command) follows the section's heading."""
+    `made` (the command) follows the section's heading. The section's text is also written
+    to DIR/<part>.json with the command, commit and machine load that made it, and the page
+    marks it as that file's text (tools/docs_numbers.py checks the two agree)."""
     path = os.path.join(out, "study.md")
     text = open(path).read() if os.path.exists(path) else "# spam-ark study\n"
     if made:
         lines = lines[:1] + ["", made, ""] + (lines[2:] if lines[1:2] == [""] else lines[1:])
     begin, end = f"<!-- {part} -->\n", f"<!-- /{part} -->\n"
-    section = begin + "\n".join(lines) + "\n" + end
+    body = "\n".join(lines) + "\n"
+    chart_readings.write_json(os.path.join(out, part + ".json"), {"section": body})
+    section = begin + f"<!--text {part}.json section-->\n" + body + "<!--/text-->\n" + end
     if begin in text and end in text:
         text = text[:text.index(begin)] + section + text[text.index(end) + len(end):]
     else:

@@ -75,14 +75,14 @@ def spam(binary, args, outdir):
     summ = os.path.join(outdir, "summary.json")
     if spam_manifest.status(outdir) in spam_manifest.FINISHED and os.path.exists(summ):
         s = json.load(open(summ))
-        if spam_manifest.same_build(s, binary):  # another build's run is stale
+        if spam_manifest.same_build(s, binary, args):  # another build's run is stale
             return s
     os.makedirs(os.path.dirname(outdir), exist_ok=True)
     p = subprocess.run([binary] + [str(x) for x in args] + ["-output_dir", outdir, "-output_overwrite"],
                        capture_output=True, text=True)
     if p.returncode not in (0, 3):
         raise SystemExit(f"spam-ark failed (exit {p.returncode}): {' '.join(map(str, args))}\n{p.stderr.strip()}")
-    spam_manifest.remember_build(outdir, binary, p.returncode)
+    spam_manifest.remember_build(outdir, binary, p.returncode, args)
     return json.load(open(summ)) if os.path.exists(summ) else None
 
 

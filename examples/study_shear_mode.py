@@ -79,6 +79,7 @@ except ImportError:
         os.execv("/usr/bin/python3", ["/usr/bin/python3"] + sys.argv)
     sys.exit("study_shear_mode.py needs numpy and matplotlib (Debian: python3-numpy python3-matplotlib)")
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import chart_readings  # noqa: E402
 import spam_manifest  # noqa: E402
 from chart_style import style, UNSTABLE  # noqa: E402
 
@@ -536,6 +537,48 @@ def markdown(rows, variants, lattices, kernels, ratios, readings, made):
     return "\n".join(lines)
 
 
+def rows_of_csv(path):
+    """The rows of a stored shear_mode.csv, typed as run_case makes them (a redraw of a
+    finished study: chart, tables and readings without running anything)."""
+    def value(k, v):
+        if v in ("True", "False"):
+            return v == "True"
+        if k in ("lattice", "kernel", "variant", "options", "flag"):
+            return v
+        try:
+            return int(v) if k in ("crossings", "snapshots", "exit_code") else float(v)
+        except ValueError:
+            return v
+    with open(path, newline="") as f:
+        return [{k: value(k, v) for k, v in r.items()} for r in csv.DictReader(f)]
+
+
+def cell_readings(rows):
+    """Every run's measures as cells[start][kernel][variant][X] (X = "X" + c h/nu, "." as
+    "_"), the range of the decay ratio over the kernels as ranges[variant][start or "any"][X],
+    and counts per variant and start: within 5 % of nu k^2 (flagged runs too, and unflagged
+    only), runs that ring, runs."""
+    variants = list(dict.fromkeys(r["variant"] for r in rows))
+    starts = ("ordered", "disordered", "any")
+    cells, ranges = {}, {}
+    for r in rows:
+        X = f"X{r['ch_over_nu']:g}".replace(".", "_")
+        cells.setdefault(r["lattice"], {}).setdefault(r["kernel"], {}).setdefault(r["variant"], {})[X] = {
+            k: r[k] for k in ("decay_ratio", "ringing_ratio", "theory_decay_ratio", "flag", "noise_vy_over_U", "crossings")}
+        for lat in (r["lattice"], "any"):
+            rng = ranges.setdefault(r["variant"], {}).setdefault(lat, {}).setdefault(X, {"min": math.inf, "max": -math.inf})
+            rng["min"], rng["max"] = min(rng["min"], r["decay_ratio"]), max(rng["max"], r["decay_ratio"])
+
+    def count(v, lat, unflagged):
+        return sum(1 for r in rows if r["variant"] == v and lat in (r["lattice"], "any")
+                   and abs(r["decay_ratio"] - 1) <= 0.05 and not (unflagged and r["flag"]))
+    return {"cells": cells, "ranges": ranges,
+            "within_5pct": {v: {lat: count(v, lat, False) for lat in starts} for v in variants},
+            "within_5pct_unflagged": {v: {lat: count(v, lat, True) for lat in starts} for v in variants},
+            "ringing_runs": {v: sum(1 for r in rows if r["variant"] == v and r["crossings"] > 0) for v in variants},
+            "runs": {v: sum(1 for r in rows if r["variant"] == v) for v in variants}}
+
+
 def made_line(argv):
     rel = [os.path.relpath(w, REPO) if os.path.isabs(w) else w for w in argv]
     words = ["examples/study_shear_mode.py"] + rel
@@ -560,6 +603,8 @@ def main():
     p.add_argument("--max-snapshots", type=int, default=300)
     p.add_argument("--relax-cycles", type=int, default=6, help="viscous relaxation runs of the disordered start")
     p.add_argument("--keep-snapshots", action="store_true")
+    p.add_argument("--from-csv", metavar="CSV", help="redraw the chart, tables and readings from a stored "
+                   "shear_mode.csv (of the same options) instead of running")
     p.add_argument("--amplitude", type=float, default=U, help="U (default 0.01): the rows' slide, about "
                    "0.06 (U / 0.01) (c h / nu) spacings over an e-folding, is linear only well under 1/(2 pi)")
     a = p.parse_args()
@@ -577,6 +622,12 @@ def main():
     os.makedirs(a.out, exist_ok=True)
     cases = [(lat, k, v, o, X) for v, o in variants for lat in lattices for k in kernels for X in ratios]
     rows, t0, ran = [], time.time(), 0
+    if a.from_csv:
+        rows = [r for r in rows_of_csv(a.from_csv) if (r["lattice"], r["kernel"], r["variant"], r["ch_over_nu"])
+                in {(lat, k, v, X) for lat, k, v, _, X in cases}]
+        if len(rows) != len(cases):
+            raise SystemExit(f"{a.from_csv} holds {len(rows)} of the {len(cases)} cases these options ask for")
+        cases = []
     for i, (lat, k, v, o, X) in enumerate(cases):
         row, skipped = run_case(a, lat, k, v, o, X)
         rows.append(row)
@@ -595,9 +646,12 @@ def main():
     with open(os.path.join(a.out, "shear_mode.json"), "w") as f:
         json.dump(rows, f, indent=1)
     readings = readings_of(rows, vnames, lattices)
-    readings.append(f"runs: {len(rows)}, spam-ark wall time {sum(r['wall_s'] for r in rows):.0f} s in all")
+    readings.append(f"runs: {len(rows)}")  # their wall times are in the CSV, without the load they ran under
     chart_path = a.chart or os.path.join(a.out, "shear_mode.png")
     chart(rows, chart_path, readings, lattices, vnames, kernels, a.efolds)
+    # Not CHART.json: OUT/shear_mode.json is the rows' file, and the chart defaults to OUT/shear_mode.png.
+    chart_readings.write_json(os.path.splitext(chart_path)[0] + "_readings.json", cell_readings(rows),
+                              runs=[a.from_csv or a.out], chart=os.path.basename(chart_path))
     md = markdown(rows, vnames, lattices, kernels, ratios, readings, made_line(sys.argv[1:]))
     with open(os.path.join(a.out, "shear_mode.md"), "w") as f:
         f.write(md)

@@ -22,6 +22,10 @@ its simple commands (&&, ;, |) and checked:
 Links and paths. Every relative link of a page exists; every repository path a page names in
 backticks (src/..., tests/..., examples/..., ...) exists, unless it is a pattern (NAME, *).
 History. No page carries a commit hash, an issue number or a CI timing.
+Numbers. Every number a page quotes through a marker (<!--num FILE KEY-->, <!--table ...-->,
+<!--test ...-->) equals its source, a JSON a chart script wrote beside its chart with the
+command and commit that made it (tools/docs_numbers.py --check); a page edited by hand
+beside its marker is caught (control).
 README.md is at most 15 KB and starts with exactly two commands, the second being the one
 .ci/run runs.
 Control: a page with a bad option, a script missing, a script run through python3, a
@@ -239,6 +243,24 @@ def run_zero_steps(binary, scratch, sa, earlier):
     return p
 
 
+def numbers_control(c, workdir):
+    """A page whose marked number was edited by hand, or whose source lacks the reading, is
+    caught by tools/docs_numbers.py --check; --update puts the number back."""
+    d = os.path.join(workdir, "numbers")
+    os.makedirs(d)
+    with open(os.path.join(d, "chart.json"), "w") as f:
+        f.write('{"command": "x", "commit": "y", "readings": {"l2": 0.012345, "rows": [1, 2]}}')
+    page = os.path.join(d, "page.md")
+    with open(page, "w") as f:
+        f.write("L2 <!--num chart.json l2 .3g-->0.0124<!--/num--> and <!--num chart.json rows.5-->3<!--/num-->\n")
+    tool = [sys.executable, os.path.join(ROOT, "tools", "docs_numbers.py")]
+    p = subprocess.run(tool + ["--check", page], capture_output=True, text=True)
+    c.check(p.returncode == 1 and "'0.0124'" in p.stdout and "no reading rows.5" in p.stdout,
+            f"control: a hand-edited number and a missing reading are caught ({p.stdout.strip()[-200:]})")
+    subprocess.run(tool + ["--update", page], capture_output=True, text=True)
+    c.check("-->0.0123<!--" in open(page).read(), "control: --update writes the file's reading into the page")
+
+
 def main():
     a = arguments()
     c = Checks()
@@ -280,6 +302,12 @@ def main():
                 c.check(False, f"{page}: block at line {start}: {' '.join(sa)} (zero steps) exits {p.returncode}: "
                         f"{p.stderr.strip()[-300:]}")
     c.check(ran >= 10 and failed == 0, f"{ran} spam-ark commands of README.md and docs/*.md ran for zero steps, {failed} failed")
+
+    # Numbers: the marked numbers equal their generated sources.
+    p = subprocess.run([sys.executable, os.path.join(ROOT, "tools", "docs_numbers.py"), "--check"],
+                       capture_output=True, text=True, timeout=120)
+    c.check(p.returncode == 0, "tools/docs_numbers.py --check: " + p.stdout.strip().replace("\n", "\n      "))
+    numbers_control(c, a.workdir)
 
     # Control: each kind of fault in a page is caught.
     fake = ("# x\n\n```sh\n./build/spam-ark -options_file options/expansion.opts -ts_rtoll 1e-6\n"

@@ -54,9 +54,16 @@ c.check(dmirror < BOUND_MIRROR, f"walled n = {N} against periodic n = {2 * N}: m
 mid = min(range(len(tw["t"])), key=lambda k: abs(tw["t"][k] - 2 * N))
 fw, fp = tw["dS_sum_ratio"][mid], tp["dS_sum_ratio"][mid]
 c.check(abs(fw - fp) < BOUND_SAME, f"walled against periodic at n = {N}, t = {tw['t'][mid] / N:g} tau: dS/(N k ln 4) {fw:.4f} and {fp:.4f}, difference {fw - fp:+.4f} (< {BOUND_SAME}); periodic 2n {td['dS_sum_ratio'][mid]:.4f}")
+for key, v in (("mirror_max", dmirror), ("walled_2tau", fw), ("periodic_2tau", fp), ("walled_4tau", tw["dS_sum_ratio"][-1]),
+               ("periodic_4tau", tp["dS_sum_ratio"][-1]), ("periodic2n_4tau", td["dS_sum_ratio"][-1])):
+    c.reading(key, v)
 print(f"     at t = 4 tau: walled {tw['dS_sum_ratio'][-1]:.4f}, periodic {tp['dS_sum_ratio'][-1]:.4f}, periodic 2n {td['dS_sum_ratio'][-1]:.4f}")
 s = summary(walled)
 c.check(s["energy_rel_drift_max"] < 1e-4, f"walled: energy drift {s['energy_rel_drift_max']:.2e} at rtol 1e-6 (< 1e-4; periodic {summary(same)['energy_rel_drift_max']:.2e}); {s['post_step_jumps']} wall crossings reflected")
+for key, v in (("energy_walled", s["energy_rel_drift_max"]), ("energy_periodic", summary(same)["energy_rel_drift_max"]),
+               ("crossings", s["post_step_jumps"])):
+    c.reading(key, v)
 work = max(abs(w) for w in tw["wall_work"])
 c.check(work <= 1e-12 * tw["total"][0], f"walled: the static walls' work book stays 0 (max |W| {work:.2e})")
-c.finish()
+c.reading("wall_work_max", work)
+c.finish(a.readings)

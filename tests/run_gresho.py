@@ -108,6 +108,9 @@ def run_case(a, c, n):
     c.check(early < 2e-3, f"n = {n}: L_z to {early:.1e} of L_z(0) until t = 0.2 L (bound 2e-3); at t = {T_END} L: {lz[-1] / lz[0] - 1:+.2e} (periodic box)")
     de = np.max(np.abs(total / total[0] - 1))
     c.check(de < 10 * RTOL, f"n = {n}: energy to {de:.1e} (bound 10 rtol = {10 * RTOL:g})")
+    for k, v in (("h_over_L", hL), ("l1", l1), ("l1_bound", 2.5 * hL), ("peak", peak), ("lz_early", early),
+                 ("lz_end", lz[-1] / lz[0] - 1), ("torque", tq), ("energy", de)):
+        c.reading(f"n{n}.{k}", v)
     return l1
 
 
@@ -115,4 +118,5 @@ a = arguments()
 c = Checks()
 l1s = [run_case(a, c, n) for n in (24, 48)]
 c.check(l1s[1] / l1s[0] < 0.85, f"L1 falls with resolution: {l1s[0]:.4f} -> {l1s[1]:.4f}, ratio {l1s[1] / l1s[0]:.3f} (bound 0.85; order {math.log2(l1s[0] / l1s[1]):.2f})")
-c.finish()
+c.reading("order", math.log2(l1s[0] / l1s[1]))
+c.finish(a.readings)

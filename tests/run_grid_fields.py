@@ -161,9 +161,12 @@ c.check(comment.startswith("# t=0 ") and "dims=32x32" in comment, f"CSV comment 
 c.check(list(g) == ["x", "y", "rho", "vx", "vy", "e", "T", "S"], f"CSV columns {','.join(g)}")
 pts = np.stack([g["x"], g["y"]], axis=1)
 ref = reference(pts, x2, {"vx": vx, "vy": np.zeros(len(x2)), "e": np.full(len(x2), E0)}, [N, N], H, True)
+direct = 0.0
 for k in ("rho", "S", "vx", "e"):
     e = rel_err(g[k], ref[k])
     c.check(e < 1e-12, f"(0) {k} equals the direct sum: max relative difference {e:.2e} < 1e-12")
+    direct = max(direct, e)
+c.reading("direct_sum_rel", direct)
 E_LAT = lattice_error(H, 2, N)
 d_rho = float(np.abs(g["rho"] - 1).max())
 c.check(d_rho <= E_LAT + 1e-12, f"(a) |rho - 1| = {d_rho:.3e} <= lattice-sum error E_lat = {E_LAT:.3e} (Lucy 2D, h/a = 3)")
@@ -171,6 +174,8 @@ d_s = float(np.abs(g["S"] - 1).max())
 c.check(d_s <= 2 * E_LAT / (1 - E_LAT), f"(a) |S - 1| = {d_s:.3e} <= 2 E_lat / (1 - E_lat) = {2 * E_LAT / (1 - E_LAT):.3e}")
 d_e = float(np.abs(g["e"] / g["S"] - E0).max())
 d_t = float(np.abs(g["T"] - (GAMMA - 1) * g["e"]).max())
+for k, v in (("E_lat", E_LAT), ("rho_dev", d_rho), ("S_dev", d_s), ("S_bound", 2 * E_LAT / (1 - E_LAT)), ("e_dev", d_e), ("T_dev", d_t)):
+    c.reading(k, v)
 c.check(d_e < 1e-12 and d_t < 1e-12, f"(a) e / S = {E0} to {d_e:.1e}, T = (gamma - 1) e to {d_t:.1e} (< 1e-12)")
 
 
@@ -187,10 +192,14 @@ A = float((g["vx"] * s_k).sum() / (s_k ** 2).sum())
 c.check(abs(float(lucy2d_moment(1)) - 5 / 28) < 1e-15 and abs(float(lucy2d_moment(2)) - 1 / 18) < 1e-15, "(b) Lucy 2D moments <r^2> = 5 h^2/28, <r^4> = h^4/18")
 c.check(abs(A - w_hat) <= 3 * E_LAT, f"(b) v_x amplitude {A:.5f} vs w^(k) = {w_hat:.5f} (leading order 1 - 5 (kh)^2/112 = {1 - 5 * kh ** 2 / 112:.5f}): |diff| {abs(A - w_hat):.2e} <= 3 E_lat = {3 * E_LAT:.2e}")
 resid = float(np.abs(g["vx"] - A * s_k).max())
+for k, v in (("amplitude", A), ("w_hat", w_hat), ("leading_order", 1 - 5 * kh ** 2 / 112), ("residual", resid)):
+    c.reading(k, v)
 c.check(resid <= 3 * E_LAT and float(np.abs(g["vy"]).max()) == 0.0, f"(b) max |v_x - A sin kx| = {resid:.2e} <= 3 E_lat, v_y = 0")
 p = subprocess.run([sys.executable, PLOT, out, "--field", "vx", "--time", "0", "-o", os.path.join(w, "mode_vx.png")], capture_output=True, text=True)
 m = re.search(r"peak_k=([0-9.eE+-]+)", p.stdout)
 peak = float(m.group(1)) if m else float("nan")
+c.reading("peak_k", peak)
+c.reading("mode_k", K)
 c.check(p.returncode == 0 and abs(peak - K) <= 0.5 * (2 * math.pi / N), f"(b) plot_grid.py spectrum peak k = {peak:.5f}, mode k = {K:.5f} (within dk/2 = {math.pi / N:.4f}) {p.stderr.strip()[:200]}")
 
 # --------------------------------------------------------------- (c) XDMF and shapes ----
@@ -224,6 +233,8 @@ fo = write_file("rest.csv", x2, {"vx": np.zeros(len(x2)), "vy": np.zeros(len(x2)
 out, code, se = spam("open", ["-file_path", fo, "-box_len", "16,16", "-h", H, "-periodic", 0, "-grid_interval", 0.5])
 _, go = grid_csv(manifest_files(out, "grid_csv")[0]) if code == 0 else (None, {"S": np.zeros(1024), "rho": np.zeros(1024), "x": np.zeros(1024), "y": np.zeros(1024)})
 corner, rho_c = float(go["S"][0]), float(go["rho"][0])
+c.reading("corner_rho", rho_c)
+c.reading("corner_S", corner)
 
 
 def quadrant(p, h, d=0.01):
@@ -240,12 +251,15 @@ def quadrant(p, h, d=0.01):
 
 
 I_q, B_q = quadrant(0.25, H)
+c.reading("quarter_plane", I_q)
+c.reading("quarter_plane_bound", B_q)
 ref = reference(np.stack([go["x"], go["y"]], axis=1), x2, {}, [N, N], H, False) if code == 0 else {"S": go["S"]}
 c.check(code == 0 and abs(rho_c - I_q) <= B_q and rel_err(go["S"], ref["S"]) < 1e-12,
         f"(e) open box, corner point (0.25, 0.25): rho = {rho_c:.4f} vs the quarter-plane integral {I_q:.4f} (|diff| {abs(rho_c - I_q):.4f} <= midpoint bound {B_q:.4f}); S equals the direct sum")
 c.check(corner < 1 - 10 * E_LAT, f"(e) open box: S = {corner:.3f} at the corner point, below 1 - 10 E_lat = {1 - 10 * E_LAT:.3f}: the one-sided sum shows")
 inner = (go["x"] > H) & (go["x"] < N - H) & (go["y"] > H) & (go["y"] < N - H)
 d_in = float(np.abs(go["S"][inner] - 1).max())
+c.reading("interior_S_dev", d_in)
 c.check(d_in <= 2 * E_LAT / (1 - E_LAT), f"(e) open box interior (beyond h of the faces): |S - 1| = {d_in:.2e}")
 
 # ------------------------------------------------------------- (e) walls at y = 0, 16 ----
@@ -254,6 +268,8 @@ _, gw = grid_csv(manifest_files(out, "grid_csv")[0]) if code == 0 else (None, {"
 pw = np.stack([gw["x"], gw["y"]], axis=1)
 rw = lucy(pairs(pw, x2, [N, N], [True, False]), H, 2).sum(axis=1)
 row0 = gw["y"] < 1
+c.reading("wall_row_rho", float(gw["rho"][row0].mean()))
+c.reading("wall_row_S", float(gw["S"][row0].mean()))
 c.check(code == 0 and rel_err(gw["rho"], rw) < 1e-12 and float(gw["S"][row0].max()) < 1 - 10 * E_LAT,
         f"(e) walls at y = 0 and 16 (-wall_ylo/-wall_yhi noslip): rho is the local particles' sum (no wall images), "
         f"rho = {float(gw['rho'][row0].mean()):.3f} and S = {float(gw['S'][row0].mean()):.3f} in the row y = 0.5")
@@ -264,6 +280,7 @@ out, code, se = spam("line", ["-dim", 1, "-file_path", write_file("line.csv", x1
 ok = code == 0 and h5_shape(manifest_files(out, "grid_h5")[0], "/rho") == (1, 16)
 _, g1 = grid_csv(manifest_files(out, "grid_csv")[0]) if ok else (None, {"rho": np.zeros(1)})
 e1 = lattice_error(H, 1, 16)
+c.reading("E_lat_1d", e1)
 c.check(ok and float(np.abs(g1["rho"] - 1).max()) <= e1 + 1e-12, f"(f) 1D: /rho shape (1, 16), |rho - 1| <= E_lat = {e1:.2e}")
 x3 = lattice(6, 3)
 z3 = np.zeros(len(x3))
@@ -271,6 +288,7 @@ out, code, se = spam("cube", ["-dim", 3, "-file_path", write_file("cube.csv", x3
 ok = code == 0 and h5_shape(manifest_files(out, "grid_h5")[0], "/rho") == (6, 6, 6) and h5_shape(manifest_files(out, "grid_h5")[0], "/velocity") == (6, 6, 6, 3)
 _, g3 = grid_csv(manifest_files(out, "grid_csv")[0]) if ok else (None, {"rho": np.zeros(1)})
 e3 = lattice_error(2.5, 3, 6)
+c.reading("E_lat_3d", e3)
 c.check(ok and float(np.abs(g3["rho"] - 1).max()) <= e3 + 1e-12, f"(f) 3D: /rho (6, 6, 6), /velocity (6, 6, 6, 3), |rho - 1| <= E_lat = {e3:.2e}")
 
 # ------------------------------------------------------- (h) failed write, earlier run ----
@@ -299,4 +317,4 @@ for value, extra, words in (("-1", [], "positive"), ("nan", [], "positive"), ("1
     lines = se.strip().splitlines()
     c.check(code == 2 and len(lines) == 1 and "-grid_interval" in lines[0] and words in lines[0] and not os.path.exists(outdir),
             f"(g) -grid_interval {value} {' '.join(map(str, extra))}: exit {code}, {lines[:2]}")
-c.finish()
+c.finish(a.readings)

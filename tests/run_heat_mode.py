@@ -111,5 +111,7 @@ for dim, sizes in ((1, (24, 48, 96)), (2, (24, 48))):
         c.check(abs(err) < bound, f"{dim}D L = {L}: rate error {err:+.4f} within {bound:.4f} = 1.1 x (k^2 <r^2>/D + |floor|)")
         c.check(abs(rate - sigma_v) < abs(rate - sigma_v / GAMMA), f"{dim}D L = {L}: nearer kappa k^2/(rho c_v) than kappa k^2/(rho c_p)")
         errors.append(err)
+        for key, v in (("rate", rate), ("thermal", thermal), ("error", err), ("bound", bound), ("curve", dev)):
+            c.reading(f"d{dim}.L{L}.{key}", v)
     c.check(all(abs(e1) > abs(e2) for e1, e2 in zip(errors, errors[1:])), f"{dim}D: error falls with resolution: " + ", ".join(f"{e:+.4f}" for e in errors))
-c.finish()
+c.finish(a.readings)

@@ -112,16 +112,24 @@ def main():
         c.check(abs(r_half - r_exact) <= H / 2, f"t = {t:.2f}: radius {r_half:.3f} against xi0 (E t^2)^(1/4) = {r_exact:.3f}: {r_half - r_exact:+.3f} (bound h/2 = {H / 2})")
         c.check(peak < (GAMMA + 1) / (GAMMA - 1) and abs(peak / peak_sm - 1) <= 0.15,
                 f"t = {t:.2f}: peak density {peak:.3f} = {peak / peak_sm:.3f} of the smoothed exact {peak_sm:.3f} (bound 15% below or above), {peak / 4:.2f} of the limit 4")
+        for key, v in (("R", r_half), ("R_smoothed", r_sm), ("R_power_law", r_exact), ("dR_smoothed", r_half - r_sm),
+                       ("dR_power_law", r_half - r_exact), ("peak", peak), ("peak_smoothed", peak_sm),
+                       ("peak_ratio", peak / peak_sm), ("peak_over_limit", peak / ((GAMMA + 1) / (GAMMA - 1)))):
+            c.reading(f"t{t:g}".replace(".", "_") + "." + key, v)
     c.check(len(times) == len(T_CHECK), f"snapshots at t = {T_CHECK}: {len(times)} found")
     if len(times) >= 2:
         slope = np.polyfit(np.log(times), np.log(radii), 1)[0]
         slope_sm = np.polyfit(np.log(times), np.log(smooth_radii), 1)[0]
         bound = (H / 4 / radii[0] + H / 4 / radii[-1]) / math.log(times[-1] / times[0])
         c.check(abs(slope - slope_sm) <= bound, f"growth exponent {slope:.4f} against the smoothed exact radii's {slope_sm:.4f}: {slope - slope_sm:+.4f} (bound {bound:.3f})")
+        c.reading("exponent", slope)
+        c.reading("exponent_smoothed", slope_sm)
+        c.reading("exponent_bound", bound)
         c.check(abs(slope - 0.5) <= 0.1 and bound <= 0.1, f"growth exponent {slope:.4f} (smoothed exact {slope_sm:.4f}) against 2/(D+2) = 0.5 (bound 0.1; the radius bound allows {bound:.3f})")
     sm = summary(out)
     c.check(sm["energy_rel_drift_max"] < 1e-5, f"energy drift {sm['energy_rel_drift_max']:.2e} < 1e-5")
-    c.finish()
+    c.reading("energy_rel_drift_max", sm["energy_rel_drift_max"])
+    c.finish(a.readings)
 
 
 if __name__ == "__main__":

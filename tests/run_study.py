@@ -5,7 +5,9 @@ columns, five charts and study.md; Dormand-Prince's RMS position error falls as 
 tolerance tightens (by more than 10x for 10^4x in rtol: the global error of an adaptive
 fifth-order pair falls at least as rtol^(1/4) even with the C^1 kernel); a study whose
 runs were partly lost resumes by running only the missing case; and one resumed with another
-build of spam-ark reruns every case."""
+build of spam-ark reruns every case, and one resumed with other scene options in the same
+directory reruns every case too (the run directories are named by method and tolerance
+only, so the cache must compare the options)."""
 import csv
 import os
 import shutil
@@ -46,6 +48,13 @@ p = subprocess.run(cmd, capture_output=True, text=True)
 skipped = p.stdout.count("skipped")
 c.check(p.returncode == 0 and skipped == 4 and p.stdout.count("[") == 5,
         f"resumed study: {skipped} of 5 runs skipped (reference + 3), one rerun")
+# Other scene options, same labels and tolerances: every run directory's name is reused, but
+# the runs are another problem's, so none may be skipped (the reference has a new directory).
+scene = cmd.index("--scene-opts") + 1
+other_scene = cmd[:scene] + ["-expansion_n 10 -h 3 -ts_max_time 8"] + cmd[scene + 1:]
+p = subprocess.run(other_scene, capture_output=True, text=True)
+c.check(p.returncode == 0 and p.stdout.count("skipped") == 0 and p.stdout.count("[") == 5,
+        f"study resumed with other scene options: {p.stdout.count('skipped')} of 5 runs skipped (none may be)")
 # Another build: the same executable with one byte appended (an ELF file ignores trailing
 # bytes) has another SHA-1, so every run, the reference too, is stale and made again.
 other = os.path.join(a.workdir, "spam-ark-other-build")

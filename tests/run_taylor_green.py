@@ -72,6 +72,8 @@ def measure(a, c, dim, L, h, scheme="flow", rtol=1e-8):
     rate = -np.polyfit(t, np.log(ke), 1)[0]
     cont = 2 * dim * ETA * (2 * math.pi / L) ** 2
     print(f"     rate {rate:.5f}, continuum {cont:.5f}, relative error {rate / cont - 1:+.4f}")
+    for key, v in (("rate", rate), ("continuum", cont), ("error", rate / cont - 1), ("curve", dev)):
+        c.reading(f"{scheme}.d{dim}.L{L}.{key}", v)
     return rate, cont, t, ke, form
 
 
@@ -96,12 +98,15 @@ for L in (24, 48, 96):
     bound = smooth / L**2 + abs(floor)
     c.check(abs(err) < 1.1 * bound, f"L = {L}: |error| {abs(err):.4f} within 1.1 x (smoothing + |floor|) = {1.1 * bound:.4f}")
     errors.append(err)
+    c.reading(f"flow.d2.L{L}.bound", 1.1 * bound)
     if L == 24:
         t24, ke24 = t, ke
 c.check(abs(errors[0]) > abs(errors[1]) > abs(errors[2]), f"error falls with resolution: {errors[0]:+.4f}, {errors[1]:+.4f}, {errors[2]:+.4f}")
 for e1, e2, pair in ((errors[0], errors[1], "24/48"), (errors[1], errors[2], "48/96")):
     ratio = (e1 - floor) / (e2 - floor)
     c.check(3.0 < ratio < 5.0, f"error less the floor, {pair}: ratio {ratio:.2f} (second order in k h: 4)")
+    c.reading(f"ratio_{pair.replace('/', '_')}", ratio)
+c.reading("floor", floor)
 tg, keg, _ = run_case(a, c, 2, 24, h, "ghost")
 same = len(tg) == len(t24) and np.max(np.abs(tg - t24)) == 0
 diff = np.max(np.abs(keg / ke24 - 1)) if same else float("inf")
@@ -110,4 +115,4 @@ c.check(same and diff < 1e-10, f"-periodic_images ghost = minimum image: KE to {
 # curve's bound), at 1e-10 1.7e-8, which leaves the bound to the physics.
 measure(a, c, 3, 12, 2.0, rtol=1e-10)
 measure(a, c, 2, 24, h, scheme="plain")  # the papers' equations: the stiffness is in the theory
-c.finish()
+c.finish(a.readings)

@@ -42,6 +42,9 @@ def case(a, c, L, extra=()):
     bound = 1.1 * (k * k * lucy_second_moment(2, H) + FLOOR) + MACH**2  # |k|^2 <r^2> / D = k^2 <r^2> here
     print(f"     {name}: c h / nu = {H / nu:.1f}, KE(t_e) / continuum = {ratio:.4f}, bound {bound:.4f}, "
           f"scheme energy {ts['scheme_energy'][-1] / ts['kinetic'][0]:+.3f} KE0, drift net of it {drift:.2e}")
+    for key, v in (("ratio", ratio), ("bound", 1 + bound), ("ch_over_nu", H / nu),
+                   ("scheme_energy_over_ke0", ts["scheme_energy"][-1] / ts["kinetic"][0]), ("drift", drift)):
+        c.reading(f"{name}.{key}", v)
     return ratio - 1, bound, drift
 
 
@@ -57,4 +60,4 @@ c.check(abs(errs[1]) < abs(errs[0]), f"error falls with resolution: {errs[0]:+.4
 c.check(abs(errs[1]) < 0.02, f"L = 96: within 2 % of the continuum ({errs[1]:+.4f})")
 err, bound, _ = case(a, c, 48, ("-gas_scheme", "plain"))
 c.check(abs(err) > bound, f"plain scheme at L = 48 misses the bound ({err:+.4f}): the flow scheme is needed")
-c.finish()
+c.finish(a.readings)

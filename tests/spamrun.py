@@ -9,11 +9,22 @@ import sys
 
 
 class Checks:
-    """Counts checks and prints the closing line 'N passed, N failed'."""
+    """Counts checks and prints the closing line 'N passed, N failed'. A test may also record
+    the readings a page quotes (reading()); with --readings FILE they are written to FILE
+    with the command and commit (examples/chart_readings.py) when the test passes."""
 
     def __init__(self):
         self.passed = 0
         self.failed = 0
+        self.readings = {}
+
+    def reading(self, key, value):
+        """Records one reading under a dotted key ("n24.l1")."""
+        d = self.readings
+        *parents, last = key.split(".")
+        for p in parents:
+            d = d.setdefault(p, {})
+        d[last] = float(value) if hasattr(value, "dtype") else value
 
     def check(self, ok, message):
         print(("ok  : " if ok else "FAIL: ") + message, flush=True)
@@ -23,7 +34,11 @@ class Checks:
             self.failed += 1
         return ok
 
-    def finish(self):
+    def finish(self, readings_path=None):
+        if readings_path and not self.failed:
+            sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "examples"))
+            import chart_readings
+            chart_readings.write_json(readings_path, self.readings)
         print(f"{self.passed} passed, {self.failed} failed")
         sys.exit(1 if self.failed else 0)
 
@@ -32,6 +47,7 @@ def arguments():
     p = argparse.ArgumentParser()
     p.add_argument("--spam-ark", required=True)
     p.add_argument("--workdir", required=True)
+    p.add_argument("--readings", help="write the readings a page quotes to this JSON file (when the test passes)")
     a = p.parse_args()
     shutil.rmtree(a.workdir, ignore_errors=True)
     os.makedirs(a.workdir)

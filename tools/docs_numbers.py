@@ -1,0 +1,218 @@
+#!/usr/bin/python3
+"""Numbers in the pages come from generated files: fill them in (--update) or check them (--check).
+
+A page quotes a reading through a marker that names where it comes from; what stands
+between the marker and its end is what a reader sees, and is rewritten from the source:
+
+    <!--num FILE KEY [FORMAT]-->0.0123<!--/num-->
+        a reading of FILE (a JSON a chart script wrote beside its chart, examples/chart_readings.py;
+        the path relative to the page). KEY is a dotted path into its "readings" (list
+        items by index), or @NAME for a field of the file itself (@load_1min, @describe).
+        FORMAT is a Python format spec (.3g, +.2%, .4f, .2e; exponents are written without
+        leading zeros: 7.5e-5), or one ending in x (.2x) for "7.5 × 10⁻⁵"; a leading u
+        writes a minus as "−". Default: g.
+    <!--table FILE KEY-->
+    | ... the table ... |
+    <!--/table-->
+        a whole table: the reading is {"columns": [...], "rows": [[cell, ...], ...]} of
+        formatted cells.
+    <!--text FILE KEY-->
+    ... generated markdown ...
+    <!--/text-->
+        a generated section (a study's text, examples/study.py): the reading is the text itself.
+    <!--test PATH [TOKEN]-->3%<!--/test-->
+        a number a test asserts: PATH (from the repository's root) must be a test ctest runs
+        (a tests/run_*.py, or named in tests/CMakeLists.txt), and TOKEN, when given, must occur in it (the
+        bound as the test writes it, e.g. 0.03).
+
+--check (the default) lists every marker whose text differs from its source, every
+source or key that does not exist and every JSON without its command and commit, and exits
+1 if there is one; --update rewrites the pages' marked text from the sources. With paths,
+only those pages; otherwise README.md, CONTRIBUTING.md, bench/README.md, tests/README.md
+and docs/**/*.md.
+"""
+import argparse
+import glob
+import json
+import os
+import re
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+W = r"((?:(?!-->)\S)+)"  # a word of a marker, which ends at -->
+NUM = re.compile(rf"<!--num\s+{W}\s+{W}(?:\s+{W})?\s*-->(.*?)<!--/num-->")
+TABLE = re.compile(rf"<!--table\s+{W}\s+{W}\s*-->\n(.*?)<!--/table-->", re.S)
+TEXT = re.compile(rf"<!--text\s+{W}\s+{W}\s*-->\n(.*?)<!--/text-->", re.S)
+TEST = re.compile(rf"<!--test\s+{W}(?:\s+{W})?\s*-->(.*?)<!--/test-->")
+SUPER = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
+
+
+class Missing(Exception):
+    pass
+
+
+def pages(paths):
+    if paths:
+        return [os.path.relpath(os.path.abspath(p), ROOT) for p in paths]
+    out = [p for p in ("README.md", "CONTRIBUTING.md", "bench/README.md", "tests/README.md")
+           if os.path.exists(os.path.join(ROOT, p))]
+    out += sorted(os.path.relpath(p, ROOT) for p in glob.glob(os.path.join(ROOT, "docs", "**", "*.md"), recursive=True))
+    return out
+
+
+_cache = {}
+
+
+def source(page, name):
+    """The JSON document name (relative to page) as a dict; raises Missing."""
+    path = os.path.normpath(os.path.join(ROOT, os.path.dirname(page), name))
+    if path not in _cache:
+        try:
+            with open(path, encoding="utf-8") as fh:
+                doc = json.load(fh)
+        except (OSError, ValueError) as exc:
+            raise Missing(f"{name}: {exc}")
+        lacks = [k for k in ("command", "commit", "readings") if k not in doc]
+        if lacks:
+            raise Missing(f"{name}: no {', '.join(lacks)} (not written by examples/chart_readings.py)")
+        _cache[path] = doc
+    return _cache[path]
+
+
+def lookup(doc, key):
+    if key.startswith("@"):
+        if key[1:] not in doc:
+            raise Missing(f"no field {key[1:]}")
+        return doc[key[1:]]
+    v = doc["readings"]
+    for part in key.split("."):
+        if isinstance(v, list) and re.fullmatch(r"-?\d+", part) and -len(v) <= int(part) < len(v):
+            v = v[int(part)]
+        elif isinstance(v, dict) and part in v:
+            v = v[part]
+        else:
+            raise Missing(f"no reading {key}")
+    return v
+
+
+def fmt(value, spec):
+    """value written as spec says (see the module's text)."""
+    spec = spec or "g"
+    uminus = spec.startswith("u")
+    if uminus:
+        spec = spec[1:]
+    if isinstance(value, str):
+        s = value
+    elif spec.endswith("x"):
+        m, e = format(float(value), spec[:-1] + "e").split("e")
+        s = f"{m} × 10{str(int(e)).translate(SUPER)}"
+    else:
+        s = format(value, spec)
+        s = re.sub(r"e([+-])0*(\d)", lambda m: "e" + ("-" if m.group(1) == "-" else "") + m.group(2), s)
+    return s.replace("-", "−") if uminus else s
+
+
+def render_table(t):
+    if not isinstance(t, dict) or "columns" not in t or "rows" not in t:
+        raise Missing("not a table reading (columns, rows)")
+    lines = ["| " + " | ".join(t["columns"]) + " |", "|" + "---|" * len(t["columns"])]
+    lines += ["| " + " | ".join(str(c) for c in r) + " |" for r in t["rows"]]
+    return "\n".join(lines) + "\n"
+
+
+def registered_tests():
+    try:
+        return open(os.path.join(ROOT, "tests", "CMakeLists.txt"), encoding="utf-8").read()
+    except OSError:
+        return ""
+
+
+def process(page, text, problems):
+    """text with every marker's text rewritten from its source; problems appended."""
+    def num(m):
+        name, key, spec, shown = m.groups()
+        try:
+            want = fmt(lookup(source(page, name), key), spec)
+        except (Missing, ValueError, TypeError) as exc:
+            problems.append(f"{page}: <!--num {name} {key}-->: {exc}")
+            return m.group(0)
+        if want != shown:
+            problems.append(f"{page}: {name} {key}: the page says {shown!r}, the file {want!r}")
+        return m.group(0)[:m.start(4) - m.start(0)] + want + "<!--/num-->"
+
+    def table(m):
+        name, key, shown = m.groups()
+        try:
+            want = render_table(lookup(source(page, name), key))
+        except Missing as exc:
+            problems.append(f"{page}: <!--table {name} {key}-->: {exc}")
+            return m.group(0)
+        if want != shown:
+            problems.append(f"{page}: table {name} {key} differs from the file")
+        return m.group(0)[:m.start(3) - m.start(0)] + want + "<!--/table-->"
+
+    def text_(m):
+        name, key, shown = m.groups()
+        try:
+            want = lookup(source(page, name), key)
+        except Missing as exc:
+            problems.append(f"{page}: <!--text {name} {key}-->: {exc}")
+            return m.group(0)
+        if want != shown:
+            problems.append(f"{page}: text {name} {key} differs from the file")
+        return m.group(0)[:m.start(3) - m.start(0)] + want + "<!--/text-->"
+
+    cmake = registered_tests()
+
+    def test(m):
+        path, token, _ = m.groups()
+        full = os.path.join(ROOT, path)
+        if not os.path.isfile(full):
+            problems.append(f"{page}: <!--test {path}-->: no such test")
+        elif not (re.fullmatch(r"tests/run_\w+\.py", path)  # ctest runs every tests/run_*.py
+                  or re.search(r"\b%s\b" % re.escape(os.path.splitext(os.path.basename(path))[0]), cmake)):
+            problems.append(f"{page}: <!--test {path}-->: not a test tests/CMakeLists.txt runs")
+        elif token and token not in open(full, encoding="utf-8").read():
+            problems.append(f"{page}: <!--test {path} {token}-->: the test does not say {token}")
+        return m.group(0)
+
+    text = TEXT.sub(text_, text)
+    text = TABLE.sub(table, text)
+    text = NUM.sub(num, text)
+    return TEST.sub(test, text)
+
+
+def count(text):
+    return sum(len(r.findall(text)) for r in (NUM, TABLE, TEXT, TEST))
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--update", action="store_true", help="rewrite the marked text from the sources")
+    ap.add_argument("--check", action="store_true", help="fail when a marked text differs (the default)")
+    ap.add_argument("pages", nargs="*")
+    a = ap.parse_args()
+    problems, markers, changed = [], 0, []
+    for page in pages(a.pages):
+        path = os.path.join(ROOT, page)
+        text = open(path, encoding="utf-8").read()
+        markers += count(text)
+        before = len(problems)
+        new = process(page, text, problems)
+        if a.update and new != text:
+            with open(path, "w", encoding="utf-8") as fh:
+                fh.write(new)
+            changed.append(page)
+            del problems[before:]
+            process(page, new, problems)  # what remains: missing sources or keys
+    for p in problems:
+        print(p)
+    if a.update:
+        print(f"{markers} markers; rewrote {len(changed)} page(s): {' '.join(changed) or '-'}")
+    else:
+        print(f"{markers} markers, {len(problems)} problem(s)")
+    sys.exit(1 if problems else 0)
+
+
+if __name__ == "__main__":
+    main()
