@@ -42,10 +42,10 @@ export OMPI_MCA_ess_singleton_isolated=1
 # checkpoint, and every 48th of the generated option values and file mutations
 # (tests/run_fuzz.py, SPAM_FUZZ_STRIDE). The
 # generated cases repeat the same few code paths with other values; the normal build runs
-# the rest of them (all of them, unless .ci/run's SPAM_FUZZ_SANITIZED_STRIDE told it to
-# leave these to this run: then this run takes that stride, so that the two runs together
-# are the whole corpus, each case once). The corpus's cases run without LeakSanitizer's exit
-# scan (run_fuzz.py says why); every other test keeps it.
+# them all, or, where .ci/run sets SPAM_FUZZ_SANITIZED_STRIDE, all but the cases this run
+# takes, and this run then takes that stride (the two runs together are the whole corpus,
+# each case once). The corpus's cases run without LeakSanitizer's exit scan (run_fuzz.py
+# says why); every other test keeps it.
 export SPAM_FUZZ_STRIDE="${SPAM_FUZZ_SANITIZED_STRIDE:-${SPAM_FUZZ_STRIDE:-48}}"
 cmake -S . -B build-asan -DSPAM_SANITIZE=ON -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build-asan -j2
