@@ -72,6 +72,35 @@ def centrelines(parts, L, U, h, ys, xs):
     return u, v
 
 
+def snapshot_profiles(parts, L, U, h, fine=128):
+    """One snapshot's centreline profiles: at Ghia's points (u at U_Y, v at V_X) and on the
+    fine line (fine - 1 points, walls excluded). combine() averages such profiles; computing
+    them once per snapshot lets a caller have both the mean over the snapshots and each
+    snapshot's own errors (run_cavity's spread) without walking the particles twice."""
+    line = [k / fine for k in range(1, fine)]
+    u, v = centrelines(parts, L, U, h, ghia1982.U_Y, ghia1982.V_X)
+    uf, vf = centrelines(parts, L, U, h, line, line)
+    return dict(u=u, v=v, line=line, u_line=uf, v_line=vf)
+
+
+def combine(profiles, re):
+    """The mean of snapshot_profiles() results and its errors against Ghia at this Re (see
+    compare)."""
+    def mean(key):
+        cols = [p[key] for p in profiles]
+        return [sum(c) / len(cols) for c in zip(*cols)]
+
+    u, v, uf, vf = mean("u"), mean("v"), mean("u_line"), mean("v_line")
+    inner = range(1, len(ghia1982.U_Y) - 1)
+    linf_u = max(abs(u[k] - ghia1982.U[re][k]) for k in inner)
+    linf_v = max(abs(v[k] - ghia1982.V[re][k]) for k in inner)
+    g = ghia1982.extrema(re)
+    ext = {"u_min": min(uf), "v_max": max(vf), "v_min": min(vf)}
+    rel = {k: (ext[k] - g[k]) / abs(g[k]) for k in ext}
+    return dict(u=u, v=v, line=profiles[0]["line"], ghia_u_top=ghia1982.U[re][-2], u_line=uf, v_line=vf, linf_u=linf_u,
+                linf_v=linf_v, extrema=ext, ghia_extrema=g, rel=rel, snapshots=len(profiles))
+
+
 def compare(snapshots, L, U, h, re, fine=128):
     """The profiles at Ghia's points and their errors against Ghia at this Re, averaged
     over the snapshots (a list of particle lists; one particle list is one snapshot):
@@ -83,19 +112,4 @@ def compare(snapshots, L, U, h, re, fine=128):
     launching at Mach 0.1 moves a single snapshot's extrema by several per cent)."""
     if snapshots and isinstance(snapshots[0], tuple):
         snapshots = [snapshots]
-    line = [k / fine for k in range(1, fine)]
-
-    def mean_profiles(ys, xs):
-        us, vs = zip(*(centrelines(parts, L, U, h, ys, xs) for parts in snapshots))
-        return [sum(c) / len(us) for c in zip(*us)], [sum(c) / len(vs) for c in zip(*vs)]
-
-    u, v = mean_profiles(ghia1982.U_Y, ghia1982.V_X)
-    inner = range(1, len(ghia1982.U_Y) - 1)
-    linf_u = max(abs(u[k] - ghia1982.U[re][k]) for k in inner)
-    linf_v = max(abs(v[k] - ghia1982.V[re][k]) for k in inner)
-    uf, vf = mean_profiles(line, line)
-    g = ghia1982.extrema(re)
-    ext = {"u_min": min(uf), "v_max": max(vf), "v_min": min(vf)}
-    rel = {k: (ext[k] - g[k]) / abs(g[k]) for k in ext}
-    return dict(u=u, v=v, line=line, ghia_u_top=ghia1982.U[re][-2], u_line=uf, v_line=vf, linf_u=linf_u, linf_v=linf_v,
-                extrema=ext, ghia_extrema=g, rel=rel, snapshots=len(snapshots))
+    return combine([snapshot_profiles(parts, L, U, h, fine) for parts in snapshots], re)

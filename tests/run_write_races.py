@@ -48,7 +48,9 @@ def full_disk_case(label, p, d, reason):
 
 def mpiexec_env():
     mpiexec = shutil.which("mpiexec")
-    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_pml="ob1")
+    # unbound ranks, as spamrun.mpiexec_env says why
+    env = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_pml="ob1",
+               OMPI_MCA_hwloc_base_binding_policy="none")
     env.pop("OMPI_MCA_ess_singleton_isolated", None)
     return mpiexec, env
 

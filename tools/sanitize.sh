@@ -42,9 +42,11 @@ export OMPI_MCA_ess_singleton_isolated=1
 # checkpoint, and every 48th of the generated option values and file mutations
 # (tests/run_fuzz.py, SPAM_FUZZ_STRIDE). The
 # generated cases repeat the same few code paths with other values; the normal build runs
-# them all. The corpus's cases run without LeakSanitizer's exit scan (run_fuzz.py says why);
-# every other test keeps it.
-export SPAM_FUZZ_STRIDE="${SPAM_FUZZ_STRIDE:-48}"
+# them all, or, where .ci/run sets SPAM_FUZZ_SANITIZED_STRIDE, all but the cases this run
+# takes, and this run then takes that stride (the two runs together are the whole corpus,
+# each case once). The corpus's cases run without LeakSanitizer's exit scan (run_fuzz.py
+# says why); every other test keeps it.
+export SPAM_FUZZ_STRIDE="${SPAM_FUZZ_SANITIZED_STRIDE:-${SPAM_FUZZ_STRIDE:-48}}"
 cmake -S . -B build-asan -DSPAM_SANITIZE=ON -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build-asan -j2
 ((build_only)) && exit 0
