@@ -26,6 +26,7 @@ typedef struct {
   double         gnorm;  /* w'(r)/r  = gnorm * G(s): cgrad C_D h^-(D+2) (Lucy: -12)      */
   int            smooth; /* derivatives of w continuous at r = h (Lucy: 2: w, w', w''    */
                          /* vanish there; w''' jumps, so the force is only C^1)          */
+  int            fourier_positive; /* positive Fourier transform in dim: no pairing */
 } SpamKernel;
 
 /* The kernel called name in dim dimensions with support radius h; an unknown name is bad

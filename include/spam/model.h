@@ -57,7 +57,7 @@ typedef struct {
   double           gravity[3];   /* uniform acceleration g (-gravity)                   */
   PetscBool        gravity_on;
   SpamKernel       kernel;
-  SpamKernel       shift_kernel; /* the flow scheme's transport shift: Wendland C2 of range h */
+  SpamKernel       shift_kernel; /* the flow scheme's transport shift: the kernel, or Wendland C2 (model_tensor.c) */
   SpamEosIsentrope eos;
   PetscBool        density_free; /* force pass only, no density pass */
   PetscBool        tensor;       /* the tensor path (rhs_tensor.c) and its field arrays */

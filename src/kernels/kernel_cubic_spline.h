@@ -37,6 +37,7 @@ static inline SpamKernelShapeInfo SpamCubicSplineInfo(const int dim)
     .cnorm  = dim == 1 ? 4.0 / 3.0 : dim == 2 ? 40.0 / (7.0 * SPAM_PI) : 8.0 / SPAM_PI,
     .cgrad  = -6.0,
     .smooth = 2,
+    .fourier_positive = 0, /* the B-splines' transforms change sign (Dehnen and Aly 2012) */
   };
   return d;
 }

@@ -36,6 +36,7 @@ static inline SpamKernelShapeInfo SpamLucyInfo(const int dim)
     .cnorm  = dim == 1 ? 5.0 / 4.0 : dim == 2 ? 5.0 / SPAM_PI : 105.0 / (16.0 * SPAM_PI),
     .cgrad  = -12.0,
     .smooth = 2, /* t^3: w, w', w'' vanish at h and w''' = 6 C_D / h^(D+3) does not: the force is C^1 */
+    .fourier_positive = dim == 1, /* Wendland C2's shape in 1D; negative in 2D and 3D (Dehnen and Aly 2012) */
   };
   return d;
 }

@@ -42,6 +42,7 @@ static inline SpamKernelShapeInfo SpamQuinticSplineInfo(const int dim)
     .cnorm  = dim == 1 ? 33.0 / 20.0 : dim == 2 ? 2079.0 / (239.0 * SPAM_PI) : 297.0 / (20.0 * SPAM_PI),
     .cgrad  = -405.0 / 22.0,
     .smooth = 4,
+    .fourier_positive = 0, /* the B-splines' transforms change sign (Dehnen and Aly 2012) */
   };
   return d;
 }

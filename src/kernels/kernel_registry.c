@@ -63,6 +63,7 @@ static PetscErrorCode KernelFromRow(const KernelRow *r, int dim, double h, SpamK
   k->wnorm  = d.cnorm * pow(h, -dim);
   k->gnorm  = d.cgrad * d.cnorm * pow(h, -(dim + 2)); /* Lucy: -12 C_D h^-(D+2), as before */
   k->smooth = d.smooth;
+  k->fourier_positive = d.fourier_positive;
   PetscFunctionReturn(0);
 }
 

@@ -40,6 +40,7 @@ typedef struct {
   double cnorm;  /* C_D: the integral of C_D F(|x|) over D-space is one */
   double cgrad;  /* F'(s)/s = cgrad G(s)                                 */
   int    smooth; /* derivatives of w continuous at r = h                 */
+  int    fourier_positive; /* its Fourier transform is positive in D: no pairing */
 } SpamKernelShapeInfo;
 
 #include <kernels/kernel_list.h> /* the kernels' headers: shapes and SpamPrefixInfo */

@@ -37,6 +37,7 @@ static inline SpamKernelShapeInfo SpamWendlandC2Info(const int dim)
     .cnorm  = dim == 1 ? 5.0 / 4.0 : dim == 2 ? 7.0 / SPAM_PI : 21.0 / (2.0 * SPAM_PI),
     .cgrad  = dim == 1 ? -12.0 : -20.0,
     .smooth = dim == 1 ? 2 : 3,
+    .fourier_positive = 1, /* Wendland's functions are positive definite in D <= 3 */
   };
   return d;
 }

@@ -36,6 +36,7 @@ static inline SpamKernelShapeInfo SpamWendlandC4Info(const int dim)
     .cnorm  = dim == 1 ? 3.0 / 2.0 : dim == 2 ? 9.0 / SPAM_PI : 495.0 / (32.0 * SPAM_PI),
     .cgrad  = dim == 1 ? -14.0 : -56.0 / 3.0,
     .smooth = dim == 1 ? 4 : 5,
+    .fourier_positive = 1, /* Wendland's functions are positive definite in D <= 3 */
   };
   return d;
 }

@@ -38,6 +38,7 @@ static inline SpamKernelShapeInfo SpamWendlandC6Info(const int dim)
     .cnorm  = dim == 1 ? 55.0 / 32.0 : dim == 2 ? 78.0 / (7.0 * SPAM_PI) : 1365.0 / (64.0 * SPAM_PI),
     .cgrad  = dim == 1 ? -6.0 : -22.0,
     .smooth = dim == 1 ? 6 : 7,
+    .fourier_positive = 1, /* Wendland's functions are positive definite in D <= 3 */
   };
   return d;
 }

@@ -72,9 +72,10 @@ PetscErrorCode SpamModelSolidSetUp(int dim, const SpamKernel *kernel, double mas
    * wavenumber where the kernel's Fourier transform is negative it runs backwards and
    * pairs the particles: Lucy's does in 2D and 3D (Dehnen and Aly 2012), and with it the
    * rows of a gas at rest pair up (0.15 of a spacing in 300 time units) or keep moving.
-   * Wendland C2's transform is positive in D <= 3, so the shift takes its gradient,
-   * whatever -kernel the other sums take. */
-  PetscCall(SpamKernelCreate("wendland_c2", dim, kernel->h, &m->shift_kernel));
+   * A kernel whose transform is positive serves the shift itself; for any other the
+   * shift takes Wendland C2's gradient (positive in D <= 3) of the same range. */
+  if (kernel->fourier_positive) m->shift_kernel = *kernel;
+  else PetscCall(SpamKernelCreate("wendland_c2", dim, kernel->h, &m->shift_kernel));
   if (p->material == SPAM_MATERIAL_GAS) {
     const double pres    = (p->gamma - 1.0) * p->rho0 * p->gas_e0;
     m->solid.sound_speed = sqrt(p->gamma * pres / p->rho0);

@@ -379,7 +379,7 @@ static TensorPass PassOf(SpamSim *sim)
   c.pairdiff                  = p->material == SPAM_MATERIAL_GAS && p->diffusion == SPAM_DIFFUSION_PAIR;
   c.gradT                     = (c.conduction && !c.pairdiff) || shift; /* the pair form reads T, not its gradient */
   c.shift                     = shift;
-  c.shift_own                 = sim->model.kernel.kind == SPAM_KERNEL_WENDLAND_C2;
+  c.shift_own                 = sim->model.shift_kernel.kind == sim->model.kernel.kind;
   c.shift_gnorm               = sim->model.shift_kernel.gnorm;
   c.shift_hinv                = sim->model.shift_kernel.hinv;
   c.flow                      = bg || shift;
