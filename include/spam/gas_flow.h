@@ -18,7 +18,9 @@
  *    which vanishes on a lattice of equal volumes and pushes each particle towards more
  *    room, scaled into a diffusion of coefficient ~ C c h; the
  *    fields a particle carries are corrected for its drift relative to the fluid
- *    (dv/dt += (dv . grad) v, de/dt += dv . grad e), as in ALE shifting schemes.
+ *    (dv/dt += (dv . grad) v, de/dt += dv . grad e), as in ALE shifting schemes. The sum
+ *    takes the gradient of a kernel whose Fourier transform is positive (model.h's
+ *    shift_kernel): with another it runs backwards at the particle scale and pairs them.
  * What each gives up: the background's body force is external where B varies (under
  * gravity); the shifting's drift corrections do not conserve momentum or energy exactly
  * (their totals are booked per particle in the state, layout.h). */
