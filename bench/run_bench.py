@@ -44,6 +44,7 @@ from peer_lammps import validate_lammps
 from spam_driver import DP_TABLE, spam_ark_works
 from bench_cases import (baselines, bench_gas, bench_solid, log_view_run, parse_cases,
                          solid_reference, steps_for)
+from bench_memory import run_memory
 from bench_report import evaluate_targets, print_gas, print_log_view, print_solid, print_summary
 
 
@@ -107,12 +108,24 @@ def parse_args(argv):
                          "at i+0.5) instead of spam-ark -initial_csv")
     ap.add_argument("--validate-lammps", action="store_true",
                     help="also check the LAMMPS table, forces and energy drift (h = 3)")
+    ap.add_argument("--memory", action="store_true",
+                    help="only the memory tables (no LAMMPS, no timing): (peak RSS - "
+                         "baseline) / N of gas-h3 and the 2D expansion at --memory-sizes, "
+                         "and the heap by owner under valgrind's massif")
+    ap.add_argument("--memory-sizes", default="16384,65536,262144",
+                    help="N of the --memory RSS runs (default 16384,65536,262144)")
+    ap.add_argument("--memory-massif-size", type=int, default=65536,
+                    help="N of the --memory massif run (default 65536)")
     ap.add_argument("--workdir", default=None,
                     help="scratch directory (default: a fresh temporary one)")
     ap.add_argument("--keep", action="store_true", help="keep the scratch directory")
     ap.add_argument("--out", default=None,
                     help="JSON output (default bench/results/bench_<date>.json)")
     args = ap.parse_args(argv)
+    try:
+        args.memory_sizes = [int(v) for v in args.memory_sizes.split(",") if v.strip()]
+    except ValueError:
+        raise SystemExit("--memory-sizes: %r is not a list of integers" % args.memory_sizes)
     if args.quick:
         if args.sizes is None:
             args.sizes = QUICK_SIZES
@@ -145,6 +158,25 @@ def predict_seconds(prev, n_next, cases, args):
     return total
 
 
+def memory_only(args):
+    """--memory: the memory tables alone, written to bench/results/memory_<date>.json."""
+    args.spam_ark = str(Path(args.spam_ark).resolve())
+    ok, why = spam_ark_works(args.spam_ark)
+    if not ok:
+        sys.exit("spam-ark unusable: %s" % why)
+    workdir = Path(args.workdir).resolve() if args.workdir else Path(tempfile.mkdtemp(prefix="spam-ark-mem-"))
+    workdir.mkdir(parents=True, exist_ok=True)
+    res = run_memory(args, workdir)
+    stamp = datetime.datetime.now().strftime("%Y-%m-%dT%H%M%S")
+    out_path = Path(args.out).resolve() if args.out else BENCH_DIR / "results" / ("memory_%s.json" % stamp)
+    out_path.parent.mkdir(parents=True, exist_ok=True)
+    out_path.write_text(json.dumps(res, indent=1))
+    print("wrote %s" % out_path)
+    if not args.workdir and not args.keep:
+        shutil.rmtree(workdir, ignore_errors=True)
+    return 0
+
+
 def main(argv=None):
     args = parse_args(sys.argv[1:] if argv is None else argv)
     try:
@@ -152,6 +184,8 @@ def main(argv=None):
     except ValueError:
         raise SystemExit("--sizes: %r is not a list of integers" % args.sizes)
     cases = parse_cases(args.cases)
+    if args.memory:
+        return memory_only(args)
     if shutil.which(args.lmp) is None and not Path(args.lmp).is_file():
         sys.exit("LAMMPS binary %r not found (Debian: apt-get install lammps)" % args.lmp)
     args.lmp = shutil.which(args.lmp) or str(Path(args.lmp).resolve())

@@ -128,6 +128,7 @@ static PetscErrorCode InterpolatedOutputs(TS ts, SpamSim *sim, const SpamRunOpti
      * does not keep those evaluations between calls): output work, booked apart so that
      * rhs_evals stays the method's work whatever the output cadence. */
     keep = sim->run.stats.rhs_evals;
+    if (!s->Xout) PetscCall(VecDuplicate(sim->p.X, &s->Xout)); /* made at the first interpolated output only */
     PetscCall(TSInterpolate(ts, tout, s->Xout));
     r->interpolation_rhs_evals += sim->run.stats.rhs_evals - keep;
     sim->run.stats.rhs_evals = keep;
@@ -656,8 +657,8 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
   PetscFunctionReturn(0);
 }
 
-/* Xgood and Xout are freed on every path: a failed write ends the run with an error, not a
- * leak. They live in the loop state, which a migration re-makes (loop_migrate.c). */
+/* Xgood and Xout (made by the first interpolated output) are freed on every path: a failed
+ * write ends the run with an error, not a leak. They live in the loop state, which a migration re-makes (loop_migrate.c). */
 PetscErrorCode SpamRun(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamOutput *out, SpamRestart *rs, SpamRunResult *r)
 {
   SpamLoop      *L;
@@ -667,7 +668,6 @@ PetscErrorCode SpamRun(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *
   PetscCall(PetscNew(&L));
   PetscCall(PetscMalloc1((size_t)sim->p.n * sim->model.dim + 1, &L->xref_keep));
   PetscCall(VecDuplicate(sim->p.X, &L->Xgood));
-  PetscCall(VecDuplicate(sim->p.X, &L->s.Xout));
   ierr = Loop(sim, o, ts, app, out, r, rs, L);
   PetscCall(VecDestroy(&L->s.Xout));
   PetscCall(VecDestroy(&L->Xgood));
