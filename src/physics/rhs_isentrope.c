@@ -6,6 +6,7 @@
  * half-list rows (pass_chunked.c), or under -reproducible the canonical rows
  * (pass_canonical.c). Nothing here allocates. */
 #include <spam/sim.h>
+#include <spam/physics.h>
 #include "../pair/pair_pass.h"
 
 /* The context of sim's current list (after SpamNeighboursUpdate and the slots' reserve). */
@@ -72,6 +73,10 @@ PetscErrorCode SpamDensityOfList(SpamSim *sim)
   const SpamPairPass p = SpamPairPassOf(sim);
 
   PetscFunctionBeginUser;
+  if (sim->pair.f.adaptive) { /* each particle's own range: the h solve sums the density */
+    PetscCall(SpamSmoothingSolve(sim));
+    PetscFunctionReturn(0);
+  }
   PetscCall(Density(&sim->run, &p));
   /* The callers (the tensor path, diagnostics) read the ghosts' densities too. */
   PetscCall(SpamGhostsGather(p.gh, p.dim, p.n, 1, SPAM_GHOST_SCALAR, p.f->rho));
