@@ -11,7 +11,7 @@ const char *const SpamSmoothingModeNames[] = {"fixed", "adaptive"};
 #define SPAM_H_MIN_DEFAULT 0.25
 #define SPAM_H_MAX_DEFAULT 2.0
 /* Beyond this the list holds (10 h)^D / h^D times the pairs of the fixed range. */
-#define SPAM_H_MAX_MOST 10.0
+#define SPAM_H_MAX_MOST 10
 
 PetscErrorCode SpamSmoothingOptions(PetscOptionItems *PetscOptionsObject, PetscBool help, const char *mat, SpamSolidParams *p, char *mode, size_t len)
 {
@@ -45,7 +45,7 @@ PetscErrorCode SpamSmoothingValidate(const char *mode, SpamSolidParams *p)
   PetscCall(SpamOptionText("-h_min", p->h_min, val, sizeof val));
   if (!(p->h_min > 0.0 && p->h_min <= 1.0)) SPAM_BAD_INPUT("-h_min", val, "must be above 0 and at most 1 (a factor of -h)");
   PetscCall(SpamOptionText("-h_max", p->h_max, val, sizeof val));
-  if (!(p->h_max >= 1.0 && p->h_max <= SPAM_H_MAX_MOST)) SPAM_BAD_INPUT("-h_max", val, "must be from 1 to %g (a factor of -h; the neighbour list's range is h_max h)", SPAM_H_MAX_MOST);
+  if (!(p->h_max >= 1.0 && p->h_max <= SPAM_H_MAX_MOST)) SPAM_BAD_INPUT("-h_max", val, "must be from 1 to %d (a factor of -h; the neighbour list's range is h_max h)", SPAM_H_MAX_MOST);
   PetscFunctionReturn(0);
 }
 
@@ -72,7 +72,6 @@ static PetscErrorCode CheckRunOptions(void)
     {"-restart", "a restart would start the h solve from -h instead of the run's last h_i, which checkpoints do not hold yet"},
     {"-grid_interval", "the grid fields interpolate with the one kernel range h"},
     {"-diag_entropy", "the entropy estimates use the one kernel range h"},
-    {"-periodic_images", "the adaptive pass has no ghost slots yet: periodic pairs take the minimum image"},
   };
   PetscBool has;
   char      val[128];
@@ -96,6 +95,7 @@ PetscErrorCode SpamSmoothingCheck(const SpamCommonParams *c, const SpamParticles
   if (p->model_set || s->material != SPAM_MATERIAL_GAS || s->smoothing != SPAM_SMOOTHING_ADAPTIVE) PetscFunctionReturn(0);
   if ((law = UnsupportedLaw(s))) SPAM_BAD_INPUT("-smoothing_length", "adaptive", "does not take %s yet: the adaptive pass has the pressure, Monaghan's viscosity and the energy equation only", law);
   if (size > 1) SPAM_BAD_INPUT("-smoothing_length", "adaptive", "runs on one rank yet: the halo's range is the fixed h (this run: %d ranks)", (int)size);
+  if (c->periodic_ghosts) SPAM_BAD_INPUT("-smoothing_length", "adaptive", "does not take -periodic_images ghost yet: the adaptive pass has no ghost slots (its periodic pairs take the minimum image)");
   if (SpamWallsAny(&p->walls, p->dim)) SPAM_BAD_INPUT("-smoothing_length", "adaptive", "does not take mirror walls yet: their images are placed within the fixed range h");
   for (int d = 0; d < p->dim; d++)
     if (p->box.periodic[d] && p->box.len[d] < 2.0 * range) SPAM_BAD_INPUT("-smoothing_length", "adaptive", "needs every periodic edge at least twice the list range h_max h + skin = %g (edge %d is %g): the pairs take the minimum image", range, d, p->box.len[d]);
