@@ -33,8 +33,9 @@ typedef struct {
   double *ltorque, *tfac;  /* [cap] particle torque and its scaling factor (T_i)       */
   /* The adaptive kernel range (smoothing_adaptive.c), each [cap]: h_i and the kernel's
    * scales at it (1/h_i, w(0) = wnorm (h/h_i)^D, gnorm (h/h_i)^(D+2)), the grad-h factor
-   * Omega_i, d rho_i/d h_i, and the bracket of the h solve. */
-  double *h, *hinv, *wn, *gn, *omega, *drho, *hlo, *hhi;
+   * Omega_i, d rho_i/d h_i, the bracket of the h solve and whether h_i is settled (1) or
+   * still moving (0) in it. */
+  double *h, *hinv, *wn, *gn, *omega, *drho, *hlo, *hhi, *settled;
   PetscBool tensor;        /* the tensor-path arrays are allocated                     */
   int       uniform_mass;  /* every particle has mass m[0] (set at set-up)             */
   int       adaptive;      /* the adaptive range's arrays are allocated               */

@@ -39,6 +39,7 @@ static int Arrays(SpamFields *f, double **a[34], int per[34])
   SPAM_ARRAY(f->drho, s);
   SPAM_ARRAY(f->hlo, s);
   SPAM_ARRAY(f->hhi, s);
+  SPAM_ARRAY(f->settled, s);
 #undef SPAM_ARRAY
   return k;
 }

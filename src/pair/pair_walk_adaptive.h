@@ -4,7 +4,9 @@
  * which visits every listed local pair within the larger of the two ranges (gather and
  * scatter: r < max(h_i, h_j)) and calls
  *   Fn(dim, ctx, i, j, dx, r2, wi, gi, wj, gj)   (dim a literal)
- * with dx = r_i - r_j (minimum image where the row may cross a periodic face), r2 = |dx|^2,
+ * for every pair for which Skip(ctx, i, j) is false (tested before the distance: a pass
+ * that needs only some particles' sums leaves the others' pairs unevaluated), with
+ * dx = r_i - r_j (minimum image where the row may cross a periodic face), r2 = |dx|^2,
  * wi = w(r, h_i), gi = w'(r, h_i)/r and wj, gj the same at h_j, so that the gradient of
  * particle i's kernel is gi dx. A kernel's shape is exactly zero beyond its edge
  * (kernel_shape.h), so the side whose range the pair exceeds gets w = g = 0. The list's
@@ -16,7 +18,7 @@
 #include <spam/fields.h>
 #include "pair_walk.h"
 
-#define SPAM_PAIR_WALK_ADAPTIVE(Name, Ctx, Fn) \
+#define SPAM_PAIR_WALK_ADAPTIVE(Name, Ctx, Fn, Skip) \
   static inline __attribute__((always_inline)) void Name##Segment(const int dim, const int kind, const int img, const SpamNeighbours *nl, const SpamFields *f, Ctx *ctx, int i, const int *nb, int np) \
   { \
     const double ui[3] = {nl->u[0][i], dim > 1 ? nl->u[1][i] : 0.0, dim > 2 ? nl->u[2][i] : 0.0}; \
@@ -24,6 +26,7 @@
     for (int c = 0; c < np; c++) { \
       const int j     = nb[c]; \
       double    dx[3] = {0.0, 0.0, 0.0}, r2 = 0.0; \
+      if (Skip(ctx, i, j)) continue; \
       for (int d = 0; d < dim; d++) { \
         dx[d] = img ? SpamImageDelta(&nl->im, d, ui[d] - nl->u[d][j]) : ui[d] - nl->u[d][j]; \
         r2 += dx[d] * dx[d]; \

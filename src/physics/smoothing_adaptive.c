@@ -52,18 +52,26 @@ static inline __attribute__((always_inline)) double DwDh(const int dim, double w
   return -(dim * w + r2 * g) * hinv;
 }
 
+/* A settled particle keeps the sums of the pass that settled it (its h_i has not moved
+ * since, so a new pass would give the same bits): only the open particles' sides are
+ * added, and a pair of two settled particles is skipped. */
 static inline __attribute__((always_inline)) void DensityPair(const int dim, DensityPass *c, int i, int j, const double dx[3], double r2, double wi, double gi, double wj, double gj)
 {
   SpamFields *f = c->f;
   (void)dx;
-  f->rho[i] += f->m[j] * wi;
-  f->rho[j] += f->m[i] * wj;
-  f->drho[i] += f->m[j] * DwDh(dim, wi, gi, r2, f->hinv[i]);
-  f->drho[j] += f->m[i] * DwDh(dim, wj, gj, r2, f->hinv[j]);
+  if (!f->settled[i]) {
+    f->rho[i] += f->m[j] * wi;
+    f->drho[i] += f->m[j] * DwDh(dim, wi, gi, r2, f->hinv[i]);
+  }
+  if (!f->settled[j]) {
+    f->rho[j] += f->m[i] * wj;
+    f->drho[j] += f->m[i] * DwDh(dim, wj, gj, r2, f->hinv[j]);
+  }
 }
-SPAM_PAIR_WALK_ADAPTIVE(WalkDensity, DensityPass, DensityPair)
+#define SPAM_BOTH_SETTLED(c, i, j) ((c)->f->settled[i] != 0.0 && (c)->f->settled[j] != 0.0)
+SPAM_PAIR_WALK_ADAPTIVE(WalkDensity, DensityPass, DensityPair, SPAM_BOTH_SETTLED)
 
-/* rho_i and d rho_i/d h_i of every local particle at its current h_i. */
+/* rho_i and d rho_i/d h_i of every open local particle at its current h_i. */
 static PetscErrorCode Sums(SpamSim *sim)
 {
   SpamFields       *f   = &sim->pair.f;
@@ -74,6 +82,7 @@ static PetscErrorCode Sums(SpamSim *sim)
   PetscFunctionBeginUser;
   Scales(f, k, n);
   for (int i = 0; i < n; i++) {
+    if (f->settled[i]) continue;
     f->rho[i]  = f->m[i] * f->wn[i]; /* F(0) = 1: w(0, h_i) */
     f->drho[i] = -dim * f->rho[i] * f->hinv[i];
   }
@@ -128,17 +137,21 @@ PetscErrorCode SpamSmoothingSolve(SpamSim *sim)
   PetscCall(PetscLogEventBegin(sim->run.ev.density, 0, 0, 0, 0));
   for (int i = 0; i < n; i++) { /* from the last evaluation's h_i (-h at the first) */
     f->h[i]   = f->h[i] > 0.0 ? PetscMin(PetscMax(f->h[i], s.lo), s.hi) : PetscMin(PetscMax(h0, s.lo), s.hi);
-    f->hlo[i] = s.lo;
-    f->hhi[i] = s.hi;
+    f->hlo[i]     = s.lo;
+    f->hhi[i]     = s.hi;
+    f->settled[i] = 0.0;
   }
   for (int it = 0; it < SPAM_H_MAX_ITER && open; it++) {
     PetscCall(Sums(sim));
     open = 0;
-    for (int i = 0; i < n; i++)
-      if (!Step(&s, f, i)) {
+    for (int i = 0; i < n; i++) {
+      if (f->settled[i]) continue;
+      if (Step(&s, f, i)) f->settled[i] = 1.0;
+      else {
         open++;
         last = i;
       }
+    }
   }
   PetscCall(PetscLogEventEnd(sim->run.ev.density, 0, 0, 0, 0));
   PetscCheck(!open, PETSC_COMM_SELF, PETSC_ERR_CONV_FAILED, "adaptive h: particle %" PetscInt_FMT " (input row) and %d others did not converge in %d iterations of rho h^D = eta^D m (h = %g, rho = %g, bounds %g to %g)", SpamSimRowOf(sim, last), open - 1,
