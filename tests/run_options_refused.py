@@ -137,6 +137,15 @@ cases = [
     ("two values on a line", ["-options_file", extra], ["extra.opts:1", "'-h 3 4'", "at most one value"]),
     ("NUL byte in an options file", ["-options_file", nul], ["nul.opts:2", "NUL"]),
     ("nested options file missing", ["-options_file", nested], ["-options_file", "missing.opts", "cannot open"]),
+    # the adaptive kernel range: its options, and what it does not take yet
+    ("adaptive range on the isentrope", ["-scene", "expansion", "-smoothing_length", "adaptive"], ["-smoothing_length", "not used", "isentrope"]),
+    ("h_eta at the fixed range", ["-scene", "sedov", "-h_eta", "3"], ["-h_eta", "smoothing_length adaptive", "fixed"]),
+    ("unknown kernel range", ["-scene", "sedov", "-smoothing_length", "wide"], ["-smoothing_length", "'wide'", "fixed, adaptive"]),
+    ("h_max below 1", ["-scene", "sedov", "-smoothing_length", "adaptive", "-h_max", "0.5"], ["-h_max", "'0.5'", "from 1 to 10"]),
+    ("adaptive range with continuity", ["-scene", "sedov", "-smoothing_length", "adaptive", "-density", "continuity"], ["-smoothing_length", "'adaptive'", "-density continuity"]),
+    ("adaptive range with walls", ["-scene", "sedov", "-smoothing_length", "adaptive", "-wall_xlo", "freeslip"], ["-smoothing_length", "'adaptive'", "mirror walls"]),
+    ("adaptive range with ghost images", ["-scene", "sedov", "-smoothing_length", "adaptive", "-periodic_images", "ghost"], ["-smoothing_length", "'adaptive'", "-periodic_images ghost"]),
+    ("adaptive range with grid fields", ["-scene", "sedov", "-smoothing_length", "adaptive", "-grid_interval", "1"], ["-smoothing_length", "'adaptive'", "-grid_interval"]),
 ]
 for k, (name, args, needles) in enumerate(cases):
     out = os.path.join(W, f"out{k}")

@@ -31,8 +31,14 @@ typedef struct {
   double *qdot;            /* [cap] de/dt by heat conduction (kept apart for the walls' books) */
   double *wsum;            /* [cap] sum_j w_ij (R1's normalisation)                    */
   double *ltorque, *tfac;  /* [cap] particle torque and its scaling factor (T_i)       */
+  /* The adaptive kernel range (smoothing_adaptive.c), each [cap]: h_i and the kernel's
+   * scales at it (1/h_i, w(0) = wnorm (h/h_i)^D, gnorm (h/h_i)^(D+2)), the grad-h factor
+   * Omega_i, d rho_i/d h_i, the bracket of the h solve and whether h_i is settled (1) or
+   * still moving (0) in it. */
+  double *h, *hinv, *wn, *gn, *omega, *drho, *hlo, *hhi, *settled;
   PetscBool tensor;        /* the tensor-path arrays are allocated                     */
   int       uniform_mass;  /* every particle has mass m[0] (set at set-up)             */
+  int       adaptive;      /* the adaptive range's arrays are allocated               */
 } SpamFields;
 
 /* Allocates the arrays for n local particles and at least cap slots: m, rho, q and acc
@@ -42,6 +48,9 @@ PetscErrorCode SpamFieldsCreate(int dim, int n, int cap, PetscBool tensor, SpamF
  * local ones; called after a list build added ghosts (rare: not in the steady state). */
 PetscErrorCode SpamFieldsReserve(SpamFields *f, int slots);
 PetscErrorCode SpamFieldsDestroy(SpamFields *f);
+/* Allocates the adaptive range's arrays (h, ..., hhi) at the current capacity; Reserve
+ * grows them with the others. */
+PetscErrorCode SpamFieldsAddSmoothing(SpamFields *f);
 /* The local masses: m[i] (or `uniform` for every particle when m is NULL), their
  * inverses, and whether they are all equal. */
 void SpamFieldsSetMasses(SpamFields *f, const double *m, double uniform);

@@ -89,6 +89,11 @@ PetscErrorCode SpamRhsSolid(SpamSim *sim, const double *y, double *ydot, PetscIn
 PetscErrorCode SpamTensorTorqueSum(SpamSim *sim, const double *y, double *total);
 PetscErrorCode SpamDiagSolid(SpamSim *sim, const double *y, SpamModelDiag *d);
 PetscErrorCode SpamSetUpSolid(SpamSim *sim);
+/* The adaptive kernel range (smoothing_adaptive.c): every local h_i, rho_i and Omega_i
+ * from the current list; a particle whose solve does not converge stops the run. */
+PetscErrorCode SpamSmoothingSolve(SpamSim *sim);
+/* The ideal gas's right-hand side at the adaptive range (rhs_gas_adaptive.c). */
+PetscErrorCode SpamRhsGasAdaptive(SpamSim *sim, const double *y, double *ydot, PetscInt *bad);
 
 /* Closest-approach reflection (PRE Sec. IV): every pair closer than dmin that is still
  * approaching (v_ij.r_ij < 0) has the radial part of its relative velocity reversed,

@@ -175,6 +175,9 @@ void SpamSolidDefaults(SpamSolidParams *p);
  * reference density rho0; and their check that the run kept the gas (bad input otherwise). */
 void           SpamSolidGasDefaults(double rho0, SpamSolidParams *p);
 PetscErrorCode SpamSceneRequireGas(const char *scene, const SpamSolidParams *p);
+/* -smoothing_length adaptive against the rest of the run (smoothing_options.c): the laws,
+ * ranks, walls, periodic edges and options it does not take yet are refused in one line. */
+PetscErrorCode SpamSmoothingCheck(const SpamCommonParams *c, const SpamParticles *p, const SpamSolidParams *s, PetscMPIInt size);
 /* Allocates the optional fields e, rho, sigma of p. */
 PetscErrorCode SpamParticlesAllocateFields(SpamParticles *p);
 /* Open box around the particles with a margin (non-periodic). */

@@ -18,6 +18,9 @@ typedef enum { SPAM_BACKGROUND_NONE, SPAM_BACKGROUND_MEAN } SpamBackgroundMode;
 /* How viscosity and conduction reach the pair force: through the particles' gradients
  * (the papers' two passes) or as pair Laplacians in one pass (gas_flow.h). */
 typedef enum { SPAM_DIFFUSION_GRADIENT, SPAM_DIFFUSION_PAIR } SpamDiffusionForm;
+/* The kernel range: one h for every particle, or each particle's own h_i from
+ * rho_i h_i^D = eta^D m_i with the grad-h terms (smoothing_adaptive.c, rhs_gas_adaptive.c). */
+typedef enum { SPAM_SMOOTHING_FIXED, SPAM_SMOOTHING_ADAPTIVE } SpamSmoothingMode;
 
 extern const char *const SpamDensityModeNames[];
 extern const char *const SpamDensityInitialNames[];
@@ -28,6 +31,7 @@ extern const char *const SpamMaterialNames[];
 extern const char *const SpamGasSchemeNames[];
 extern const char *const SpamBackgroundModeNames[];
 extern const char *const SpamDiffusionFormNames[];
+extern const char *const SpamSmoothingModeNames[];
 
 typedef struct {
   SpamMaterial       material;      /* elastic (stress in the state), ideal gas with  */
@@ -55,6 +59,9 @@ typedef struct {
   PetscBool          plain_default; /* the scene's gas keeps the plain scheme unless  */
                                     /* asked (gas_flow.h: expansion into vacuum, and  */
                                     /* the convection cell, whose onset it moves)      */
+  SpamSmoothingMode  smoothing;     /* fixed h, or adaptive h_i (gas)                  */
+  double             h_eta;         /* adaptive: h_i / (m_i/rho_i)^(1/D); 0: -h        */
+  double             h_min, h_max;  /* adaptive: bounds of h_i, as factors of -h       */
 } SpamSolidParams;
 
 /* The flow scheme's default transport shifting coefficient (gas_flow.c). */
@@ -63,4 +70,8 @@ typedef struct {
 /* Reads the -solid_*, -density*, -coordinates, -xsph_eps and -angmom* options (with
  * -help lists them with their defaults) into p, whose fields hold the defaults. */
 PetscErrorCode SpamSolidOptions(SpamSolidParams *p);
+/* -smoothing_length and, when adaptive, -h_eta, -h_min and -h_max, inside the options
+ * block of SpamSolidOptions (all of them with help); SpamSmoothingValidate checks them. */
+PetscErrorCode SpamSmoothingOptions(PetscOptionItems *PetscOptionsObject, PetscBool help, const char *mat, SpamSolidParams *p, char *mode, size_t len);
+PetscErrorCode SpamSmoothingValidate(const char *mode, SpamSolidParams *p);
 #endif

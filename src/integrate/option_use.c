@@ -18,7 +18,7 @@
 typedef enum {
   G_ALL, G_DT, G_ADAPTIVE, G_TS, G_TS_ADAPT, G_METHOD,
   G_SCENE, G_ISENTROPE,
-  G_MODEL, G_WALL, G_SOLID, G_SOLID_GAS, G_SOLID_GAMMA, G_SOLID_ELASTIC, G_SOLID_VISC, G_SOLID_R2, G_SOLID_TORQUE, G_SOLID_CONT, G_SOLID_FLOW, G_ENTROPY, G_RANKS
+  G_MODEL, G_WALL, G_SOLID, G_SOLID_GAS, G_SOLID_GAMMA, G_SOLID_ELASTIC, G_SOLID_VISC, G_SOLID_R2, G_SOLID_TORQUE, G_SOLID_CONT, G_SOLID_FLOW, G_SOLID_ADAPTIVE, G_ENTROPY, G_RANKS
 } Group;
 
 typedef struct {
@@ -50,6 +50,8 @@ static const Known KnownOptions[] = {
   {"viscosity_alpha", PETSC_TRUE, G_SOLID_VISC}, {"viscosity_beta", PETSC_TRUE, G_SOLID_VISC}, {"xsph_eps", PETSC_TRUE, G_SOLID_R2},
   {"angmom_scope", PETSC_TRUE, G_SOLID_TORQUE}, {"density_initial", PETSC_TRUE, G_SOLID_CONT},
   {"gas_scheme", PETSC_TRUE, G_SOLID_GAS}, {"background_pressure", PETSC_TRUE, G_SOLID_FLOW}, {"shift_coefficient", PETSC_TRUE, G_SOLID_FLOW}, {"diffusion_form", PETSC_TRUE, G_SOLID_FLOW},
+  /* The gas's kernel range: one h, or each particle's own (smoothing_options.c). */
+  {"smoothing_length", PETSC_TRUE, G_SOLID_GAS}, {"h_eta", PETSC_TRUE, G_SOLID_ADAPTIVE}, {"h_min", PETSC_TRUE, G_SOLID_ADAPTIVE}, {"h_max", PETSC_TRUE, G_SOLID_ADAPTIVE},
   /* the pair layer: kernel, gravity, periodic images as ghosts (scene.c) */
   {"kernel", PETSC_TRUE, G_MODEL}, {"gravity", PETSC_TRUE, G_MODEL}, {"periodic_images", PETSC_TRUE, G_ALL},
   /* Mirror walls per box face (core/walls.c); relevance by face and condition (WallRelevant). */
@@ -479,6 +481,10 @@ static PetscBool RelevantSolid(Group g, const Run *r, char *why, size_t len)
   case G_SOLID_FLOW:
     if (s->material == SPAM_MATERIAL_GAS && s->scheme == SPAM_GAS_FLOW) return PETSC_TRUE;
     (void)snprintf(why, len, "applies to the gas's -gas_scheme flow (this run: -material %s%s)", SpamMaterialNames[s->material], s->material == SPAM_MATERIAL_GAS ? ", -gas_scheme plain" : "");
+    return PETSC_FALSE;
+  case G_SOLID_ADAPTIVE:
+    if (s->material == SPAM_MATERIAL_GAS && s->smoothing == SPAM_SMOOTHING_ADAPTIVE) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to the gas's -smoothing_length adaptive (this run: -material %s%s)", SpamMaterialNames[s->material], s->material == SPAM_MATERIAL_GAS ? ", -smoothing_length fixed" : "");
     return PETSC_FALSE;
   case G_SOLID_CONT:
     if (s->density != SPAM_DENSITY_SUMMATION) return PETSC_TRUE;

@@ -63,6 +63,7 @@ PetscErrorCode SpamRowsGather(const SpamSim *sim, const double *y, SpamRowsTarge
   PetscCall(PetscMalloc1((size_t)rows->n * l->nvar + 1, &rows->y));
   PetscCall(PetscMalloc2(rows->n + 1, &rows->m, rows->n + 1, &rows->gid));
   if (l->rho < 0) PetscCall(PetscMalloc1(rows->n + 1, &rows->rho_sum));
+  if (sim->pair.f.adaptive) PetscCall(PetscMalloc1(rows->n + 1, &rows->h));
   for (PetscInt r = 0; r < rows->n; r++) rows->gid[r] = -1;
 
   PetscCall(PetscMalloc1(sim->p.n + 1, &at));
@@ -77,6 +78,7 @@ PetscErrorCode SpamRowsGather(const SpamSim *sim, const double *y, SpamRowsTarge
   PetscCallMPI(MPI_Type_free(&state));
   PetscCall(Move(sf, MPI_DOUBLE, sim->pair.f.m, rows->m));
   if (rows->rho_sum) PetscCall(Move(sf, MPI_DOUBLE, sim->pair.f.rho, rows->rho_sum));
+  if (rows->h) PetscCall(Move(sf, MPI_DOUBLE, sim->pair.f.h, rows->h));
   if (sim->p.gid) PetscCall(Move(sf, MPIU_INT64, sim->p.gid, rows->gid));
   else
     for (PetscInt r = 0; r < rows->n; r++) rows->gid[r] = rows->first + r; /* a sim without a swarm gid field (unit tests): row = index */
@@ -92,6 +94,7 @@ PetscErrorCode SpamRowsFree(SpamRows *rows)
   PetscCall(PetscFree(rows->y));
   PetscCall(PetscFree2(rows->m, rows->gid));
   PetscCall(PetscFree(rows->rho_sum));
+  PetscCall(PetscFree(rows->h));
   rows->n = 0;
   PetscFunctionReturn(0);
 }

@@ -17,6 +17,7 @@ typedef struct {
   double     *y;        /* [n * nvar] the state of gid first + r in row r               */
   double     *m;        /* [n] masses                                                   */
   double     *rho_sum;  /* [n] summed density (sim->pair.f.rho), or NULL when it is state    */
+  double     *h;        /* [n] each particle's kernel range (adaptive), or NULL: one h   */
   PetscInt64 *gid;      /* [n] the gids as they arrived: first + r (checked)            */
 } SpamRows;
 

@@ -17,7 +17,7 @@
 
 /* The snapshot's fields, every row (row r is gid r). */
 typedef struct {
-  double    *x, *v, *rho, *e, *s6, *m;
+  double    *x, *v, *rho, *e, *s6, *m, *h;
   long long *id;   /* the gid: the file scene's id column                                */
   double     t;
   long       step;
@@ -58,12 +58,14 @@ static PetscErrorCode FieldsFromRows(const SpamSim *sim, const SpamRows *rows, F
   f->carried = l->rho >= 0;
   if (l->e >= 0) PetscCall(PetscCalloc1(n + 1, &f->e));
   if (l->s >= 0) PetscCall(PetscCalloc1(6 * n + 1, &f->s6));
+  if (rows->h) PetscCall(PetscCalloc1(n + 1, &f->h));
   for (PetscInt r = 0; r < n; r++) {
     const double *p = rows->y + (size_t)r * l->nvar;
     f->rho[r]       = SpamRowsDensity(&sim->model.layout, rows, r);
     f->m[r]         = rows->m[r];
     f->id[r]        = rows->gid[r];
     if (f->e) f->e[r] = p[l->e];
+    if (f->h) f->h[r] = rows->h[r];
     if (f->s6) SpamSnapshotStress6(&sim->model.layout, rows->y, r, f->s6 + 6 * r);
     for (int d = 0; d < sim->model.dim; d++) {
       f->x[3 * r + d] = SpamSnapshotPosition(&sim->geo.box, d, p[l->x + d]);
@@ -81,6 +83,7 @@ static PetscErrorCode FieldsFree(Fields *f)
   PetscCall(PetscFree(f->rho));
   PetscCall(PetscFree(f->e));
   PetscCall(PetscFree(f->s6));
+  PetscCall(PetscFree(f->h));
   PetscCall(PetscFree(f->m));
   PetscCall(PetscFree(f->id));
   PetscFunctionReturn(0);
@@ -134,6 +137,7 @@ static PetscErrorCode FieldsWrite(H5Out *h)
   PetscCallH5(h, SpamSnapshotAttributes(h->file, h->sim, f->t, f->step, f->model));
   if (f->e) PetscCall(WriteDoubles(h, "/energy", f->e, 1, NULL));
   if (f->s6) PetscCall(WriteDoubles(h, "/stress", f->s6, 6, "sxx,sxy,sxz,syy,syz,szz (ParaView's Tensor6 order; 0 beyond dim)"));
+  if (f->h) PetscCall(WriteDoubles(h, "/smoothing_length", f->h, 1, NULL)); /* the adaptive range's h_i */
   PetscFunctionReturn(0);
 }
 

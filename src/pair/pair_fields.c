@@ -2,9 +2,9 @@
 #include <spam/fields.h>
 
 /* Every array with its number of values per slot (0: not allocated for this model). */
-static int Arrays(SpamFields *f, double **a[26], int per[26])
+static int Arrays(SpamFields *f, double **a[34], int per[34])
 {
-  const int d = f->dim, t = f->tensor ? 1 : 0;
+  const int d = f->dim, t = f->tensor ? 1 : 0, s = f->adaptive ? 1 : 0;
   int       k = 0;
 #define SPAM_ARRAY(ptr, w) (a[k] = &(ptr), per[k++] = (w))
   SPAM_ARRAY(f->m, 1);
@@ -31,14 +31,23 @@ static int Arrays(SpamFields *f, double **a[26], int per[26])
   SPAM_ARRAY(f->rhodot, t);
   SPAM_ARRAY(f->wsum, t);
   SPAM_ARRAY(f->ltorque, t);
+  SPAM_ARRAY(f->h, s);
+  SPAM_ARRAY(f->hinv, s);
+  SPAM_ARRAY(f->wn, s);
+  SPAM_ARRAY(f->gn, s);
+  SPAM_ARRAY(f->omega, s);
+  SPAM_ARRAY(f->drho, s);
+  SPAM_ARRAY(f->hlo, s);
+  SPAM_ARRAY(f->hhi, s);
+  SPAM_ARRAY(f->settled, s);
 #undef SPAM_ARRAY
   return k;
 }
 
 PetscErrorCode SpamFieldsCreate(int dim, int n, int cap, PetscBool tensor, SpamFields *f)
 {
-  double **a[26];
-  int      per[26], na;
+  double **a[34];
+  int      per[34], na;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(f, sizeof *f));
@@ -55,8 +64,8 @@ PetscErrorCode SpamFieldsCreate(int dim, int n, int cap, PetscBool tensor, SpamF
 
 PetscErrorCode SpamFieldsReserve(SpamFields *f, int slots)
 {
-  double **a[26];
-  int      per[26], na, old = f->cap;
+  double **a[34];
+  int      per[34], na, old = f->cap;
 
   PetscFunctionBeginUser;
   if (slots + 1 <= f->cap) PetscFunctionReturn(0);
@@ -73,12 +82,25 @@ PetscErrorCode SpamFieldsReserve(SpamFields *f, int slots)
 
 PetscErrorCode SpamFieldsDestroy(SpamFields *f)
 {
-  double **a[26];
-  int      per[26], na = Arrays(f, a, per);
+  double **a[34];
+  int      per[34], na = Arrays(f, a, per);
 
   PetscFunctionBeginUser;
   for (int k = 0; k < na; k++) PetscCall(PetscFree(*a[k]));
   PetscCall(PetscFree(f->tfac));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamFieldsAddSmoothing(SpamFields *f)
+{
+  double **a[34];
+  int      per[34], na;
+
+  PetscFunctionBeginUser;
+  f->adaptive = 1;
+  na          = Arrays(f, a, per);
+  for (int k = 0; k < na; k++) /* the arrays not yet allocated: the adaptive range's */
+    if (per[k] && !*a[k]) PetscCall(PetscCalloc1((size_t)f->cap * per[k], a[k]));
   PetscFunctionReturn(0);
 }
 

@@ -84,7 +84,8 @@ PetscErrorCode SpamModelSolidSetUp(int dim, const SpamKernel *kernel, double mas
     m->solid.sound_speed = sqrt((p->lambda + 2.0 * p->eta) / p->rho0);
     PetscCall(SpamLayoutSolid(dim, (PetscBool)(p->density != SPAM_DENSITY_SUMMATION), PETSC_TRUE, p->rho0, p->lambda + 2.0 * p->eta, &m->layout));
   }
-  m->rhs             = SpamRhsSolid;
+  m->rhs             = p->material == SPAM_MATERIAL_GAS && p->smoothing == SPAM_SMOOTHING_ADAPTIVE ? SpamRhsGasAdaptive : SpamRhsSolid;
+  if (p->smoothing == SPAM_SMOOTHING_ADAPTIVE && !(p->h_eta > 0.0)) m->solid.h_eta = kernel->h; /* -h spacings of a unit lattice */
   m->max_sound_speed = SolidSoundSpeed;
   m->diag            = SpamDiagSolid;
   m->setup           = SpamSetUpSolid;

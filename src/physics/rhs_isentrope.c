@@ -7,6 +7,7 @@
  * (pass_canonical.c). Nothing here allocates. */
 #include <spam/sim.h>
 #include <spam/gas_images.h>
+#include <spam/physics.h>
 #include "../pair/pair_pass.h"
 
 /* The context of sim's current list (after SpamNeighboursUpdate and the slots' reserve). */
@@ -73,6 +74,10 @@ PetscErrorCode SpamDensityOfList(SpamSim *sim)
   const SpamPairPass p = SpamPairPassOf(sim);
 
   PetscFunctionBeginUser;
+  if (sim->pair.f.adaptive) { /* each particle's own range: the h solve sums the density */
+    PetscCall(SpamSmoothingSolve(sim));
+    PetscFunctionReturn(0);
+  }
   if (SpamGasImagesOfPlace(sim)) SpamGasImagesMasses(sim); /* the ghosts' temperatures are current */
   PetscCall(Density(&sim->run, &p));
   /* The callers (the tensor path, diagnostics) read the ghosts' densities too. */

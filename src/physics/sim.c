@@ -46,6 +46,7 @@ PetscErrorCode SpamSimCreate(MPI_Comm comm, const SpamModel *model, const SpamBo
   PetscCall(NumberParticles(&sim->p));
   PetscCall(SpamFieldsCreate(model->dim, (int)n, (int)n, model->tensor, &sim->pair.f));
   SpamFieldsSetMasses(&sim->pair.f, NULL, model->mass);
+  if (model->tensor && model->solid.smoothing == SPAM_SMOOTHING_ADAPTIVE) PetscCall(SpamFieldsAddSmoothing(&sim->pair.f));
   PetscFunctionReturn(0);
 }
 
@@ -108,7 +109,7 @@ static PetscErrorCode CreateScratch(SpamSim *sim)
   if (sim->pair.threads > 1) PetscCall(PetscMalloc2((size_t)(sim->pair.threads - 1) * sim->model.dim * sim->pair.f.cap + 1, &sim->pair.tacc, (size_t)(sim->pair.threads - 1) * sim->pair.f.cap + 1, &sim->pair.trho));
   /* gamma = 2: P/rho^2 = kappa for every particle, set once. */
   for (PetscInt i = 0; i < sim->pair.f.cap; i++) sim->pair.f.q[i] = sim->model.eos.kappa;
-  PetscCall(SpamNeighboursCreate((int)sim->p.n, &sim->geo.box, sim->model.kernel.h, sim->pair.skin, &sim->pair.nl));
+  PetscCall(SpamNeighboursCreate((int)sim->p.n, &sim->geo.box, SpamModelListRange(&sim->model), sim->pair.skin, &sim->pair.nl));
   if (sim->geo.dec) PetscCall(SpamNeighboursSetComm(&sim->pair.nl, sim->p.comm)); /* other ranks' particles as ghosts */
   if (sim->pair.periodic_ghosts || sim->pair.reproducible) { /* -reproducible: images as ghost slots */
     const PetscBool all[3] = {PETSC_TRUE, PETSC_TRUE, PETSC_TRUE};

@@ -386,6 +386,7 @@ static PetscErrorCode CheckBuilt(MPI_Comm comm, const SpamCommonParams *c, const
   PetscCall(SpamParticlesCheckColumns(p, &model->layout)); /* a file's columns against the model */
   PetscCallMPI(MPI_Comm_size(comm, &size));
   if (size > 1) PetscCall(CheckSerialOnly(size, model));
+  PetscCall(SpamSmoothingCheck(c, p, solid, size));
   PetscFunctionReturn(0);
 }
 

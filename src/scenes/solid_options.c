@@ -68,7 +68,7 @@ static PetscErrorCode GasSchemeOptions(PetscOptionItems *PetscOptionsObject, Pet
 
 PetscErrorCode SpamSolidOptions(SpamSolidParams *p)
 {
-  char      dens[32], init[32], mean[32] = "arithmetic", coords[32], angm[32], scope[32] = "global", visc[32], mat[32], scheme[32], bg[32], form[32];
+  char      dens[32], init[32], mean[32] = "arithmetic", coords[32], angm[32], scope[32] = "global", visc[32], mat[32], scheme[32], bg[32], form[32], smooth[32];
   int       k;
   PetscBool help;
 
@@ -90,6 +90,7 @@ PetscErrorCode SpamSolidOptions(SpamSolidParams *p)
   PetscCall(PetscOptionsReal("-conductivity", "Fourier heat conductivity kappa, Q = -kappa grad T (0: off)", "README", p->conductivity, &p->conductivity, NULL));
   if (help || !strcmp(mat, "gas") || p->conductivity != 0.0) PetscCall(PetscOptionsReal("-gas_gamma", "Gas: gamma of P = (gamma - 1) rho e (2 in 2D); also sets T = (gamma - 1) e (-material gas or -conductivity)", "README", p->gamma, &p->gamma, NULL));
   PetscCall(GasSchemeOptions(PetscOptionsObject, help, mat, p, scheme, sizeof scheme, bg, sizeof bg, form, sizeof form));
+  PetscCall(SpamSmoothingOptions(PetscOptionsObject, help, mat, p, smooth, sizeof smooth));
   if (help || !strcmp(mat, "elastic")) {
     PetscCall(PetscOptionsReal("-solid_lambda", "Lame constant lambda (default sqrt(3)/4: springs k = 1; -material elastic)", "README", p->lambda, &p->lambda, NULL));
     PetscCall(PetscOptionsReal("-solid_eta", "Lame constant eta, the shear modulus (default sqrt(3)/4; -material elastic)", "README", p->eta, &p->eta, NULL));
@@ -134,6 +135,7 @@ PetscErrorCode SpamSolidOptions(SpamSolidParams *p)
   }
   PetscCall(Choice("-diffusion_form", form, SpamDiffusionFormNames, 2, &k));
   p->diffusion = (SpamDiffusionForm)k;
+  PetscCall(SpamSmoothingValidate(smooth, p));
   if (p->scheme == SPAM_GAS_PLAIN || p->material != SPAM_MATERIAL_GAS) { /* the flow scheme's laws are off in the plain scheme */
     p->background = SPAM_BACKGROUND_NONE;
     p->shift_coef = 0.0;

@@ -1,0 +1,54 @@
+/* The pair-loop driver of the adaptive kernel range: each particle has its own range h_i
+ * (fields.h: h, hinv, wn, gn). SPAM_PAIR_WALK_ADAPTIVE(Name, Ctx, Fn) defines
+ *   static PetscErrorCode Name(const SpamNeighbours *nl, const SpamKernel *k, const SpamFields *f, Ctx *ctx)
+ * which visits every listed local pair within the larger of the two ranges (gather and
+ * scatter: r < max(h_i, h_j)) and calls
+ *   Fn(dim, ctx, i, j, dx, r2, wi, gi, wj, gj)   (dim a literal)
+ * for every pair for which Skip(ctx, i, j) is false (tested before the distance: a pass
+ * that needs only some particles' sums leaves the others' pairs unevaluated), with
+ * dx = r_i - r_j (minimum image where the row may cross a periodic face), r2 = |dx|^2,
+ * wi = w(r, h_i), gi = w'(r, h_i)/r and wj, gj the same at h_j, so that the gradient of
+ * particle i's kernel is gi dx. A kernel's shape is exactly zero beyond its edge
+ * (kernel_shape.h), so the side whose range the pair exceeds gets w = g = 0. The list's
+ * range is the upper bound of every h_i (SpamModelListRange). Ghost rows are not walked:
+ * the adaptive range runs without ghost slots (smoothing_options.c refuses them). */
+#ifndef SPAM_PAIR_WALK_ADAPTIVE_H
+#define SPAM_PAIR_WALK_ADAPTIVE_H
+#include <spam/neighbours.h>
+#include <spam/fields.h>
+#include "pair_walk.h"
+
+#define SPAM_PAIR_WALK_ADAPTIVE(Name, Ctx, Fn, Skip) \
+  static inline __attribute__((always_inline)) void Name##Segment(const int dim, const int kind, const int img, const SpamNeighbours *nl, const SpamFields *f, Ctx *ctx, int i, const int *nb, int np) \
+  { \
+    const double ui[3] = {nl->u[0][i], dim > 1 ? nl->u[1][i] : 0.0, dim > 2 ? nl->u[2][i] : 0.0}; \
+    const double hi = f->h[i]; \
+    for (int c = 0; c < np; c++) { \
+      const int j     = nb[c]; \
+      double    dx[3] = {0.0, 0.0, 0.0}, r2 = 0.0; \
+      if (Skip(ctx, i, j)) continue; \
+      for (int d = 0; d < dim; d++) { \
+        dx[d] = img ? SpamImageDelta(&nl->im, d, ui[d] - nl->u[d][j]) : ui[d] - nl->u[d][j]; \
+        r2 += dx[d] * dx[d]; \
+      } \
+      const double hm = hi > f->h[j] ? hi : f->h[j]; \
+      if (r2 >= hm * hm) continue; \
+      const double r = sqrt(r2), si = r * f->hinv[i], sj = r * f->hinv[j]; \
+      Fn(dim, ctx, i, j, dx, r2, SpamKernelShapeScaledF(kind, dim, f->wn[i], si), SpamKernelShapeScaledG(kind, dim, f->gn[i], si), SpamKernelShapeScaledF(kind, dim, f->wn[j], sj), SpamKernelShapeScaledG(kind, dim, f->gn[j], sj)); \
+    } \
+  } \
+  static inline __attribute__((always_inline)) void Name##Rows(const int dim, const int kind, const SpamNeighbours *nl, const SpamFields *f, Ctx *ctx) \
+  { \
+    for (int i = 0; i < nl->n; i++) { \
+      const int *nb = nl->nbr + nl->start[i], np = nl->start[i + 1] - nl->start[i]; \
+      if (nl->image[i]) Name##Segment(dim, kind, 1, nl, f, ctx, i, nb, np); \
+      else Name##Segment(dim, kind, 0, nl, f, ctx, i, nb, np); \
+    } \
+  } \
+  static PetscErrorCode Name(const SpamNeighbours *nl, const SpamKernel *k, const SpamFields *f, Ctx *ctx) \
+  { \
+    PetscFunctionBeginUser; \
+    SPAM_WALK_DISPATCH(Name, k->dim, k->kind, SPAM_WALK_UNKNOWN(k->kind), nl, f, ctx) \
+    PetscFunctionReturn(0); \
+  }
+#endif

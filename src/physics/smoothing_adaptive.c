@@ -1,0 +1,163 @@
+/* The adaptive kernel range: each particle's h_i solves
+ *   rho_i(h_i) h_i^D = eta^D m_i,   rho_i(h) = sum_j m_j w(r_ij, h)  (self term included),
+ * so that its range holds about the same number of neighbours wherever the particles go
+ * (Springel & Hernquist 2002; Price 2012, J. Comput. Phys. 231, 759, Sec. 2.4), and the
+ * grad-h factor Omega_i = 1 + (h_i / (D rho_i)) d rho_i/d h_i of the momentum and energy
+ * equations (rhs_gas_adaptive.c). rho_i depends on h_i alone, so each particle's root is
+ * its own; the passes over the half list sum every particle's rho and d rho/dh at its
+ * current h at once, and Newton's step (kept inside a bracket by bisection) moves those
+ * not yet converged, from the last evaluation's h_i. An h_i held at a bound does not move
+ * with the particles there, so its Omega is 1. A particle that does not converge stops
+ * the run with its row. Nothing here allocates. */
+#include <spam/sim.h>
+#include <spam/physics.h>
+#include "../pair/pair_walk_adaptive.h"
+
+/* |rho h^D / (eta^D m) - 1| at which h_i is taken as converged: Newton's last step then
+ * moved h_i by about 1e-11 of itself (and the next would by the square of that), far
+ * below the integrators' tolerances, so the right-hand side is smooth to that level. */
+#define SPAM_H_TOL 1e-10
+/* Bisection alone halves the bracket [h_min h, h_max h] to 1e-10 of h in under 40 steps. */
+#define SPAM_H_MAX_ITER 100
+
+double SpamModelListRange(const SpamModel *m)
+{
+  return m->tensor && m->solid.smoothing == SPAM_SMOOTHING_ADAPTIVE ? m->solid.h_max * m->kernel.h : m->kernel.h;
+}
+
+static inline double PowD(double s, int dim)
+{
+  return dim == 1 ? s : dim == 2 ? s * s : s * s * s;
+}
+
+/* The kernel's scales at every local h_i: w(r, h) = wnorm (h0/h)^D F(r/h) and
+ * w'(r, h)/r = gnorm (h0/h)^(D+2) G(r/h), for the kernel made at h0. */
+static void Scales(SpamFields *f, const SpamKernel *k, int n)
+{
+  for (int i = 0; i < n; i++) {
+    const double s = k->h / f->h[i], sd = PowD(s, k->dim);
+    f->hinv[i]     = 1.0 / f->h[i];
+    f->wn[i]       = k->wnorm * sd;
+    f->gn[i]       = k->gnorm * sd * s * s;
+  }
+}
+
+typedef struct {
+  SpamFields *f;
+} DensityPass;
+
+/* d w(r, h)/d h = -(D w + r w'(r)) / h, with r w'(r) = r^2 g. */
+static inline __attribute__((always_inline)) double DwDh(const int dim, double w, double g, double r2, double hinv)
+{
+  return -(dim * w + r2 * g) * hinv;
+}
+
+/* A settled particle keeps the sums of the pass that settled it (its h_i has not moved
+ * since, so a new pass would give the same bits): only the open particles' sides are
+ * added, and a pair of two settled particles is skipped. */
+static inline __attribute__((always_inline)) void DensityPair(const int dim, DensityPass *c, int i, int j, const double dx[3], double r2, double wi, double gi, double wj, double gj)
+{
+  SpamFields *f = c->f;
+  (void)dx;
+  if (!f->settled[i]) {
+    f->rho[i] += f->m[j] * wi;
+    f->drho[i] += f->m[j] * DwDh(dim, wi, gi, r2, f->hinv[i]);
+  }
+  if (!f->settled[j]) {
+    f->rho[j] += f->m[i] * wj;
+    f->drho[j] += f->m[i] * DwDh(dim, wj, gj, r2, f->hinv[j]);
+  }
+}
+#define SPAM_BOTH_SETTLED(c, i, j) ((c)->f->settled[i] != 0.0 && (c)->f->settled[j] != 0.0)
+SPAM_PAIR_WALK_ADAPTIVE(WalkDensity, DensityPass, DensityPair, SPAM_BOTH_SETTLED)
+
+/* rho_i and d rho_i/d h_i of every open local particle at its current h_i. */
+static PetscErrorCode Sums(SpamSim *sim)
+{
+  SpamFields       *f   = &sim->pair.f;
+  const SpamKernel *k   = &sim->model.kernel;
+  const int         n   = (int)sim->p.n, dim = k->dim;
+  DensityPass       c   = {f};
+
+  PetscFunctionBeginUser;
+  Scales(f, k, n);
+  for (int i = 0; i < n; i++) {
+    if (f->settled[i]) continue;
+    f->rho[i]  = f->m[i] * f->wn[i]; /* F(0) = 1: w(0, h_i) */
+    f->drho[i] = -dim * f->rho[i] * f->hinv[i];
+  }
+  PetscCall(WalkDensity(&sim->pair.nl, k, f, &c));
+  PetscFunctionReturn(0);
+}
+
+/* The solve's bounds and target. */
+typedef struct {
+  int    dim;
+  double eta, lo, hi; /* eta and the bounds of h_i as lengths */
+} Solve;
+
+/* One step of particle i's solve at the sums of its current h_i: 1 when h_i stays (the
+ * relation holds to SPAM_H_TOL, or h_i is held at the bound that the relation lies
+ * beyond), with Omega_i set; else 0 with the next h_i. */
+static int Step(const Solve *s, SpamFields *f, int i)
+{
+  const double h = f->h[i], tgt = f->m[i] * PowD(s->eta * f->hinv[i], s->dim), res = f->rho[i] - tgt;
+  const double fp = f->drho[i] + s->dim * tgt * f->hinv[i]; /* d(rho - tgt)/dh */
+  double       hn;
+
+  if (fabs(res) <= SPAM_H_TOL * tgt) {
+    f->omega[i] = 1.0 + h * f->drho[i] / (s->dim * f->rho[i]);
+    return 1;
+  }
+  if ((res < 0.0 && h >= s->hi) || (res > 0.0 && h <= s->lo)) {
+    f->omega[i] = 1.0;
+    return 1;
+  }
+  if (res < 0.0) f->hlo[i] = h;
+  else f->hhi[i] = h;
+  hn = h - res / fp;
+  /* A bracket end still at its bound has not been evaluated: Newton may try the bound. */
+  if (fp > 0.0 && hn >= f->hhi[i] && f->hhi[i] == s->hi) hn = s->hi;
+  else if (fp > 0.0 && hn <= f->hlo[i] && f->hlo[i] == s->lo) hn = s->lo;
+  else if (!(fp > 0.0) || !(hn > f->hlo[i] && hn < f->hhi[i])) hn = 0.5 * (f->hlo[i] + f->hhi[i]);
+  f->h[i] = hn;
+  return 0;
+}
+
+PetscErrorCode SpamSmoothingSolve(SpamSim *sim)
+{
+  const SpamSolidParams *p = &sim->model.solid;
+  const double           h0 = sim->model.kernel.h;
+  const Solve            s  = {sim->model.dim, p->h_eta, p->h_min * h0, p->h_max * h0};
+  SpamFields            *f  = &sim->pair.f;
+  const int              n  = (int)sim->p.n;
+  int                    open = n, last = -1;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(sim->run.ev.density, 0, 0, 0, 0));
+  for (int i = 0; i < n; i++) { /* from the last evaluation's h_i (-h at the first) */
+    f->h[i]   = f->h[i] > 0.0 ? PetscMin(PetscMax(f->h[i], s.lo), s.hi) : PetscMin(PetscMax(h0, s.lo), s.hi);
+    f->hlo[i]     = s.lo;
+    f->hhi[i]     = s.hi;
+    f->settled[i] = 0.0;
+  }
+  for (int it = 0; it < SPAM_H_MAX_ITER && open; it++) {
+    PetscCall(Sums(sim));
+    open = 0;
+    for (int i = 0; i < n; i++) {
+      if (f->settled[i]) continue;
+      if (Step(&s, f, i)) f->settled[i] = 1.0;
+      else {
+        open++;
+        last = i;
+      }
+    }
+  }
+  PetscCall(PetscLogEventEnd(sim->run.ev.density, 0, 0, 0, 0));
+  PetscCheck(!open, PETSC_COMM_SELF, PETSC_ERR_CONV_FAILED, "adaptive h: particle %" PetscInt_FMT " (input row) and %d others did not converge in %d iterations of rho h^D = eta^D m (h = %g, rho = %g, bounds %g to %g)", SpamSimRowOf(sim, last), open - 1,
+             SPAM_H_MAX_ITER, f->h[last], f->rho[last], s.lo, s.hi);
+  for (int i = 0; i < n; i++)
+    PetscCheck(f->omega[i] > 0.0 && isfinite(f->omega[i]), PETSC_COMM_SELF, PETSC_ERR_CONV_FAILED, "adaptive h: particle %" PetscInt_FMT " (input row) has the grad-h factor Omega = %g (h = %g, rho = %g): not positive, so its kernel range does not grow as its density falls", SpamSimRowOf(sim, i),
+               f->omega[i], f->h[i], f->rho[i]);
+  PetscFunctionReturn(0);
+}

@@ -1,0 +1,104 @@
+/* The kernel range's options: -smoothing_length fixed (one h, the papers' scenes) or
+ * adaptive (each particle's own h_i from rho_i h_i^D = eta^D m_i, with -h_eta and the
+ * bounds -h_min, -h_max), and the refusals of what the adaptive range does not cover yet. */
+#include <spam/scene.h>
+#include <spam/errors.h>
+
+const char *const SpamSmoothingModeNames[] = {"fixed", "adaptive"};
+
+/* The bounds' defaults: the list range is h_max h, so its pairs grow as h_max^D; a gas
+ * compressed fourfold in 2D (a strong shock's shell) needs h_i down to h/2. */
+#define SPAM_H_MIN_DEFAULT 0.25
+#define SPAM_H_MAX_DEFAULT 2.0
+/* Beyond this the list holds (10 h)^D / h^D times the pairs of the fixed range. */
+#define SPAM_H_MAX_MOST 10
+
+PetscErrorCode SpamSmoothingOptions(PetscOptionItems *PetscOptionsObject, PetscBool help, const char *mat, SpamSolidParams *p, char *mode, size_t len)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscStrncpy(mode, SpamSmoothingModeNames[p->smoothing], len));
+  if (p->h_min == 0.0) p->h_min = SPAM_H_MIN_DEFAULT;
+  if (p->h_max == 0.0) p->h_max = SPAM_H_MAX_DEFAULT;
+  if (help || !strcmp(mat, "gas")) PetscCall(PetscOptionsString("-smoothing_length", "Gas: kernel range fixed (one h) or adaptive (h_i from rho_i h_i^D = eta^D m_i, with grad-h terms)", "README", mode, mode, len, NULL));
+  if (help || (!strcmp(mat, "gas") && !strcmp(mode, "adaptive"))) {
+    PetscCall(PetscOptionsReal("-h_eta", "Adaptive h: eta = h_i / (m_i/rho_i)^(1/D), the range in mean particle spacings (0: -h, the range on a lattice of unit spacing)", "README", p->h_eta, &p->h_eta, NULL));
+    PetscCall(PetscOptionsReal("-h_min", "Adaptive h: lower bound of h_i as a factor of -h", "README", p->h_min, &p->h_min, NULL));
+    PetscCall(PetscOptionsReal("-h_max", "Adaptive h: upper bound of h_i as a factor of -h (the neighbour list's range)", "README", p->h_max, &p->h_max, NULL));
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamSmoothingValidate(const char *mode, SpamSolidParams *p)
+{
+  char val[128];
+  int  k;
+
+  PetscFunctionBeginUser;
+  for (k = 0; k < 2 && strcmp(mode, SpamSmoothingModeNames[k]); k++) {}
+  if (k == 2) {
+    SpamClip(mode, val, sizeof val);
+    SPAM_BAD_INPUT("-smoothing_length", val, "allowed: fixed, adaptive");
+  }
+  p->smoothing = (SpamSmoothingMode)k;
+  PetscCall(SpamOptionText("-h_eta", p->h_eta, val, sizeof val));
+  if (!(p->h_eta >= 0.0) || !isfinite(p->h_eta)) SPAM_BAD_INPUT("-h_eta", val, "must be 0 (-h) or a positive number of mean spacings");
+  PetscCall(SpamOptionText("-h_min", p->h_min, val, sizeof val));
+  if (!(p->h_min > 0.0 && p->h_min <= 1.0)) SPAM_BAD_INPUT("-h_min", val, "must be above 0 and at most 1 (a factor of -h)");
+  PetscCall(SpamOptionText("-h_max", p->h_max, val, sizeof val));
+  if (!(p->h_max >= 1.0 && p->h_max <= SPAM_H_MAX_MOST)) SPAM_BAD_INPUT("-h_max", val, "must be from 1 to %d (a factor of -h; the neighbour list's range is h_max h)", SPAM_H_MAX_MOST);
+  PetscFunctionReturn(0);
+}
+
+/* The first choice the adaptive range does not take, or NULL. Its pair pass has the
+ * pressure, Monaghan's viscosity and the energy equation's work; the tensor path's other
+ * laws read gradients over one kernel range. */
+static const char *UnsupportedLaw(const SpamSolidParams *s)
+{
+  if (s->density != SPAM_DENSITY_SUMMATION) return "-density continuity and chain-rule (the adaptive density is the summed one)";
+  if (s->scheme == SPAM_GAS_FLOW) return "-gas_scheme flow";
+  if (s->coords != SPAM_COORDS_R0) return "-coordinates R1 and R2";
+  if (s->viscosity == SPAM_VISCOSITY_VON_NEUMANN) return "-viscosity vonneumann";
+  if (s->shear_visc > 0.0 || s->bulk_visc > 0.0) return "-viscosity_shear and -viscosity_bulk";
+  if (s->conductivity > 0.0) return "-conductivity";
+  if (s->angmom != SPAM_ANGMOM_NONE) return "-angmom";
+  if (s->closest_approach > 0.0) return "-closest_approach";
+  return NULL;
+}
+
+/* Options whose estimates or files assume the one range h, refused when given. */
+static PetscErrorCode CheckRunOptions(void)
+{
+  static const char *const fixed_only[][2] = {
+    {"-restart", "a restart would start the h solve from -h instead of the run's last h_i, which checkpoints do not hold yet"},
+    {"-grid_interval", "the grid fields interpolate with the one kernel range h"},
+    {"-diag_entropy", "the entropy estimates use the one kernel range h"},
+  };
+  PetscBool has;
+  char      val[128];
+
+  PetscFunctionBeginUser;
+  for (size_t k = 0; k < sizeof fixed_only / sizeof fixed_only[0]; k++) {
+    PetscCall(PetscOptionsHasName(NULL, NULL, fixed_only[k][0], &has));
+    if (!has) continue;
+    PetscCall(PetscSNPrintf(val, sizeof val, "%s", fixed_only[k][0]));
+    SPAM_BAD_INPUT("-smoothing_length", "adaptive", "does not take %s yet: %s", val, fixed_only[k][1]);
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamSmoothingCheck(const SpamCommonParams *c, const SpamParticles *p, const SpamSolidParams *s, PetscMPIInt size)
+{
+  const char  *law;
+  const double range = s->h_max * c->h + c->skin;
+
+  PetscFunctionBeginUser;
+  if (p->model_set || s->material != SPAM_MATERIAL_GAS || s->smoothing != SPAM_SMOOTHING_ADAPTIVE) PetscFunctionReturn(0);
+  if ((law = UnsupportedLaw(s))) SPAM_BAD_INPUT("-smoothing_length", "adaptive", "does not take %s yet: the adaptive pass has the pressure, Monaghan's viscosity and the energy equation only", law);
+  if (size > 1) SPAM_BAD_INPUT("-smoothing_length", "adaptive", "runs on one rank yet: the halo's range is the fixed h (this run: %d ranks)", (int)size);
+  if (c->periodic_ghosts) SPAM_BAD_INPUT("-smoothing_length", "adaptive", "does not take -periodic_images ghost yet: the adaptive pass has no ghost slots (its periodic pairs take the minimum image)");
+  if (SpamWallsAny(&p->walls, p->dim)) SPAM_BAD_INPUT("-smoothing_length", "adaptive", "does not take mirror walls yet: their images are placed within the fixed range h");
+  for (int d = 0; d < p->dim; d++)
+    if (p->box.periodic[d] && p->box.len[d] < 2.0 * range) SPAM_BAD_INPUT("-smoothing_length", "adaptive", "needs every periodic edge at least twice the list range h_max h + skin = %g (edge %d is %g): the pairs take the minimum image", range, d, p->box.len[d]);
+  PetscCall(CheckRunOptions());
+  PetscFunctionReturn(0);
+}
