@@ -5,10 +5,11 @@
 # which no test expects; the fuzz test also scans stderr. Leaks inside OpenMPI's initialisation
 # are suppressed by tests/lsan.supp (by library), leak checking stays on for everything else.
 # Run after the normal build and tests (README's test command). With --build-only it
-# configures and builds build-asan and stops (.ci/run builds it that way, at the lowest CPU
-# priority, while the normal build's tests run). SPAM_ASAN_PREBUILD (set by .ci/run) names the
-# directory of that background build (its process group, exit status and log): this run
-# returns it to the normal priority, waits for it and fails if it failed.
+# configures and builds build-asan and stops (.ci/run builds it that way, under the idle
+# scheduling policy, while the normal build's tests run). SPAM_ASAN_PREBUILD (set by .ci/run)
+# names the directory of that background build (its process group, exit status and log):
+# this run waits for it (alone on the machine, the idle policy takes every core) and fails if
+# it failed.
 set -euo pipefail
 build_only=0
 for flag in "$@"; do
@@ -20,8 +21,6 @@ done
 cd "$(dirname "$0")/.."
 root=$PWD
 if [[ -n "${SPAM_ASAN_PREBUILD:-}" && $build_only == 0 ]]; then
-  # Raising the priority again needs root (CI runs as root); without it the build goes on at 19.
-  renice -n 0 -g "$(cat "$SPAM_ASAN_PREBUILD/pgid")" > /dev/null 2>&1 || true
   while [[ ! -s "$SPAM_ASAN_PREBUILD/status" ]]; do sleep 2; done
   tail -n 3 "$SPAM_ASAN_PREBUILD/log"
   if [[ $(cat "$SPAM_ASAN_PREBUILD/status") != 0 ]]; then
