@@ -23,8 +23,8 @@
 
 /* Whether the images carry the density of their place (flow scheme, gas, mirror walls). */
 PetscBool SpamGasImagesOfPlace(const SpamSim *sim);
-/* e and T of the local particles from y, gathered to the ghosts with the walls' rules
- * (for a density pass that runs without the right-hand side's fields). */
+/* e and T of the local particles from y, gathered to the ghosts with the walls' rules: the
+ * tensor path's fields, and what a density pass alone needs for the images' densities. */
 PetscErrorCode SpamGasImagesTemperatures(SpamSim *sim, const double *y);
 /* The images' masses scaled to their place (before the density walk); the next caller of
  * SpamSimGhostMasses gathers the sources' masses again. */

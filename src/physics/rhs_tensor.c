@@ -145,13 +145,10 @@ static PetscErrorCode FillFields(SpamSim *sim, const double *y, PetscInt *bad)
   for (int i = 0; i < n; i++) {
     const double *yi = y + (size_t)i * nv;
     for (int d = 0; d < dim; d++) f->v[(size_t)i * dim + d] = yi[l->v + d];
-    f->e[i] = yi[l->e];
-    f->T[i] = (p->gamma - 1.0) * yi[l->e];
   }
   PetscCall(SpamSimGhostMasses(sim));
   PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_VELOCITY, f->v));
-  PetscCall(SpamGhostsGather(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->e));
-  PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_TEMPERATURE, f->T));
+  PetscCall(SpamGasImagesTemperatures(sim, y));
   if (p->density == SPAM_DENSITY_SUMMATION) {
     PetscCall(SpamDensityOfList(sim)); /* the list of the update above: one per evaluation */
     PetscFunctionReturn(0);
