@@ -8,12 +8,12 @@ packages=(build-essential cmake pkg-config libsundials-dev petsc-dev libhdf5-ope
 # libopenmpi-dev today; named here because the tests call it).
 # gcc's sanitizer runtimes for tools/sanitize.sh (libasan8, libubsan1) come with gcc-12
 # (libgcc-12-dev depends on them): nothing more to install.
-# Optional, each large: --bench adds the benchmark's peer (no test needs it); --paraview adds
-# ParaView with its Python (pvpython) and a virtual X server, for tests/run_paraview.py
-# (which skips without them).
+# Optional, each large: --bench adds the benchmarks' peers, LAMMPS and PySPH (no test needs
+# them); --paraview adds ParaView with its Python (pvpython) and a virtual X server, for
+# tests/run_paraview.py (which skips without them).
 for flag in "$@"; do
   case "$flag" in
-    --bench) packages+=(lammps time) ;;
+    --bench) packages+=(lammps time python3-pysph) ;;
     --paraview) packages+=(paraview python3-paraview xvfb xauth) ;;
     *) echo "tools/deps.sh: unknown flag $flag (accepted: --bench, --paraview)" >&2; exit 2 ;;
   esac
