@@ -163,6 +163,23 @@ def exponential_fit(t, A, t_sat, t_start=0.0):
     return float(p[0]), float(t[i0]), float(t[i1]), note
 
 
+def band_rates(t, A, t_start):
+    """The growth rate of ln A within each decade of amplitude (1e-7..1e-6, ..., 1e-2..1e-1),
+    fitted over the snapshots after t_start whose A lies in it, before A first leaves the
+    decade upwards (at least 3 snapshots): how the rate changes as the roll grows. A rate
+    that falls from decade to decade long before saturation says that what grew at small
+    amplitude is not the linear roll of the continuum."""
+    out = {}
+    for e in range(-7, -1):
+        lo, hi = 10.0 ** e, 10.0 ** (e + 1)
+        idx = [i for i in range(len(t)) if t[i] >= t_start and lo <= A[i] < hi]
+        above = next((i for i in range(len(t)) if t[i] >= t_start and A[i] >= hi), len(t))
+        idx = [i for i in idx if i < above]
+        if len(idx) >= 3:
+            out[f"1e{e}"] = float(np.polyfit(t[idx], np.log(A[idx]), 1)[0])
+    return out
+
+
 def effective_ra(rate, k):
     """The Ra at which the continuum's roll grows at this rate (bisection in log Ra between
     Ra_c and 1000 Ra_c; the rate rises with Ra): how far SPAM's cell is from the
@@ -223,6 +240,7 @@ for f in factors:
         t_start = 2.0 / (max(s_theory, 0.0) + chi * (k1 ** 2 + (math.pi / cell.H) ** 2))
         rate, fa, fb, note = exponential_fit(tt, A, t_avg, t_start)
         rate_v = exponential_fit(tt, Av, t_avg, t_start)[0]
+        bands = band_rates(tt, A, t_start)
         # saturation: the roll's amplitude over the last 1.5 e-folding times against the 1.5 before
         last = A[tt >= t_end - 1.5 / s_theory] if s_theory > 0 else A[-3:]
         prev = A[(tt >= t_end - 3.0 / s_theory) & (tt < t_end - 1.5 / s_theory)] if s_theory > 0 else A[-6:-3]
@@ -231,6 +249,7 @@ for f in factors:
         ra_eff = effective_ra(rate, k1) if note != "none" else float("nan")
         r = {"ra_over_ra_c": f, "ra": ra, "amplitude": amp, "t_end": t_end, "wall_s": wall, "rhs_evals": sm["rhs_evals"],
              "post_step_jumps": sm.get("post_step_jumps"), "s_theory": s_theory, "s_measured": rate, "s_measured_vy": rate_v, "ra_effective_over_ra_c": ra_eff / ra_c, "fit_from": fa, "fit_to": fb,
+             "band_rates": bands,
              "fit": note, "roll_amplitude_min": float(A[1:].min()), "roll_amplitude_end": float(A[-1]),
              "roll_amplitude_vy_end": float(Av[-1]),
              "saturation_drift": drift, "nu": nu, "nu_hot": nub, "nu_cold": nut, "nu_start": 0.5 * (qb[0] + qt[0]),
@@ -239,6 +258,8 @@ for f in factors:
         print(f"{name}: t_end {t_end:.0f}, {wall:.1f} s wall, {sm['rhs_evals']} RHS; roll amplitude (T') min {A[1:].min():.3g} -> "
               f"end {A[-1]:.3g} (v_y: {Av[-1]:.3g}); s = {rate:.4g} ({note}, t {fa:.0f}-{fb:.0f}; from v_y {rate_v:.4g}) against {s_theory:.4g}; Nu = {nu:.4f} "
               f"(hot {nub:.4f}, cold {nut:.4f}, start {r['nu_start']:.4f}); KE {ke[0]:.3g} -> {ke[-1]:.3g}", flush=True)
+        print(f"{name}: rate / |linear rate| by decade of the roll's amplitude: "
+              + ", ".join(f"{k}: {v / abs(s_theory):+.2f}" for k, v in bands.items()), flush=True)
 
 # (a) growth rates
 print("\nRa/Ra_c  amplitude  t_end    wall s  s theory    s measured  ratio   fit           s from v_y  Ra_eff/Ra_c  Nu       Nu start  sat. drift")
