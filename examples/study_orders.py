@@ -516,10 +516,16 @@ def write_section(out, lines, fitted):
     for f in fitted:
         if math.isfinite(f["order"]):
             order.setdefault(f["scene"], {}).setdefault(f["kernel"], {})[f["method"]] = f["order"]
+    by_method = {}
     for scene, ks in order.items():
         span[scene] = {k: [min(v.values()), max(v.values())] for k, v in ks.items()}
-    chart_readings.write_json(os.path.join(out, "orders.json"), {"section": body, "order": order, "range": span},
-                              chart="orders.png")
+        ms = {}
+        for v in ks.values():
+            for m, o in v.items():
+                ms.setdefault(m, []).append(o)
+        by_method[scene] = {m: [min(o), max(o)] for m, o in ms.items()}
+    chart_readings.write_json(os.path.join(out, "orders.json"), {"section": body, "order": order, "range": span,
+                                                                 "method_range": by_method}, chart="orders.png")
     sec = begin + "<!--text orders.json section-->\n" + body + "<!--/text-->\n" + end
     if begin in text and end in text:
         text = text[:text.index(begin)] + sec + text[text.index(end) + len(end):]
