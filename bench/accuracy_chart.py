@@ -70,6 +70,49 @@ def draw(out, path, tkey="wall_s"):
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110)
     plt.close(fig)
+    write_readings(out, path)
+
+
+MEASURE_NAMES = {"ke_err": "KE", "pos_err": "position"}
+
+
+def fmt_setting(curve, param):
+    return ("dt %g" % param) if curve in ("lammps", "kdk") else ("%s rtol %g" % (curve.upper(), param))
+
+
+def table_rows(out):
+    """The page's table: for every size, measure and accuracy that both programs reached, the
+    cheapest settings, their wall times and the ratios (as run, per repeat, interpolated, in
+    CPU time and of the run loops alone)."""
+    rows = []
+    for res in out["results"]:
+        for measure in ("ke_err", "pos_err"):
+            for row, crow, lrow in zip(res["tta"][measure], res["tta_cpu"][measure], res["tta_loop"][measure]):
+                if "ratio_runs" not in row:
+                    continue
+                c = row["curves"]
+                best, lam = c[row["best_spam_runs"]], c["lammps"]
+                per = row["ratio_runs_per_repeat"]
+                rows.append([str(res["n"]), "%s %.0e" % (MEASURE_NAMES[measure], row["eps"]),
+                             "%s, %.3f s" % (fmt_setting(row["best_spam_runs"], best["setting"]), best["runs_s"]),
+                             "%s, %.3f s" % (fmt_setting("lammps", lam["setting"]), lam["runs_s"]),
+                             "%.3f (%.3f–%.3f)" % (row["ratio_runs"], min(per), max(per)), "%.3f" % row["ratio_interp"],
+                             "%.3f" % crow["ratio_runs"] if "ratio_runs" in crow else "–",
+                             "%.3f" % lrow["ratio_runs"] if "ratio_runs" in lrow else "–"])
+    return rows
+
+
+def write_readings(out, path):
+    """The chart's readings beside it (PATH.json, examples/chart_readings.py): the table of
+    bench/README.md, the target's line and the machine's load at the start and the end."""
+    sys.path.insert(0, str(Path(__file__).resolve().parent.parent / "examples"))
+    import chart_readings
+    cols = ["N", "accuracy", "spam-ark", "LAMMPS", "ratio as run (per repeat)", "interpolated", "CPU", "run loops only"]
+    chart_readings.write(str(path), {"table": chart_readings.table(cols, table_rows(out)),
+                                     "target": out.get("target", {}), "repeats": out["repeats"],
+                                     "target_text": out.get("target", {}).get("line", "") + "\n",
+                                     "sizes": [r["n"] for r in out["results"]], "noise": out.get("noise"),
+                                     "load_1min_start": out.get("load_1min_start")})
 
 
 EPS_LO = 1e-4

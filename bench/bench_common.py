@@ -252,3 +252,11 @@ def fnum(x, fmt="%.3f"):
     if isinstance(x, float) and (math.isnan(x) or math.isinf(x)):
         return "-"
     return fmt % x
+
+
+def page_readings(path, readings):
+    """Writes the readings bench/README.md quotes to path (with the command, commit and load,
+    examples/chart_readings.py); a script does so when given --readings PATH."""
+    sys.path.insert(0, str(REPO_ROOT / "examples"))
+    import chart_readings
+    return chart_readings.write_json(str(path), readings)

@@ -139,6 +139,12 @@ def run_memory(args, workdir):
         for name, b in sorted(owners.items(), key=lambda kv: -kv[1]):
             print("| %s | %.1f | %.1f |" % (name, b / n, b / n / state))
         print("| total heap | %.1f | |" % (total / n))
+    rss_rows = [[case, str(n_), "%.1f" % (r / 1e6), "%.0f" % p] for case, rr in rows.items() for n_, r, p in rr]
+    owner_rows = [] if owners is None else (
+        [[name, "%.1f" % (b / n), "%.1f" % (b / n / state)] for name, b in sorted(owners.items(), key=lambda kv: -kv[1])]
+        + [["total heap", "%.1f" % (total / n), ""]])
     return {"rss": {c: [{"n": n_, "peak_rss_bytes": r, "bytes_per_particle": p} for n_, r, p in rr]
                     for c, rr in rows.items()},
-            "owners_bytes": owners, "owners_n": n}
+            "owners_bytes": owners, "owners_n": n,
+            "tables": {"rss": {"columns": ["case", "N", "peak RSS (MB)", "B/particle (RSS − base)"], "rows": rss_rows},
+                       "owners": {"columns": ["owner", "B/particle", "state vectors"], "rows": owner_rows}}}

@@ -197,6 +197,27 @@ def print_summary(results):
                      fnum(L.get("rss_minus_baseline_per_particle_bytes"), "%.0f"), "-"))
 
 
+PAGE_COLUMNS = ["case", "N", "spam-ark ms/RHS", "LAMMPS ms/step", "ratio", "spam-ark ns/pair", "B/particle (RSS − base)"]
+
+
+def page_rows(results):
+    """bench/README.md's table (formatted cells): a row per case and size; the solid's ratio
+    is against the LAMMPS gas at the same N (a reference cost, marked *)."""
+    rows = []
+    for r in results:
+        S, L = r.get("spam") or {}, r.get("lammps") or {}
+        ratio = r.get("ratio_time_per_eval")
+        star = ""
+        if r.get("kind") == "solid":
+            ratio, star = (r.get("reference") or {}).get("ratio_time_per_eval"), "*"
+        kind, h = r["case"].split("-h")
+        rows.append([f"{kind} h = {h}", str(r["n"]),
+                     fnum(_ms(S.get("time_per_eval_s")), "%.3f"), fnum(_ms(L.get("time_per_step_s")), "%.3f") if L else "–",
+                     fnum(ratio, "%.3f") + (star if ratio else ""), fnum(S.get("ns_per_pair_mean"), "%.2f"),
+                     fnum(S.get("rss_minus_baseline_per_particle_bytes"), "%.0f")])
+    return rows
+
+
 T1_N, T1_H, T1_MAX = 65536, 3.0, 0.5
 T2_N0, T2_N1, T2_H, T2_MAX = 16384, 1048576, 3.0, 0.20
 T3_H, T3_MAX = 3.0, 1024.0

@@ -506,6 +506,12 @@ def main():
                "exchanges": EXCHANGES, "rhs_cost": cost, "selection_fit": sel, "load": load, "census": census_rows, "table": rows},
               open(a.out, "w"), indent=1)
     chart(rows, census_rows, net, cost, sel, a.png)
+    # The readings bench/README.md quotes, beside the chart with the command and commit.
+    sys.path.insert(0, os.path.join(REPO, "examples"))
+    import chart_readings
+    chart_readings.write(a.png, {"readings": "\n".join(readings(rows, census_rows, sel)[2:]) + "\n",
+                                 "rhs_ns_per_particle": cost["fast"]["s_per_particle"] * 1e9,
+                                 "seconds": time.time() - t0, "load_1min_start": load[0][0]})
     with open(os.path.splitext(a.out)[0] + ".md", "w") as f:
         f.write(markdown(rows, census_rows, cost, sel, net, stamp))
     print("wrote %s, %s.md and %s (%s)" % (a.out, os.path.splitext(a.out)[0], a.png, stamp))

@@ -32,6 +32,7 @@ import argparse
 import datetime
 import json
 import math
+import os
 import shutil
 import subprocess
 import sys
@@ -461,7 +462,7 @@ def main():
     out = {"date": datetime.datetime.now().isoformat(timespec="seconds"), "commit": head,
            "argv": sys.argv[1:], "repeats": a.repeats, "t_end": T_END, "h": H, "eps": list(EPS),
            "atol_over_rtol": ATOL_OVER_RTOL, "table_points": a.table_points, "skin": a.skin,
-           "results": []}
+           "load_1min_start": os.getloadavg()[0], "results": []}
     for n in sorted(int(s) for s in a.sizes.split(",")):
         lad = dict(QUICK_LADDERS if a.quick else (LADDERS if n <= 16384 else LARGE_LADDERS))
         lad.update(own)

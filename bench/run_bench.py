@@ -45,7 +45,7 @@ from spam_driver import DP_TABLE, spam_ark_works
 from bench_cases import (baselines, bench_gas, bench_solid, log_view_run, parse_cases,
                          solid_reference, steps_for)
 from bench_memory import run_memory
-from bench_report import evaluate_targets, print_gas, print_log_view, print_solid, print_summary
+from bench_report import PAGE_COLUMNS, evaluate_targets, page_rows, print_gas, print_log_view, print_solid, print_summary
 
 
 DEFAULT_SIZES = "16384,65536,262144,1048576"
@@ -121,6 +121,9 @@ def parse_args(argv):
     ap.add_argument("--keep", action="store_true", help="keep the scratch directory")
     ap.add_argument("--out", default=None,
                     help="JSON output (default bench/results/bench_<date>.json)")
+    ap.add_argument("--readings", default=None,
+                    help="also write the table and targets bench/README.md quotes to this JSON "
+                         "(with the command and commit, examples/chart_readings.py)")
     args = ap.parse_args(argv)
     try:
         args.memory_sizes = [int(v) for v in args.memory_sizes.split(",") if v.strip()]
@@ -172,6 +175,10 @@ def memory_only(args):
     out_path.parent.mkdir(parents=True, exist_ok=True)
     out_path.write_text(json.dumps(res, indent=1))
     print("wrote %s" % out_path)
+    if args.readings:
+        sys.path.insert(0, str(REPO_ROOT / "examples"))
+        import chart_readings
+        chart_readings.write_json(args.readings, {"tables": res["tables"], "owners_n": res["owners_n"]})
     if not args.workdir and not args.keep:
         shutil.rmtree(workdir, ignore_errors=True)
     return 0
@@ -245,7 +252,7 @@ def main(argv=None):
         "cases": cases, "lammps_skin": args.skin, "table_points": args.table_points,
         "table_rlo": args.table_rlo, "sizes": sizes, "max_seconds": args.max_seconds,
         "quick": args.quick, "results": [], "skipped": [], "failures": [],
-        "argv": sys.argv[1:] if argv is None else list(argv),
+        "argv": sys.argv[1:] if argv is None else list(argv), "load_1min_start": os.getloadavg()[0],
     }
     try:
         lv = subprocess.run([args.lmp, "-h"], capture_output=True, text=True, timeout=60)
@@ -347,6 +354,14 @@ def main(argv=None):
     out_path.parent.mkdir(parents=True, exist_ok=True)
     out_path.write_text(json.dumps(out, indent=1, default=str) + "\n")
     print("\nwrote %s (total %.0f s)" % (out_path, out["total_seconds"]))
+    if args.readings:
+        sys.path.insert(0, str(REPO_ROOT / "examples"))
+        import chart_readings
+        chart_readings.write_json(args.readings, {
+            "table": chart_readings.table(PAGE_COLUMNS, page_rows(out["results"])),
+            "targets": "\n".join("    " + line for line in lines) + "\n", "repeats": args.repeats,
+            "seconds": out["total_seconds"], "load_1min_start": out.get("load_1min_start"),
+            "log_view": out.get("log_view")})
     if out["failures"]:
         print("%d run(s) failed: %s" % (len(out["failures"]),
                                         ", ".join("%s N=%s" % (f["case"], f.get("n", "-"))

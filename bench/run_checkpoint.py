@@ -21,6 +21,7 @@ import re
 import shutil
 import statistics
 import subprocess
+import sys
 import tempfile
 from pathlib import Path
 
@@ -81,7 +82,9 @@ def main():
     p.add_argument("--lmp", default=shutil.which("lmp") or "lmp")
     p.add_argument("--n", type=int, default=256)
     p.add_argument("--repeats", type=int, default=5)
+    p.add_argument("--readings", default=None, help="also write the table bench/README.md quotes to this JSON")
     a = p.parse_args()
+    load0 = os.getloadavg()[0]
     commit = subprocess.run(["git", "-C", str(ROOT), "describe", "--always", "--dirty"], capture_output=True, text=True).stdout.strip()
     with tempfile.TemporaryDirectory() as tmp:
         work = Path(tmp)
@@ -97,6 +100,15 @@ def main():
     print(f"{'LAMMPS':12} {pb:>10d} {pb / N:>11.1f} {1e3 * min(pt):>16.2f} {1e3 * statistics.median(pt):>12.2f}")
     print(f"ratio spam-ark / LAMMPS: size {sb / pb:.2f}, write time {min(st) / min(pt):.2f} (best), "
           f"{statistics.median(st) / statistics.median(pt):.2f} (median)")
+    if a.readings:
+        sys.path.insert(0, str(ROOT / "bench"))
+        import bench_common as bc
+        rows = [[name, str(b), f"{b / N:.1f}", f"{1e3 * min(t):.2f}", f"{1e3 * statistics.median(t):.2f}"]
+                for name, b, t in (("spam-ark", sb, st), ("LAMMPS", pb, pt))]
+        bc.page_readings(a.readings, {"table": {"columns": ["", "bytes", "bytes per particle", "write, best (ms)", "median (ms)"],
+                                                "rows": rows}, "n": N, "repeats": a.repeats, "load_1min_start": load0,
+                                      "size_ratio": sb / pb, "write_ratio_best": min(st) / min(pt),
+                                      "write_ratio_median": statistics.median(st) / statistics.median(pt)})
 
 
 if __name__ == "__main__":

@@ -17,9 +17,14 @@ This is a measurement, not a test. Usage (spam-ark built in build/):
 """
 import argparse
 import json
+import os
 import subprocess
+import sys
 import tempfile
 from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+import bench_common as bc  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 CASES = {
@@ -46,7 +51,9 @@ def main():
     ap.add_argument("--exe", default=str(ROOT / "build/spam-ark"))
     ap.add_argument("--steps", type=int, default=40)
     ap.add_argument("--repeats", type=int, default=3)
+    ap.add_argument("--readings", default=None, help="also write the table bench/README.md quotes to this JSON")
     a = ap.parse_args()
+    load0, rows = os.getloadavg()[0], []
     print(f"{'case':<22} {'plain ms/RHS':>13} {'flow ms/RHS':>12} {'flow/plain':>11} {'gradient form ms/RHS':>21} {'pair/gradient':>14}")
     with tempfile.TemporaryDirectory() as tmp:
         for case in CASES:
@@ -56,6 +63,12 @@ def main():
                     best[v] = min(best[v], ms_per_rhs(a.exe, case, v, a.steps, Path(tmp) / v.replace(", ", "_")))
             g = best["flow, gradient"]
             print(f"{case:<22} {best['plain']:>13.3f} {best['flow']:>12.3f} {best['flow'] / best['plain']:>11.3f} {g:>21.3f} {best['flow'] / g:>14.3f}")
+            rows.append([case, f"{best['plain']:.3f}", f"{best['flow']:.3f}", f"{best['flow'] / best['plain']:.3f}", f"{g:.3f}",
+                         f"{best['flow'] / g:.3f}"])
+    if a.readings:
+        cols = ["case", "plain ms/RHS", "flow ms/RHS", "flow / plain", "flow, two-pass ms/RHS", "pair / two-pass"]
+        bc.page_readings(a.readings, {"table": {"columns": cols, "rows": rows}, "steps": a.steps, "repeats": a.repeats,
+                                      "load_1min_start": load0})
 
 
 if __name__ == "__main__":

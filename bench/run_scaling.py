@@ -245,6 +245,12 @@ def main():
                 k = "speedup_" if res["kind"] == "strong" else "weak_efficiency_"
                 w.writerow([res["case"], lay, v["N"], v["ms_per_rhs"], v["ms_per_step"], v[k + "rhs"], v[k + "step"], v["kinetic_final"], v["failed"]])
     chart(results, a.png, commit, load)
+    # The table bench/README.md quotes, beside the chart with the command and commit.
+    sys.path.insert(0, os.path.join(REPO, "examples"))
+    import chart_readings
+    from scaling_table import table_rows, COLUMNS
+    chart_readings.write(a.png, {"table": chart_readings.table(COLUMNS, table_rows(results)), "seconds": total,
+                                 "repeats": a.repeats, "load_1min_start": load[0]})
     print("wrote %s.json, %s.csv and %s" % (a.out, a.out, a.png))
     return 1 if any(r["status"] != "max_steps" for r in all_runs) else 0
 

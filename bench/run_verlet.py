@@ -63,6 +63,7 @@ def main():
     p.add_argument("--cpu", type=int, default=0)
     p.add_argument("--no-pin", action="store_true")
     p.add_argument("--out", default=None, help="JSON results (default bench/results/verlet_<date>.json)")
+    p.add_argument("--readings", default=None, help="also write the figures bench/README.md quotes to this JSON")
     a = p.parse_args()
     nx = int(round(a.n ** 0.5))
     assert nx * nx == a.n, "--n must be a perfect square"
@@ -121,6 +122,8 @@ def main():
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps(res, indent=1))
     print("  results in %s" % out)
+    if a.readings:
+        bc.page_readings(a.readings, {k: v for k, v in res.items() if not k.endswith("_runs")})
 
 
 if __name__ == "__main__":

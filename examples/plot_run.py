@@ -89,6 +89,16 @@ def conservation(ax, ts, s):
         ax.legend(fontsize=8)
 
 
+def rhs_count(s, st):
+    """Every RHS evaluation of the run, the integrator's and the interpolant's (dense outputs)
+    apart, from summary.json; steps.csv's count (the integrator's) while the run has no
+    summary yet."""
+    if "rhs_evals_total" in s:
+        return "%d (integrator %d + interpolation %d)" % (s["rhs_evals_total"], s.get("rhs_evals", 0),
+                                                         s.get("interpolation_rhs_evals", 0))
+    return "%d (integrator; no summary.json yet)" % int(st["rhs_evals"][-1])
+
+
 def step_sizes(ax, run):
     try:
         st = run.steps()
@@ -109,7 +119,7 @@ def step_sizes(ax, run):
                     label="after a rejection (%d)" % int(rej.sum()))
     ax.set_xlabel("time t (reduced units)")
     ax.set_ylabel("step size dt (reduced time)")
-    ax.set_title("Accepted steps: %d, RHS evaluations %d" % (len(st["t"]), int(st["rhs_evals"][-1])))
+    ax.set_title("Accepted steps: %d, RHS evaluations %s" % (len(st["t"]), rhs_count(run.summary, st)))
     ax.legend(fontsize=8)
 
 

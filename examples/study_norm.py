@@ -48,6 +48,7 @@ except ImportError:
         os.execv("/usr/bin/python3", ["/usr/bin/python3"] + sys.argv)
     sys.exit("study_norm.py needs numpy and matplotlib (Debian: python3-numpy python3-matplotlib)")
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import chart_readings  # noqa: E402
 import spam_manifest  # noqa: E402
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -272,11 +273,15 @@ def readings(a, rows):
 
 
 def update_report(out, part, lines):
-    """Replaces (or appends) the section <!-- part --> ... <!-- /part --> of DIR/study.md."""
+    """Replaces (or appends) the section <!-- part --> ... <!-- /part --> of DIR/study.md; its
+    text is also written to DIR/<part>.json with the command and commit (chart_readings), and
+    the page marks the section as that file's text (tools/docs_numbers.py checks the two)."""
     path = os.path.join(out, "study.md")
     text = open(path).read() if os.path.exists(path) else "# spam-ark study\n"
     begin, end = f"<!-- {part} -->\n", f"<!-- /{part} -->\n"
-    section = begin + "\n".join(lines) + "\n" + end
+    body = "\n".join(lines) + "\n"
+    chart_readings.write_json(os.path.join(out, part + ".json"), {"section": body}, chart=part + ".png")
+    section = begin + f"<!--text {part}.json section-->\n" + body + "<!--/text-->\n" + end
     if begin in text and end in text:
         text = text[:text.index(begin)] + section + text[text.index(end) + len(end):]
     else:

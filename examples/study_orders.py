@@ -56,6 +56,7 @@ except ImportError:
         os.execv("/usr/bin/python3", ["/usr/bin/python3"] + sys.argv)
     sys.exit("study_orders.py needs numpy and matplotlib (Debian: python3-numpy python3-matplotlib)")
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import chart_readings  # noqa: E402
 import spam_manifest  # noqa: E402
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -502,12 +503,30 @@ def work_reading(rows, kernels, budget=600):
     return (f"Smallest expansion error within {budget} RHS evaluations: " + ", ".join(parts) + ".") if parts else ""
 
 
-def write_section(out, lines):
-    """Replaces (or appends) the <!-- orders --> section of DIR/study.md."""
+def write_section(out, lines, fitted):
+    """Replaces (or appends) the <!-- orders --> section of DIR/study.md. The section's text
+    and the fitted orders (scene, kernel, method; and each kernel's range over the methods)
+    are also written to DIR/orders.json with the command and commit (chart_readings), and
+    the page marks the section as that file's text (tools/docs_numbers.py checks the two)."""
     path = os.path.join(out, "study.md")
     text = open(path).read() if os.path.exists(path) else "# spam-ark study\n"
     begin, end = "<!-- orders -->\n", "<!-- /orders -->\n"
-    sec = begin + "\n".join(lines) + "\n" + end
+    body = "\n".join(lines) + "\n"
+    order, span = {}, {}
+    for f in fitted:
+        if math.isfinite(f["order"]):
+            order.setdefault(f["scene"], {}).setdefault(f["kernel"], {})[f["method"]] = f["order"]
+    by_method = {}
+    for scene, ks in order.items():
+        span[scene] = {k: [min(v.values()), max(v.values())] for k, v in ks.items()}
+        ms = {}
+        for v in ks.values():
+            for m, o in v.items():
+                ms.setdefault(m, []).append(o)
+        by_method[scene] = {m: [min(o), max(o)] for m, o in ms.items()}
+    chart_readings.write_json(os.path.join(out, "orders.json"), {"section": body, "order": order, "range": span,
+                                                                 "method_range": by_method}, chart="orders.png")
+    sec = begin + "<!--text orders.json section-->\n" + body + "<!--/text-->\n" + end
     if begin in text and end in text:
         text = text[:text.index(begin)] + sec + text[text.index(end) + len(end):]
     else:
@@ -539,7 +558,7 @@ def main():
     chart_orders(os.path.join(a.out, "orders.png"), fitted, methods, a.kernel)
     chart_wp(os.path.join(a.out, "wp_kernels.png"), rows, methods, a.kernel, refs)
     lines = section(a, rows, fitted, refs, methods, a.kernel, time.time() - t0)
-    write_section(a.out, lines)
+    write_section(a.out, lines, fitted)
     print("\n".join(lines))
 
 

@@ -81,6 +81,7 @@ ap.add_argument("--t-end", type=float, default=None, help="end time of every run
 ap.add_argument("--t-scale", type=float, default=1.0, help="multiplies the sized end time")
 ap.add_argument("--extra", default="", help="options passed to every run (and to the linear theory's cell)")
 ap.add_argument("-o", "--output", default=None, help="results as JSON")
+ap.add_argument("--readings", default=None, help="the growth table and the onsets as a page's readings (examples/chart_readings.py)")
 ap.add_argument("--report-only", action="store_true", help="exit 0 whatever the goals")
 ap.add_argument("--no-onset", action="store_true", help="check the growth rates only (the onset needs Ra near Ra_c)")
 ap.add_argument("--reuse", action="store_true", help="keep the runs already in --workdir that reached their end time (analysis only)")
@@ -196,6 +197,27 @@ def effective_ra(rate, k):
         else:
             hi = mid
     return math.exp(0.5 * (lo + hi))
+
+
+def write_readings(path, results, seeds):
+    """The page's table (a row per Ra: the growth rate over linear theory's per seed, then
+    Nu of each seed) and the onsets, with the command and commit (examples/chart_readings.py)."""
+    import chart_readings
+    by = {(r["ra_over_ra_c"], r["amplitude"]): r for r in results["runs"]}
+    ras = sorted({r["ra_over_ra_c"] for r in results["runs"]})
+
+    def cell(f, amp, key, spec):
+        r = by.get((f, amp))
+        if r is None:
+            return ""
+        return format(r[key], spec) + (" (short fit)" if key == "s_ratio" and r["fit"] == "short" else "") \
+            + (" (no growth)" if key == "s_ratio" and r["fit"].startswith("none") else "")
+    columns = ["Ra / Ra_c"] + [f"s / s_linear, seed {amp:g}" for amp in seeds] + [f"Nu, seed {amp:g}" for amp in seeds]
+    rows = [[f"{f:g}"] + [cell(f, amp, "s_ratio", ".2f") for amp in seeds] + [cell(f, amp, "nu", ".3f") for amp in seeds]
+            for f in ras]
+    onset = [{"seed": float(k), "ra_onset_over_ra_c": v["ra_onset"] / results["ra_c"]} for k, v in results["onset"].items()]
+    chart_readings.write_json(path, {"ra_c": results["ra_c"], "options": results["extra"],
+                                     "growth": chart_readings.table(columns, rows), "onset": onset})
 
 
 results = {"ra_c": ra_c, "k_c_H": kc, "k_roll_H": k1 * cell.H, "extra": a.extra, "runs": []}
@@ -320,6 +342,8 @@ print(f"total run time {results['total_wall_s']:.1f} s over {len(results['runs']
 print("(fit: exponential, short (seed near saturation) or none (no growth: s is the slope of ln A from its peak to the end); Ra_eff: the Ra at which "
       "the continuum's roll grows at the measured rate; sat. drift: the roll's amplitude over the last 1.5 e-folding times of the "
       "linear rate over that of the 1.5 before, 1 when saturated)")
+if a.readings:
+    write_readings(a.readings, results, seeds)
 if a.output:
     with open(a.output, "w") as f:
         json.dump(results, f, indent=1)

@@ -13,7 +13,7 @@ its simple commands (&&, ;, |) and checked:
   the options files and particle files it names exist (or an earlier command of the page
   makes them);
 - no command writes into a file or directory git tracks (-o, --out, --chart, --doc,
-  -output_dir, -final_csv), unless its line says it regenerates it;
+  -output_dir, -final_csv, --readings), unless its line says it regenerates it;
 - the cheap ones run: every spam-ark command of README.md and of the docs/*.md pages (not
   the scene and study pages, whose runs are their tests') is run for zero steps in a
   scratch directory (the files an example script of the page makes are made there first),
@@ -52,7 +52,7 @@ COMMAND_START = re.compile(r"^\s*(\./build/|build/|spam-ark|examples/|bench/|tes
 # PETSc's own options, which spam-ark passes on (docs/running.md).
 PETSC_PASS = re.compile(r"^-(log_\w*|info|malloc\w*|memory_view|objects_dump|checkstack|options_\w*|on_error_\w*|fp_trap|"
                         r"no_signal_handler|\w*debugger\w*|mpi\w*|viewer_\w*|history|skip_petscrc|ts_monitor|ts_view|ts_adapt_\w+|ts_rk_type|ts_ssp_type|ts_basicsymplectic_type|help|version)$")
-WRITES = {"-o", "--out", "--chart", "--doc", "-output_dir", "-final_csv", "-initial_csv", "--workdir"}
+WRITES = {"-o", "--out", "--chart", "--doc", "-output_dir", "-final_csv", "-initial_csv", "--workdir", "--readings"}
 HASH = re.compile(r"(?<![\w/.-])(?=[0-9a-f]*[a-f])(?=[0-9a-f]*[0-9])[0-9a-f]{7,40}(?![\w/.-])")
 ISSUE = re.compile(r"\bissues?\s+#?\d+|(?<![\w&])#\d{1,4}\b", re.I)
 CI_TIMING = re.compile(r"\bCI\b[^.\n]{0,80}\b\d+(\.\d+)?\s*(s|min|minutes|seconds)\b")

@@ -57,6 +57,10 @@ for mode in ("transverse", "longitudinal"):
         spam, continuum = predicted_periods(stdout)
         ts = table(os.path.join(out, "timeseries.csv"))
         period, nmin = measured_period(ts["t"], ts["kinetic"])
+        key = f"{mode}.A{round(amp * 100)}"  # a page's key: A25 for A = 0.25
+        for name, v in (("period", period), ("spam", spam), ("continuum", continuum), ("rel", period / spam - 1),
+                        ("continuum_rel", spam / continuum - 1)):
+            c.reading(f"{key}.{name}", v)
         c.check(nmin >= 3, f"{mode} A={amp}: {nmin} kinetic-energy minima found (>= 3)")
         c.check(abs(period / spam - 1) < tol, f"{mode} A={amp}: period {period:.5f} vs linearised SPAM {spam:.5f} "
                 f"({period / spam - 1:+.2e}, tolerance {tol:g}); continuum {continuum:.5f}")
@@ -66,6 +70,7 @@ for mode in ("transverse", "longitudinal"):
         ke, ie = max(ts["kinetic"]), ts["internal"][0]
         c.check(abs(ke / ie - 1) < 0.01, f"{mode} A={amp}: peak KE {ke:.6g} vs initial IE {ie:.6g}: full exchange within 1%")
         halves = crossings(mode, amp, spam, out + "_halves")
+        c.reading(f"{key}.halves", list(halves))
         alt = max((abs(halves[n + 1] - halves[n]) for n in range(len(halves) - 1)), default=math.inf) / (spam / 2)
         atol = 2 * 2.8e-3 * (amp / 0.25) ** 2 + 5e-5
         c.check(alt < atol, f"{mode} A={amp}: half-cycles {' '.join(f'{h:.4f}' for h in halves)} "
@@ -73,10 +78,11 @@ for mode in ("transverse", "longitudinal"):
         if amp != 0.05:
             continue
         halves = crossings(mode, amp, spam, out + "_continuum", ["-planewave_stress", "continuum"])
+        c.reading(f"{key}.continuum_halves", list(halves))
         f = spam / continuum
         expect = 2 * spam / math.pi * math.asin((f - 1) / f)
         alt = [abs(halves[n] - halves[n + 1]) for n in range(len(halves) - 1)]
         c.check(alt and all(abs(x / expect - 1) < 0.01 for x in alt),
                 f"{mode} A=0.05, continuum stress: half-cycles {' '.join(f'{h:.4f}' for h in halves)} alternate by "
                 f"{' '.join(f'{x:.4f}' for x in alt)}, predicted (2T/pi) asin((f-1)/f) = {expect:.4f} (within 1%)")
-c.finish()
+c.finish(a.readings)

@@ -65,6 +65,7 @@ def revolution(name, angmom):
     ts = table(os.path.join(out, "timeseries.csv"))
     s = summary(out)
     c.check(abs(s["t_final"] - rev) < 1e-6, f"{name}: reached t = {s['t_final']:.4f}")
+    c.reading(f"{name}.energy_rel_drift_max", s["energy_rel_drift_max"])
     c.check(s["energy_rel_drift_max"] < 1e-6, f"{name}: drift of K + sum m e {s['energy_rel_drift_max']:.2e} (< 1e-6 at rtol 1e-9)")
     return ts, final
 
@@ -72,6 +73,8 @@ def revolution(name, angmom):
 ts, final = revolution("summation_r2", "none")
 k0, k, ie = ts["kinetic"][0], ts["kinetic"][-1], ts["internal"][-1]
 u = stress_energy(final)
+for key, v in (("internal", ie), ("stress_energy", u), ("k_plus_u_over_k0", (k + u) / k0)):
+    c.reading(f"summation_r2.{key}", v)
 c.check(abs(ie - u) < 0.02 * k0, f"R2: sum m e = {ie:.4f}, stress energy U = {u:.4f} (differ by < 0.02 K0 = {0.02 * k0:.4f})")
 c.check(abs((k + u) / k0 - 1) < 0.02, f"R2: (K + U)/K0 = {(k + u) / k0:.4f} (within 0.02 of 1)")
 
@@ -79,6 +82,8 @@ ts, _ = revolution("summation_r2_tij", "Tij")
 k0 = ts["kinetic"][0]
 kmax = max(ts["kinetic"]) / k0
 iemin = min(ts["internal"]) / k0
+c.reading("summation_r2_tij.k_max_over_k0", kmax)
+c.reading("summation_r2_tij.internal_min_over_k0", iemin)
 c.check(kmax <= 1.2, f"R2 + T_ij: max K/K0 = {kmax:.4f} (<= 1.2; 2.58 when Hooke's rate took grad v over rho_ij)")
 c.check(iemin >= -0.2, f"R2 + T_ij: min sum m e / K0 = {iemin:.4f} (>= -0.2; -1.58 before)")
-c.finish()
+c.finish(a.readings)

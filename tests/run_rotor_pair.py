@@ -23,8 +23,10 @@ for scope in ("global", "body"):
     tot = max(abs(x) for x in ts["lz"]) / abs(a0)
     c.check(tot < 1e-9, f"{scope}: total L stays zero ({tot:.1e} of one body's L)")
     drift = max(max(abs(x / a0 - 1) for x in ts["l_body0"]), max(abs(x / b0 - 1) for x in ts["l_body1"]))
+    c.reading(f"{scope}.total_l_max", tot)
+    c.reading(f"{scope}.body_l_drift_max", drift)
     if scope == "global":
         c.check(drift > 0.01, f"global: each body's L drifts ({drift:.3%} after 120 degrees)")
     else:
         c.check(drift < 1e-9, f"body: each body's L kept ({drift:.1e} after 120 degrees)")
-c.finish()
+c.finish(a.readings)

@@ -34,8 +34,11 @@ for s0 in (0.01, 0.02):
     rate[s0] = np.polyfit(t[sel], np.log(ke[sel]), 1)[0]
     c.check(ke[-1] > 100 * ke[0], f"sigma0 {s0:g}: KE grows {ke[-1] / ke[0]:.3g}-fold to t = 150")
     c.check(rate[s0] > 0.02, f"sigma0 {s0:g}: fitted exponential rate of KE {rate[s0]:.4f} per unit time (> 0.02)")
+c.reading("ke_rate.sigma0_01", rate[0.01])
+c.reading("ke_rate.sigma0_02", rate[0.02])
 c.check(rate[0.02] > 1.2 * rate[0.01], f"rate rises with tension: {rate[0.01]:.4f} -> {rate[0.02]:.4f}")
 t, ke = series("r2_0.02", ["-tensile_stress", 0.02, "-coordinates", "R2"])
+c.reading("r2.ke_max_over_ke0", ke.max() / ke[0])
 c.check(ke.max() < 2 * ke[0] and all(math.isfinite(x) for x in ke), f"R2 at sigma0 0.02: no growth, max KE/KE0 = {ke.max() / ke[0]:.3f} (< 2)")
 
 # Closest-approach reflection (PRE Sec. IV) does not stop the growth, which starts from
@@ -53,5 +56,7 @@ for dmin in (0, 0.9):
     sat[dmin] = max(k for t_, k in zip(ts["t"], ts["kinetic"]) if t_ >= 400)
     c.check(code == 0 and (s["post_step_jumps"] > 0) == (dmin > 0),
             f"d_min {dmin:g}: exit {code}, {s['post_step_jumps']} reflections, saturated KE {sat[dmin]:.3g} {err.strip()}")
+c.reading("closest.saturated_ke_none", sat[0])
+c.reading("closest.saturated_ke_d09", sat[0.9])
 c.check(sat[0.9] < 0.25 * sat[0], f"reflection at 0.9 caps the saturated KE: {sat[0.9]:.3g} vs {sat[0]:.3g} (< 1/4)")
-c.finish()
+c.finish(a.readings)

@@ -1,4 +1,4 @@
-#!/usr/bin/env python3
+#!/usr/bin/python3
 """Checks for examples/plot_expansion.py on synthetic run directories.
 
 Plain script: prints each check, ends with 'N passed, M failed', and exits 0 only
