@@ -216,8 +216,17 @@ def write_readings(path, results, seeds):
     rows = [[f"{f:g}"] + [cell(f, amp, "s_ratio", ".2f") for amp in seeds] + [cell(f, amp, "nu", ".3f") for amp in seeds]
             for f in ras]
     onset = [{"seed": float(k), "ra_onset_over_ra_c": v["ra_onset"] / results["ra_c"]} for k, v in results["onset"].items()]
+    # The rate by decade of the roll's amplitude over |linear rate| (band_rates), a row per run.
+    decades = sorted({d for r in results["runs"] for d in r["band_rates"]}, key=float)
+    bands = chart_readings.table(["Ra / Ra_c", "seed", "s linear"] + [f"A {d} to 1e{int(d[2:]) + 1}" for d in decades],
+                                 [[f"{r['ra_over_ra_c']:g}", f"{r['amplitude']:g}", f"{r['s_theory']:.2e}"]
+                                  + [format(r["band_rates"][d] / abs(r["s_theory"]), "+.2f") if d in r["band_rates"] else ""
+                                     for d in decades] for r in results["runs"]])
     chart_readings.write_json(path, {"ra_c": results["ra_c"], "options": results["extra"],
-                                     "growth": chart_readings.table(columns, rows), "onset": onset})
+                                     "growth": chart_readings.table(columns, rows), "onset": onset, "bands": bands,
+                                     "runs": {f"ra{r['ra_over_ra_c']:g}_amp{r['amplitude']:g}": {
+                                         k: r[k] for k in ("s_theory", "s_measured", "s_ratio", "nu", "band_rates")}
+                                         for r in results["runs"]}})
 
 
 results = {"ra_c": ra_c, "k_c_H": kc, "k_roll_H": k1 * cell.H, "extra": a.extra, "runs": []}
