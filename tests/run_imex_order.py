@@ -28,7 +28,16 @@ The pair form conserves energy pair by pair in each evaluation of either part, s
 combination of stages does: the run's largest relative energy drift is round-off (measured
 up to 3.7e-13; bound 1e-11, well below the steps' errors). The Newton tolerance is set by
 -ts_rtol 1e-12 (the error weights of e are rtol e0: 1e-8 of the mode's amplitude, times
-the Newton coefficient 0.1)."""
+the Newton coefficient 0.1).
+
+The viscous part and the walls: plane Couette flow (options/couette.opts: eta = 1, walls at
+y = 0 and y = 32, the upper at U = 0.1, Re = 3.2) started from rest to t = 20, where the
+velocity's pair Laplacian, its work and the walls' books are in the implicit part. Both
+methods at -ts_rtol 1e-8 (velocity weights rtol c0, c0 = 1.41; energy weights rtol e)
+must agree within the sum of their step errors, (steps) rtol c0 for v and (steps) rtol e0
+for e (~55 steps each: 7.8e-7 and 5.5e-7; measured 5.9e-10 and 1.2e-8), and the total
+energy with the walls' work booked must drift by less than that bound (measured 7.7e-10,
+DP5 1.4e-10)."""
 import csv
 import math
 import os
@@ -43,6 +52,7 @@ K = 2 * math.pi / L
 T = 1 / ((GAMMA - 1) * KAPPA * K * K)
 PAIRS = (("ARK324L2SA", 3, (2, 4, 8)), ("ARK436L2SA", 4, (2, 4, 8)), ("ARK548L2SA", 5, (1, 2, 4)))
 REFERENCE = ("ARK548L2SA", 16)
+COUETTE_RTOL, COUETTE_C0 = 1e-8, math.sqrt(2.0)
 THEORY_TOL, ORDER_TOL, DRIFT_TOL, REF_ERROR_X25 = 1e-7, 0.2, 1e-11, 1e-9
 
 
@@ -73,8 +83,35 @@ def amplitude(a, c, table, n):
     return 2 / len(e) * np.sum((e - e.mean()) * np.cos(K * x0)) / (E0 * EPS)
 
 
+def couette(a, c):
+    """Couette from rest to t = 20 with DP5 and arkode_imex: the final state of each, or None."""
+    got = {}
+    for method in ("arkode", "arkode_imex"):
+        out = os.path.join(a.workdir, f"couette_{method}")
+        last = os.path.join(out, "final.csv")
+        opts = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "options", "couette.opts")
+        code, _, err = run(a.spam_ark, ["-options_file", opts, "-ts_type", method, "-ts_rtol", COUETTE_RTOL, "-ts_max_time", 20,
+                                        "-output_interval", 0, "-snapshot_interval", 0, "-final_csv", last], out)
+        if not c.check(code == 0, f"couette {method}: run completes (exit {code}) {err.strip()[-300:]}"):
+            return None
+        s = summary(out)
+        got[method] = (columns(last, ["vx", "e"]), s["steps"], s["energy_rel_drift_max"])
+    return got
+
+
 a = arguments()
 c = Checks()
+cou = couette(a, c)
+if cou:
+    (v0, e0), n0, _ = cou["arkode"]
+    (v1, e1), n1, drift = cou["arkode_imex"]
+    steps = n0 + n1
+    dv, de = np.max(np.abs(v1 - v0)), np.max(np.abs(e1 - e0))
+    c.check(dv < steps * COUETTE_RTOL * COUETTE_C0, f"couette: |vx imex - vx dp5| {dv:.1e} within {steps} rtol c0 = {steps * COUETTE_RTOL * COUETTE_C0:.1e}")
+    c.check(de < steps * COUETTE_RTOL, f"couette: |e imex - e dp5| {de:.1e} within {steps} rtol e0 = {steps * COUETTE_RTOL:.1e}")
+    c.check(abs(drift) < steps * COUETTE_RTOL, f"couette imex: energy drift with the walls' books {drift:.1e} (bound {steps * COUETTE_RTOL:.1e})")
+    c.reading("couette.dv", dv)
+    c.reading("couette.de", de)
 discrete, _, _ = heat_mode(2, L, H, E0, GAMMA, KAPPA, "pair")
 ref = amplitude(a, c, *REFERENCE)
 if ref is not None:
