@@ -18,14 +18,19 @@ time. The ratio DP5 / IMEX at equal error is the DP5 cost interpolated (log-log)
 IMEX run's error. Prints a table and the ratios; with --chart, a PNG of error against wall
 time and against evaluations.
 
+--case couette: plane Couette flow from rest (options/couette.opts) with the viscosity raised
+to --nu (default 10: Re = U H / nu = 0.32, c h / nu = 0.42), to t = 1.5 H^2/nu = 150; the
+error is the max-norm of vx(t) against a DP5 run at rtol 1e-11, over U. There the sound
+(c = 1.41) bounds the explicit part's step, and so IMEX's, at ~h/c.
+
 This is a measurement, not a test. Usage (spam-ark built in build/):
-    /usr/bin/python3 bench/run_imex.py [--L 96] [--table ARK436L2SA] [--chart bench/results/imex_heat_mode.png]
+    /usr/bin/python3 bench/run_imex.py [--L 96] [--table ARK436L2SA] [--chart docs/imex_heat_mode.png]
+    /usr/bin/python3 bench/run_imex.py --case couette [--nu 10] [--rtols 1e-5,1e-6,1e-7]
 """
 import argparse
 import csv
 import json
 import math
-import os
 import re
 import subprocess
 import sys
@@ -47,27 +52,46 @@ def columns(path, names):
     return [np.array([float(r[n]) for r in rows]) for n in names]
 
 
-def one_run(spam_ark, work, L, method, rtol):
-    """Runs one method at one tolerance; returns its error and costs."""
+def case_args(case, L, nu):
+    """The scene's options, the end time and the error function (final CSV paths -> error)."""
+    if case == "couette":
+        t_end = 1.5 * 32 * 32 / nu
+        args = ["-options_file", str(ROOT / "options" / "couette.opts"), "-viscosity_shear", repr(nu), "-ts_max_time", repr(t_end),
+                "-snapshot_interval", "0"]
+
+        def error(first, last):
+            (v,) = columns(last, ["vx"])
+            return float(np.max(np.abs(v - REFERENCE["vx"])) / 0.1)
+        return args, error
     k = 2 * math.pi / L
     t_end = 1 / ((GAMMA - 1) * KAPPA * k * k)
-    out = Path(work) / f"{method[1]}_{rtol:g}"
-    args = [spam_ark, "-dim", "2", "-scene", "heat-mode", "-heatmode_n", str(L), "-heatmode_ny", str(LY), "-h", str(H),
+    args = ["-dim", "2", "-scene", "heat-mode", "-heatmode_n", str(L), "-heatmode_ny", str(LY), "-h", str(H),
             "-gas_gamma", str(GAMMA), "-gas_e0", str(E0), "-heatmode_eps", str(EPS), "-conductivity", str(KAPPA),
-            "-ts_max_time", repr(t_end), "-ts_rtol", repr(rtol), "-ts_atol", "1e-20", "-output_interval", "0",
-            "-output_dir", str(out), "-output_overwrite", "-initial_csv", str(out) + ".initial.csv",
-            "-final_csv", str(out) + ".final.csv", "-sundials_stats"] + method[0]
+            "-ts_max_time", repr(t_end)]
+
+    def error(first, last):
+        (x0,) = columns(first, ["x"])
+        (e,) = columns(last, ["e"])
+        exact = E0 * (1 + EPS * DISCRETE[L](t_end) * np.cos(k * x0))
+        return float(np.max(np.abs(e - exact)) / (E0 * EPS))
+    return args, error
+
+
+def one_run(spam_ark, work, case, method, rtol):
+    """Runs one method at one tolerance; returns its error and costs."""
+    scene, error = case
+    out = Path(work) / f"{method[1]}_{rtol:g}"
+    args = [spam_ark] + scene + ["-ts_rtol", repr(rtol), "-ts_atol", "1e-20", "-output_interval", "0",
+                                 "-output_dir", str(out), "-output_overwrite", "-initial_csv", str(out) + ".initial.csv",
+                                 "-final_csv", str(out) + ".final.csv", "-sundials_stats"] + method[0]
     p = subprocess.run(args, capture_output=True, text=True, timeout=3600)
     if p.returncode != 0:
         print(f"  {method[1]} rtol {rtol:g}: exit {p.returncode} {p.stderr.strip()[-200:]}")
         return None
     s = json.load(open(out / "summary.json"))
-    (x0,) = columns(str(out) + ".initial.csv", ["x"])
-    (e,) = columns(str(out) + ".final.csv", ["e"])
-    exact = E0 * (1 + EPS * DISCRETE[L](t_end) * np.cos(k * x0))
     lin = re.search(r"^LS iters\s*=\s*(\d+)", p.stdout, re.M)
     implicit = s["rhs_evals_diffusion"]
-    return {"method": method[1], "rtol": rtol, "error": float(np.max(np.abs(e - exact)) / (E0 * EPS)),
+    return {"method": method[1], "rtol": rtol, "error": error(str(out) + ".initial.csv", str(out) + ".final.csv"),
             "steps": s["steps"], "rejected": s["rejected_steps"], "explicit": s["rhs_evals_process"] - implicit,
             "implicit": implicit, "linear": int(lin.group(1)) if lin else 0, "wall": s["wall_time_s"],
             "drift": s["energy_rel_drift_max"]}
@@ -83,7 +107,7 @@ def at_error(runs, key, err):
     return None
 
 
-def chart(path, dp5, imex, L, table):
+def chart(path, dp5, imex, title, table):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -97,21 +121,24 @@ def chart(path, dp5, imex, L, table):
     axes[0].set_xlabel("wall time (s)")
     axes[1].set_xlabel("right-hand-side evaluations")
     for ax in axes:
-        ax.set_ylabel("max-norm error of e(T) / (eps e0)")
+        ax.set_ylabel("max-norm error (relative)")
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
-    fig.suptitle(f"Heat mode, 2D {L} x {LY}, h = 3, to one e-folding: work at equal error")
+    fig.suptitle(f"{title}: work at equal error")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     print(f"chart: {path}")
 
 
 DISCRETE = {}
+REFERENCE = {}
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--spam-ark", default=str(ROOT / "build" / "spam-ark"))
+    ap.add_argument("--case", choices=("heat-mode", "couette"), default="heat-mode")
+    ap.add_argument("--nu", type=float, default=10.0)
     ap.add_argument("--L", type=int, default=96)
     ap.add_argument("--table", default="ARK436L2SA")
     ap.add_argument("--rtols", default="1e-7,1e-8,1e-9,1e-10,1e-11")
@@ -119,11 +146,18 @@ def main():
     a = ap.parse_args()
     DISCRETE[a.L] = heat_mode(2, a.L, H, E0, GAMMA, KAPPA, "pair")[0]
     rtols = [float(x) for x in a.rtols.split(",")]
+    case = case_args(a.case, a.L, a.nu)
     methods = ((["-ts_type", "arkode"], "dp5"), (["-ts_type", "arkode_imex", "-arkode_imex_table", a.table], "imex"))
     with tempfile.TemporaryDirectory() as work:
-        runs = {m[1]: [r for r in (one_run(a.spam_ark, work, a.L, m, t) for t in rtols) if r] for m in methods}
-    print(f"heat mode 2D {a.L} x {LY}, to T = 1/sigma_v; error = max |e - exact| / (eps e0)")
-    print(f"{'method':6} {'rtol':>7} {'error':>9} {'steps':>6} {'rej':>4} {'f_E':>7} {'f_I':>7} {'GMRES':>7} {'wall s':>7} {'dE/E':>8}")
+        if a.case == "couette":
+            ref = one_run(a.spam_ark, work, (case[0], lambda f, l: 0.0), (["-ts_type", "arkode"], "reference"), 1e-11)
+            (REFERENCE["vx"],) = columns(str(Path(work) / "reference_1e-11") + ".final.csv", ["vx"])
+            print(f"reference: DP5 rtol 1e-11, {ref['steps']} steps, {ref['wall']:.1f} s")
+        runs = {m[1]: [r for r in (one_run(a.spam_ark, work, case, m, t) for t in rtols) if r] for m in methods}
+    if a.case == "couette":
+        print(f"Couette from rest, nu = {a.nu:g} (Re = {0.1 * 32 / a.nu:.2f}), to 1.5 H^2/nu; error = max |vx - vx_ref| / U")
+    else:
+        print(f"{'method':6} {'rtol':>7} {'error':>9} {'steps':>6} {'rej':>4} {'f_E':>7} {'f_I':>7} {'GMRES':>7} {'wall s':>7} {'dE/E':>8}")
     for m in runs.values():
         for r in m:
             print(f"{r['method']:6} {r['rtol']:7.0e} {r['error']:9.2e} {r['steps']:6d} {r['rejected']:4d} {r['explicit']:7d} {r['implicit']:7d} {r['linear']:7d} {r['wall']:7.2f} {r['drift']:8.1e}")
@@ -136,7 +170,8 @@ def main():
             continue
         print(f"  error {r['error']:.2e}: wall time {w / r['wall']:.2f}x, evaluations {ev / (r['explicit'] + r['implicit']):.2f}x")
     if a.chart:
-        chart(a.chart, runs["dp5"], runs["imex"], a.L, a.table)
+        title = f"Couette from rest, nu = {a.nu:g}" if a.case == "couette" else f"Heat mode, 2D {a.L} x {LY}, h = 3, to one e-folding"
+        chart(a.chart, runs["dp5"], runs["imex"], title, a.table)
 
 
 if __name__ == "__main__":
