@@ -157,7 +157,8 @@ def main():
     if a.case == "couette":
         print(f"Couette from rest, nu = {a.nu:g} (Re = {0.1 * 32 / a.nu:.2f}), to 1.5 H^2/nu; error = max |vx - vx_ref| / U")
     else:
-        print(f"{'method':6} {'rtol':>7} {'error':>9} {'steps':>6} {'rej':>4} {'f_E':>7} {'f_I':>7} {'GMRES':>7} {'wall s':>7} {'dE/E':>8}")
+        print(f"heat mode 2D {a.L} x {LY}, to T = 1/sigma_v; error = max |e - exact| / (eps e0)")
+    print(f"{'method':6} {'rtol':>7} {'error':>9} {'steps':>6} {'rej':>4} {'f_E':>7} {'f_I':>7} {'GMRES':>7} {'wall s':>7} {'dE/E':>8}")
     for m in runs.values():
         for r in m:
             print(f"{r['method']:6} {r['rtol']:7.0e} {r['error']:9.2e} {r['steps']:6d} {r['rejected']:4d} {r['explicit']:7d} {r['implicit']:7d} {r['linear']:7d} {r['wall']:7.2f} {r['drift']:8.1e}")
