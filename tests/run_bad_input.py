@@ -53,7 +53,10 @@ cases = [
     ("non-positive mass", file_scene + ["-file_path", write("m.csv", "x,y,vx,vy,m\n1,2,0,0,1\n3,2,0,0,0\n")], ["m.csv:3", "mass m = 0", "positive"]),
     # A subnormal mass ran "ok" with zero energies and a NaN entropy: refused as -mass 4.9e-324 is.
     ("subnormal mass", file_scene + ["-file_path", write("sm.csv", "x,y,vx,vy,m\n1,2,0,0,1\n3,2,0,0,4.9e-324\n")], ["sm.csv:3", "mass m = 4.9406564584124654e-324", "subnormal"]),
-    ("unknown -ts_type", ["-ts_type", "leapfrog"], ["-ts_type", "'leapfrog'", "arkode, cvode, rk, ssp, euler, basicsymplectic"]),
+    ("unknown -ts_type", ["-ts_type", "leapfrog"], ["-ts_type", "'leapfrog'", "arkode, arkode_imex, cvode, rk, ssp, euler, basicsymplectic"]),
+    ("IMEX without diffusion to treat apart", ["-ts_type", "arkode_imex"], ["-ts_type", "'arkode_imex'", "-diffusion_form pair", "model isentrope"]),
+    ("unknown IMEX pair", ["-ts_type", "arkode_imex", "-arkode_imex_table", "ARK2"], ["-arkode_imex_table", "'ARK2'", "ARK324L2SA, ARK436L2SA"]),
+    ("IMEX Krylov dimension 0", ["-ts_type", "arkode_imex", "-arkode_imex_krylov_dim", 0], ["-arkode_imex_krylov_dim", "'0'", "1 to 500"]),
     ("implicit -ts_type", ["-ts_type", "beuler"], ["-ts_type", "'beuler'", "allowed"]),
     ("unknown RK scheme", ["-ts_type", "rk", "-ts_rk_type", "9x"], ["-ts_rk_type", "'9x'", "5dp"]),
     ("unknown Verlet ordering", ["-ts_type", "basicsymplectic", "-ts_basicsymplectic_type", "vv"], ["-ts_basicsymplectic_type", "'vv'", "kdk, dkd"]),

@@ -53,6 +53,10 @@ PetscErrorCode SpamRunAgreed(MPI_Comm comm, PetscBool root_only, PetscErrorCode 
 /* SUNDIALS return codes: a negative flag becomes a PETSc error carrying the flag name. */
 PetscErrorCode SpamCheckArkode(int flag, const char *call);
 #define PetscCallARK(call) PetscCall(SpamCheckArkode((call), #call))
+/* ARKODE's linear-solver interface (ARKStepSetLinearSolver, ARKStepSetEpsLin, ...), whose
+ * flags (ARKLS_*) have their own names. */
+PetscErrorCode SpamCheckArkodeLs(int flag, const char *call);
+#define PetscCallARKLS(call) PetscCall(SpamCheckArkodeLs((call), #call))
 PetscErrorCode SpamCheckCvode(int flag, const char *call);
 #define PetscCallCV(call) PetscCall(SpamCheckCvode((call), #call))
 #endif

@@ -1,6 +1,6 @@
 /* One integrator interface. Every method is a PETSc TS type, so one TSStep loop serves
- * them all: ARKODE ERKStep ("arkode") and CVODE Adams ("cvode") are registered as TS types
- * by spam-ark, and PETSc's explicit types (rk, ssp, euler, basicsymplectic) are used as
+ * them all: ARKODE ERKStep ("arkode"), ARKStep with the diffusion implicit ("arkode_imex")
+ * and CVODE Adams ("cvode") are registered as TS types by spam-ark, and PETSc's explicit types (rk, ssp, euler, basicsymplectic) are used as
  * they are, with a kick-drift-kick Verlet registered for basicsymplectic. */
 #ifndef SPAM_INTEGRATOR_H
 #define SPAM_INTEGRATOR_H
@@ -11,6 +11,9 @@
 
 #define SPAM_TSARKODE "arkode"
 #define SPAM_TSCVODE  "cvode"
+#define SPAM_TSARKODE_IMEX "arkode_imex"
+/* The fraction of the stability function's step ARKODE takes (SpamSundialsStability). */
+#define SPAM_ARK_CFL_FRACTION 0.5
 
 /* END: a step shortened to land on t_end (the only stop of a run that interpolates its
  * outputs); OUTPUT: shortened to land on an output time (-output_stop, or a method or scene
@@ -57,17 +60,24 @@ typedef struct {
 
 /* SUNDIALS callbacks shared by the arkode and cvode types (user data: a SpamTsApp). */
 int  SpamSundialsRhs(realtype t, N_Vector y, N_Vector ydot, void *data);
+/* The explicit part and the diffusion part of an IMEX split (model.h's SpamRhsPart). */
+int  SpamSundialsRhsExplicit(realtype t, N_Vector y, N_Vector ydot, void *data);
+int  SpamSundialsRhsDiffusion(realtype t, N_Vector y, N_Vector ydot, void *data);
+/* ARKODE's stability function: the physical step bound (SpamStepBound) of y. */
+int  SpamSundialsStability(N_Vector y, realtype t, realtype *hstab, void *data);
 void SpamSundialsErrHandler(int code, const char *module, const char *function, char *msg, void *data);
 /* Writes "<call> returned <FLAG_NAME> (<last SUNDIALS message>)" into app->fail. */
 void SpamSundialsFailure(SpamTsApp *app, const char *call, char *(*namefn)(long), int flag);
 
 /* Reads and checks the arkode options inside a PetscOptionsBegin block (o: the run's end
- * time, step floor and -ts_dt); ERKStep's controller number of an -arkode_adapt name. */
-PetscErrorCode SpamArkodeOptionsRead(PetscOptionItems *PetscOptionsObject, const SpamRunOptions *o, SpamArkodeSettings *s);
+ * time, step floor and -ts_dt; erk: with ERKStep's -arkode_table, else the step options
+ * alone, which arkode_imex shares); ERKStep's controller number of an -arkode_adapt name. */
+PetscErrorCode SpamArkodeOptionsRead(PetscOptionItems *PetscOptionsObject, const SpamRunOptions *o, PetscBool erk, SpamArkodeSettings *s);
 int            SpamArkodeAdaptMethod(const char *name);
-/* -ts_adapt_type for an arkode TS: none (with -ts_dt) sets s->fixed_step; others refused. */
-PetscErrorCode SpamArkodeAdaptType(const SpamRunOptions *o, SpamArkodeSettings *s);
-/* The settings of an arkode TS; NULL for another type. */
+/* -ts_adapt_type for an arkode or arkode_imex TS (type_name): none (with -ts_dt) sets
+ * s->fixed_step; others refused. */
+PetscErrorCode SpamArkodeAdaptType(const SpamRunOptions *o, const char *type_name, SpamArkodeSettings *s);
+/* The step settings of an arkode or arkode_imex TS; NULL for another type. */
 PetscErrorCode SpamTSARKodeGetSettings(TS ts, const SpamArkodeSettings **s);
 /* With -help: lists the options of the SUNDIALS type that is not ts's own (PETSc lists only
  * the chosen type's), so -help shows every option of spam-ark with its default. */
@@ -150,6 +160,9 @@ void      SpamTSRKEvaluated(SpamTsApp *app);
 PetscErrorCode SpamIntegratorsRegister(void);
 PetscErrorCode SpamTSCreate_ARKode(TS ts);
 PetscErrorCode SpamTSCreate_CVode(TS ts);
+PetscErrorCode SpamTSCreate_ARKodeImex(TS ts);
+/* The step settings of an arkode_imex TS; NULL for another type. */
+PetscErrorCode SpamTSARKodeImexGetSettings(TS ts, const SpamArkodeSettings **s);
 PetscErrorCode SpamSymplecticRegister(void);
 
 /* Creates the TS on sim->p.X from the options (validated: an unknown type or scheme is bad

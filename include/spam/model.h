@@ -12,6 +12,12 @@ struct SpamSim;
 /* The right-hand side of a model: ydot = f(y) on raw arrays of n*nvar reals. Sets *bad to
  * the first particle with a non-finite or unphysical state (else -1) and returns 0. */
 typedef PetscErrorCode (*SpamRhsFn)(struct SpamSim *sim, const double *y, double *ydot, PetscInt *bad);
+/* Which terms an evaluation returns, for a method that treats the diffusion apart (IMEX):
+ * all of them; all but the diffusion; the diffusion alone (the pair Laplacians of
+ * viscosity and conduction in the velocity and energy rows, with the viscous force's
+ * work). The last two sum to the first, up to round-off. */
+typedef enum { SPAM_RHS_ALL, SPAM_RHS_EXPLICIT, SPAM_RHS_DIFFUSION } SpamRhsPart;
+typedef PetscErrorCode (*SpamRhsPartFn)(struct SpamSim *sim, const double *y, double *ydot, SpamRhsPart part, PetscInt *bad);
 /* Accelerations from positions alone, into sim->acc (models whose state is r and v only:
  * the force half of a symplectic split). x has stride 'stride' between particles. */
 typedef PetscErrorCode (*SpamAccelFn)(struct SpamSim *sim, const double *x, int stride, PetscInt *bad);
@@ -50,6 +56,7 @@ typedef struct {
 typedef struct {
   char             name[32];     /* e.g. "isentrope"                                  */
   SpamRhsFn        rhs;
+  SpamRhsPartFn    rhs_part;     /* NULL: the model has no diffusion to treat apart     */
   SpamAccelFn      accel;        /* NULL unless the state is exactly [x, v]            */
   SpamSoundSpeedFn max_sound_speed;
   int              dim;

@@ -86,6 +86,9 @@ PetscErrorCode SpamGaussConstraint(SpamSim *sim, const double *y);
 /* The tensor path's right-hand side (rhs_tensor.c), its unscaled spurious torque
  * sum_{i<j} L_ij (2D diagnostics), and the model's hooks (model_tensor.c). */
 PetscErrorCode SpamRhsSolid(SpamSim *sim, const double *y, double *ydot, PetscInt *bad);
+/* The same restricted to one part (model.h's SpamRhsPart): the gas's flow scheme with the
+ * pair form of viscosity and conduction. */
+PetscErrorCode SpamRhsSolidPart(SpamSim *sim, const double *y, double *ydot, SpamRhsPart part, PetscInt *bad);
 PetscErrorCode SpamTensorTorqueSum(SpamSim *sim, const double *y, double *total);
 PetscErrorCode SpamDiagSolid(SpamSim *sim, const double *y, SpamModelDiag *d);
 PetscErrorCode SpamSetUpSolid(SpamSim *sim);

@@ -23,6 +23,7 @@
 
 typedef struct {
   long   rhs_evals;
+  long   rhs_evals_diffusion; /* of rhs_evals, those of the diffusion part alone (IMEX) */
   double rhs_time;      /* seconds inside the right-hand side, list builds included */
   double pair_visits;   /* pair-list entries visited in force passes                */
   /* This process's evaluations (rhs_evals also holds a checkpoint's and leaves out the
@@ -151,6 +152,9 @@ static inline PetscBool SpamSimDistributed(const SpamSim *sim)
  * timed and counted in sim->run.stats. *bad is the first particle with a non-finite (or
  * unphysical) state, or -1. Every integrator calls this one function. */
 PetscErrorCode SpamRhs(SpamSim *sim, const double *y, double *ydot, PetscInt *bad);
+/* One part of it (model.h's SpamRhsPart; the model must have rhs_part), timed and counted
+ * as SpamRhs; evaluations of the diffusion part also in stats.rhs_evals_diffusion. */
+PetscErrorCode SpamRhsOfPart(SpamSim *sim, const double *y, double *ydot, SpamRhsPart part, PetscInt *bad);
 /* Accelerations of positions x (stride between particles) into sim->acc, timed and counted
  * as one RHS evaluation; only for models with an accel function (state [x, v]). */
 PetscErrorCode SpamAccel(SpamSim *sim, const double *x, int stride, PetscInt *bad);

@@ -6,6 +6,7 @@
 #include <spam/errors.h>
 #include <sys/stat.h>
 #include <arkode/arkode_erkstep.h>
+#include <arkode/arkode_arkstep.h>
 #include <cvode/cvode.h>
 
 void SpamEscape(const char *in, char *out, size_t len)
@@ -221,6 +222,11 @@ static PetscErrorCode CheckSundials(char *(*namefn)(long), int flag, const char 
 PetscErrorCode SpamCheckArkode(int flag, const char *call)
 {
   return CheckSundials(ERKStepGetReturnFlagName, flag, call);
+}
+
+PetscErrorCode SpamCheckArkodeLs(int flag, const char *call)
+{
+  return CheckSundials(ARKStepGetLinReturnFlagName, flag, call);
 }
 
 PetscErrorCode SpamCheckCvode(int flag, const char *call)

@@ -47,10 +47,10 @@ static PetscErrorCode CheckFixedStep(const char *opt, double dt, const SpamRunOp
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode CheckArkode(const SpamArkodeSettings *s, const SpamRunOptions *o)
+static PetscErrorCode CheckArkode(const SpamArkodeSettings *s, const SpamRunOptions *o, PetscBool erk)
 {
   PetscFunctionBeginUser;
-  PetscCall(SpamCheckAllowed("-arkode_table", s->table, ArkodeTables, 15));
+  if (erk) PetscCall(SpamCheckAllowed("-arkode_table", s->table, ArkodeTables, 15));
   PetscCall(SpamCheckAllowed("-arkode_adapt", s->adapt, ArkodeAdapt, 5));
   PetscCall(CheckFixedStep("-arkode_fixed_step", s->fixed_step, o));
   /* ARKODE 6.4 silently falls back to its default outside these ranges, or fails later. */
@@ -70,7 +70,7 @@ static PetscErrorCode CheckArkode(const SpamArkodeSettings *s, const SpamRunOpti
 
 /* -ts_adapt_type (validated by ts_create.c): none fixes the step to -ts_dt; the PETSc
  * adaptors cannot drive ERKStep, whose controller is -arkode_adapt. */
-PetscErrorCode SpamArkodeAdaptType(const SpamRunOptions *o, SpamArkodeSettings *s)
+PetscErrorCode SpamArkodeAdaptType(const SpamRunOptions *o, const char *type_name, SpamArkodeSettings *s)
 {
   char      type[64] = "";
   PetscBool set;
@@ -78,7 +78,7 @@ PetscErrorCode SpamArkodeAdaptType(const SpamRunOptions *o, SpamArkodeSettings *
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsGetString(NULL, NULL, "-ts_adapt_type", type, sizeof type, &set));
   if (!set) PetscFunctionReturn(0);
-  if (strcmp(type, TSADAPTNONE)) SPAM_BAD_INPUT("-ts_adapt_type", type, "-ts_type arkode takes none (a fixed step -ts_dt) or ARKODE's own controller, -arkode_adapt");
+  if (strcmp(type, TSADAPTNONE)) SPAM_BAD_INPUT("-ts_adapt_type", type, "-ts_type %s takes none (a fixed step -ts_dt) or ARKODE's own controller, -arkode_adapt", type_name);
   if (!(o->dt_first > 0)) SPAM_BAD_INPUT("-ts_adapt_type", type, "a fixed step needs -ts_dt <step> (or use -arkode_fixed_step)");
   if (s->fixed_step > 0 && s->fixed_step != o->dt_first) {
     char val[128];
@@ -90,17 +90,17 @@ PetscErrorCode SpamArkodeAdaptType(const SpamRunOptions *o, SpamArkodeSettings *
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamArkodeOptionsRead(PetscOptionItems *PetscOptionsObject, const SpamRunOptions *o, SpamArkodeSettings *s)
+PetscErrorCode SpamArkodeOptionsRead(PetscOptionItems *PetscOptionsObject, const SpamRunOptions *o, PetscBool erk, SpamArkodeSettings *s)
 {
   PetscReal gains[16] = {0}; /* room for too many values, so that a wrong count is seen */
   PetscInt  ngains    = 16;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(s, sizeof *s));
-  PetscCall(PetscStrncpy(s->table, "ARKODE_DORMAND_PRINCE_7_4_5", sizeof s->table));
+  PetscCall(PetscStrncpy(s->table, erk ? "ARKODE_DORMAND_PRINCE_7_4_5" : "", sizeof s->table));
   PetscCall(PetscStrncpy(s->adapt, "pid", sizeof s->adapt));
-  PetscOptionsHeadBegin(PetscOptionsObject, "ARKODE ERKStep options (-ts_type arkode)");
-  PetscCall(PetscOptionsString("-arkode_table", "Explicit Butcher table of ERKStep", "README", s->table, s->table, sizeof s->table, NULL));
+  PetscOptionsHeadBegin(PetscOptionsObject, erk ? "ARKODE ERKStep options (-ts_type arkode)" : "ARKODE ARKStep step options (-ts_type arkode_imex)");
+  if (erk) PetscCall(PetscOptionsString("-arkode_table", "Explicit Butcher table of ERKStep", "README", s->table, s->table, sizeof s->table, NULL));
   PetscCall(PetscOptionsString("-arkode_adapt", "Step controller: pid, pi, i, expgus, impgus", "README", s->adapt, s->adapt, sizeof s->adapt, NULL));
   PetscCall(PetscOptionsReal("-arkode_fixed_step", "Fixed step size (0: adaptive; -ts_adapt_type none -ts_dt <step> is the same)", "README", s->fixed_step, &s->fixed_step, NULL));
   PetscCall(PetscOptionsReal("-arkode_safety", "Step safety factor (0: ARKODE default)", "README", s->safety, &s->safety, NULL));
@@ -108,10 +108,10 @@ PetscErrorCode SpamArkodeOptionsRead(PetscOptionItems *PetscOptionsObject, const
   PetscCall(PetscOptionsReal("-arkode_max_first_growth", "Largest growth after the first step (0: ARKODE default)", "README", s->max_first_growth, &s->max_first_growth, NULL));
   PetscCall(PetscOptionsReal("-arkode_max_efail_growth", "Step factor after an error-test failure (0: ARKODE default)", "README", s->max_efail_growth, &s->max_efail_growth, NULL));
   PetscCall(PetscOptionsRealArray("-arkode_adapt_params", "Controller gains k1,k2,k3 (default: ARKODE's for the controller)", "README", gains, &ngains, NULL));
-  PetscCall(PetscOptionsBool("-sundials_stats", "Print ARKODE's statistics table (ERKStepPrintAllStats) at the end of the run", "README", s->sundials_stats, &s->sundials_stats, NULL));
+  PetscCall(PetscOptionsBool("-sundials_stats", "Print ARKODE's statistics table (PrintAllStats) at the end of the run", "README", s->sundials_stats, &s->sundials_stats, NULL));
   PetscOptionsHeadEnd();
   s->n_adapt_params = ngains;
   for (int k = 0; k < 3; k++) s->adapt_params[k] = gains[k];
-  PetscCall(CheckArkode(s, o));
+  PetscCall(CheckArkode(s, o, erk));
   PetscFunctionReturn(0);
 }

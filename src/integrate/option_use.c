@@ -16,7 +16,7 @@
 /* What an option of spam-ark applies to. G_SCENE: the scenes whose options tables hold it
  * (scene_list.h), found there rather than listed here. */
 typedef enum {
-  G_ALL, G_DT, G_ADAPTIVE, G_TS, G_TS_ADAPT, G_METHOD,
+  G_ALL, G_DT, G_ADAPTIVE, G_TOLERANCE, G_TS, G_TS_ADAPT, G_METHOD,
   G_SCENE, G_ISENTROPE,
   G_MODEL, G_WALL, G_SOLID, G_SOLID_GAS, G_SOLID_GAMMA, G_SOLID_ELASTIC, G_SOLID_VISC, G_SOLID_R2, G_SOLID_TORQUE, G_SOLID_CONT, G_SOLID_FLOW, G_SOLID_ADAPTIVE, G_ENTROPY, G_RANKS
 } Group;
@@ -39,8 +39,8 @@ static const Known KnownOptions[] = {
   {"output_overwrite", PETSC_FALSE, G_ALL}, {"snapshot_max", PETSC_TRUE, G_ALL}, /* the run's own directory (output_options.c) */
   {"grid_interval", PETSC_TRUE, G_ALL}, /* fields on a grid at the snapshot times (grid.h) */
   {"initial_csv", PETSC_TRUE, G_ALL}, {"final_csv", PETSC_TRUE, G_ALL}, {"diag_grid_spacing", PETSC_TRUE, G_ENTROPY},
-  {"ts_dt", PETSC_TRUE, G_DT}, {"ts_rtol", PETSC_TRUE, G_ADAPTIVE}, {"ts_atol", PETSC_TRUE, G_ADAPTIVE},
-  {"arkode_classic_weights", PETSC_FALSE, G_ADAPTIVE}, {"step_cfl", PETSC_TRUE, G_ADAPTIVE}, {"step_force", PETSC_TRUE, G_ADAPTIVE},
+  {"ts_dt", PETSC_TRUE, G_DT}, {"ts_rtol", PETSC_TRUE, G_TOLERANCE}, {"ts_atol", PETSC_TRUE, G_TOLERANCE},
+  {"arkode_classic_weights", PETSC_FALSE, G_TOLERANCE}, {"step_cfl", PETSC_TRUE, G_ADAPTIVE}, {"step_force", PETSC_TRUE, G_ADAPTIVE},
   {"ts_adapt_type", PETSC_TRUE, G_TS},
   {"eos_gamma", PETSC_TRUE, G_ISENTROPE}, {"eos_kappa", PETSC_TRUE, G_ISENTROPE},
   {"material", PETSC_TRUE, G_MODEL}, {"density", PETSC_TRUE, G_SOLID}, {"density_mean", PETSC_TRUE, G_SOLID}, {"coordinates", PETSC_TRUE, G_SOLID},
@@ -62,7 +62,7 @@ static const Known KnownOptions[] = {
   {"wall_xlo_temperature", PETSC_TRUE, G_WALL}, {"wall_xhi_temperature", PETSC_TRUE, G_WALL}, {"wall_ylo_temperature", PETSC_TRUE, G_WALL},
   {"wall_yhi_temperature", PETSC_TRUE, G_WALL}, {"wall_zlo_temperature", PETSC_TRUE, G_WALL}, {"wall_zhi_temperature", PETSC_TRUE, G_WALL},
   /* The norm of the weighted error (error_norm.c); a fixed step has none. */
-  {"error_norm", PETSC_TRUE, G_ADAPTIVE},
+  {"error_norm", PETSC_TRUE, G_TOLERANCE},
   /* Outputs from the interpolant unless -output_stop (time_loop.c,
    * output_mode.c); ARKODE's / CVODE's statistics table (ts_arkode.c, ts_cvode.c). */
   {"output_stop", PETSC_FALSE, G_ALL},
@@ -173,7 +173,7 @@ static PetscErrorCode GivenFree(Given *g)
  * its 32-bit PetscInt without a range check, so 2147483648 arrives as -2147483648 and a
  * longer number as whatever its low bits say: check the text itself first. These and the
  * scenes' of type SPAM_SCENE_OPTION_INT. */
-static const char *const IntegerOptions[] = {"dim", "threads", "ts_max_steps", "ts_max_reject", "ts_ssp_nstages", "cvode_max_order", "snapshot_max"};
+static const char *const IntegerOptions[] = {"dim", "threads", "ts_max_steps", "ts_max_reject", "ts_ssp_nstages", "cvode_max_order", "arkode_imex_max_nonlin_iters", "arkode_imex_krylov_dim", "snapshot_max"};
 
 /* The name of integer option name as the program spells it, or NULL: not an integer. */
 static const char *IntegerOption(const char *name)
@@ -382,6 +382,10 @@ static PetscBool RelevantMethod(Group g, const Run *r, char *why, size_t len, Pe
   case G_DT:
     if (!(r->arkode_fixed > 0 && !r->arkode_fixed_ts)) return PETSC_TRUE;
     (void)snprintf(why, len, "the step of this run is -arkode_fixed_step %.17g", r->arkode_fixed);
+    return PETSC_FALSE;
+  case G_TOLERANCE: /* the weighted norm: the error test's, and an implicit method's solver's */
+    if (r->adaptive || r->f->solves) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to adaptive steps and to -ts_type arkode_imex's solver (this run: %s%s takes fixed steps)", r->method, r->own ? "" : strcmp(r->adapt, TSADAPTNONE) ? "" : " -ts_adapt_type none");
     return PETSC_FALSE;
   case G_ADAPTIVE:
     if (r->adaptive) return PETSC_TRUE;
@@ -670,8 +674,9 @@ static PetscErrorCode CheckOne(const char *name, const char *value, const Run *r
   }
   if (IsPetscRuntime(name)) PetscFunctionReturn(0);
   /* TSSetFromOptions makes a SNES and reads its options (and its KSP's and PC's) for every
-   * type, so PETSc marks them used; no method of spam-ark solves anything implicitly. */
-  if (!strncmp(name, "snes_", 5) || !strncmp(name, "ksp_", 4) || !strncmp(name, "pc_", 3)) PetscCall(NotUsed(name, value, "applies to implicit solvers (SNES, KSP, PC): every -ts_type of spam-ark is explicit and solves nothing"));
+   * type, so PETSc marks them used; no method of spam-ark uses PETSc's solvers (the
+   * implicit one, arkode_imex, solves with SUNDIALS' Newton and GMRES). */
+  if (!strncmp(name, "snes_", 5) || !strncmp(name, "ksp_", 4) || !strncmp(name, "pc_", 3)) PetscCall(NotUsed(name, value, "applies to PETSc's implicit solvers (SNES, KSP, PC), which no -ts_type of spam-ark uses (arkode_imex solves with SUNDIALS' Newton-GMRES: see -arkode_imex_*)"));
   /* PETSc's step adaptor reads -ts_adapt_* for every method, used or not.
    * -ts_adapt_monitor reports the steps of every type (PETSc's adaptor, or the loop for
    * arkode, cvode and basicsymplectic: sundials_report.c). */

@@ -8,8 +8,6 @@
 #include <arkode/arkode_erkstep.h>
 #include <nvector/nvector_petsc.h>
 
-#define ARK_CFL_FRACTION 0.5
-
 typedef struct {
   SUNContext           sunctx;
   N_Vector             y;
@@ -18,25 +16,6 @@ typedef struct {
   SpamArkodeController ctl;       /* the step controller (arkode_controller.c)        */
   int                  last_flag; /* ERKStepEvolve's return of the last step          */
 } TS_SpamARKode;
-
-/* ERKStep's stability function: the physical (CFL, force) bound of the current state. */
-static int ArkStability(N_Vector y, realtype t, realtype *hstab, void *data)
-{
-  SpamTsApp         *app = (SpamTsApp *)data;
-  const PetscScalar *ya;
-  double             dt;
-
-  (void)t;
-  if ((app->perr = VecGetArrayRead(N_VGetVector_Petsc(y), &ya))) return -1;
-  app->perr = SpamStepBound(app->sim, app->o, ya, &dt, &app->bound_which);
-  if (VecRestoreArrayRead(N_VGetVector_Petsc(y), &ya) || app->perr) return -1;
-  app->bound = dt;
-  app->bound_calls++;
-  /* ERKStep takes ARK_CFL_FRACTION of hstab (a fraction of 1 is refused); -step_cfl and
-   * -step_force are the fractions already, so hand it the bound divided by that. */
-  *hstab = isfinite(dt) ? dt / ARK_CFL_FRACTION : -1.0; /* non-positive: no bound */
-  return 0;
-}
 
 /* The controller is always our copy of ARKODE's (arkode_controller.c), never the built-in
  * one, so that a run with checkpoints takes the steps of a run without. */
@@ -114,8 +93,8 @@ static PetscErrorCode TSSetUp_SpamARKode(TS ts)
   PetscCall(ConfigureController(ark->mem, &ark->set, &ark->ctl));
   if (ark->set.fixed_step <= 0 && app->o->dt_first > 0) PetscCallARK(ERKStepSetInitStep(ark->mem, app->o->dt_first));
   if (ark->set.fixed_step <= 0 && (app->o->cfl > 0 || app->o->force > 0)) {
-    PetscCallARK(ERKStepSetStabilityFn(ark->mem, ArkStability, app));
-    PetscCallARK(ERKStepSetCFLFraction(ark->mem, ARK_CFL_FRACTION));
+    PetscCallARK(ERKStepSetStabilityFn(ark->mem, SpamSundialsStability, app));
+    PetscCallARK(ERKStepSetCFLFraction(ark->mem, SPAM_ARK_CFL_FRACTION));
   }
   app->self_stepping = PETSC_TRUE;
   PetscFunctionReturn(0);
@@ -243,8 +222,8 @@ static PetscErrorCode TSSetFromOptions_SpamARKode(TS ts, PetscOptionItems *Petsc
   PetscFunctionBeginUser;
   PetscCall(TSGetApplicationContext(ts, &app));
   PetscCheck(app, PetscObjectComm((PetscObject)ts), PETSC_ERR_ORDER, "the arkode TS needs a SpamTsApp application context before TSSetFromOptions");
-  PetscCall(SpamArkodeOptionsRead(PetscOptionsObject, app->o, &ark->set));
-  PetscCall(SpamArkodeAdaptType(app->o, &ark->set));
+  PetscCall(SpamArkodeOptionsRead(PetscOptionsObject, app->o, PETSC_TRUE, &ark->set));
+  PetscCall(SpamArkodeAdaptType(app->o, SPAM_TSARKODE, &ark->set));
   PetscFunctionReturn(0);
 }
 
@@ -264,7 +243,8 @@ PetscErrorCode SpamTSARKodeGetSettings(TS ts, const SpamArkodeSettings **s)
 
   PetscFunctionBeginUser;
   PetscCall(PetscObjectTypeCompare((PetscObject)ts, SPAM_TSARKODE, &arkode));
-  *s = arkode ? &((TS_SpamARKode *)ts->data)->set : NULL;
+  if (arkode) *s = &((TS_SpamARKode *)ts->data)->set;
+  else PetscCall(SpamTSARKodeImexGetSettings(ts, s));
   PetscFunctionReturn(0);
 }
 
@@ -381,7 +361,7 @@ static PetscErrorCode HelpARKode(PetscOptionItems *PetscOptionsObject, const Spa
   SpamArkodeSettings s;
 
   PetscFunctionBeginUser;
-  PetscCall(SpamArkodeOptionsRead(PetscOptionsObject, o, &s));
+  PetscCall(SpamArkodeOptionsRead(PetscOptionsObject, o, PETSC_TRUE, &s));
   PetscFunctionReturn(0);
 }
 

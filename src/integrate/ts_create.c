@@ -12,6 +12,7 @@ PetscErrorCode SpamIntegratorsRegister(void)
 {
   PetscFunctionBeginUser;
   PetscCall(TSRegister(SPAM_TSARKODE, SpamTSCreate_ARKode));
+  PetscCall(TSRegister(SPAM_TSARKODE_IMEX, SpamTSCreate_ARKodeImex));
   PetscCall(TSRegister(SPAM_TSCVODE, SpamTSCreate_CVode));
   PetscCall(SpamSymplecticRegister());
   PetscFunctionReturn(0);

@@ -1,6 +1,6 @@
 /* What the run loop, the outputs and the checkpoints need to know of each TS type: one row
  * per type (ts_family.c), filled by the type's own implementation (ts_arkode.c,
- * ts_cvode.c, ts_symplectic.c, ts_petsc_rk.c). The rest of the program asks a TS's row
+ * ts_arkode_imex.c, ts_cvode.c, ts_symplectic.c, ts_petsc_rk.c). The rest of the program asks a TS's row
  * (SpamTSFamilyOf) instead of comparing type names, so a new type is one row and its hooks. */
 #ifndef SPAM_TS_FAMILY_H
 #define SPAM_TS_FAMILY_H
@@ -34,6 +34,7 @@ typedef struct SpamTSFamily {
   SpamTSSteps         steps;
   SpamTSFollow        follow;
   PetscBool           bound_as_max_step; /* takes the physical step bound as its largest step */
+  PetscBool           solves;            /* solves stage equations to -ts_rtol, -ts_atol, even with fixed steps */
   const char         *restart_inexact;   /* why a restart cannot continue bit for bit (NULL: it can) */
   const SpamTSOption *options;           /* the options only this type reads, {NULL} ended (may be NULL) */
   /* hooks, each optional */
@@ -78,5 +79,5 @@ const SpamTSOption *SpamTSFamilyOption(const SpamTSFamily *f, const char *name);
 PetscErrorCode SpamTSInterpolatesAlways(TS ts, PetscBool *yes);
 
 /* The rows, each defined beside its type's implementation. */
-extern const SpamTSFamily SpamTSFamilyARKode, SpamTSFamilyCVode, SpamTSFamilyRK, SpamTSFamilySSP, SpamTSFamilyEuler, SpamTSFamilySymplectic;
+extern const SpamTSFamily SpamTSFamilyARKode, SpamTSFamilyARKodeImex, SpamTSFamilyCVode, SpamTSFamilyRK, SpamTSFamilySSP, SpamTSFamilyEuler, SpamTSFamilySymplectic;
 #endif

@@ -102,6 +102,7 @@ static void RhsPasses(Summary *f, const SpamRhsStats *s)
   const double n = s->counted ? (double)s->counted : NAN;
 
   Int(f, "rhs_evals_process", s->counted);
+  Int(f, "rhs_evals_diffusion", s->rhs_evals_diffusion); /* of those, the diffusion part's alone (arkode_imex) */
   Num(f, "list_updates_per_rhs", (double)s->list_updates / n);
   Num(f, "ghost_placements_per_rhs", (double)s->ghost_placements / n);
 }

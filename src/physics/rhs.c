@@ -46,6 +46,19 @@ PetscErrorCode SpamRhs(SpamSim *sim, const double *y, double *ydot, PetscInt *ba
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode SpamRhsOfPart(SpamSim *sim, const double *y, double *ydot, SpamRhsPart part, PetscInt *bad)
+{
+  Mark m = {0, 0, 0};
+
+  PetscFunctionBeginUser;
+  PetscCheck(sim->model.rhs_part, sim->p.comm, PETSC_ERR_SUP, "model %s has no right-hand side by parts", sim->model.name);
+  PetscCall(Start(sim, &m));
+  PetscCall(sim->model.rhs_part(sim, y, ydot, part, bad));
+  PetscCall(Finish(sim, &m));
+  if (part == SPAM_RHS_DIFFUSION) sim->run.stats.rhs_evals_diffusion++;
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamAccel(SpamSim *sim, const double *x, int stride, PetscInt *bad)
 {
   Mark m = {0, 0, 0};

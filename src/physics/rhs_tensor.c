@@ -38,6 +38,7 @@ typedef struct {
   int                    flow;       /* the flow scheme's corrections after walk 3     */
   int                    moment;     /* the gradient's moment in walk 1 (flow, pairdiff) */
   int                    pairdiff;   /* viscosity and conduction as pair Laplacians    */
+  int                    diffuse;    /* ... added by this evaluation (SpamRhsPart)      */
   int                    scale;      /* torque scaling (Ti or Tij) in walk 3           */
   int                    continuity; /* drho/dt in walk 3 (the state's, or B's work)    */
   SpamBackground         bg;         /* the flow scheme's background pressure         */
@@ -115,13 +116,39 @@ static inline __attribute__((always_inline)) void ForcePair(const int dim, Tenso
     for (int d = 0; d < dim; d++) F[d] -= f->m[i] * f->m[j] * pi * g * dx[d];
   }
   if (c->pairdiff) {
-    const double k = SpamPairDiffusionFactor(f, i, j, g);
-    SpamPairViscousDiffusion(dim, f, i, j, c->p->shear_visc, k, F);
-    if (c->conduction) SpamPairHeatDiffusion(f, i, j, c->p->conductivity, k);
+    if (c->diffuse) {
+      const double k = SpamPairDiffusionFactor(f, i, j, g);
+      SpamPairViscousDiffusion(dim, f, i, j, c->p->shear_visc, k, F);
+      if (c->conduction) SpamPairHeatDiffusion(f, i, j, c->p->conductivity, k);
+    }
   } else if (c->conduction) SpamPairHeatFlux(dim, f, i, j, dx, g);
   SpamPairApplyForce(dim, f, i, j, dx, g, F, c->continuity);
 }
 SPAM_PAIR_WALK(WalkForces, TensorPass, ForcePair)
+
+/* The diffusion part alone (SPAM_RHS_DIFFUSION): the moment that normalises the pair
+ * Laplacian, then the Laplacians with the viscous force's work. */
+static inline __attribute__((always_inline)) void MomentPair(const int dim, TensorPass *c, int i, int j, const double dx[3], double r2, double w, double g)
+{
+  SpamFields *f = c->f;
+  (void)r2;
+  (void)w;
+  SpamPairGradientMoment(dim, f, i, j, dx, g / SpamPairMeanDensity(c->p->rho_geometric, f->rho[i], f->rho[j]));
+}
+SPAM_PAIR_WALK(WalkMoments, TensorPass, MomentPair)
+
+static inline __attribute__((always_inline)) void DiffusionPair(const int dim, TensorPass *c, int i, int j, const double dx[3], double r2, double w, double g)
+{
+  SpamFields  *f = c->f;
+  const double k = SpamPairDiffusionFactor(f, i, j, g);
+  double       F[3] = {0.0, 0.0, 0.0};
+  (void)r2;
+  (void)w;
+  SpamPairViscousDiffusion(dim, f, i, j, c->p->shear_visc, k, F);
+  if (c->conduction) SpamPairHeatDiffusion(f, i, j, c->p->conductivity, k);
+  SpamPairApplyForce(dim, f, i, j, dx, g, F, 0);
+}
+SPAM_PAIR_WALK(WalkDiffusion, TensorPass, DiffusionPair)
 
 static void Zero(double *a, size_t len)
 {
@@ -215,7 +242,7 @@ static PetscErrorCode Gradients(SpamSim *sim, TensorPass *c)
   SpamGhostsFold(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->heat);
   if (c->shift) SpamGhostsFold(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->shift);
   if (c->moment) SpamGhostsFold(gh, dim, n, dim * dim, SPAM_GHOST_TENSOR, f->gmom);
-  if (c->pairdiff) PetscCall(DiffusionNorms(sim));
+  if (c->diffuse) PetscCall(DiffusionNorms(sim));
   if (c->coords == SPAM_COORDS_R1)
     for (int i = 0; i < n; i++)
       for (int d = 0; d < dim; d++) f->xdot[(size_t)i * dim + d] /= f->wsum[i];
@@ -362,7 +389,7 @@ static void Assemble(const SpamSim *sim, double *ydot)
  * sum m e = -0.69, stress energy 2.5). Continuity densities stay near rho0, where the two
  * forms differ little, and keep CiSE Eq. 18's rho_ij; so do the gas's viscous stresses,
  * which store nothing. */
-static TensorPass PassOf(SpamSim *sim)
+static TensorPass PassOf(SpamSim *sim, SpamRhsPart part)
 {
   const SpamSolidParams *p    = &sim->model.solid;
   const int              gas  = p->material == SPAM_MATERIAL_GAS && p->scheme == SPAM_GAS_FLOW;
@@ -374,13 +401,14 @@ static TensorPass PassOf(SpamSim *sim)
   c.coords                    = (int)p->coords;
   c.conduction                = p->conductivity > 0.0;
   c.pairdiff                  = p->material == SPAM_MATERIAL_GAS && p->diffusion == SPAM_DIFFUSION_PAIR;
+  c.diffuse                   = c.pairdiff && part != SPAM_RHS_EXPLICIT;
   c.gradT                     = (c.conduction && !c.pairdiff) || shift; /* the pair form reads T, not its gradient */
   c.shift                     = shift;
   c.shift_own                 = sim->model.shift_kernel.kind == sim->model.kernel.kind;
   c.shift_gnorm               = sim->model.shift_kernel.gnorm;
   c.shift_hinv                = sim->model.shift_kernel.hinv;
   c.flow                      = bg || shift;
-  c.moment                    = c.flow || c.pairdiff;
+  c.moment                    = c.flow || c.diffuse;
   c.scale                     = p->angmom == SPAM_ANGMOM_TI || p->angmom == SPAM_ANGMOM_TIJ;
   c.continuity                = p->density != SPAM_DENSITY_SUMMATION;
   c.ps                        = sim->ps;
@@ -390,14 +418,58 @@ static TensorPass PassOf(SpamSim *sim)
   return c;
 }
 
-PetscErrorCode SpamRhsSolid(SpamSim *sim, const double *y, double *ydot, PetscInt *bad)
+/* The diffusion part (SPAM_RHS_DIFFUSION): the rates of the pair Laplacians alone, on the
+ * fields FillFields left; positions and densities take none, nor does the flow scheme's
+ * book (its laws are in the other part). The walls' books take this part's exchanges:
+ * the books are linear in the accumulations, so the two parts' books sum to the whole's. */
+static PetscErrorCode Diffusion(SpamSim *sim, TensorPass *c, double *ydot)
+{
+  const SpamLayout *l   = &sim->model.layout;
+  SpamFields       *f   = c->f;
+  const SpamGhosts *gh  = &sim->pair.nl.ghosts;
+  const int         dim = f->dim, n = (int)sim->p.n, slots = SpamNeighboursSlots(&sim->pair.nl);
+
+  PetscFunctionBeginUser;
+  Zero(f->gmom, (size_t)slots * dim * dim);
+  PetscCall(WalkMoments(&sim->pair.nl, &sim->model.kernel, c));
+  SpamGhostsFold(gh, dim, n, dim * dim, SPAM_GHOST_TENSOR, f->gmom);
+  PetscCall(DiffusionNorms(sim));
+  Zero(f->acc, (size_t)slots * dim);
+  Zero(f->edot, (size_t)slots);
+  Zero(f->qdot, (size_t)slots);
+  PetscCall(WalkDiffusion(&sim->pair.nl, &sim->model.kernel, c));
+  SpamGhostsFold(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->acc);
+  SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->edot);
+  SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->qdot);
+  for (int i = 0; i < n; i++) {
+    double *r = ydot + (size_t)i * l->nvar;
+    for (int d = 0; d < dim; d++) {
+      r[l->x + d] = 0.0;
+      r[l->v + d] = f->acc[(size_t)i * dim + d];
+    }
+    r[l->e] = f->edot[i] + f->qdot[i];
+    if (l->rho >= 0) r[l->rho] = 0.0;
+    if (l->fb >= 0) r[l->fb] = 0.0;
+  }
+  if (gh->mirror) PetscCall(SpamWallBooks(gh, f, l, n, PETSC_TRUE, &sim->out.wall_rates, ydot));
+  sim->run.stats.pair_visits += 2.0 * (double)(sim->pair.nl.npairs + sim->pair.nl.ngpairs);
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamRhsSolidPart(SpamSim *sim, const double *y, double *ydot, SpamRhsPart part, PetscInt *bad)
 {
   TensorPass c;
 
   PetscFunctionBeginUser;
   PetscCall(FillFields(sim, y, bad));
   if (*bad >= 0) PetscFunctionReturn(0);
-  c = PassOf(sim);
+  c = PassOf(sim, part);
+  if (part == SPAM_RHS_DIFFUSION) {
+    PetscCall(PetscLogEventBegin(sim->run.ev.force, 0, 0, 0, 0));
+    PetscCall(Diffusion(sim, &c, ydot));
+    PetscCall(PetscLogEventEnd(sim->run.ev.force, 0, 0, 0, 0));
+    PetscFunctionReturn(0);
+  }
   if (c.flow) PetscCall(SpamGasFlowFit(sim, y, &c.bg));
   PetscCall(PetscLogEventBegin(sim->run.ev.force, 0, 0, 0, 0));
   PetscCall(Gradients(sim, &c));
@@ -413,6 +485,13 @@ PetscErrorCode SpamRhsSolid(SpamSim *sim, const double *y, double *ydot, PetscIn
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode SpamRhsSolid(SpamSim *sim, const double *y, double *ydot, PetscInt *bad)
+{
+  PetscFunctionBeginUser;
+  PetscCall(SpamRhsSolidPart(sim, y, ydot, SPAM_RHS_ALL, bad));
+  PetscFunctionReturn(0);
+}
+
 /* The unscaled spurious torque sum_{i<j} L_ij of the state's stress (2D diagnostics). */
 PetscErrorCode SpamTensorTorqueSum(SpamSim *sim, const double *y, double *total)
 {
@@ -424,7 +503,7 @@ PetscErrorCode SpamTensorTorqueSum(SpamSim *sim, const double *y, double *total)
   *total = NAN;
   PetscCall(FillFields(sim, y, &bad));
   if (bad >= 0 || sim->model.dim != 2) PetscFunctionReturn(0);
-  c = PassOf(sim);
+  c = PassOf(sim, SPAM_RHS_ALL);
   if (c.flow) PetscCall(SpamGasFlowFit(sim, y, &c.bg));
   PetscCall(PetscMalloc1((size_t)sim->p.n * sim->model.layout.nvar + 1, &scratch)); /* the stress rate, unused */
   PetscCall(Gradients(sim, &c));

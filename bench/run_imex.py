@@ -1,0 +1,179 @@
+#!/usr/bin/python3
+"""Work at equal max-norm error: -ts_type arkode_imex (ARKStep, conduction implicit by
+Newton-GMRES) against the explicit default, ARKODE's Dormand-Prince 5(4) (-ts_type arkode),
+on a diffusion-limited case: the temperature mode of the conducting gas at rest
+(-scene heat-mode, 2D, L x 12 lattice, h = 3, gamma = 1.4, kappa = 1, e0 = 1e-6, eps = 1e-4:
+the sound speed, 7.5e-4, leaves conduction alone to set the steps), run to one e-folding,
+T = 1/sigma_v. The explicit step is bounded by the conduction of the lattice's shortest
+waves, ~h^2/chi; the mode's own time is (L/2 pi)^2/chi, so the explicit method takes
+~(L/h)^2 steps where accuracy would take a few.
+
+Each method runs at a sweep of -ts_rtol (the error weights of e are rtol e0); the error is
+the max-norm over the particles of e(T) against the lattice's linear theory of the mode
+(tests/lattice_modes.py, pair form), relative to the mode's amplitude eps e0 (that theory
+itself stands 3.2e-8 off the runs: tests/run_imex_order.py). Cost: right-hand-side
+evaluations (explicit and implicit separately, from the summary's rhs_evals_process and
+rhs_evals_diffusion), GMRES iterations (ARKStep's statistics, -sundials_stats) and wall
+time. The ratio DP5 / IMEX at equal error is the DP5 cost interpolated (log-log) at the
+IMEX run's error. Prints a table and the ratios; with --chart, a PNG of error against wall
+time and against evaluations.
+
+--case couette: plane Couette flow from rest (options/couette.opts) with the viscosity raised
+to --nu (default 10: Re = U H / nu = 0.32, c h / nu = 0.42), to t = 1.5 H^2/nu = 150; the
+error is the max-norm of vx(t) against a DP5 run at rtol 1e-11, over U. There the sound
+(c = 1.41) bounds the explicit part's step, and so IMEX's, at ~h/c.
+
+This is a measurement, not a test. Usage (spam-ark built in build/):
+    /usr/bin/python3 bench/run_imex.py [--L 96] [--table ARK436L2SA] [--chart docs/imex_heat_mode.png]
+    /usr/bin/python3 bench/run_imex.py --case couette [--nu 10] [--rtols 1e-5,1e-6,1e-7]
+"""
+import argparse
+import csv
+import json
+import math
+import re
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "tests"))
+from lattice_modes import heat_mode  # noqa: E402
+
+LY, H, GAMMA, KAPPA, E0, EPS = 12, 3.0, 1.4, 1.0, 1e-6, 1e-4
+
+
+def columns(path, names):
+    with open(path) as f:
+        rows = list(csv.DictReader(line for line in f if not line.startswith("#")))
+    return [np.array([float(r[n]) for r in rows]) for n in names]
+
+
+def case_args(case, L, nu):
+    """The scene's options, the end time and the error function (final CSV paths -> error)."""
+    if case == "couette":
+        t_end = 1.5 * 32 * 32 / nu
+        args = ["-options_file", str(ROOT / "options" / "couette.opts"), "-viscosity_shear", repr(nu), "-ts_max_time", repr(t_end),
+                "-snapshot_interval", "0"]
+
+        def error(first, last):
+            (v,) = columns(last, ["vx"])
+            return float(np.max(np.abs(v - REFERENCE["vx"])) / 0.1)
+        return args, error
+    k = 2 * math.pi / L
+    t_end = 1 / ((GAMMA - 1) * KAPPA * k * k)
+    args = ["-dim", "2", "-scene", "heat-mode", "-heatmode_n", str(L), "-heatmode_ny", str(LY), "-h", str(H),
+            "-gas_gamma", str(GAMMA), "-gas_e0", str(E0), "-heatmode_eps", str(EPS), "-conductivity", str(KAPPA),
+            "-ts_max_time", repr(t_end)]
+
+    def error(first, last):
+        (x0,) = columns(first, ["x"])
+        (e,) = columns(last, ["e"])
+        exact = E0 * (1 + EPS * DISCRETE[L](t_end) * np.cos(k * x0))
+        return float(np.max(np.abs(e - exact)) / (E0 * EPS))
+    return args, error
+
+
+def one_run(spam_ark, work, case, method, rtol):
+    """Runs one method at one tolerance; returns its error and costs."""
+    scene, error = case
+    out = Path(work) / f"{method[1]}_{rtol:g}"
+    args = [spam_ark] + scene + ["-ts_rtol", repr(rtol), "-ts_atol", "1e-20", "-output_interval", "0",
+                                 "-output_dir", str(out), "-output_overwrite", "-initial_csv", str(out) + ".initial.csv",
+                                 "-final_csv", str(out) + ".final.csv", "-sundials_stats"] + method[0]
+    p = subprocess.run(args, capture_output=True, text=True, timeout=3600)
+    if p.returncode != 0:
+        print(f"  {method[1]} rtol {rtol:g}: exit {p.returncode} {p.stderr.strip()[-200:]}")
+        return None
+    s = json.load(open(out / "summary.json"))
+    lin = re.search(r"^LS iters\s*=\s*(\d+)", p.stdout, re.M)
+    implicit = s["rhs_evals_diffusion"]
+    return {"method": method[1], "rtol": rtol, "error": error(str(out) + ".initial.csv", str(out) + ".final.csv"),
+            "steps": s["steps"], "rejected": s["rejected_steps"], "explicit": s["rhs_evals_process"] - implicit,
+            "implicit": implicit, "linear": int(lin.group(1)) if lin else 0, "wall": s["wall_time_s"],
+            "drift": s["energy_rel_drift_max"]}
+
+
+def at_error(runs, key, err):
+    """The cost 'key' of a method interpolated in log-log at error err (None outside its runs)."""
+    pts = sorted((r["error"], r[key]) for r in runs)
+    for (e1, c1), (e2, c2) in zip(pts, pts[1:]):
+        if e1 <= err <= e2 and e1 < e2:
+            w = math.log(err / e1) / math.log(e2 / e1)
+            return math.exp((1 - w) * math.log(c1) + w * math.log(c2))
+    return None
+
+
+def chart(path, dp5, imex, title, table):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4.2))
+    for runs, name, style in ((dp5, "explicit DP5 (-ts_type arkode)", "o-"), (imex, f"IMEX {table} (-ts_type arkode_imex)", "s-")):
+        err = [r["error"] for r in runs]
+        axes[0].loglog([r["wall"] for r in runs], err, style, label=name)
+        axes[1].loglog([r["explicit"] + r["implicit"] for r in runs], err, style, label=name + ": all evaluations")
+        if runs is imex:
+            axes[1].loglog([r["explicit"] + r["implicit"] - r["linear"] for r in runs], err, "s--", color="grey", label="IMEX without the GMRES products")
+    axes[0].set_xlabel("wall time (s)")
+    axes[1].set_xlabel("right-hand-side evaluations")
+    for ax in axes:
+        ax.set_ylabel("max-norm error (relative)")
+        ax.grid(True, which="both", alpha=0.3)
+        ax.legend(fontsize=8)
+    fig.suptitle(f"{title}: work at equal error")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    print(f"chart: {path}")
+
+
+DISCRETE = {}
+REFERENCE = {}
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--spam-ark", default=str(ROOT / "build" / "spam-ark"))
+    ap.add_argument("--case", choices=("heat-mode", "couette"), default="heat-mode")
+    ap.add_argument("--nu", type=float, default=10.0)
+    ap.add_argument("--L", type=int, default=96)
+    ap.add_argument("--table", default="ARK436L2SA")
+    ap.add_argument("--rtols", default="1e-7,1e-8,1e-9,1e-10,1e-11")
+    ap.add_argument("--chart", default=None)
+    a = ap.parse_args()
+    DISCRETE[a.L] = heat_mode(2, a.L, H, E0, GAMMA, KAPPA, "pair")[0]
+    rtols = [float(x) for x in a.rtols.split(",")]
+    case = case_args(a.case, a.L, a.nu)
+    methods = ((["-ts_type", "arkode"], "dp5"), (["-ts_type", "arkode_imex", "-arkode_imex_table", a.table], "imex"))
+    with tempfile.TemporaryDirectory() as work:
+        if a.case == "couette":
+            ref = one_run(a.spam_ark, work, (case[0], lambda f, l: 0.0), (["-ts_type", "arkode"], "reference"), 1e-11)
+            (REFERENCE["vx"],) = columns(str(Path(work) / "reference_1e-11") + ".final.csv", ["vx"])
+            print(f"reference: DP5 rtol 1e-11, {ref['steps']} steps, {ref['wall']:.1f} s")
+        runs = {m[1]: [r for r in (one_run(a.spam_ark, work, case, m, t) for t in rtols) if r] for m in methods}
+    if a.case == "couette":
+        print(f"Couette from rest, nu = {a.nu:g} (Re = {0.1 * 32 / a.nu:.2f}), to 1.5 H^2/nu; error = max |vx - vx_ref| / U")
+    else:
+        print(f"heat mode 2D {a.L} x {LY}, to T = 1/sigma_v; error = max |e - exact| / (eps e0)")
+    print(f"{'method':6} {'rtol':>7} {'error':>9} {'steps':>6} {'rej':>4} {'f_E':>7} {'f_I':>7} {'GMRES':>7} {'wall s':>7} {'dE/E':>8}")
+    for m in runs.values():
+        for r in m:
+            print(f"{r['method']:6} {r['rtol']:7.0e} {r['error']:9.2e} {r['steps']:6d} {r['rejected']:4d} {r['explicit']:7d} {r['implicit']:7d} {r['linear']:7d} {r['wall']:7.2f} {r['drift']:8.1e}")
+    print("ratio DP5 / IMEX at the IMEX run's error (DP5 interpolated):")
+    for r in runs["imex"]:
+        w = at_error(runs["dp5"], "wall", r["error"])
+        ev = at_error([dict(x, all=x["explicit"] + x["implicit"]) for x in runs["dp5"]], "all", r["error"])
+        if w is None:
+            print(f"  error {r['error']:.2e}: outside the DP5 runs' range")
+            continue
+        print(f"  error {r['error']:.2e}: wall time {w / r['wall']:.2f}x, evaluations {ev / (r['explicit'] + r['implicit']):.2f}x")
+    if a.chart:
+        title = f"Couette from rest, nu = {a.nu:g}" if a.case == "couette" else f"Heat mode, 2D {a.L} x {LY}, h = 3, to one e-folding"
+        chart(a.chart, runs["dp5"], runs["imex"], title, a.table)
+
+
+if __name__ == "__main__":
+    main()
