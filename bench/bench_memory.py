@@ -22,8 +22,9 @@ MEMORY_SIZES = (16384, 65536, 262144)
 BASELINE_NX = 8
 MEMORY_STEPS = 4
 
-# (owner, pattern on a stack frame "function (file:line)"): the frame nearest the
-# allocation that matches some pattern names the owner (the first such pattern).
+# (owner, pattern on a stack frame "function (file:line)", or "function (in binary)" in a
+# build without debug information): the frame nearest the allocation that matches some
+# pattern names the owner (the first such pattern).
 OWNERS = [
     ("DP5 stage vectors (ERKStep, 7)", r"erkStep_Init"),
     ("ARKODE interpolant (Hermite)", r"arkInterpInit"),
@@ -31,11 +32,11 @@ OWNERS = [
     ("PETSc TS vectors (tolerances, work)", r"Tolerances \(ts_create|TSSetUp|TSStep\b"),
     ("state vector X (PETSc Vec on the swarm field)", r"DMSwarmCreate(Global|Local)VectorFromField"),
     ("DMSwarm fields (state, gid, mass, body, xref, pid, rank)", r"DMSwarm"),
-    ("run loop: last good state, list keep, output state", r"SpamRun \(time_loop|Loop \(time_loop|InterpolatedOutputs"),
+    ("run loop: last good state, list keep, output state", r"SpamRun \((time_loop|in )|Loop \((time_loop|in )|InterpolatedOutputs"),
     ("pair fields (m, 1/m, rho, P/rho^2, acc)", r"SpamFields(Create|Reserve)"),
-    ("neighbour list: pair rows", r"Reserve \(neighbours\.c|BuildRows"),
-    ("neighbour list: ghosts", r"neighbours_ghost\.c|ghosts\.c|halo"),
-    ("neighbour list: positions (u, xref, off), cells, build scratch", r"neighbours\.c"),
+    ("neighbour list: pair rows", r"Reserve \((neighbours\.c|in )|BuildRows|SpamNeighboursPadList"),
+    ("neighbour list: ghosts", r"neighbours_ghost\.c|ghosts\.c|halo|SpamGhosts|GrowSlots|AppendGhost"),
+    ("neighbour list: positions (u, xref, off), cells, build scratch", r"neighbours\.c|SpamNeighboursCreate"),
     ("input particles (freed after set-up)", r"ReadCsv|SpamParticles|scene_file\.c"),
     ("outputs", r"Output|Summary|Snapshot|Diagnostic|Timeseries|Manifest|Csv|Json"),
     ("start-up (MPI, PETSc, libraries)", r"StartMpi|PetscInitialize|MPI_Init"),

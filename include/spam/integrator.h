@@ -145,6 +145,9 @@ PetscErrorCode SpamArkodeLoadTable(const char *name, ARKodeButcherTable *B);
  * vectors it has. On the N_Vector (its clones inherit it) for ERKStep; on the Vec's maxpy
  * (its duplicates inherit it) for PETSc's rk. */
 PetscErrorCode SpamNVectorDeterministic(N_Vector y);
+/* Clones of y (and of its clones) over arrays that are not written at creation
+ * (nvector_unwritten.c): a vector the integrator never writes takes no resident memory. */
+void SpamNVectorCloneUnwritten(N_Vector y);
 PetscErrorCode SpamVecDeterministicMAXPY(Vec X);
 /* The retry of a rejected rk step keeps the first attempt's stage 0 derivative f(y_n)
  * (rk_rollback.c): the uninterrupted run reuses it (FSAL), a restarted one would

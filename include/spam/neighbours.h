@@ -9,6 +9,10 @@
 #include <spam/ghosts.h>
 
 #define SPAM_MAX_THREADS 256
+/* The half list and the ghost rows keep this many valid entries (particle 0) after their
+ * last pair, so that a pair loop may compute whole vectors of terms past a row's end
+ * (lanes it then ignores) and read neighbour indices no further than the list's room. */
+#define SPAM_LIST_PAD 8
 
 /* Pair entries being appended: the list itself, or one thread's part of it. */
 typedef struct {
@@ -111,6 +115,9 @@ PetscErrorCode SpamNeighboursSetWalls(SpamNeighbours *nl, const SpamWalls *walls
  * Both collective when a halo is set (SpamNeighboursSetComm). */
 PetscErrorCode SpamNeighboursBuildGhosts(SpamNeighbours *nl, const SpamBox *box);
 PetscErrorCode SpamNeighboursMoveGhosts(SpamNeighbours *nl);
+/* Writes the SPAM_LIST_PAD entries after the n pairs of a list (nbr, room *cap), growing
+ * it if short: the end of every build of the half list and of the ghost rows. */
+PetscErrorCode SpamNeighboursPadList(int **nbr, size_t *cap, size_t n);
 /* Canonical full rows for -reproducible (before the first build; periodic directions
  * must all be ghost images, SpamNeighboursSetPeriodicGhosts, and no mirror walls): gid[i]
  * is local particle i's global id, read at every build, so the array must live as long

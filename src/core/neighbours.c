@@ -471,6 +471,18 @@ static PetscErrorCode BuildRowsThreaded(SpamNeighbours *nl, const SpamBox *box, 
   PetscFunctionReturn(0);
 }
 
+/* SPAM_LIST_PAD entries of particle 0 after the n entries of a list of room *cap. */
+PetscErrorCode SpamNeighboursPadList(int **nbr, size_t *cap, size_t n)
+{
+  PetscFunctionBeginUser;
+  if (n + SPAM_LIST_PAD > *cap) {
+    *cap = n + SPAM_LIST_PAD;
+    PetscCall(PetscRealloc(*cap * sizeof(int), nbr));
+  }
+  for (size_t k = n; k < n + SPAM_LIST_PAD; k++) (*nbr)[k] = 0;
+  PetscFunctionReturn(0);
+}
+
 /* The local rows over the list's box (ghost-periodic directions open), then the ghosts
  * of the true box and their rows. */
 static PetscErrorCode BuildList(SpamNeighbours *nl, const SpamBox *box)
@@ -484,6 +496,7 @@ static PetscErrorCode BuildList(SpamNeighbours *nl, const SpamBox *box)
   nl->start[0] = 0;
   if (nl->threads > 1) PetscCall(BuildRowsThreaded(nl, lbox, &im));
   else PetscCall(BuildRows(nl, lbox, &im));
+  PetscCall(SpamNeighboursPadList(&nl->nbr, &nl->cap, nl->npairs));
   PetscCall(SpamNeighboursBuildGhosts(nl, box));
   PetscCall(SpamNeighboursBuildCanonical(nl)); /* -reproducible: the sorted full rows */
   nl->builds++;

@@ -181,6 +181,7 @@ PetscErrorCode SpamNeighboursBuildGhosts(SpamNeighbours *nl, const SpamBox *box)
   nl->placements++;
   PetscCall(BinGhosts(nl));
   PetscCall(GhostRows(nl));
+  PetscCall(SpamNeighboursPadList(&nl->gnbr, &nl->gcap, nl->ngpairs));
   PetscFunctionReturn(0);
 }
 

@@ -75,6 +75,7 @@ static PetscErrorCode TSSetUp_SpamARKode(TS ts)
   /* Stages and solution summed term by term (det_combination.c): an FSAL table's last
    * stage is then y_n+1 bit for bit, which a restart needs. */
   PetscCall(SpamNVectorDeterministic(ark->y));
+  SpamNVectorCloneUnwritten(ark->y);
   ark->mem = ERKStepCreate(SpamSundialsRhs, ts->ptime, ark->y, ark->sunctx);
   PetscCheck(ark->mem, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "ERKStepCreate failed");
   PetscCallARK(ERKStepSetUserData(ark->mem, app));
@@ -168,6 +169,7 @@ PetscErrorCode SpamTSARKodeResize(TS ts, Vec X)
   PetscCheck(N_VEnableFusedOps_Petsc(y, SUNTRUE) == 0, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "N_VEnableFusedOps_Petsc failed");
   PetscCall(SpamErrorNormAttach(y, app->o->error_norm, app->sim->pair.reproducible));
   PetscCall(SpamNVectorDeterministic(y));
+  SpamNVectorCloneUnwritten(y);
   PetscCallARK(ERKStepResize(ark->mem, y, 1.0, ts->ptime, NULL, NULL));
   N_VDestroy(ark->y);
   ark->y = y;
