@@ -36,6 +36,14 @@ typedef struct {
    * Omega_i, d rho_i/d h_i, the bracket of the h solve and whether h_i is settled (1) or
    * still moving (0) in it. */
   double *h, *hinv, *wn, *gn, *omega, *drho, *hlo, *hhi, *settled;
+  /* The pairs one evaluation's h solve and force pass walk: the list's pairs closer than
+   * max(hcap_i, hcap_j), hcap_i ([cap]) a reach above the first h_i of the solve, as CSR
+   * rows in the list's order (near_start [cap+1], near_nbr [near_cap]); near_wide when
+   * some h_i went beyond its reach (the walks then take the whole list). */
+  double *hcap;
+  int    *near_start, *near_nbr;
+  size_t  near_cap;
+  int     near_wide;
   PetscBool tensor;        /* the tensor-path arrays are allocated                     */
   int       uniform_mass;  /* every particle has mass m[0] (set at set-up)             */
   int       adaptive;      /* the adaptive range's arrays are allocated               */

@@ -40,6 +40,7 @@ static int Arrays(SpamFields *f, double **a[34], int per[34])
   SPAM_ARRAY(f->hlo, s);
   SPAM_ARRAY(f->hhi, s);
   SPAM_ARRAY(f->settled, s);
+  SPAM_ARRAY(f->hcap, s);
 #undef SPAM_ARRAY
   return k;
 }
@@ -77,6 +78,7 @@ PetscErrorCode SpamFieldsReserve(SpamFields *f, int slots)
     for (size_t z = (size_t)old * per[k]; z < (size_t)f->cap * per[k]; z++) (*a[k])[z] = 0.0;
   }
   if (f->tensor) PetscCall(PetscRealloc((size_t)f->cap * sizeof(double), &f->tfac));
+  if (f->adaptive) PetscCall(PetscRealloc((size_t)(f->cap + 1) * sizeof(int), &f->near_start));
   PetscFunctionReturn(0);
 }
 
@@ -88,6 +90,8 @@ PetscErrorCode SpamFieldsDestroy(SpamFields *f)
   PetscFunctionBeginUser;
   for (int k = 0; k < na; k++) PetscCall(PetscFree(*a[k]));
   PetscCall(PetscFree(f->tfac));
+  PetscCall(PetscFree(f->near_start));
+  PetscCall(PetscFree(f->near_nbr));
   PetscFunctionReturn(0);
 }
 
@@ -101,6 +105,7 @@ PetscErrorCode SpamFieldsAddSmoothing(SpamFields *f)
   na          = Arrays(f, a, per);
   for (int k = 0; k < na; k++) /* the arrays not yet allocated: the adaptive range's */
     if (per[k] && !*a[k]) PetscCall(PetscCalloc1((size_t)f->cap * per[k], a[k]));
+  PetscCall(PetscCalloc1((size_t)f->cap + 1, &f->near_start));
   PetscFunctionReturn(0);
 }
 

@@ -6,7 +6,9 @@
  * equations (rhs_gas_adaptive.c). rho_i depends on h_i alone, so each particle's root is
  * its own; the passes over the half list sum every particle's rho and d rho/dh at its
  * current h at once, and Newton's step (kept inside a bracket by bisection) moves those
- * not yet converged, from the last evaluation's h_i. An h_i held at a bound does not move
+ * not yet converged, from the last evaluation's h_i. The first pass walks the whole list
+ * (its range is the bound h_max h) and keeps the pairs within reach of the h_i (the near
+ * rows, SPAM_H_REACH); the later passes and the force pass walk only those. An h_i held at a bound does not move
  * with the particles there, so its Omega is 1. A particle that does not converge stops
  * the run with its row. Nothing here allocates. */
 #include <spam/sim.h>
@@ -19,6 +21,14 @@
 #define SPAM_H_TOL 1e-10
 /* Bisection alone halves the bracket [h_min h, h_max h] to 1e-10 of h in under 40 steps. */
 #define SPAM_H_MAX_ITER 100
+/* The reach of a solve's later passes, a factor of each h_i at its start: the list holds
+ * the pairs within h_max h + skin, about (h_max + skin/h)^D times those within h_i on
+ * the initial lattice (4.4 in 2D at the defaults), and an evaluation moves h_i by far
+ * less than this between two right-hand sides, so its later passes and the force pass
+ * walk only the pairs within max(reach_i, reach_j). A Newton or bisection step beyond
+ * the reach sends those walks back to the whole list, which gives the same sums (the
+ * pairs left out are beyond both ranges, their terms exactly zero). */
+#define SPAM_H_REACH 1.1
 
 double SpamModelListRange(const SpamModel *m)
 {
@@ -44,6 +54,8 @@ static void Scales(SpamFields *f, const SpamKernel *k, int n)
 
 typedef struct {
   SpamFields *f;
+  int         row; /* the last row whose start in the near rows is set */
+  size_t      cnt; /* pairs kept in the near rows                     */
 } DensityPass;
 
 /* d w(r, h)/d h = -(D w + r w'(r)) / h, with r w'(r) = r^2 g. */
@@ -69,15 +81,50 @@ static inline __attribute__((always_inline)) void DensityPair(const int dim, Den
   }
 }
 #define SPAM_BOTH_SETTLED(c, i, j) ((c)->f->settled[i] != 0.0 && (c)->f->settled[j] != 0.0)
-SPAM_PAIR_WALK_ADAPTIVE(WalkDensity, DensityPass, DensityPair, SPAM_BOTH_SETTLED)
 
-/* rho_i and d rho_i/d h_i of every open local particle at its current h_i. */
-static PetscErrorCode Sums(SpamSim *sim)
+/* The first pass keeps the pairs within the larger reach, row after row (rows come in
+ * order; a row with none gets its start when a later row or the end is reached). */
+static inline __attribute__((always_inline)) void KeepNear(DensityPass *c, int i, int j, double r2)
+{
+  SpamFields  *f  = c->f;
+  const double hc = f->hcap[i] > f->hcap[j] ? f->hcap[i] : f->hcap[j];
+  if (r2 >= hc * hc) return;
+  while (c->row < i) f->near_start[++c->row] = (int)c->cnt;
+  f->near_nbr[c->cnt++] = j;
+}
+SPAM_PAIR_WALK_ADAPTIVE(WalkDensityFirst, DensityPass, DensityPair, SPAM_BOTH_SETTLED, KeepNear)
+SPAM_PAIR_WALK_ADAPTIVE(WalkDensity, DensityPass, DensityPair, SPAM_BOTH_SETTLED, SPAM_NEAR_NONE)
+
+void SpamSmoothingPairs(const SpamSim *sim, SpamNeighbours *near)
+{
+  const SpamFields *f = &sim->pair.f;
+
+  *near = sim->pair.nl;
+  if (f->near_wide) return;
+  near->start  = f->near_start;
+  near->nbr    = f->near_nbr;
+  near->npairs = (size_t)f->near_start[near->n];
+}
+
+/* Room for every pair of the list in the near rows: grows with the list only. */
+static PetscErrorCode ReserveNear(SpamFields *f, const SpamNeighbours *nl)
+{
+  PetscFunctionBeginUser;
+  if (f->near_cap >= nl->npairs) PetscFunctionReturn(0);
+  f->near_cap = PetscMax(nl->cap, nl->npairs);
+  PetscCall(PetscRealloc(f->near_cap * sizeof(int), &f->near_nbr));
+  PetscFunctionReturn(0);
+}
+
+/* rho_i and d rho_i/d h_i of every open local particle at its current h_i; the first
+ * pass of a solve walks the whole list and keeps the near rows, the later ones walk those. */
+static PetscErrorCode Sums(SpamSim *sim, int first)
 {
   SpamFields       *f   = &sim->pair.f;
   const SpamKernel *k   = &sim->model.kernel;
   const int         n   = (int)sim->p.n, dim = k->dim;
-  DensityPass       c   = {f};
+  DensityPass       c   = {f, 0, 0};
+  SpamNeighbours    near;
 
   PetscFunctionBeginUser;
   Scales(f, k, n);
@@ -86,7 +133,14 @@ static PetscErrorCode Sums(SpamSim *sim)
     f->rho[i]  = f->m[i] * f->wn[i]; /* F(0) = 1: w(0, h_i) */
     f->drho[i] = -dim * f->rho[i] * f->hinv[i];
   }
-  PetscCall(WalkDensity(&sim->pair.nl, k, f, &c));
+  if (first) {
+    f->near_start[0] = 0;
+    PetscCall(WalkDensityFirst(&sim->pair.nl, k, f, &c));
+    while (c.row < n) f->near_start[++c.row] = (int)c.cnt;
+    PetscFunctionReturn(0);
+  }
+  SpamSmoothingPairs(sim, &near);
+  PetscCall(WalkDensity(&near, k, f, &c));
   PetscFunctionReturn(0);
 }
 
@@ -140,9 +194,12 @@ PetscErrorCode SpamSmoothingSolve(SpamSim *sim)
     f->hlo[i]     = s.lo;
     f->hhi[i]     = s.hi;
     f->settled[i] = 0.0;
+    f->hcap[i]    = PetscMin(SPAM_H_REACH * f->h[i], s.hi);
   }
+  PetscCall(ReserveNear(f, &sim->pair.nl));
+  f->near_wide = 0;
   for (int it = 0; it < SPAM_H_MAX_ITER && open; it++) {
-    PetscCall(Sums(sim));
+    PetscCall(Sums(sim, it == 0));
     open = 0;
     for (int i = 0; i < n; i++) {
       if (f->settled[i]) continue;
@@ -150,6 +207,7 @@ PetscErrorCode SpamSmoothingSolve(SpamSim *sim)
       else {
         open++;
         last = i;
+        if (f->h[i] > f->hcap[i]) f->near_wide = 1;
       }
     }
   }
