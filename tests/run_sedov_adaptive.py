@@ -49,7 +49,7 @@ At 128^2 (the same set-up to t = 12, snapshots every 3; minutes, not run here): 
 +5.20, +4.21, +3.36, +2.84% at t = 3, 6, 9, 12 (+1.04, +1.19, +1.16, +1.14 spacings; its
 averaged exact radii +1.14 .. +0.31%), fixed +0.41, -3.18, -4.66, -5.80% (falling behind):
 the adaptive front leads by about one spacing at every size, so its error falls as 1/R
-(2% needs R of about 57). The radial velocity's half level (bins as above, outside 0.6 R)
+(2% needs R of about 57); at eta = 2.4, +3.71, +2.46, +2.63, +2.44%. The radial velocity's half level (bins as above, outside 0.6 R)
 leads by 1.25-1.5 spacings at 128^2, so the lead is not the density estimator's alone; a
 smaller eta at 48^2 shortens it little (t = 2.4: 0.82, 0.73, 0.64 spacings at eta = 3,
 2.4, 2), a deposit within 2 instead of 3 lengthens it (1.15)."""
