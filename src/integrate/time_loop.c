@@ -332,7 +332,10 @@ static PetscErrorCode RevertList(SpamSim *sim, SpamLoop *L)
 {
   PetscFunctionBeginUser;
   PetscCall(SpamNeighboursRevert(&sim->pair.nl, &sim->geo.box, L->xref_keep, L->builds_keep));
-  if (sim->pair.f.adaptive) PetscCall(PetscArraycpy(sim->pair.f.h, L->xref_keep + (size_t)sim->p.n * sim->model.dim, sim->p.n));
+  if (sim->pair.f.adaptive) {
+    PetscCall(PetscArraycpy(sim->pair.f.h, L->xref_keep + (size_t)sim->p.n * sim->model.dim, sim->p.n));
+    SpamSmoothingNearReset(&sim->pair.f);
+  }
   PetscFunctionReturn(0);
 }
 

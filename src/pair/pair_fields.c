@@ -2,7 +2,7 @@
 #include <spam/fields.h>
 
 /* Every array with its number of values per slot (0: not allocated for this model). */
-static int Arrays(SpamFields *f, double **a[34], int per[34])
+static int Arrays(SpamFields *f, double **a[36], int per[36])
 {
   const int d = f->dim, t = f->tensor ? 1 : 0, s = f->adaptive ? 1 : 0;
   int       k = 0;
@@ -41,14 +41,15 @@ static int Arrays(SpamFields *f, double **a[34], int per[34])
   SPAM_ARRAY(f->hhi, s);
   SPAM_ARRAY(f->settled, s);
   SPAM_ARRAY(f->hcap, s);
+  SPAM_ARRAY(f->xnear, s * d);
 #undef SPAM_ARRAY
   return k;
 }
 
 PetscErrorCode SpamFieldsCreate(int dim, int n, int cap, PetscBool tensor, SpamFields *f)
 {
-  double **a[34];
-  int      per[34], na;
+  double **a[36];
+  int      per[36], na;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(f, sizeof *f));
@@ -65,8 +66,8 @@ PetscErrorCode SpamFieldsCreate(int dim, int n, int cap, PetscBool tensor, SpamF
 
 PetscErrorCode SpamFieldsReserve(SpamFields *f, int slots)
 {
-  double **a[34];
-  int      per[34], na, old = f->cap;
+  double **a[36];
+  int      per[36], na, old = f->cap;
 
   PetscFunctionBeginUser;
   if (slots + 1 <= f->cap) PetscFunctionReturn(0);
@@ -84,8 +85,8 @@ PetscErrorCode SpamFieldsReserve(SpamFields *f, int slots)
 
 PetscErrorCode SpamFieldsDestroy(SpamFields *f)
 {
-  double **a[34];
-  int      per[34], na = Arrays(f, a, per);
+  double **a[36];
+  int      per[36], na = Arrays(f, a, per);
 
   PetscFunctionBeginUser;
   for (int k = 0; k < na; k++) PetscCall(PetscFree(*a[k]));
@@ -97,8 +98,8 @@ PetscErrorCode SpamFieldsDestroy(SpamFields *f)
 
 PetscErrorCode SpamFieldsAddSmoothing(SpamFields *f)
 {
-  double **a[34];
-  int      per[34], na;
+  double **a[36];
+  int      per[36], na;
 
   PetscFunctionBeginUser;
   f->adaptive = 1;

@@ -6,9 +6,11 @@
  * equations (rhs_gas_adaptive.c). rho_i depends on h_i alone, so each particle's root is
  * its own; the passes over the half list sum every particle's rho and d rho/dh at its
  * current h at once, and Newton's step (kept inside a bracket by bisection) moves those
- * not yet converged, from the last evaluation's h_i. The first pass walks the whole list
- * (its range is the bound h_max h) and keeps the pairs within reach of the h_i (the near
- * rows, SPAM_H_REACH); the later passes and the force pass walk only those. An h_i held at a bound does not move
+ * not yet converged, from the last evaluation's h_i. The passes and the force pass walk
+ * the near rows (fields.h): the list's pairs within reach of the h_i (SPAM_H_REACH) plus
+ * the list's skin, kept by a first pass over the whole list (its range is the bound
+ * h_max h) and used by later evaluations while the particles stay within half the skin
+ * and the h_i within their reach. An h_i held at a bound does not move
  * with the particles there, so its Omega is 1. A particle that does not converge stops
  * the run with its row. Nothing here allocates. */
 #include <spam/sim.h>
@@ -54,8 +56,9 @@ static void Scales(SpamFields *f, const SpamKernel *k, int n)
 
 typedef struct {
   SpamFields *f;
-  int         row; /* the last row whose start in the near rows is set */
-  size_t      cnt; /* pairs kept in the near rows                     */
+  int         row;  /* the last row whose start in the near rows is set */
+  size_t      cnt;  /* pairs kept in the near rows                     */
+  double      skin; /* the list's skin: the near rows' margin          */
 } DensityPass;
 
 /* d w(r, h)/d h = -(D w + r w'(r)) / h, with r w'(r) = r^2 g. */
@@ -82,12 +85,13 @@ static inline __attribute__((always_inline)) void DensityPair(const int dim, Den
 }
 #define SPAM_BOTH_SETTLED(c, i, j) ((c)->f->settled[i] != 0.0 && (c)->f->settled[j] != 0.0)
 
-/* The first pass keeps the pairs within the larger reach, row after row (rows come in
- * order; a row with none gets its start when a later row or the end is reached). */
+/* The keeping pass keeps the pairs within the larger reach plus the skin, row after row
+ * (rows come in order; a row with none gets its start when a later row or the end is
+ * reached). */
 static inline __attribute__((always_inline)) void KeepNear(DensityPass *c, int i, int j, double r2)
 {
   SpamFields  *f  = c->f;
-  const double hc = f->hcap[i] > f->hcap[j] ? f->hcap[i] : f->hcap[j];
+  const double hc = (f->hcap[i] > f->hcap[j] ? f->hcap[i] : f->hcap[j]) + c->skin;
   if (r2 >= hc * hc) return;
   while (c->row < i) f->near_start[++c->row] = (int)c->cnt;
   f->near_nbr[c->cnt++] = j;
@@ -116,14 +120,14 @@ static PetscErrorCode ReserveNear(SpamFields *f, const SpamNeighbours *nl)
   PetscFunctionReturn(0);
 }
 
-/* rho_i and d rho_i/d h_i of every open local particle at its current h_i; the first
- * pass of a solve walks the whole list and keeps the near rows, the later ones walk those. */
-static PetscErrorCode Sums(SpamSim *sim, int first)
+/* rho_i and d rho_i/d h_i of every open local particle at its current h_i; a keeping
+ * pass walks the whole list and keeps the near rows, the others walk those. */
+static PetscErrorCode Sums(SpamSim *sim, int keep)
 {
   SpamFields       *f   = &sim->pair.f;
   const SpamKernel *k   = &sim->model.kernel;
   const int         n   = (int)sim->p.n, dim = k->dim;
-  DensityPass       c   = {f, 0, 0};
+  DensityPass       c   = {f, 0, 0, sim->pair.nl.skin};
   SpamNeighbours    near;
 
   PetscFunctionBeginUser;
@@ -133,7 +137,7 @@ static PetscErrorCode Sums(SpamSim *sim, int first)
     f->rho[i]  = f->m[i] * f->wn[i]; /* F(0) = 1: w(0, h_i) */
     f->drho[i] = -dim * f->rho[i] * f->hinv[i];
   }
-  if (first) {
+  if (keep) {
     f->near_start[0] = 0;
     PetscCall(WalkDensityFirst(&sim->pair.nl, k, f, &c));
     while (c.row < n) f->near_start[++c.row] = (int)c.cnt;
@@ -178,6 +182,41 @@ static int Step(const Solve *s, SpamFields *f, int i)
   return 0;
 }
 
+/* Whether the near rows serve this solve: kept on this list, every particle within half
+ * the skin of where they were kept (a pair's distance then changed by less than the
+ * skin), every starting h_i within its reach. */
+static int NearServe(const SpamFields *f, const SpamNeighbours *nl)
+{
+  const double lim = 0.25 * nl->skin * nl->skin;
+
+  if (!f->near_valid || f->near_builds != nl->builds) return 0;
+  for (int i = 0; i < nl->n; i++) {
+    double r2 = 0.0;
+    for (int d = 0; d < nl->dim; d++) {
+      const double dx = nl->u[d][i] - f->xnear[(size_t)i * nl->dim + d];
+      r2 += dx * dx;
+    }
+    if (r2 >= lim || f->h[i] > f->hcap[i]) return 0;
+  }
+  return 1;
+}
+
+/* The near rows are kept at the current positions with reaches from the current h_i. */
+static void NearKeptHere(SpamFields *f, const SpamNeighbours *nl, double hi)
+{
+  for (int i = 0; i < nl->n; i++) {
+    f->hcap[i] = PetscMin(SPAM_H_REACH * f->h[i], hi);
+    for (int d = 0; d < nl->dim; d++) f->xnear[(size_t)i * nl->dim + d] = nl->u[d][i];
+  }
+  f->near_builds = nl->builds;
+  f->near_valid  = 1;
+}
+
+void SpamSmoothingNearReset(SpamFields *f)
+{
+  f->near_valid = 0;
+}
+
 PetscErrorCode SpamSmoothingSolve(SpamSim *sim)
 {
   const SpamSolidParams *p = &sim->model.solid;
@@ -185,7 +224,7 @@ PetscErrorCode SpamSmoothingSolve(SpamSim *sim)
   const Solve            s  = {sim->model.dim, p->h_eta, p->h_min * h0, p->h_max * h0};
   SpamFields            *f  = &sim->pair.f;
   const int              n  = (int)sim->p.n;
-  int                    open = n, last = -1;
+  int                    open = n, last = -1, keep;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(sim->run.ev.density, 0, 0, 0, 0));
@@ -194,12 +233,15 @@ PetscErrorCode SpamSmoothingSolve(SpamSim *sim)
     f->hlo[i]     = s.lo;
     f->hhi[i]     = s.hi;
     f->settled[i] = 0.0;
-    f->hcap[i]    = PetscMin(SPAM_H_REACH * f->h[i], s.hi);
   }
-  PetscCall(ReserveNear(f, &sim->pair.nl));
+  keep = !NearServe(f, &sim->pair.nl);
+  if (keep) {
+    PetscCall(ReserveNear(f, &sim->pair.nl));
+    NearKeptHere(f, &sim->pair.nl, s.hi);
+  }
   f->near_wide = 0;
   for (int it = 0; it < SPAM_H_MAX_ITER && open; it++) {
-    PetscCall(Sums(sim, it == 0));
+    PetscCall(Sums(sim, keep && it == 0));
     open = 0;
     for (int i = 0; i < n; i++) {
       if (f->settled[i]) continue;
@@ -207,7 +249,7 @@ PetscErrorCode SpamSmoothingSolve(SpamSim *sim)
       else {
         open++;
         last = i;
-        if (f->h[i] > f->hcap[i]) f->near_wide = 1;
+        if (f->h[i] > f->hcap[i]) f->near_wide = 1, f->near_valid = 0;
       }
     }
   }
