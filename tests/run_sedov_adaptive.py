@@ -44,7 +44,15 @@ At 64^2 to t = 4.15 (options/sedov.opts): adaptive 0.2674 (+0.3%), fixed 0.1721 
 Bound: h_f/R (the shell's velocity is smeared over the viscous width h_f, so the kinetic
 energy errs by a share of order h_f/R: 13.6% at t = 2.4), and closer than the fixed range.
 So against the self-similar radius itself the adaptive front is 4.6% ahead at t = 2.4
-(1.35% of it the estimator's own averaging at this resolution, R/h = 6), not within 2%."""
+(1.35% of it the estimator's own averaging at this resolution, R/h = 6), not within 2%.
+At 128^2 (the same set-up to t = 12, snapshots every 3; minutes, not run here): adaptive
++5.20, +4.21, +3.36, +2.84% at t = 3, 6, 9, 12 (+1.04, +1.19, +1.16, +1.14 spacings; its
+averaged exact radii +1.14 .. +0.31%), fixed +0.41, -3.18, -4.66, -5.80% (falling behind):
+the adaptive front leads by about one spacing at every size, so its error falls as 1/R
+(2% needs R of about 57); at eta = 2.4, +3.71, +2.46, +2.63, +2.44%. The radial velocity's half level (bins as above, outside 0.6 R)
+leads by 1.25-1.5 spacings at 128^2, so the lead is not the density estimator's alone; a
+smaller eta at 48^2 shortens it little (t = 2.4: 0.82, 0.73, 0.64 spacings at eta = 3,
+2.4, 2), a deposit within 2 instead of 3 lengthens it (1.15)."""
 import csv
 import math
 import os

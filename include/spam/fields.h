@@ -36,6 +36,18 @@ typedef struct {
    * Omega_i, d rho_i/d h_i, the bracket of the h solve and whether h_i is settled (1) or
    * still moving (0) in it. */
   double *h, *hinv, *wn, *gn, *omega, *drho, *hlo, *hhi, *settled;
+  /* The near rows, the pairs the h solve and the force pass walk: the list's pairs closer
+   * than max(hcap_i, hcap_j) + the list's skin at the positions xnear ([cap*dim]) where
+   * they were kept, hcap_i ([cap]) a reach above the h_i of that solve, as CSR rows in
+   * the list's order (near_start [cap+1], near_nbr [near_cap]). They serve while the list
+   * is the one of build near_builds, no particle moved half the skin from xnear and no h_i
+   * passed its reach; near_valid 0 has the next solve keep them anew; near_wide when an
+   * h_i went beyond its reach in this solve (its walks then take the whole list). */
+  double *hcap, *xnear;
+  int    *near_start, *near_nbr;
+  size_t  near_cap;
+  int     near_wide, near_valid;
+  long    near_builds;
   PetscBool tensor;        /* the tensor-path arrays are allocated                     */
   int       uniform_mass;  /* every particle has mass m[0] (set at set-up)             */
   int       adaptive;      /* the adaptive range's arrays are allocated               */

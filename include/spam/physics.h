@@ -95,6 +95,12 @@ PetscErrorCode SpamSetUpSolid(SpamSim *sim);
 /* The adaptive kernel range (smoothing_adaptive.c): every local h_i, rho_i and Omega_i
  * from the current list; a particle whose solve does not converge stops the run. */
 PetscErrorCode SpamSmoothingSolve(SpamSim *sim);
+/* The list as the last solve's passes walked it: a view of sim's list whose rows hold only
+ * the pairs within reach of its h_i (or the whole list), every pair within max(h_i, h_j)
+ * among them in the list's order. Valid until the next list update. */
+void SpamSmoothingPairs(const SpamSim *sim, SpamNeighbours *near);
+/* The next solve keeps its near rows anew (the list was put back to an earlier build). */
+void SpamSmoothingNearReset(SpamFields *f);
 /* The ideal gas's right-hand side at the adaptive range (rhs_gas_adaptive.c). */
 PetscErrorCode SpamRhsGasAdaptive(SpamSim *sim, const double *y, double *ydot, PetscInt *bad);
 

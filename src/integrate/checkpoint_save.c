@@ -7,6 +7,8 @@
  *   id [n], mass [n]                    each row's input row and mass (checked on restart)
  *   xref [n*dim]                        the neighbour list's reference positions
  *   acc [n*dim]                         the last force evaluation (the force step bound)
+ *   h [n]                               the adaptive range: the h_i the next solve starts
+ *                                       from (the last step's)
  *   h_next                              the step the integrator proposes next
  *   velocity_scale                      the error weights' velocity scale (the start's c0)
  *   arkode_history [5], arkode_accepted ERKStep's controller: h_next, 2 errors, 2 steps
@@ -86,6 +88,7 @@ static PetscErrorCode PutParticles(SpamSim *sim, SpamCkFile *pc, SpamCkFile *c)
   PetscCall(SpamCkPutReal(pc, "xref", (size_t)n * dim, xref));
   PetscCall(SpamCkPutReal(pc, "mass", (size_t)n, sim->pair.f.m));
   PetscCall(SpamCkPutReal(pc, "acc", (size_t)n * dim, sim->pair.f.acc));
+  if (sim->pair.f.adaptive) PetscCall(SpamCkPutReal(pc, "h", (size_t)n, sim->pair.f.h));
   PetscCall(SpamCkPutLong(c, "list_builds", sim->pair.nl.builds));
   {
     const double stats[3] = {(double)sim->run.stats.rhs_evals, sim->run.stats.rhs_time, sim->run.stats.pair_visits};

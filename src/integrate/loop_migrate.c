@@ -23,7 +23,7 @@ PetscErrorCode SpamLoopRemakeVectors(SpamSim *sim, SpamLoop *L)
     PetscCall(VecDuplicate(sim->p.X, &L->s.Xout));
   }
   PetscCall(PetscFree(L->xref_keep));
-  PetscCall(PetscMalloc1((size_t)sim->p.n * sim->model.dim + 1, &L->xref_keep));
+  PetscCall(PetscMalloc1((size_t)sim->p.n * (sim->model.dim + 1) + 1, &L->xref_keep));
   PetscFunctionReturn(0);
 }
 

@@ -25,8 +25,9 @@ typedef struct {
   int            ckpt_deferred;     /* steps it has waited                               */
   long           ckpt_count;
   double         ckpt_bytes, ckpt_seconds; /* size and write time of the last one        */
-  double        *xref_keep;         /* [n*dim] the list's reference positions before the */
-  long           builds_keep;       /* outputs of a step, and its build count            */
+  double        *xref_keep;         /* [n*(dim+1)] the list's reference positions before */
+  long           builds_keep;       /* the outputs of a step, then the adaptive range's  */
+                                    /* h_i (the solve's start), and the list's build count */
   /* several ranks (loop_migrate.c) */
   Vec            Xgood;             /* the last accepted state                           */
   long           builds_migrated;   /* list builds at the last migration                 */

@@ -290,6 +290,11 @@ static PetscErrorCode ApplyParticles(SpamSim *sim, const SpamRestart *rs)
   sim->pair.ghost_mass_build = -1; /* the slots were laid out anew: their masses with them */
   PetscCall(SpamFieldsReserve(&sim->pair.f, SpamNeighboursSlots(&sim->pair.nl)));
   PetscCall(PetscArraycpy(sim->pair.f.acc, acc, n * dim));
+  if (sim->pair.f.adaptive) { /* the solve's start: from it the first one repeats the last bits */
+    const double *h;
+    PetscCall(SpamCkGetReal(pc, "h", n, &h));
+    PetscCall(PetscArraycpy(sim->pair.f.h, h, n));
+  }
   sim->run.stats.rhs_evals   = (long)stats[0];
   sim->run.stats.rhs_time    = stats[1];
   sim->run.stats.pair_visits = stats[2];

@@ -317,6 +317,28 @@ static PetscErrorCode SelfSteppingBound(TS ts, SpamTsApp *app)
 /* The jumps between steps: particles that crossed a mirror wall reflected back, and the
  * model's own (closest-approach reflection). A changed state restarts the method: an
  * FSAL stage or Adams history computed before the jump is no longer valid. */
+/* What the outputs of a step change and the trajectory must not see: the list (a build by
+ * their density sums or the interpolant's right-hand sides) and, at the adaptive range,
+ * the h_i each solve starts from (the last solve's). Kept before them, put back after. */
+static PetscErrorCode KeepList(SpamSim *sim, SpamLoop *L)
+{
+  PetscFunctionBeginUser;
+  PetscCall(SpamNeighboursKeep(&sim->pair.nl, L->xref_keep, &L->builds_keep));
+  if (sim->pair.f.adaptive) PetscCall(PetscArraycpy(L->xref_keep + (size_t)sim->p.n * sim->model.dim, sim->pair.f.h, sim->p.n));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode RevertList(SpamSim *sim, SpamLoop *L)
+{
+  PetscFunctionBeginUser;
+  PetscCall(SpamNeighboursRevert(&sim->pair.nl, &sim->geo.box, L->xref_keep, L->builds_keep));
+  if (sim->pair.f.adaptive) {
+    PetscCall(PetscArraycpy(sim->pair.f.h, L->xref_keep + (size_t)sim->p.n * sim->model.dim, sim->p.n));
+    SpamSmoothingNearReset(&sim->pair.f);
+  }
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode PostStep(TS ts, SpamSim *sim, SpamRunResult *r)
 {
   PetscScalar *y;
@@ -610,7 +632,7 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
      * right-hand sides make is undone, so the method's next right-hand sides (and a
      * restart from a checkpoint taken now) see the list the step left. */
     const PetscBool outputs = (PetscBool)(PetscMin(sp->next_out, sp->next_snap) <= t * (1.0 + SPAM_TIME_ROUNDOFF) || t >= o->t_end);
-    if (outputs) PetscCall(SpamNeighboursKeep(&sim->pair.nl, L->xref_keep, &L->builds_keep)); /* only a step with outputs copies */
+    if (outputs) PetscCall(KeepList(sim, L)); /* only a step with outputs copies */
     if (dense) PetscCall(InterpolatedOutputs(ts, sim, o, out, pp, sp, r));
     if (Reached(t, PetscMin(sp->next_out, sp->next_snap)) || t >= o->t_end) {
       const PetscBool snap = (PetscBool)(o->snapshot_interval > 0 && (Reached(t, sp->next_snap) || t >= o->t_end));
@@ -620,7 +642,7 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
       if (Reached(t, sp->next_out)) sp->next_out = NextMultiple(t, sp->out_interval, o->t_end);
       if (Reached(t, sp->next_snap)) sp->next_snap = NextMultiple(t, sp->snap_interval, o->t_end);
     }
-    if (outputs) PetscCall(SpamNeighboursRevert(&sim->pair.nl, &sim->geo.box, L->xref_keep, L->builds_keep));
+    if (outputs) PetscCall(RevertList(sim, L));
     /* After the step's outputs, which read ERKStep's interpolant of the step (a resize drops
      * it); before a checkpoint, which then holds the particles where the next step finds
      * them, so that a restart on the same ranks needs no migration of its own. */
@@ -666,7 +688,7 @@ PetscErrorCode SpamRun(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *
 
   PetscFunctionBeginUser;
   PetscCall(PetscNew(&L));
-  PetscCall(PetscMalloc1((size_t)sim->p.n * sim->model.dim + 1, &L->xref_keep));
+  PetscCall(PetscMalloc1((size_t)sim->p.n * (sim->model.dim + 1) + 1, &L->xref_keep));
   PetscCall(VecDuplicate(sim->p.X, &L->Xgood));
   ierr = Loop(sim, o, ts, app, out, r, rs, L);
   PetscCall(VecDestroy(&L->s.Xout));

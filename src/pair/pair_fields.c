@@ -2,7 +2,7 @@
 #include <spam/fields.h>
 
 /* Every array with its number of values per slot (0: not allocated for this model). */
-static int Arrays(SpamFields *f, double **a[34], int per[34])
+static int Arrays(SpamFields *f, double **a[36], int per[36])
 {
   const int d = f->dim, t = f->tensor ? 1 : 0, s = f->adaptive ? 1 : 0;
   int       k = 0;
@@ -40,14 +40,16 @@ static int Arrays(SpamFields *f, double **a[34], int per[34])
   SPAM_ARRAY(f->hlo, s);
   SPAM_ARRAY(f->hhi, s);
   SPAM_ARRAY(f->settled, s);
+  SPAM_ARRAY(f->hcap, s);
+  SPAM_ARRAY(f->xnear, s * d);
 #undef SPAM_ARRAY
   return k;
 }
 
 PetscErrorCode SpamFieldsCreate(int dim, int n, int cap, PetscBool tensor, SpamFields *f)
 {
-  double **a[34];
-  int      per[34], na;
+  double **a[36];
+  int      per[36], na;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(f, sizeof *f));
@@ -64,8 +66,8 @@ PetscErrorCode SpamFieldsCreate(int dim, int n, int cap, PetscBool tensor, SpamF
 
 PetscErrorCode SpamFieldsReserve(SpamFields *f, int slots)
 {
-  double **a[34];
-  int      per[34], na, old = f->cap;
+  double **a[36];
+  int      per[36], na, old = f->cap;
 
   PetscFunctionBeginUser;
   if (slots + 1 <= f->cap) PetscFunctionReturn(0);
@@ -77,30 +79,34 @@ PetscErrorCode SpamFieldsReserve(SpamFields *f, int slots)
     for (size_t z = (size_t)old * per[k]; z < (size_t)f->cap * per[k]; z++) (*a[k])[z] = 0.0;
   }
   if (f->tensor) PetscCall(PetscRealloc((size_t)f->cap * sizeof(double), &f->tfac));
+  if (f->adaptive) PetscCall(PetscRealloc((size_t)(f->cap + 1) * sizeof(int), &f->near_start));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SpamFieldsDestroy(SpamFields *f)
 {
-  double **a[34];
-  int      per[34], na = Arrays(f, a, per);
+  double **a[36];
+  int      per[36], na = Arrays(f, a, per);
 
   PetscFunctionBeginUser;
   for (int k = 0; k < na; k++) PetscCall(PetscFree(*a[k]));
   PetscCall(PetscFree(f->tfac));
+  PetscCall(PetscFree(f->near_start));
+  PetscCall(PetscFree(f->near_nbr));
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SpamFieldsAddSmoothing(SpamFields *f)
 {
-  double **a[34];
-  int      per[34], na;
+  double **a[36];
+  int      per[36], na;
 
   PetscFunctionBeginUser;
   f->adaptive = 1;
   na          = Arrays(f, a, per);
   for (int k = 0; k < na; k++) /* the arrays not yet allocated: the adaptive range's */
     if (per[k] && !*a[k]) PetscCall(PetscCalloc1((size_t)f->cap * per[k], a[k]));
+  PetscCall(PetscCalloc1((size_t)f->cap + 1, &f->near_start));
   PetscFunctionReturn(0);
 }
 

@@ -1,16 +1,19 @@
 /* The pair-loop driver of the adaptive kernel range: each particle has its own range h_i
- * (fields.h: h, hinv, wn, gn). SPAM_PAIR_WALK_ADAPTIVE(Name, Ctx, Fn) defines
+ * (fields.h: h, hinv, wn, gn). SPAM_PAIR_WALK_ADAPTIVE(Name, Ctx, Fn, Skip, Near) defines
  *   static PetscErrorCode Name(const SpamNeighbours *nl, const SpamKernel *k, const SpamFields *f, Ctx *ctx)
  * which visits every listed local pair within the larger of the two ranges (gather and
  * scatter: r < max(h_i, h_j)) and calls
  *   Fn(dim, ctx, i, j, dx, r2, wi, gi, wj, gj)   (dim a literal)
  * for every pair for which Skip(ctx, i, j) is false (tested before the distance: a pass
- * that needs only some particles' sums leaves the others' pairs unevaluated), with
+ * that needs only some particles' sums leaves the others' pairs unevaluated; Near(ctx, i,
+ * j, r2) sees every such pair before the range test: the h solve's first pass keeps
+ * there the pairs its later passes and the force pass walk), with
  * dx = r_i - r_j (minimum image where the row may cross a periodic face), r2 = |dx|^2,
  * wi = w(r, h_i), gi = w'(r, h_i)/r and wj, gj the same at h_j, so that the gradient of
  * particle i's kernel is gi dx. A kernel's shape is exactly zero beyond its edge
  * (kernel_shape.h), so the side whose range the pair exceeds gets w = g = 0. The list's
- * range is the upper bound of every h_i (SpamModelListRange). Ghost rows are not walked:
+ * range is the upper bound of every h_i (SpamModelListRange); nl may be a view of it whose
+ * rows hold fewer of its pairs (SpamSmoothingPairs). Ghost rows are not walked:
  * the adaptive range runs without ghost slots (smoothing_options.c refuses them). */
 #ifndef SPAM_PAIR_WALK_ADAPTIVE_H
 #define SPAM_PAIR_WALK_ADAPTIVE_H
@@ -18,7 +21,10 @@
 #include <spam/fields.h>
 #include "pair_walk.h"
 
-#define SPAM_PAIR_WALK_ADAPTIVE(Name, Ctx, Fn, Skip) \
+/* The Near of a walk that keeps no pairs. */
+#define SPAM_NEAR_NONE(ctx, i, j, r2) ((void)0)
+
+#define SPAM_PAIR_WALK_ADAPTIVE(Name, Ctx, Fn, Skip, Near) \
   static inline __attribute__((always_inline)) void Name##Segment(const int dim, const int kind, const int img, const SpamNeighbours *nl, const SpamFields *f, Ctx *ctx, int i, const int *nb, int np) \
   { \
     const double ui[3] = {nl->u[0][i], dim > 1 ? nl->u[1][i] : 0.0, dim > 2 ? nl->u[2][i] : 0.0}; \
@@ -31,6 +37,7 @@
         dx[d] = img ? SpamImageDelta(&nl->im, d, ui[d] - nl->u[d][j]) : ui[d] - nl->u[d][j]; \
         r2 += dx[d] * dx[d]; \
       } \
+      Near(ctx, i, j, r2); \
       const double hm = hi > f->h[j] ? hi : f->h[j]; \
       if (r2 >= hm * hm) continue; \
       const double r = sqrt(r2), si = r * f->hinv[i], sj = r * f->hinv[j]; \

@@ -47,7 +47,7 @@ static inline __attribute__((always_inline)) void ForcePair(const int dim, Force
   }
 }
 #define SPAM_EVERY_PAIR(ctx, i, j) 0
-SPAM_PAIR_WALK_ADAPTIVE(WalkForces, ForcePass, ForcePair, SPAM_EVERY_PAIR)
+SPAM_PAIR_WALK_ADAPTIVE(WalkForces, ForcePass, ForcePair, SPAM_EVERY_PAIR, SPAM_NEAR_NONE)
 
 /* v and e of the state into the fields (local particles: the adaptive pass has no ghosts). */
 static void Velocities(SpamSim *sim, const double *y)
@@ -68,6 +68,7 @@ PetscErrorCode SpamRhsGasAdaptive(SpamSim *sim, const double *y, double *ydot, P
   SpamFields       *f   = &sim->pair.f;
   const int         dim = l->dim, nv = l->nvar, n = (int)sim->p.n;
   ForcePass         c   = {f, &sim->model.solid};
+  SpamNeighbours    near;
 
   PetscFunctionBeginUser;
   PetscCall(SpamNeighboursUpdate(&sim->pair.nl, &sim->geo.box, y + l->x, nv, PETSC_FALSE, bad));
@@ -80,7 +81,8 @@ PetscErrorCode SpamRhsGasAdaptive(SpamSim *sim, const double *y, double *ydot, P
     f->edot[i] = 0.0;
     for (int d = 0; d < dim; d++) f->acc[(size_t)i * dim + d] = 0.0;
   }
-  PetscCall(WalkForces(&sim->pair.nl, &sim->model.kernel, f, &c));
+  SpamSmoothingPairs(sim, &near);
+  PetscCall(WalkForces(&near, &sim->model.kernel, f, &c));
   PetscCall(PetscLogEventEnd(sim->run.ev.force, 0, 0, 0, 0));
   for (int i = 0; i < n; i++) {
     double *r = ydot + (size_t)i * nv;
@@ -90,6 +92,6 @@ PetscErrorCode SpamRhsGasAdaptive(SpamSim *sim, const double *y, double *ydot, P
     }
     r[l->e] = f->edot[i];
   }
-  sim->run.stats.pair_visits += (double)sim->pair.nl.npairs;
+  sim->run.stats.pair_visits += (double)near.npairs;
   PetscFunctionReturn(0);
 }

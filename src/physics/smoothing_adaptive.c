@@ -6,7 +6,11 @@
  * equations (rhs_gas_adaptive.c). rho_i depends on h_i alone, so each particle's root is
  * its own; the passes over the half list sum every particle's rho and d rho/dh at its
  * current h at once, and Newton's step (kept inside a bracket by bisection) moves those
- * not yet converged, from the last evaluation's h_i. An h_i held at a bound does not move
+ * not yet converged, from the last evaluation's h_i. The passes and the force pass walk
+ * the near rows (fields.h): the list's pairs within reach of the h_i (SPAM_H_REACH) plus
+ * the list's skin, kept by a first pass over the whole list (its range is the bound
+ * h_max h) and used by later evaluations while the particles stay within half the skin
+ * and the h_i within their reach. An h_i held at a bound does not move
  * with the particles there, so its Omega is 1. A particle that does not converge stops
  * the run with its row. Nothing here allocates. */
 #include <spam/sim.h>
@@ -19,6 +23,14 @@
 #define SPAM_H_TOL 1e-10
 /* Bisection alone halves the bracket [h_min h, h_max h] to 1e-10 of h in under 40 steps. */
 #define SPAM_H_MAX_ITER 100
+/* The reach of a solve's later passes, a factor of each h_i at its start: the list holds
+ * the pairs within h_max h + skin, about (h_max + skin/h)^D times those within h_i on
+ * the initial lattice (4.4 in 2D at the defaults), and an evaluation moves h_i by far
+ * less than this between two right-hand sides, so its later passes and the force pass
+ * walk only the pairs within max(reach_i, reach_j). A Newton or bisection step beyond
+ * the reach sends those walks back to the whole list, which gives the same sums (the
+ * pairs left out are beyond both ranges, their terms exactly zero). */
+#define SPAM_H_REACH 1.1
 
 double SpamModelListRange(const SpamModel *m)
 {
@@ -44,6 +56,9 @@ static void Scales(SpamFields *f, const SpamKernel *k, int n)
 
 typedef struct {
   SpamFields *f;
+  int         row;  /* the last row whose start in the near rows is set */
+  size_t      cnt;  /* pairs kept in the near rows                     */
+  double      skin; /* the list's skin: the near rows' margin          */
 } DensityPass;
 
 /* d w(r, h)/d h = -(D w + r w'(r)) / h, with r w'(r) = r^2 g. */
@@ -69,15 +84,51 @@ static inline __attribute__((always_inline)) void DensityPair(const int dim, Den
   }
 }
 #define SPAM_BOTH_SETTLED(c, i, j) ((c)->f->settled[i] != 0.0 && (c)->f->settled[j] != 0.0)
-SPAM_PAIR_WALK_ADAPTIVE(WalkDensity, DensityPass, DensityPair, SPAM_BOTH_SETTLED)
 
-/* rho_i and d rho_i/d h_i of every open local particle at its current h_i. */
-static PetscErrorCode Sums(SpamSim *sim)
+/* The keeping pass keeps the pairs within the larger reach plus the skin, row after row
+ * (rows come in order; a row with none gets its start when a later row or the end is
+ * reached). */
+static inline __attribute__((always_inline)) void KeepNear(DensityPass *c, int i, int j, double r2)
+{
+  SpamFields  *f  = c->f;
+  const double hc = (f->hcap[i] > f->hcap[j] ? f->hcap[i] : f->hcap[j]) + c->skin;
+  if (r2 >= hc * hc) return;
+  while (c->row < i) f->near_start[++c->row] = (int)c->cnt;
+  f->near_nbr[c->cnt++] = j;
+}
+SPAM_PAIR_WALK_ADAPTIVE(WalkDensityFirst, DensityPass, DensityPair, SPAM_BOTH_SETTLED, KeepNear)
+SPAM_PAIR_WALK_ADAPTIVE(WalkDensity, DensityPass, DensityPair, SPAM_BOTH_SETTLED, SPAM_NEAR_NONE)
+
+void SpamSmoothingPairs(const SpamSim *sim, SpamNeighbours *near)
+{
+  const SpamFields *f = &sim->pair.f;
+
+  *near = sim->pair.nl;
+  if (f->near_wide) return;
+  near->start  = f->near_start;
+  near->nbr    = f->near_nbr;
+  near->npairs = (size_t)f->near_start[near->n];
+}
+
+/* Room for every pair of the list in the near rows: grows with the list only. */
+static PetscErrorCode ReserveNear(SpamFields *f, const SpamNeighbours *nl)
+{
+  PetscFunctionBeginUser;
+  if (f->near_cap >= nl->npairs) PetscFunctionReturn(0);
+  f->near_cap = PetscMax(nl->cap, nl->npairs);
+  PetscCall(PetscRealloc(f->near_cap * sizeof(int), &f->near_nbr));
+  PetscFunctionReturn(0);
+}
+
+/* rho_i and d rho_i/d h_i of every open local particle at its current h_i; a keeping
+ * pass walks the whole list and keeps the near rows, the others walk those. */
+static PetscErrorCode Sums(SpamSim *sim, int keep)
 {
   SpamFields       *f   = &sim->pair.f;
   const SpamKernel *k   = &sim->model.kernel;
   const int         n   = (int)sim->p.n, dim = k->dim;
-  DensityPass       c   = {f};
+  DensityPass       c   = {f, 0, 0, sim->pair.nl.skin};
+  SpamNeighbours    near;
 
   PetscFunctionBeginUser;
   Scales(f, k, n);
@@ -86,7 +137,14 @@ static PetscErrorCode Sums(SpamSim *sim)
     f->rho[i]  = f->m[i] * f->wn[i]; /* F(0) = 1: w(0, h_i) */
     f->drho[i] = -dim * f->rho[i] * f->hinv[i];
   }
-  PetscCall(WalkDensity(&sim->pair.nl, k, f, &c));
+  if (keep) {
+    f->near_start[0] = 0;
+    PetscCall(WalkDensityFirst(&sim->pair.nl, k, f, &c));
+    while (c.row < n) f->near_start[++c.row] = (int)c.cnt;
+    PetscFunctionReturn(0);
+  }
+  SpamSmoothingPairs(sim, &near);
+  PetscCall(WalkDensity(&near, k, f, &c));
   PetscFunctionReturn(0);
 }
 
@@ -124,6 +182,41 @@ static int Step(const Solve *s, SpamFields *f, int i)
   return 0;
 }
 
+/* Whether the near rows serve this solve: kept on this list, every particle within half
+ * the skin of where they were kept (a pair's distance then changed by less than the
+ * skin), every starting h_i within its reach. */
+static int NearServe(const SpamFields *f, const SpamNeighbours *nl)
+{
+  const double lim = 0.25 * nl->skin * nl->skin;
+
+  if (!f->near_valid || f->near_builds != nl->builds) return 0;
+  for (int i = 0; i < nl->n; i++) {
+    double r2 = 0.0;
+    for (int d = 0; d < nl->dim; d++) {
+      const double dx = nl->u[d][i] - f->xnear[(size_t)i * nl->dim + d];
+      r2 += dx * dx;
+    }
+    if (r2 >= lim || f->h[i] > f->hcap[i]) return 0;
+  }
+  return 1;
+}
+
+/* The near rows are kept at the current positions with reaches from the current h_i. */
+static void NearKeptHere(SpamFields *f, const SpamNeighbours *nl, double hi)
+{
+  for (int i = 0; i < nl->n; i++) {
+    f->hcap[i] = PetscMin(SPAM_H_REACH * f->h[i], hi);
+    for (int d = 0; d < nl->dim; d++) f->xnear[(size_t)i * nl->dim + d] = nl->u[d][i];
+  }
+  f->near_builds = nl->builds;
+  f->near_valid  = 1;
+}
+
+void SpamSmoothingNearReset(SpamFields *f)
+{
+  f->near_valid = 0;
+}
+
 PetscErrorCode SpamSmoothingSolve(SpamSim *sim)
 {
   const SpamSolidParams *p = &sim->model.solid;
@@ -131,7 +224,7 @@ PetscErrorCode SpamSmoothingSolve(SpamSim *sim)
   const Solve            s  = {sim->model.dim, p->h_eta, p->h_min * h0, p->h_max * h0};
   SpamFields            *f  = &sim->pair.f;
   const int              n  = (int)sim->p.n;
-  int                    open = n, last = -1;
+  int                    open = n, last = -1, keep;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(sim->run.ev.density, 0, 0, 0, 0));
@@ -141,8 +234,14 @@ PetscErrorCode SpamSmoothingSolve(SpamSim *sim)
     f->hhi[i]     = s.hi;
     f->settled[i] = 0.0;
   }
+  keep = !NearServe(f, &sim->pair.nl);
+  if (keep) {
+    PetscCall(ReserveNear(f, &sim->pair.nl));
+    NearKeptHere(f, &sim->pair.nl, s.hi);
+  }
+  f->near_wide = 0;
   for (int it = 0; it < SPAM_H_MAX_ITER && open; it++) {
-    PetscCall(Sums(sim));
+    PetscCall(Sums(sim, keep && it == 0));
     open = 0;
     for (int i = 0; i < n; i++) {
       if (f->settled[i]) continue;
@@ -150,6 +249,7 @@ PetscErrorCode SpamSmoothingSolve(SpamSim *sim)
       else {
         open++;
         last = i;
+        if (f->h[i] > f->hcap[i]) f->near_wide = 1, f->near_valid = 0;
       }
     }
   }

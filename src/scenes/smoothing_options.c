@@ -69,7 +69,6 @@ static const char *UnsupportedLaw(const SpamSolidParams *s)
 static PetscErrorCode CheckRunOptions(void)
 {
   static const char *const fixed_only[][2] = {
-    {"-restart", "a restart would start the h solve from -h instead of the run's last h_i, which checkpoints do not hold yet"},
     {"-grid_interval", "the grid fields interpolate with the one kernel range h"},
     {"-diag_entropy", "the entropy estimates use the one kernel range h"},
   };
