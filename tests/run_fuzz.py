@@ -53,6 +53,10 @@ run (it reads this stride too), where each is checked for the same verdict and f
 reports besides; the forged checkpoints' control runs in both. Each case then runs once per
 CI run.
 SPAM_FUZZ_ONLY=regex only the cases whose name matches it (a development aid).
+Each case runs in a forked child of the fork server tests/fuzz_server.c (one per worker),
+which calls spam-ark's own entry; SPAM_FUZZ_EXEC=1 starts spam-ark for each instead (as does
+a build without the server). SPAM_FUZZ_VERDICTS=file writes each case's exit code and
+problems, to compare the two.
 """
 import concurrent.futures
 import hashlib
@@ -105,7 +109,7 @@ LIMIT = [] if "ASAN_OPTIONS" in os.environ else [b"/bin/sh", b"-c", b'ulimit -v 
 # The child runs the program's entry (src/app/program.c) with the case's argv, directory,
 # environment, address-space limit (the same bytes as LIMIT's) and stdin, and exits with its
 # code; the server reports an exit code, a signal or a timeout, which the verdicts below
-# read as they read a process's. Those that need spam-ark itself keep starting it (EXEC_ONLY).
+# read as they read a process's. Those that need spam-ark itself keep starting it (exec_only).
 SERVER = os.environ.get("SPAM_FUZZ_SERVER") or os.path.join(os.path.dirname(SPAM), "tests", "fuzz_server")
 FORK = os.environ.get("SPAM_FUZZ_EXEC") != "1" and os.access(SERVER, os.X_OK)
 if not FORK and os.environ.get("SPAM_FUZZ_EXEC") != "1":
@@ -941,11 +945,13 @@ def tree(path):
 
 
 def exec_only(case):
-    """A case whose outcome may depend on the executable's own path: a relative -options_file
-    that is not in the working directory is looked up next to /proc/self/exe (argv_check.c),
-    which in the fork server's child is the server."""
+    """A case whose outcome may depend on which executable runs it, which in the fork server's
+    child is the server: a relative -options_file that is not in the working directory is
+    looked up next to /proc/self/exe (argv_check.c); a file under /proc/self describes the
+    process (its name, its memory)."""
     args = [os.fsdecode(x) for x in case.args]
-    return any(o == "-options_file" and not os.path.isabs(v) for o, v in zip(args, args[1:]))
+    return (any(o == "-options_file" and not os.path.isabs(v) for o, v in zip(args, args[1:]))
+            or any(x.startswith("/proc/self/") for x in args))
 
 
 class Server:
@@ -1089,7 +1095,8 @@ if verdicts:
     verdicts.close()
 elapsed = time.monotonic() - t_start
 left = f"; the {SANITIZED}-stride run under the sanitizers takes the rest" if SANITIZED > 1 else ""
-how = "in the fork server's children" if FORK else "each a start of spam-ark"
+own = sum(map(exec_only, cases))
+how = f"in the fork server's children ({own} a start of spam-ark, exec_only)" if FORK else "each a start of spam-ark"
 print(f"\ninputs tried: {len(cases)} (stride {STRIDE} over {len(generated)} generated cases{left}), {elapsed:.0f} s with {JOBS} at a time, {how}")
 for key in ("refused (2)", "ran (0)", "unstable (3)", "failed (1)", "crashes", "timeouts", "sanitizer reports"):
     print(f"  {key:20s} {counts.get(key, 0)}")
