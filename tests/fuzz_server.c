@@ -137,14 +137,13 @@ static void Redirect(int fd, const char *path, int flags)
   if (k != fd) (void)close(k);
 }
 
-/* The child: its own process group (a timeout kills the whole group), the signal mask and
- * dispositions of a fresh process, the request's files, directory, limit and environment;
- * then the program, exit()ing with its code. */
+/* The child: its own process group (a timeout kills the whole group), the signal mask the
+ * server was started with (the server blocks SIGCHLD), the request's files, directory, limit
+ * and environment; then the program, exit()ing with its code. */
 static void Child(const Request *r, const sigset_t *mask)
 {
   (void)setpgid(0, 0);
   (void)prctl(PR_SET_PDEATHSIG, SIGKILL); /* a server that dies takes its case along */
-  (void)signal(SIGCHLD, SIG_DFL);
   (void)sigprocmask(SIG_SETMASK, mask, NULL);
   Redirect(0, "/dev/null", O_RDONLY);
   Redirect(1, r->out, O_WRONLY | O_CREAT | O_TRUNC);
