@@ -115,6 +115,35 @@ FORK = os.environ.get("SPAM_FUZZ_EXEC") != "1" and os.access(SERVER, os.X_OK)
 if not FORK and os.environ.get("SPAM_FUZZ_EXEC") != "1":
     print(f"note: no fork server at {SERVER}: every case starts spam-ark")
 LIMIT_BYTES = 4194304 * 1024 if LIMIT else 0
+
+
+class Server:
+    """A fork server (tests/fuzz_server.c) of one worker thread; run() sends it a case."""
+
+    def __init__(self):
+        self.p = subprocess.Popen([SERVER], stdin=subprocess.PIPE, stdout=subprocess.PIPE, env=ENV, cwd=w)
+
+    def run(self, args, cwd, env, err_path, timeout=TIMEOUT):
+        """The run's exit code (negative: the signal that ended it) or "timeout"."""
+        # The environment as the server's child would not have it already: the assignments
+        # that differ from the server's own (ENV), and the names to unset.
+        delta = [f"{k}={v}" for k, v in env.items() if ENV.get(k) != v] + [k for k in ENV if k not in env]
+        fields = [cwd, os.devnull, err_path, str(timeout), str(LIMIT_BYTES), str(len(delta))] + delta
+        fields += [str(len(args) + 1), SPAM] + list(args)
+        self.p.stdin.write(b"".join((x if isinstance(x, bytes) else os.fsencode(x)) + b"\0" for x in fields))
+        self.p.stdin.flush()
+        answer = self.p.stdout.readline().decode().split()
+        if not answer:
+            raise RuntimeError(f"the fork server ended (exit {self.p.wait()})")
+        if answer[0] == "timeout":
+            return "timeout"
+        return int(answer[1]) if answer[0] == "exit" else -int(answer[1])
+
+    def close(self):
+        self.p.stdin.close()
+        return self.p.wait()
+
+
 SANITIZER = ("runtime error:", "ERROR: AddressSanitizer", "LeakSanitizer", "ERROR: UndefinedBehaviorSanitizer")
 FILES = os.path.join(w, "files")
 os.makedirs(FILES)
@@ -895,8 +924,13 @@ class RunDirCase(Case):
 
 def forged_checkpoint_cases():
     base = os.path.join(FILES, "ck_base")
-    code = subprocess.run([SPAM] + argv("E", CK_EXTRA + [("-ts_max_steps", "6"), ("-checkpoint_interval", "1000")]) + ["-output_dir", base],
-                          capture_output=True, env=ENV, timeout=120).returncode
+    base_args = argv("E", CK_EXTRA + [("-ts_max_steps", "6"), ("-checkpoint_interval", "1000")]) + ["-output_dir", base]
+    if FORK:  # the restarts run in the server's children: a checkpoint continues only in its own build
+        srv = Server()
+        code = srv.run(base_args, w, ENV, os.path.join(FILES, "ck_base.stderr"), 120)
+        srv.close()
+    else:
+        code = subprocess.run([SPAM] + base_args, capture_output=True, env=ENV, timeout=120).returncode
     if not c.check(code == 0 and os.path.exists(os.path.join(base, "checkpoint.h5")), f"the forged checkpoints' base run wrote its checkpoint (exit {code})"):
         return []
     if not c.check(os.access(FORGE, os.X_OK), f"the checkpoint forger {FORGE} is built"):
@@ -952,33 +986,6 @@ def exec_only(case):
     args = [os.fsdecode(x) for x in case.args]
     return (any(o == "-options_file" and not os.path.isabs(v) for o, v in zip(args, args[1:]))
             or any(x.startswith("/proc/self/") for x in args))
-
-
-class Server:
-    """A fork server (tests/fuzz_server.c) of one worker thread; run() sends it a case."""
-
-    def __init__(self):
-        self.p = subprocess.Popen([SERVER], stdin=subprocess.PIPE, stdout=subprocess.PIPE, env=ENV, cwd=w)
-
-    def run(self, args, cwd, env, err_path):
-        """The case's exit code (negative: the signal that ended it) or "timeout"."""
-        # The environment as the server's child would not have it already: the assignments
-        # that differ from the server's own (ENV), and the names to unset.
-        delta = [f"{k}={v}" for k, v in env.items() if ENV.get(k) != v] + [k for k in ENV if k not in env]
-        fields = [cwd, os.devnull, err_path, str(TIMEOUT), str(LIMIT_BYTES), str(len(delta))] + delta
-        fields += [str(len(args) + 1), SPAM] + list(args)
-        self.p.stdin.write(b"".join((x if isinstance(x, bytes) else os.fsencode(x)) + b"\0" for x in fields))
-        self.p.stdin.flush()
-        answer = self.p.stdout.readline().decode().split()
-        if not answer:
-            raise RuntimeError(f"the fork server ended (exit {self.p.wait()})")
-        if answer[0] == "timeout":
-            return "timeout"
-        return int(answer[1]) if answer[0] == "exit" else -int(answer[1])
-
-    def close(self):
-        self.p.stdin.close()
-        return self.p.wait()
 
 
 servers = []
