@@ -107,7 +107,7 @@ LIMIT = [] if "ASAN_OPTIONS" in os.environ else [b"/bin/sh", b"-c", b'ulimit -v 
 # A start of spam-ark refused at option parsing took 0.16-0.19 CPU-s, much of it the dynamic
 # loader binding the symbols of the hundred-odd shared libraries PETSc brings in; in the
 # server's child, loaded once, 0.09-0.10 (20 of each, loaded machine). The whole corpus at
-# CI's stride: 350 CPU-s, 196 through the server (user+sys), the same verdicts case by case.
+# CI's stride: 318 CPU-s, 159 through the server (user+sys), the same verdicts case by case.
 # The child runs the program's entry (src/app/program.c) with the case's argv, directory,
 # environment, address-space limit (the same bytes as LIMIT's) and stdin, and exits with its
 # code; the server reports an exit code, a signal or a timeout, which the verdicts below
