@@ -53,6 +53,10 @@ run (it reads this stride too), where each is checked for the same verdict and f
 reports besides; the forged checkpoints' control runs in both. Each case then runs once per
 CI run.
 SPAM_FUZZ_ONLY=regex only the cases whose name matches it (a development aid).
+Each case runs in a forked child of the fork server tests/fuzz_server.c (one per worker),
+which calls spam-ark's own entry; SPAM_FUZZ_EXEC=1 starts spam-ark for each instead (as does
+a build without the server). SPAM_FUZZ_VERDICTS=file writes each case's exit code and
+problems, to compare the two.
 """
 import concurrent.futures
 import hashlib
@@ -63,6 +67,7 @@ import re
 import shutil
 import subprocess
 import sys
+import threading
 import time
 from spamrun import Checks, arguments
 
@@ -97,6 +102,50 @@ if "ASAN_OPTIONS" in ENV:
 # /dev/zero fails instead of taking the machine's memory. Not under ASan (its shadow memory
 # is terabytes of address space).
 LIMIT = [] if "ASAN_OPTIONS" in os.environ else [b"/bin/sh", b"-c", b'ulimit -v 4194304 && exec "$0" "$@"']
+# The cases run in forked children of the fork server (tests/fuzz_server.c), one server per
+# worker, unless SPAM_FUZZ_EXEC=1 or the server is not built: then each starts spam-ark.
+# A start of spam-ark refused at option parsing took 0.16-0.19 CPU-s, much of it the dynamic
+# loader binding the symbols of the hundred-odd shared libraries PETSc brings in; in the
+# server's child, loaded once, 0.09-0.10 (20 of each, loaded machine). The whole corpus at
+# CI's stride: 318 CPU-s, 159 through the server (user+sys), the same verdicts case by case.
+# The child runs the program's entry (src/app/program.c) with the case's argv, directory,
+# environment, address-space limit (the same bytes as LIMIT's) and stdin, and exits with its
+# code; the server reports an exit code, a signal or a timeout, which the verdicts below
+# read as they read a process's. Those that need spam-ark itself keep starting it (exec_only).
+SERVER = os.environ.get("SPAM_FUZZ_SERVER") or os.path.join(os.path.dirname(SPAM), "tests", "fuzz_server")
+FORK = os.environ.get("SPAM_FUZZ_EXEC") != "1" and os.access(SERVER, os.X_OK)
+if not FORK and os.environ.get("SPAM_FUZZ_EXEC") != "1":
+    print(f"note: no fork server at {SERVER}: every case starts spam-ark")
+LIMIT_BYTES = 4194304 * 1024 if LIMIT else 0
+
+
+class Server:
+    """A fork server (tests/fuzz_server.c) of one worker thread; run() sends it a case."""
+
+    def __init__(self):
+        self.p = subprocess.Popen([SERVER], stdin=subprocess.PIPE, stdout=subprocess.PIPE, env=ENV, cwd=w)
+
+    def run(self, args, cwd, env, err_path, timeout=TIMEOUT):
+        """The run's exit code (negative: the signal that ended it) or "timeout"."""
+        # The environment as the server's child would not have it already: the assignments
+        # that differ from the server's own (ENV), and the names to unset.
+        delta = [f"{k}={v}" for k, v in env.items() if ENV.get(k) != v] + [k for k in ENV if k not in env]
+        fields = [cwd, os.devnull, err_path, str(timeout), str(LIMIT_BYTES), str(len(delta))] + delta
+        fields += [str(len(args) + 1), SPAM] + list(args)
+        self.p.stdin.write(b"".join((x if isinstance(x, bytes) else os.fsencode(x)) + b"\0" for x in fields))
+        self.p.stdin.flush()
+        answer = self.p.stdout.readline().decode().split()
+        if not answer:
+            raise RuntimeError(f"the fork server ended (exit {self.p.wait()})")
+        if answer[0] == "timeout":
+            return "timeout"
+        return int(answer[1]) if answer[0] == "exit" else -int(answer[1])
+
+    def close(self):
+        self.p.stdin.close()
+        return self.p.wait()
+
+
 SANITIZER = ("runtime error:", "ERROR: AddressSanitizer", "LeakSanitizer", "ERROR: UndefinedBehaviorSanitizer")
 FILES = os.path.join(w, "files")
 os.makedirs(FILES)
@@ -877,8 +926,13 @@ class RunDirCase(Case):
 
 def forged_checkpoint_cases():
     base = os.path.join(FILES, "ck_base")
-    code = subprocess.run([SPAM] + argv("E", CK_EXTRA + [("-ts_max_steps", "6"), ("-checkpoint_interval", "1000")]) + ["-output_dir", base],
-                          capture_output=True, env=ENV, timeout=120).returncode
+    base_args = argv("E", CK_EXTRA + [("-ts_max_steps", "6"), ("-checkpoint_interval", "1000")]) + ["-output_dir", base]
+    if FORK:  # the restarts run in the server's children: a checkpoint continues only in its own build
+        srv = Server()
+        code = srv.run(base_args, w, ENV, os.path.join(FILES, "ck_base.stderr"), 120)
+        srv.close()
+    else:
+        code = subprocess.run([SPAM] + base_args, capture_output=True, env=ENV, timeout=120).returncode
     if not c.check(code == 0 and os.path.exists(os.path.join(base, "checkpoint.h5")), f"the forged checkpoints' base run wrote its checkpoint (exit {code})"):
         return []
     if not c.check(os.access(FORGE, os.X_OK), f"the checkpoint forger {FORGE} is built"):
@@ -926,6 +980,28 @@ def tree(path):
     return sorted(os.path.relpath(os.path.join(d, f), path) for d, ds, fs in os.walk(path) for f in fs + ds)
 
 
+def exec_only(case):
+    """A case whose outcome may depend on which executable runs it, which in the fork server's
+    child is the server: a relative -options_file that is not in the working directory is
+    looked up next to /proc/self/exe (argv_check.c); a file under /proc/self describes the
+    process (its name, its memory)."""
+    args = [os.fsdecode(x) for x in case.args]
+    return (any(o == "-options_file" and not os.path.isabs(v) for o, v in zip(args, args[1:]))
+            or any(x.startswith("/proc/self/") for x in args))
+
+
+servers = []
+local = threading.local()
+
+
+def server():
+    """This worker thread's fork server, started at its first case."""
+    if not hasattr(local, "server"):
+        local.server = Server()
+        servers.append(local.server)
+    return local.server
+
+
 def execute(k, case):
     cwd = os.path.join(w, "c", f"{k:05d}")
     os.makedirs(cwd)
@@ -936,6 +1012,13 @@ def execute(k, case):
     env = dict(ENV, TMPDIR=os.path.join(w, "t", f"{k:05d}"))
     os.makedirs(env["TMPDIR"])
     t0 = time.monotonic()
+    if FORK and not exec_only(case):
+        # as under LIMIT's /bin/sh, which sets PWD to the directory it starts in
+        err_path = os.path.join(env["TMPDIR"], "stderr")
+        code = server().run(case.args, cwd, dict(env, PWD=cwd) if LIMIT else env, err_path)
+        with open(err_path, "rb") as f:
+            err = f.read().decode("utf-8", "replace")
+        return k, case, code, err, time.monotonic() - t0, cwd
     try:
         p = subprocess.run(LIMIT + [os.fsencode(SPAM)] + [x if isinstance(x, bytes) else os.fsencode(x) for x in case.args],
                            capture_output=True, env=env, cwd=cwd, timeout=TIMEOUT, stdin=subprocess.DEVNULL)
@@ -989,9 +1072,14 @@ counts = {}
 by_category = {}
 slowest = []
 t_start = time.monotonic()
+# SPAM_FUZZ_VERDICTS=file: each case's exit code and problems, a line each in the corpus's
+# order (to compare two runs, say through the fork server and with SPAM_FUZZ_EXEC=1).
+verdicts = open(os.environ["SPAM_FUZZ_VERDICTS"], "w", encoding="utf-8") if os.environ.get("SPAM_FUZZ_VERDICTS") else None
 with concurrent.futures.ThreadPoolExecutor(JOBS) as pool:
     for k, case, code, err, dt, cwd in pool.map(lambda kc: execute(*kc), enumerate(cases)):
         problems = verdict(case, code, err, cwd)
+        if verdicts:
+            print(f"{k}\t[{case.category}] {case.name!r}\t{code}\t" + "; ".join(problems), file=verdicts)
         label = {0: "ran (0)", 1: "failed (1)", 2: "refused (2)", 3: "unstable (3)", "timeout": "timeouts"}.get(code, "crashes")
         if any(p.startswith("sanitizer") for p in problems):
             counts["sanitizer reports"] = counts.get("sanitizer reports", 0) + 1
@@ -1010,9 +1098,15 @@ with concurrent.futures.ThreadPoolExecutor(JOBS) as pool:
             shutil.rmtree(cwd, ignore_errors=True)
         shutil.rmtree(os.path.join(w, "t", f"{k:05d}"), ignore_errors=True)
 
+for srv in servers:
+    c.check(srv.close() == 0, "the fork server ended cleanly")
+if verdicts:
+    verdicts.close()
 elapsed = time.monotonic() - t_start
 left = f"; the {SANITIZED}-stride run under the sanitizers takes the rest" if SANITIZED > 1 else ""
-print(f"\ninputs tried: {len(cases)} (stride {STRIDE} over {len(generated)} generated cases{left}), {elapsed:.0f} s with {JOBS} at a time")
+own = sum(map(exec_only, cases))
+how = f"in the fork server's children ({own} a start of spam-ark, exec_only)" if FORK else "each a start of spam-ark"
+print(f"\ninputs tried: {len(cases)} (stride {STRIDE} over {len(generated)} generated cases{left}), {elapsed:.0f} s with {JOBS} at a time, {how}")
 for key in ("refused (2)", "ran (0)", "unstable (3)", "failed (1)", "crashes", "timeouts", "sanitizer reports"):
     print(f"  {key:20s} {counts.get(key, 0)}")
 for cat, d in by_category.items():
