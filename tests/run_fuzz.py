@@ -77,7 +77,7 @@ w = os.path.abspath(a.workdir)
 SPAM = os.path.abspath(a.spam_ark)
 HERE = os.path.dirname(os.path.abspath(__file__))
 TIMEOUT = 20
-JOBS = 3
+JOBS = 2
 STRIDE = max(1, int(os.environ.get("SPAM_FUZZ_STRIDE", "1")))
 # The stride of the sanitized run that takes the rest (docstring); only for a run of them all.
 SANITIZED = max(1, int(os.environ.get("SPAM_FUZZ_SANITIZED_STRIDE", "1"))) if STRIDE == 1 else 1
