@@ -337,6 +337,27 @@ static PetscErrorCode TorqueFactors(SpamSim *sim, TensorPass *c)
   PetscFunctionReturn(0);
 }
 
+/* The rates a force or diffusion walk accumulates on particles and ghost slots, zeroed
+ * before it (drho/dt only where the walk has one), and the ghosts' shares folded back onto
+ * their owners after it. */
+static void ZeroRates(SpamFields *f, int slots, int dim, PetscBool rho)
+{
+  Zero(f->acc, (size_t)slots * dim);
+  Zero(f->edot, (size_t)slots);
+  Zero(f->qdot, (size_t)slots);
+  if (rho) Zero(f->rhodot, (size_t)slots);
+}
+
+static void FoldRates(const SpamGhosts *gh, SpamFields *f, int n, PetscBool rho)
+{
+  const int dim = f->dim;
+
+  SpamGhostsFold(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->acc);
+  SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->edot);
+  SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->qdot);
+  if (rho) SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->rhodot);
+}
+
 /* Walk 3 and its folds: accelerations, de/dt (work, then plus heat), drho/dt. The heat
  * rate stays apart on the ghost slots, where the walls' books read it. */
 static PetscErrorCode Forces(SpamSim *sim, TensorPass *c, const double *y)
@@ -346,15 +367,9 @@ static PetscErrorCode Forces(SpamSim *sim, TensorPass *c, const double *y)
   const int         dim = f->dim, n = (int)sim->p.n, slots = SpamNeighboursSlots(&sim->pair.nl);
 
   PetscFunctionBeginUser;
-  Zero(f->acc, (size_t)slots * dim);
-  Zero(f->edot, (size_t)slots);
-  Zero(f->qdot, (size_t)slots);
-  Zero(f->rhodot, (size_t)slots);
+  ZeroRates(f, slots, dim, PETSC_TRUE);
   PetscCall(WalkForces(&sim->pair.nl, &sim->model.kernel, c));
-  SpamGhostsFold(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->acc);
-  SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->edot);
-  SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->qdot);
-  SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->rhodot);
+  FoldRates(gh, f, n, PETSC_TRUE);
   for (int i = 0; i < n; i++) f->edot[i] += f->qdot[i];
   if (c->flow) SpamGasFlowCorrect(sim, y, &c->bg);
   PetscFunctionReturn(0);
@@ -434,13 +449,9 @@ static PetscErrorCode Diffusion(SpamSim *sim, TensorPass *c, double *ydot)
   PetscCall(WalkMoments(&sim->pair.nl, &sim->model.kernel, c));
   SpamGhostsFold(gh, dim, n, dim * dim, SPAM_GHOST_TENSOR, f->gmom);
   PetscCall(DiffusionNorms(sim));
-  Zero(f->acc, (size_t)slots * dim);
-  Zero(f->edot, (size_t)slots);
-  Zero(f->qdot, (size_t)slots);
+  ZeroRates(f, slots, dim, PETSC_FALSE);
   PetscCall(WalkDiffusion(&sim->pair.nl, &sim->model.kernel, c));
-  SpamGhostsFold(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->acc);
-  SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->edot);
-  SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->qdot);
+  FoldRates(gh, f, n, PETSC_FALSE);
   for (int i = 0; i < n; i++) {
     double *r = ydot + (size_t)i * l->nvar;
     for (int d = 0; d < dim; d++) {
