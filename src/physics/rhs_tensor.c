@@ -51,12 +51,14 @@ typedef struct {
   int                    own_rho;    /* grad v over each particle's own density (PassOf) */
 } TensorPass;
 
-/* Walk 1: the gradients and averages that read v, T and rho. */
-static inline __attribute__((always_inline)) void GradientPair(const int dim, TensorPass *c, int i, int j, const double dx[3], double r2, double w, double g)
+/* Walk 1: the gradients and averages that read v, T and rho. own (a literal) chooses the
+ * velocity gradient over each particle's own density; the pair-mean form is a walk of its
+ * own, so that its one factor g / rho_ij is one product per entry, not two. */
+static inline __attribute__((always_inline)) void GradientPairOwn(const int dim, const int own, TensorPass *c, int i, int j, const double dx[3], double r2, double w, double g)
 {
   SpamFields  *f      = c->f;
   const double rho_ij = SpamPairMeanDensity(c->p->rho_geometric, f->rho[i], f->rho[j]);
-  if (c->own_rho) SpamPairVelocityGradient(dim, f, i, j, dx, g / f->rho[i], g / f->rho[j]);
+  if (own) SpamPairVelocityGradient(dim, f, i, j, dx, g / f->rho[i], g / f->rho[j]);
   else SpamPairVelocityGradient(dim, f, i, j, dx, g / rho_ij, g / rho_ij);
   if (c->coords == SPAM_COORDS_R1) SpamPairAverageVelocity(dim, f, i, j, w);
   else if (c->coords == SPAM_COORDS_R2) SpamPairXsph(dim, f, i, j, c->p->xsph_eps * w / rho_ij);
@@ -64,7 +66,16 @@ static inline __attribute__((always_inline)) void GradientPair(const int dim, Te
   if (c->shift) SpamPairShift(dim, f, i, j, dx, c->shift_own ? g : SpamKernelShapeScaledG(SPAM_KERNEL_WENDLAND_C2, dim, c->shift_gnorm, sqrt(r2) * c->shift_hinv));
   if (c->moment) SpamPairGradientMoment(dim, f, i, j, dx, g / rho_ij);
 }
-SPAM_PAIR_WALK(WalkGradients, TensorPass, GradientPair)
+static inline __attribute__((always_inline)) void GradientPairMean(const int dim, TensorPass *c, int i, int j, const double dx[3], double r2, double w, double g)
+{
+  GradientPairOwn(dim, 0, c, i, j, dx, r2, w, g);
+}
+static inline __attribute__((always_inline)) void GradientPairOwnRho(const int dim, TensorPass *c, int i, int j, const double dx[3], double r2, double w, double g)
+{
+  GradientPairOwn(dim, 1, c, i, j, dx, r2, w, g);
+}
+SPAM_PAIR_WALK(WalkGradients, TensorPass, GradientPairMean)
+SPAM_PAIR_WALK(WalkGradientsOwnRho, TensorPass, GradientPairOwnRho)
 
 static inline __attribute__((always_inline)) int BodyOf(const TensorPass *c, int i)
 {
@@ -235,7 +246,8 @@ static PetscErrorCode Gradients(SpamSim *sim, TensorPass *c)
     for (int d = 0; d < dim; d++) f->xdot[(size_t)i * dim + d] = self * f->v[(size_t)i * dim + d];
     f->wsum[i] = c->coords == SPAM_COORDS_R1 && i < n ? w0 : 0.0;
   }
-  PetscCall(WalkGradients(&sim->pair.nl, &sim->model.kernel, c));
+  if (c->own_rho) PetscCall(WalkGradientsOwnRho(&sim->pair.nl, &sim->model.kernel, c));
+  else PetscCall(WalkGradients(&sim->pair.nl, &sim->model.kernel, c));
   SpamGhostsFold(gh, dim, n, dim * dim, SPAM_GHOST_TENSOR, f->gradv);
   SpamGhostsFold(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->xdot);
   SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->wsum);
