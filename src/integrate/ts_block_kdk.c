@@ -97,8 +97,7 @@ static PetscErrorCode FirstBins(TS ts, SpamTsApp *app, TS_SpamBlock *b, const do
   PetscBool changed = PETSC_TRUE;
 
   PetscFunctionBeginUser;
-  *ok = PETSC_TRUE;
-  PetscCall(SpamBlockNeighbours(sim, y, NULL, &b->walk));
+  *ok = PETSC_TRUE; /* b->walk holds the signal speeds of y (TSStep walked it for TopStep) */
   for (PetscInt i = 0; i < b->n; i++) {
     const double want = SpamBlockWanted(sim, &b->set, &b->walk, i, b->f + (size_t)i * b->nv);
     b->lev[i]         = LevelFor(want, D, L);
@@ -110,7 +109,7 @@ static PetscErrorCode FirstBins(TS ts, SpamTsApp *app, TS_SpamBlock *b, const do
       PetscFunctionReturn(0);
     }
   }
-  for (int pass = 0; changed && pass <= L; pass++) {
+  for (int pass = 0; L > 0 && changed && pass <= L; pass++) { /* one bin: nothing to limit */
     changed = PETSC_FALSE;
     PetscCall(SpamBlockNeighbours(sim, y, b->lev, &b->walk));
     for (PetscInt i = 0; i < b->n; i++)
@@ -136,15 +135,41 @@ static void Predict(const TS_SpamBlock *b, const SpamLayout *l, int dim, const d
   }
 }
 
+/* The limiter against the bins just chosen at tick s: a particle mid-step more than two
+ * bins coarser than a neighbour is woken, its step ended at s with its kicks corrected to
+ * the time it ran (the first half kick of the step planned undone, half the step run kicked
+ * with the old rate and half with the new one), and starts anew. */
+static PetscErrorCode Wake(SpamSim *sim, TS_SpamBlock *b, double *y, PetscInt64 s, int L, PetscInt64 ticks, double tau)
+{
+  const SpamLayout *l   = &sim->model.layout;
+  const int         dim = sim->model.dim, aligned = AlignedLevel(s, L);
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamBlockNeighbours(sim, b->yp, b->lev, &b->walk));
+  for (PetscInt i = 0; i < b->n; i++) {
+    if (b->ends[i] || b->lev[i] >= b->walk.nbmax[i] - SPAM_BLOCK_LIMITER) continue;
+    double      *p   = y + (size_t)i * b->nv;
+    const double old = (double)(ticks >> b->lev[i]) * tau, ran = (double)(s - b->start[i]) * tau;
+    Kick(l, dim, p, b->f + (size_t)i * b->nv, 0.5 * (ran - old));
+    Kick(l, dim, p, b->g + (size_t)i * b->nv, 0.5 * ran);
+    b->lev[i]  = PetscMin(L, PetscMax(aligned, b->walk.nbmax[i] - SPAM_BLOCK_LIMITER));
+    b->ends[i] = 1;
+    b->woken++;
+    b->psteps++;
+  }
+  PetscFunctionReturn(0);
+}
+
 /* After the evaluation at tick s: the particles whose step ends take their new bin (the
  * wanted one, no coarser than s's grid allows, the limiter's against the neighbours'
- * bins); then a particle more than two bins coarser than a neighbour is woken. Each such
- * particle gets its first half kick of the new step. */
+ * bins); then the particles these leave too slow are woken (only a bin made deeper can).
+ * Each particle starting a step gets its first half kick. */
 static PetscErrorCode Rebin(TS ts, SpamTsApp *app, TS_SpamBlock *b, double *y, PetscInt64 s, double D, int L, PetscInt64 ticks, double tau, PetscBool *ok)
 {
   SpamSim          *sim = app->sim;
   const SpamLayout *l   = &sim->model.layout;
   const int         dim = sim->model.dim, aligned = AlignedLevel(s, L);
+  PetscBool         deeper = PETSC_FALSE;
 
   PetscFunctionBeginUser;
   *ok = PETSC_TRUE;
@@ -160,26 +185,11 @@ static PetscErrorCode Rebin(TS ts, SpamTsApp *app, TS_SpamBlock *b, double *y, P
       *ok = PETSC_FALSE;
       PetscFunctionReturn(0);
     }
-    k         = PetscMax(k, PetscMax(aligned, b->walk.nbmax[i] - SPAM_BLOCK_LIMITER));
-    b->lev[i] = PetscMin(k, L);
+    k = PetscMin(L, PetscMax(k, PetscMax(aligned, b->walk.nbmax[i] - SPAM_BLOCK_LIMITER)));
+    deeper |= k > b->lev[i];
+    b->lev[i] = k;
   }
-  /* the limiter against the bins just chosen: wake the particles they leave too slow */
-  PetscCall(SpamBlockNeighbours(sim, b->yp, b->lev, &b->walk));
-  for (PetscInt i = 0; i < b->n; i++) {
-    if (b->ends[i] || b->lev[i] >= b->walk.nbmax[i] - SPAM_BLOCK_LIMITER) continue;
-    {
-      double      *p   = y + (size_t)i * b->nv;
-      const double old = (double)(ticks >> b->lev[i]) * tau, ran = (double)(s - b->start[i]) * tau;
-      /* undo the first half kick of the step planned, kick the half of the step run with
-       * the old rate and the half with the new one */
-      Kick(l, dim, p, b->f + (size_t)i * b->nv, 0.5 * (ran - old));
-      Kick(l, dim, p, b->g + (size_t)i * b->nv, 0.5 * ran);
-      b->lev[i]  = PetscMin(L, PetscMax(aligned, b->walk.nbmax[i] - SPAM_BLOCK_LIMITER));
-      b->ends[i] = 1;
-      b->woken++;
-      b->psteps++;
-    }
-  }
+  if (deeper) PetscCall(Wake(sim, b, y, s, L, ticks, tau));
   for (PetscInt i = 0; i < b->n; i++) {
     if (!b->ends[i]) continue;
     PetscCall(PetscArraycpy(b->f + (size_t)i * b->nv, b->g + (size_t)i * b->nv, b->nv));
