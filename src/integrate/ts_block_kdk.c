@@ -135,34 +135,40 @@ static void Predict(const TS_SpamBlock *b, const SpamLayout *l, int dim, const d
   }
 }
 
-/* The limiter against the bins just chosen at tick s: a particle mid-step more than two
- * bins coarser than a neighbour is woken, its step ended at s with its kicks corrected to
- * the time it ran (the first half kick of the step planned undone, half the step run kicked
- * with the old rate and half with the new one), and starts anew. */
-static PetscErrorCode Wake(SpamSim *sim, TS_SpamBlock *b, double *y, PetscInt64 s, int L, PetscInt64 ticks, double tau)
+/* The limiter against the bins just chosen at tick s, one ring of neighbours: a particle
+ * more than two bins coarser than a neighbour takes a deeper bin. One starting a step at s
+ * just does; one mid-step is woken, its step ended at s with its kicks corrected to the
+ * time it ran (the first half kick of the step planned undone, half the step run kicked
+ * with the old rate and half with the new one), and starts anew. *moved: some bin changed. */
+static PetscErrorCode Wake(SpamSim *sim, TS_SpamBlock *b, double *y, PetscInt64 s, int L, PetscInt64 ticks, double tau, PetscBool *moved)
 {
   const SpamLayout *l   = &sim->model.layout;
   const int         dim = sim->model.dim, aligned = AlignedLevel(s, L);
 
   PetscFunctionBeginUser;
+  *moved = PETSC_FALSE;
   PetscCall(SpamBlockNeighbours(sim, b->yp, b->lev, &b->walk));
   for (PetscInt i = 0; i < b->n; i++) {
-    if (b->ends[i] || b->lev[i] >= b->walk.nbmax[i] - SPAM_BLOCK_LIMITER) continue;
-    double      *p   = y + (size_t)i * b->nv;
-    const double old = (double)(ticks >> b->lev[i]) * tau, ran = (double)(s - b->start[i]) * tau;
-    Kick(l, dim, p, b->f + (size_t)i * b->nv, 0.5 * (ran - old));
-    Kick(l, dim, p, b->g + (size_t)i * b->nv, 0.5 * ran);
-    b->lev[i]  = PetscMin(L, PetscMax(aligned, b->walk.nbmax[i] - SPAM_BLOCK_LIMITER));
-    b->ends[i] = 1;
-    b->woken++;
-    b->psteps++;
+    if (b->lev[i] >= b->walk.nbmax[i] - SPAM_BLOCK_LIMITER || b->lev[i] >= L) continue;
+    *moved = PETSC_TRUE;
+    if (!b->ends[i]) {
+      double      *p   = y + (size_t)i * b->nv;
+      const double old = (double)(ticks >> b->lev[i]) * tau, ran = (double)(s - b->start[i]) * tau;
+      Kick(l, dim, p, b->f + (size_t)i * b->nv, 0.5 * (ran - old));
+      Kick(l, dim, p, b->g + (size_t)i * b->nv, 0.5 * ran);
+      b->ends[i] = 1;
+      b->woken++;
+      b->psteps++;
+    }
+    b->lev[i] = PetscMin(L, PetscMax(aligned, b->walk.nbmax[i] - SPAM_BLOCK_LIMITER));
   }
   PetscFunctionReturn(0);
 }
 
 /* After the evaluation at tick s: the particles whose step ends take their new bin (the
  * wanted one, no coarser than s's grid allows, the limiter's against the neighbours'
- * bins); then the particles these leave too slow are woken (only a bin made deeper can).
+ * bins); then the particles these leave too slow are woken (only a bin made deeper can
+ * leave one so), and theirs in turn.
  * Each particle starting a step gets its first half kick. */
 static PetscErrorCode Rebin(TS ts, SpamTsApp *app, TS_SpamBlock *b, double *y, PetscInt64 s, double D, int L, PetscInt64 ticks, double tau, PetscBool *ok)
 {
@@ -189,7 +195,8 @@ static PetscErrorCode Rebin(TS ts, SpamTsApp *app, TS_SpamBlock *b, double *y, P
     deeper |= k > b->lev[i];
     b->lev[i] = k;
   }
-  if (deeper) PetscCall(Wake(sim, b, y, s, L, ticks, tau));
+  /* a woken particle's bin is deeper too: the limiter spreads ring by ring until it holds */
+  for (int ring = 0; deeper && ring <= L; ring++) PetscCall(Wake(sim, b, y, s, L, ticks, tau, &deeper));
   for (PetscInt i = 0; i < b->n; i++) {
     if (!b->ends[i]) continue;
     PetscCall(PetscArraycpy(b->f + (size_t)i * b->nv, b->g + (size_t)i * b->nv, b->nv));
