@@ -136,7 +136,7 @@ def main():
         if "active" in r:
             readings[r["name"]]["active"] = r["active"]
             readings[r["name"]]["deepest"] = r["deepest"]
-    readings["table"] = chart_readings.table(["method", "setting", "CPU s", "evaluations", "ideal evaluations", "active fraction", "|R - R_ref|", "L1(rho)", "max dE/E", "R - R_exact"], rows)
+    readings["table"] = chart_readings.table(["method", "setting", "CPU s", "evaluations", "ideal evaluations", "active fraction", "dR vs ref", "L1(rho) vs ref", "max dE/E", "R - R_exact"], rows)
     if a.readings:
         chart_readings.write_json(a.readings, readings)
 
