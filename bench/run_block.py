@@ -1,7 +1,8 @@
 #!/usr/bin/python3
 """Block individual steps (-ts_type block_kdk) against the global step on the 2D Sedov blast
 (options/sedov.opts: gamma 5/3, E0 = 1e4, n x n periodic lattice, h = 3, Monaghan's
-viscosity, the scene's end time: the shock at 0.35 of the box, 4.15 at n = 64): ARKODE's Dormand-Prince 5(4) (-ts_type arkode, the default) at a
+viscosity, the scene's end time: the shock at 0.35 of the box, 4.15 at n = 64): ARKODE's
+Dormand-Prince 5(4) (-ts_type arkode, the default) at a
 sweep of -ts_rtol, global kick-drift-kick (block_kdk with -block_max_level 0: one bin, the
 step the shortest particle wants) and block steps (-block_max_level 16) at a sweep of
 -block_cfl (= -block_force).
