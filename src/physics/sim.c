@@ -62,6 +62,7 @@ PetscErrorCode SpamSimCreate(MPI_Comm comm, const SpamModel *model, const SpamBo
   PetscCall(NumberParticles(&sim->p));
   PetscCall(SpamFieldsCreate(model->dim, (int)n, (int)n, model->tensor, &sim->pair.f));
   SpamFieldsSetMasses(&sim->pair.f, NULL, model->mass);
+  if (model->inverse_mass) PetscCall(SpamFieldsAddInverseMass(&sim->pair.f));
   if (model->tensor && model->solid.smoothing == SPAM_SMOOTHING_ADAPTIVE) PetscCall(SpamFieldsAddSmoothing(&sim->pair.f));
   PetscFunctionReturn(0);
 }
@@ -223,7 +224,7 @@ PetscErrorCode SpamSimGhostMasses(SpamSim *sim)
   if (sim->pair.ghost_mass_build == sim->pair.nl.builds) PetscFunctionReturn(0);
   PetscCall(SpamFieldsReserve(&sim->pair.f, SpamNeighboursSlots(&sim->pair.nl)));
   PetscCall(SpamGhostsGather(g, dim, n, 1, SPAM_GHOST_SCALAR, sim->pair.f.m));
-  PetscCall(SpamGhostsGather(g, dim, n, 1, SPAM_GHOST_SCALAR, sim->pair.f.minv));
+  if (sim->pair.f.minv) PetscCall(SpamGhostsGather(g, dim, n, 1, SPAM_GHOST_SCALAR, sim->pair.f.minv));
   if (!sim->model.tensor && sim->model.density_free) PetscCall(SpamGhostsGather(g, dim, n, 1, SPAM_GHOST_SCALAR, sim->pair.f.q));
   sim->pair.ghost_mass_build = sim->pair.nl.builds;
   PetscFunctionReturn(0);
