@@ -40,13 +40,14 @@ PetscErrorCode SpamSimCreate(MPI_Comm comm, const SpamModel *model, const SpamBo
   PetscCall(DMSwarmRegisterPetscDatatypeField(sim->p.swarm, SPAM_MASS_FIELD, 1, PETSC_REAL));
   PetscCall(DMSwarmRegisterPetscDatatypeField(sim->p.swarm, SPAM_BODY_FIELD, 1, PETSC_INT));
   PetscCall(DMSwarmRegisterPetscDatatypeField(sim->p.swarm, SPAM_XREF_FIELD, model->dim, PETSC_REAL));
+  if (SpamModelAdaptive(model)) PetscCall(DMSwarmRegisterPetscDatatypeField(sim->p.swarm, SPAM_H_FIELD, 1, PETSC_REAL));
   PetscCall(DMSwarmFinalizeFieldRegister(sim->p.swarm));
   PetscCall(DMSwarmSetLocalSizes(sim->p.swarm, n, 0));
   PetscCall(DMSwarmGetField(sim->p.swarm, SPAM_GID_FIELD, NULL, NULL, (void **)&sim->p.gid));
   PetscCall(NumberParticles(&sim->p));
   PetscCall(SpamFieldsCreate(model->dim, (int)n, (int)n, model->tensor, &sim->pair.f));
   SpamFieldsSetMasses(&sim->pair.f, NULL, model->mass);
-  if (model->tensor && model->solid.smoothing == SPAM_SMOOTHING_ADAPTIVE) PetscCall(SpamFieldsAddSmoothing(&sim->pair.f));
+  if (SpamModelAdaptive(model)) PetscCall(SpamFieldsAddSmoothing(&sim->pair.f));
   PetscFunctionReturn(0);
 }
 
@@ -155,6 +156,11 @@ static PetscErrorCode TakeCarried(SpamSim *sim)
   PetscCall(DMSwarmGetField(sim->p.swarm, SPAM_MASS_FIELD, NULL, NULL, (void **)&m));
   SpamFieldsSetMasses(&sim->pair.f, m, 0.0);
   PetscCall(DMSwarmRestoreField(sim->p.swarm, SPAM_MASS_FIELD, NULL, NULL, (void **)&m));
+  if (sim->pair.f.adaptive) { /* the solve's start, so that it does not depend on the ranks */
+    PetscCall(DMSwarmGetField(sim->p.swarm, SPAM_H_FIELD, NULL, NULL, (void **)&m));
+    PetscCall(PetscArraycpy(sim->pair.f.h, m, sim->p.n));
+    PetscCall(DMSwarmRestoreField(sim->p.swarm, SPAM_H_FIELD, NULL, NULL, (void **)&m));
+  }
   if (sim->geo.dec) PetscCall(UniformMassEverywhere(sim));
   if (sim->ps) {
     PetscCall(PetscFree(sim->ps->body));

@@ -6,7 +6,8 @@
 #include <spam/physics.h>
 #include <spam/errors.h>
 
-static const char *const carried[] = {SPAM_MASS_FIELD, SPAM_BODY_FIELD, SPAM_XREF_FIELD};
+/* The adaptive range's h_i last: carried only when the swarm has it. */
+static const char *const carried[] = {SPAM_MASS_FIELD, SPAM_BODY_FIELD, SPAM_XREF_FIELD, SPAM_H_FIELD};
 
 /* The masses, reference positions and body labels into the swarm's carried fields (local). */
 static PetscErrorCode Stow(SpamSim *sim)
@@ -22,6 +23,11 @@ static PetscErrorCode Stow(SpamSim *sim)
   for (PetscInt i = 0; i < sim->p.n; i++)
     for (int d = 0; d < sim->model.dim; d++) xref[(size_t)i * sim->model.dim + d] = sim->pair.nl.builds ? sim->pair.nl.xref[d][i] : 0.0;
   PetscCall(DMSwarmRestoreField(sim->p.swarm, SPAM_XREF_FIELD, NULL, NULL, (void **)&xref));
+  if (sim->pair.f.adaptive) {
+    PetscCall(DMSwarmGetField(sim->p.swarm, SPAM_H_FIELD, NULL, NULL, (void **)&m));
+    PetscCall(PetscArraycpy(m, sim->pair.f.h, sim->p.n));
+    PetscCall(DMSwarmRestoreField(sim->p.swarm, SPAM_H_FIELD, NULL, NULL, (void **)&m));
+  }
   if (sim->ps) {
     PetscCall(DMSwarmGetField(sim->p.swarm, SPAM_BODY_FIELD, NULL, NULL, (void **)&body));
     for (PetscInt i = 0; i < sim->p.n; i++) body[i] = sim->ps->body[i];
@@ -53,7 +59,8 @@ static PetscErrorCode Arrive(void *ctx)
 static SpamMigration MigrationOf(SpamSim *sim)
 {
   const SpamLayout *l = &sim->model.layout;
-  return (SpamMigration){sim->model.dim, l->nvar, l->x, carried, (int)(sizeof carried / sizeof *carried), sim, Depart, Arrive};
+  const int ncarried = (int)(sizeof carried / sizeof *carried) - (sim->pair.f.adaptive ? 0 : 1);
+  return (SpamMigration){sim->model.dim, l->nvar, l->x, carried, ncarried, sim, Depart, Arrive};
 }
 
 /* The list of the migrated particles, built at the reference positions they carried (the
