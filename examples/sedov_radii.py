@@ -103,12 +103,13 @@ def run_radii(d):
         r_ex = xi0 * (e0 * t * t) ** (1.0 / (dim + 2))
         rows.append({"t": t, "R_exact": r_ex, "R_half": r_half, "R_moment": r_mom, "peak": peak,
                      "half_err": r_half / r_ex - 1.0, "moment_err": r_mom / r_ex - 1.0})
+    by_time = {("t%.4g" % q["t"]).replace(".", "_"): q for q in rows}  # quotable keys: t12, t4_147
     ts = [q["t"] for q in rows]
     fits = {}
     for key in ("R_half", "R_moment"):
         (t0, rt), (dr, rr) = fit_offsets(ts, [q[key] for q in rows], xi0, e0, dim)
         fits[key] = {"t0": t0, "t0_rms": rt, "dR": dr, "dR_rms": rr}
-    return {"dim": dim, "n": n, "h": float(sm["h"]), "xi0": xi0, "C": cm, "snapshots": rows, "fits": fits,
+    return {"dim": dim, "n": n, "h": float(sm["h"]), "xi0": xi0, "C": cm, "snapshots": rows, "at": by_time, "fits": fits,
             "wall_time_s": sm.get("wall_time_s"), "rhs_evals": sm.get("rhs_evals"), "n_particles": sm.get("n_particles")}
 
 
@@ -120,7 +121,7 @@ def main():
     out = {}
     for d in a.dirs:
         res = run_radii(d)
-        out[os.path.basename(os.path.normpath(d))] = res
+        out[os.path.basename(os.path.normpath(d)).replace(".", "_")] = res  # a dotted key could not be quoted
         for q in res["snapshots"]:
             print(f"{d}: t = {q['t']:.4g}: R_exact {q['R_exact']:.3f}, R_half {q['R_half']:.3f} ({q['half_err']:+.2%}), "
                   f"R_moment {q['R_moment']:.3f} ({q['moment_err']:+.2%}), peak {q['peak']:.3f}")
