@@ -98,6 +98,8 @@ PetscErrorCode SpamModelIsentropeSetUp(int dim, const SpamKernel *kernel, double
 PetscErrorCode SpamModelSolidSetUp(int dim, const SpamKernel *kernel, double mass, const SpamSolidParams *p, SpamModel *m);
 /* The neighbour list's range: h, or with the adaptive range the upper bound of every h_i. */
 double SpamModelListRange(const SpamModel *m);
+/* Whether the model's gas takes the adaptive kernel range (each particle its own h_i). */
+PetscBool SpamModelAdaptive(const SpamModel *m);
 /* Molecular dynamics with springs phi = k/2 (r0 - r)^2 between the particles closer than
  * bond_range at set-up (the rotor-md of PRE Fig. 4a); state [x, v]. */
 PetscErrorCode SpamModelSpringsSetUp(int dim, double h, double mass, double kspring, double r0, double bond_range, SpamModel *m);

@@ -71,7 +71,7 @@ typedef struct {
   PetscBool gravity_given; /* -gravity was given (else a scene may set its own default) */
   SpamWalls walls;       /* -wall_* (walls.h)                                         */
   PetscBool periodic_ghosts; /* -periodic_images ghost                               */
-  PetscBool reproducible;    /* -reproducible (the isentropic gas only)               */
+  PetscBool reproducible;    /* -reproducible (the isentropic gas; the adaptive-range gas) */
 } SpamCommonParams;
 
 /* A gas channel between mirror walls at y = 0 and y = H (couette, poiseuille): a square

@@ -21,6 +21,8 @@
  * the times of its rebuilds do not depend on migrations (-reproducible needs this: a
  * rebuild at another time can wrap a particle that crossed a periodic face otherwise). */
 #define SPAM_XREF_FIELD "spam_xref"
+/* The adaptive kernel range's h_i (the next solve's start), carried with the particle. */
+#define SPAM_H_FIELD "spam_h"
 
 typedef struct {
   long   rhs_evals;

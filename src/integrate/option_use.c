@@ -17,7 +17,7 @@
  * (scene_list.h), found there rather than listed here. */
 typedef enum {
   G_ALL, G_DT, G_ADAPTIVE, G_TOLERANCE, G_TS, G_TS_ADAPT, G_METHOD,
-  G_SCENE, G_ISENTROPE,
+  G_SCENE, G_ISENTROPE, G_REPRODUCIBLE,
   G_MODEL, G_WALL, G_SOLID, G_SOLID_GAS, G_SOLID_GAMMA, G_SOLID_ELASTIC, G_SOLID_VISC, G_SOLID_R2, G_SOLID_TORQUE, G_SOLID_CONT, G_SOLID_FLOW, G_SOLID_ADAPTIVE, G_ENTROPY, G_RANKS
 } Group;
 
@@ -70,7 +70,7 @@ static const Known KnownOptions[] = {
   {"checkpoint_interval", PETSC_TRUE, G_ALL}, {"checkpoint_wall", PETSC_TRUE, G_ALL}, {"restart", PETSC_TRUE, G_ALL},
   /* Canonical pair sums and a partition-independent norm (scene.c reads
    * it and refuses the other models, pass_canonical.c, error_norm.c). */
-  {"reproducible", PETSC_FALSE, G_ISENTROPE},
+  {"reproducible", PETSC_FALSE, G_REPRODUCIBLE},
 };
 #define NKNOWN ((int)(sizeof KnownOptions / sizeof KnownOptions[0]))
 
@@ -422,6 +422,12 @@ static PetscBool RelevantModel(Group g, const Run *r, char *why, size_t len, Pet
   if (g == G_ISENTROPE) {
     if (!strcmp(r->model, "isentrope")) return PETSC_TRUE;
     (void)snprintf(why, len, "applies to -material isentrope (this run: -scene %s, model %s)", r->scene, r->model);
+    return PETSC_FALSE;
+  }
+  if (g == G_REPRODUCIBLE) {
+    const SpamSolidParams *s = r->solid;
+    if (!strcmp(r->model, "isentrope") || (s && s->material == SPAM_MATERIAL_GAS && s->smoothing == SPAM_SMOOTHING_ADAPTIVE)) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to -material isentrope and to the gas at -smoothing_length adaptive (this run: -scene %s, model %s)", r->scene, r->model);
     return PETSC_FALSE;
   }
   if (g == G_MODEL) {

@@ -13,8 +13,16 @@
  * particle i's kernel is gi dx. A kernel's shape is exactly zero beyond its edge
  * (kernel_shape.h), so the side whose range the pair exceeds gets w = g = 0. The list's
  * range is the upper bound of every h_i (SpamModelListRange); nl may be a view of it whose
- * rows hold fewer of its pairs (SpamSmoothingPairs). Ghost rows are not walked:
- * the adaptive range runs without ghost slots (smoothing_options.c refuses them). */
+ * rows hold fewer of its pairs (SpamSmoothingPairs). Each row's ghost neighbours (other
+ * ranks' particles, j >= n: their h_j, scales and fields gathered into the slots) follow
+ * the row, whole: Near sees only the local pairs (the near rows are local rows), Fn sees
+ * both, and what it adds to a remote slot is dropped (its owner computes its own pairs).
+ *
+ * SPAM_PAIR_ROWS_ADAPTIVE(Name, Ctx, Fn, Skip) defines the same walk over the canonical
+ * full rows (-reproducible, neighbours_canonical.c): every partner of particle i, local
+ * or ghost slot, in the order of i's row, and Fn(dim, ctx, i, j, ...) adds to particle i
+ * only (rows for which Skip(ctx, i) is true are left out), so that i's sums have the same
+ * bits whichever rank holds each partner. */
 #ifndef SPAM_PAIR_WALK_ADAPTIVE_H
 #define SPAM_PAIR_WALK_ADAPTIVE_H
 #include <spam/neighbours.h>
@@ -25,7 +33,7 @@
 #define SPAM_NEAR_NONE(ctx, i, j, r2) ((void)0)
 
 #define SPAM_PAIR_WALK_ADAPTIVE(Name, Ctx, Fn, Skip, Near) \
-  static inline __attribute__((always_inline)) void Name##Segment(const int dim, const int kind, const int img, const SpamNeighbours *nl, const SpamFields *f, Ctx *ctx, int i, const int *nb, int np) \
+  static inline __attribute__((always_inline)) void Name##Segment(const int dim, const int kind, const int img, const int ghost, const SpamNeighbours *nl, const SpamFields *f, Ctx *ctx, int i, const int *nb, int np) \
   { \
     const double ui[3] = {nl->u[0][i], dim > 1 ? nl->u[1][i] : 0.0, dim > 2 ? nl->u[2][i] : 0.0}; \
     const double hi = f->h[i]; \
@@ -37,7 +45,7 @@
         dx[d] = img ? SpamImageDelta(&nl->im, d, ui[d] - nl->u[d][j]) : ui[d] - nl->u[d][j]; \
         r2 += dx[d] * dx[d]; \
       } \
-      Near(ctx, i, j, r2); \
+      if (!ghost) Near(ctx, i, j, r2); \
       const double hm = hi > f->h[j] ? hi : f->h[j]; \
       if (r2 >= hm * hm) continue; \
       const double r = sqrt(r2), si = r * f->hinv[i], sj = r * f->hinv[j]; \
@@ -48,8 +56,44 @@
   { \
     for (int i = 0; i < nl->n; i++) { \
       const int *nb = nl->nbr + nl->start[i], np = nl->start[i + 1] - nl->start[i]; \
-      if (nl->image[i]) Name##Segment(dim, kind, 1, nl, f, ctx, i, nb, np); \
-      else Name##Segment(dim, kind, 0, nl, f, ctx, i, nb, np); \
+      const int *gb = nl->gnbr + nl->gstart[i], ng = nl->gstart[i + 1] - nl->gstart[i]; \
+      if (nl->image[i]) { \
+        Name##Segment(dim, kind, 1, 0, nl, f, ctx, i, nb, np); \
+        if (ng) Name##Segment(dim, kind, 1, 1, nl, f, ctx, i, gb, ng); \
+      } else { \
+        Name##Segment(dim, kind, 0, 0, nl, f, ctx, i, nb, np); \
+        if (ng) Name##Segment(dim, kind, 0, 1, nl, f, ctx, i, gb, ng); \
+      } \
+    } \
+  } \
+  static PetscErrorCode Name(const SpamNeighbours *nl, const SpamKernel *k, const SpamFields *f, Ctx *ctx) \
+  { \
+    PetscFunctionBeginUser; \
+    SPAM_WALK_DISPATCH(Name, k->dim, k->kind, SPAM_WALK_UNKNOWN(k->kind), nl, f, ctx) \
+    PetscFunctionReturn(0); \
+  }
+
+/* The canonical rows: separations u_i - u_j of two slots (periodic images are ghost
+ * slots there: no minimum image), the pair within max(h_i, h_j) as above. */
+#define SPAM_PAIR_ROWS_ADAPTIVE(Name, Ctx, Fn, Skip) \
+  static inline __attribute__((always_inline)) void Name##Rows(const int dim, const int kind, const SpamNeighbours *nl, const SpamFields *f, Ctx *ctx) \
+  { \
+    for (int i = 0; i < nl->n; i++) { \
+      if (Skip(ctx, i)) continue; \
+      const double ui[3] = {nl->u[0][i], dim > 1 ? nl->u[1][i] : 0.0, dim > 2 ? nl->u[2][i] : 0.0}; \
+      const double hi = f->h[i]; \
+      for (int c = nl->cstart[i]; c < nl->cstart[i + 1]; c++) { \
+        const int j     = nl->cnbr[c]; \
+        double    dx[3] = {0.0, 0.0, 0.0}, r2 = 0.0; \
+        for (int d = 0; d < dim; d++) { \
+          dx[d] = ui[d] - nl->u[d][j]; \
+          r2 += dx[d] * dx[d]; \
+        } \
+        const double hm = hi > f->h[j] ? hi : f->h[j]; \
+        if (r2 >= hm * hm) continue; \
+        const double r = sqrt(r2), si = r * f->hinv[i], sj = r * f->hinv[j]; \
+        Fn(dim, ctx, i, j, dx, r2, SpamKernelShapeScaledF(kind, dim, f->wn[i], si), SpamKernelShapeScaledG(kind, dim, f->gn[i], si), SpamKernelShapeScaledF(kind, dim, f->wn[j], sj), SpamKernelShapeScaledG(kind, dim, f->gn[j], sj)); \
+      } \
     } \
   } \
   static PetscErrorCode Name(const SpamNeighbours *nl, const SpamKernel *k, const SpamFields *f, Ctx *ctx) \

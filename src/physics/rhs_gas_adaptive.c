@@ -10,7 +10,11 @@
  * each particle's own p dV work, so m_i dv_i + m_j dv_j = 0 and the pair's kinetic and
  * internal energy rates cancel. Monaghan's Pi_ij (pair_stress_force.h) takes the mean range
  * h_ij = (h_i + h_j)/2 and the mean gradient (g_i + g_j)/2, each particle half its work.
- * One list update per evaluation; nothing here allocates. */
+ * One list update per evaluation; nothing here allocates. On several ranks the other
+ * ranks' particles are ghost slots with their v, e, h, rho and q gathered (each rank
+ * computes its own particles' pairs with them; what a pair adds to a slot is dropped);
+ * under -reproducible the force pass walks the canonical rows, each particle adding its
+ * own terms in its row's order (the same bits on any number of ranks). */
 #include <spam/physics.h>
 #include "../pair/pair_walk_adaptive.h"
 #include "../pair/pair_stress_force.h"
@@ -49,40 +53,74 @@ static inline __attribute__((always_inline)) void ForcePair(const int dim, Force
 #define SPAM_EVERY_PAIR(ctx, i, j) 0
 SPAM_PAIR_WALK_ADAPTIVE(WalkForces, ForcePass, ForcePair, SPAM_EVERY_PAIR, SPAM_NEAR_NONE)
 
-/* v and e of the state into the fields (local particles: the adaptive pass has no ghosts). */
-static void Velocities(SpamSim *sim, const double *y)
+/* The canonical rows' pair: ForcePair's terms on particle i alone (F_i = k (r_i - r_j),
+ * i's work and its half of the viscosity's), in the same roundings. */
+static inline __attribute__((always_inline)) void ForceRowPair(const int dim, ForcePass *c, int i, int j, const double dx[3], double r2, double wi, double gi, double wj, double gj)
+{
+  SpamFields   *f  = c->f;
+  const double *vi = f->v + (size_t)i * dim, *vj = f->v + (size_t)j * dim;
+  const double  pi = f->q[i] * gi, pj = f->q[j] * gj, mm = f->m[i] * f->m[j];
+  double        vr = 0.0, k = -mm * (pi + pj);
+  (void)wi;
+  (void)wj;
+  for (int d = 0; d < dim; d++) vr += (vi[d] - vj[d]) * dx[d];
+  f->edot[i] += f->m[j] * pi * vr;
+  if (c->p->viscosity == SPAM_VISCOSITY_MONAGHAN && vr < 0.0) {
+    const double rho_ij = SpamPairMeanDensity(c->p->rho_geometric, f->rho[i], f->rho[j]);
+    const double Pi     = SpamPairMonaghan(dim, c->p->visc_alpha, c->p->visc_beta, c->p->sound_speed, 0.5 * (f->h[i] + f->h[j]), dx, vi, vj, r2, rho_ij);
+    const double kv     = -mm * Pi * 0.5 * (gi + gj);
+    k += kv;
+    f->edot[i] += -0.5 * kv * vr * f->minv[i];
+  }
+  for (int d = 0; d < dim; d++) f->acc[(size_t)i * dim + d] += k * dx[d] * f->minv[i];
+}
+#define SPAM_NO_ROW(ctx, i) 0
+SPAM_PAIR_ROWS_ADAPTIVE(WalkForceCanon, ForcePass, ForceRowPair, SPAM_NO_ROW)
+
+/* v and e of the state into the fields of the local particles, v gathered into the
+ * ghost slots, with their masses after a list build. */
+static PetscErrorCode Velocities(SpamSim *sim, const double *y)
 {
   const SpamLayout *l = &sim->model.layout;
   SpamFields       *f = &sim->pair.f;
   const int         dim = l->dim, nv = l->nvar;
 
+  PetscFunctionBeginUser;
+  PetscCall(SpamFieldsReserve(f, SpamNeighboursSlots(&sim->pair.nl)));
+  PetscCall(SpamSimGhostMasses(sim));
   for (PetscInt i = 0; i < sim->p.n; i++) {
     for (int d = 0; d < dim; d++) f->v[(size_t)i * dim + d] = y[(size_t)i * nv + l->v + d];
     f->e[i] = y[(size_t)i * nv + l->e];
   }
+  PetscCall(SpamGhostsGather(&sim->pair.nl.ghosts, dim, (int)sim->p.n, dim, SPAM_GHOST_VECTOR, f->v));
+  PetscFunctionReturn(0);
 }
 
 PetscErrorCode SpamRhsGasAdaptive(SpamSim *sim, const double *y, double *ydot, PetscInt *bad)
 {
   const SpamLayout *l   = &sim->model.layout;
   SpamFields       *f   = &sim->pair.f;
-  const int         dim = l->dim, nv = l->nvar, n = (int)sim->p.n;
+  const int         dim = l->dim, nv = l->nvar, n = (int)sim->p.n, canonical = SpamNeighboursCanonical(&sim->pair.nl);
+  int               slots;
   ForcePass         c   = {f, &sim->model.solid};
   SpamNeighbours    near;
 
   PetscFunctionBeginUser;
   PetscCall(SpamNeighboursUpdate(&sim->pair.nl, &sim->geo.box, y + l->x, nv, PETSC_FALSE, bad));
   if (*bad >= 0) PetscFunctionReturn(0);
-  Velocities(sim, y);
+  slots = SpamNeighboursSlots(&sim->pair.nl);
+  PetscCall(Velocities(sim, y));
   PetscCall(SpamSmoothingSolve(sim));
+  for (int i = 0; i < n; i++) f->q[i] = (sim->model.solid.gamma - 1.0) * f->e[i] / (f->omega[i] * f->rho[i]);
+  PetscCall(SpamGhostsGather(&sim->pair.nl.ghosts, dim, n, 1, SPAM_GHOST_SCALAR, f->q));
   PetscCall(PetscLogEventBegin(sim->run.ev.force, 0, 0, 0, 0));
-  for (int i = 0; i < n; i++) {
-    f->q[i] = (sim->model.solid.gamma - 1.0) * f->e[i] / (f->omega[i] * f->rho[i]);
+  for (int i = 0; i < slots; i++) {
     f->edot[i] = 0.0;
     for (int d = 0; d < dim; d++) f->acc[(size_t)i * dim + d] = 0.0;
   }
   SpamSmoothingPairs(sim, &near);
-  PetscCall(WalkForces(&near, &sim->model.kernel, f, &c));
+  if (canonical) PetscCall(WalkForceCanon(&sim->pair.nl, &sim->model.kernel, f, &c));
+  else PetscCall(WalkForces(&near, &sim->model.kernel, f, &c));
   PetscCall(PetscLogEventEnd(sim->run.ev.force, 0, 0, 0, 0));
   for (int i = 0; i < n; i++) {
     double *r = ydot + (size_t)i * nv;
@@ -92,6 +130,6 @@ PetscErrorCode SpamRhsGasAdaptive(SpamSim *sim, const double *y, double *ydot, P
     }
     r[l->e] = f->edot[i];
   }
-  sim->run.stats.pair_visits += (double)near.npairs;
+  sim->run.stats.pair_visits += canonical ? (double)sim->pair.nl.ncpairs : (double)(near.npairs + sim->pair.nl.ngpairs);
   PetscFunctionReturn(0);
 }

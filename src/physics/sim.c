@@ -56,6 +56,8 @@ PetscErrorCode SpamSimCreate(MPI_Comm comm, const SpamModel *model, const SpamBo
   PetscCall(DMSwarmRegisterPetscDatatypeField(sim->p.swarm, SPAM_STATE_FIELD, model->layout.nvar, PETSC_REAL));
   PetscCall(DMSwarmRegisterPetscDatatypeField(sim->p.swarm, SPAM_GID_FIELD, 1, PETSC_INT64));
   PetscCall(RegisterCarried(sim->p.swarm, model->dim));
+  /* h_i travels with its particle on any number of ranks: the solve starts from it. */
+  if (SpamModelAdaptive(model)) PetscCall(DMSwarmRegisterPetscDatatypeField(sim->p.swarm, SPAM_H_FIELD, 1, PETSC_REAL));
   PetscCall(DMSwarmFinalizeFieldRegister(sim->p.swarm));
   PetscCall(DMSwarmSetLocalSizes(sim->p.swarm, n, 0));
   PetscCall(DMSwarmGetField(sim->p.swarm, SPAM_GID_FIELD, NULL, NULL, (void **)&sim->p.gid));
@@ -63,7 +65,7 @@ PetscErrorCode SpamSimCreate(MPI_Comm comm, const SpamModel *model, const SpamBo
   PetscCall(SpamFieldsCreate(model->dim, (int)n, (int)n, model->tensor, &sim->pair.f));
   SpamFieldsSetMasses(&sim->pair.f, NULL, model->mass);
   if (model->inverse_mass) PetscCall(SpamFieldsAddInverseMass(&sim->pair.f));
-  if (model->tensor && model->solid.smoothing == SPAM_SMOOTHING_ADAPTIVE) PetscCall(SpamFieldsAddSmoothing(&sim->pair.f));
+  if (SpamModelAdaptive(model)) PetscCall(SpamFieldsAddSmoothing(&sim->pair.f));
   PetscFunctionReturn(0);
 }
 
@@ -179,6 +181,12 @@ static PetscErrorCode TakeCarried(SpamSim *sim)
   } else PetscCall(DMSwarmGetField(sim->p.swarm, SPAM_MASS_FIELD, NULL, NULL, (void **)&m));
   SpamFieldsSetMasses(&sim->pair.f, m, 0.0);
   if (!sim->stash.m) PetscCall(DMSwarmRestoreField(sim->p.swarm, SPAM_MASS_FIELD, NULL, NULL, (void **)&m));
+  if (sim->pair.f.adaptive) { /* the solve's start, so that it does not depend on the ranks */
+    PetscReal *h;
+    PetscCall(DMSwarmGetField(sim->p.swarm, SPAM_H_FIELD, NULL, NULL, (void **)&h));
+    PetscCall(PetscArraycpy(sim->pair.f.h, h, sim->p.n));
+    PetscCall(DMSwarmRestoreField(sim->p.swarm, SPAM_H_FIELD, NULL, NULL, (void **)&h));
+  }
   if (sim->geo.dec) PetscCall(UniformMassEverywhere(sim));
   if (sim->ps) {
     PetscCall(PetscFree(sim->ps->body));

@@ -6,7 +6,10 @@
 #include <spam/physics.h>
 #include <spam/errors.h>
 
-static const char *const carried[] = {SPAM_MASS_FIELD, SPAM_BODY_FIELD, SPAM_XREF_FIELD};
+/* The adaptive range's h_i last: carried only when the swarm has it. On one rank the others
+ * wait in sim->stash and only h_i is carried (sim.c registers it on every rank count). */
+static const char *const carried[] = {SPAM_MASS_FIELD, SPAM_BODY_FIELD, SPAM_XREF_FIELD, SPAM_H_FIELD};
+static const char *const carried_h[] = {SPAM_H_FIELD};
 
 /* Whether the swarm has the carried fields: on several ranks only (sim.c). */
 static PetscBool HasCarried(const SpamSim *sim)
@@ -42,6 +45,11 @@ static PetscErrorCode Stow(SpamSim *sim)
   PetscInt  *body;
 
   PetscFunctionBeginUser;
+  if (sim->pair.f.adaptive) {
+    PetscCall(DMSwarmGetField(sim->p.swarm, SPAM_H_FIELD, NULL, NULL, (void **)&m));
+    PetscCall(PetscArraycpy(m, sim->pair.f.h, sim->p.n));
+    PetscCall(DMSwarmRestoreField(sim->p.swarm, SPAM_H_FIELD, NULL, NULL, (void **)&m));
+  }
   if (!HasCarried(sim)) {
     PetscCall(StowLocal(sim));
     PetscFunctionReturn(0);
@@ -84,7 +92,9 @@ static PetscErrorCode Arrive(void *ctx)
 static SpamMigration MigrationOf(SpamSim *sim)
 {
   const SpamLayout *l = &sim->model.layout;
-  return (SpamMigration){sim->model.dim, l->nvar, l->x, carried, HasCarried(sim) ? (int)(sizeof carried / sizeof *carried) : 0, sim, Depart, Arrive};
+  const int         adaptive = sim->pair.f.adaptive ? 1 : 0;
+  if (!HasCarried(sim)) return (SpamMigration){sim->model.dim, l->nvar, l->x, carried_h, adaptive, sim, Depart, Arrive};
+  return (SpamMigration){sim->model.dim, l->nvar, l->x, carried, (int)(sizeof carried / sizeof *carried) - 1 + adaptive, sim, Depart, Arrive};
 }
 
 /* The list of the migrated particles, built at the reference positions they carried (the

@@ -7,14 +7,23 @@
  * its own; the passes over the half list sum every particle's rho and d rho/dh at its
  * current h at once, and Newton's step (kept inside a bracket by bisection) moves those
  * not yet converged, from the last evaluation's h_i. The passes and the force pass walk
- * the near rows (fields.h): the list's pairs within reach of the h_i (SPAM_H_REACH) plus
+ * the near rows (fields.h): the list's local pairs within reach of the h_i (SPAM_H_REACH) plus
  * the list's skin, kept by a first pass over the whole list (its range is the bound
  * h_max h) and used by later evaluations while the particles stay within half the skin
  * and the h_i within their reach. An h_i held at a bound does not move
  * with the particles there, so its Omega is 1. A particle that does not converge stops
- * the run with its row. Nothing here allocates. */
+ * the run with its row.
+ * On several ranks the other ranks' particles are ghost slots (halo.h, within the list
+ * range h_max h + skin): rho_i depends on the partners' positions only, so each rank
+ * solves its own particles, the ghosts held settled at the h_j their owners had at the
+ * last evaluation (their side of a pair is not summed), and the solved h_j and rho_j are
+ * gathered into the slots afterwards for the force pass. Under -reproducible the sums run
+ * over the canonical rows (each particle's partners sorted by id): the same bits on any
+ * number of ranks, as h_i's start is carried with the particle through migrations
+ * (sim_migrate.c). Nothing here allocates (the slots grow at list builds only). */
 #include <spam/sim.h>
 #include <spam/physics.h>
+#include <spam/errors.h>
 #include "../pair/pair_walk_adaptive.h"
 
 /* |rho h^D / (eta^D m) - 1| at which h_i is taken as converged: Newton's last step then
@@ -32,9 +41,14 @@
  * pairs left out are beyond both ranges, their terms exactly zero). */
 #define SPAM_H_REACH 1.1
 
+PetscBool SpamModelAdaptive(const SpamModel *m)
+{
+  return (PetscBool)(m->tensor && m->solid.smoothing == SPAM_SMOOTHING_ADAPTIVE);
+}
+
 double SpamModelListRange(const SpamModel *m)
 {
-  return m->tensor && m->solid.smoothing == SPAM_SMOOTHING_ADAPTIVE ? m->solid.h_max * m->kernel.h : m->kernel.h;
+  return SpamModelAdaptive(m) ? m->solid.h_max * m->kernel.h : m->kernel.h;
 }
 
 static inline double PowD(double s, int dim)
@@ -42,11 +56,11 @@ static inline double PowD(double s, int dim)
   return dim == 1 ? s : dim == 2 ? s * s : s * s * s;
 }
 
-/* The kernel's scales at every local h_i: w(r, h) = wnorm (h0/h)^D F(r/h) and
+/* The kernel's scales at the h_i of slots i0 .. i1-1: w(r, h) = wnorm (h0/h)^D F(r/h) and
  * w'(r, h)/r = gnorm (h0/h)^(D+2) G(r/h), for the kernel made at h0. */
-static void Scales(SpamFields *f, const SpamKernel *k, int n)
+static void Scales(SpamFields *f, const SpamKernel *k, int i0, int i1)
 {
-  for (int i = 0; i < n; i++) {
+  for (int i = i0; i < i1; i++) {
     const double s = k->h / f->h[i], sd = PowD(s, k->dim);
     f->hinv[i]     = 1.0 / f->h[i];
     f->wn[i]       = k->wnorm * sd;
@@ -99,6 +113,19 @@ static inline __attribute__((always_inline)) void KeepNear(DensityPass *c, int i
 SPAM_PAIR_WALK_ADAPTIVE(WalkDensityFirst, DensityPass, DensityPair, SPAM_BOTH_SETTLED, KeepNear)
 SPAM_PAIR_WALK_ADAPTIVE(WalkDensity, DensityPass, DensityPair, SPAM_BOTH_SETTLED, SPAM_NEAR_NONE)
 
+/* The canonical rows' pair: particle i's side only, in its row's order. */
+static inline __attribute__((always_inline)) void DensityRowPair(const int dim, DensityPass *c, int i, int j, const double dx[3], double r2, double wi, double gi, double wj, double gj)
+{
+  SpamFields *f = c->f;
+  (void)dx;
+  (void)wj;
+  (void)gj;
+  f->rho[i] += f->m[j] * wi;
+  f->drho[i] += f->m[j] * DwDh(dim, wi, gi, r2, f->hinv[i]);
+}
+#define SPAM_ROW_SETTLED(c, i) ((c)->f->settled[i] != 0.0)
+SPAM_PAIR_ROWS_ADAPTIVE(WalkDensityCanon, DensityPass, DensityRowPair, SPAM_ROW_SETTLED)
+
 void SpamSmoothingPairs(const SpamSim *sim, SpamNeighbours *near)
 {
   const SpamFields *f = &sim->pair.f;
@@ -131,11 +158,15 @@ static PetscErrorCode Sums(SpamSim *sim, int keep)
   SpamNeighbours    near;
 
   PetscFunctionBeginUser;
-  Scales(f, k, n);
+  Scales(f, k, 0, n);
   for (int i = 0; i < n; i++) {
     if (f->settled[i]) continue;
     f->rho[i]  = f->m[i] * f->wn[i]; /* F(0) = 1: w(0, h_i) */
     f->drho[i] = -dim * f->rho[i] * f->hinv[i];
+  }
+  if (SpamNeighboursCanonical(&sim->pair.nl)) {
+    PetscCall(WalkDensityCanon(&sim->pair.nl, k, f, &c));
+    PetscFunctionReturn(0);
   }
   if (keep) {
     f->near_start[0] = 0;
@@ -217,24 +248,54 @@ void SpamSmoothingNearReset(SpamFields *f)
   f->near_valid = 0;
 }
 
+/* The h_j of the ghost slots from their owners, with their kernel scales (collective). */
+static PetscErrorCode ShareRanges(SpamSim *sim)
+{
+  SpamFields *f = &sim->pair.f;
+  const int   n = (int)sim->p.n;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamGhostsGather(&sim->pair.nl.ghosts, sim->model.dim, n, 1, SPAM_GHOST_SCALAR, f->h));
+  Scales(f, &sim->model.kernel, n, SpamNeighboursSlots(&sim->pair.nl));
+  PetscFunctionReturn(0);
+}
+
+/* A particle that did not converge, or whose Omega is not positive, as this rank's error. */
+static PetscErrorCode Converged(SpamSim *sim, const Solve *s, int open, int last)
+{
+  const SpamFields *f = &sim->pair.f;
+
+  PetscFunctionBeginUser;
+  PetscCheck(!open, PETSC_COMM_SELF, PETSC_ERR_CONV_FAILED, "adaptive h: particle %" PetscInt_FMT " (input row) and %d others did not converge in %d iterations of rho h^D = eta^D m (h = %g, rho = %g, bounds %g to %g)", SpamSimRowOf(sim, last), open - 1,
+             SPAM_H_MAX_ITER, f->h[last], f->rho[last], s->lo, s->hi);
+  for (PetscInt i = 0; i < sim->p.n; i++)
+    PetscCheck(f->omega[i] > 0.0 && isfinite(f->omega[i]), PETSC_COMM_SELF, PETSC_ERR_CONV_FAILED, "adaptive h: particle %" PetscInt_FMT " (input row) has the grad-h factor Omega = %g (h = %g, rho = %g): not positive, so its kernel range does not grow as its density falls", SpamSimRowOf(sim, i),
+               f->omega[i], f->h[i], f->rho[i]);
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamSmoothingSolve(SpamSim *sim)
 {
   const SpamSolidParams *p = &sim->model.solid;
   const double           h0 = sim->model.kernel.h;
   const Solve            s  = {sim->model.dim, p->h_eta, p->h_min * h0, p->h_max * h0};
   SpamFields            *f  = &sim->pair.f;
-  const int              n  = (int)sim->p.n;
+  const int              n  = (int)sim->p.n, slots = SpamNeighboursSlots(&sim->pair.nl);
+  const int              canonical = SpamNeighboursCanonical(&sim->pair.nl);
   int                    open = n, last = -1, keep;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(sim->run.ev.density, 0, 0, 0, 0));
+  PetscCall(SpamFieldsReserve(f, slots));
   for (int i = 0; i < n; i++) { /* from the last evaluation's h_i (-h at the first) */
     f->h[i]   = f->h[i] > 0.0 ? PetscMin(PetscMax(f->h[i], s.lo), s.hi) : PetscMin(PetscMax(h0, s.lo), s.hi);
     f->hlo[i]     = s.lo;
     f->hhi[i]     = s.hi;
     f->settled[i] = 0.0;
   }
-  keep = !NearServe(f, &sim->pair.nl);
+  PetscCall(ShareRanges(sim)); /* the ghosts at their owners' starts, held settled */
+  for (int i = n; i < slots; i++) f->settled[i] = 1.0;
+  keep = !canonical && !NearServe(f, &sim->pair.nl);
   if (keep) {
     PetscCall(ReserveNear(f, &sim->pair.nl));
     NearKeptHere(f, &sim->pair.nl, s.hi);
@@ -254,10 +315,8 @@ PetscErrorCode SpamSmoothingSolve(SpamSim *sim)
     }
   }
   PetscCall(PetscLogEventEnd(sim->run.ev.density, 0, 0, 0, 0));
-  PetscCheck(!open, PETSC_COMM_SELF, PETSC_ERR_CONV_FAILED, "adaptive h: particle %" PetscInt_FMT " (input row) and %d others did not converge in %d iterations of rho h^D = eta^D m (h = %g, rho = %g, bounds %g to %g)", SpamSimRowOf(sim, last), open - 1,
-             SPAM_H_MAX_ITER, f->h[last], f->rho[last], s.lo, s.hi);
-  for (int i = 0; i < n; i++)
-    PetscCheck(f->omega[i] > 0.0 && isfinite(f->omega[i]), PETSC_COMM_SELF, PETSC_ERR_CONV_FAILED, "adaptive h: particle %" PetscInt_FMT " (input row) has the grad-h factor Omega = %g (h = %g, rho = %g): not positive, so its kernel range does not grow as its density falls", SpamSimRowOf(sim, i),
-               f->omega[i], f->h[i], f->rho[i]);
+  PetscCall(SpamAgreeOnFailure(sim->p.comm, Converged(sim, &s, open, last), "the adaptive h solve"));
+  PetscCall(ShareRanges(sim)); /* the solved h_j and rho_j of the ghost slots: the force pass's */
+  PetscCall(SpamGhostsGather(&sim->pair.nl.ghosts, sim->model.dim, n, 1, SPAM_GHOST_SCALAR, f->rho));
   PetscFunctionReturn(0);
 }

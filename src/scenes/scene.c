@@ -190,7 +190,7 @@ static PetscErrorCode ModelCommonOptions(SpamCommonParams *c)
   PetscOptionsBegin(PETSC_COMM_WORLD, NULL, "Model and list", "spam-ark");
   PetscCall(PetscOptionsRealArray("-gravity", "Uniform acceleration g: -dim values, or 1 value along the last direction (default 0)", "README", g, &ng, &set));
   PetscCall(PetscOptionsString("-periodic_images", "Periodic neighbours by the minimum image (minimum) or as ghost slots (ghost: the path of walls and halos)", "README", images, images, sizeof images, &images_set));
-  PetscCall(PetscOptionsBool("-reproducible", "Bit-identical trajectories on any number of ranks and -threads: canonical pair sums (sorted full rows, periodic images as ghost slots) and a partition-independent error norm; the isentropic gas only", "README", c->reproducible, &c->reproducible, NULL));
+  PetscCall(PetscOptionsBool("-reproducible", "Bit-identical trajectories on any number of ranks and -threads: canonical pair sums (sorted full rows, periodic images as ghost slots) and a partition-independent error norm; the isentropic gas and the gas at -smoothing_length adaptive", "README", c->reproducible, &c->reproducible, NULL));
   PetscOptionsEnd();
   c->gravity_given = set;
   PetscCall(SpamWallsOptions(c->dim, &c->walls));
@@ -346,7 +346,8 @@ static PetscErrorCode CheckReproducible(const SpamCommonParams *c, const SpamPar
   PetscFunctionBeginUser;
   if (!c->reproducible) PetscFunctionReturn(0);
   if (p->model_set) SPAM_BAD_INPUT("-reproducible", "true", "applies to the isentropic gas (-material isentrope); this scene's spring model sums its bonds in list order");
-  if (solid->material != SPAM_MATERIAL_ISENTROPE) SPAM_BAD_INPUT("-reproducible", "true", "applies to the isentropic gas (-material isentrope); the %s model's tensor-path passes sum their pairs in list order", SpamMaterialNames[solid->material]);
+  if (solid->material != SPAM_MATERIAL_ISENTROPE && !(solid->material == SPAM_MATERIAL_GAS && solid->smoothing == SPAM_SMOOTHING_ADAPTIVE))
+    SPAM_BAD_INPUT("-reproducible", "true", "applies to the isentropic gas (-material isentrope) and the gas at -smoothing_length adaptive; the %s model's tensor-path passes sum their pairs in list order", SpamMaterialNames[solid->material]);
   if (SpamWallsAny(&p->walls, p->dim)) SPAM_BAD_INPUT("-reproducible", "true", "does not take mirror walls yet (their images' forces are booked to the wall from both particles of a pair)");
   /* Its periodic images are ghost slots, one per face a particle is near: an edge below
    * twice the list range would need images on both sides of some particles. */

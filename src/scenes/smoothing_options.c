@@ -93,8 +93,11 @@ PetscErrorCode SpamSmoothingCheck(const SpamCommonParams *c, const SpamParticles
   PetscFunctionBeginUser;
   if (p->model_set || s->material != SPAM_MATERIAL_GAS || s->smoothing != SPAM_SMOOTHING_ADAPTIVE) PetscFunctionReturn(0);
   if ((law = UnsupportedLaw(s))) SPAM_BAD_INPUT("-smoothing_length", "adaptive", "does not take %s yet: the adaptive pass has the pressure, Monaghan's viscosity and the energy equation only", law);
-  if (size > 1) SPAM_BAD_INPUT("-smoothing_length", "adaptive", "runs on one rank yet: the halo's range is the fixed h (this run: %d ranks)", (int)size);
-  if (c->periodic_ghosts) SPAM_BAD_INPUT("-smoothing_length", "adaptive", "does not take -periodic_images ghost yet: the adaptive pass has no ghost slots (its periodic pairs take the minimum image)");
+  (void)size; /* other ranks' particles are ghost slots within the list range h_max h + skin */
+  /* -reproducible's canonical rows take periodic images as slots like any partner; the
+   * half-list passes would need each image's share folded onto its source in every
+   * iteration of the h solve. */
+  if (c->periodic_ghosts && !c->reproducible) SPAM_BAD_INPUT("-smoothing_length", "adaptive", "does not take -periodic_images ghost yet (but does with -reproducible): the adaptive half-list passes take the periodic pairs by the minimum image");
   if (SpamWallsAny(&p->walls, p->dim)) SPAM_BAD_INPUT("-smoothing_length", "adaptive", "does not take mirror walls yet: their images are placed within the fixed range h");
   for (int d = 0; d < p->dim; d++)
     if (p->box.periodic[d] && p->box.len[d] < 2.0 * range) SPAM_BAD_INPUT("-smoothing_length", "adaptive", "needs every periodic edge at least twice the list range h_max h + skin = %g (edge %d is %g): the pairs take the minimum image", range, d, p->box.len[d]);
