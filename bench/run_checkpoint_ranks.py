@@ -11,7 +11,7 @@ of each are printed with the ratio of medians to one rank. A measurement, not a 
 this machine's 2 cores 3 ranks are oversubscribed.
 
 Usage (spam-ark built in build/):
-    /usr/bin/python3 bench/run_checkpoint_ranks.py [--n 128] [--repeats 5]
+    /usr/bin/python3 bench/run_checkpoint_ranks.py [--n 128] [--repeats 5] [--readings FILE]
 """
 import argparse
 import json
@@ -19,10 +19,13 @@ import os
 import shutil
 import statistics
 import subprocess
+import sys
 import tempfile
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT / "bench"))
+import bench_common as bc  # noqa: E402
 ENV = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1", OMPI_MCA_pml="ob1")
 
 
@@ -41,7 +44,9 @@ def main():
     p.add_argument("--n", type=int, default=128)
     p.add_argument("--repeats", type=int, default=5)
     p.add_argument("--exe", default=str(ROOT / "build" / "spam-ark"))
+    p.add_argument("--readings", default=None, help="also write the table docs/checkpoints.md quotes to this JSON")
     a = p.parse_args()
+    load0 = os.getloadavg()[0]
     times, size = {1: [], 2: [], 3: []}, {}
     with tempfile.TemporaryDirectory() as tmp:
         for _ in range(a.repeats):
@@ -50,11 +55,16 @@ def main():
                 times[ranks].append(t)
     base = statistics.median(times[1])
     print(f"2D expansion, N = {a.n * a.n}, {a.repeats} rounds, layouts alternating; load average {os.getloadavg()[0]:.1f}")
-    print("| ranks | bytes | best ms | median ms | median / one rank |")
-    print("|---|---|---|---|---|")
-    for ranks, ts in times.items():
-        med = statistics.median(ts)
-        print(f"| {ranks} | {size[ranks]} | {1e3 * min(ts):.1f} | {1e3 * med:.1f} | {med / base:.2f} |")
+    cols = ["ranks", "bytes", "best ms", "median ms", "median / one rank"]
+    rows = [[str(ranks), str(size[ranks]), f"{1e3 * min(ts):.1f}", f"{1e3 * statistics.median(ts):.1f}",
+             f"{statistics.median(ts) / base:.2f}"] for ranks, ts in times.items()]
+    print("| " + " | ".join(cols) + " |")
+    print("|" + "---|" * len(cols))
+    for r in rows:
+        print("| " + " | ".join(r) + " |")
+    if a.readings:
+        bc.page_readings(a.readings, {"table": {"columns": cols, "rows": rows}, "n_particles": a.n * a.n,
+                                      "repeats": a.repeats, "load_1min_start": load0})
 
 
 if __name__ == "__main__":

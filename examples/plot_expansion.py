@@ -494,7 +494,8 @@ def main(argv=None):
     import chart_readings
     readings = dict(chart_readings.books(run_dir), max_rel_energy_drift=float(drift),
                     dS_sum_ratio={"t%g" % t: float(v) for t, v in zip(series["t"], series["dS_sum_ratio"])},
-                    dS_sum_final=float(series["dS_sum_ratio"][-1]), dS_grid_final=float(series["dS_grid_ratio"][-1]))
+                    dS_sum_final=float(series["dS_sum_ratio"][-1]), dS_grid_final=float(series["dS_grid_ratio"][-1]),
+                    dS_sum_max=float(max(series["dS_sum_ratio"])))
     chart_readings.write(out_path, readings, runs=[run_dir])
     return 0
 

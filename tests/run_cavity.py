@@ -136,6 +136,11 @@ for n in a.n:
     ke = [float(x["kinetic"]) for x in ts]
     before = min(range(len(t)), key=lambda k: abs(t[k] - (t[-1] - lu)))
     dke = abs(ke[-1] - ke[before]) / ke[-1]
+    # The lid's work heats the adiabatic cell: the internal energy's rise per L/U; and the
+    # time from rest after which the kinetic energy stays within 2 % of its final value.
+    ie = [float(x["internal"]) for x in ts]
+    heating = (ie[-1] - ie[0]) / ie[0] / (t[-1] / lu)
+    settled = next(t[k] / lu for k in range(len(t)) if all(abs(v - ke[-1]) <= 0.02 * ke[-1] for v in ke[k:]))
     e, g, rel = r["extrema"], r["ghia_extrema"], r["rel"]
     last = snaps[-1]
     lz = sum((p[0] - L / 2) * p[3] - (p[1] - L / 2) * p[2] for p in last) / (len(last) * U * L)
@@ -145,10 +150,11 @@ for n in a.n:
           f"max v {e['v_max']:+.4f} (Ghia {g['v_max']:+.5f}, {rel['v_max']:+.1%}), "
           f"min v {e['v_min']:+.4f} (Ghia {g['v_min']:+.5f}, {rel['v_min']:+.1%}); "
           f"spread of one snapshot's errors {spread['u_min']:.1%}, {spread['v_max']:.1%}, {spread['v_min']:.1%}; "
-          f"angular momentum about the centre {lz:+.4f} M U L; KE {ke[-1]:.4g}, its change over the last L/U {dke:.1%}", flush=True)
+          f"angular momentum about the centre {lz:+.4f} M U L; KE {ke[-1]:.4g}, its change over the last L/U {dke:.1%}, "
+          f"within 2 % of it from {settled:.2f} L/U on; internal energy +{heating:.3%} per L/U", flush=True)
     for key, v in (("linf_u", r["linf_u"]), ("linf_v", r["linf_v"]), ("extrema", e), ("rel", rel), ("spread", spread),
                    ("snapshots", len(snaps)), ("t_over_LU", a.t_end), ("average_LU", a.average), ("steps", summary(out)["steps"]),
-                   ("wall_s", wall)):
+                   ("wall_s", wall), ("heating_per_LU", heating), ("ke_settled_LU", settled)):
         c.reading(f"n{n}.{key}", v)
     c.check(lz < 0, f"n = {n}: the primary vortex turns clockwise: angular momentum about the centre {lz:+.4f} M U L (< 0)")
     top = r["u"][-2]

@@ -43,11 +43,14 @@ class Checks:
         sys.exit(1 if self.failed else 0)
 
 
-def arguments():
+def arguments(add_options=None):
+    """The run tests' common options; add_options(parser), when given, adds a test's own."""
     p = argparse.ArgumentParser()
     p.add_argument("--spam-ark", required=True)
     p.add_argument("--workdir", required=True)
     p.add_argument("--readings", help="write the readings a page quotes to this JSON file (when the test passes)")
+    if add_options:
+        add_options(p)
     a = p.parse_args()
     shutil.rmtree(a.workdir, ignore_errors=True)
     os.makedirs(a.workdir)

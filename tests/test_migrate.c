@@ -202,7 +202,7 @@ static PetscErrorCode Consistent(Ctx *t, const Scene *s, const SpamSim *sim, con
     int            c[3];
     uint64_t       key;
     for (int d = 0; d < s->dim; d++) wrong_state += p[l->x + d] != PositionOf(s, g, d) || p[l->v + d] != VelocityOf(g, d);
-    wrong_mass += sim->pair.f.m[i] != MassOf(g) || sim->pair.f.minv[i] != 1.0 / MassOf(g);
+    wrong_mass += sim->pair.f.m[i] != MassOf(g) || (sim->pair.f.minv && sim->pair.f.minv[i] != 1.0 / MassOf(g));
     misplaced += SpamDecompOwner(dec, SpamDecompKey(dec, p + l->x)) != t->rank;
     SpamCellOf(&dec->grid, &sim->geo.box, p + l->x, c);
     key = SpamCellHilbertKey(&dec->grid, c);

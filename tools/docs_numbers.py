@@ -26,8 +26,9 @@ between the marker and its end is what a reader sees, and is rewritten from the 
         bound as the test writes it, e.g. 0.03).
 
 --check (the default) lists every marker whose text differs from its source, every
-source or key that does not exist and every JSON without its command and commit, and exits
-1 if there is one; --update rewrites the pages' marked text from the sources. With paths,
+source or key that does not exist, every JSON without its command and commit, and every
+figure a page labels as a hand run or as history (made by no script: regenerate it with one,
+or leave it to git's history), and exits 1 if there is one; --update rewrites the pages' marked text from the sources. With paths,
 only those pages; otherwise README.md, CONTRIBUTING.md, bench/README.md, tests/README.md
 and docs/**/*.md.
 """
@@ -182,6 +183,17 @@ def process(page, text, problems):
     return TEST.sub(test, text)
 
 
+# What a page says of a figure no script makes: a hand run, or history.
+UNGENERATED = re.compile(r"\bhand[- ]runs?\b|not regenerated|\(history\b|\bhistory:|kept as history|are history", re.I)
+
+
+def ungenerated(page, text, problems):
+    for n, line in enumerate(text.splitlines(), 1):
+        m = UNGENERATED.search(line)
+        if m:
+            problems.append(f"{page}:{n}: a figure labelled '{m.group(0)}': made by no script")
+
+
 def count(text):
     return sum(len(r.findall(text)) for r in (NUM, TABLE, TEXT, TEST))
 
@@ -199,12 +211,14 @@ def main():
         markers += count(text)
         before = len(problems)
         new = process(page, text, problems)
+        ungenerated(page, text, problems)
         if a.update and new != text:
             with open(path, "w", encoding="utf-8") as fh:
                 fh.write(new)
             changed.append(page)
             del problems[before:]
             process(page, new, problems)  # what remains: missing sources or keys
+            ungenerated(page, new, problems)
     for p in problems:
         print(p)
     if a.update:

@@ -10,7 +10,8 @@
 
 typedef struct {
   int     dim, n, cap;     /* local particles; slots allocated (local + ghost)         */
-  double *m, *minv;        /* [cap] mass and its inverse (pair updates multiply by it)  */
+  double *m, *minv;        /* [cap] mass and its inverse (pair updates multiply by it;  */
+                           /* the tensor path's and the springs': NULL for the gas)    */
   double *v;               /* [cap*dim] velocity                                        */
   double *rho;             /* [cap] density: summed, or the state's (continuity)       */
   double *q;               /* [cap] P/rho^2 (isentropic gas)                            */
@@ -52,11 +53,15 @@ typedef struct {
   PetscBool tensor;        /* the tensor-path arrays are allocated                     */
   int       uniform_mass;  /* every particle has mass m[0] (set at set-up)             */
   int       adaptive;      /* the adaptive range's arrays are allocated               */
+  int       inverse_mass;  /* minv is allocated                                       */
 } SpamFields;
 
 /* Allocates the arrays for n local particles and at least cap slots: m, rho, q and acc
- * always, the tensor path's when tensor is set. */
+ * always, the tensor path's (and minv) when tensor is set. */
 PetscErrorCode SpamFieldsCreate(int dim, int n, int cap, PetscBool tensor, SpamFields *f);
+/* minv for a model outside the tensor path whose pair updates divide by the mass
+ * (springs), filled from m. */
+PetscErrorCode SpamFieldsAddInverseMass(SpamFields *f);
 /* Room for `slots` (local + ghost) in every allocated array, keeping the values of the
  * local ones; called after a list build added ghosts (rare: not in the steady state). */
 PetscErrorCode SpamFieldsReserve(SpamFields *f, int slots);

@@ -12,6 +12,7 @@
 #define SPAM_TSARKODE "arkode"
 #define SPAM_TSCVODE  "cvode"
 #define SPAM_TSARKODE_IMEX "arkode_imex"
+#define SPAM_TSBLOCK_KDK "block_kdk"
 /* The fraction of the stability function's step ARKODE takes (SpamSundialsStability). */
 #define SPAM_ARK_CFL_FRACTION 0.5
 
@@ -164,6 +165,7 @@ PetscErrorCode SpamIntegratorsRegister(void);
 PetscErrorCode SpamTSCreate_ARKode(TS ts);
 PetscErrorCode SpamTSCreate_CVode(TS ts);
 PetscErrorCode SpamTSCreate_ARKodeImex(TS ts);
+PetscErrorCode SpamTSCreate_Block(TS ts);
 /* The step settings of an arkode_imex TS; NULL for another type. */
 PetscErrorCode SpamTSARKodeImexGetSettings(TS ts, const SpamArkodeSettings **s);
 PetscErrorCode SpamSymplecticRegister(void);

@@ -68,6 +68,7 @@ typedef struct {
   SpamEosIsentrope eos;
   PetscBool        density_free; /* force pass only, no density pass */
   PetscBool        tensor;       /* the tensor path (rhs_tensor.c) and its field arrays */
+  PetscBool        inverse_mass; /* outside the tensor path, the pair passes read 1/m */
   PetscBool        energy_given; /* the input set e per particle (else the gas's e0)    */
   SpamLayout       layout;
   SpamSolidParams  solid;        /* elastic solid: the tensor-path choices             */

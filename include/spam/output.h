@@ -7,6 +7,7 @@
 #define SPAM_OUTPUT_H
 #include <spam/diagnostics.h>
 #include <spam/errors.h> /* SpamRunAgreed: collective writes */
+#include <spam/decimal.h>
 
 /* A file being written: stdio on a temporary that SpamFileCommit renames to path. */
 typedef struct {
@@ -44,6 +45,8 @@ PetscErrorCode SpamFileBegin(const char *path, SpamFile *f);
 /* Writes unless an earlier write of f failed; a failure is recorded in f->err and
  * reported by the next SpamFileCheck or SpamFileCommit. */
 void SpamFilePrintf(SpamFile *f, const char *fmt, ...) PETSC_ATTRIBUTE_FORMAT(2, 3);
+/* As SpamFilePrintf(f, "%s", s): one write call. */
+void SpamFilePuts(SpamFile *f, const char *s);
 /* A JSON string (quoted): control bytes as \u00XX, bytes outside well-formed UTF-8 as U+FFFD. */
 void SpamFileJsonString(SpamFile *f, const char *s);
 /* Flushes; after a failed write removes the temporary and raises the error. */

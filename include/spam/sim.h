@@ -12,7 +12,8 @@
 #include <spam/fields.h>
 
 /* Per-particle data kept outside the state, copied into the swarm only to travel with
- * their particle through a migration (migrate.c): the mass and the body label. */
+ * their particle through a migration (migrate.c): the mass and the body label. These and
+ * SPAM_XREF_FIELD exist on several ranks only (one rank never migrates). */
 #define SPAM_MASS_FIELD "spam_mass"
 #define SPAM_BODY_FIELD "spam_body"
 /* The neighbour list's reference position of the particle (dim reals): a migration carries
@@ -92,6 +93,12 @@ typedef struct SpamSim {
   struct SpamPhysicsScratch *ps; /* scratch of the tensor path and bonds (NULL for the gas) */
   SpamRunCounts run;
   SpamSimReport out;
+  /* One rank, which has no carried fields (SPAM_MASS_FIELD): the masses, reference
+   * positions and body labels by gid while a migration (a local sort) is under way. */
+  struct {
+    double   *m, *xref;
+    PetscInt *body;
+  } stash;
 } SpamSim;
 
 /* Input row of particle i, and the local particle of the r-th smallest gid (swarm.h). */

@@ -36,6 +36,11 @@ PetscErrorCode SpamSwarmSetRows(SpamSwarm *p, const PetscInt *row_of);
 /* After the gids changed (a set-up reordering, a migration): at_row made anew. */
 PetscErrorCode SpamSwarmIndexRows(SpamSwarm *p);
 
+/* X made over the swarm's state field, which stays open while X lives (local sizes from
+ * the swarm), and destroyed with the field restored (nothing when X is NULL). */
+PetscErrorCode SpamSwarmOpenState(SpamSwarm *p);
+PetscErrorCode SpamSwarmCloseState(SpamSwarm *p);
+
 /* A move of particles between ranks as their owner describes it: where the position sits
  * in the state, the swarm's other per-particle fields (permuted with the state), and what
  * the owner does around the move with the data it keeps outside the swarm. */

@@ -83,7 +83,7 @@ PetscErrorCode SpamSwarmClose(SpamSwarm *p, const PetscInt *dest)
   PetscCall(DMSwarmRestoreField(p->swarm, DMSwarmField_rank, NULL, NULL, (void **)&rank));
   PetscCall(DMSwarmRestoreField(p->swarm, SPAM_GID_FIELD, NULL, NULL, (void **)&p->gid));
   p->gid = NULL;
-  PetscCall(DMSwarmDestroyGlobalVectorFromField(p->swarm, SPAM_STATE_FIELD, &p->X));
+  PetscCall(SpamSwarmCloseState(p));
   PetscFunctionReturn(0);
 }
 
@@ -124,7 +124,7 @@ static PetscErrorCode Move(SpamSwarm *p, const SpamMigration *m, const SpamDecom
   /* Sent particles stay until the sort drops them all at once (local_order.c says why). */
   if (moved) PetscCall(DMSwarmMigrate(p->swarm, PETSC_FALSE));
   PetscCall(SpamAgreeOnFailure(p->comm, Reorder(p, m, dec), "the local sort after a migration"));
-  PetscCall(DMSwarmCreateGlobalVectorFromField(p->swarm, SPAM_STATE_FIELD, &p->X));
+  PetscCall(SpamSwarmOpenState(p));
   PetscCall(m->arrive(m->ctx));
   PetscFunctionReturn(0);
 }

@@ -111,7 +111,7 @@ static PetscErrorCode Move(SpamSwarm *p, const SpamMigration *m, PetscInt n, con
   PetscCall(SpamAgreeOnFailure(p->comm, SpamSwarmClose(p, dest), "closing the swarm to place the particles"));
   PetscCall(DMSwarmMigrate(p->swarm, PETSC_FALSE));
   PetscCall(SpamAgreeOnFailure(p->comm, Reorder(p, m, n, gids), "the local order of a checkpoint"));
-  PetscCall(DMSwarmCreateGlobalVectorFromField(p->swarm, SPAM_STATE_FIELD, &p->X));
+  PetscCall(SpamSwarmOpenState(p));
   PetscCall(m->arrive(m->ctx));
   PetscFunctionReturn(0);
 }

@@ -16,9 +16,9 @@
  * buffer, so that z may be one of the terms. No contraction of a + c x into an FMA
  * (-ffp-contract=off, CMakeLists.txt), so vectorised loops and scalar remainders agree bit
  * for bit whatever -march. */
-#include <petsc/private/vecimpl.h> /* X->ops->maxpy: PETSc 3.18 has no public VECOP_MAXPY */
 #include <spam/integrator.h>
 #include <nvector/nvector_petsc.h>
+#include "ts_vec_ops.h"
 
 #define BLOCK   512 /* 4 KiB of doubles: stays in L1 with the vectors' streams */
 #define MAX_VEC 32  /* ERKStep's largest: 13 stages + y_n; PETSc's rk: 13 stages */
@@ -125,52 +125,12 @@ static PetscErrorCode MAXPYDet(Vec y, PetscInt nv, const PetscScalar *alpha, Vec
   PetscFunctionReturn(0);
 }
 
-/* The duplicate of the vector type that a deterministic vector wraps. */
-typedef struct {
-  PetscErrorCode (*duplicate)(Vec, Vec *);
-} DuplicateOf;
-
-static PetscErrorCode FreeDuplicateOf(void *p)
-{
-  PetscFunctionBeginUser;
-  PetscCall(PetscFree(p));
-  PetscFunctionReturn(0);
-}
-
-/* VecDuplicate_Seq (unlike VecDuplicate_MPI) does not copy the ops table, so the TS's work
- * vectors of a one-rank run would lose the deterministic maxpy: duplicates are made
- * deterministic here. (A composition also made by SpamVecCacheSubVectors chains: each
- * wrapper calls the duplicate it found.) */
-static PetscErrorCode DuplicateDet(Vec X, Vec *Y)
-{
-  PetscContainer c;
-  DuplicateOf   *d;
-
-  PetscFunctionBeginUser;
-  PetscCall(PetscObjectQuery((PetscObject)X, "spam_det_duplicate", (PetscObject *)&c));
-  PetscCheck(c, PetscObjectComm((PetscObject)X), PETSC_ERR_PLIB, "deterministic vector lost its duplicate");
-  PetscCall(PetscContainerGetPointer(c, (void **)&d));
-  PetscCall(d->duplicate(X, Y));
-  PetscCall(SpamVecDeterministicMAXPY(*Y));
-  PetscFunctionReturn(0);
-}
-
+/* rk's vectors: maxpy replaced on the state vector and its duplicates (ts_vec_ops.c). */
 PetscErrorCode SpamVecDeterministicMAXPY(Vec X)
 {
-  PetscContainer c;
-  DuplicateOf   *d;
+  static const SpamVecOps ops = {.maxpy = MAXPYDet};
 
   PetscFunctionBeginUser;
-  /* Done already, or an MPI duplicate, which copies the ops and the composed objects. */
-  if (X->ops->maxpy == MAXPYDet) PetscFunctionReturn(0);
-  PetscCall(PetscNew(&d));
-  d->duplicate = X->ops->duplicate;
-  PetscCall(PetscContainerCreate(PetscObjectComm((PetscObject)X), &c));
-  PetscCall(PetscContainerSetPointer(c, d));
-  PetscCall(PetscContainerSetUserDestroy(c, FreeDuplicateOf));
-  PetscCall(PetscObjectCompose((PetscObject)X, "spam_det_duplicate", (PetscObject)c));
-  PetscCall(PetscContainerDestroy(&c));
-  X->ops->maxpy     = MAXPYDet;
-  X->ops->duplicate = DuplicateDet;
+  PetscCall(SpamVecReplaceOps(X, &ops));
   PetscFunctionReturn(0);
 }

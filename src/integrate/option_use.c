@@ -173,7 +173,7 @@ static PetscErrorCode GivenFree(Given *g)
  * its 32-bit PetscInt without a range check, so 2147483648 arrives as -2147483648 and a
  * longer number as whatever its low bits say: check the text itself first. These and the
  * scenes' of type SPAM_SCENE_OPTION_INT. */
-static const char *const IntegerOptions[] = {"dim", "threads", "ts_max_steps", "ts_max_reject", "ts_ssp_nstages", "cvode_max_order", "arkode_imex_max_nonlin_iters", "arkode_imex_krylov_dim", "snapshot_max"};
+static const char *const IntegerOptions[] = {"dim", "threads", "ts_max_steps", "ts_max_reject", "ts_ssp_nstages", "cvode_max_order", "arkode_imex_max_nonlin_iters", "arkode_imex_krylov_dim", "snapshot_max", "block_max_level"};
 
 /* The name of integer option name as the program spells it, or NULL: not an integer. */
 static const char *IntegerOption(const char *name)
@@ -384,17 +384,25 @@ static PetscBool RelevantMethod(Group g, const Run *r, char *why, size_t len, Pe
     (void)snprintf(why, len, "the step of this run is -arkode_fixed_step %.17g", r->arkode_fixed);
     return PETSC_FALSE;
   case G_TOLERANCE: /* the weighted norm: the error test's, and an implicit method's solver's */
+    if (r->f->step_rule) {
+      (void)snprintf(why, len, "applies to steps under error control (this run: %s %s)", r->method, r->f->step_rule);
+      return PETSC_FALSE;
+    }
     if (r->adaptive || r->f->solves) return PETSC_TRUE;
     (void)snprintf(why, len, "applies to adaptive steps and to -ts_type arkode_imex's solver (this run: %s%s takes fixed steps)", r->method, r->own ? "" : strcmp(r->adapt, TSADAPTNONE) ? "" : " -ts_adapt_type none");
     return PETSC_FALSE;
   case G_ADAPTIVE:
+    if (r->f->step_rule) {
+      (void)snprintf(why, len, "applies to the bound of a global step (this run: %s %s)", r->method, r->f->step_rule);
+      return PETSC_FALSE;
+    }
     if (r->adaptive) return PETSC_TRUE;
     (void)snprintf(why, len, "applies to adaptive steps (this run: %s%s takes fixed steps)", r->method, r->own ? "" : strcmp(r->adapt, TSADAPTNONE) ? "" : " -ts_adapt_type none");
     return PETSC_FALSE;
   case G_TS:
     /* arkode takes -ts_adapt_type none (with -ts_dt) as its fixed step (arkode_options.c) */
     if (!r->own || r->arkode_fixed_ts) return PETSC_TRUE;
-    (void)snprintf(why, len, "applies to PETSc's methods rk, ssp, euler and basicsymplectic (this run: %s, which controls its own steps: see -%s)", r->method, SpamTSFamilyOption(r->f, "arkode_adapt") ? "arkode_adapt" : "ts_rtol");
+    (void)snprintf(why, len, "applies to PETSc's methods rk, ssp, euler and basicsymplectic (this run: %s, which controls its own steps: see -%s)", r->method, SpamTSFamilyOption(r->f, "arkode_adapt") ? "arkode_adapt" : r->f->step_rule ? "block_cfl" : "ts_rtol");
     return PETSC_FALSE;
   case G_TS_ADAPT:
     if (!r->own && strcmp(r->adapt, TSADAPTNONE)) return PETSC_TRUE;

@@ -141,7 +141,7 @@ PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o)
   o->diag.entropy      = PETSC_TRUE;
   o->diag.grid_spacing = 1.0;
   PetscCall(PetscStrncpy(o->output_dir, "./out", sizeof o->output_dir));
-  PetscOptionsBegin(sim->p.comm, NULL, "Time integration: -ts_type arkode (default), cvode, rk, ssp, euler, basicsymplectic; PETSc's own -ts_* options are listed under TS", "spam-ark");
+  PetscOptionsBegin(sim->p.comm, NULL, "Time integration: -ts_type arkode (default), arkode_imex, cvode, rk, ssp, euler, basicsymplectic, block_kdk; PETSc's own -ts_* options are listed under TS", "spam-ark");
   PetscCall(PetscOptionsReal("-ts_max_time", "End time (default: the scene's, 2 sound traversal times for expansion)", "README", o->t_end, &o->t_end, NULL));
   PetscCall(PetscOptionsInt("-ts_max_steps", "Stop after this many steps", "README", o->max_steps, &o->max_steps, NULL));
   PetscCall(PetscOptionsReal("-ts_dt", "First step of adaptive methods, the step of fixed-step TS methods (0: arkode/cvode estimate it, TS methods take 0.05 h/c0)", "README", o->dt_first, &o->dt_first, NULL));

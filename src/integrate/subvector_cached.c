@@ -5,8 +5,8 @@
  * SFSetUp calls in 200 Verlet steps, a third of the step time at N = 16384. Here the
  * sub-vector and its scatter are made once per (vector, index set), composed on the
  * vector, and reused. */
-#include <petsc/private/vecimpl.h>
 #include <spam/integrator.h>
+#include "ts_vec_ops.h"
 
 #define SPAM_SUBVEC_SCATTER "spam_subvector_scatter"
 
@@ -77,49 +77,13 @@ static PetscErrorCode RestoreSubVectorCached(Vec X, IS is, Vec *Y)
   PetscFunctionReturn(0);
 }
 
-/* The vector type's own duplicate, kept on each vector whose duplicate is wrapped. */
-typedef struct {
-  PetscErrorCode (*duplicate)(Vec, Vec *);
-} OriginalOps;
-
-static PetscErrorCode FreeOriginalOps(void *p)
-{
-  PetscFunctionBeginUser;
-  PetscCall(PetscFree(p));
-  PetscFunctionReturn(0);
-}
-
-/* Duplicates made by the TS (basicsymplectic's update vector) get the same operations. */
-static PetscErrorCode DuplicateCached(Vec X, Vec *Y)
-{
-  PetscContainer c;
-  OriginalOps   *o;
-
-  PetscFunctionBeginUser;
-  PetscCall(PetscObjectQuery((PetscObject)X, "spam_original_ops", (PetscObject *)&c));
-  PetscCheck(c, PetscObjectComm((PetscObject)X), PETSC_ERR_PLIB, "vector lost its original operations");
-  PetscCall(PetscContainerGetPointer(c, (void **)&o));
-  PetscCall(o->duplicate(X, Y));
-  PetscCall(SpamVecCacheSubVectors(*Y));
-  PetscFunctionReturn(0);
-}
-
+/* basicsymplectic's vectors: the state vector and its duplicates (the TS's update
+ * vector), through ts_vec_ops.c. */
 PetscErrorCode SpamVecCacheSubVectors(Vec X)
 {
-  PetscContainer c;
-  OriginalOps   *o;
+  static const SpamVecOps ops = {.getsubvector = GetSubVectorCached, .restoresubvector = RestoreSubVectorCached};
 
   PetscFunctionBeginUser;
-  if (X->ops->getsubvector == GetSubVectorCached) PetscFunctionReturn(0);
-  PetscCall(PetscNew(&o));
-  o->duplicate = X->ops->duplicate;
-  PetscCall(PetscContainerCreate(PetscObjectComm((PetscObject)X), &c));
-  PetscCall(PetscContainerSetPointer(c, o));
-  PetscCall(PetscContainerSetUserDestroy(c, FreeOriginalOps));
-  PetscCall(PetscObjectCompose((PetscObject)X, "spam_original_ops", (PetscObject)c));
-  PetscCall(PetscContainerDestroy(&c));
-  X->ops->duplicate        = DuplicateCached;
-  X->ops->getsubvector     = GetSubVectorCached;
-  X->ops->restoresubvector = RestoreSubVectorCached;
+  PetscCall(SpamVecReplaceOps(X, &ops));
   PetscFunctionReturn(0);
 }

@@ -19,7 +19,7 @@ PetscErrorCode SpamTSSundialsHelp(TS ts, const SpamRunOptions *o)
 
   PetscFunctionBeginUser;
   PetscCall(SpamTSFamilyOf(ts, &mine));
-  PetscOptionsBegin(PetscObjectComm((PetscObject)ts), NULL, "Options of the SUNDIALS TS type not chosen", "TS");
+  PetscOptionsBegin(PetscObjectComm((PetscObject)ts), NULL, "Options of the TS types not chosen", "TS");
   for (int k = 0; (f = SpamTSFamilyAt(k)); k++)
     if (f != mine && f->help_other) PetscCall(f->help_other(PetscOptionsObject, o));
   PetscOptionsEnd();

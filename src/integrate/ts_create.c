@@ -14,6 +14,7 @@ PetscErrorCode SpamIntegratorsRegister(void)
   PetscCall(TSRegister(SPAM_TSARKODE, SpamTSCreate_ARKode));
   PetscCall(TSRegister(SPAM_TSARKODE_IMEX, SpamTSCreate_ARKodeImex));
   PetscCall(TSRegister(SPAM_TSCVODE, SpamTSCreate_CVode));
+  PetscCall(TSRegister(SPAM_TSBLOCK_KDK, SpamTSCreate_Block));
   PetscCall(SpamSymplecticRegister());
   PetscFunctionReturn(0);
 }

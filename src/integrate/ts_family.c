@@ -3,7 +3,7 @@
 #include <spam/errors.h>
 #include <strings.h>
 
-static const SpamTSFamily *const Families[] = {&SpamTSFamilyARKode, &SpamTSFamilyARKodeImex, &SpamTSFamilyCVode, &SpamTSFamilyRK, &SpamTSFamilySSP, &SpamTSFamilyEuler, &SpamTSFamilySymplectic};
+static const SpamTSFamily *const Families[] = {&SpamTSFamilyARKode, &SpamTSFamilyARKodeImex, &SpamTSFamilyCVode, &SpamTSFamilyRK, &SpamTSFamilySSP, &SpamTSFamilyEuler, &SpamTSFamilySymplectic, &SpamTSFamilyBlock};
 #define NFAMILIES ((int)(sizeof Families / sizeof Families[0]))
 
 const SpamTSFamily *SpamTSFamilyNamed(const char *type)

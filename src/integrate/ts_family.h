@@ -35,6 +35,7 @@ typedef struct SpamTSFamily {
   SpamTSFollow        follow;
   PetscBool           bound_as_max_step; /* takes the physical step bound as its largest step */
   PetscBool           solves;            /* solves stage equations to -ts_rtol, -ts_atol, even with fixed steps */
+  const char         *step_rule;         /* sets steps by a rule of its own, not an error test (NULL: none) */
   const char         *restart_inexact;   /* why a restart cannot continue bit for bit (NULL: it can) */
   const SpamTSOption *options;           /* the options only this type reads, {NULL} ended (may be NULL) */
   /* hooks, each optional */
@@ -79,5 +80,5 @@ const SpamTSOption *SpamTSFamilyOption(const SpamTSFamily *f, const char *name);
 PetscErrorCode SpamTSInterpolatesAlways(TS ts, PetscBool *yes);
 
 /* The rows, each defined beside its type's implementation. */
-extern const SpamTSFamily SpamTSFamilyARKode, SpamTSFamilyARKodeImex, SpamTSFamilyCVode, SpamTSFamilyRK, SpamTSFamilySSP, SpamTSFamilyEuler, SpamTSFamilySymplectic;
+extern const SpamTSFamily SpamTSFamilyARKode, SpamTSFamilyARKodeImex, SpamTSFamilyCVode, SpamTSFamilyRK, SpamTSFamilySSP, SpamTSFamilyEuler, SpamTSFamilySymplectic, SpamTSFamilyBlock;
 #endif

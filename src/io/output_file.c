@@ -79,6 +79,17 @@ void SpamFilePrintf(SpamFile *f, const char *fmt, ...)
   va_end(ap);
 }
 
+void SpamFilePuts(SpamFile *f, const char *s)
+{
+  if (!f->f || f->err) return;
+  if (++f->writes == f->fail_at) {
+    f->err = ENOSPC;
+    return;
+  }
+  errno = 0;
+  if (fputs(s, f->f) == EOF) f->err = errno ? errno : EIO;
+}
+
 void SpamFileDiscard(SpamFile *f)
 {
   if (!f->f) return;

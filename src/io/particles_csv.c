@@ -29,6 +29,33 @@ static void Header(SpamFile *f, const SpamLayout *l, PetscBool rho_sum)
   SpamFilePrintf(f, ",id%s\n", rho_sum ? ",rho_sum" : "");
 }
 
+/* SpamFilePrintf(f, "%s%.17g", sep, v), one write call, without printf's digits. */
+static void Value(SpamFile *f, const char *sep, double v)
+{
+  char buf[40];
+  int  k = 0;
+
+  while (*sep) buf[k++] = *sep++;
+  (void)SpamFormatG17(v, buf + k);
+  SpamFilePuts(f, buf);
+}
+
+/* SpamFilePrintf(f, ",%" PetscInt64_FMT, id), one write call. */
+static void Id(SpamFile *f, PetscInt64 id)
+{
+  char buf[24], *p = buf + sizeof buf - 1;
+
+  if (id < 0) {
+    SpamFilePrintf(f, ",%" PetscInt64_FMT, id);
+    return;
+  }
+  *p = 0;
+  do *--p = (char)('0' + id % 10);
+  while ((id /= 10) > 0);
+  *--p = ',';
+  SpamFilePuts(f, p);
+}
+
 /* The rows gathered on rank 0 and what to write around them. */
 typedef struct {
   const char     *path, *comment;
@@ -54,15 +81,15 @@ static PetscErrorCode WriteRowsOnRoot(void *ctx)
   Header(&f, l, w->rho_sum);
   for (PetscInt r = 0; r < rows->n; r++) {
     const double *p = rows->y + (size_t)r * l->nvar;
-    for (int d = 0; d < dim; d++) SpamFilePrintf(&f, "%s%.17g", d ? "," : "", SpamSnapshotPosition(&sim->geo.box, d, p[l->x + d]));
-    for (int d = 0; d < dim; d++) SpamFilePrintf(&f, ",%.17g", p[l->v + d]);
-    SpamFilePrintf(&f, ",%.17g", rows->m[r]);
-    if (l->e >= 0) SpamFilePrintf(&f, ",%.17g", p[l->e]);
-    if (l->rho >= 0) SpamFilePrintf(&f, ",%.17g", p[l->rho]);
-    for (int k = 0; l->s >= 0 && k < dim * (dim + 1) / 2; k++) SpamFilePrintf(&f, ",%.17g", p[l->s + k]);
-    SpamFilePrintf(&f, ",%" PetscInt64_FMT, rows->gid[r]);
-    if (w->rho_sum) SpamFilePrintf(&f, ",%.17g", rows->rho_sum[r]);
-    SpamFilePrintf(&f, "\n");
+    for (int d = 0; d < dim; d++) Value(&f, d ? "," : "", SpamSnapshotPosition(&sim->geo.box, d, p[l->x + d]));
+    for (int d = 0; d < dim; d++) Value(&f, ",", p[l->v + d]);
+    Value(&f, ",", rows->m[r]);
+    if (l->e >= 0) Value(&f, ",", p[l->e]);
+    if (l->rho >= 0) Value(&f, ",", p[l->rho]);
+    for (int k = 0; l->s >= 0 && k < dim * (dim + 1) / 2; k++) Value(&f, ",", p[l->s + k]);
+    Id(&f, rows->gid[r]);
+    if (w->rho_sum) Value(&f, ",", rows->rho_sum[r]);
+    SpamFilePuts(&f, "\n");
   }
   PetscCall(SpamFileCommit(&f));
   PetscFunctionReturn(0);

@@ -8,7 +8,7 @@ static int Arrays(SpamFields *f, double **a[40], int per[40])
   int       k = 0;
 #define SPAM_ARRAY(ptr, w) (a[k] = &(ptr), per[k++] = (w))
   SPAM_ARRAY(f->m, 1);
-  SPAM_ARRAY(f->minv, 1);
+  SPAM_ARRAY(f->minv, f->inverse_mass);
   SPAM_ARRAY(f->rho, 1);
   SPAM_ARRAY(f->q, 1);
   SPAM_ARRAY(f->acc, d);
@@ -57,6 +57,7 @@ PetscErrorCode SpamFieldsCreate(int dim, int n, int cap, PetscBool tensor, SpamF
   f->dim    = dim;
   f->n      = n;
   f->tensor = tensor;
+  f->inverse_mass = tensor ? 1 : 0;
   f->cap    = PetscMax(cap, n) + 1;
   na        = Arrays(f, a, per);
   for (int k = 0; k < na; k++)
@@ -97,6 +98,16 @@ PetscErrorCode SpamFieldsDestroy(SpamFields *f)
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode SpamFieldsAddInverseMass(SpamFields *f)
+{
+  PetscFunctionBeginUser;
+  if (f->minv) PetscFunctionReturn(0);
+  f->inverse_mass = 1;
+  PetscCall(PetscCalloc1((size_t)f->cap, &f->minv));
+  for (int i = 0; i < f->n; i++) f->minv[i] = 1.0 / f->m[i];
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamFieldsAddSmoothing(SpamFields *f)
 {
   double **a[40];
@@ -121,8 +132,8 @@ PetscBool SpamFieldsUniformMass(const SpamFields *f)
 void SpamFieldsSetMasses(SpamFields *f, const double *m, double uniform)
 {
   for (int i = 0; i < f->n; i++) {
-    f->m[i]    = m ? m[i] : uniform;
-    f->minv[i] = 1.0 / f->m[i];
+    f->m[i] = m ? m[i] : uniform;
+    if (f->minv) f->minv[i] = 1.0 / f->m[i];
   }
   f->uniform_mass = (int)SpamFieldsUniformMass(f);
 }

@@ -74,7 +74,7 @@ void SpamGasImagesMasses(SpamSim *sim)
   for (int k = 0; k < gh->n; k++) {
     if (gh->kind[k] != SPAM_GHOST_MIRROR) continue;
     f->m[n + k] *= PlaceRatio(sim, k);
-    f->minv[n + k] = 1.0 / f->m[n + k];
+    if (f->minv) f->minv[n + k] = 1.0 / f->m[n + k];
   }
   sim->pair.ghost_mass_build = -1;
 }

@@ -53,20 +53,38 @@ typedef struct {
   int                    own_rho;    /* grad v over each particle's own density (PassOf) */
 } TensorPass;
 
-/* Walk 1: the gradients and averages that read v, T and rho. */
-static inline __attribute__((always_inline)) void GradientPair(const int dim, TensorPass *c, int i, int j, const double dx[3], double r2, double w, double g)
+/* Walk 1: the gradients and averages that read v, T and rho. own (a literal) chooses the
+ * velocity gradient over each particle's own density; the pair-mean form is a walk of its
+ * own, so that its one factor g / rho_ij is one product per entry, not two. extras (a
+ * literal) admits the gas flow scheme's sums (shift, moment): the solid's and the plain
+ * gas's walk does not test for them at every pair. */
+static inline __attribute__((always_inline)) void GradientPairOwn(const int dim, const int own, const int extras, TensorPass *c, int i, int j, const double dx[3], double r2, double w, double g)
 {
   SpamFields  *f      = c->f;
   const double rho_ij = SpamPairMeanDensity(c->p->rho_geometric, f->rho[i], f->rho[j]);
-  if (c->own_rho) SpamPairVelocityGradient(dim, f, i, j, dx, g / f->rho[i], g / f->rho[j]);
+  if (own) SpamPairVelocityGradient(dim, f, i, j, dx, g / f->rho[i], g / f->rho[j]);
   else SpamPairVelocityGradient(dim, f, i, j, dx, g / rho_ij, g / rho_ij);
   if (c->coords == SPAM_COORDS_R1) SpamPairAverageVelocity(dim, f, i, j, w);
   else if (c->coords == SPAM_COORDS_R2) SpamPairXsph(dim, f, i, j, c->p->xsph_eps * w / rho_ij);
   if (c->gradT) SpamPairTemperatureGradient(dim, f, i, j, dx, g / rho_ij);
-  if (c->shift) SpamPairShift(dim, f, i, j, dx, c->shift_own ? g : SpamKernelShapeScaledG(SPAM_KERNEL_WENDLAND_C2, dim, c->shift_gnorm, sqrt(r2) * c->shift_hinv));
-  if (c->moment) SpamPairGradientMoment(dim, f, i, j, dx, g / rho_ij);
+  if (extras && c->shift) SpamPairShift(dim, f, i, j, dx, c->shift_own ? g : SpamKernelShapeScaledG(SPAM_KERNEL_WENDLAND_C2, dim, c->shift_gnorm, sqrt(r2) * c->shift_hinv));
+  if (extras && c->moment) SpamPairGradientMoment(dim, f, i, j, dx, g / rho_ij);
 }
-SPAM_PAIR_WALK(WalkGradients, TensorPass, GradientPair)
+static inline __attribute__((always_inline)) void GradientPairMean(const int dim, TensorPass *c, int i, int j, const double dx[3], double r2, double w, double g)
+{
+  GradientPairOwn(dim, 0, 0, c, i, j, dx, r2, w, g);
+}
+static inline __attribute__((always_inline)) void GradientPairExtras(const int dim, TensorPass *c, int i, int j, const double dx[3], double r2, double w, double g)
+{
+  GradientPairOwn(dim, 0, 1, c, i, j, dx, r2, w, g);
+}
+static inline __attribute__((always_inline)) void GradientPairOwnRho(const int dim, TensorPass *c, int i, int j, const double dx[3], double r2, double w, double g)
+{
+  GradientPairOwn(dim, 1, 1, c, i, j, dx, r2, w, g);
+}
+SPAM_PAIR_WALK(WalkGradients, TensorPass, GradientPairMean)
+SPAM_PAIR_WALK(WalkGradientsExtras, TensorPass, GradientPairExtras)
+SPAM_PAIR_WALK(WalkGradientsOwnRho, TensorPass, GradientPairOwnRho)
 
 static inline __attribute__((always_inline)) int BodyOf(const TensorPass *c, int i)
 {
@@ -104,8 +122,9 @@ static inline __attribute__((always_inline)) double TorqueFactor(const TensorPas
 }
 
 /* Walk 3: the pair force (scaled, with Monaghan's viscosity) and its work, the continuity
- * density rate and the heat flux. */
-static inline __attribute__((always_inline)) void ForcePair(const int dim, TensorPass *c, int i, int j, const double dx[3], double r2, double w, double g)
+ * density rate and the heat flux. pairdiff (a literal) admits the pair Laplacians: the
+ * walk without them does not test for them at every pair. */
+static inline __attribute__((always_inline)) void ForcePairWith(const int dim, const int pairdiff, TensorPass *c, int i, int j, const double dx[3], double r2, double w, double g)
 {
   SpamFields *f = c->f;
   double      F[3];
@@ -117,7 +136,7 @@ static inline __attribute__((always_inline)) void ForcePair(const int dim, Tenso
     const double pi     = SpamPairMonaghan(dim, c->p->visc_alpha, c->p->visc_beta, c->p->sound_speed, c->h, dx, f->v + (size_t)i * dim, f->v + (size_t)j * dim, r2, rho_ij);
     for (int d = 0; d < dim; d++) F[d] -= f->m[i] * f->m[j] * pi * g * dx[d];
   }
-  if (c->pairdiff) {
+  if (pairdiff && c->pairdiff) {
     if (c->diffuse) {
       const double k = SpamPairDiffusionFactor(f, i, j, g);
       SpamPairViscousDiffusion(dim, f, i, j, c->p->shear_visc, k, F);
@@ -127,7 +146,16 @@ static inline __attribute__((always_inline)) void ForcePair(const int dim, Tenso
   } else if (c->conduction) SpamPairHeatFlux(dim, f, i, j, dx, g);
   SpamPairApplyForce(dim, f, i, j, dx, g, F, c->continuity);
 }
+static inline __attribute__((always_inline)) void ForcePair(const int dim, TensorPass *c, int i, int j, const double dx[3], double r2, double w, double g)
+{
+  ForcePairWith(dim, 0, c, i, j, dx, r2, w, g);
+}
+static inline __attribute__((always_inline)) void ForcePairDiffusion(const int dim, TensorPass *c, int i, int j, const double dx[3], double r2, double w, double g)
+{
+  ForcePairWith(dim, 1, c, i, j, dx, r2, w, g);
+}
 SPAM_PAIR_WALK(WalkForces, TensorPass, ForcePair)
+SPAM_PAIR_WALK(WalkForcesDiffusion, TensorPass, ForcePairDiffusion)
 
 /* The diffusion part alone (SPAM_RHS_DIFFUSION): the moment that normalises the pair
  * Laplacian, then the Laplacians with the viscous force's work. */
@@ -238,7 +266,9 @@ static PetscErrorCode Gradients(SpamSim *sim, TensorPass *c)
     for (int d = 0; d < dim; d++) f->xdot[(size_t)i * dim + d] = self * f->v[(size_t)i * dim + d];
     f->wsum[i] = c->coords == SPAM_COORDS_R1 && i < n ? w0 : 0.0;
   }
-  PetscCall(WalkGradients(&sim->pair.nl, &sim->model.kernel, c));
+  if (c->own_rho) PetscCall(WalkGradientsOwnRho(&sim->pair.nl, &sim->model.kernel, c));
+  else if (c->shift || c->moment) PetscCall(WalkGradientsExtras(&sim->pair.nl, &sim->model.kernel, c));
+  else PetscCall(WalkGradients(&sim->pair.nl, &sim->model.kernel, c));
   SpamGhostsFold(gh, dim, n, dim * dim, SPAM_GHOST_TENSOR, f->gradv);
   SpamGhostsFold(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->xdot);
   SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->wsum);
@@ -375,7 +405,8 @@ static PetscErrorCode Forces(SpamSim *sim, TensorPass *c, const double *y)
     SpamGasFlowTemperatureGradient(sim); /* f->heat: grad T made exact for a linear T */
     Zero(f->qlin, (size_t)n);
   }
-  PetscCall(WalkForces(&sim->pair.nl, &sim->model.kernel, c));
+  if (c->pairdiff) PetscCall(WalkForcesDiffusion(&sim->pair.nl, &sim->model.kernel, c));
+  else PetscCall(WalkForces(&sim->pair.nl, &sim->model.kernel, c));
   FoldRates(gh, f, n, PETSC_TRUE);
   for (int i = 0; i < n; i++) f->edot[i] += f->qdot[i];
   if (c->flow) SpamGasFlowCorrect(sim, y, &c->bg);

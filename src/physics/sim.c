@@ -19,6 +19,24 @@ static PetscErrorCode NumberParticles(SpamSwarm *sw)
   PetscFunctionReturn(0);
 }
 
+/* The fields a migration carries (masses, body labels, the list's reference positions:
+ * sim_migrate.c) on several ranks only: one rank never migrates nor places particles
+ * (SpamSimDistribute, and a restart continues on the rank count that wrote it), and DMSwarm
+ * zeroes every field it sizes, so on one rank they would take 28 bytes a particle in 2D
+ * that nothing reads. */
+static PetscErrorCode RegisterCarried(DM swarm, int dim)
+{
+  PetscMPIInt size;
+
+  PetscFunctionBeginUser;
+  PetscCallMPI(MPI_Comm_size(PetscObjectComm((PetscObject)swarm), &size));
+  if (size == 1) PetscFunctionReturn(0);
+  PetscCall(DMSwarmRegisterPetscDatatypeField(swarm, SPAM_MASS_FIELD, 1, PETSC_REAL));
+  PetscCall(DMSwarmRegisterPetscDatatypeField(swarm, SPAM_BODY_FIELD, 1, PETSC_INT));
+  PetscCall(DMSwarmRegisterPetscDatatypeField(swarm, SPAM_XREF_FIELD, dim, PETSC_REAL));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamSimCreate(MPI_Comm comm, const SpamModel *model, const SpamBox *box, PetscInt n, double skin, SpamSim *sim)
 {
   PetscFunctionBeginUser;
@@ -37,15 +55,14 @@ PetscErrorCode SpamSimCreate(MPI_Comm comm, const SpamModel *model, const SpamBo
   PetscCall(DMSwarmInitializeFieldRegister(sim->p.swarm));
   PetscCall(DMSwarmRegisterPetscDatatypeField(sim->p.swarm, SPAM_STATE_FIELD, model->layout.nvar, PETSC_REAL));
   PetscCall(DMSwarmRegisterPetscDatatypeField(sim->p.swarm, SPAM_GID_FIELD, 1, PETSC_INT64));
-  PetscCall(DMSwarmRegisterPetscDatatypeField(sim->p.swarm, SPAM_MASS_FIELD, 1, PETSC_REAL));
-  PetscCall(DMSwarmRegisterPetscDatatypeField(sim->p.swarm, SPAM_BODY_FIELD, 1, PETSC_INT));
-  PetscCall(DMSwarmRegisterPetscDatatypeField(sim->p.swarm, SPAM_XREF_FIELD, model->dim, PETSC_REAL));
+  PetscCall(RegisterCarried(sim->p.swarm, model->dim));
   PetscCall(DMSwarmFinalizeFieldRegister(sim->p.swarm));
   PetscCall(DMSwarmSetLocalSizes(sim->p.swarm, n, 0));
   PetscCall(DMSwarmGetField(sim->p.swarm, SPAM_GID_FIELD, NULL, NULL, (void **)&sim->p.gid));
   PetscCall(NumberParticles(&sim->p));
   PetscCall(SpamFieldsCreate(model->dim, (int)n, (int)n, model->tensor, &sim->pair.f));
   SpamFieldsSetMasses(&sim->pair.f, NULL, model->mass);
+  if (model->inverse_mass) PetscCall(SpamFieldsAddInverseMass(&sim->pair.f));
   if (model->tensor && model->solid.smoothing == SPAM_SMOOTHING_ADAPTIVE) PetscCall(SpamFieldsAddSmoothing(&sim->pair.f));
   PetscFunctionReturn(0);
 }
@@ -125,7 +142,7 @@ PetscErrorCode SpamSimSetUp(SpamSim *sim)
 {
   PetscFunctionBeginUser;
   PetscCall(DMSwarmGetSize(sim->p.swarm, &sim->p.nglobal));
-  PetscCall(DMSwarmCreateGlobalVectorFromField(sim->p.swarm, SPAM_STATE_FIELD, &sim->p.X));
+  PetscCall(SpamSwarmOpenState(&sim->p));
   PetscCall(CreateScratch(sim));
   PetscCall(RegisterEvents(sim));
   PetscCall(FirstBuild(sim));
@@ -145,25 +162,33 @@ static PetscErrorCode UniformMassEverywhere(SpamSim *sim)
   PetscFunctionReturn(0);
 }
 
-/* The carried masses and body labels of the swarm into the re-made fields and labels. */
+/* The carried masses and body labels (the swarm's fields, or on one rank the stash) into the
+ * re-made fields and labels. */
 static PetscErrorCode TakeCarried(SpamSim *sim)
 {
   PetscReal *m;
   PetscInt  *body;
 
   PetscFunctionBeginUser;
-  PetscCall(DMSwarmGetField(sim->p.swarm, SPAM_MASS_FIELD, NULL, NULL, (void **)&m));
+  if (sim->stash.m) { /* one rank: by gid from the stash (sim_migrate.c) */
+    PetscCall(PetscMalloc2(sim->p.n + 1, &m, sim->p.n + 1, &body));
+    for (PetscInt i = 0; i < sim->p.n; i++) {
+      m[i]    = sim->stash.m[sim->p.gid[i]];
+      body[i] = sim->stash.body[sim->p.gid[i]];
+    }
+  } else PetscCall(DMSwarmGetField(sim->p.swarm, SPAM_MASS_FIELD, NULL, NULL, (void **)&m));
   SpamFieldsSetMasses(&sim->pair.f, m, 0.0);
-  PetscCall(DMSwarmRestoreField(sim->p.swarm, SPAM_MASS_FIELD, NULL, NULL, (void **)&m));
+  if (!sim->stash.m) PetscCall(DMSwarmRestoreField(sim->p.swarm, SPAM_MASS_FIELD, NULL, NULL, (void **)&m));
   if (sim->geo.dec) PetscCall(UniformMassEverywhere(sim));
   if (sim->ps) {
     PetscCall(PetscFree(sim->ps->body));
     PetscCall(PetscMalloc1(sim->p.n + 1, &sim->ps->body));
     sim->ps->n = sim->p.n;
-    PetscCall(DMSwarmGetField(sim->p.swarm, SPAM_BODY_FIELD, NULL, NULL, (void **)&body));
+    if (!sim->stash.m) PetscCall(DMSwarmGetField(sim->p.swarm, SPAM_BODY_FIELD, NULL, NULL, (void **)&body));
     for (PetscInt i = 0; i < sim->p.n; i++) sim->ps->body[i] = (int)body[i];
-    PetscCall(DMSwarmRestoreField(sim->p.swarm, SPAM_BODY_FIELD, NULL, NULL, (void **)&body));
+    if (!sim->stash.m) PetscCall(DMSwarmRestoreField(sim->p.swarm, SPAM_BODY_FIELD, NULL, NULL, (void **)&body));
   }
+  if (sim->stash.m) PetscCall(PetscFree2(m, body));
   PetscFunctionReturn(0);
 }
 
@@ -199,7 +224,7 @@ PetscErrorCode SpamSimGhostMasses(SpamSim *sim)
   if (sim->pair.ghost_mass_build == sim->pair.nl.builds) PetscFunctionReturn(0);
   PetscCall(SpamFieldsReserve(&sim->pair.f, SpamNeighboursSlots(&sim->pair.nl)));
   PetscCall(SpamGhostsGather(g, dim, n, 1, SPAM_GHOST_SCALAR, sim->pair.f.m));
-  PetscCall(SpamGhostsGather(g, dim, n, 1, SPAM_GHOST_SCALAR, sim->pair.f.minv));
+  if (sim->pair.f.minv) PetscCall(SpamGhostsGather(g, dim, n, 1, SPAM_GHOST_SCALAR, sim->pair.f.minv));
   if (!sim->model.tensor && sim->model.density_free) PetscCall(SpamGhostsGather(g, dim, n, 1, SPAM_GHOST_SCALAR, sim->pair.f.q));
   sim->pair.ghost_mass_build = sim->pair.nl.builds;
   PetscFunctionReturn(0);
@@ -215,7 +240,7 @@ PetscErrorCode SpamSimBuildList(SpamSim *sim)
 PetscErrorCode SpamSimDestroy(SpamSim *sim)
 {
   PetscFunctionBeginUser;
-  if (sim->p.X) PetscCall(DMSwarmDestroyGlobalVectorFromField(sim->p.swarm, SPAM_STATE_FIELD, &sim->p.X));
+  PetscCall(SpamSwarmCloseState(&sim->p));
   PetscCall(SpamFieldsDestroy(&sim->pair.f));
   if (sim->pair.nl.start) {
     PetscCall(PetscFree2(sim->pair.tacc, sim->pair.trho));
@@ -224,6 +249,7 @@ PetscErrorCode SpamSimDestroy(SpamSim *sim)
   PetscCall(PetscFree(sim->p.at_row));
   if (sim->geo.dec) PetscCall(SpamDecompDestroy(sim->geo.dec));
   PetscCall(PetscFree(sim->geo.dec));
+  PetscCall(PetscFree3(sim->stash.m, sim->stash.xref, sim->stash.body));
   if (sim->p.gid) PetscCall(DMSwarmRestoreField(sim->p.swarm, SPAM_GID_FIELD, NULL, NULL, (void **)&sim->p.gid));
   PetscCall(DMDestroy(&sim->p.swarm));
   PetscFunctionReturn(0);

@@ -154,6 +154,7 @@ PetscErrorCode SpamModelSpringsSetUp(int dim, double h, double mass, double kspr
   PetscCall(SpamKernelLucyInit(dim, h, &m->kernel)); /* the neighbour search range at set-up */
   PetscCall(SpamLayoutPositionsVelocities(dim, &m->layout));
   m->rhs   = RhsSprings;
+  m->inverse_mass = PETSC_TRUE; /* pair_spring.h */
   m->accel = AccelSprings;
   m->max_sound_speed = SpringsSoundSpeed;
   m->diag  = DiagSprings;

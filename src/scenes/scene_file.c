@@ -152,7 +152,7 @@ static int ParseLine(const char *line, double *vals, int max, int *badfield, con
     char  *end;
     double v;
     errno = 0;
-    v     = strtod(s, &end);
+    v     = SpamParseDouble(s, &end);
     *why  = NULL;
     if (end == s) { /* nothing converted: strtod skipped any blanks, so test before ours */
       const char *t = s;

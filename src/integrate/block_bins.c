@@ -1,0 +1,119 @@
+/* The per-particle step of the block steps (ts_block_kdk.c) and the one neighbour walk it
+ * needs: the signal speed of each particle (the CFL condition of a particle in a shock is
+ * set by its neighbours' sound speeds and their approach, not its own alone) and the
+ * deepest bin among its neighbours (the Saitoh-Makino limiter). */
+#include "block_kdk.h"
+#include "../pair/pair_walk.h"
+
+typedef struct {
+  const double *c, *vel;
+  const int    *lev;
+  double       *sig;
+  int          *nbmax;
+  const int    *src;  /* [ghosts] local source of each ghost slot (-1: remote)      */
+  const unsigned char *kind; /* [ghosts] SpamGhostKind                             */
+  int           n;
+} WalkCtx;
+
+/* The local particle a slot's share goes to: itself, the source of a periodic image (the
+ * image stands for the same particle), or none (a mirror image: the wall's). */
+static inline int Owner(const WalkCtx *c, int j)
+{
+  if (j < c->n) return j;
+  return c->kind[j - c->n] == SPAM_GHOST_PERIODIC ? c->src[j - c->n] : -1;
+}
+
+static inline __attribute__((always_inline)) void SignalPair(const int dim, WalkCtx *c, int i, int j, const double dx[3], double r2, double w, double g)
+{
+  const double *vi = c->vel + (size_t)i * dim, *vj = c->vel + (size_t)j * dim;
+  double        vr = 0.0, s;
+  const int     o  = Owner(c, j);
+  (void)w;
+  (void)g;
+  for (int d = 0; d < dim; d++) vr += (vi[d] - vj[d]) * dx[d];
+  s = c->c[i] + c->c[j] + (vr < 0.0 && r2 > 0.0 ? -3.0 * vr / sqrt(r2) : 0.0);
+  if (s > c->sig[i]) c->sig[i] = s;
+  if (c->lev[j] > c->nbmax[i]) c->nbmax[i] = c->lev[j];
+  if (o >= 0) {
+    if (s > c->sig[o]) c->sig[o] = s;
+    if (c->lev[i] > c->nbmax[o]) c->nbmax[o] = c->lev[i];
+  }
+}
+SPAM_PAIR_WALK(WalkSignal, WalkCtx, SignalPair)
+
+PetscErrorCode SpamBlockWalkDestroy(SpamBlockWalk *w)
+{
+  PetscFunctionBeginUser;
+  if (w->cap) PetscCall(PetscFree5(w->c, w->vel, w->sig, w->lev, w->nbmax));
+  w->cap = 0;
+  PetscFunctionReturn(0);
+}
+
+/* Room for the list's slots: grows only when a build added ghosts. */
+static PetscErrorCode Reserve(SpamBlockWalk *w, int slots, int dim)
+{
+  PetscFunctionBeginUser;
+  if (slots <= w->cap) PetscFunctionReturn(0);
+  PetscCall(SpamBlockWalkDestroy(w));
+  w->cap = slots + slots / 4 + 16;
+  PetscCall(PetscMalloc5(w->cap, &w->c, (size_t)w->cap * dim, &w->vel, w->cap, &w->sig, w->cap, &w->lev, w->cap, &w->nbmax));
+  PetscFunctionReturn(0);
+}
+
+/* The sound speed of particle block p: the ideal gas's own sqrt(gamma (gamma - 1) e), at
+ * least the model's (for the gas, the ambient one; for the others, their only one). */
+static double SoundSpeed(const SpamSim *sim, double cmodel, const double *p)
+{
+  const SpamModel *m = &sim->model;
+
+  if (m->tensor && m->solid.material == SPAM_MATERIAL_GAS && m->layout.e >= 0) {
+    const double e = p[m->layout.e], g = m->solid.gamma;
+    return PetscMax(cmodel, e > 0.0 ? sqrt(g * (g - 1.0) * e) : 0.0);
+  }
+  return cmodel;
+}
+
+PetscErrorCode SpamBlockNeighbours(SpamSim *sim, const double *y, const int *lev, SpamBlockWalk *w)
+{
+  const SpamLayout *l    = &sim->model.layout;
+  const SpamGhosts *gh   = &sim->pair.nl.ghosts;
+  const int         dim  = sim->model.dim, n = (int)sim->p.n, slots = SpamNeighboursSlots(&sim->pair.nl);
+  double            cmod = 0.0;
+  WalkCtx           c;
+
+  PetscFunctionBeginUser;
+  PetscCall(Reserve(w, slots, dim));
+  if (sim->model.max_sound_speed) PetscCall(sim->model.max_sound_speed(sim, y, &cmod));
+  for (int i = 0; i < n; i++) {
+    const double *p = y + (size_t)i * l->nvar;
+    w->c[i]         = SoundSpeed(sim, cmod, p);
+    w->sig[i]       = w->c[i];
+    w->lev[i]       = lev ? lev[i] : 0;
+    w->nbmax[i]     = w->lev[i];
+    for (int d = 0; d < dim; d++) w->vel[(size_t)i * dim + d] = p[l->v + d];
+  }
+  for (int k = 0; k < slots - n; k++) {
+    const int src = gh->src[k];
+    /* a remote ghost: block steps run on one rank (refused at set-up), so there is none */
+    const int s   = src >= 0 ? src : 0;
+    w->c[n + k]   = w->c[s];
+    w->sig[n + k] = 0.0;
+    w->lev[n + k] = w->lev[s];
+    for (int d = 0; d < dim; d++) w->vel[(size_t)(n + k) * dim + d] = ((gh->flip[k] >> d) & 1) ? -w->vel[(size_t)s * dim + d] : w->vel[(size_t)s * dim + d];
+  }
+  c = (WalkCtx){w->c, w->vel, w->lev, w->sig, w->nbmax, gh->src, gh->kind, n};
+  PetscCall(WalkSignal(&sim->pair.nl, &sim->model.kernel, &c));
+  PetscFunctionReturn(0);
+}
+
+double SpamBlockWanted(const SpamSim *sim, const SpamBlockSettings *s, const SpamBlockWalk *w, PetscInt i, const double *rate)
+{
+  const SpamLayout *l  = &sim->model.layout;
+  const double      h  = sim->pair.f.adaptive ? sim->pair.f.h[i] : sim->model.kernel.h;
+  double            dt = PETSC_INFINITY, a2 = 0.0;
+
+  if (w->sig[i] > 0.0) dt = s->cfl * h / w->sig[i];
+  for (int d = 0; d < sim->model.dim; d++) a2 += rate[l->v + d] * rate[l->v + d];
+  if (a2 > 0.0) dt = PetscMin(dt, s->force * sqrt(h / sqrt(a2)));
+  return dt;
+}

@@ -1,0 +1,34 @@
+/* Block (power-of-two) individual time steps (ts_block_kdk.c): the per-particle step
+ * criterion and the neighbour walk behind it (block_bins.c). */
+#ifndef SPAM_BLOCK_KDK_H
+#define SPAM_BLOCK_KDK_H
+#include <spam/sim.h>
+
+/* -block_cfl, -block_force, -block_max_level. */
+typedef struct {
+  double   cfl, force;
+  PetscInt max_level;
+} SpamBlockSettings;
+
+/* A particle's bin may be at most this many levels longer than any neighbour's
+ * (Saitoh and Makino 2009: a factor 4 in step). */
+#define SPAM_BLOCK_LIMITER 2
+
+/* What one walk of the neighbour list gives: each particle's signal speed
+ * sig_i = max_j (c_i + c_j + 3 max(0, -v_ij . r_ij / |r_ij|)) over its neighbours (at
+ * least c_i), and the deepest bin among its neighbours. Arrays over the list's slots
+ * (local particles and their ghosts), grown at list builds only. */
+typedef struct {
+  int     cap;
+  double *c, *vel, *sig;
+  int    *lev, *nbmax;
+} SpamBlockWalk;
+
+PetscErrorCode SpamBlockWalkDestroy(SpamBlockWalk *w);
+/* Per particle from state y (whose positions the list was last updated to) and bins lev
+ * (may be NULL: all level 0): w->sig[i] and w->nbmax[i] for i < n. */
+PetscErrorCode SpamBlockNeighbours(SpamSim *sim, const double *y, const int *lev, SpamBlockWalk *w);
+/* The step particle i wants: min(cfl h_i / sig_i, force sqrt(h_i / |a_i|)), a_i the
+ * velocity rate in rate (one particle block); infinity when neither bounds it. */
+double SpamBlockWanted(const SpamSim *sim, const SpamBlockSettings *s, const SpamBlockWalk *w, PetscInt i, const double *rate);
+#endif

@@ -1,0 +1,458 @@
+/* Block individual time steps ("block_kdk"): kick-drift-kick with each particle's step in
+ * a power-of-two bin dt_k = D / 2^k of the top step D, as GADGET, SWIFT and Phantom step
+ * their particles. One TSStep is one synchronised cycle of length D (at most the distance
+ * to the next output time, and -ts_dt if given), so every output is a synchronised state.
+ *
+ * Within the cycle time is counted in ticks of D / 2^L (L = -block_max_level). At each
+ * tick where some particle's step ends: every particle drifts (x += v dt, v its
+ * half-kicked velocity), the right-hand side is evaluated on the predicted state (the
+ * fields other than x of a particle mid-step advanced along its last rate, as GADGET
+ * predicts them), the particles whose step ends get their second half kick and start a
+ * new step in the bin their criterion asks (CFL on h_i with the signal speed, and
+ * sqrt(h_i/|a_i|)), and the Saitoh-Makino limiter keeps each bin at most two levels longer
+ * than its neighbours': a particle too slow beside a neighbour just made fast is woken,
+ * its step ended now with its kicks corrected to the time it actually ran.
+ *
+ * Every field but the position is kicked with its rate (velocity, energy, and the
+ * density, stress and books where the model carries them); positions drift with the
+ * velocity alone. This first version evaluates the whole right-hand side at each tick
+ * and kicks the active particles only: the dynamics of block steps, not their speed (a
+ * pass restricted to the active particles is what would bring it); -ts_view reports the
+ * fraction of particles active per evaluation, the share such a pass would do. */
+#include <petsc/private/tsimpl.h>
+#include "ts_family.h"
+#include "block_kdk.h"
+#include <spam/errors.h>
+
+typedef struct {
+  SpamBlockSettings set;
+  SpamBlockWalk     walk;
+  PetscInt          n, nv;   /* particles and fields the arrays were made for         */
+  double           *f, *g, *yp; /* [n nv]: rates at each particle's step start, the last
+                                * evaluation's, the predicted state                      */
+  int              *lev;     /* [n] bin of the current step                            */
+  PetscInt64       *start;   /* [n] tick where the current step began                  */
+  unsigned char    *ends;    /* [n] the step ends (or is woken) at this tick            */
+  PetscBool         have_f;  /* f holds the rates of the synchronised state             */
+  /* statistics: cycles, evaluations, particle steps, woken particles, sum over the
+   * evaluations of the fraction of particles whose step ended there, deepest bin */
+  long              cycles, evals, psteps, woken;
+  double            active_sum;
+  int               deepest;
+} TS_SpamBlock;
+
+/* One evaluation into out; *ok false (and the failure booked) when a particle went bad. */
+static PetscErrorCode Evaluate(SpamTsApp *app, double t, const double *y, double *out, PetscBool *ok)
+{
+  PetscInt bad;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamRhs(app->sim, y, out, &bad));
+  *ok = (PetscBool)(bad < 0);
+  if (bad >= 0 && app->bad < 0) {
+    app->bad  = bad;
+    app->tbad = t;
+  }
+  PetscFunctionReturn(0);
+}
+
+/* Kicks the fields other than the position of particle i by dt along rate. */
+static inline void Kick(const SpamLayout *l, int dim, double *p, const double *rate, double dt)
+{
+  for (int k = 0; k < l->nvar; k++)
+    if (k < l->x || k >= l->x + dim) p[k] += dt * rate[k];
+}
+
+/* The shallowest bin whose step D / 2^k is at most dt; -1 beyond bin L. */
+static int LevelFor(double dt, double D, int L)
+{
+  int k = 0;
+  if (!(dt > 0.0)) return -1;
+  while (k <= L && D / (double)((PetscInt64)1 << k) > dt) k++;
+  return k > L ? -1 : k;
+}
+
+/* The deepest bin whose grid tick s lies on (s a multiple of 2^(L-k)): a step may only
+ * start on its own bin's grid, so that it ends on the coarser bins' ends. */
+static int AlignedLevel(PetscInt64 s, int L)
+{
+  int k = L;
+  while (k > 0 && !(s & ((PetscInt64)1 << (L - k)))) k--;
+  return k;
+}
+
+static PetscErrorCode Fail(TS ts, SpamTsApp *app, const char *msg)
+{
+  PetscFunctionBeginUser;
+  (void)snprintf(app->fail, sizeof app->fail, "%s", msg);
+  ts->reason = TS_DIVERGED_STEP_REJECTED;
+  PetscFunctionReturn(0);
+}
+
+/* The bins of a synchronised start: each particle's wanted bin, then the limiter applied
+ * until no bin changes (a deep bin spreads to its neighbours two levels at a time). */
+static PetscErrorCode FirstBins(TS ts, SpamTsApp *app, TS_SpamBlock *b, const double *y, double D, int L, PetscBool *ok)
+{
+  SpamSim  *sim = app->sim;
+  PetscBool changed = PETSC_TRUE;
+
+  PetscFunctionBeginUser;
+  *ok = PETSC_TRUE; /* b->walk holds the signal speeds of y (TSStep walked it for TopStep) */
+  for (PetscInt i = 0; i < b->n; i++) {
+    const double want = SpamBlockWanted(sim, &b->set, &b->walk, i, b->f + (size_t)i * b->nv);
+    b->lev[i]         = LevelFor(want, D, L);
+    if (b->lev[i] < 0) {
+      char msg[200];
+      (void)snprintf(msg, sizeof msg, "particle %" PetscInt_FMT " wants a step %.3e below the deepest bin %.3e (-block_max_level %d)", SpamSimRowOf(sim, i), want, D / (double)((PetscInt64)1 << L), L);
+      PetscCall(Fail(ts, app, msg));
+      *ok = PETSC_FALSE;
+      PetscFunctionReturn(0);
+    }
+  }
+  for (int pass = 0; L > 0 && changed && pass <= L; pass++) { /* one bin: nothing to limit */
+    changed = PETSC_FALSE;
+    PetscCall(SpamBlockNeighbours(sim, y, b->lev, &b->walk));
+    for (PetscInt i = 0; i < b->n; i++)
+      if (b->lev[i] < b->walk.nbmax[i] - SPAM_BLOCK_LIMITER) {
+        b->lev[i] = b->walk.nbmax[i] - SPAM_BLOCK_LIMITER;
+        changed   = PETSC_TRUE;
+      }
+  }
+  PetscFunctionReturn(0);
+}
+
+/* The state the right-hand side sees at tick s: positions as drifted, the other fields of
+ * each particle advanced from its step's middle (where the first half kick left them)
+ * along its step's rate; a particle whose step ends at s gets the whole old kick. */
+static void Predict(const TS_SpamBlock *b, const SpamLayout *l, int dim, const double *y, PetscInt64 s, PetscInt64 ticks, double tau)
+{
+  for (PetscInt i = 0; i < b->n; i++) {
+    const double *p = y + (size_t)i * b->nv, *r = b->f + (size_t)i * b->nv;
+    double       *q = b->yp + (size_t)i * b->nv;
+    const double  dt = (double)(ticks >> b->lev[i]) * tau, since = (double)(s - b->start[i]) * tau;
+    for (int k = 0; k < b->nv; k++) q[k] = p[k];
+    Kick(l, dim, q, r, since - 0.5 * dt);
+  }
+}
+
+/* The limiter against the bins just chosen at tick s, one ring of neighbours: a particle
+ * more than two bins coarser than a neighbour takes a deeper bin. One starting a step at s
+ * just does; one mid-step is woken, its step ended at s with its kicks corrected to the
+ * time it ran (the first half kick of the step planned undone, half the step run kicked
+ * with the old rate and half with the new one), and starts anew. *moved: some bin changed. */
+static PetscErrorCode Wake(SpamSim *sim, TS_SpamBlock *b, double *y, PetscInt64 s, int L, PetscInt64 ticks, double tau, PetscBool *moved)
+{
+  const SpamLayout *l   = &sim->model.layout;
+  const int         dim = sim->model.dim, aligned = AlignedLevel(s, L);
+
+  PetscFunctionBeginUser;
+  *moved = PETSC_FALSE;
+  PetscCall(SpamBlockNeighbours(sim, b->yp, b->lev, &b->walk));
+  for (PetscInt i = 0; i < b->n; i++) {
+    if (b->lev[i] >= b->walk.nbmax[i] - SPAM_BLOCK_LIMITER || b->lev[i] >= L) continue;
+    *moved = PETSC_TRUE;
+    if (!b->ends[i]) {
+      double      *p   = y + (size_t)i * b->nv;
+      const double old = (double)(ticks >> b->lev[i]) * tau, ran = (double)(s - b->start[i]) * tau;
+      Kick(l, dim, p, b->f + (size_t)i * b->nv, 0.5 * (ran - old));
+      Kick(l, dim, p, b->g + (size_t)i * b->nv, 0.5 * ran);
+      b->ends[i] = 1;
+      b->woken++;
+      b->psteps++;
+    }
+    b->lev[i] = PetscMin(L, PetscMax(aligned, b->walk.nbmax[i] - SPAM_BLOCK_LIMITER));
+  }
+  PetscFunctionReturn(0);
+}
+
+/* After the evaluation at tick s: the particles whose step ends take their new bin (the
+ * wanted one, no coarser than s's grid allows, the limiter's against the neighbours'
+ * bins); then the particles these leave too slow are woken (only a bin made deeper can
+ * leave one so), and theirs in turn.
+ * Each particle starting a step gets its first half kick. */
+static PetscErrorCode Rebin(TS ts, SpamTsApp *app, TS_SpamBlock *b, double *y, PetscInt64 s, double D, int L, PetscInt64 ticks, double tau, PetscBool *ok)
+{
+  SpamSim          *sim = app->sim;
+  const SpamLayout *l   = &sim->model.layout;
+  const int         dim = sim->model.dim, aligned = AlignedLevel(s, L);
+  PetscBool         deeper = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  *ok = PETSC_TRUE;
+  PetscCall(SpamBlockNeighbours(sim, b->yp, b->lev, &b->walk));
+  for (PetscInt i = 0; i < b->n; i++) {
+    if (!b->ends[i]) continue;
+    const double want = SpamBlockWanted(sim, &b->set, &b->walk, i, b->g + (size_t)i * b->nv);
+    int          k    = LevelFor(want, D, L);
+    if (k < 0) {
+      char msg[200];
+      (void)snprintf(msg, sizeof msg, "particle %" PetscInt_FMT " wants a step %.3e below the deepest bin %.3e (-block_max_level %d)", SpamSimRowOf(sim, i), want, D / (double)((PetscInt64)1 << L), L);
+      PetscCall(Fail(ts, app, msg));
+      *ok = PETSC_FALSE;
+      PetscFunctionReturn(0);
+    }
+    k = PetscMin(L, PetscMax(k, PetscMax(aligned, b->walk.nbmax[i] - SPAM_BLOCK_LIMITER)));
+    deeper |= k > b->lev[i];
+    b->lev[i] = k;
+  }
+  /* a woken particle's bin is deeper too: the limiter spreads ring by ring until it holds */
+  for (int ring = 0; deeper && ring <= L; ring++) PetscCall(Wake(sim, b, y, s, L, ticks, tau, &deeper));
+  for (PetscInt i = 0; i < b->n; i++) {
+    if (!b->ends[i]) continue;
+    PetscCall(PetscArraycpy(b->f + (size_t)i * b->nv, b->g + (size_t)i * b->nv, b->nv));
+    Kick(l, dim, y + (size_t)i * b->nv, b->f + (size_t)i * b->nv, 0.5 * (double)(ticks >> b->lev[i]) * tau);
+    b->start[i] = s;
+    b->deepest  = PetscMax(b->deepest, b->lev[i]);
+  }
+  PetscFunctionReturn(0);
+}
+
+/* The top step: the longest any particle wants, at most the distance to the stop time,
+ * -ts_dt, and 2^L times the shortest any particle wants (so that it fits the deepest
+ * bin: with -block_max_level 0 the method is global kick-drift-kick on the shortest). */
+static double TopStep(const TS ts, const SpamTsApp *app, const TS_SpamBlock *b)
+{
+  double D = ts->max_time - ts->ptime, longest = 0.0, shortest = PETSC_INFINITY;
+
+  if (app->o->dt_first > 0) D = PetscMin(D, app->o->dt_first);
+  for (PetscInt i = 0; i < b->n; i++) {
+    const double want = SpamBlockWanted(app->sim, &b->set, &b->walk, i, b->f + (size_t)i * b->nv);
+    longest  = PetscMax(longest, want);
+    shortest = PetscMin(shortest, want);
+  }
+  if (longest > 0.0) D = PetscMin(D, longest);
+  if (shortest > 0.0) D = PetscMin(D, shortest * (double)((PetscInt64)1 << b->set.max_level));
+  return D;
+}
+
+/* One tick: drift everyone to tick s, evaluate on the predicted state, second half kick of
+ * the particles whose step ends there. */
+static PetscErrorCode Tick(SpamTsApp *app, TS_SpamBlock *b, double *y, PetscInt64 from, PetscInt64 s, PetscInt64 ticks, double t0, double tau, PetscBool *ok)
+{
+  SpamSim          *sim = app->sim;
+  const SpamLayout *l   = &sim->model.layout;
+  const int         dim = sim->model.dim;
+  const double      dt  = (double)(s - from) * tau;
+  PetscInt          nact = 0;
+
+  PetscFunctionBeginUser;
+  for (PetscInt i = 0; i < b->n; i++) {
+    double *p = y + (size_t)i * b->nv;
+    for (int d = 0; d < dim; d++) p[l->x + d] += dt * p[l->v + d];
+  }
+  Predict(b, l, dim, y, s, ticks, tau);
+  PetscCall(Evaluate(app, t0 + (double)s * tau, b->yp, b->g, ok));
+  b->evals++;
+  if (!*ok) PetscFunctionReturn(0);
+  for (PetscInt i = 0; i < b->n; i++) {
+    b->ends[i] = (unsigned char)(b->start[i] + (ticks >> b->lev[i]) == s);
+    if (!b->ends[i]) continue;
+    Kick(l, dim, y + (size_t)i * b->nv, b->g + (size_t)i * b->nv, 0.5 * (double)(ticks >> b->lev[i]) * tau);
+    nact++;
+  }
+  b->psteps += nact;
+  b->active_sum += (double)nact / (double)PetscMax(b->n, 1);
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSStep_SpamBlock(TS ts)
+{
+  TS_SpamBlock    *b = (TS_SpamBlock *)ts->data;
+  SpamTsApp       *app;
+  const int        L     = (int)b->set.max_level;
+  const PetscInt64 ticks = (PetscInt64)1 << L;
+  const double     t0    = ts->ptime;
+  double          *y, D, tau;
+  PetscInt64       s = 0;
+  PetscBool        ok = PETSC_TRUE;
+
+  PetscFunctionBeginUser;
+  PetscCall(TSGetApplicationContext(ts, &app));
+  PetscCall(VecGetArray(ts->vec_sol, &y));
+  /* the rates of a synchronised state: kept from the last tick, or anew after a jump */
+  if (!b->have_f || ts->steprestart) PetscCall(Evaluate(app, t0, y, b->f, &ok));
+  ts->steprestart = PETSC_FALSE;
+  b->have_f       = ok;
+  if (ok) PetscCall(SpamBlockNeighbours(app->sim, y, NULL, &b->walk)); /* the signal speeds TopStep reads */
+  if (ok) {
+    D   = TopStep(ts, app, b);
+    tau = D / (double)ticks;
+    PetscCall(FirstBins(ts, app, b, y, D, L, &ok)); /* the bins of this cycle's top step */
+  }
+  if (ok) {
+    for (PetscInt i = 0; i < b->n; i++) {
+      Kick(&app->sim->model.layout, app->sim->model.dim, y + (size_t)i * b->nv, b->f + (size_t)i * b->nv, 0.5 * (double)(ticks >> b->lev[i]) * tau);
+      b->start[i] = 0;
+      b->deepest  = PetscMax(b->deepest, b->lev[i]);
+    }
+  }
+  while (ok && s < ticks) {
+    PetscInt64 next = ticks;
+    for (PetscInt i = 0; i < b->n; i++) next = PetscMin(next, b->start[i] + (ticks >> b->lev[i]));
+    PetscCall(Tick(app, b, y, s, next, ticks, t0, tau, &ok));
+    s = next;
+    if (ok && s < ticks) PetscCall(Rebin(ts, app, b, y, s, D, L, ticks, tau, &ok));
+  }
+  PetscCall(VecRestoreArray(ts->vec_sol, &y));
+  if (!ok) {
+    b->have_f = PETSC_FALSE;
+    if (!app->fail[0] && ts->reason >= 0) ts->reason = TS_DIVERGED_STEP_REJECTED;
+    PetscFunctionReturn(0);
+  }
+  PetscCall(PetscArraycpy(b->f, b->g, (size_t)b->n * b->nv)); /* every step ended at the top tick */
+  b->cycles++;
+  ts->ptime     = t0 + D;
+  ts->time_step = D;
+  ts->reject    = 0;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSSetUp_SpamBlock(TS ts)
+{
+  TS_SpamBlock     *b = (TS_SpamBlock *)ts->data;
+  SpamTsApp        *app;
+  SpamSim          *sim;
+  const SpamLayout *l;
+
+  PetscFunctionBeginUser;
+  PetscCall(TSGetApplicationContext(ts, &app));
+  PetscCheck(app, PetscObjectComm((PetscObject)ts), PETSC_ERR_ORDER, "the block_kdk TS needs a SpamTsApp application context");
+  sim = app->sim;
+  l   = &sim->model.layout;
+  if (SpamSimDistributed(sim)) SPAM_BAD_INPUT("-ts_type", SPAM_TSBLOCK_KDK, "block steps run on one rank (their neighbour walk reads no other rank's particles): run without mpiexec or use -ts_type arkode");
+  if (l->x < 0 || l->v < 0) SPAM_BAD_INPUT("-ts_type", SPAM_TSBLOCK_KDK, "kick-drift-kick needs positions and velocities in the state; model %s has none", sim->model.name);
+  if (sim->model.post_step) SPAM_BAD_INPUT("-ts_type", SPAM_TSBLOCK_KDK, "model %s changes the state after each step (closest-approach reflection), which a block cycle cannot follow particle by particle: use -ts_type arkode", sim->model.name);
+  b->n  = sim->p.n;
+  b->nv = l->nvar;
+  PetscCall(PetscMalloc3((size_t)b->n * b->nv + 1, &b->f, (size_t)b->n * b->nv + 1, &b->g, (size_t)b->n * b->nv + 1, &b->yp));
+  PetscCall(PetscMalloc3(b->n + 1, &b->lev, b->n + 1, &b->start, b->n + 1, &b->ends));
+  b->have_f          = PETSC_FALSE;
+  app->self_stepping = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSReset_SpamBlock(TS ts)
+{
+  TS_SpamBlock *b = (TS_SpamBlock *)ts->data;
+
+  PetscFunctionBeginUser;
+  if (b->f) PetscCall(PetscFree3(b->f, b->g, b->yp));
+  if (b->lev) PetscCall(PetscFree3(b->lev, b->start, b->ends));
+  PetscCall(SpamBlockWalkDestroy(&b->walk));
+  b->have_f = PETSC_FALSE;
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSDestroy_SpamBlock(TS ts)
+{
+  PetscFunctionBeginUser;
+  PetscCall(TSReset_SpamBlock(ts));
+  PetscCall(PetscFree(ts->data));
+  PetscFunctionReturn(0);
+}
+
+/* -ts_view: the settings and what the cycles did, with the fraction of particles active
+ * per evaluation (the share of the work a pass over the active particles would do). */
+static PetscErrorCode TSView_SpamBlock(TS ts, PetscViewer viewer)
+{
+  TS_SpamBlock *b = (TS_SpamBlock *)ts->data;
+  PetscBool     ascii;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERASCII, &ascii));
+  if (!ascii) PetscFunctionReturn(0);
+  PetscCall(PetscViewerASCIIPrintf(viewer, "  block steps, kick-drift-kick: -block_cfl %g -block_force %g -block_max_level %" PetscInt_FMT ", limiter %d levels\n", b->set.cfl, b->set.force, b->set.max_level, SPAM_BLOCK_LIMITER));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "  block cycles %ld, evaluations in them %ld, particle steps %ld (woken %ld), deepest bin %d\n", b->cycles, b->evals, b->psteps, b->woken, b->deepest));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "  block mean active fraction %.6f (particle steps / (evaluations x particles) %.6f)\n", b->evals ? b->active_sum / (double)b->evals : 0.0, b->evals && b->n ? (double)b->psteps / ((double)b->evals * (double)b->n) : 0.0));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode OptionsRead(PetscOptionItems *PetscOptionsObject, SpamBlockSettings *s)
+{
+  char val[64];
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscOptionsReal("-block_cfl", "Block steps: each particle's step at most C h_i / v_sig,i (signal speed over its neighbours)", "README", s->cfl, &s->cfl, NULL));
+  PetscCall(PetscOptionsReal("-block_force", "Block steps: each particle's step at most C' sqrt(h_i / |a_i|)", "README", s->force, &s->force, NULL));
+  PetscCall(PetscOptionsInt("-block_max_level", "Block steps: the deepest bin, steps down to D / 2^L of the top step D", "README", s->max_level, &s->max_level, NULL));
+  PetscCall(SpamOptionText("-block_cfl", s->cfl, val, sizeof val));
+  if (!(s->cfl > 0 && s->cfl <= 1)) SPAM_BAD_INPUT("-block_cfl", val, "must be in (0, 1]");
+  PetscCall(SpamOptionText("-block_force", s->force, val, sizeof val));
+  if (!(s->force > 0 && s->force <= 1)) SPAM_BAD_INPUT("-block_force", val, "must be in (0, 1]");
+  (void)snprintf(val, sizeof val, "%" PetscInt_FMT, s->max_level);
+  if (s->max_level < 0 || s->max_level > 40) SPAM_BAD_INPUT("-block_max_level", val, "must be from 0 (one global step) to 40");
+  PetscFunctionReturn(0);
+}
+
+static void Defaults(SpamBlockSettings *s)
+{
+  s->cfl       = 0.25;
+  s->force     = 0.25;
+  s->max_level = 16;
+}
+
+static PetscErrorCode TSSetFromOptions_SpamBlock(TS ts, PetscOptionItems *PetscOptionsObject)
+{
+  TS_SpamBlock *b = (TS_SpamBlock *)ts->data;
+
+  PetscFunctionBeginUser;
+  PetscOptionsHeadBegin(PetscOptionsObject, "Block individual steps (kick-drift-kick)");
+  PetscCall(OptionsRead(PetscOptionsObject, &b->set));
+  PetscOptionsHeadEnd();
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamTSCreate_Block(TS ts)
+{
+  TS_SpamBlock *b = NULL;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscNew(&b));
+  Defaults(&b->set);
+  ts->data                = (void *)b;
+  ts->ops->setfromoptions = TSSetFromOptions_SpamBlock;
+  ts->ops->setup          = TSSetUp_SpamBlock;
+  ts->ops->step           = TSStep_SpamBlock;
+  ts->ops->reset          = TSReset_SpamBlock;
+  ts->ops->destroy        = TSDestroy_SpamBlock;
+  ts->ops->view           = TSView_SpamBlock;
+  ts->default_adapt_type  = TSADAPTNONE; /* the bins set the steps */
+  ts->usessnes            = PETSC_FALSE;
+  PetscFunctionReturn(0);
+}
+
+/* -help when another type is chosen: the block options with their defaults. */
+static PetscErrorCode HelpBlock(PetscOptionItems *PetscOptionsObject, const SpamRunOptions *o)
+{
+  SpamBlockSettings s;
+
+  PetscFunctionBeginUser;
+  (void)o;
+  Defaults(&s);
+  PetscCall(OptionsRead(PetscOptionsObject, &s));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode DescribeBlock(TS ts, const char **sub, char *adapt, size_t alen, double *fixed_dt)
+{
+  PetscFunctionBeginUser;
+  (void)ts;
+  *sub      = "";
+  *fixed_dt = 0.0;
+  PetscCall(PetscStrncpy(adapt, "bins", alen));
+  PetscFunctionReturn(0);
+}
+
+static const SpamTSOption OptionsBlock[] = {{"block_cfl", PETSC_TRUE, PETSC_FALSE}, {"block_force", PETSC_TRUE, PETSC_FALSE}, {"block_max_level", PETSC_TRUE, PETSC_FALSE}, {NULL, PETSC_FALSE, PETSC_FALSE}};
+
+const SpamTSFamily SpamTSFamilyBlock = {
+  .options         = OptionsBlock,
+  .type            = SPAM_TSBLOCK_KDK,
+  .adapt_default   = TSADAPTNONE,
+  .steps           = SPAM_TS_STEPS_OWN,
+  .follow          = SPAM_TS_FOLLOW_NONE,
+  .step_rule       = "sets each particle's step by -block_cfl and -block_force",
+  .restart_inexact = "the rates a cycle starts from were evaluated on the predicted state; a restart evaluates them on the synchronised one",
+  .describe        = DescribeBlock,
+  .help_other      = HelpBlock,
+};
