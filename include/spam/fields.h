@@ -30,6 +30,7 @@ typedef struct {
   double *acc;             /* [cap*dim] acceleration                                    */
   double *edot, *rhodot;   /* [cap] de/dt (work), drho/dt                               */
   double *qdot;            /* [cap] de/dt by heat conduction (kept apart for the walls' books) */
+  double *qlin;            /* [cap] de/dt of the pair conduction's linear correction (pair_diffusion.h) */
   double *wsum;            /* [cap] sum_j w_ij (R1's normalisation)                    */
   double *ltorque, *tfac;  /* [cap] particle torque and its scaling factor (T_i)       */
   /* The adaptive kernel range (smoothing_adaptive.c), each [cap]: h_i and the kernel's

@@ -52,6 +52,7 @@ PetscErrorCode SpamGasFlowFit(SpamSim *sim, const double *y, SpamBackground *b);
 void           SpamGasFlowShift(SpamSim *sim);
 PetscErrorCode SpamGasFlowDivergence(SpamSim *sim);
 void           SpamGasFlowCorrect(SpamSim *sim, const double *y, const SpamBackground *b);
+void           SpamGasFlowTemperatureGradient(SpamSim *sim);
 
 /* Allocates sim->ps for sim->p.n particles; it is freed with the swarm. */
 PetscErrorCode SpamPhysicsScratchCreate(SpamSim *sim);

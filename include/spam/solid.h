@@ -56,6 +56,8 @@ typedef struct {
   SpamBackgroundMode background;    /* flow: pressure taken out of the momentum eq.   */
   double             shift_coef;    /* flow: transport shifting coefficient (0: off)  */
   SpamDiffusionForm  diffusion;     /* flow: viscosity and conduction's pair form     */
+  PetscBool          heat_linear;   /* flow, pair form: conduction exact for linear T  */
+                                    /* on any arrangement (pair_diffusion.h)           */
   PetscBool          plain_default; /* the scene's gas keeps the plain scheme unless  */
                                     /* asked (gas_flow.h: expansion into vacuum, and  */
                                     /* the convection cell, whose onset it moves)      */

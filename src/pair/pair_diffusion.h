@@ -47,4 +47,33 @@ static inline __attribute__((always_inline)) void SpamPairHeatDiffusion(SpamFiel
   f->qdot[i] += f->m[j] * q;
   f->qdot[j] -= f->m[i] * q;
 }
+
+/* The conducted heat rate made exact for a linear temperature on any arrangement
+ * (-conduction_linear). The pair Laplacian conducts a linear T exactly only where the
+ * arrangement's first moment sum_j V_j g_ij (x_i - x_j) vanishes (a symmetric lattice).
+ * Where the particles have moved it does not, and the conduction state's heat flux, read
+ * through it, heats or cools particles by the flux times that moment: in the convection
+ * cell (flow scheme, 0.9 Ra_c) this heating fed the roll at about its whole growth rate,
+ * and the roll grew below onset. Each side subtracts its own first-order part,
+ *   de_i/dt += sum_j m_j 2 kappa N_ij g_ij (T_i - T_j - G_i . (x_i - x_j)) / (rho_i rho_j),
+ * G the kernel-gradient-corrected grad T (-M^-1 times the SPAM gradient: exact for linear
+ * T), as in the corrected Laplacians of Fatehi and Manzari (2011); the Laplacian of a
+ * quadratic stays exact. The two sides no longer cancel: the plain pair form goes into
+ * qdot (the walls' books read it there: what crosses a wall is the plain form's
+ * exchange with the images), each side's correction into qlin, which the flow scheme's
+ * book carries. A mirror image (j not one of this rank's particles, own_j = 0) takes no
+ * correction: its side is the wall's. Other ranks' particles and periodic ghost slots
+ * would lose theirs, so the option is refused with them (solid_options.c). */
+static inline __attribute__((always_inline)) void SpamPairHeatDiffusionLinear(const int dim, SpamFields *f, int i, int j, double kappa, double k, const double dx[3], int own_j)
+{
+  const double *Gi = f->heat + (size_t)i * dim, *Gj = f->heat + (size_t)j * dim, c = 2.0 * kappa * k, q = c * (f->T[i] - f->T[j]);
+  double        si = 0.0, sj = 0.0;
+  f->qdot[i] += f->m[j] * q;
+  f->qdot[j] -= f->m[i] * q;
+  for (int d = 0; d < dim; d++) si += Gi[d] * dx[d];
+  f->qlin[i] -= f->m[j] * c * si;
+  if (!own_j) return;
+  for (int d = 0; d < dim; d++) sj += Gj[d] * dx[d];
+  f->qlin[j] += f->m[i] * c * sj;
+}
 #endif

@@ -2,7 +2,7 @@
 #include <spam/fields.h>
 
 /* Every array with its number of values per slot (0: not allocated for this model). */
-static int Arrays(SpamFields *f, double **a[36], int per[36])
+static int Arrays(SpamFields *f, double **a[40], int per[40])
 {
   const int d = f->dim, t = f->tensor ? 1 : 0, s = f->adaptive ? 1 : 0;
   int       k = 0;
@@ -28,6 +28,7 @@ static int Arrays(SpamFields *f, double **a[36], int per[36])
   SPAM_ARRAY(f->uc, t * d);
   SPAM_ARRAY(f->edot, t);
   SPAM_ARRAY(f->qdot, t);
+  SPAM_ARRAY(f->qlin, t);
   SPAM_ARRAY(f->rhodot, t);
   SPAM_ARRAY(f->wsum, t);
   SPAM_ARRAY(f->ltorque, t);
@@ -48,8 +49,8 @@ static int Arrays(SpamFields *f, double **a[36], int per[36])
 
 PetscErrorCode SpamFieldsCreate(int dim, int n, int cap, PetscBool tensor, SpamFields *f)
 {
-  double **a[36];
-  int      per[36], na;
+  double **a[40];
+  int      per[40], na;
 
   PetscFunctionBeginUser;
   PetscCall(PetscMemzero(f, sizeof *f));
@@ -67,8 +68,8 @@ PetscErrorCode SpamFieldsCreate(int dim, int n, int cap, PetscBool tensor, SpamF
 
 PetscErrorCode SpamFieldsReserve(SpamFields *f, int slots)
 {
-  double **a[36];
-  int      per[36], na, old = f->cap;
+  double **a[40];
+  int      per[40], na, old = f->cap;
 
   PetscFunctionBeginUser;
   if (slots + 1 <= f->cap) PetscFunctionReturn(0);
@@ -86,8 +87,8 @@ PetscErrorCode SpamFieldsReserve(SpamFields *f, int slots)
 
 PetscErrorCode SpamFieldsDestroy(SpamFields *f)
 {
-  double **a[36];
-  int      per[36], na = Arrays(f, a, per);
+  double **a[40];
+  int      per[40], na = Arrays(f, a, per);
 
   PetscFunctionBeginUser;
   for (int k = 0; k < na; k++) PetscCall(PetscFree(*a[k]));
@@ -109,8 +110,8 @@ PetscErrorCode SpamFieldsAddInverseMass(SpamFields *f)
 
 PetscErrorCode SpamFieldsAddSmoothing(SpamFields *f)
 {
-  double **a[36];
-  int      per[36], na;
+  double **a[40];
+  int      per[40], na;
 
   PetscFunctionBeginUser;
   f->adaptive = 1;

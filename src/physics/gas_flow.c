@@ -109,6 +109,29 @@ void SpamGasFlowShift(SpamSim *sim)
   }
 }
 
+/* grad T of this rank's particles, in f->heat, from their SPAM gradient S: the G of
+ * M G = -S (M the gradient's moment; a linear T's SPAM gradient is -M G), exact for a
+ * linear temperature on any arrangement; 0 where M is singular (an isolated particle).
+ * The pair conduction's linear correction reads it (-conduction_linear, pair_diffusion.h);
+ * the shift's drift has read the SPAM gradient before. */
+void SpamGasFlowTemperatureGradient(SpamSim *sim)
+{
+  SpamFields *f   = &sim->pair.f;
+  const int   dim = f->dim;
+
+  for (PetscInt i = 0; i < sim->p.n; i++) {
+    double  A[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, r[3] = {0, 0, 0}, G[3] = {0, 0, 0};
+    double *s = f->heat + (size_t)i * dim;
+    for (int a = 0; a < dim; a++) {
+      r[a] = -s[a];
+      for (int b = 0; b < dim; b++) A[a][b] = f->gmom[(size_t)i * dim * dim + a * dim + b];
+    }
+    if (!Solve3(A, r, G))
+      for (int a = 0; a < 3; a++) G[a] = 0.0;
+    for (int a = 0; a < dim; a++) s[a] = G[a];
+  }
+}
+
 /* div v of particle i from its SPAM velocity gradient G and the gradient's moment M:
  * -tr(M^-1 G), exact for a linear velocity field on any arrangement (-tr G where M is
  * singular: an isolated particle). */

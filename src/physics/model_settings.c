@@ -21,6 +21,7 @@ static void TensorSettings(const SpamSolidParams *p, SpamSetting *s, int *n)
       Str(s, n, "background_pressure", SpamBackgroundModeNames[p->background]);
       Num(s, n, "shift_coefficient", p->shift_coef);
       Str(s, n, "diffusion_form", SpamDiffusionFormNames[p->diffusion]);
+      Str(s, n, "conduction_linear", p->heat_linear ? "true" : "false");
     }
   } else {
     Num(s, n, "solid_lambda", p->lambda);

@@ -39,6 +39,8 @@ typedef struct {
   int                    moment;     /* the gradient's moment in walk 1 (flow, pairdiff) */
   int                    pairdiff;   /* viscosity and conduction as pair Laplacians    */
   int                    diffuse;    /* ... added by this evaluation (SpamRhsPart)      */
+  int                    heatlin;    /* the pair conduction's linear correction (-conduction_linear) */
+  int                    nown;       /* this rank's particles: slots below are not ghosts */
   int                    scale;      /* torque scaling (Ti or Tij) in walk 3           */
   int                    continuity; /* drho/dt in walk 3 (the state's, or B's work)    */
   SpamBackground         bg;         /* the flow scheme's background pressure         */
@@ -138,7 +140,8 @@ static inline __attribute__((always_inline)) void ForcePairWith(const int dim, c
     if (c->diffuse) {
       const double k = SpamPairDiffusionFactor(f, i, j, g);
       SpamPairViscousDiffusion(dim, f, i, j, c->p->shear_visc, k, F);
-      if (c->conduction) SpamPairHeatDiffusion(f, i, j, c->p->conductivity, k);
+      if (c->heatlin) SpamPairHeatDiffusionLinear(dim, f, i, j, c->p->conductivity, k, dx, j < c->nown);
+      else if (c->conduction) SpamPairHeatDiffusion(f, i, j, c->p->conductivity, k);
     }
   } else if (c->conduction) SpamPairHeatFlux(dim, f, i, j, dx, g);
   SpamPairApplyForce(dim, f, i, j, dx, g, F, c->continuity);
@@ -398,11 +401,20 @@ static PetscErrorCode Forces(SpamSim *sim, TensorPass *c, const double *y)
 
   PetscFunctionBeginUser;
   ZeroRates(f, slots, dim, PETSC_TRUE);
+  if (c->heatlin) {
+    SpamGasFlowTemperatureGradient(sim); /* f->heat: grad T made exact for a linear T */
+    Zero(f->qlin, (size_t)n);
+  }
   if (c->pairdiff) PetscCall(WalkForcesDiffusion(&sim->pair.nl, &sim->model.kernel, c));
   else PetscCall(WalkForces(&sim->pair.nl, &sim->model.kernel, c));
   FoldRates(gh, f, n, PETSC_TRUE);
   for (int i = 0; i < n; i++) f->edot[i] += f->qdot[i];
   if (c->flow) SpamGasFlowCorrect(sim, y, &c->bg);
+  if (c->heatlin) /* the correction's heat, not conserved pair by pair, goes into the book */
+    for (int i = 0; i < n; i++) {
+      f->edot[i] += f->qlin[i];
+      f->edrift[i] += f->qlin[i];
+    }
   PetscFunctionReturn(0);
 }
 
@@ -455,6 +467,9 @@ static TensorPass PassOf(SpamSim *sim, SpamRhsPart part)
   c.shift_hinv                = sim->model.shift_kernel.hinv;
   c.flow                      = bg || shift;
   c.moment                    = c.flow || c.diffuse;
+  c.heatlin                   = c.diffuse && c.conduction && c.flow && p->heat_linear;
+  c.gradT                     = c.gradT || c.heatlin;
+  c.nown                      = (int)sim->p.n;
   c.scale                     = p->angmom == SPAM_ANGMOM_TI || p->angmom == SPAM_ANGMOM_TIJ;
   c.continuity                = p->density != SPAM_DENSITY_SUMMATION;
   c.ps                        = sim->ps;

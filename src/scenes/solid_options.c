@@ -62,6 +62,7 @@ static PetscErrorCode GasSchemeOptions(PetscOptionItems *PetscOptionsObject, Pet
     PetscCall(PetscOptionsString("-background_pressure", "Flow scheme: pressure taken out of the momentum equation: mean (the particles' mean pressure, fitted along gravity where there is gravity) or none", "README", bg, bg, lb, NULL));
     PetscCall(PetscOptionsReal("-shift_coefficient", "Flow scheme: transport shifting coefficient C (shift velocity C c h times the particle-volume gradient; 0: off)", "README", p->shift_coef, &p->shift_coef, NULL));
     PetscCall(PetscOptionsString("-diffusion_form", "Flow scheme: viscosity and conduction as pair Laplacians in one pass (pair: damps particle-scale noise) or through the particles' gradients (gradient: the papers' two passes)", "README", form, form, lf, NULL));
+    PetscCall(PetscOptionsBool("-conduction_linear", "Flow scheme, pair form: conduction exact for a linear temperature on any arrangement (each side subtracts its corrected gradient's part; not conserved pair by pair: the book carries it)", "README", p->heat_linear, &p->heat_linear, NULL));
   }
   PetscFunctionReturn(0);
 }
@@ -136,10 +137,21 @@ PetscErrorCode SpamSolidOptions(SpamSolidParams *p)
   PetscCall(Choice("-diffusion_form", form, SpamDiffusionFormNames, 2, &k));
   p->diffusion = (SpamDiffusionForm)k;
   PetscCall(SpamSmoothingValidate(smooth, p));
+  if (p->heat_linear && p->scheme == SPAM_GAS_FLOW && p->material == SPAM_MATERIAL_GAS) {
+    if (p->diffusion != SPAM_DIFFUSION_PAIR || !(p->conductivity > 0.0)) SPAM_BAD_INPUT("-conduction_linear", "true", "corrects the pair form's conduction: it needs -diffusion_form pair and -conductivity > 0");
+    if (p->smoothing == SPAM_SMOOTHING_ADAPTIVE) SPAM_BAD_INPUT("-conduction_linear", "true", "is written for one smoothing length (the adaptive path has no pair form)");
+    if (p->background == SPAM_BACKGROUND_NONE && !(p->shift_coef > 0.0)) SPAM_BAD_INPUT("-conduction_linear", "true", "is booked with the flow scheme's laws: it needs -background_pressure mean or -shift_coefficient > 0");
+    PetscMPIInt size;
+    char        images[32] = "minimum";
+    PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &size));
+    PetscCall(PetscOptionsGetString(NULL, NULL, "-periodic_images", images, sizeof images, NULL));
+    if (size > 1 || strcmp(images, "minimum")) SPAM_BAD_INPUT("-conduction_linear", "true", "is written for one rank with minimum-image periodic neighbours (a ghost slot's own correction is not gathered)");
+  }
   if (p->scheme == SPAM_GAS_PLAIN || p->material != SPAM_MATERIAL_GAS) { /* the flow scheme's laws are off in the plain scheme */
     p->background = SPAM_BACKGROUND_NONE;
     p->shift_coef = 0.0;
     p->diffusion  = SPAM_DIFFUSION_GRADIENT;
+    p->heat_linear = PETSC_FALSE;
   }
   PetscCall(Choice("-viscosity", visc, SpamViscosityModeNames, 3, &k));
   p->viscosity = (SpamViscosityMode)k;
