@@ -45,14 +45,6 @@ def fail(msg):
     sys.exit(2)
 
 
-def option(man, name, default):
-    words = man.get("options", "").split()
-    for k, w in enumerate(words[:-1]):
-        if w == "-" + name:
-            return float(words[k + 1])
-    return default
-
-
 def radii_and_density(path, dim, centre, mass):
     with open(path) as f:
         first = f.readline()
@@ -84,8 +76,8 @@ def main():
     if not snaps:
         fail("%s: no CSV snapshot after t = 0" % a.dir)
     dim, h, gamma = int(sm["dim"]), float(sm["h"]), float(sm["gas_gamma"])
-    n = option(man, "sedov_n", 20.0 if dim == 3 else 48.0)
-    e0, mass = option(man, "sedov_energy", 1e4), option(man, "mass", 1.0)
+    n = spam_manifest.option(man, "sedov_n", 20.0 if dim == 3 else 48.0)
+    e0, mass = spam_manifest.option(man, "sedov_energy", 1e4), spam_manifest.option(man, "mass", 1.0)
     xi0 = sedov_xi0(dim, gamma)
     prof = sedov_profile(dim, gamma)
     lam, g = prof[0], prof[2]

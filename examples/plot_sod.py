@@ -45,15 +45,6 @@ def fail(msg):
     sys.exit(2)
 
 
-def option(man, name, default):
-    """The value of -name in the manifest's option string, else default."""
-    words = man.get("options", "").split()
-    for k, w in enumerate(words[:-1]):
-        if w == "-" + name:
-            return float(words[k + 1])
-    return default
-
-
 def read_snapshot(path, dim):
     with open(path) as f:
         first = f.readline()
@@ -78,7 +69,7 @@ def main():
     if not snaps:
         fail("%s: no CSV snapshot (run with -snapshot_csv true and -snapshot_interval > 0)" % a.dir)
     dim, h, gamma = int(sm["dim"]), float(sm["h"]), float(sm["gas_gamma"])
-    n, mass = option(man, "sod_n", 200.0), option(man, "mass", 1.0)
+    n, mass = spam_manifest.option(man, "sod_n", 200.0), spam_manifest.option(man, "mass", 1.0)
     t, c = read_snapshot(snaps[-1][1], dim)
     if t <= 0:
         fail("the last snapshot is at t = 0")

@@ -44,14 +44,6 @@ from shock_exact import half_level_radius, sedov_profile, sedov_xi0  # noqa: E40
 BIN = 0.5
 
 
-def option(man, name, default):
-    words = man.get("options", "").split()
-    for k, w in enumerate(words[:-1]):
-        if w == "-" + name:
-            return float(words[k + 1])
-    return default
-
-
 def snapshot(path, dim):
     with open(path) as f:
         t = float(f.readline().split("=")[1])
@@ -83,8 +75,8 @@ def run_radii(d):
     man, sm = spam_manifest.open_run(d, "sedov_radii", scene="sedov")
     snaps = [(t, p) for t, p in spam_manifest.files(man, d, "snapshot_csv")]
     dim, gamma = int(sm["dim"]), float(sm["gas_gamma"])
-    n = option(man, "sedov_n", 20.0 if dim == 3 else 48.0)
-    e0 = option(man, "sedov_energy", 1e4)
+    n = spam_manifest.option(man, "sedov_n", 20.0 if dim == 3 else 48.0)
+    e0 = spam_manifest.option(man, "sedov_energy", 1e4)
     xi0, cm = sedov_xi0(dim, gamma), moment_constant(dim, gamma)
     sigma = {2: 2.0 * np.pi, 3: 4.0 * np.pi}[dim]
     centre = 0.5 * n

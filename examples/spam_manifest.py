@@ -44,6 +44,15 @@ def status(run_dir):
         return None
 
 
+def option(man, name, default):
+    """The value of -name in the manifest's option string as a float, else default."""
+    words = man.get("options", "").split()
+    for k, w in enumerate(words[:-1]):
+        if w == "-" + name:
+            return float(words[k + 1])
+    return default
+
+
 def files(man, run_dir, kind):
     """[(t, path)] of the files of one kind ("snapshot_csv", "snapshot_h5", "summary",
     "timeseries", ...) in the order written; t is None for files that are not snapshots."""

@@ -32,6 +32,16 @@
 /* The Near of a walk that keeps no pairs. */
 #define SPAM_NEAR_NONE(ctx, i, j, r2) ((void)0)
 
+/* The entry both walks below end with: the kernel's dimension and kind dispatched once, to
+ * the inlined body made for them. */
+#define SPAM_WALK_ADAPTIVE_ENTRY(Name, Ctx) \
+  static PetscErrorCode Name(const SpamNeighbours *nl, const SpamKernel *k, const SpamFields *f, Ctx *ctx) \
+  { \
+    PetscFunctionBeginUser; \
+    SPAM_WALK_DISPATCH(Name, k->dim, k->kind, SPAM_WALK_UNKNOWN(k->kind), nl, f, ctx) \
+    PetscFunctionReturn(0); \
+  }
+
 #define SPAM_PAIR_WALK_ADAPTIVE(Name, Ctx, Fn, Skip, Near) \
   static inline __attribute__((always_inline)) void Name##Segment(const int dim, const int kind, const int img, const int ghost, const SpamNeighbours *nl, const SpamFields *f, Ctx *ctx, int i, const int *nb, int np) \
   { \
@@ -66,12 +76,7 @@
       } \
     } \
   } \
-  static PetscErrorCode Name(const SpamNeighbours *nl, const SpamKernel *k, const SpamFields *f, Ctx *ctx) \
-  { \
-    PetscFunctionBeginUser; \
-    SPAM_WALK_DISPATCH(Name, k->dim, k->kind, SPAM_WALK_UNKNOWN(k->kind), nl, f, ctx) \
-    PetscFunctionReturn(0); \
-  }
+  SPAM_WALK_ADAPTIVE_ENTRY(Name, Ctx)
 
 /* The canonical rows: separations u_i - u_j of two slots (periodic images are ghost
  * slots there: no minimum image), the pair within max(h_i, h_j) as above. */
@@ -96,10 +101,5 @@
       } \
     } \
   } \
-  static PetscErrorCode Name(const SpamNeighbours *nl, const SpamKernel *k, const SpamFields *f, Ctx *ctx) \
-  { \
-    PetscFunctionBeginUser; \
-    SPAM_WALK_DISPATCH(Name, k->dim, k->kind, SPAM_WALK_UNKNOWN(k->kind), nl, f, ctx) \
-    PetscFunctionReturn(0); \
-  }
+  SPAM_WALK_ADAPTIVE_ENTRY(Name, Ctx)
 #endif
