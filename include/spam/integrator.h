@@ -149,6 +149,7 @@ PetscErrorCode SpamNVectorDeterministic(N_Vector y);
 /* Clones of y (and of its clones) over arrays that are not written at creation
  * (nvector_unwritten.c): a vector the integrator never writes takes no resident memory. */
 void SpamNVectorCloneUnwritten(N_Vector y);
+PetscErrorCode SpamNVectorReserve(Vec y, PetscInt count);
 PetscErrorCode SpamVecDeterministicMAXPY(Vec X);
 /* The retry of a rejected rk step keeps the first attempt's stage 0 derivative f(y_n)
  * (rk_rollback.c): the uninterrupted run reuses it (FSAL), a restarted one would

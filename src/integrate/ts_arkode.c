@@ -8,6 +8,10 @@
 #include <arkode/arkode_erkstep.h>
 #include <nvector/nvector_petsc.h>
 
+/* ERKStep 6.4.1 allocates, besides a vector per stage, 7 work vectors and 3 for its
+ * interpolant (massif of a Dormand-Prince run: 17 in all). */
+#define SPAM_ERK_WORK_VECTORS 10
+
 typedef struct {
   SUNContext           sunctx;
   N_Vector             y;
@@ -76,6 +80,12 @@ static PetscErrorCode TSSetUp_SpamARKode(TS ts)
    * stage is then y_n+1 bit for bit, which a restart needs. */
   PetscCall(SpamNVectorDeterministic(ark->y));
   SpamNVectorCloneUnwritten(ark->y);
+  {
+    ARKodeButcherTable B;
+    PetscCall(SpamArkodeLoadTable(ark->set.table, &B));
+    PetscCall(SpamNVectorReserve(ts->vec_sol, (PetscInt)B->stages + SPAM_ERK_WORK_VECTORS));
+    ARKodeButcherTable_Free(B);
+  }
   ark->mem = ERKStepCreate(SpamSundialsRhs, ts->ptime, ark->y, ark->sunctx);
   PetscCheck(ark->mem, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "ERKStepCreate failed");
   PetscCallARK(ERKStepSetUserData(ark->mem, app));
