@@ -262,7 +262,7 @@ static PetscErrorCode TSStep_SpamBlock(TS ts)
   const int        L     = (int)b->set.max_level;
   const PetscInt64 ticks = (PetscInt64)1 << L;
   const double     t0    = ts->ptime;
-  double          *y, D, tau;
+  double          *y, D = 0.0, tau = 0.0; /* set by the cycle below; initialised for gcc's flow analysis under the sanitizers */
   PetscInt64       s = 0;
   PetscBool        ok = PETSC_TRUE;
 
