@@ -32,6 +32,18 @@
 /* The Near of a walk that keeps no pairs. */
 #define SPAM_NEAR_NONE(ctx, i, j, r2) ((void)0)
 
+/* One candidate pair of both walks below: within max(h_i, h_j), Fn gets each side's kernel
+ * value and derivative at its own range. */
+#define SPAM_ADAPTIVE_PAIR(Fn, dim, kind, f, ctx, i, j, hi, dx, r2) \
+  do { \
+    const double hm = (hi) > (f)->h[j] ? (hi) : (f)->h[j]; \
+    if ((r2) < hm * hm) { \
+      const double r = sqrt(r2), si = r * (f)->hinv[i], sj = r * (f)->hinv[j]; \
+      Fn(dim, ctx, i, j, dx, r2, SpamKernelShapeScaledF(kind, dim, (f)->wn[i], si), SpamKernelShapeScaledG(kind, dim, (f)->gn[i], si), \
+         SpamKernelShapeScaledF(kind, dim, (f)->wn[j], sj), SpamKernelShapeScaledG(kind, dim, (f)->gn[j], sj)); \
+    } \
+  } while (0)
+
 /* The entry both walks below end with: the kernel's dimension and kind dispatched once, to
  * the inlined body made for them. */
 #define SPAM_WALK_ADAPTIVE_ENTRY(Name, Ctx) \
@@ -56,10 +68,7 @@
         r2 += dx[d] * dx[d]; \
       } \
       if (!ghost) Near(ctx, i, j, r2); \
-      const double hm = hi > f->h[j] ? hi : f->h[j]; \
-      if (r2 >= hm * hm) continue; \
-      const double r = sqrt(r2), si = r * f->hinv[i], sj = r * f->hinv[j]; \
-      Fn(dim, ctx, i, j, dx, r2, SpamKernelShapeScaledF(kind, dim, f->wn[i], si), SpamKernelShapeScaledG(kind, dim, f->gn[i], si), SpamKernelShapeScaledF(kind, dim, f->wn[j], sj), SpamKernelShapeScaledG(kind, dim, f->gn[j], sj)); \
+      SPAM_ADAPTIVE_PAIR(Fn, dim, kind, f, ctx, i, j, hi, dx, r2); \
     } \
   } \
   static inline __attribute__((always_inline)) void Name##Rows(const int dim, const int kind, const SpamNeighbours *nl, const SpamFields *f, Ctx *ctx) \
@@ -94,10 +103,7 @@
           dx[d] = ui[d] - nl->u[d][j]; \
           r2 += dx[d] * dx[d]; \
         } \
-        const double hm = hi > f->h[j] ? hi : f->h[j]; \
-        if (r2 >= hm * hm) continue; \
-        const double r = sqrt(r2), si = r * f->hinv[i], sj = r * f->hinv[j]; \
-        Fn(dim, ctx, i, j, dx, r2, SpamKernelShapeScaledF(kind, dim, f->wn[i], si), SpamKernelShapeScaledG(kind, dim, f->gn[i], si), SpamKernelShapeScaledF(kind, dim, f->wn[j], sj), SpamKernelShapeScaledG(kind, dim, f->gn[j], sj)); \
+        SPAM_ADAPTIVE_PAIR(Fn, dim, kind, f, ctx, i, j, hi, dx, r2); \
       } \
     } \
   } \
