@@ -66,10 +66,9 @@ static inline __attribute__((always_inline)) void SpamPairHeatDiffusion(SpamFiel
  * would lose theirs, so the option is refused with them (solid_options.c). */
 static inline __attribute__((always_inline)) void SpamPairHeatDiffusionLinear(const int dim, SpamFields *f, int i, int j, double kappa, double k, const double dx[3], int own_j)
 {
-  const double *Gi = f->heat + (size_t)i * dim, *Gj = f->heat + (size_t)j * dim, c = 2.0 * kappa * k, q = c * (f->T[i] - f->T[j]);
+  const double *Gi = f->heat + (size_t)i * dim, *Gj = f->heat + (size_t)j * dim, c = 2.0 * kappa * k;
   double        si = 0.0, sj = 0.0;
-  f->qdot[i] += f->m[j] * q;
-  f->qdot[j] -= f->m[i] * q;
+  SpamPairHeatDiffusion(f, i, j, kappa, k);
   for (int d = 0; d < dim; d++) si += Gi[d] * dx[d];
   f->qlin[i] -= f->m[j] * c * si;
   if (!own_j) return;
