@@ -2,7 +2,7 @@
 """Nusselt number against Rayleigh number of the spam-ark Rayleigh-Benard cell.
 
 Usage:
-    python3 examples/convection_sweep.py --spam-ark build/spam-ark [--workdir DIR]
+    examples/convection_sweep.py --spam-ark build/spam-ark [--workdir DIR]
         [--ratios 0.5,0.8,1.2,1.6,2,3,4,5] [--nx 32 --ny 16] [--t-end T] [--amplitude A]
         [--variant NAME="OPTIONS" ...] [-o OUT.png]
 
