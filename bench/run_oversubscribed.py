@@ -7,7 +7,7 @@ yields a waiting rank's core when the node has fewer idle cores than ranks
 The case: the 2D expansion of --n^2 particles to t = --t-end, no snapshots; each round runs
 the three commands one after the other, --rounds rounds. Printed and, with --readings FILE,
 written for docs/parallel.md: each command's fastest and slowest wall time, the ratios
-(polling / one rank, polling / yield) and the load average before and after, since the
+within each round (polling / one rank, polling / yield; smallest and largest) and the load average before and after, since the
 figures mean something only beside the load they were taken under.
 
 This is a measurement, not a test. Usage (spam-ark built in build/):
@@ -25,7 +25,7 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT / "examples"))
 import chart_readings  # noqa: E402
 
-MODES = (("one rank", 1, None), ("polling", 2, "0"), ("yield", 2, None))
+MODES = (("one_rank", 1, None), ("polling", 2, "0"), ("yield", 2, None))
 
 
 def one_run(spam, n, t_end, ranks, yield_env, out):
@@ -63,9 +63,12 @@ def main():
     load_after = os.getloadavg()
     lo = {k: min(v) for k, v in walls.items()}
     hi = {k: max(v) for k, v in walls.items()}
-    ratios = {"polling_over_one": [lo["polling"] / lo["one rank"], hi["polling"] / hi["one rank"]],
-              "polling_over_yield": [lo["polling"] / lo["yield"], hi["polling"] / hi["yield"]],
-              "yield_over_one": [lo["yield"] / lo["one rank"], hi["yield"] / hi["one rank"]]}
+
+    def paired(a_, b_):  # the ratio within each round (the load changes between rounds), smallest and largest
+        r = [x / y for x, y in zip(walls[a_], walls[b_])]
+        return [min(r), max(r)]
+    ratios = {"polling_over_one": paired("polling", "one_rank"), "polling_over_yield": paired("polling", "yield"),
+              "yield_over_one": paired("yield", "one_rank")}
     print(f"load average before {load_before[0]:.2f}, after {load_after[0]:.2f} ({os.cpu_count()} cores)")
     for k in walls:
         print(f"  {k:9s} " + " ".join(f"{w:.2f}" for w in walls[k]) + " s")
@@ -73,7 +76,7 @@ def main():
         *ratios["polling_over_one"], *ratios["polling_over_yield"]))
     if a.readings:
         chart_readings.write_json(a.readings, {
-            "walls": walls, "min": lo, "max": hi, "ratios": ratios, "cores": os.cpu_count(),
+            "rounds": a.rounds, "walls": walls, "min": lo, "max": hi, "ratios": ratios, "cores": os.cpu_count(),
             "load_before": load_before[0], "load_after": load_after[0],
             "load_low": min(load_before[0], load_after[0]), "load_high": max(load_before[0], load_after[0])})
 

@@ -33,8 +33,10 @@ comma-separated: "PAGE: 0.5, 1e-6, 40 steps"; a line "PAGE measured: ..." lists 
 measurements a page still types (known debt: each is to go under a marker or away, and none
 is to be added). A number a page types that its lines do not list is a problem: put it
 under a marker if it was measured, or add it to the page's line if it is a parameter.
---unmarked lists every typed number with its line (* not listed, m listed as measured),
---allow adds the pages' unlisted typed numbers to their parameters' lines (look first).
+A listed number the page no longer types is a problem too, so the list only shrinks as
+pages lose their typed measurements. --unmarked lists every typed number with its line (*
+not listed, m listed as measured); --allow adds the pages' unlisted typed numbers to their
+parameters' lines (look first); --prune drops the listed numbers the pages no longer type.
 
 --check (the default) lists every marker whose text differs from its source, every
 source or key that does not exist, every JSON without its command and commit, every
@@ -230,12 +232,27 @@ def typed_numbers(text):
     for r in NOT_PROSE:
         prose = r.sub(blank, prose)
     out = []
-    for n, (line, orig) in enumerate(zip(prose.splitlines(), text.splitlines()), 1):
-        if re.match(r"^( {4,}|\t)(?![-*|]|\d+\.)", line):
-            continue  # an indented code block
+    lines = text.splitlines()
+    for n, (line, orig) in enumerate(zip(prose.splitlines(), lines), 1):
+        if indented_code(lines, n - 1):
+            continue
         for m in TYPED.finditer(line):
             out.append((n, re.sub(r"\s+", " ", m.group(1)), orig.strip()))
     return out
+
+
+def indented_code(lines, i):
+    """Whether lines[i] belongs to an indented code block: indented by 4 or more, after a
+    blank line that follows a paragraph, not a list item (whose continuation it would be)."""
+    if not re.match(r"^( {4,}|\t)\S", lines[i]):
+        return False
+    blank = False
+    for j in range(i - 1, -1, -1):
+        if not lines[j].strip():
+            blank = True
+        elif not re.match(r"^( {4,}|\t)", lines[j]):
+            return blank and not re.match(r"^\s*([-*+]|\d+\.)\s", lines[j])
+    return blank
 
 
 def allowed_numbers():
@@ -259,10 +276,14 @@ def allowed_numbers():
 
 
 def unmarked(page, text, allowed, problems):
-    for n, num, _ in typed_numbers(text):
+    found = typed_numbers(text)
+    for n, num, _ in found:
         if num not in allowed.get(page, ()):
             problems.append(f"{page}:{n}: {num} typed without a marker (a measurement goes under a marker; "
                             f"a parameter into tools/docs_typed_numbers.txt)")
+    for num in sorted(allowed.get(page, set()) - {num for _, num, _ in found}):
+        problems.append(f"{page}: {num} listed in tools/docs_typed_numbers.txt but no longer typed "
+                        f"(tools/docs_numbers.py --prune {page})")
 
 
 def _order(t):
@@ -298,10 +319,20 @@ def main():
                     help="list every number typed outside a marker (* before those the list does not allow)")
     ap.add_argument("--allow", action="store_true",
                     help="add the pages' typed numbers to tools/docs_typed_numbers.txt")
+    ap.add_argument("--prune", action="store_true",
+                    help="drop from tools/docs_typed_numbers.txt the numbers the pages no longer type")
     ap.add_argument("pages", nargs="*")
     a = ap.parse_args()
     problems, markers, changed = [], 0, []
     allowed, measured = allowed_numbers()
+    if a.prune:
+        for page in pages(a.pages):
+            typed = {num for _, num, _ in typed_numbers(open(os.path.join(ROOT, page), encoding="utf-8").read())}
+            for d in (allowed, measured):
+                if page in d:
+                    d[page] &= typed
+        write_allowed(allowed, measured)
+        sys.exit(0)
     if a.unmarked or a.allow:
         total = debt = 0
         for page in pages(a.pages):
