@@ -211,7 +211,7 @@ def ungenerated(page, text, problems):
 # What is not prose: fenced code, markers and comments, sections a script wrote between
 # <!-- NAME --> and <!-- /NAME --> (examples/study.py, study_shear_mode.py --doc), inline
 # code, link targets.
-FENCE = re.compile(r"^(\s*)(```|~~~).*?^\1\2[^\n]*$", re.S | re.M)
+FENCE = re.compile(r"^([ \t]*)(```|~~~).*?^\1\2[^\n]*$", re.S | re.M)
 NOT_PROSE = [re.compile(r"<!--(num|table|text|test)\b.*?<!--/\1-->", re.S),
              re.compile(r"<!-- ([\w:.-]+) -->.*?<!-- /\1 -->", re.S),  # a section a script wrote (study.md)
              re.compile(r"<!--.*?-->", re.S),
