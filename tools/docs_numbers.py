@@ -215,7 +215,8 @@ FENCE = re.compile(r"^([ \t]*)(```|~~~).*?^\1\2[^\n]*$", re.S | re.M)
 NOT_PROSE = [re.compile(r"<!--(num|table|text|test)\b.*?<!--/\1-->", re.S),
              re.compile(r"<!-- ([\w:.-]+) -->.*?<!-- /\1 -->", re.S),  # a section a script wrote (study.md)
              re.compile(r"<!--.*?-->", re.S),
-             re.compile(r"`[^`\n]*`"), re.compile(r"\]\([^)\s]*\)"), re.compile(r"<[a-z]+ [^>\n]*>")]
+             re.compile(r"`(?:[^`\n]|\n(?![ \t]*\n))*`"),  # inline code, which may wrap within its paragraph
+             re.compile(r"\]\([^)\s]*\)"), re.compile(r"<[a-z]+ [^>\n]*>")]
 UNIT = r"(?:s|ms|min|minutes|seconds|h|hours|steps|RHS evaluations|evaluations|rejections|rejected steps|KB|MB|GB|MiB|GiB|bytes)"
 TYPED = re.compile(r"(?<![\w.⁻^/-])(\d+\s+%s\b|\d+(?:\.\d+)?\s*×\s*10[⁻⁰¹²³⁴⁵⁶⁷⁸⁹]+|\d+(?:\.\d+)?e[-+]?\d+"
                    r"|\d+(?:\.\d+)?\s*(?:%%|×(?!\s*\d)|x(?![\w\d]))|\d+\.\d+)" % UNIT)
