@@ -354,7 +354,6 @@ def main():
         path = os.path.join(ROOT, page)
         text = open(path, encoding="utf-8").read()
         markers += count(text)
-        unmarked(page, text, allowed, problems)
         before = len(problems)
         new = process(page, text, problems)
         ungenerated(page, text, problems)
@@ -365,7 +364,7 @@ def main():
             del problems[before:]
             process(page, new, problems)  # what remains: missing sources or keys
             ungenerated(page, new, problems)
-            unmarked(page, new, allowed, problems)
+        unmarked(page, new if a.update else text, allowed, problems)
     for p in problems:
         print(p)
     if a.update:
