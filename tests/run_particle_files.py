@@ -137,7 +137,7 @@ if c.check(code1 == code2 == code3 == 0, f"straight run 0..2, first half 0..1, c
     vmax = max(abs(float(p[k])) for p in s for k in ("vx", "vy"))
     # Not bitwise: the restart rebuilds the neighbour list at t = 1, and its pair order sets
     # the round-off of the sums (1e-16 relative). Bound: that round-off grown over 100 steps
-    # of one time unit, 1e-13 (measured 1.8e-15), far below the step's own local error
+    # of one time unit, 1e-13, far below the step's own local error
     # (dt^5 = 1e-10): the continued run is the straight run, not a nearby one.
     c.check(len(s) == len(t) == 64 and dx < 1e-13 and dv < 1e-13 * max(vmax, 1.0),
             f"continued run equals the straight run: max |dx| {dx:.2e}, max |dv| {dv:.2e} (bound 1e-13; |v| up to {vmax:.3f})")
