@@ -103,7 +103,7 @@ def main():
             ra, nu, nub, nut, ke, ms = got
             ok.append((r, nu, nub, nut))
             runs.setdefault(name, {})[f"{r:g}".replace(".", "_")] = {"ratio": r, "Ra": ra, "Nu": nu, "Nu_bottom": nub,
-                                                                   "Nu_top": nut, "ke_final": ke}
+                                                                   "Nu_top": nut, "wall_difference": nut - nub, "ke_final": ke}
             print(f"{name} {r:g} {ra:.6g} {nu:.5f} {nub:.5f} {nut:.5f} {ke:.5g} {ms:.4f}", flush=True)
         label = f"{name}: {' '.join(extra)}" if extra else name
         ax.semilogx([x[0] for x in ok], [x[1] for x in ok], "-", color=colour, marker=marker, label=f"{label} (mean of both walls)")
