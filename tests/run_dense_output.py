@@ -104,6 +104,8 @@ for name, (extra, degree) in METHODS.items():
     c.check(diff <= bound, f"{name}: |KE interpolated - KE stopped| <= {diff:.3e}, bound {bound:.3e} "
             f"(h_max {hmax:.3f}, interpolant term {N * M * AMP * W * dv_int:.2e}; error against the exact KE {exact:.2e}, "
             f"KE scale {0.5 * N * M * (AMP * W) ** 2:.4g})")
+    c.reading(f"{name.replace(' ', '_')}.ke_diff", diff)
+    c.reading(f"{name.replace(' ', '_')}.bound", bound)
 
 # (a) on a nonlinear scene with a neighbour list: the expansion gas.
 EXP = ["-expansion_n", 12, "-h", 3, "-ts_max_time", 12, "-snapshot_interval", 4, "-ts_rtol", 1e-4]
@@ -166,4 +168,4 @@ for name, extra, interp in (("arkode DP5", ["-ts_type", "arkode"], True), ("cvod
             and int(fn.group(1)) == total,
             f"cost, {name}: method {s['rhs_evals']} + interpolant {s['interpolation_rhs_evals']} = {total}; "
             f"last line '{line.group(0)}'; summary {s['rhs_evals_total']}; SUNDIALS {fn.group(1)}")
-c.finish()
+c.finish(a.readings)
