@@ -70,7 +70,6 @@ static PetscErrorCode CheckRunOptions(void)
 {
   static const char *const fixed_only[][2] = {
     {"-grid_interval", "the grid fields interpolate with the one kernel range h"},
-    {"-diag_entropy", "the entropy estimates use the one kernel range h"},
   };
   PetscBool has;
   char      val[128];
