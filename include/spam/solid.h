@@ -20,7 +20,7 @@ typedef enum { SPAM_BACKGROUND_NONE, SPAM_BACKGROUND_MEAN } SpamBackgroundMode;
 typedef enum { SPAM_DIFFUSION_GRADIENT, SPAM_DIFFUSION_PAIR } SpamDiffusionForm;
 /* The kernel range: one h for every particle, or each particle's own h_i from
  * rho_i h_i^D = eta^D m_i with the grad-h terms (smoothing_adaptive.c, rhs_gas_adaptive.c). */
-typedef enum { SPAM_SMOOTHING_FIXED, SPAM_SMOOTHING_ADAPTIVE } SpamSmoothingMode;
+typedef enum { SPAM_SMOOTHING_FIXED, SPAM_SMOOTHING_ADAPTIVE, SPAM_SMOOTHING_EVOLVED } SpamSmoothingMode;
 
 extern const char *const SpamDensityModeNames[];
 extern const char *const SpamDensityInitialNames[];
@@ -61,7 +61,7 @@ typedef struct {
   PetscBool          plain_default; /* the scene's gas keeps the plain scheme unless  */
                                     /* asked (gas_flow.h: expansion into vacuum, and  */
                                     /* the convection cell, whose onset it moves)      */
-  SpamSmoothingMode  smoothing;     /* fixed h, or adaptive h_i (gas)                  */
+  SpamSmoothingMode  smoothing;     /* fixed h, or h_i solved (adaptive) or integrated (evolved) (gas) */
   double             h_eta;         /* adaptive: h_i / (m_i/rho_i)^(1/D); 0: -h        */
   double             h_min, h_max;  /* adaptive: bounds of h_i, as factors of -h       */
 } SpamSolidParams;

@@ -426,7 +426,7 @@ static PetscBool RelevantModel(Group g, const Run *r, char *why, size_t len, Pet
   }
   if (g == G_REPRODUCIBLE) {
     const SpamSolidParams *s = r->solid;
-    if (!strcmp(r->model, "isentrope") || (s && s->material == SPAM_MATERIAL_GAS && s->smoothing == SPAM_SMOOTHING_ADAPTIVE)) return PETSC_TRUE;
+    if (!strcmp(r->model, "isentrope") || (s && s->material == SPAM_MATERIAL_GAS && s->smoothing != SPAM_SMOOTHING_FIXED)) return PETSC_TRUE;
     (void)snprintf(why, len, "applies to -material isentrope and to the gas at -smoothing_length adaptive (this run: -scene %s, model %s)", r->scene, r->model);
     return PETSC_FALSE;
   }
@@ -501,7 +501,7 @@ static PetscBool RelevantSolid(Group g, const Run *r, char *why, size_t len)
     (void)snprintf(why, len, "applies to the gas's -gas_scheme flow (this run: -material %s%s)", SpamMaterialNames[s->material], s->material == SPAM_MATERIAL_GAS ? ", -gas_scheme plain" : "");
     return PETSC_FALSE;
   case G_SOLID_ADAPTIVE:
-    if (s->material == SPAM_MATERIAL_GAS && s->smoothing == SPAM_SMOOTHING_ADAPTIVE) return PETSC_TRUE;
+    if (s->material == SPAM_MATERIAL_GAS && s->smoothing != SPAM_SMOOTHING_FIXED) return PETSC_TRUE;
     (void)snprintf(why, len, "applies to the gas's -smoothing_length adaptive (this run: -material %s%s)", SpamMaterialNames[s->material], s->material == SPAM_MATERIAL_GAS ? ", -smoothing_length fixed" : "");
     return PETSC_FALSE;
   case G_SOLID_CONT:
