@@ -32,6 +32,9 @@ extern const char *const SpamGasSchemeNames[];
 extern const char *const SpamBackgroundModeNames[];
 extern const char *const SpamDiffusionFormNames[];
 extern const char *const SpamSmoothingModeNames[];
+/* -h_tol's default: Newton's last step then moved h_i by about 1e-11 of itself, far below
+ * the integrators' tolerances, so the right-hand side is smooth to that level. */
+#define SPAM_H_TOL_DEFAULT 1e-10
 
 typedef struct {
   SpamMaterial       material;      /* elastic (stress in the state), ideal gas with  */
@@ -64,6 +67,7 @@ typedef struct {
   SpamSmoothingMode  smoothing;     /* fixed h, or h_i solved (adaptive) or integrated (evolved) (gas) */
   double             h_eta;         /* adaptive: h_i / (m_i/rho_i)^(1/D); 0: -h        */
   double             h_min, h_max;  /* adaptive: bounds of h_i, as factors of -h       */
+  double             h_tol;         /* adaptive: |rho h^D/(eta^D m) - 1| of a settled h_i */
 } SpamSolidParams;
 
 /* The flow scheme's default transport shifting coefficient (gas_flow.c). */

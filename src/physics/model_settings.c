@@ -46,6 +46,7 @@ static void TensorSettings(const SpamSolidParams *p, SpamSetting *s, int *n)
     Num(s, n, "h_eta", p->h_eta);
     Num(s, n, "h_min", p->h_min);
     Num(s, n, "h_max", p->h_max);
+    if (p->h_tol != SPAM_H_TOL_DEFAULT) Num(s, n, "h_tol", p->h_tol); /* the default's outputs keep their keys */
   }
 }
 

@@ -26,10 +26,6 @@
 #include <spam/errors.h>
 #include "../pair/pair_walk_adaptive.h"
 
-/* |rho h^D / (eta^D m) - 1| at which h_i is taken as converged: Newton's last step then
- * moved h_i by about 1e-11 of itself (and the next would by the square of that), far
- * below the integrators' tolerances, so the right-hand side is smooth to that level. */
-#define SPAM_H_TOL 1e-10
 /* Bisection alone halves the bracket [h_min h, h_max h] to 1e-10 of h in under 40 steps. */
 #define SPAM_H_MAX_ITER 100
 /* The reach of a solve's later passes, a factor of each h_i at its start: the list holds
@@ -182,11 +178,14 @@ static PetscErrorCode Sums(SpamSim *sim, int keep)
 /* The solve's bounds and target. */
 typedef struct {
   int    dim;
-  double eta, lo, hi; /* eta and the bounds of h_i as lengths */
+  double eta, lo, hi; /* eta and the bounds of h_i as lengths                           */
+  double tol;         /* |rho h^D / (eta^D m) - 1| of a settled h_i (-h_tol, 1e-10: Newton's
+                       * last step then moved h_i by about 1e-11 of itself, the next would
+                       * by the square of that, so the right-hand side is smooth to that level) */
 } Solve;
 
 /* One step of particle i's solve at the sums of its current h_i: 1 when h_i stays (the
- * relation holds to SPAM_H_TOL, or h_i is held at the bound that the relation lies
+ * relation holds to -h_tol, or h_i is held at the bound that the relation lies
  * beyond), with Omega_i set; else 0 with the next h_i. */
 static int Step(const Solve *s, SpamFields *f, int i)
 {
@@ -194,7 +193,7 @@ static int Step(const Solve *s, SpamFields *f, int i)
   const double fp = f->drho[i] + s->dim * tgt * f->hinv[i]; /* d(rho - tgt)/dh */
   double       hn;
 
-  if (fabs(res) <= SPAM_H_TOL * tgt) {
+  if (fabs(res) <= s->tol * tgt) {
     f->omega[i] = 1.0 + h * f->drho[i] / (s->dim * f->rho[i]);
     return 1;
   }
@@ -279,7 +278,7 @@ static Solve SolveOf(const SpamSim *sim)
 {
   const SpamSolidParams *p  = &sim->model.solid;
   const double           h0 = sim->model.kernel.h;
-  const Solve            s  = {sim->model.dim, p->h_eta, p->h_min * h0, p->h_max * h0};
+  const Solve            s  = {sim->model.dim, p->h_eta, p->h_min * h0, p->h_max * h0, p->h_tol > 0.0 ? p->h_tol : SPAM_H_TOL_DEFAULT};
   return s;
 }
 

@@ -19,10 +19,12 @@ PetscErrorCode SpamSmoothingOptions(PetscOptionItems *PetscOptionsObject, PetscB
   PetscCall(PetscStrncpy(mode, SpamSmoothingModeNames[p->smoothing], len));
   if (p->h_min == 0.0) p->h_min = SPAM_H_MIN_DEFAULT;
   if (p->h_max == 0.0) p->h_max = SPAM_H_MAX_DEFAULT;
+  if (p->h_tol == 0.0) p->h_tol = SPAM_H_TOL_DEFAULT;
   if (help || !strcmp(mat, "gas")) PetscCall(PetscOptionsString("-smoothing_length", "Gas: kernel range fixed (one h), adaptive (h_i solved from rho_i h_i^D = eta^D m_i in each evaluation, with grad-h terms) or evolved (h_i in the state, dh_i/dt = -h_i/(D rho_i) drho_i/dt, started from that relation)", "README", mode, mode, len, NULL));
   if (help || (!strcmp(mat, "gas") && (!strcmp(mode, "adaptive") || !strcmp(mode, "evolved")))) {
     PetscCall(PetscOptionsReal("-h_eta", "Adaptive h: eta = h_i / (m_i/rho_i)^(1/D), the range in mean particle spacings (0: -h, the range on a lattice of unit spacing)", "README", p->h_eta, &p->h_eta, NULL));
     PetscCall(PetscOptionsReal("-h_min", "Adaptive h: lower bound of h_i as a factor of -h", "README", p->h_min, &p->h_min, NULL));
+    PetscCall(PetscOptionsReal("-h_tol", "Adaptive h: |rho_i h_i^D / (eta^D m_i) - 1| at which the solve takes h_i as settled (evolved: the start's solve); a loose one leaves noise in the right-hand side", "README", p->h_tol, &p->h_tol, NULL));
     PetscCall(PetscOptionsReal("-h_max", "Adaptive h: upper bound of h_i as a factor of -h (the neighbour list's range)", "README", p->h_max, &p->h_max, NULL));
   }
   PetscFunctionReturn(0);
@@ -44,6 +46,8 @@ PetscErrorCode SpamSmoothingValidate(const char *mode, SpamSolidParams *p)
   if (!(p->h_eta >= 0.0) || !isfinite(p->h_eta)) SPAM_BAD_INPUT("-h_eta", val, "must be 0 (-h) or a positive number of mean spacings");
   PetscCall(SpamOptionText("-h_min", p->h_min, val, sizeof val));
   if (!(p->h_min > 0.0 && p->h_min <= 1.0)) SPAM_BAD_INPUT("-h_min", val, "must be above 0 and at most 1 (a factor of -h)");
+  PetscCall(SpamOptionText("-h_tol", p->h_tol, val, sizeof val));
+  if (!(p->h_tol >= 1e-15 && p->h_tol <= 1e-2)) SPAM_BAD_INPUT("-h_tol", val, "must be from 1e-15 to 1e-2 (a relative residual of rho h^D = eta^D m)");
   PetscCall(SpamOptionText("-h_max", p->h_max, val, sizeof val));
   if (!(p->h_max >= 1.0 && p->h_max <= SPAM_H_MAX_MOST)) SPAM_BAD_INPUT("-h_max", val, "must be from 1 to %d (a factor of -h; the neighbour list's range is h_max h)", SPAM_H_MAX_MOST);
   PetscFunctionReturn(0);
