@@ -1,5 +1,6 @@
 #!/usr/bin/python3
-"""Work-precision of the kernel range's modes on a small Sedov blast (2D).
+"""Work-precision of the kernel range's modes on a small Sedov blast (2D), or on the gas
+of the free expansion (--scene expansion: no shock, no viscosity, -h_max 3).
 
 Usage:
     /usr/bin/python3 examples/work_precision_h.py --spam-ark build/spam-ark --workdir DIR
@@ -59,8 +60,12 @@ def one_run(a, label, rtol):
     out = os.path.join(a.workdir, f"{label.replace(' ', '').replace(',', '_').replace('=', '')}_{rtol:g}")
     final = os.path.join(out, "final.csv")
     os.makedirs(out, exist_ok=True)
-    cmd = [a.spam_ark, "-options_file", os.path.join(HERE, "..", "options", "sedov.opts"), "-sedov_n", str(a.n),
-           "-ts_max_time", repr(a.t_end), "-ts_rtol", repr(rtol), "-ts_atol", repr(rtol * 1e-3),
+    if a.scene == "sedov":
+        scene = ["-options_file", os.path.join(HERE, "..", "options", "sedov.opts"), "-sedov_n", str(a.n), "-h", repr(a.h)]
+    else:  # the gas of the free expansion: smooth, no viscosity (tests/run_expansion_entropy.py)
+        scene = ["-scene", "expansion", "-dim", "2", "-expansion_n", str(a.n), "-h", repr(a.h), "-material", "gas",
+                 "-gas_gamma", "2", "-gas_e0", "0.5", "-viscosity", "none"] + (["-h_max", "3"] if mode != "fixed" else [])
+    cmd = [a.spam_ark] + scene + ["-ts_max_time", repr(a.t_end), "-ts_rtol", repr(rtol), "-ts_atol", repr(rtol * 1e-3),
            "-smoothing_length", mode] + extra(rtol) + ["-output_interval", "0", "-snapshot_interval", "0",
            "-final_csv", final, "-output_dir", out, "-output_overwrite", "-quiet"]
     c0 = os.times()
@@ -86,6 +91,7 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--spam-ark", required=True)
     ap.add_argument("--workdir", required=True)
+    ap.add_argument("--scene", choices=("sedov", "expansion"), default="sedov")
     ap.add_argument("--n", type=int, default=48)
     ap.add_argument("--h", type=float, default=3.0)
     ap.add_argument("--t-end", type=float, default=1.0)
@@ -98,7 +104,7 @@ def main():
     os.makedirs(a.workdir, exist_ok=True)
     rtols = [float(r) for r in a.rtols.split(",")]
     labels = a.series.split(";")
-    res, refs, readings = {}, {}, {"n": a.n, "t_end": a.t_end, "ref_rtol": a.ref_rtol, "rtols": rtols}
+    res, refs, readings = {}, {}, {"scene": a.scene, "n": a.n, "h": a.h, "t_end": a.t_end, "ref_rtol": a.ref_rtol, "rtols": rtols}
     for mode in labels:
         rl = SERIES[mode][2]
         if rl not in refs:
@@ -159,7 +165,8 @@ def draw(a, res, rtols):
         x.set_ylabel("rms final position error / h")
         x.grid(True, which="both", alpha=0.3)
         x.legend(fontsize=8)
-    fig.suptitle(f"Sedov 2D {a.n}x{a.n} (E0 1e4, h 3), t = {a.t_end:g}: kernel range fixed, adaptive (solved), evolved (in the state); "
+    what = f"Sedov 2D {a.n}x{a.n} (E0 1e4, h {a.h:g})" if a.scene == "sedov" else f"free expansion, gas 2D {a.n}x{a.n} (h {a.h:g}, no viscosity)"
+    fig.suptitle(f"{what}, t = {a.t_end:g}: kernel range fixed, adaptive (solved), evolved (in the state); "
                  f"error against each mode's rtol {a.ref_rtol:g} run")
     fig.tight_layout()
     png = a.png or os.path.join(a.workdir, "work_precision_h.png")
