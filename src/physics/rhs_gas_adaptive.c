@@ -16,11 +16,12 @@
  * under -reproducible the force pass walks the canonical rows, each particle adding its
  * own terms in its row's order (the same bits on any number of ranks).
  * At -smoothing_length evolved h_i is the state's (smoothing_adaptive.c, SpamSmoothingAt),
- * integrated with d(rho_i h_i^D)/dt = 0 at the summed density:
- *   dh_i/dt = -h_i/(D rho_i) drho_i/dt,  drho_i/dt = (1/Omega_i) sum_j m_j g_i (v_i - v_j).(r_i - r_j),
- * the rate of rho_i(h_i) with h_i held divided by Omega_i (its change through h_i moved
- * with it: Price 2012, Eq. 64); the force pass sums the velocity divergence beside the
- * forces. An h_i at a bound does not move beyond it. */
+ * integrated with d(rho_i h_i^D)/dt = 0 at the continuity equation's rate of rho_i:
+ *   dh_i/dt = -h_i/(D rho_i) drho_i/dt,  drho_i/dt = sum_j m_j g_i (v_i - v_j).(r_i - r_j)
+ * (Benz 1990), summed in the force pass beside the forces. Not the summed density's own
+ * rate, which divides this by Omega_i (Price 2012, Eq. 64): Omega_i falls to 0 as a
+ * particle leaves the gas (its density becomes its self term, rho h^D no longer grows with
+ * h), and dh_i/dt with it would diverge there. An h_i at a bound does not move beyond it. */
 #include <spam/physics.h>
 #include "../pair/pair_walk_adaptive.h"
 #include "../pair/pair_stress_force.h"
@@ -111,7 +112,7 @@ SPAM_PAIR_ROWS_ADAPTIVE(WalkForceCanonEvolved, ForcePass, ForceRowPairEvolved, S
 /* dh_i/dt of the evolved range, held at the bounds. */
 static double RangeRate(const SpamSim *sim, const SpamFields *f, int i, double hy)
 {
-  const double h0 = sim->model.kernel.h, dh = -f->h[i] * f->divv[i] / (sim->model.dim * f->rho[i] * f->omega[i]);
+  const double h0 = sim->model.kernel.h, dh = -f->h[i] * f->divv[i] / (sim->model.dim * f->rho[i]);
   if ((hy >= sim->model.solid.h_max * h0 && dh > 0.0) || (hy <= sim->model.solid.h_min * h0 && dh < 0.0)) return 0.0;
   return dh;
 }

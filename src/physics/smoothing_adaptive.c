@@ -354,8 +354,11 @@ PetscErrorCode SpamSmoothingSolve(SpamSim *sim)
 
 /* The evolved range: h_i is the state's (-smoothing_length evolved), so one pass sums
  * rho_i and d rho_i/d h_i there and Omega_i follows; an h_i the integration carried past
- * a bound is held at it, with Omega 1 (as the solve's). No iteration: the right-hand side
- * is a smooth function of the state, h_i included. */
+ * a bound is held at it, with Omega 1 (as the solve's). So is a particle whose Omega is
+ * not positive: its range holds too few partners for rho h^D to grow with h (a particle
+ * leaving the gas, whose density is its self term), where the solve would hold h_i at the
+ * upper bound. No iteration: the right-hand side is a smooth function of the state, h_i
+ * included, but where Omega_i changes sign. */
 PetscErrorCode SpamSmoothingAt(SpamSim *sim, const double *y)
 {
   const Solve       s = SolveOf(sim);
@@ -372,7 +375,8 @@ PetscErrorCode SpamSmoothingAt(SpamSim *sim, const double *y)
   PetscCall(Sums(sim, keep));
   for (int i = 0; i < n; i++) {
     const double hy = y[(size_t)i * l->nvar + l->h];
-    f->omega[i]     = hy <= s.lo || hy >= s.hi ? 1.0 : 1.0 + f->h[i] * f->drho[i] / (s.dim * f->rho[i]);
+    const double om = 1.0 + f->h[i] * f->drho[i] / (s.dim * f->rho[i]);
+    f->omega[i]     = hy <= s.lo || hy >= s.hi || !(om > 0.0) ? 1.0 : om;
   }
   PetscCall(PetscLogEventEnd(sim->run.ev.density, 0, 0, 0, 0));
   PetscCall(Close(sim, &s, 0, -1));
