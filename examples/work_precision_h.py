@@ -131,7 +131,7 @@ def main():
             "rhs_total": sum(r["rhs"] for r in runs_ok), "cpu_total": sum(r["cpu"] for r in runs_ok),
             "failed": len(rows) - len(runs_ok),
             "ref_rhs": ref.get("rhs"), "ref_cpu": ref.get("cpu"),
-            "runs": {f"{t:g}": ({"error": r["err"], "rhs": r["rhs"], "cpu": r["cpu"], "steps": r["steps"]}
+            "runs": {f"{t:.0e}": ({"error": r["err"], "rhs": r["rhs"], "cpu": r["cpu"], "steps": r["steps"]}
                                 if "err" in r else {"failed": r.get("why", "no reference")}) for t, r in rows},
         }
         print(f"  {mode}: slope of log error against log rtol {slope} (rtol <= 1e-5: {tight}); "
