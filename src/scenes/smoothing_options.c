@@ -1,6 +1,7 @@
-/* The kernel range's options: -smoothing_length fixed (one h, the papers' scenes) or
- * adaptive (each particle's own h_i from rho_i h_i^D = eta^D m_i, with -h_eta and the
- * bounds -h_min, -h_max), and the refusals of what the adaptive range does not cover yet. */
+/* The kernel range's options: -smoothing_length fixed (one h, the papers' scenes),
+ * adaptive (each particle's own h_i solved from rho_i h_i^D = eta^D m_i to -h_tol, with
+ * -h_eta and the bounds -h_min, -h_max) or evolved (h_i in the state, integrated from that
+ * relation's start), and the refusals of what those ranges do not cover yet. */
 #include <spam/scene.h>
 #include <spam/errors.h>
 
