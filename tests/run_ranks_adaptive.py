@@ -72,6 +72,15 @@ if r2:
         c.check(how == "bitwise" and steps(ck) == steps(r2) and pr == pc,
                 f"restart at step 30 on 2 ranks: {how}; steps and {len(pc)} snapshots {'byte for byte' if pr == pc else 'NOT'} the uninterrupted run's")
 
+# The evolved range: h_i in the state, migrated with it; the same bits on 1 and 2 ranks.
+ev = repro + ["-smoothing_length", "evolved"]
+e1, e2 = spam(1, "evolved", ev), spam(2, "evolved", ev + ["-migrate_interval", 1])
+if e1 and e2:
+    p1, p2 = snapshots(e1), snapshots(e2)
+    differ = [f for f in p1 if p1[f] != p2.get(f)]
+    c.check(steps(e1) == steps(e2) and len(p1) == 3 and p1.keys() == p2.keys() and not differ,
+            f"-smoothing_length evolved -reproducible, 2 ranks: steps and {len(p2)} snapshots byte for byte one rank's (differing: {differ or 'none'})")
+
 fixed = ["-ts_max_time", 0.2, "-arkode_fixed_step", 0.004, "-output_interval", 0.2, "-snapshot_interval", 0.2]
 finals = {}
 for ranks in (1, 2):

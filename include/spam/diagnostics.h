@@ -32,6 +32,7 @@ typedef struct {
 typedef struct {
   double    grid_spacing;           /* <= 0 turns the grid estimate off               */
   PetscBool entropy;
+  PetscBool entropy_gas;            /* the gas's sum estimate (-diag_entropy given)   */
 } SpamDiagnosticsOptions;
 
 /* Evaluates every diagnostic of state y (raw array) at time t. */

@@ -12,6 +12,7 @@ typedef struct {
   int s;            /* offset of the stress, D(D+1)/2 components: the upper triangle     */
                     /* row by row (2D: xx xy yy; 3D: xx xy xz yy yz zz), or -1           */
   int fb;           /* offset of the flow scheme's energy book (gas_flow.h), or -1     */
+  int h;            /* offset of the kernel range h_i (-smoothing_length evolved), or -1 */
   int wb;           /* offset of the wall books (walls.h), or -1: the work and heat the  */
                     /* walls gave this particle's ghosts' partners and their impulse (D) */
   /* Error-weight scale of every component other than x and v: a component y is weighed
@@ -26,6 +27,8 @@ PetscErrorCode SpamLayoutPositionsVelocities(int dim, SpamLayout *l);
  * (continuity density), the stress only for the elastic solid (a gas has P(rho, e)). rho_scale and stress_scale set the error weights of those fields
  * (energy per mass is weighed against stress_scale / rho_scale). */
 PetscErrorCode SpamLayoutSolid(int dim, PetscBool with_rho, PetscBool with_stress, double rho_scale, double stress_scale, SpamLayout *l);
+/* Appends the kernel range h_i (-smoothing_length evolved), weighed against h0. */
+PetscErrorCode SpamLayoutAddSmoothing(SpamLayout *l, double h0);
 /* Appends the wall books [work heat impulse(D)] to a tensor-path layout: integrated with
  * the state, so that E(t) - E(0) = work + heat to the integrator's accuracy; they take no
  * part in the error control (their weight is zero). */

@@ -96,6 +96,11 @@ PetscErrorCode SpamSetUpSolid(SpamSim *sim);
 /* The adaptive kernel range (smoothing_adaptive.c): every local h_i, rho_i and Omega_i
  * from the current list; a particle whose solve does not converge stops the run. */
 PetscErrorCode SpamSmoothingSolve(SpamSim *sim);
+/* The evolved range: rho_i and Omega_i at the h_i of the state y (one pass, no solve;
+ * h_i held within the bounds), on the current list (updated to y). */
+PetscErrorCode SpamSmoothingAt(SpamSim *sim, const double *y);
+/* The evolved range's start: h_i solved at y's positions into y's h. */
+PetscErrorCode SpamSmoothingStart(SpamSim *sim, double *y);
 /* The list as the last solve's passes walked it: a view of sim's list whose rows hold only
  * the pairs within reach of its h_i (or the whole list), every pair within max(h_i, h_j)
  * among them in the list's order. Valid until the next list update. */

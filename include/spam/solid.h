@@ -20,7 +20,7 @@ typedef enum { SPAM_BACKGROUND_NONE, SPAM_BACKGROUND_MEAN } SpamBackgroundMode;
 typedef enum { SPAM_DIFFUSION_GRADIENT, SPAM_DIFFUSION_PAIR } SpamDiffusionForm;
 /* The kernel range: one h for every particle, or each particle's own h_i from
  * rho_i h_i^D = eta^D m_i with the grad-h terms (smoothing_adaptive.c, rhs_gas_adaptive.c). */
-typedef enum { SPAM_SMOOTHING_FIXED, SPAM_SMOOTHING_ADAPTIVE } SpamSmoothingMode;
+typedef enum { SPAM_SMOOTHING_FIXED, SPAM_SMOOTHING_ADAPTIVE, SPAM_SMOOTHING_EVOLVED } SpamSmoothingMode;
 
 extern const char *const SpamDensityModeNames[];
 extern const char *const SpamDensityInitialNames[];
@@ -32,6 +32,9 @@ extern const char *const SpamGasSchemeNames[];
 extern const char *const SpamBackgroundModeNames[];
 extern const char *const SpamDiffusionFormNames[];
 extern const char *const SpamSmoothingModeNames[];
+/* -h_tol's default: Newton's last step then moved h_i by about 1e-11 of itself, far below
+ * the integrators' tolerances, so the right-hand side is smooth to that level. */
+#define SPAM_H_TOL_DEFAULT 1e-10
 
 typedef struct {
   SpamMaterial       material;      /* elastic (stress in the state), ideal gas with  */
@@ -61,9 +64,10 @@ typedef struct {
   PetscBool          plain_default; /* the scene's gas keeps the plain scheme unless  */
                                     /* asked (gas_flow.h: expansion into vacuum, and  */
                                     /* the convection cell, whose onset it moves)      */
-  SpamSmoothingMode  smoothing;     /* fixed h, or adaptive h_i (gas)                  */
+  SpamSmoothingMode  smoothing;     /* fixed h, or h_i solved (adaptive) or integrated (evolved) (gas) */
   double             h_eta;         /* adaptive: h_i / (m_i/rho_i)^(1/D); 0: -h        */
   double             h_min, h_max;  /* adaptive: bounds of h_i, as factors of -h       */
+  double             h_tol;         /* adaptive: |rho h^D/(eta^D m) - 1| of a settled h_i */
 } SpamSolidParams;
 
 /* The flow scheme's default transport shifting coefficient (gas_flow.c). */

@@ -13,6 +13,7 @@ PetscErrorCode SpamLayoutPositionsVelocities(int dim, SpamLayout *l)
   l->s    = -1;
   l->wb   = -1;
   l->fb   = -1;
+  l->h    = -1;
   l->nvar = 2 * dim;
   PetscFunctionReturn(0);
 }
@@ -29,6 +30,15 @@ PetscErrorCode SpamLayoutSolid(int dim, PetscBool with_rho, PetscBool with_stres
   l->s = l->nvar;
   l->nvar += dim * (dim + 1) / 2;
   for (int k = 0; k < dim * (dim + 1) / 2; k++) l->scale[l->s + k] = stress_scale;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamLayoutAddSmoothing(SpamLayout *l, double h0)
+{
+  PetscFunctionBeginUser;
+  PetscCheck(l->nvar + 1 <= SPAM_MAX_NVAR, PETSC_COMM_SELF, PETSC_ERR_SUP, "the state of %d values per particle has no room for h", l->nvar);
+  l->h           = l->nvar++;
+  l->scale[l->h] = h0; /* h_i's error relative to itself, floored at the range -h */
   PetscFunctionReturn(0);
 }
 
@@ -64,6 +74,7 @@ PetscErrorCode SpamLayoutDescribe(const SpamLayout *l, char *buf, size_t len)
   for (int d = 0; d < l->dim && l->v >= 0; d++) used += (size_t)snprintf(buf + used, len - used, " v%s", ax[d]);
   if (l->e >= 0) used += (size_t)snprintf(buf + used, len - used, " e");
   if (l->rho >= 0) used += (size_t)snprintf(buf + used, len - used, " rho");
+  if (l->h >= 0) used += (size_t)snprintf(buf + used, len - used, " h");
   for (int k = 0; l->s >= 0 && k < l->dim * (l->dim + 1) / 2; k++) used += (size_t)snprintf(buf + used, len - used, " %s", st[k]);
   if (l->wb >= 0) used += (size_t)snprintf(buf + used, len - used, " wall_books");
   if (l->fb >= 0) used += (size_t)snprintf(buf + used, len - used, " flow_book");

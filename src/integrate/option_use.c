@@ -51,7 +51,7 @@ static const Known KnownOptions[] = {
   {"angmom_scope", PETSC_TRUE, G_SOLID_TORQUE}, {"density_initial", PETSC_TRUE, G_SOLID_CONT},
   {"gas_scheme", PETSC_TRUE, G_SOLID_GAS}, {"background_pressure", PETSC_TRUE, G_SOLID_FLOW}, {"shift_coefficient", PETSC_TRUE, G_SOLID_FLOW}, {"diffusion_form", PETSC_TRUE, G_SOLID_FLOW}, {"conduction_linear", PETSC_FALSE, G_SOLID_FLOW},
   /* The gas's kernel range: one h, or each particle's own (smoothing_options.c). */
-  {"smoothing_length", PETSC_TRUE, G_SOLID_GAS}, {"h_eta", PETSC_TRUE, G_SOLID_ADAPTIVE}, {"h_min", PETSC_TRUE, G_SOLID_ADAPTIVE}, {"h_max", PETSC_TRUE, G_SOLID_ADAPTIVE},
+  {"smoothing_length", PETSC_TRUE, G_SOLID_GAS}, {"h_eta", PETSC_TRUE, G_SOLID_ADAPTIVE}, {"h_min", PETSC_TRUE, G_SOLID_ADAPTIVE}, {"h_max", PETSC_TRUE, G_SOLID_ADAPTIVE}, {"h_tol", PETSC_TRUE, G_SOLID_ADAPTIVE},
   /* the pair layer: kernel, gravity, periodic images as ghosts (scene.c) */
   {"kernel", PETSC_TRUE, G_MODEL}, {"gravity", PETSC_TRUE, G_MODEL}, {"periodic_images", PETSC_TRUE, G_ALL},
   /* Mirror walls per box face (core/walls.c); relevance by face and condition (WallRelevant). */
@@ -426,7 +426,7 @@ static PetscBool RelevantModel(Group g, const Run *r, char *why, size_t len, Pet
   }
   if (g == G_REPRODUCIBLE) {
     const SpamSolidParams *s = r->solid;
-    if (!strcmp(r->model, "isentrope") || (s && s->material == SPAM_MATERIAL_GAS && s->smoothing == SPAM_SMOOTHING_ADAPTIVE)) return PETSC_TRUE;
+    if (!strcmp(r->model, "isentrope") || (s && s->material == SPAM_MATERIAL_GAS && s->smoothing != SPAM_SMOOTHING_FIXED)) return PETSC_TRUE;
     (void)snprintf(why, len, "applies to -material isentrope and to the gas at -smoothing_length adaptive (this run: -scene %s, model %s)", r->scene, r->model);
     return PETSC_FALSE;
   }
@@ -501,8 +501,8 @@ static PetscBool RelevantSolid(Group g, const Run *r, char *why, size_t len)
     (void)snprintf(why, len, "applies to the gas's -gas_scheme flow (this run: -material %s%s)", SpamMaterialNames[s->material], s->material == SPAM_MATERIAL_GAS ? ", -gas_scheme plain" : "");
     return PETSC_FALSE;
   case G_SOLID_ADAPTIVE:
-    if (s->material == SPAM_MATERIAL_GAS && s->smoothing == SPAM_SMOOTHING_ADAPTIVE) return PETSC_TRUE;
-    (void)snprintf(why, len, "applies to the gas's -smoothing_length adaptive (this run: -material %s%s)", SpamMaterialNames[s->material], s->material == SPAM_MATERIAL_GAS ? ", -smoothing_length fixed" : "");
+    if (s->material == SPAM_MATERIAL_GAS && s->smoothing != SPAM_SMOOTHING_FIXED) return PETSC_TRUE;
+    (void)snprintf(why, len, "applies to the gas's -smoothing_length adaptive and evolved (this run: -material %s%s)", SpamMaterialNames[s->material], s->material == SPAM_MATERIAL_GAS ? ", -smoothing_length fixed" : "");
     return PETSC_FALSE;
   case G_SOLID_CONT:
     if (s->density != SPAM_DENSITY_SUMMATION) return PETSC_TRUE;

@@ -124,7 +124,7 @@ static PetscErrorCode CheckGrid(const SpamGeometry *geo, const SpamRunOptions *o
 
 PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o)
 {
-  PetscBool restart = PETSC_FALSE;
+  PetscBool restart = PETSC_FALSE, entropy_set = PETSC_FALSE, grid_set = PETSC_FALSE;
 
   PetscFunctionBeginUser;
   /* The -arkode_* and -cvode_* options are the arkode and cvode TS types' own, read by
@@ -162,8 +162,8 @@ PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o)
   PetscCall(PetscOptionsBool("-monitor", "Print a line per step", "README", o->monitor, &o->monitor, NULL));
   PetscCall(PetscOptionsBool("-quiet", "Print only the run's last line (no start line, no progress line at each output time)", "README", o->quiet, &o->quiet, NULL));
   PetscCall(PetscOptionsBool("-output_stop", "Cut steps to land on every output time instead of writing the outputs from the method's interpolant", "README", o->output_stop, &o->output_stop, NULL));
-  PetscCall(PetscOptionsBool("-diag_entropy", "Compute the entropy estimates", "README", o->diag.entropy, &o->diag.entropy, NULL));
-  PetscCall(PetscOptionsReal("-diag_grid_spacing", "Grid spacing of the entropy integral (0: off)", "README", o->diag.grid_spacing, &o->diag.grid_spacing, NULL));
+  PetscCall(PetscOptionsBool("-diag_entropy", "Compute the entropy estimates (the isentrope's by default; the gas's particle sum, with its own e_i, when given)", "README", o->diag.entropy, &o->diag.entropy, &entropy_set));
+  PetscCall(PetscOptionsReal("-diag_grid_spacing", "Grid spacing of the entropy integral (0: off)", "README", o->diag.grid_spacing, &o->diag.grid_spacing, &grid_set));
   PetscCall(PetscOptionsString("-initial_csv", "Also write the initial particles to this CSV (file-scene format)", "README", o->initial_csv, o->initial_csv, sizeof o->initial_csv, NULL));
   PetscCall(PetscOptionsString("-final_csv", "Also write the final particles to this CSV (file-scene format)", "README", o->final_csv, o->final_csv, sizeof o->final_csv, NULL));
   PetscCall(PetscOptionsReal("-checkpoint_interval", "Write OUTPUT_DIR/checkpoint.h5 every this much simulated time (0: off; one is always written on SIGINT/SIGTERM)", "README", o->checkpoint_interval, &o->checkpoint_interval, NULL));
@@ -187,6 +187,14 @@ PetscErrorCode SpamRunOptionsParse(const SpamSim *sim, SpamRunOptions *o)
     if (o->force > 0 && o->force < MIN_BOUND_FRACTION) SPAM_BAD_INPUT("-step_force", val, "too small: must be 0 (off) or at least %g", MIN_BOUND_FRACTION);
   }
   PetscCall(CheckGrid(&sim->geo, o));
+  /* The gas's estimate, asked for: the particle sum with each particle's e_i. Off by
+   * default, so that the gas's outputs and costs stay as they were. */
+  o->diag.entropy_gas = (PetscBool)(sim->model.tensor && sim->model.solid.material == SPAM_MATERIAL_GAS && o->diag.entropy && entropy_set);
+  if (o->diag.entropy_gas && grid_set && o->diag.grid_spacing > 0) {
+    char val[128];
+    PetscCall(SpamOptionText("-diag_grid_spacing", o->diag.grid_spacing, val, sizeof val));
+    SPAM_BAD_INPUT("-diag_grid_spacing", val, "the gas's entropy is the particle sum only (its grid estimate would need e interpolated): give 0");
+  }
   {
     char val[32];
     PetscCall(PetscSNPrintf(val, sizeof val, "%" PetscInt_FMT, o->migrate_interval));

@@ -101,6 +101,9 @@ PetscErrorCode SpamDiagnosticsCompute(SpamSim *sim, const SpamDiagnosticsOptions
   if (o->entropy && !m->tensor && strcmp(m->name, "springs")) { /* the entropy estimates are those of the isentropic gas */
     PetscCall(SpamEntropySum(sim, y, &d->entropy_sum));
     if (o->grid_spacing > 0) PetscCall(SpamEntropyGrid(sim, y, o->grid_spacing, &d->entropy_grid));
+  } else if (o->entropy_gas) { /* the gas's sum estimate with its own e_i (run_options.c) */
+    PetscCall(SpamEntropySum(sim, y, &d->entropy_sum));
+    d->entropy_grid = NAN;
   }
   PetscCall(SpamWallDiagnostics(sim, y, d));
   PetscCall(SchemeEnergy(sim, y, &d->scheme_energy));

@@ -3,17 +3,21 @@
  * where <f> = m sum_j f_j w_ij / rho is the smooth-particle average. The velocity
  * fluctuation about the local mean flow counts as internal energy, which is what makes
  * the free expansion produce N k ln(V2/V1). Two estimates: a sum over particles (volume
- * m/rho_i each) and an integral of s over a regular grid. Results are S/k. */
+ * m/rho_i each) and an integral of s over a regular grid. Results are S/k. The isentrope's
+ * e is P/((gamma - 1) rho) of its summed density; the gas's (-diag_entropy true) is each
+ * particle's own e_i, in the sum only. At the adaptive range each particle's averages and
+ * density take its own h_i. */
 #include <spam/entropy.h>
 #include "../pair/pair_walk.h"
+#include "../pair/pair_walk_adaptive.h"
 
-/* ln[(e + dv2/2)^(D/2) / rho] for one point. */
-static double EntropyPerMass(const SpamModel *m, double rho, double v2mean, const double *vmean)
+/* ln[(e + dv2/2)^(D/2) / rho] for one point of energy e per unit mass. */
+static double EntropyPerMass(const SpamModel *m, double e, double rho, double v2mean, const double *vmean)
 {
   double dv2 = v2mean;
   for (int d = 0; d < m->dim && d < 3; d++) dv2 -= vmean[d] * vmean[d]; /* d < 3: vmean[3] */
   dv2 = dv2 > 0.0 ? dv2 : 0.0; /* a variance; round-off can make it slightly negative */
-  return 0.5 * m->dim * log(SpamEosEnergy(&m->eos, rho) + 0.5 * dv2) - log(rho);
+  return 0.5 * m->dim * log(e + 0.5 * dv2) - log(rho);
 }
 
 /* The pair walk of the entropy sum: kernel-weighted moments of the neighbours' velocities,
@@ -41,19 +45,62 @@ static inline __attribute__((always_inline)) void MomentPair(const int dim, Mome
 }
 SPAM_PAIR_WALK(WalkMoments, Moments, MomentPair)
 
+/* The same moments at the adaptive range: each particle averages over its own range h_i,
+ * mom_i += m_j w(r_ij, h_i) (v_j, |v_j|^2), as its density rho_i(h_i) sums (gather form;
+ * pair_walk_adaptive.h). What a pair adds to another rank's slot is dropped. */
+static inline __attribute__((always_inline)) void MomentPairAdaptive(const int dim, Moments *c, int i, int j, const double dx[3], double r2, double wi, double gi, double wj, double gj)
+{
+  const double *vi = c->v + (size_t)i * dim, *vj = c->v + (size_t)j * dim;
+  double        vi2 = 0.0, vj2 = 0.0;
+  (void)dx;
+  (void)r2;
+  (void)gi;
+  (void)gj;
+  for (int d = 0; d < dim; d++) {
+    c->mom[(size_t)i * (dim + 1) + d] += c->m[j] * wi * vj[d];
+    c->mom[(size_t)j * (dim + 1) + d] += c->m[i] * wj * vi[d];
+    vi2 += vi[d] * vi[d];
+    vj2 += vj[d] * vj[d];
+  }
+  c->mom[(size_t)i * (dim + 1) + dim] += c->m[j] * wi * vj2;
+  c->mom[(size_t)j * (dim + 1) + dim] += c->m[i] * wj * vi2;
+}
+#define SPAM_ENTROPY_EVERY_PAIR(ctx, i, j) 0
+#define SPAM_ENTROPY_NO_ROW(ctx, i) 0
+SPAM_PAIR_WALK_ADAPTIVE(WalkMomentsAdaptive, Moments, MomentPairAdaptive, SPAM_ENTROPY_EVERY_PAIR, SPAM_NEAR_NONE)
+
+/* The canonical rows' pair (-reproducible): particle i's side only, in its row's order. */
+static inline __attribute__((always_inline)) void MomentRowAdaptive(const int dim, Moments *c, int i, int j, const double dx[3], double r2, double wi, double gi, double wj, double gj)
+{
+  const double *vj  = c->v + (size_t)j * dim;
+  double        vj2 = 0.0;
+  (void)dx;
+  (void)r2;
+  (void)gi;
+  (void)wj;
+  (void)gj;
+  for (int d = 0; d < dim; d++) {
+    c->mom[(size_t)i * (dim + 1) + d] += c->m[j] * wi * vj[d];
+    vj2 += vj[d] * vj[d];
+  }
+  c->mom[(size_t)i * (dim + 1) + dim] += c->m[j] * wi * vj2;
+}
+SPAM_PAIR_ROWS_ADAPTIVE(WalkMomentsCanon, Moments, MomentRowAdaptive, SPAM_ENTROPY_NO_ROW)
+
 PetscErrorCode SpamEntropySum(SpamSim *sim, const double *y, double *S)
 {
   const SpamModel  *m   = &sim->model;
   const SpamLayout *l   = &m->layout;
   const SpamGhosts *gh  = &sim->pair.nl.ghosts;
   const int         dim = m->dim, nv = l->nvar, n = (int)sim->p.n, slots = SpamNeighboursSlots(&sim->pair.nl);
+  const int         adaptive = sim->pair.f.adaptive, own_e = m->tensor && l->e >= 0;
   double           *v, *mom, sum = 0.0;
   Moments           c;
 
   PetscFunctionBeginUser;
   PetscCall(PetscCalloc2((size_t)dim * slots + 1, &v, (size_t)(dim + 1) * slots + 1, &mom));
   for (int i = 0; i < n; i++) {
-    const double *vi = y + (size_t)i * nv + l->v, w0 = sim->pair.f.m[i] * m->kernel.wnorm; /* the self term */
+    const double *vi = y + (size_t)i * nv + l->v, w0 = sim->pair.f.m[i] * (adaptive ? sim->pair.f.wn[i] : m->kernel.wnorm); /* the self term */
     double        v2 = 0.0;
     for (int d = 0; d < dim; d++) {
       v[(size_t)i * dim + d]           = vi[d];
@@ -64,17 +111,21 @@ PetscErrorCode SpamEntropySum(SpamSim *sim, const double *y, double *S)
   }
   PetscCall(SpamGhostsGather(gh, dim, n, dim, SPAM_GHOST_VECTOR, v));
   c = (Moments){v, sim->pair.f.m, mom};
-  PetscCall(WalkMoments(&sim->pair.nl, &m->kernel, &c));
-  /* |v|^2 is a scalar under a mirror; the mean velocity a vector */
-  for (int k = 0; k < gh->n; k++) {
+  if (adaptive && SpamNeighboursCanonical(&sim->pair.nl)) PetscCall(WalkMomentsCanon(&sim->pair.nl, &m->kernel, &sim->pair.f, &c));
+  else if (adaptive) PetscCall(WalkMomentsAdaptive(&sim->pair.nl, &m->kernel, &sim->pair.f, &c));
+  else PetscCall(WalkMoments(&sim->pair.nl, &m->kernel, &c));
+  /* |v|^2 is a scalar under a mirror; the mean velocity a vector. The adaptive range
+   * takes no periodic image slots but in the canonical rows, whose sums are i's own. */
+  for (int k = 0; k < gh->n && !adaptive; k++) {
     if (gh->kind[k] != SPAM_GHOST_PERIODIC) continue; /* a remote ghost has no local source */
     double *t = mom + (size_t)(n + k) * (dim + 1), *s = mom + (size_t)gh->src[k] * (dim + 1);
     for (int d = 0; d <= dim; d++) s[d] += (d < dim && ((gh->flip[k] >> d) & 1) ? -1.0 : 1.0) * t[d];
   }
   for (int i = 0; i < n; i++) {
     double vmean[3] = {0, 0, 0};
-    for (int d = 0; d < dim; d++) vmean[d] = mom[(size_t)i * (dim + 1) + d] / sim->pair.f.rho[i];
-    sum += EntropyPerMass(m, sim->pair.f.rho[i], mom[(size_t)i * (dim + 1) + dim] / sim->pair.f.rho[i], vmean);
+    const double rho = sim->pair.f.rho[i], e = own_e ? y[(size_t)i * nv + l->e] : SpamEosEnergy(&m->eos, rho);
+    for (int d = 0; d < dim; d++) vmean[d] = mom[(size_t)i * (dim + 1) + d] / rho;
+    sum += EntropyPerMass(m, e, rho, mom[(size_t)i * (dim + 1) + dim] / rho, vmean);
   }
   PetscCall(PetscFree2(v, mom));
   PetscCallMPI(MPIU_Allreduce(&sum, S, 1, MPI_DOUBLE, MPI_SUM, sim->p.comm));
@@ -170,7 +221,7 @@ PetscErrorCode SpamEntropyGrid(SpamSim *sim, const double *y, double spacing, do
       double        vmean[3] = {0, 0, 0};
       if (!(rho > rho_min)) continue;
       for (int d = 0; d < dim; d++) vmean[d] = p[1 + d] / rho;
-      sum += (rho / m->mass) * EntropyPerMass(m, rho, p[1 + dim] / rho, vmean) * cellvol;
+      sum += (rho / m->mass) * EntropyPerMass(m, SpamEosEnergy(&m->eos, rho), rho, p[1 + dim] / rho, vmean) * cellvol;
     }
   }
   PetscCall(PetscFree(mom));

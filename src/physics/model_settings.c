@@ -41,11 +41,12 @@ static void TensorSettings(const SpamSolidParams *p, SpamSetting *s, int *n)
   Num(s, n, "viscosity_bulk", p->bulk_visc);
   Num(s, n, "conductivity", p->conductivity);
   Num(s, n, "closest_approach", p->closest_approach);
-  if (p->smoothing == SPAM_SMOOTHING_ADAPTIVE) { /* a fixed range's outputs keep their keys */
+  if (p->smoothing != SPAM_SMOOTHING_FIXED) { /* a fixed range's outputs keep their keys */
     Str(s, n, "smoothing_length", SpamSmoothingModeNames[p->smoothing]);
     Num(s, n, "h_eta", p->h_eta);
     Num(s, n, "h_min", p->h_min);
     Num(s, n, "h_max", p->h_max);
+    if (p->h_tol != SPAM_H_TOL_DEFAULT) Num(s, n, "h_tol", p->h_tol); /* the default's outputs keep their keys */
   }
 }
 

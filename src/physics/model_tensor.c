@@ -37,6 +37,7 @@ PetscErrorCode SpamSetUpSolid(SpamSim *sim)
     PetscCall(SpamDensitySummation(sim, y, &bad));
     for (PetscInt i = 0; i < sim->p.n; i++) y[(size_t)i * l->nvar + l->rho] = sim->pair.f.rho[i];
   }
+  if (l->h >= 0) PetscCall(SpamSmoothingStart(sim, y)); /* h_i solved once, then integrated */
   PetscCall(VecRestoreArray(sim->p.X, &y));
   PetscFunctionReturn(0);
 }
@@ -84,10 +85,11 @@ PetscErrorCode SpamModelSolidSetUp(int dim, const SpamKernel *kernel, double mas
     m->solid.sound_speed = sqrt((p->lambda + 2.0 * p->eta) / p->rho0);
     PetscCall(SpamLayoutSolid(dim, (PetscBool)(p->density != SPAM_DENSITY_SUMMATION), PETSC_TRUE, p->rho0, p->lambda + 2.0 * p->eta, &m->layout));
   }
-  m->rhs             = p->material == SPAM_MATERIAL_GAS && p->smoothing == SPAM_SMOOTHING_ADAPTIVE ? SpamRhsGasAdaptive : SpamRhsSolid;
+  m->rhs             = p->material == SPAM_MATERIAL_GAS && p->smoothing != SPAM_SMOOTHING_FIXED ? SpamRhsGasAdaptive : SpamRhsSolid;
+  if (p->material == SPAM_MATERIAL_GAS && p->smoothing == SPAM_SMOOTHING_EVOLVED) PetscCall(SpamLayoutAddSmoothing(&m->layout, kernel->h));
   /* Diffusion to treat apart: the pair Laplacians of the flow scheme, with one range. */
-  if (p->material == SPAM_MATERIAL_GAS && p->scheme == SPAM_GAS_FLOW && p->diffusion == SPAM_DIFFUSION_PAIR && p->smoothing != SPAM_SMOOTHING_ADAPTIVE && (p->shear_visc > 0.0 || p->conductivity > 0.0)) m->rhs_part = SpamRhsSolidPart;
-  if (p->smoothing == SPAM_SMOOTHING_ADAPTIVE && !(p->h_eta > 0.0)) m->solid.h_eta = kernel->h; /* -h spacings of a unit lattice */
+  if (p->material == SPAM_MATERIAL_GAS && p->scheme == SPAM_GAS_FLOW && p->diffusion == SPAM_DIFFUSION_PAIR && p->smoothing == SPAM_SMOOTHING_FIXED && (p->shear_visc > 0.0 || p->conductivity > 0.0)) m->rhs_part = SpamRhsSolidPart;
+  if (p->smoothing != SPAM_SMOOTHING_FIXED && !(p->h_eta > 0.0)) m->solid.h_eta = kernel->h; /* -h spacings of a unit lattice */
   m->max_sound_speed = SolidSoundSpeed;
   m->diag            = SpamDiagSolid;
   m->setup           = SpamSetUpSolid;

@@ -94,6 +94,10 @@ PetscErrorCode SpamDensitySummation(SpamSim *sim, const double *y, PetscInt *bad
   PetscCall(SpamNeighboursUpdate(&sim->pair.nl, &sim->geo.box, y + l->x, l->nvar, PETSC_FALSE, bad));
   if (*bad >= 0) PetscFunctionReturn(0);
   PetscCall(ReserveSlots(sim));
+  if (l->h >= 0) { /* the evolved range: the density at the state's h_i */
+    PetscCall(SpamSmoothingAt(sim, y));
+    PetscFunctionReturn(0);
+  }
   if (SpamGasImagesOfPlace(sim)) PetscCall(SpamGasImagesTemperatures(sim, y));
   PetscCall(SpamDensityOfList(sim));
   PetscFunctionReturn(0);

@@ -26,10 +26,6 @@
 #include <spam/errors.h>
 #include "../pair/pair_walk_adaptive.h"
 
-/* |rho h^D / (eta^D m) - 1| at which h_i is taken as converged: Newton's last step then
- * moved h_i by about 1e-11 of itself (and the next would by the square of that), far
- * below the integrators' tolerances, so the right-hand side is smooth to that level. */
-#define SPAM_H_TOL 1e-10
 /* Bisection alone halves the bracket [h_min h, h_max h] to 1e-10 of h in under 40 steps. */
 #define SPAM_H_MAX_ITER 100
 /* The reach of a solve's later passes, a factor of each h_i at its start: the list holds
@@ -43,7 +39,7 @@
 
 PetscBool SpamModelAdaptive(const SpamModel *m)
 {
-  return (PetscBool)(m->tensor && m->solid.smoothing == SPAM_SMOOTHING_ADAPTIVE);
+  return (PetscBool)(m->tensor && m->solid.smoothing != SPAM_SMOOTHING_FIXED);
 }
 
 double SpamModelListRange(const SpamModel *m)
@@ -182,11 +178,14 @@ static PetscErrorCode Sums(SpamSim *sim, int keep)
 /* The solve's bounds and target. */
 typedef struct {
   int    dim;
-  double eta, lo, hi; /* eta and the bounds of h_i as lengths */
+  double eta, lo, hi; /* eta and the bounds of h_i as lengths                           */
+  double tol;         /* |rho h^D / (eta^D m) - 1| of a settled h_i (-h_tol, 1e-10: Newton's
+                       * last step then moved h_i by about 1e-11 of itself, the next would
+                       * by the square of that, so the right-hand side is smooth to that level) */
 } Solve;
 
 /* One step of particle i's solve at the sums of its current h_i: 1 when h_i stays (the
- * relation holds to SPAM_H_TOL, or h_i is held at the bound that the relation lies
+ * relation holds to -h_tol, or h_i is held at the bound that the relation lies
  * beyond), with Omega_i set; else 0 with the next h_i. */
 static int Step(const Solve *s, SpamFields *f, int i)
 {
@@ -194,7 +193,7 @@ static int Step(const Solve *s, SpamFields *f, int i)
   const double fp = f->drho[i] + s->dim * tgt * f->hinv[i]; /* d(rho - tgt)/dh */
   double       hn;
 
-  if (fabs(res) <= SPAM_H_TOL * tgt) {
+  if (fabs(res) <= s->tol * tgt) {
     f->omega[i] = 1.0 + h * f->drho[i] / (s->dim * f->rho[i]);
     return 1;
   }
@@ -274,33 +273,67 @@ static PetscErrorCode Converged(SpamSim *sim, const Solve *s, int open, int last
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamSmoothingSolve(SpamSim *sim)
+/* The bounds and target of a pass. */
+static Solve SolveOf(const SpamSim *sim)
 {
-  const SpamSolidParams *p = &sim->model.solid;
+  const SpamSolidParams *p  = &sim->model.solid;
   const double           h0 = sim->model.kernel.h;
-  const Solve            s  = {sim->model.dim, p->h_eta, p->h_min * h0, p->h_max * h0};
-  SpamFields            *f  = &sim->pair.f;
-  const int              n  = (int)sim->p.n, slots = SpamNeighboursSlots(&sim->pair.nl);
-  const int              canonical = SpamNeighboursCanonical(&sim->pair.nl);
-  int                    open = n, last = -1, keep;
+  const Solve            s  = {sim->model.dim, p->h_eta, p->h_min * h0, p->h_max * h0, p->h_tol > 0.0 ? p->h_tol : SPAM_H_TOL_DEFAULT};
+  return s;
+}
+
+/* The start of a solve or pass: every local h_i within the bounds (h0 where it has none
+ * yet), open, its bracket the bounds; the ghosts at their owners' h_j, held settled; the
+ * near rows kept anew when the last ones do not serve. Returns whether they are kept in
+ * the first pass. */
+static PetscErrorCode Open(SpamSim *sim, const Solve *s, int *keep)
+{
+  SpamFields  *f  = &sim->pair.f;
+  const double h0 = sim->model.kernel.h;
+  const int    n  = (int)sim->p.n, slots = SpamNeighboursSlots(&sim->pair.nl);
 
   PetscFunctionBeginUser;
-  PetscCall(PetscLogEventBegin(sim->run.ev.density, 0, 0, 0, 0));
   PetscCall(SpamFieldsReserve(f, slots));
   for (int i = 0; i < n; i++) { /* from the last evaluation's h_i (-h at the first) */
-    f->h[i]   = f->h[i] > 0.0 ? PetscMin(PetscMax(f->h[i], s.lo), s.hi) : PetscMin(PetscMax(h0, s.lo), s.hi);
-    f->hlo[i]     = s.lo;
-    f->hhi[i]     = s.hi;
+    f->h[i]       = f->h[i] > 0.0 ? PetscMin(PetscMax(f->h[i], s->lo), s->hi) : PetscMin(PetscMax(h0, s->lo), s->hi);
+    f->hlo[i]     = s->lo;
+    f->hhi[i]     = s->hi;
     f->settled[i] = 0.0;
   }
   PetscCall(ShareRanges(sim)); /* the ghosts at their owners' starts, held settled */
   for (int i = n; i < slots; i++) f->settled[i] = 1.0;
-  keep = !canonical && !NearServe(f, &sim->pair.nl);
-  if (keep) {
+  *keep = !SpamNeighboursCanonical(&sim->pair.nl) && !NearServe(f, &sim->pair.nl);
+  if (*keep) {
     PetscCall(ReserveNear(f, &sim->pair.nl));
-    NearKeptHere(f, &sim->pair.nl, s.hi);
+    NearKeptHere(f, &sim->pair.nl, s->hi);
   }
   f->near_wide = 0;
+  PetscFunctionReturn(0);
+}
+
+/* The end of a solve or pass (collective): every rank learns of a failure; the slots take
+ * the h_j and rho_j of their owners for the force pass. */
+static PetscErrorCode Close(SpamSim *sim, const Solve *s, int open, int last)
+{
+  SpamFields *f = &sim->pair.f;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamAgreeOnFailure(sim->p.comm, Converged(sim, s, open, last), "the adaptive h solve"));
+  PetscCall(ShareRanges(sim));
+  PetscCall(SpamGhostsGather(&sim->pair.nl.ghosts, sim->model.dim, (int)sim->p.n, 1, SPAM_GHOST_SCALAR, f->rho));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamSmoothingSolve(SpamSim *sim)
+{
+  const Solve  s = SolveOf(sim);
+  SpamFields  *f = &sim->pair.f;
+  const int    n = (int)sim->p.n;
+  int          open = n, last = -1, keep;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(sim->run.ev.density, 0, 0, 0, 0));
+  PetscCall(Open(sim, &s, &keep));
   for (int it = 0; it < SPAM_H_MAX_ITER && open; it++) {
     PetscCall(Sums(sim, keep && it == 0));
     open = 0;
@@ -315,8 +348,53 @@ PetscErrorCode SpamSmoothingSolve(SpamSim *sim)
     }
   }
   PetscCall(PetscLogEventEnd(sim->run.ev.density, 0, 0, 0, 0));
-  PetscCall(SpamAgreeOnFailure(sim->p.comm, Converged(sim, &s, open, last), "the adaptive h solve"));
-  PetscCall(ShareRanges(sim)); /* the solved h_j and rho_j of the ghost slots: the force pass's */
-  PetscCall(SpamGhostsGather(&sim->pair.nl.ghosts, sim->model.dim, n, 1, SPAM_GHOST_SCALAR, f->rho));
+  PetscCall(Close(sim, &s, open, last));
+  PetscFunctionReturn(0);
+}
+
+/* The evolved range: h_i is the state's (-smoothing_length evolved), so one pass sums
+ * rho_i and d rho_i/d h_i there and Omega_i follows; an h_i the integration carried past
+ * a bound is held at it. Omega_i keeps its formula at a bound (the solve's 1 there would
+ * switch on and off as an integrated h_i touches the bound: a 1D Sod tube at -h_max 2
+ * took 25 times the right-hand sides), but for a particle whose Omega is not positive:
+ * its range holds too few partners for rho h^D to grow with h (a particle leaving the
+ * gas, whose density is its self term), where the solve would hold h_i at the upper
+ * bound; it takes 1. No iteration: the right-hand side is a smooth function of the state,
+ * h_i included, but where Omega_i changes sign or h_i meets a bound. */
+PetscErrorCode SpamSmoothingAt(SpamSim *sim, const double *y)
+{
+  const Solve       s = SolveOf(sim);
+  const SpamLayout *l = &sim->model.layout;
+  SpamFields       *f = &sim->pair.f;
+  const int         n = (int)sim->p.n;
+  int               keep;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscLogEventBegin(sim->run.ev.density, 0, 0, 0, 0));
+  PetscCall(SpamFieldsReserve(f, SpamNeighboursSlots(&sim->pair.nl)));
+  for (int i = 0; i < n; i++) f->h[i] = y[(size_t)i * l->nvar + l->h];
+  PetscCall(Open(sim, &s, &keep));
+  PetscCall(Sums(sim, keep));
+  for (int i = 0; i < n; i++) {
+    const double om = 1.0 + f->h[i] * f->drho[i] / (s.dim * f->rho[i]);
+    f->omega[i]     = om > 0.0 ? om : 1.0;
+  }
+  PetscCall(PetscLogEventEnd(sim->run.ev.density, 0, 0, 0, 0));
+  PetscCall(Close(sim, &s, 0, -1));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamSmoothingStart(SpamSim *sim, double *y)
+{
+  const SpamLayout *l = &sim->model.layout;
+  PetscInt          bad;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamNeighboursUpdate(&sim->pair.nl, &sim->geo.box, y + l->x, l->nvar, PETSC_FALSE, &bad));
+  PetscCheck(bad < 0, sim->p.comm, PETSC_ERR_FP, "evolved h: the initial position of particle %" PetscInt_FMT " (input row) is not finite", SpamSimRowOf(sim, bad));
+  PetscCall(SpamFieldsReserve(&sim->pair.f, SpamNeighboursSlots(&sim->pair.nl)));
+  PetscCall(SpamSimGhostMasses(sim));
+  PetscCall(SpamSmoothingSolve(sim));
+  for (PetscInt i = 0; i < sim->p.n; i++) y[(size_t)i * l->nvar + l->h] = sim->pair.f.h[i];
   PetscFunctionReturn(0);
 }

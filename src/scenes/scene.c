@@ -346,7 +346,7 @@ static PetscErrorCode CheckReproducible(const SpamCommonParams *c, const SpamPar
   PetscFunctionBeginUser;
   if (!c->reproducible) PetscFunctionReturn(0);
   if (p->model_set) SPAM_BAD_INPUT("-reproducible", "true", "applies to the isentropic gas (-material isentrope); this scene's spring model sums its bonds in list order");
-  if (solid->material != SPAM_MATERIAL_ISENTROPE && !(solid->material == SPAM_MATERIAL_GAS && solid->smoothing == SPAM_SMOOTHING_ADAPTIVE))
+  if (solid->material != SPAM_MATERIAL_ISENTROPE && !(solid->material == SPAM_MATERIAL_GAS && solid->smoothing != SPAM_SMOOTHING_FIXED))
     SPAM_BAD_INPUT("-reproducible", "true", "applies to the isentropic gas (-material isentrope) and the gas at -smoothing_length adaptive; the %s model's tensor-path passes sum their pairs in list order", SpamMaterialNames[solid->material]);
   if (SpamWallsAny(&p->walls, p->dim)) SPAM_BAD_INPUT("-reproducible", "true", "does not take mirror walls yet (their images' forces are booked to the wall from both particles of a pair)");
   /* Its periodic images are ghost slots, one per face a particle is near: an edge below

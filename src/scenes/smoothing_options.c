@@ -1,10 +1,11 @@
-/* The kernel range's options: -smoothing_length fixed (one h, the papers' scenes) or
- * adaptive (each particle's own h_i from rho_i h_i^D = eta^D m_i, with -h_eta and the
- * bounds -h_min, -h_max), and the refusals of what the adaptive range does not cover yet. */
+/* The kernel range's options: -smoothing_length fixed (one h, the papers' scenes),
+ * adaptive (each particle's own h_i solved from rho_i h_i^D = eta^D m_i to -h_tol, with
+ * -h_eta and the bounds -h_min, -h_max) or evolved (h_i in the state, integrated from that
+ * relation's start), and the refusals of what those ranges do not cover yet. */
 #include <spam/scene.h>
 #include <spam/errors.h>
 
-const char *const SpamSmoothingModeNames[] = {"fixed", "adaptive"};
+const char *const SpamSmoothingModeNames[] = {"fixed", "adaptive", "evolved"};
 
 /* The bounds' defaults: the list range is h_max h, so its pairs grow as h_max^D; a gas
  * compressed fourfold in 2D (a strong shock's shell) needs h_i down to h/2. */
@@ -19,10 +20,12 @@ PetscErrorCode SpamSmoothingOptions(PetscOptionItems *PetscOptionsObject, PetscB
   PetscCall(PetscStrncpy(mode, SpamSmoothingModeNames[p->smoothing], len));
   if (p->h_min == 0.0) p->h_min = SPAM_H_MIN_DEFAULT;
   if (p->h_max == 0.0) p->h_max = SPAM_H_MAX_DEFAULT;
-  if (help || !strcmp(mat, "gas")) PetscCall(PetscOptionsString("-smoothing_length", "Gas: kernel range fixed (one h) or adaptive (h_i from rho_i h_i^D = eta^D m_i, with grad-h terms)", "README", mode, mode, len, NULL));
-  if (help || (!strcmp(mat, "gas") && !strcmp(mode, "adaptive"))) {
+  if (p->h_tol == 0.0) p->h_tol = SPAM_H_TOL_DEFAULT;
+  if (help || !strcmp(mat, "gas")) PetscCall(PetscOptionsString("-smoothing_length", "Gas: kernel range fixed (one h), adaptive (h_i solved from rho_i h_i^D = eta^D m_i in each evaluation, with grad-h terms) or evolved (h_i in the state, dh_i/dt = -h_i/(D rho_i) drho_i/dt, started from that relation)", "README", mode, mode, len, NULL));
+  if (help || (!strcmp(mat, "gas") && (!strcmp(mode, "adaptive") || !strcmp(mode, "evolved")))) {
     PetscCall(PetscOptionsReal("-h_eta", "Adaptive h: eta = h_i / (m_i/rho_i)^(1/D), the range in mean particle spacings (0: -h, the range on a lattice of unit spacing)", "README", p->h_eta, &p->h_eta, NULL));
     PetscCall(PetscOptionsReal("-h_min", "Adaptive h: lower bound of h_i as a factor of -h", "README", p->h_min, &p->h_min, NULL));
+    PetscCall(PetscOptionsReal("-h_tol", "Adaptive h: |rho_i h_i^D / (eta^D m_i) - 1| at which the solve takes h_i as settled (evolved: the start's solve); a loose one leaves noise in the right-hand side", "README", p->h_tol, &p->h_tol, NULL));
     PetscCall(PetscOptionsReal("-h_max", "Adaptive h: upper bound of h_i as a factor of -h (the neighbour list's range)", "README", p->h_max, &p->h_max, NULL));
   }
   PetscFunctionReturn(0);
@@ -34,16 +37,18 @@ PetscErrorCode SpamSmoothingValidate(const char *mode, SpamSolidParams *p)
   int  k;
 
   PetscFunctionBeginUser;
-  for (k = 0; k < 2 && strcmp(mode, SpamSmoothingModeNames[k]); k++) {}
-  if (k == 2) {
+  for (k = 0; k < 3 && strcmp(mode, SpamSmoothingModeNames[k]); k++) {}
+  if (k == 3) {
     SpamClip(mode, val, sizeof val);
-    SPAM_BAD_INPUT("-smoothing_length", val, "allowed: fixed, adaptive");
+    SPAM_BAD_INPUT("-smoothing_length", val, "allowed: fixed, adaptive, evolved");
   }
   p->smoothing = (SpamSmoothingMode)k;
   PetscCall(SpamOptionText("-h_eta", p->h_eta, val, sizeof val));
   if (!(p->h_eta >= 0.0) || !isfinite(p->h_eta)) SPAM_BAD_INPUT("-h_eta", val, "must be 0 (-h) or a positive number of mean spacings");
   PetscCall(SpamOptionText("-h_min", p->h_min, val, sizeof val));
   if (!(p->h_min > 0.0 && p->h_min <= 1.0)) SPAM_BAD_INPUT("-h_min", val, "must be above 0 and at most 1 (a factor of -h)");
+  PetscCall(SpamOptionText("-h_tol", p->h_tol, val, sizeof val));
+  if (!(p->h_tol >= 1e-15 && p->h_tol <= 1e-2)) SPAM_BAD_INPUT("-h_tol", val, "must be from 1e-15 to 1e-2 (a relative residual of rho h^D = eta^D m)");
   PetscCall(SpamOptionText("-h_max", p->h_max, val, sizeof val));
   if (!(p->h_max >= 1.0 && p->h_max <= SPAM_H_MAX_MOST)) SPAM_BAD_INPUT("-h_max", val, "must be from 1 to %d (a factor of -h; the neighbour list's range is h_max h)", SPAM_H_MAX_MOST);
   PetscFunctionReturn(0);
@@ -66,11 +71,10 @@ static const char *UnsupportedLaw(const SpamSolidParams *s)
 }
 
 /* Options whose estimates or files assume the one range h, refused when given. */
-static PetscErrorCode CheckRunOptions(void)
+static PetscErrorCode CheckRunOptions(const SpamSolidParams *s)
 {
   static const char *const fixed_only[][2] = {
     {"-grid_interval", "the grid fields interpolate with the one kernel range h"},
-    {"-diag_entropy", "the entropy estimates use the one kernel range h"},
   };
   PetscBool has;
   char      val[128];
@@ -80,7 +84,7 @@ static PetscErrorCode CheckRunOptions(void)
     PetscCall(PetscOptionsHasName(NULL, NULL, fixed_only[k][0], &has));
     if (!has) continue;
     PetscCall(PetscSNPrintf(val, sizeof val, "%s", fixed_only[k][0]));
-    SPAM_BAD_INPUT("-smoothing_length", "adaptive", "does not take %s yet: %s", val, fixed_only[k][1]);
+    SPAM_BAD_INPUT("-smoothing_length", SpamSmoothingModeNames[s->smoothing], "does not take %s yet: %s", val, fixed_only[k][1]);
   }
   PetscFunctionReturn(0);
 }
@@ -91,16 +95,16 @@ PetscErrorCode SpamSmoothingCheck(const SpamCommonParams *c, const SpamParticles
   const double range = s->h_max * c->h + c->skin;
 
   PetscFunctionBeginUser;
-  if (p->model_set || s->material != SPAM_MATERIAL_GAS || s->smoothing != SPAM_SMOOTHING_ADAPTIVE) PetscFunctionReturn(0);
-  if ((law = UnsupportedLaw(s))) SPAM_BAD_INPUT("-smoothing_length", "adaptive", "does not take %s yet: the adaptive pass has the pressure, Monaghan's viscosity and the energy equation only", law);
+  if (p->model_set || s->material != SPAM_MATERIAL_GAS || s->smoothing == SPAM_SMOOTHING_FIXED) PetscFunctionReturn(0);
+  if ((law = UnsupportedLaw(s))) SPAM_BAD_INPUT("-smoothing_length", SpamSmoothingModeNames[s->smoothing], "does not take %s yet: the adaptive pass has the pressure, Monaghan's viscosity and the energy equation only", law);
   (void)size; /* other ranks' particles are ghost slots within the list range h_max h + skin */
   /* -reproducible's canonical rows take periodic images as slots like any partner; the
    * half-list passes would need each image's share folded onto its source in every
    * iteration of the h solve. */
-  if (c->periodic_ghosts && !c->reproducible) SPAM_BAD_INPUT("-smoothing_length", "adaptive", "does not take -periodic_images ghost yet (but does with -reproducible): the adaptive half-list passes take the periodic pairs by the minimum image");
-  if (SpamWallsAny(&p->walls, p->dim)) SPAM_BAD_INPUT("-smoothing_length", "adaptive", "does not take mirror walls yet: their images are placed within the fixed range h");
+  if (c->periodic_ghosts && !c->reproducible) SPAM_BAD_INPUT("-smoothing_length", SpamSmoothingModeNames[s->smoothing], "does not take -periodic_images ghost yet (but does with -reproducible): the adaptive half-list passes take the periodic pairs by the minimum image");
+  if (SpamWallsAny(&p->walls, p->dim)) SPAM_BAD_INPUT("-smoothing_length", SpamSmoothingModeNames[s->smoothing], "does not take mirror walls yet: their images are placed within the fixed range h");
   for (int d = 0; d < p->dim; d++)
-    if (p->box.periodic[d] && p->box.len[d] < 2.0 * range) SPAM_BAD_INPUT("-smoothing_length", "adaptive", "needs every periodic edge at least twice the list range h_max h + skin = %g (edge %d is %g): the pairs take the minimum image", range, d, p->box.len[d]);
-  PetscCall(CheckRunOptions());
+    if (p->box.periodic[d] && p->box.len[d] < 2.0 * range) SPAM_BAD_INPUT("-smoothing_length", SpamSmoothingModeNames[s->smoothing], "needs every periodic edge at least twice the list range h_max h + skin = %g (edge %d is %g): the pairs take the minimum image", range, d, p->box.len[d]);
+  PetscCall(CheckRunOptions(s));
   PetscFunctionReturn(0);
 }

@@ -139,7 +139,7 @@ PetscErrorCode SpamSolidOptions(SpamSolidParams *p)
   PetscCall(SpamSmoothingValidate(smooth, p));
   if (p->heat_linear && p->scheme == SPAM_GAS_FLOW && p->material == SPAM_MATERIAL_GAS) {
     if (p->diffusion != SPAM_DIFFUSION_PAIR || !(p->conductivity > 0.0)) SPAM_BAD_INPUT("-conduction_linear", "true", "corrects the pair form's conduction: it needs -diffusion_form pair and -conductivity > 0");
-    if (p->smoothing == SPAM_SMOOTHING_ADAPTIVE) SPAM_BAD_INPUT("-conduction_linear", "true", "is written for one smoothing length (the adaptive path has no pair form)");
+    if (p->smoothing != SPAM_SMOOTHING_FIXED) SPAM_BAD_INPUT("-conduction_linear", "true", "is written for one smoothing length (the adaptive path has no pair form)");
     if (p->background == SPAM_BACKGROUND_NONE && !(p->shift_coef > 0.0)) SPAM_BAD_INPUT("-conduction_linear", "true", "is booked with the flow scheme's laws: it needs -background_pressure mean or -shift_coefficient > 0");
     PetscMPIInt size;
     char        images[32] = "minimum";
