@@ -12,10 +12,11 @@ its neighbours' densities are the same sums, with the mass multiplied in after t
 units in the last place of a sum of ~30 terms, relative ~1e-15. The bins are decided from
 those rates, so the two runs must take the same bins: equal particle steps and woken
 counts (integers, exact). The states then differ by the round-off of each evaluation added
-over the ~60 evaluations: measured max |difference| / max |value| 3e-16 to 6e-15 per field
-(x, v, e). The bound is 1e-11 of each field's largest magnitude: above the measured by
-10^3, and far below a real fault (the neighbours' densities left unsummed -- only the
-active particles' -- makes the velocities differ by 0.05 of their largest, ~1e-2 relative).
+over the ~40 evaluations: measured max |difference| / max |value| 9e-17 (x), 1.4e-15 (v),
+8e-16 (e). The bound is 1e-11 of each field's largest magnitude: above the measured by
+10^3-10^5, and far below a real fault (the neighbours' densities left unsummed -- only the
+active particles' -- made the velocities differ by 0.05 of their largest, the positions by
+0.02 and the bins by 12 particle steps).
 
 Also: the restricted pass must have run (restricted evaluations > 0, among them some for
 woken particles), and -block_restricted true is refused where the model has no such pass
