@@ -26,6 +26,8 @@ error is the max-norm of vx(t) against a DP5 run at rtol 1e-11, over U. There th
 This is a measurement, not a test. Usage (spam-ark built in build/):
     /usr/bin/python3 bench/run_imex.py [--L 96] [--table ARK436L2SA] [--chart docs/imex_heat_mode.png]
     /usr/bin/python3 bench/run_imex.py --case couette [--nu 10] [--rtols 1e-5,1e-6,1e-7]
+With --readings FILE, the runs, the table and the ratios go to FILE (with the command, the
+commit and the load the wall times were taken under) for the pages' markers.
 """
 import argparse
 import csv
@@ -143,6 +145,7 @@ def main():
     ap.add_argument("--table", default="ARK436L2SA")
     ap.add_argument("--rtols", default="1e-7,1e-8,1e-9,1e-10,1e-11")
     ap.add_argument("--chart", default=None)
+    ap.add_argument("--readings", default=None, help="also write the runs, table and ratios the pages quote to this JSON")
     a = ap.parse_args()
     DISCRETE[a.L] = heat_mode(2, a.L, H, E0, GAMMA, KAPPA, "pair")[0]
     rtols = [float(x) for x in a.rtols.split(",")]
@@ -153,6 +156,8 @@ def main():
             ref = one_run(a.spam_ark, work, (case[0], lambda f, l: 0.0), (["-ts_type", "arkode"], "reference"), 1e-11)
             (REFERENCE["vx"],) = columns(str(Path(work) / "reference_1e-11") + ".final.csv", ["vx"])
             print(f"reference: DP5 rtol 1e-11, {ref['steps']} steps, {ref['wall']:.1f} s")
+        else:
+            ref = None
         runs = {m[1]: [r for r in (one_run(a.spam_ark, work, case, m, t) for t in rtols) if r] for m in methods}
     if a.case == "couette":
         print(f"Couette from rest, nu = {a.nu:g} (Re = {0.1 * 32 / a.nu:.2f}), to 1.5 H^2/nu; error = max |vx - vx_ref| / U")
@@ -163,13 +168,25 @@ def main():
         for r in m:
             print(f"{r['method']:6} {r['rtol']:7.0e} {r['error']:9.2e} {r['steps']:6d} {r['rejected']:4d} {r['explicit']:7d} {r['implicit']:7d} {r['linear']:7d} {r['wall']:7.2f} {r['drift']:8.1e}")
     print("ratio DP5 / IMEX at the IMEX run's error (DP5 interpolated):")
+    ratios = []
     for r in runs["imex"]:
         w = at_error(runs["dp5"], "wall", r["error"])
         ev = at_error([dict(x, all=x["explicit"] + x["implicit"]) for x in runs["dp5"]], "all", r["error"])
         if w is None:
             print(f"  error {r['error']:.2e}: outside the DP5 runs' range")
+            ratios.append(None)
             continue
+        ratios.append({"error": r["error"], "wall": w / r["wall"], "evaluations": ev / (r["explicit"] + r["implicit"])})
         print(f"  error {r['error']:.2e}: wall time {w / r['wall']:.2f}x, evaluations {ev / (r['explicit'] + r['implicit']):.2f}x")
+    if a.readings:
+        sys.path.insert(0, str(ROOT / "examples"))
+        import chart_readings
+        rows = [[r["method"].upper() if r["method"] == "imex" else "DP5", f"{r['rtol']:.0e}".replace("e-0", "e-"),
+                 f"{r['error']:.2e}".replace("e-0", "e-"), f"{r['steps']} ({r['rejected']})", r["explicit"], r["implicit"],
+                 r["linear"], f"{r['wall']:.1f}"] for m in runs.values() for r in m]
+        chart_readings.write_json(a.readings, {
+            "runs": runs, "ratios": ratios, "reference_steps": ref["steps"] if ref else None,
+            "table": chart_readings.table(["method", "rtol", "error", "steps (rejected)", "f_E", "f_I", "GMRES", "wall s"], rows)})
     if a.chart:
         title = f"Couette from rest, nu = {a.nu:g}" if a.case == "couette" else f"Heat mode, 2D {a.L} x {LY}, h = 3, to one e-folding"
         chart(a.chart, runs["dp5"], runs["imex"], title, a.table)

@@ -69,6 +69,7 @@ def main():
     p.add_argument("--cpu", type=int, default=0)
     p.add_argument("--no-pin", action="store_true")
     p.add_argument("--out", default=None, help="JSON results (default bench/results/reproducible_<date>.json)")
+    p.add_argument("--readings", default=None, help="also write the table docs/parallel.md quotes to this JSON")
     a = p.parse_args()
     pin = bc.pin_prefix(a.cpu, not a.no_pin)
     work = Path(tempfile.mkdtemp(prefix="spam_repro_"))
@@ -95,6 +96,21 @@ def main():
     out = Path(a.out) if a.out else bc.BENCH_DIR / "results" / ("reproducible_%s.json" % datetime.date.today().isoformat())
     out.write_text(json.dumps(results, indent=1) + "\n")
     print("results: %s" % out)
+    if a.readings:
+        rows = []
+        for dim, case in results["cases"].items():
+            md, mr = case["median_s_per_rhs"]["default"], case["median_s_per_rhs"]["reproducible"]
+            run0 = case["runs"]["default"][0]
+            name = ("2D expansion, 128², h = 3, γ = 1.7" if dim == "2d" else "3D expansion, 24³, h = 2.5, γ = 5/3") + \
+                " (%d builds)" % run0["builds"]
+            rows.append([name, "%.3f" % (1e3 * md["SpamRHS"]), "%.3f" % (1e3 * mr["SpamRHS"]), "%.2f" % case["ratio_rhs"],
+                         ", ".join("%.2f" % (mr[e] / md[e]) for e in ("SpamDensity", "SpamForce", "SpamNbrBuild"))])
+        bc.page_readings(a.readings, {
+            "steps": a.steps, "repeats": a.repeats, "rhs_evals": run0["rhs_evals"],
+            "load_before": results["load_before"][0], "load_after": results["load_after"][0],
+            "ratio_rhs": {d: c["ratio_rhs"] for d, c in results["cases"].items()},
+            "table": {"columns": ["case", "default ms/RHS", "reproducible ms/RHS", "ratio",
+                                  "of which: density, force, list builds"], "rows": rows}})
 
 
 if __name__ == "__main__":

@@ -2,9 +2,9 @@
 """Nusselt number against Rayleigh number of the spam-ark Rayleigh-Benard cell.
 
 Usage:
-    python3 examples/convection_sweep.py --spam-ark build/spam-ark [--workdir DIR]
+    examples/convection_sweep.py --spam-ark build/spam-ark [--workdir DIR]
         [--ratios 0.5,0.8,1.2,1.6,2,3,4,5] [--nx 32 --ny 16] [--t-end T] [--amplitude A]
-        [--variant NAME="OPTIONS" ...] [-o OUT.png]
+        [--variant NAME="OPTIONS" ...] [-o OUT.png] [--readings]
 
 Runs -scene convection (options/convection.opts: T_b = 1.25, T_t = 0.75, Pr = 1,
 g = 0.1 c_p / H) at Ra = ratio x 1707.76 (the superadiabatic Rayleigh number), each to
@@ -16,6 +16,8 @@ marked. Each --variant NAME="OPTIONS" (repeatable; default one variant, "default
 options) runs every ratio with those options added; each variant has its own colour and
 marker, and a run that fails (say exit 3, unstable) is drawn as a cross on Nu = 1 and
 listed. Prints one line per run: variant ratio Ra Nu Nu_bottom Nu_top ke_final ms_per_rhs.
+With --readings, the runs and a table of Nu (hot, cold wall) per ratio and variant are
+written beside the chart (OUT.json, examples/chart_readings.py) for the pages' markers.
 """
 
 import argparse
@@ -71,6 +73,7 @@ def main():
     ap.add_argument("--t-top", type=float, default=0.75)
     ap.add_argument("--variant", action="append", default=None, help='NAME="OPTIONS" run at every ratio (repeatable)')
     ap.add_argument("-o", "--out", default=None)
+    ap.add_argument("--readings", action="store_true", help="write the runs and the table beside the chart (OUT.json)")
     a = ap.parse_args()
     variants = []
     for v in a.variant or ["default="]:
@@ -88,6 +91,7 @@ def main():
     ratios = [float(r) for r in a.ratios.split(",")]
     fig, ax = plt.subplots(figsize=(7.5, 5))
     print("variant ratio Ra Nu Nu_bottom Nu_top ke_final ms_per_rhs")
+    runs = {}
     for (name, extra), (colour, marker) in zip(variants, STYLES):
         ok, failed = [], []
         for r in ratios:
@@ -98,6 +102,8 @@ def main():
                 continue
             ra, nu, nub, nut, ke, ms = got
             ok.append((r, nu, nub, nut))
+            runs.setdefault(name, {})[f"{r:g}".replace(".", "_")] = {"ratio": r, "Ra": ra, "Nu": nu, "Nu_bottom": nub,
+                                                                   "Nu_top": nut, "wall_difference": nut - nub, "ke_final": ke}
             print(f"{name} {r:g} {ra:.6g} {nu:.5f} {nub:.5f} {nut:.5f} {ke:.5g} {ms:.4f}", flush=True)
         label = f"{name}: {' '.join(extra)}" if extra else name
         ax.semilogx([x[0] for x in ok], [x[1] for x in ok], "-", color=colour, marker=marker, label=f"{label} (mean of both walls)")
@@ -119,6 +125,15 @@ def main():
     fig.tight_layout()
     fig.savefig(out, dpi=110)
     print(f"png={out}")
+    if a.readings:
+        import chart_readings
+
+        def cell(name, r):
+            x = runs.get(name, {}).get(f"{r:g}".replace(".", "_"))
+            return f"{x['Nu']:.4f} ({x['Nu_bottom']:.4f}, {x['Nu_top']:.4f})" if x else "failed"
+        chart_readings.write(out, {"runs": runs, "table": chart_readings.table(
+            ["Ra / Ra_c"] + [f"Nu, {name} (hot, cold wall)" for name, _ in variants],
+            [[f"{r:g}"] + [cell(name, r) for name, _ in variants] for r in ratios])})
 
 
 if __name__ == "__main__":

@@ -2,7 +2,7 @@
 """Chart the lid-driven cavity (scene cavity) against Ghia, Ghia & Shin (1982).
 
 Usage:
-    python3 examples/plot_cavity.py DIR [-o OUT.png] [--csv FILE] [--average L/U]
+    examples/plot_cavity.py DIR [-o OUT.png] [--csv FILE] [--average L/U]
 
 DIR is the output directory of one run, e.g.
     spam-ark -options_file options/cavity.opts -output_dir DIR

@@ -2,7 +2,7 @@
 """Chart a spam-ark Rayleigh-Benard run (Hoover & Hoover, CiSE 2001, Fig. 4).
 
 Usage:
-    python3 examples/plot_convection.py DIR [-o OUT.png] [--t-bottom 1.25 --t-top 0.75]
+    examples/plot_convection.py DIR [-o OUT.png] [--t-bottom 1.25 --t-top 0.75]
 
 DIR is the output directory of
     spam-ark -options_file options/convection.opts -output_dir DIR

@@ -2,7 +2,7 @@
 """Chart a spam-ark free-expansion run (Hoover & Hoover, CiSE 2001, Figs. 2 and 3).
 
 Usage:
-    python3 examples/plot_expansion.py DIR [-o OUT.png]
+    examples/plot_expansion.py DIR [-o OUT.png]
 
 DIR is the output directory of
     spam-ark -options_file options/expansion.opts -output_dir DIR

@@ -2,7 +2,7 @@
 """Chart a spam-ark Gresho-vortex run (-scene gresho).
 
 Usage:
-    python3 examples/plot_gresho.py DIR [-o OUT.png]
+    examples/plot_gresho.py DIR [-o OUT.png]
 
 DIR is the output directory of
     spam-ark -options_file options/gresho.opts -output_dir DIR

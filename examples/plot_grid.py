@@ -2,7 +2,7 @@
 """Chart one grid-field file of a spam-ark run (-grid_interval, docs/scenes/grid.md).
 
 Usage:
-    python3 examples/plot_grid.py DIR [--field rho] [--time INDEX] [-o OUT.png]
+    examples/plot_grid.py DIR [--field rho] [--time INDEX] [-o OUT.png]
 
 DIR is the output directory of a run with -grid_interval dx and CSV snapshots (the
 default); the grid files are those manifest.json lists (kind grid_csv), never a glob of

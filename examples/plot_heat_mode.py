@@ -2,7 +2,7 @@
 """Chart a spam-ark heat-mode run (-scene heat-mode): the mode's amplitude against time.
 
 Usage:
-    python3 examples/plot_heat_mode.py DIR [-o OUT.png]
+    examples/plot_heat_mode.py DIR [-o OUT.png]
 
 DIR is the output directory of
     spam-ark -options_file options/heat-mode.opts -output_dir DIR

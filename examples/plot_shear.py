@@ -2,7 +2,7 @@
 """Chart the shear-channel scenes (couette, poiseuille).
 
 Usage:
-    python3 examples/plot_shear.py DIR [DIR ...] [-o OUT.png]
+    examples/plot_shear.py DIR [DIR ...] [-o OUT.png]
 
 Each DIR is the output directory of one run of the same scene at one resolution, e.g.
     spam-ark -options_file options/couette.opts -couette_n N -output_dir DIR

@@ -2,7 +2,7 @@
 """Chart a spam-ark Taylor-Green run (-scene taylor-green): kinetic energy against time.
 
 Usage:
-    python3 examples/plot_taylor_green.py DIR [-o OUT.png]
+    examples/plot_taylor_green.py DIR [-o OUT.png]
 
 DIR is the output directory of
     spam-ark -options_file options/taylor-green.opts -output_dir DIR

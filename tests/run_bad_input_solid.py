@@ -4,10 +4,11 @@ choice not made, e.g. -solid_lambda with -material gas): one line on stderr nami
 what is allowed; exit code 2; no output directory."""
 import os
 
-from spamrun import Checks, arguments, run
+from spamrun import Checks, Runner, arguments
 
 a = arguments()
 c = Checks()
+runner = Runner(a.spam_ark, a.workdir)  # each run a forked child of the fork server
 cases = [
     ("unknown density", ["-scene", "rotor", "-density", "sum"], ["-density", "'sum'", "summation, continuity, chain-rule"]),
     ("unknown coordinates", ["-scene", "rotor", "-coordinates", "R3"], ["-coordinates", "'R3'", "R0, R1, R2"]),
@@ -62,7 +63,7 @@ cases = [
 ]
 for k, (name, args, needles) in enumerate(cases):
     out = os.path.join(a.workdir, f"out{k}")
-    code, _, err = run(a.spam_ark, args, out)
+    code, _, err = runner.run(args, out)
     lines = err.strip().splitlines()
     ok = (code == 2 and len(lines) == 1 and lines[0].startswith("spam-ark: error: ")
           and all(n in lines[0] for n in needles) and not os.path.exists(out))

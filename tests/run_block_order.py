@@ -105,6 +105,7 @@ for label, level in (("block", 16), ("global", 0)):
         c.check(max(perr) <= ROUNDOFF * scale, f"{label}: momentum kept to round-off ({max(perr):.1e} <= {ROUNDOFF:g} of sum |m v| = {scale:.1f})")
     c.reading(f"{label}.x_errors", xerr)
     c.reading(f"{label}.order", order(xerr))
+    c.reading(f"{label}.energy_order", order(derr))
     c.reading(f"{label}.energy_drift", derr)
     c.reading(f"{label}.momentum_error", perr)
 # The error-control options of the other methods are refused, and the block ones elsewhere.

@@ -19,10 +19,12 @@ for rtol in (1e-6, 1e-8, 1e-10):
     c.check(code == 0, f"rtol {rtol:g}: run completes (exit {code}) {err.strip()}")
     s = summary(out)
     drift[rtol] = s["energy_rel_drift_max"]
+    c.reading(f"rtol{rtol:g}.energy_drift", s["energy_rel_drift_max"])
+    c.reading(f"rtol{rtol:g}.momentum_drift", s["momentum_rel_drift_max"])
     c.check(s["momentum_rel_drift_max"] < 1e-12, f"rtol {rtol:g}: momentum drift {s['momentum_rel_drift_max']:.2e} (< 1e-12)")
     c.check(abs(s["t_final"] - 32) < 1e-9 and s["status"] == "ok", f"rtol {rtol:g}: reached t = {s['t_final']} with status {s['status']}")
 c.check(drift[1e-8] < 1e-6, f"rtol 1e-8: energy drift {drift[1e-8]:.2e} (< 1e-6)")
 # Error per unit step scales like rtol; allow a factor 3 of slack on the 100x tightening.
 c.check(drift[1e-8] < drift[1e-6] / 3 and drift[1e-10] < drift[1e-8] / 3,
         f"tightening rtol shrinks the energy drift: {drift[1e-6]:.2e} -> {drift[1e-8]:.2e} -> {drift[1e-10]:.2e}")
-c.finish()
+c.finish(a.readings)

@@ -77,6 +77,8 @@ out = go("column", ["-wall_ylo_temperature", T, "-wall_yhi_temperature", T, "-co
 bound = g * h / (gamma * T)
 vmax = max_speed(out) / cs
 c.check(vmax < bound, f"isothermal column: max |v| / c_s = {vmax:.3g} over 10 sound times (bound g h / (gamma T) = {bound:.3g})")
+c.reading("column.vmax_over_cs", vmax)
+c.reading("column.bound", bound)
 
 # (b) below onset
 KICK = ["-convection_amplitude", 0.1]
@@ -89,6 +91,13 @@ ke_below = [k for t, k in zip(ts["t"], ke) if t >= 0.5 * ts["t"][-1]]
 c.check(ke[-1] < 0.1 * ke[0], f"Ra = 0.5 Ra_c: the kick decays, KE {ke[0]:.3g} -> {ke[-1]:.3g} (< 1/10)")
 c.check(abs(nu - 1.0) < tol, f"Ra = 0.5 Ra_c: Nu = {nu:.4f} (hot wall {nub:.4f}, cold wall {nut:.4f}) within {tol:.4f} of 1 "
         "(3 x the discrete flux error of the exact start)")
+c.reading("start.nu_hot", qb[0])
+c.reading("start.nu_cold", qt[0])
+c.reading("below.ke_start", ke[0])
+c.reading("below.ke_end", ke[-1])
+c.reading("below.nu", nu)
+c.reading("below.tol", tol)
+c.reading("below.ke_second_half", sum(ke_below) / len(ke_below))
 
 # (c) above onset
 out = go("above", ["-convection_ra", 20 * RA_C, "-output_interval", 20, "-snapshot_interval", 0, "-ts_max_time", 6000] + KICK)
@@ -104,5 +113,9 @@ c.check(mean(second) > 10 * mean(ke_below), f"Ra = 20 Ra_c: rolls, mean KE over 
 ratio = mean(last) / mean(mid)
 c.check(1.0 / 3.0 < ratio < 3.0, f"Ra = 20 Ra_c: KE plateau, mean over the last third / over the middle third = {ratio:.3f} (within a factor 3)")
 c.check(nu > 1.0 + 3 * tol, f"Ra = 20 Ra_c: Nu = {nu:.4f} over the second half (hot wall {nub:.4f}, cold wall {nut:.4f}) > {1 + 3 * tol:.4f}")
+c.reading("above.ke_second_half", mean(second))
+c.reading("above.plateau_ratio", ratio)
+c.reading("above.nu", nu)
+c.reading("above.nu_bound", 1.0 + 3 * tol)
 print(f"ms per RHS (the cell with walls): {1e3 * s['rhs_time_s'] / s['rhs_evals']:.4f}")
-c.finish()
+c.finish(a.readings)

@@ -37,9 +37,10 @@ import math
 import os
 import re
 from collections import Counter
-from spamrun import Checks, arguments, run, summary, table
+from spamrun import Checks, Runner, arguments, summary, table
 
 a = arguments()
+runner = Runner(a.spam_ark, a.workdir)  # each run a forked child of the fork server
 c = Checks()
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 CHAIN = os.path.join(ROOT, "options", "chain.opts")
@@ -56,7 +57,7 @@ METHODS = {  # name: (options, interpolant degree or None)
 
 def chain_run(name, extra, interval, stop):
     out = os.path.join(a.workdir, f"{name.replace(' ', '_')}_{interval}_{stop}")
-    code, _, err = run(a.spam_ark, ["-options_file", CHAIN] + extra + [
+    code, _, err = runner.run(["-options_file", CHAIN] + extra + [
         "-ts_rtol", RTOL, "-ts_atol", ATOL, "-ts_max_time", T_END, "-output_interval", interval,
         "-snapshot_interval", 0, "-output_stop", stop], out)
     if not c.check(code == 0, f"{name}: interval {interval}, -output_stop {stop}: exit {code} {err.strip()}"):
@@ -104,13 +105,15 @@ for name, (extra, degree) in METHODS.items():
     c.check(diff <= bound, f"{name}: |KE interpolated - KE stopped| <= {diff:.3e}, bound {bound:.3e} "
             f"(h_max {hmax:.3f}, interpolant term {N * M * AMP * W * dv_int:.2e}; error against the exact KE {exact:.2e}, "
             f"KE scale {0.5 * N * M * (AMP * W) ** 2:.4g})")
+    c.reading(f"{name.replace(' ', '_')}.ke_diff", diff)
+    c.reading(f"{name.replace(' ', '_')}.bound", bound)
 
 # (a) on a nonlinear scene with a neighbour list: the expansion gas.
 EXP = ["-expansion_n", 12, "-h", 3, "-ts_max_time", 12, "-snapshot_interval", 4, "-ts_rtol", 1e-4]
 counts = {}
 for interval in (0.5, 0.05):
     out = os.path.join(a.workdir, f"expansion_{interval}")
-    code, _, err = run(a.spam_ark, EXP + ["-output_interval", interval], out)
+    code, _, err = runner.run(EXP + ["-output_interval", interval], out)
     if c.check(code == 0, f"expansion, interval {interval}: exit {code} {err.strip()}"):
         counts[interval] = (summary(out)["steps"], only_accuracy(table(os.path.join(out, "steps.csv"))))
 if len(counts) == 2:
@@ -124,7 +127,7 @@ if len(counts) == 2:
 counts = {}
 for interval in (0.8, 0.05):
     out = os.path.join(a.workdir, f"force_{interval}")
-    code, _, err = run(a.spam_ark, EXP[:-1] + [1e-5, "-step_force", 0.02, "-output_interval", interval], out)
+    code, _, err = runner.run(EXP[:-1] + [1e-5, "-step_force", 0.02, "-output_interval", interval], out)
     if c.check(code == 0, f"expansion -step_force 0.02, interval {interval}: exit {code} {err.strip()}"):
         s = summary(out)
         counts[interval] = (s["steps"], s["bound_limited_steps"], s["interpolation_rhs_evals"])
@@ -135,14 +138,14 @@ if len(counts) == 2:
 
 # (c) what does not interpolate says why.
 out = os.path.join(a.workdir, "walls")
-code, _, err = run(a.spam_ark, ["-options_file", os.path.join(ROOT, "options", "expansion-walls.opts"), "-expansion_n", 12,
-                                "-h", 3, "-ts_max_time", 6, "-output_interval", 1, "-snapshot_interval", 0], out)
+code, _, err = runner.run(["-options_file", os.path.join(ROOT, "options", "expansion-walls.opts"), "-expansion_n", 12,
+                           "-h", 3, "-ts_max_time", 6, "-output_interval", 1, "-snapshot_interval", 0], out)
 if c.check(code == 0, f"mirror walls: exit {code} {err.strip()}"):
     s = summary(out)
     c.check(s["output_mode"] == "stopped" and "jumps" in s["output_mode_reason"],
             f"mirror walls stop at outputs: {s['output_mode']} ({s['output_mode_reason']})")
 out = os.path.join(a.workdir, "verlet")
-code, _, err = run(a.spam_ark, ["-options_file", CHAIN, "-ts_max_time", 2, "-output_interval", 0.25], out)
+code, _, err = runner.run(["-options_file", CHAIN, "-ts_max_time", 2, "-output_interval", 0.25], out)
 if c.check(code == 0, f"Verlet: exit {code} {err.strip()}"):
     s, st = summary(out), table(os.path.join(out, "steps.csv"))
     c.check(s["output_mode"] == "steps" and set(st["limit"]) == {"fixed"},
@@ -151,7 +154,7 @@ if c.check(code == 0, f"Verlet: exit {code} {err.strip()}"):
 # interpolant evaluates f at each output time; CVODE's reads its Nordsieck array (none).
 for name, extra, interp in (("arkode DP5", ["-ts_type", "arkode"], True), ("cvode", ["-ts_type", "cvode"], False)):
     out = os.path.join(a.workdir, f"cost_{name.replace(' ', '_')}")
-    code, so, err = run(a.spam_ark, EXP + extra + ["-output_interval", 0.05, "-sundials_stats"], out)
+    code, so, err = runner.run(EXP + extra + ["-output_interval", 0.05, "-sundials_stats"], out)
     if not c.check(code == 0, f"cost, {name}: exit {code} {err.strip()}"):
         continue
     s = summary(out)
@@ -166,4 +169,4 @@ for name, extra, interp in (("arkode DP5", ["-ts_type", "arkode"], True), ("cvod
             and int(fn.group(1)) == total,
             f"cost, {name}: method {s['rhs_evals']} + interpolant {s['interpolation_rhs_evals']} = {total}; "
             f"last line '{line.group(0)}'; summary {s['rhs_evals_total']}; SUNDIALS {fn.group(1)}")
-c.finish()
+c.finish(a.readings)

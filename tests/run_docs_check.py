@@ -25,7 +25,9 @@ History. No page carries a commit hash, an issue number or a CI timing.
 Numbers. Every number a page quotes through a marker (<!--num FILE KEY-->, <!--table ...-->,
 <!--test ...-->) equals its source, a JSON a chart script wrote beside its chart with the
 command and commit that made it (tools/docs_numbers.py --check); a page edited by hand
-beside its marker is caught (control).
+beside its marker is caught (control); a number typed in a page's prose without a marker
+must be one tools/docs_typed_numbers.txt lists for that page (a parameter, or a measurement
+still to be put under a marker), and a new one is caught (control).
 README.md is at most 15 KB and starts with exactly two commands, the second being the one
 .ci/run runs.
 Control: a page with a bad option, a script missing, a script run through python3, a
@@ -259,6 +261,13 @@ def numbers_control(c, workdir):
             f"control: a hand-edited number and a missing reading are caught ({p.stdout.strip()[-200:]})")
     subprocess.run(tool + ["--update", page], capture_output=True, text=True)
     c.check("-->0.0123<!--" in open(page).read(), "control: --update writes the file's reading into the page")
+    typed = os.path.join(d, "typed.md")
+    with open(typed, "w") as f:
+        f.write("At rtol `1e-6` the error is 3.2e-5 in 40 steps.\n\n```sh\nspam-ark -ts_rtol 1e-6\n```\n")
+    p = subprocess.run(tool + ["--check", typed], capture_output=True, text=True)
+    c.check(p.returncode == 1 and "typed.md:1: 3.2e-5 typed without a marker" in p.stdout
+            and "40 steps typed" in p.stdout and "1e-6 typed" not in p.stdout,
+            f"control: a number typed in prose without a marker is caught, not one in code ({p.stdout.strip()[-300:]})")
 
 
 def main():

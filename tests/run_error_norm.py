@@ -28,9 +28,10 @@ import math
 import os
 
 import numpy as np
-from spamrun import Checks, arguments, manifest_files, run, summary
+from spamrun import Checks, Runner, arguments, manifest_files, summary
 
 a = arguments()
+runner = Runner(a.spam_ark, a.workdir)  # each run a forked child of the fork server
 c = Checks()
 W = a.workdir
 H, T_END = 3.0, 4.0
@@ -49,7 +50,7 @@ def tol(rtol):
 
 def go(args, name):
     d = os.path.join(W, name)
-    code, _, err = run(a.spam_ark, args, d)
+    code, _, err = runner.run(args, d)
     if code != 0:
         c.check(False, f"{name}: exit {code}: {err.strip().splitlines()[-1:]}")
         return None
@@ -112,7 +113,7 @@ SMALL = ["-expansion_n", 8, "-h", 3, "-ts_max_time", 1]
 
 def refused(name, args, needles):
     d = os.path.join(W, "refused_" + name)
-    code, _, err = run(a.spam_ark, SMALL + args, d)
+    code, _, err = runner.run(SMALL + args, d)
     lines = err.strip().splitlines()
     ok = code == 2 and len(lines) == 1 and lines[0].startswith("spam-ark: error: ") and all(x in lines[0] for x in needles)
     c.check(ok and not os.path.exists(d), f"{name}: exit {code}, stderr {lines}, no output directory")
@@ -129,6 +130,6 @@ refused("rk -ts_adapt_wnormtype infinity under rms", ["-ts_type", "rk", "-ts_ada
         ["-ts_adapt_wnormtype", "-error_norm rms"])
 refused("rk -ts_adapt_wnormtype 2 under max", ["-ts_type", "rk", "-ts_adapt_wnormtype", "2", "-error_norm", "max"],
         ["-ts_adapt_wnormtype", "-error_norm max"])
-code, _, err = run(a.spam_ark, SMALL + ["-ts_type", "rk", "-ts_adapt_wnormtype", "infinity", "-error_norm", "max"], os.path.join(W, "agree"))
+code, _, err = runner.run(SMALL + ["-ts_type", "rk", "-ts_adapt_wnormtype", "infinity", "-error_norm", "max"], os.path.join(W, "agree"))
 c.check(code == 0, f"rk -ts_adapt_wnormtype infinity -error_norm max (they agree) runs: exit {code} {err.strip().splitlines()[-1:]}")
 c.finish()

@@ -57,6 +57,7 @@ if code == 0:
             f"L(t) of the file scene equals the rotor scene's: {len(tb['t'])} rows, max |dL| {dl:.3g} (|L| {lscale:.6g}, bound 1e-12 |L|)")
     c.check(de <= 1e-12 * max(abs(v) for v in ta["total"]), f"energy E(t) equal too: max |dE| {de:.3g}")
     c.check(ta["step"][-1] == tb["step"][-1], f"the same steps: {ta['step'][-1]:.0f} and {tb['step'][-1]:.0f}")
+    c.reading("rotor_file.steps", int(tb["step"][-1]))
 
 
 # --- 2. a snapshot continues the run -----------------------------------------------------------
@@ -77,10 +78,11 @@ def continued(label, scene_args, method, pos_keys, vel_keys, bound_x, bound_v):
     rs, rr = rows(fin_s), rows(fin_r)
     dx, dv = worst(rs, rr, pos_keys), worst(rs, rr, vel_keys)
     c.check(dx <= bound_x and dv <= bound_v, f"{label}: continued run ends where the straight run does: max |dx| {dx:.3g} (bound {bound_x:g}), |dv| {dv:.3g} (bound {bound_v:g}), {len(rr)} particles")
+    c.reading(f"{label}.dx", dx)
 
 
 RK4 = ["-ts_type", "rk", "-ts_rk_type", "4", "-ts_adapt_type", "none", "-ts_dt", 0.05]
 continued("expansion", ["-expansion_n", 12, "-h", 3], RK4, ("x", "y"), ("vx", "vy"), 1e-12, 1e-12)
 continued("rotor", ["-scene", "rotor", "-rotor_n", 4], RK4, ("x", "y"), ("vx", "vy"), 1e-12, 1e-12)
 continued("expansion_arkode", ["-expansion_n", 12, "-h", 3], ["-ts_type", "arkode", "-ts_rtol", 1e-8], ("x", "y"), ("vx", "vy"), 100 * 1e-8 * 3, 1e-5)
-c.finish()
+c.finish(a.readings)

@@ -69,6 +69,7 @@ import subprocess
 import sys
 import threading
 import time
+import fork_server
 from spamrun import Checks, arguments
 
 a = arguments()
@@ -119,31 +120,16 @@ if not FORK and os.environ.get("SPAM_FUZZ_EXEC") != "1":
 LIMIT_BYTES = 4194304 * 1024 if LIMIT else 0
 
 
-class Server:
-    """A fork server (tests/fuzz_server.c) of one worker thread; run() sends it a case."""
+class Server(fork_server.Server):
+    """A fork server (tests/fuzz_server.c, tests/fork_server.py) of one worker thread; run()
+    sends it a case."""
 
     def __init__(self):
-        self.p = subprocess.Popen([SERVER], stdin=subprocess.PIPE, stdout=subprocess.PIPE, env=ENV, cwd=w)
+        super().__init__(SERVER, SPAM, ENV, w)
 
     def run(self, args, cwd, env, err_path, timeout=TIMEOUT):
         """The run's exit code (negative: the signal that ended it) or "timeout"."""
-        # The environment as the server's child would not have it already: the assignments
-        # that differ from the server's own (ENV), and the names to unset.
-        delta = [f"{k}={v}" for k, v in env.items() if ENV.get(k) != v] + [k for k in ENV if k not in env]
-        fields = [cwd, os.devnull, err_path, str(timeout), str(LIMIT_BYTES), str(len(delta))] + delta
-        fields += [str(len(args) + 1), SPAM] + list(args)
-        self.p.stdin.write(b"".join((x if isinstance(x, bytes) else os.fsencode(x)) + b"\0" for x in fields))
-        self.p.stdin.flush()
-        answer = self.p.stdout.readline().decode().split()
-        if not answer:
-            raise RuntimeError(f"the fork server ended (exit {self.p.wait()})")
-        if answer[0] == "timeout":
-            return "timeout"
-        return int(answer[1]) if answer[0] == "exit" else -int(answer[1])
-
-    def close(self):
-        self.p.stdin.close()
-        return self.p.wait()
+        return super().run(args, cwd, env, os.devnull, err_path, timeout, LIMIT_BYTES)
 
 
 SANITIZER = ("runtime error:", "ERROR: AddressSanitizer", "LeakSanitizer", "ERROR: UndefinedBehaviorSanitizer")
@@ -981,13 +967,8 @@ def tree(path):
 
 
 def exec_only(case):
-    """A case whose outcome may depend on which executable runs it, which in the fork server's
-    child is the server: a relative -options_file that is not in the working directory is
-    looked up next to /proc/self/exe (argv_check.c); a file under /proc/self describes the
-    process (its name, its memory)."""
-    args = [os.fsdecode(x) for x in case.args]
-    return (any(o == "-options_file" and not os.path.isabs(v) for o, v in zip(args, args[1:]))
-            or any(x.startswith("/proc/self/") for x in args))
+    """A case whose outcome may depend on which executable runs it (fork_server.needs_exec)."""
+    return fork_server.needs_exec(case.args)
 
 
 servers = []

@@ -130,4 +130,5 @@ if ref is not None:
         for n, e in zip(steps, err):
             c.reading(f"{table}.T{n}.error", e)
         c.reading(f"{table}.order", orders[-1])
+        c.reading(f"{table}.orders", orders)
 c.finish(a.readings)

@@ -22,13 +22,14 @@ import math
 import os
 import sys
 
-from spamrun import Checks, arguments, run
+from spamrun import Checks, Runner, arguments
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "examples"))
 from study_orders import COMMON, METHODS, REFERENCE, fit_order, lattice_file, rms_position  # noqa: E402
 import numpy as np  # noqa: E402
 
 a = arguments()
+runner = Runner(a.spam_ark, a.workdir)  # each run a forked child of the fork server
 c = Checks()
 lattice = os.path.join(a.workdir, "lattice.csv")
 lattice_file(lattice)
@@ -39,7 +40,7 @@ ARGS = {label: (p, args) for label, p, args in METHODS}
 
 def final(name, args):
     out = os.path.join(a.workdir, name)
-    code, _, err = run(a.spam_ark, [str(x) for x in args] + ["-snapshot_interval", 0, "-final_csv", out + ".csv"], out)
+    code, _, err = runner.run([str(x) for x in args] + ["-snapshot_interval", 0, "-final_csv", out + ".csv"], out)
     c.check(code == 0, f"{name}: exit {code} {err.strip()}")
     return np.loadtxt(out + ".csv", delimiter=",", skiprows=1, ndmin=2)[:, :2]
 

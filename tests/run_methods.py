@@ -11,9 +11,10 @@ r = h the nominal orders are measured by run_order.py). Adaptive runs at rtol 1e
 within 100 rtol h (global error accumulates over the ~100 steps)."""
 import math
 import os
-from spamrun import Checks, arguments, final_state, run, summary
+from spamrun import Checks, Runner, arguments, final_state, summary
 
 a = arguments()
+runner = Runner(a.spam_ark, a.workdir)  # each run a forked child of the fork server
 c = Checks()
 H, DT = 3.0, 0.1
 common = ["-expansion_n", 12, "-h", H, "-ts_max_time", 5, "-snapshot_interval", 0, "-diag_entropy", 0,
@@ -22,7 +23,7 @@ common = ["-expansion_n", 12, "-h", H, "-ts_max_time", 5, "-snapshot_interval", 
 
 def solve(name, extra):
     out = os.path.join(a.workdir, name)
-    code, _, err = run(a.spam_ark, common + extra + ["-final_csv", out + ".csv"], out)
+    code, _, err = runner.run(common + extra + ["-final_csv", out + ".csv"], out)
     if not c.check(code == 0, f"{name}: exit {code} {err.strip()}"):
         return None, None
     return final_state(out + ".csv"), summary(out)

@@ -9,11 +9,12 @@ import glob
 import os
 import re
 
-from spamrun import Checks, arguments, run
+from spamrun import Checks, Runner, arguments
 
 a = arguments()
 c = Checks()
 W = a.workdir
+runner = Runner(a.spam_ark, W)  # each run a forked child of the fork server
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 FILE = ["-scene", "file", "-file_path", os.path.join(W, "p.csv"), "-box_len", "64,64"]
 with open(os.path.join(W, "p.csv"), "w") as f:
@@ -149,7 +150,7 @@ cases = [
 ]
 for k, (name, args, needles) in enumerate(cases):
     out = os.path.join(W, f"out{k}")
-    code, _, err = run(a.spam_ark, args + (["-ts_max_steps", 1] if "-options_file" not in args else []), out, timeout=60)
+    code, _, err = runner.run(args + (["-ts_max_steps", 1] if "-options_file" not in args else []), out, timeout=60)
     lines = err.strip().splitlines()
     ok = (code == 2 and len(lines) == 1 and lines[0].startswith("spam-ark: error: ")
           and all(n in lines[0] for n in needles) and not os.path.exists(out))
@@ -157,13 +158,13 @@ for k, (name, args, needles) in enumerate(cases):
 
 # Bytes outside printable ASCII are escaped, so the message stays one line.
 out = os.path.join(W, "escaped")
-code, _, err = run(a.spam_ark, ["-scene", "ab\x01c\x7f\xe9"], out)
+code, _, err = runner.run(["-scene", "ab\x01c\x7f\xe9"], out)
 lines = err.strip().splitlines()
 c.check(code == 2 and len(lines) == 1 and "ab\\x01c\\x7f\\xc3\\xa9" in lines[0] and not re.search(r"[\x00-\x1f\x7f]", lines[0]),
         f"control bytes escaped as \\xNN: exit {code}, stderr {lines}")
 
 # A system failure is one line and exit 1, no traceback.
-code, _, err = run(a.spam_ark, ["-ts_max_steps", 1], "/proc/spam-ark-test/out")
+code, _, err = runner.run(["-ts_max_steps", 1], "/proc/spam-ark-test/out")
 lines = err.strip().splitlines()
 c.check(code == 1 and len(lines) == 1 and lines[0].startswith("spam-ark: error: ") and "/proc/spam-ark-test" in lines[0],
         f"unwritable output path: exit {code}, stderr {lines}")
@@ -171,28 +172,28 @@ c.check(code == 1 and len(lines) == 1 and lines[0].startswith("spam-ark: error: 
 # What still runs: every options file (three steps), booleans alone, PETSc's run-time options.
 for name in sorted(os.listdir(os.path.join(REPO, "options"))):
     out = os.path.join(W, "opts_" + name)
-    code, _, err = run(a.spam_ark, ["-options_file", os.path.join(REPO, "options", name), "-ts_max_steps", 3], out)
+    code, _, err = runner.run(["-options_file", os.path.join(REPO, "options", name), "-ts_max_steps", 3], out)
     c.check(code == 0 and os.path.exists(os.path.join(out, "summary.json")) and "error" not in err,
             f"options/{name} runs: exit {code}, stderr {err.strip().splitlines()[-1:]}")
 for extra in (["-monitor"], ["-log_view"], ["-malloc_debug"], ["-options_left"], ["-ts_monitor"],
               ["-ts_type", "rk", "-ts_adapt_dt_max", 2], ["-scene", "rotor", "-coordinates", "R2", "-xsph_eps", 0.5],
               ["-scene_translate", "-5,-5"], ["-scene_translate", -7]):
     out = os.path.join(W, "ok_" + "_".join(str(x).strip("-") for x in extra))
-    code, _, err = run(a.spam_ark, extra + ["-ts_max_steps", 2], out)
+    code, _, err = runner.run(extra + ["-ts_max_steps", 2], out)
     c.check(code == 0 and "error" not in err, f"{' '.join(map(str, extra))} runs: exit {code}, stderr {err.strip().splitlines()[-1:]}")
 # A preset of an options file overridden on the command line: a note, not a refusal.
 out = os.path.join(W, "preset")
-code, _, err = run(a.spam_ark, ["-options_file", os.path.join(REPO, "options", "planewave.opts"), "-ts_type", "euler", "-ts_max_steps", 2], out)
+code, _, err = runner.run(["-options_file", os.path.join(REPO, "options", "planewave.opts"), "-ts_type", "euler", "-ts_max_steps", 2], out)
 c.check(code == 0 and "spam-ark: note: -ts_rtol = '1e-10' (from an options file): not used" in err,
         f"planewave.opts under euler: exit {code}, notes {[l for l in err.splitlines() if 'note' in l]}")
 
 # -version, --version, --help, -help.
 version = re.search(r'SPAM_VERSION "([^"]+)"', open(os.path.join(REPO, "include", "spam", "version.h")).read()).group(1)
 for flag in ("-version", "--version"):
-    code, out, err = run(a.spam_ark, [flag])
+    code, out, err = runner.run([flag])
     c.check(code == 0 and out.strip() == f"spam-ark {version}" and not err, f"{flag}: exit {code}, stdout {out.strip()!r}")
 for flag in ("-help", "--help"):
-    code, out, err = run(a.spam_ark, [flag])
+    code, out, err = runner.run([flag])
     want = ["-arkode_table", "-cvode_max_order", "-box_len", "-periodic", "-eos_gamma", "-expansion_n", "-tensile_nx",
             "-rotor_gap", "-chain_n", "-spring_range", "-planewave_mode", "-xsph_eps", "-gas_e0", "-solid_lambda",
             "-viscosity_alpha", "-angmom_scope", "-density_initial", "-diag_grid_spacing", "-gas_scheme",
@@ -202,7 +203,7 @@ for flag in ("-help", "--help"):
 # -help is for spam-ark's users: its own options and time stepping with plain defaults, none
 # of PETSc's solver, viewer or device blocks (-help petsc prints those, in PETSc's words).
 for extra in ([], ["-ts_type", "rk"], ["-ts_type", "cvode"], ["-scene", "convection"]):
-    code, out, _ = run(a.spam_ark, extra + ["-help"])
+    code, out, _ = runner.run(extra + ["-help"])
     lines = out.splitlines()
     petsc_words = [l for l in lines if "<now " in l or "(README)" in l or "-snes_" in l or "-ksp_" in l or "-pc_" in l]
     c.check(code == 0 and len(lines) <= 400 and not petsc_words,
@@ -211,12 +212,12 @@ for extra in ([], ["-ts_type", "rk"], ["-ts_type", "cvode"], ["-scene", "convect
 # The file scene lists its options without a particle file: -help needs no input, and the
 # set-up after the scene (model, outputs, time stepping) lists its options too.
 for extra in ([], ["-dim", "3"], ["-box_len", "64,32"]):
-    code, out, err = run(a.spam_ark, ["-scene", "file"] + extra + ["-help"])
+    code, out, err = runner.run(["-scene", "file"] + extra + ["-help"])
     missing = [w for w in ("-file_path", "-box_len", "-material", "-output_dir", "-ts_rtol", "-cvode_max_order")
                if not re.search(r"^\s+" + re.escape(w) + r"  .*\[default ", out, re.M)]
     c.check(code == 0 and not missing and "error" not in err,
             f"-scene file {' '.join(extra)} -help without -file_path: exit {code}, missing {missing} {err.strip()[:200]}")
-code, full, _ = run(a.spam_ark, ["-help", "petsc"])
+code, full, _ = runner.run(["-help", "petsc"])
 c.check(code == 0 and "-snes_type" in full and "-ksp_type" in full and "(README)" in full,
         f"-help petsc: exit {code}, PETSc's whole text ({len(full.splitlines())} lines)")
 # Every option of spam-ark in -help is known to the check of unused options, which decides

@@ -68,4 +68,5 @@ for name, args, order, dt in cases:
     measured = math.log2(e1 / e2)
     c.check(abs(measured - order) <= 0.5,
             f"{name}: error {e1:.3e} at dt {dt}, {e2:.3e} at dt {dt / 2}: order {measured:.2f} = {order} +- 0.5")
-c.finish()
+    c.reading(name.replace(" ", "_"), measured)
+c.finish(a.readings)

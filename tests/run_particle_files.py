@@ -137,10 +137,12 @@ if c.check(code1 == code2 == code3 == 0, f"straight run 0..2, first half 0..1, c
     vmax = max(abs(float(p[k])) for p in s for k in ("vx", "vy"))
     # Not bitwise: the restart rebuilds the neighbour list at t = 1, and its pair order sets
     # the round-off of the sums (1e-16 relative). Bound: that round-off grown over 100 steps
-    # of one time unit, 1e-13 (measured 1.8e-15), far below the step's own local error
+    # of one time unit, 1e-13, far below the step's own local error
     # (dt^5 = 1e-10): the continued run is the straight run, not a nearby one.
     c.check(len(s) == len(t) == 64 and dx < 1e-13 and dv < 1e-13 * max(vmax, 1.0),
             f"continued run equals the straight run: max |dx| {dx:.2e}, max |dv| {dv:.2e} (bound 1e-13; |v| up to {vmax:.3f})")
+    c.reading("continued.dx", dx)
+    c.reading("continued.dv", dv)
     code, got, err = read_back("mid_again", mid, ["-box_len", 16])
     c.check(code == 0 and [tuple(r.values()) for r in got] == [tuple(r.values()) for r in rows(mid)],
             f"-final_csv read back and written again is the same text ({len(got)} rows) {err[:160]}")
@@ -240,4 +242,4 @@ if shutil.which("h5dump"):
     c.check({"mass", "id", "positions", "velocities", "density"} <= sets, f"snapshot datasets {sorted(sets)} include mass and id")
 else:
     c.check(False, "h5dump (hdf5-tools) is installed")
-c.finish()
+c.finish(a.readings)

@@ -37,9 +37,11 @@
     them; with mirror walls (the Couette flow, the convection cell, whose walls' books go to
     owners that change, and the walled expansion) the fixed-step runs agree as in (a).
 (h) SIGTERM to one rank: every rank stops after the same step, outputs complete, exit 143.
-(g) Every options file on 2 ranks (30 steps): the one-rank energies at the output times both
-    reached within max(10, 2 steps) times the file's rtol (each run is within about rtol per
-    step of the exact solution), or a one-line refusal naming what is serial-only.
+(g) Every options file on 2 ranks (to its first output time after t = 0): the one-rank
+    energies at the output times both reached within max(10, 2 steps) times the file's rtol
+    (each run is within about rtol per step of the exact solution), or a one-line refusal
+    naming what is serial-only.
+The one-rank runs are plain starts of spam-ark (MPI's singleton), the others mpiexec's.
 """
 import math
 import os
@@ -47,7 +49,7 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from spamrun import Checks, arguments, mpiexec_env, summary, table  # noqa: E402
+from spamrun import Checks, arguments, mpiexec_env, rank_command, summary, table  # noqa: E402
 
 EPS = 2.220446049250313e-16
 a = arguments()
@@ -56,9 +58,10 @@ mpiexec, ENV = mpiexec_env()
 
 
 def spam(ranks, name, args, env=None, timeout=300):
+    """One run on `ranks` ranks (one rank: a singleton start, spamrun.rank_command)."""
     out = os.path.join(a.workdir, f"{name}_np{ranks}")
-    cmd = [mpiexec, "--oversubscribe", "-n", str(ranks), a.spam_ark] + [str(x) for x in args] + ["-output_dir", out]
-    p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env or ENV)
+    cmd, env = rank_command(mpiexec, env or ENV, ranks, a.spam_ark, list(args) + ["-output_dir", out])
+    p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout, env=env)
     return p.returncode, p.stdout, p.stderr, out
 
 
@@ -327,7 +330,28 @@ c.check(code == 2 and len(lines) == 1 and "-migrate_interval" in lines[0] and "s
 
 # (g) every options file on 2 ranks: the one-rank answer at the output times both reached
 #     (energies within 10 rtol of the file's tolerance, as (b)), or refused in one line that
-#     names what is serial-only. 30 steps each.
+#     names what is serial-only. Each pair of runs ends at the file's first output time after
+#     t = 0 (its -output_interval; its end time where that is 0, start and end only): the rows
+#     at t = 0 and at that time are the two the comparison needs, and a pair lost or counted
+#     twice across ranks shows from the first right-hand side on (the bound, 2 rtol per step,
+#     shrinks with the steps). At most 100 steps: a file that has not reached the time by then
+#     fails (one common row). A file that sets no interval (the scene's default) runs 30
+#     steps, or 100 where 30 reached no output time after t = 0.
+
+
+def first_output_time(path):
+    """The options file's first output time after t = 0, or None where it sets no interval."""
+    opts = {}
+    for line in open(path):
+        words = line.split()
+        if len(words) >= 2 and words[0] in ("-output_interval", "-ts_max_time"):
+            opts[words[0]] = float(words[1])
+    interval, end = opts.get("-output_interval"), opts.get("-ts_max_time")
+    if interval is None or (interval == 0 and end is None):
+        return None
+    return end if interval == 0 else min(interval, end) if end else interval
+
+
 REFUSED = {}
 optdir = os.path.join(OPTS_DIR, "options")
 for fname in sorted(os.listdir(optdir)):
@@ -338,10 +362,14 @@ for fname in sorted(os.listdir(optdir)):
     for line in open(path):
         if line.split()[:1] == ["-ts_rtol"]:
             tol = float(line.split()[1])
-    args = ["-options_file", path, "-ts_max_steps", 30, "-snapshot_interval", 0]
+    stop = first_output_time(path)
+    if stop is not None:
+        args = ["-options_file", path, "-ts_max_time", repr(stop), "-ts_max_steps", 100, "-snapshot_interval", 0]
+    else:
+        args = ["-options_file", path, "-ts_max_steps", 30, "-snapshot_interval", 0]
     code1, so, se1, out1 = spam(1, f"file_{name}", args)
     t_rows = table(os.path.join(out1, "timeseries.csv"))["t"] if code1 == 0 else [0.0]
-    if name not in REFUSED and code1 == 0 and not any(0 < t < t_rows[-1] for t in t_rows):
+    if stop is None and name not in REFUSED and code1 == 0 and not any(0 < t < t_rows[-1] for t in t_rows):
         # 30 steps did not reach an output time after t = 0 (the one-rank run tells, before
         # the two-rank run is started): a run whose step the viscosity or conduction bounds
         # (h^2 / nu) or whose output interval is long. Both run to 100 steps instead.
@@ -354,7 +382,8 @@ for fname in sorted(os.listdir(optdir)):
         c.check(code1 == 0 and code2 == 2 and len(lines) == 1 and REFUSED[name] in lines[0] and "one rank" in lines[0],
                 f"{fname} on 2 ranks refused ({REFUSED[name]}): exit {code2}, {lines}")
         continue
-    if not c.check(code1 == 0 and code2 == 0, f"{fname} on 1 and 2 ranks ({args[args.index('-ts_max_steps') + 1]} steps): exit {code1}, {code2} {lines}"):
+    until = f"to t = {stop:g}, at most 100 steps" if stop is not None else f"{args[args.index('-ts_max_steps') + 1]} steps"
+    if not c.check(code1 == 0 and code2 == 0, f"{fname} on 1 and 2 ranks ({until}): exit {code1}, {code2} {lines}"):
         continue
     t1, t2, common = common_rows(out1, out2)
     # Each adaptive run is within its accumulated local errors of the exact solution, at

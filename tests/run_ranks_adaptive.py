@@ -25,7 +25,7 @@ import json
 import os
 import subprocess
 
-from spamrun import Checks, arguments, mpiexec_env
+from spamrun import Checks, arguments, mpiexec_env, rank_command
 
 a = arguments()
 c = Checks()
@@ -37,8 +37,8 @@ SEDOV = ["-scene", "sedov", "-dim", 2, "-sedov_n", 24, "-h", H, "-sedov_energy",
 
 def spam(ranks, name, args):
     out = os.path.join(a.workdir, f"{name}_np{ranks}")
-    cmd = [mpiexec, "--oversubscribe", "-n", str(ranks), a.spam_ark] + [str(x) for x in SEDOV + args] + ["-output_dir", out]
-    p = subprocess.run(cmd, capture_output=True, text=True, timeout=300, env=ENV)
+    cmd, env = rank_command(mpiexec, ENV, ranks, a.spam_ark, SEDOV + list(args) + ["-output_dir", out])  # one rank: a singleton
+    p = subprocess.run(cmd, capture_output=True, text=True, timeout=300, env=env)
     c.check(p.returncode == 0, f"{name} on {ranks} ranks: exit {p.returncode} {p.stderr.strip()[-300:]}")
     return out if p.returncode == 0 else None
 

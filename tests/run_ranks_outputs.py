@@ -23,7 +23,7 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from spamrun import Checks, arguments, manifest_files, mpiexec_env, summary, table  # noqa: E402
+from spamrun import Checks, arguments, manifest_files, mpiexec_env, rank_command, summary, table  # noqa: E402
 
 a = arguments()
 c = Checks()
@@ -33,8 +33,8 @@ OPTS = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))),
 
 def spam(ranks, name, args):
     out = os.path.join(a.workdir, f"{name}_np{ranks}")
-    cmd = [mpiexec, "--oversubscribe", "-n", str(ranks), a.spam_ark] + [str(x) for x in args] + ["-output_dir", out]
-    p = subprocess.run(cmd, capture_output=True, text=True, timeout=300, env=ENV)
+    cmd, env = rank_command(mpiexec, ENV, ranks, a.spam_ark, list(args) + ["-output_dir", out])  # one rank: a singleton
+    p = subprocess.run(cmd, capture_output=True, text=True, timeout=300, env=env)
     if any(s in p.stderr for s in ("ERROR: AddressSanitizer", "LeakSanitizer", "runtime error:")):
         c.check(False, f"{name} on {ranks} ranks: sanitizer report:\n{p.stderr[-3000:]}")
     return p.returncode, p.stderr, out

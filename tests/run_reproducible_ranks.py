@@ -24,7 +24,7 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from spamrun import Checks, arguments, mpiexec_env  # noqa: E402
+from spamrun import Checks, arguments, mpiexec_env, rank_command  # noqa: E402
 
 a = arguments()
 c = Checks()
@@ -41,8 +41,8 @@ TIMING = ("rhs_s", "wall_s", "rhs_evals")  # rhs_evals: a migration's resize eva
 
 def spam(ranks, name, args, expect=0):
     out = os.path.join(a.workdir, f"{name}_np{ranks}")
-    cmd = [mpiexec, "--oversubscribe", "-n", str(ranks), a.spam_ark] + [str(x) for x in args] + ["-output_dir", out]
-    p = subprocess.run(cmd, capture_output=True, text=True, timeout=300, env=ENV)
+    cmd, env = rank_command(mpiexec, ENV, ranks, a.spam_ark, list(args) + ["-output_dir", out])  # one rank: a singleton
+    p = subprocess.run(cmd, capture_output=True, text=True, timeout=300, env=env)
     if p.returncode != expect:
         c.check(False, f"{name} on {ranks} ranks: exit {p.returncode} {p.stderr.strip()[:300]}")
     return p.returncode, p.stderr, out

@@ -97,6 +97,8 @@ s, sref = summary(d), summary(ref)
 c.check(code == 0 and s["checkpoints_written"] >= sref["steps"] - 2 and same_outputs(ref, d) == "",
         f"-checkpoint_wall 1e-6: {s['checkpoints_written']} checkpoints in {s['steps']} steps, outputs "
         f"{same_outputs(ref, d) or 'identical to the run without'}")
+c.reading("wall.checkpoints", s["checkpoints_written"])
+c.reading("wall.steps", s["steps"])
 
 # SIGTERM in mid-run, then -restart: the straight run's files.
 LONG = BASE[:] + METHODS["arkode DP5"]
@@ -124,6 +126,8 @@ diff = same_outputs(ref, d) if code == 0 else f"exit {code}: {err.strip()[:300]}
 c.check(code == 0 and diff == "" and s["steps"] == sref["steps"] and s["rhs_evals"] == sref["rhs_evals"],
         f"SIGTERM then -restart (from t = {s.get('restart_t', 0):.6g}, step {s.get('restart_step')}): {diff or 'the straight run, file for file'}; "
         f"steps {s.get('steps')}/{sref['steps']}, rhs_evals {s.get('rhs_evals')}/{sref['rhs_evals']}")
+c.reading("sigterm.steps", sref["steps"])
+c.reading("sigterm.rhs_evals", sref["rhs_evals"])
 
 # A restart may extend the run: to t = 16 from a checkpoint of a run to 12 is the straight
 # run to 16 (outputs are interpolated, so the old end clamped no step before it; the first
@@ -171,6 +175,8 @@ if c.check(code == 0, f"cvode restart runs (exit {code}) {err.strip()[:200]}"):
     c.check(s["restart"] == "approximate" and "CVODE" in s["restart_why_approximate"] and e_rst <= 3 * e_ref + 1e-9,
             f"cvode: restart {s['restart']} ({s['restart_why_approximate'][:60]}...); largest position error at t = 12 against "
             f"DP5 rtol 1e-11: {e_rst:.3e} restarted, {e_ref:.3e} uninterrupted (bound 3x)")
+    c.reading("cvode.error_restarted", e_rst)
+    c.reading("cvode.error_uninterrupted", e_ref)
 
 # Refusals: exit 2, one line on stderr naming what differs.
 base = BASE + METHODS["arkode DP5"]
@@ -213,4 +219,4 @@ c.check(code == 2 and len(lines) == 1 and "0.0.9" in lines[0], f"refused, anothe
 os.remove(os.path.join(d, "bad.h5"))
 code, out, err = run(a.spam_ark, base + ["-restart", ck, "-snapshot_csv", 0, "-monitor"], d)
 c.check(code == 0, f"output-only options may change at a restart (-snapshot_csv 0 -monitor): exit {code} {err.strip()[:200]}")
-c.finish()
+c.finish(a.readings)

@@ -23,7 +23,7 @@ import subprocess
 import sys
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from spamrun import Checks, arguments, mpiexec_env, same_outputs, steps_table, summary  # noqa: E402
+from spamrun import Checks, arguments, mpiexec_env, rank_command, same_outputs, steps_table, summary  # noqa: E402
 
 a = arguments()
 c = Checks()
@@ -55,8 +55,8 @@ SCENES = {
 
 
 def spam(ranks, args, out, env=None):
-    cmd = [mpiexec, "--oversubscribe", "-n", str(ranks), a.spam_ark] + [str(x) for x in args] + ["-output_dir", out]
-    p = subprocess.run(cmd, capture_output=True, text=True, timeout=300, env=env or ENV)
+    cmd, env = rank_command(mpiexec, env or ENV, ranks, a.spam_ark, list(args) + ["-output_dir", out])  # one rank: a singleton
+    p = subprocess.run(cmd, capture_output=True, text=True, timeout=300, env=env)
     return p.returncode, p.stdout, p.stderr
 
 

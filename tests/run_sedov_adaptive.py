@@ -112,7 +112,7 @@ def main():
         for path in manifest_files(out, "snapshot_csv"):
             t, rb, rho = radial_profile(path)
             got[name][round(t, 6)] = half_level_radius(rb, rho)
-    radii, refs = [], []
+    radii, refs, radii_fixed, refs_fixed = [], [], [], []
     for t in T_CHECK:
         r_exact = xi0 * (E0 * t * t) ** (1.0 / (DIM + 2))
         grid = np.arange(0.0, r_exact + 2 * H, 0.05)
@@ -122,6 +122,8 @@ def main():
         h_f = 0.5 * (H + H / math.sqrt(peak_ref))
         radii.append(ra)
         refs.append(r_ref)
+        radii_fixed.append(rf)
+        refs_fixed.append(r_fx_ref)
         print(f"t = {t}: self-similar R {r_exact:.3f}; fixed {rf:.3f} ({rf / r_exact - 1:+.2%}; its averaged exact {r_fx_ref:.3f}, {rf - r_fx_ref:+.3f}), "
               f"adaptive {ra:.3f} ({ra / r_exact - 1:+.2%}; its averaged exact {r_ref:.3f}, {ra - r_ref:+.3f}); peaks {pf:.3f}, {pa:.3f}")
         c.check(abs(ra - r_ref) <= h_f / 4, f"t = {t}: adaptive radius {ra:.3f} against its averaged exact {r_ref:.3f}: {ra - r_ref:+.3f} (bound h_f/4 = {h_f / 4:.3f})")
@@ -132,6 +134,10 @@ def main():
     e = [H / math.sqrt(4.0) / 4, H / math.sqrt(4.0) / 4]  # h_s/4 at the densest shell allowed (rho 4): the smallest bound
     bound = (e[0] / refs[0] + e[1] / refs[-1]) / math.log(T_CHECK[-1] / T_CHECK[0])
     c.check(abs(slope - slope_ref) <= bound, f"growth exponent {slope:.4f} against the averaged exact radii's {slope_ref:.4f} (bound {bound:.3f}; self-similar 0.5)")
+    c.reading("adaptive.exponent", slope)
+    c.reading("adaptive.exponent_exact_averaged", slope_ref)
+    c.reading("fixed.exponent", np.polyfit(np.log(T_CHECK), np.log(radii_fixed), 1)[0])
+    c.reading("fixed.exponent_exact_averaged", np.polyfit(np.log(T_CHECK), np.log(refs_fixed), 1)[0])
     l, f, g, hh = prof
     ke, ie = -np.trapz(0.5 * g * f * f * l, l), -np.trapz(hh / (GAMMA - 1.0) * l, l)
     share = {name: kinetic_share(os.path.join(a.workdir, name), T_CHECK[-1]) for name in RUNS}
@@ -140,10 +146,12 @@ def main():
     err = {name: share[name] / (ke / (ke + ie)) - 1.0 for name in RUNS}
     c.check(abs(err["adaptive"]) <= bound and abs(err["adaptive"]) < abs(err["fixed"]),
             f"t = {T_CHECK[-1]}: kinetic share {share['adaptive']:.4f} against the self-similar {ke / (ke + ie):.4f}: {err['adaptive']:+.2%} (bound h_f/R = {bound:.2%}; fixed {share['fixed']:.4f}, {err['fixed']:+.2%})")
+    c.reading("adaptive.kinetic_share_error", err["adaptive"])
+    c.reading("fixed.kinetic_share_error", err["fixed"])
     for name in RUNS:
         sm = got[name]["summary"]
         c.check(sm["energy_rel_drift_max"] < 1e-5, f"{name}: energy drift {sm['energy_rel_drift_max']:.2e} < 1e-5 (rtol 1e-6)")
-    c.finish()
+    c.finish(a.readings)
 
 
 if __name__ == "__main__":

@@ -49,6 +49,9 @@ def main():
         errors[name] = {k: got / want - 1.0 for k, (got, want) in plateaus.items()}
         print(f"{name}: " + ", ".join(f"{k} {v:+.3%}" for k, v in errors[name].items()) + f"; sum |err| {sum(abs(v) for v in errors[name].values()):.3%}")
         shown = {k: ", ".join(f"{(g - w) / (H / N):+.2f} h" for g in got) or "none" for k, (got, w) in fronts.items()}
+        c.reading(f"{name}.plateau_error_sum", sum(abs(v) for v in errors[name].values()))
+        c.reading(f"{name}.fan_ends_max_h", max(abs(g - w) / (H / N) for k, (got, w) in fronts.items()
+                                                if k.startswith("fan") for g in got))
         print(f"{name}: fronts " + "; ".join(f"{k} {v}" for k, v in shown.items()))
         if name == "adaptive":
             for k, v in errors[name].items():
@@ -61,7 +64,7 @@ def main():
     if len(errors) == 2:
         sf, sa = (sum(abs(v) for v in errors[k].values()) for k in ("fixed", "adaptive"))
         c.check(sa <= 0.5 * sf, f"plateau errors summed: adaptive {sa:.3%}, at most half the fixed range's {sf:.3%}")
-    c.finish()
+    c.finish(a.readings)
 
 
 if __name__ == "__main__":

@@ -52,8 +52,11 @@ for label, (_, exact) in methods.items():
     c.check(abs(lo / exact - 1) < 0.02 and abs(hi / exact - 1) < 0.02,
             f"{label}: stable at w_max dt = {lo:.5f}, unstable at {hi:.5f}; closed form {exact:.5f} "
             f"({lo / exact - 1:+.3%}, tolerance 2%)")
+    c.reading(f"{label}.stable", lo)
+    c.reading(f"{label}.closed_form", exact)
+    c.reading(f"{label}.rel_error", lo / exact - 1)
     c.check(abs(float(r["closed_form"]) - exact) < 1e-12, f"{label}: stability.csv carries the closed form {float(r['closed_form']):.6f}")
     stages = {"RK4": 4, "SSP3": 4, "Verlet": 1}[label]
     c.check(int(r["force_evals_per_step"]) == stages, f"{label}: {r['force_evals_per_step']} force evaluations per step measured ({stages})")
 c.check(os.path.getsize(os.path.join(out, "stability.png")) > 1000, "stability.png written")
-c.finish()
+c.finish(a.readings)

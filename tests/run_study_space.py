@@ -26,7 +26,7 @@ import itertools
 import math
 import os
 
-from spamrun import Checks, arguments, run, summary, table
+from spamrun import Checks, Runner, arguments, summary, table
 
 U = 2.0 ** -53  # unit round-off
 
@@ -50,6 +50,7 @@ def momentum_bound(s):
 
 a = arguments()
 c = Checks()
+runner = Runner(a.spam_ark, a.workdir)  # each run a forked child of the fork server
 REST = (("R0", "R1", "R2"), ("none", "gauss", "Ti", "Tij"))
 pre = itertools.product((0, 1.01), ("none", "monaghan"), ("summation", "continuity"), *REST)
 more = [(0, v, d, x, g) for v, d, x, g in itertools.product(("none", "monaghan", "vonneumann"),
@@ -58,9 +59,9 @@ more = [(0, v, d, x, g) for v, d, x, g in itertools.product(("none", "monaghan",
 for dmin, visc, dens, coords, angm in list(pre) + more:
     name = f"ca{dmin:g}-{visc}-{dens}-{coords}-{angm}"
     out = os.path.join(a.workdir, name)
-    code, _, err = run(a.spam_ark, ["-scene", "rotor", "-rotor_n", 3, "-closest_approach", dmin, "-viscosity", visc, "-density", dens,
-                                    "-coordinates", coords, "-angmom", angm, "-arkode_fixed_step", 0.05,
-                                    "-ts_max_time", 4, "-output_interval", 0.5, "-snapshot_interval", 0], out)
+    code, _, err = runner.run(["-scene", "rotor", "-rotor_n", 3, "-closest_approach", dmin, "-viscosity", visc, "-density", dens,
+                               "-coordinates", coords, "-angmom", angm, "-arkode_fixed_step", 0.05,
+                               "-ts_max_time", 4, "-output_interval", 0.5, "-snapshot_interval", 0], out)
     s = summary(out) if code == 0 else {}
     if code == 3 and dmin > 0 and angm == "gauss":
         c.check(summary(out)["status"] == "unstable", f"{name}: stopped as unstable (exit 3), allowed for Gauss with closest approach")

@@ -48,8 +48,9 @@ for name, t in (("T = 2", t2), ("T = 3", t3)):
     dev = max(abs(p - q) for col in ("x", "y") for p, q in zip(t[col], t1[col]))
     c.check(len(t["x"]) == len(t1["x"]) and dev < 1e-11 * h,
             f"{name} against T = 1: largest position difference {dev:.3e} (bound 1e-11 h = {1e-11 * h:.1e})")
+    c.reading(f"T{name[-1]}.position_difference", dev)
 
 s1, _ = final("solid_t1", solid, 1)
 s2, _ = final("solid_t2", solid, 2)
 c.check(s1 == s2, "elastic solid: T = 2 gives the final state of T = 1 bit for bit (same list)")
-c.finish()
+c.finish(a.readings)

@@ -63,18 +63,60 @@ def run(binary, args, outdir=None, timeout=600):
     if outdir is not None:
         cmd += ["-output_dir", outdir]
     p = subprocess.run(cmd, capture_output=True, text=True, timeout=timeout)
-    # Under tools/sanitize.sh a report also sets exit code 86; this catches it where a test
-    # accepts any code.
-    if any(s in p.stderr for s in ("ERROR: AddressSanitizer", "LeakSanitizer", "runtime error:")):
-        sys.exit(f"sanitizer report from {' '.join(cmd)}:\n{p.stderr}")
-    return p.returncode, p.stdout, p.stderr
+    return check_sanitizers(cmd, p.returncode, p.stdout, p.stderr)
 
 
-def kernel_names(binary):
+class Runner:
+    """run() for many short runs of one binary: each in a forked child of the fork server
+    (tests/fork_server.py), where the server is built and the run does not depend on the
+    executable's own path; else, and with SPAM_FUZZ_EXEC=1, a start of the binary. The same
+    results as run(): exit code (negative: the signal), stdout, stderr, the same check for
+    sanitizer reports, subprocess.TimeoutExpired after timeout seconds."""
+
+    def __init__(self, binary, workdir):
+        import atexit
+        import fork_server
+        self.binary, self.server, self.forked = binary, None, 0
+        self.fork_server = fork_server
+        path = fork_server.server_path(binary)
+        if path:
+            self.files = os.path.join(os.path.abspath(workdir), ".fork_server")
+            os.makedirs(self.files, exist_ok=True)
+            self.server = fork_server.Server(path, binary, dict(os.environ), self.files)
+            atexit.register(self.server.close)
+
+    def run(self, args, outdir=None, timeout=600, cwd=None):
+        args = [str(x) for x in args] + (["-output_dir", outdir] if outdir is not None else [])
+        if self.server is None or self.fork_server.needs_exec(args):
+            if cwd is None:
+                return run(self.binary, args, timeout=timeout)
+            p = subprocess.run([self.binary] + args, capture_output=True, text=True, timeout=timeout, cwd=cwd)
+            return check_sanitizers([self.binary] + args, p.returncode, p.stdout, p.stderr)
+        out, err = os.path.join(self.files, "stdout"), os.path.join(self.files, "stderr")
+        code = self.server.run(args, os.path.abspath(cwd or os.getcwd()), dict(os.environ), out, err, timeout)
+        self.forked += 1
+        with open(out, encoding="utf-8") as f:
+            stdout = f.read()
+        with open(err, encoding="utf-8") as f:
+            stderr = f.read()
+        if code == "timeout":
+            raise subprocess.TimeoutExpired([self.binary] + args, timeout, stdout, stderr)
+        return check_sanitizers([self.binary] + args, code, stdout, stderr)
+
+
+def check_sanitizers(cmd, code, stdout, stderr):
+    """Under tools/sanitize.sh a report also sets exit code 86; this catches it where a test
+    accepts any code."""
+    if any(s in stderr for s in ("ERROR: AddressSanitizer", "LeakSanitizer", "runtime error:")):
+        sys.exit(f"sanitizer report from {' '.join(cmd)}:\n{stderr}")
+    return code, stdout, stderr
+
+
+def kernel_names(binary, runner=None):
     """The names -kernel accepts, in the program's order, read from its -help line
     "-kernel  Smoothing kernel ... (one of) lucy wendland_c2 ...  [default lucy]": the one
     list is the program's (src/kernels/kernel_list.h), so a test keeps no copy of it."""
-    _, out, _ = run(binary, ["-help"])
+    _, out, _ = runner.run(["-help"]) if runner else run(binary, ["-help"])
     line = next((l for l in out.splitlines() if l.strip().startswith("-kernel ")), "")
     return line.split("(one of)", 1)[1].split("[", 1)[0].split("(", 1)[0].split() if "(one of)" in line else []
 
@@ -146,6 +188,17 @@ def mpiexec_env():
                OMPI_MCA_hwloc_base_binding_policy="none")
     env.pop("OMPI_MCA_ess_singleton_isolated", None)  # set by ctest for one-rank starts
     return mpiexec, env
+
+
+def rank_command(mpiexec, env, ranks, binary, args):
+    """The command and environment that start binary with args on `ranks` ranks: mpiexec for
+    several; for one a plain start, MPI's singleton (OpenMPI's isolated start, as ctest sets for
+    the one-rank tests), which is the run mpiexec -n 1 makes without mpiexec's launch (about
+    0.5 s and 0.12 CPU-s a start here)."""
+    args = [str(x) for x in args]
+    if ranks == 1:
+        return [binary] + args, dict(env, OMPI_MCA_ess_singleton_isolated="1")
+    return [mpiexec, "--oversubscribe", "-n", str(ranks), binary] + args, env
 
 
 # Comparing two run directories (the restart tests: a restarted run against the

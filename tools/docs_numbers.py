@@ -25,8 +25,22 @@ between the marker and its end is what a reader sees, and is rewritten from the 
         (a tests/run_*.py, or named in tests/CMakeLists.txt), and TOKEN, when given, must occur in it (the
         bound as the test writes it, e.g. 0.03).
 
+A number typed in a page's prose (outside markers, code, option values and links: a decimal,
+an exponent, a percentage, a ratio "2.4x", "3 x 10^-5", or a count with a unit, "40 steps",
+"12 s") is a parameter, an exact or analytic value, or a measurement that escaped its
+marker. Those a page may type are listed in tools/docs_typed_numbers.txt, one line per page,
+comma-separated: "PAGE: 0.5, 1e-6, 40 steps"; a line "PAGE measured: ..." lists the
+measurements a page still types (known debt: each is to go under a marker or away, and none
+is to be added). A number a page types that its lines do not list is a problem: put it
+under a marker if it was measured, or add it to the page's line if it is a parameter.
+A listed number the page no longer types is a problem too, so the list only shrinks as
+pages lose their typed measurements. --unmarked lists every typed number with its line (*
+not listed, m listed as measured); --allow adds the pages' unlisted typed numbers to their
+parameters' lines (look first); --prune drops the listed numbers the pages no longer type.
+
 --check (the default) lists every marker whose text differs from its source, every
-source or key that does not exist, every JSON without its command and commit, and every
+source or key that does not exist, every JSON without its command and commit, every
+number typed without a marker that tools/docs_typed_numbers.txt does not list, and every
 figure a page labels as a hand run or as history (made by no script: regenerate it with one,
 or leave it to git's history), and exits 1 if there is one; --update rewrites the pages' marked text from the sources. With paths,
 only those pages; otherwise README.md, CONTRIBUTING.md, bench/README.md, tests/README.md
@@ -194,6 +208,106 @@ def ungenerated(page, text, problems):
             problems.append(f"{page}:{n}: a figure labelled '{m.group(0)}': made by no script")
 
 
+# What is not prose: fenced code, markers and comments, sections a script wrote between
+# <!-- NAME --> and <!-- /NAME --> (examples/study.py, study_shear_mode.py --doc), inline
+# code, link targets.
+FENCE = re.compile(r"^([ \t]*)(```|~~~).*?^\1\2[^\n]*$", re.S | re.M)
+NOT_PROSE = [re.compile(r"<!--(num|table|text|test)\b.*?<!--/\1-->", re.S),
+             re.compile(r"<!-- ([\w:.-]+) -->.*?<!-- /\1 -->", re.S),  # a section a script wrote (study.md)
+             re.compile(r"<!--.*?-->", re.S),
+             re.compile(r"`(?:[^`\n]|\n(?![ \t]*\n))*`"),  # inline code, which may wrap within its paragraph
+             re.compile(r"\]\([^)\s]*\)"), re.compile(r"<[a-z]+ [^>\n]*>")]
+UNIT = r"(?:s|ms|min|minutes|seconds|h|hours|steps|RHS evaluations|evaluations|rejections|rejected steps|KB|MB|GB|MiB|GiB|bytes)"
+TYPED = re.compile(r"(?<![\w.⁻^/-])(\d+\s+%s\b|\d+(?:\.\d+)?\s*×\s*10[⁻⁰¹²³⁴⁵⁶⁷⁸⁹]+|\d+(?:\.\d+)?e[-+]?\d+"
+                   r"|\d+(?:\.\d+)?\s*(?:%%|×(?!\s*\d)|x(?![\w\d]))|\d+\.\d+)" % UNIT)
+ALLOWED = os.path.join(ROOT, "tools", "docs_typed_numbers.txt")
+
+
+def blank(m):
+    return re.sub(r"[^\n]", " ", m.group(0))
+
+
+def typed_numbers(text):
+    """[(line, number, the line's text)] of the numbers text types in its prose."""
+    prose = FENCE.sub(blank, text)
+    for r in NOT_PROSE:
+        prose = r.sub(blank, prose)
+    out = []
+    lines = text.splitlines()
+    for n, (line, orig) in enumerate(zip(prose.splitlines(), lines), 1):
+        if indented_code(lines, n - 1):
+            continue
+        for m in TYPED.finditer(line):
+            out.append((n, re.sub(r"\s+", " ", m.group(1)), orig.strip()))
+    return out
+
+
+def indented_code(lines, i):
+    """Whether lines[i] belongs to an indented code block: indented by 4 or more, after a
+    blank line that follows a paragraph, not a list item (whose continuation it would be)."""
+    if not re.match(r"^( {4,}|\t)\S", lines[i]):
+        return False
+    blank = False
+    for j in range(i - 1, -1, -1):
+        if not lines[j].strip():
+            blank = True
+        elif not re.match(r"^( {4,}|\t)", lines[j]):
+            return blank and not re.match(r"^\s*([-*+]|\d+\.)\s", lines[j])
+    return blank
+
+
+def allowed_numbers():
+    """{page: set of numbers it may type}, {page: the measured ones among them} from
+    tools/docs_typed_numbers.txt."""
+    out, measured = {}, {}
+    try:
+        lines = open(ALLOWED, encoding="utf-8").read().splitlines()
+    except OSError:
+        return out, measured
+    for line in lines:
+        if line.strip() and not line.startswith("#"):
+            head, _, rest = line.partition(": ")
+            page = head.strip()
+            nums = {t.strip() for t in rest.split(",") if t.strip()}  # a count keeps its unit: "40 steps"
+            if page.endswith(" measured"):
+                page = page[:-len(" measured")]
+                measured.setdefault(page, set()).update(nums)
+            out.setdefault(page, set()).update(nums)
+    return out, measured
+
+
+def unmarked(page, text, allowed, problems):
+    found = typed_numbers(text)
+    for n, num, _ in found:
+        if num not in allowed.get(page, ()):
+            problems.append(f"{page}:{n}: {num} typed without a marker (a measurement goes under a marker; "
+                            f"a parameter into tools/docs_typed_numbers.txt)")
+    for num in sorted(allowed.get(page, set()) - {num for _, num, _ in found}):
+        problems.append(f"{page}: {num} listed in tools/docs_typed_numbers.txt but no longer typed "
+                        f"(tools/docs_numbers.py --prune {page})")
+
+
+def _order(t):
+    m = re.match(r"[\d.]+(?:e[-+]?\d+)?", t)
+    try:
+        return (float(m.group(0)), t)
+    except (AttributeError, ValueError):
+        return (0.0, t)
+
+
+def write_allowed(allowed, measured):
+    with open(ALLOWED, "w", encoding="utf-8") as fh:
+        fh.write("# The numbers each page may type in its prose without a marker (tools/docs_numbers.py --check):\n"
+                 "# 'PAGE:' parameters, exact and analytic values; 'PAGE measured:' measurements the page still\n"
+                 "# types, to be put under a marker or removed (never add to those). Comma-separated.\n")
+        for page in sorted(allowed):
+            params = allowed[page] - measured.get(page, set())
+            if params:
+                fh.write(f"{page}: " + ", ".join(sorted(params, key=_order)) + "\n")
+            if measured.get(page):
+                fh.write(f"{page} measured: " + ", ".join(sorted(measured[page], key=_order)) + "\n")
+
+
 def count(text):
     return sum(len(r.findall(text)) for r in (NUM, TABLE, TEXT, TEST))
 
@@ -202,9 +316,40 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--update", action="store_true", help="rewrite the marked text from the sources")
     ap.add_argument("--check", action="store_true", help="fail when a marked text differs (the default)")
+    ap.add_argument("--unmarked", action="store_true",
+                    help="list every number typed outside a marker (* before those the list does not allow)")
+    ap.add_argument("--allow", action="store_true",
+                    help="add the pages' typed numbers to tools/docs_typed_numbers.txt")
+    ap.add_argument("--prune", action="store_true",
+                    help="drop from tools/docs_typed_numbers.txt the numbers the pages no longer type")
     ap.add_argument("pages", nargs="*")
     a = ap.parse_args()
     problems, markers, changed = [], 0, []
+    allowed, measured = allowed_numbers()
+    if a.prune:
+        for page in pages(a.pages):
+            typed = {num for _, num, _ in typed_numbers(open(os.path.join(ROOT, page), encoding="utf-8").read())}
+            for d in (allowed, measured):
+                if page in d:
+                    d[page] &= typed
+        write_allowed(allowed, measured)
+        sys.exit(0)
+    if a.unmarked or a.allow:
+        total = debt = 0
+        for page in pages(a.pages):
+            found = typed_numbers(open(os.path.join(ROOT, page), encoding="utf-8").read())
+            total += len(found)
+            if a.allow:
+                allowed.setdefault(page, set()).update(num for _, num, _ in found)
+            else:
+                for n, num, line in found:
+                    tag = "m" if num in measured.get(page, ()) else " " if num in allowed.get(page, ()) else "*"
+                    debt += tag == "m"
+                    print(f"{tag} {page}:{n}: {num:10s} | {line[:140]}")
+        if a.allow:
+            write_allowed(allowed, measured)
+        print(f"{total} typed numbers, {debt} of them listed as measurements still typed")
+        sys.exit(0)
     for page in pages(a.pages):
         path = os.path.join(ROOT, page)
         text = open(path, encoding="utf-8").read()
@@ -219,6 +364,7 @@ def main():
             del problems[before:]
             process(page, new, problems)  # what remains: missing sources or keys
             ungenerated(page, new, problems)
+        unmarked(page, new if a.update else text, allowed, problems)
     for p in problems:
         print(p)
     if a.update:

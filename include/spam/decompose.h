@@ -23,7 +23,7 @@
  * evaluations of the balanced run per evaluation. A re-cut is a migration that moves
  * many particles: moving half of 10^5 particles on 2 ranks took 0.097-0.109 s, 33-37
  * RHS evaluations of the same particles (2.9-3.0 ms), and a migration that moves 0.4 %
- * 20-21 ms, about 7 (test_migrate_np2 at e9de9a7, `ctest -R test_migrate_np2 -V`, two
+ * 20-21 ms, about 7 (test_migrate_np2, `ctest -R test_migrate_np2 -V`, two
  * runs, two cores shared with other jobs). At 1.25 a re-cut pays for itself within about
  * 150 RHS evaluations, a fraction of a run; a threshold nearer 1 would re-cut for gains
  * that the next few list rebuilds undo, and would fall within a cut's own granularity

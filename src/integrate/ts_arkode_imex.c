@@ -28,6 +28,11 @@ static const char *const ImexExplicit[] = {"ARKODE_ARK324L2SA_ERK_4_2_3", "ARKOD
 #define NIMEX 5
 
 /* The solver options (-arkode_imex_*). */
+/* Vectors ARKStep clones besides its stages' right-hand sides (SUNDIALS 6.4.1: weights,
+ * solution and predictor work, four temporaries, the Hermite interpolant's four), Newton's
+ * and the linear-solver interface's work, and GMRES's beyond its Krylov basis. */
+#define SPAM_ARK_IMEX_WORK_VECTORS 28
+
 typedef struct {
   char     table[32];
   double   nonlin_coef; /* Newton's tolerance as a fraction of the error test's       */
@@ -159,11 +164,18 @@ static PetscErrorCode TSSetUp_SpamARKImex(TS ts)
   PetscCheck(ark->y, comm, PETSC_ERR_LIB, "N_VMake_Petsc failed");
   PetscCheck(N_VEnableFusedOps_Petsc(ark->y, SUNTRUE) == 0, comm, PETSC_ERR_LIB, "N_VEnableFusedOps_Petsc failed");
   PetscCall(SpamErrorNormAttach(ark->y, app->o->error_norm, app->sim->pair.reproducible)); /* -error_norm: cloned with y */
+  PetscCall(LoadTables(ark->solver.table, &Bi, &Be));
+  /* The memory for every vector ARKStep, Newton and GMRES will clone, asked for once, so
+   * that a run short of memory ends with its one-line error (SpamNVectorReserve). */
+  PetscCall(SpamNVectorReserve(ts->vec_sol, 2 * (PetscInt)Be->stages + ark->solver.krylov_dim + SPAM_ARK_IMEX_WORK_VECTORS));
   ark->mem = ARKStepCreate(SpamSundialsRhsExplicit, SpamSundialsRhsDiffusion, ts->ptime, ark->y, ark->sunctx);
+  if (!ark->mem) {
+    ARKodeButcherTable_Free(Bi);
+    ARKodeButcherTable_Free(Be);
+  }
   PetscCheck(ark->mem, comm, PETSC_ERR_LIB, "ARKStepCreate failed");
   PetscCallARK(ARKStepSetUserData(ark->mem, app));
   PetscCallARK(ARKStepSetErrHandlerFn(ark->mem, SpamSundialsErrHandler, app));
-  PetscCall(LoadTables(ark->solver.table, &Bi, &Be));
   {
     const int flag = ARKStepSetTables(ark->mem, Bi->q, Bi->p, Bi, Be); /* ARKStep keeps copies */
     ARKodeButcherTable_Free(Bi);

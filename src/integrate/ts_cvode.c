@@ -8,6 +8,10 @@
 #include <nvector/nvector_petsc.h>
 #include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 
+/* Vectors CVODE clones besides its history (SUNDIALS 6.4.1: weights, correction and five
+ * temporaries) and the fixed-point solver's work, with a margin. */
+#define SPAM_CVODE_WORK_VECTORS 12
+
 typedef struct {
   SUNContext         sunctx;
   N_Vector           y;
@@ -90,6 +94,9 @@ static PetscErrorCode TSSetUp_SpamCVode(TS ts)
    * instead of k VecAXPY passes over memory (clones inherit the setting). */
   PetscCheck(N_VEnableFusedOps_Petsc(cv->y, SUNTRUE) == 0, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "N_VEnableFusedOps_Petsc failed");
   PetscCall(SpamErrorNormAttach(cv->y, app->o->error_norm, app->sim->pair.reproducible)); /* -error_norm: cloned with y */
+  /* The memory for CVODE's vectors (the Nordsieck history of max_order + 1 and its work)
+   * asked for once, so that a run short of memory ends with its one-line error. */
+  PetscCall(SpamNVectorReserve(ts->vec_sol, cv->max_order + 1 + SPAM_CVODE_WORK_VECTORS));
   cv->mem = CVodeCreate(CV_ADAMS, cv->sunctx);
   PetscCheck(cv->mem, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "CVodeCreate failed");
   PetscCallCV(CVodeInit(cv->mem, SpamSundialsRhs, ts->ptime, cv->y));
