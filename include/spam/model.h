@@ -18,6 +18,11 @@ typedef PetscErrorCode (*SpamRhsFn)(struct SpamSim *sim, const double *y, double
  * work). The last two sum to the first, up to round-off. */
 typedef enum { SPAM_RHS_ALL, SPAM_RHS_EXPLICIT, SPAM_RHS_DIFFUSION } SpamRhsPart;
 typedef PetscErrorCode (*SpamRhsPartFn)(struct SpamSim *sim, const double *y, double *ydot, SpamRhsPart part, PetscInt *bad);
+/* The right-hand side restricted to the particles marked in active (one byte per local
+ * particle): their rows of ydot, as the full evaluation would give them up to round-off;
+ * the other rows untouched. near: scratch of one byte per local particle. *done false
+ * (nothing written) where the state needs the full evaluation (ghost slots). */
+typedef PetscErrorCode (*SpamRhsActiveFn)(struct SpamSim *sim, const double *y, double *ydot, const unsigned char *active, unsigned char *near, PetscBool *done, PetscInt *bad);
 /* Accelerations from positions alone, into sim->acc (models whose state is r and v only:
  * the force half of a symplectic split). x has stride 'stride' between particles. */
 typedef PetscErrorCode (*SpamAccelFn)(struct SpamSim *sim, const double *x, int stride, PetscInt *bad);
@@ -57,6 +62,7 @@ typedef struct {
   char             name[32];     /* e.g. "isentrope"                                  */
   SpamRhsFn        rhs;
   SpamRhsPartFn    rhs_part;     /* NULL: the model has no diffusion to treat apart     */
+  SpamRhsActiveFn  rhs_active;   /* NULL: no pass restricted to active particles        */
   SpamAccelFn      accel;        /* NULL unless the state is exactly [x, v]            */
   SpamSoundSpeedFn max_sound_speed;
   int              dim;

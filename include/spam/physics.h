@@ -90,6 +90,10 @@ PetscErrorCode SpamRhsSolid(SpamSim *sim, const double *y, double *ydot, PetscIn
 /* The same restricted to one part (model.h's SpamRhsPart): the gas's flow scheme with the
  * pair form of viscosity and conduction. */
 PetscErrorCode SpamRhsSolidPart(SpamSim *sim, const double *y, double *ydot, SpamRhsPart part, PetscInt *bad);
+/* The same restricted to the active particles (model.h's SpamRhsActiveFn), for the cases
+ * SpamRhsSolidActiveCovers admits (the plain inviscid or Monaghan gas with one h). */
+PetscErrorCode SpamRhsSolidActive(SpamSim *sim, const double *y, double *ydot, const unsigned char *active, unsigned char *near, PetscBool *done, PetscInt *bad);
+PetscBool      SpamRhsSolidActiveCovers(const SpamSolidParams *p);
 PetscErrorCode SpamTensorTorqueSum(SpamSim *sim, const double *y, double *total);
 PetscErrorCode SpamDiagSolid(SpamSim *sim, const double *y, SpamModelDiag *d);
 PetscErrorCode SpamSetUpSolid(SpamSim *sim);

@@ -164,6 +164,8 @@ PetscErrorCode SpamRhs(SpamSim *sim, const double *y, double *ydot, PetscInt *ba
 /* One part of it (model.h's SpamRhsPart; the model must have rhs_part), timed and counted
  * as SpamRhs; evaluations of the diffusion part also in stats.rhs_evals_diffusion. */
 PetscErrorCode SpamRhsOfPart(SpamSim *sim, const double *y, double *ydot, SpamRhsPart part, PetscInt *bad);
+/* The model's rhs_active (model.h), counted as an evaluation when *done. */
+PetscErrorCode SpamRhsActive(SpamSim *sim, const double *y, double *ydot, const unsigned char *active, unsigned char *near, PetscBool *done, PetscInt *bad);
 /* Accelerations of positions x (stride between particles) into sim->acc, timed and counted
  * as one RHS evaluation; only for models with an accel function (state [x, v]). */
 PetscErrorCode SpamAccel(SpamSim *sim, const double *x, int stride, PetscInt *bad);

@@ -40,11 +40,12 @@ static inline __attribute__((always_inline)) void SignalPair(const int dim, Walk
   }
 }
 SPAM_PAIR_WALK(WalkSignal, WalkCtx, SignalPair)
+SPAM_PAIR_WALK_MASKED(WalkSignalMarked, WalkCtx, SignalPair)
 
 PetscErrorCode SpamBlockWalkDestroy(SpamBlockWalk *w)
 {
   PetscFunctionBeginUser;
-  if (w->cap) PetscCall(PetscFree5(w->c, w->vel, w->sig, w->lev, w->nbmax));
+  if (w->cap) PetscCall(PetscFree6(w->c, w->vel, w->sig, w->lev, w->nbmax, w->mark));
   w->cap = 0;
   PetscFunctionReturn(0);
 }
@@ -56,7 +57,7 @@ static PetscErrorCode Reserve(SpamBlockWalk *w, int slots, int dim)
   if (slots <= w->cap) PetscFunctionReturn(0);
   PetscCall(SpamBlockWalkDestroy(w));
   w->cap = slots + slots / 4 + 16;
-  PetscCall(PetscMalloc5(w->cap, &w->c, (size_t)w->cap * dim, &w->vel, w->cap, &w->sig, w->cap, &w->lev, w->cap, &w->nbmax));
+  PetscCall(PetscMalloc6(w->cap, &w->c, (size_t)w->cap * dim, &w->vel, w->cap, &w->sig, w->cap, &w->lev, w->cap, &w->nbmax, w->cap, &w->mark));
   PetscFunctionReturn(0);
 }
 
@@ -73,7 +74,7 @@ static double SoundSpeed(const SpamSim *sim, double cmodel, const double *p)
   return cmodel;
 }
 
-PetscErrorCode SpamBlockNeighbours(SpamSim *sim, const double *y, const int *lev, SpamBlockWalk *w)
+PetscErrorCode SpamBlockNeighbours(SpamSim *sim, const double *y, const int *lev, const unsigned char *mask, SpamBlockWalk *w)
 {
   const SpamLayout *l    = &sim->model.layout;
   const SpamGhosts *gh   = &sim->pair.nl.ghosts;
@@ -99,10 +100,14 @@ PetscErrorCode SpamBlockNeighbours(SpamSim *sim, const double *y, const int *lev
     w->c[n + k]   = w->c[s];
     w->sig[n + k] = 0.0;
     w->lev[n + k] = w->lev[s];
+    if (mask) w->mark[n + k] = mask[s]; /* an image of a marked particle is marked */
     for (int d = 0; d < dim; d++) w->vel[(size_t)(n + k) * dim + d] = ((gh->flip[k] >> d) & 1) ? -w->vel[(size_t)s * dim + d] : w->vel[(size_t)s * dim + d];
   }
   c = (WalkCtx){w->c, w->vel, w->lev, w->sig, w->nbmax, gh->src, gh->kind, n};
-  PetscCall(WalkSignal(&sim->pair.nl, &sim->model.kernel, &c));
+  if (mask) {
+    for (int i = 0; i < n; i++) w->mark[i] = mask[i];
+    PetscCall(WalkSignalMarked(&sim->pair.nl, &sim->model.kernel, w->mark, &c));
+  } else PetscCall(WalkSignal(&sim->pair.nl, &sim->model.kernel, &c));
   PetscFunctionReturn(0);
 }
 

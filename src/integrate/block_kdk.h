@@ -4,10 +4,11 @@
 #define SPAM_BLOCK_KDK_H
 #include <spam/sim.h>
 
-/* -block_cfl, -block_force, -block_max_level. */
+/* -block_cfl, -block_force, -block_max_level, -block_restricted. */
 typedef struct {
-  double   cfl, force;
-  PetscInt max_level;
+  double    cfl, force;
+  PetscInt  max_level;
+  PetscBool restricted; /* -block_restricted: forces of the active particles only */
 } SpamBlockSettings;
 
 /* A particle's bin may be at most this many levels longer than any neighbour's
@@ -22,12 +23,16 @@ typedef struct {
   int     cap;
   double *c, *vel, *sig;
   int    *lev, *nbmax;
+  unsigned char *mark; /* the walk's mask over the slots */
 } SpamBlockWalk;
 
 PetscErrorCode SpamBlockWalkDestroy(SpamBlockWalk *w);
 /* Per particle from state y (whose positions the list was last updated to) and bins lev
- * (may be NULL: all level 0): w->sig[i] and w->nbmax[i] for i < n. */
-PetscErrorCode SpamBlockNeighbours(SpamSim *sim, const double *y, const int *lev, SpamBlockWalk *w);
+ * (may be NULL: all level 0): w->sig[i] and w->nbmax[i] for i < n. With mask (one byte per
+ * local particle; NULL: all) only the pairs with a marked member are walked: sig and
+ * nbmax are whole for the marked particles; an unmarked one's nbmax is the deepest of its
+ * own bin and its marked neighbours' (what the limiter needs after only those changed). */
+PetscErrorCode SpamBlockNeighbours(SpamSim *sim, const double *y, const int *lev, const unsigned char *mask, SpamBlockWalk *w);
 /* The step particle i wants: min(cfl h_i / sig_i, force sqrt(h_i / |a_i|)), a_i the
  * velocity rate in rate (one particle block); infinity when neither bounds it. */
 double SpamBlockWanted(const SpamSim *sim, const SpamBlockSettings *s, const SpamBlockWalk *w, PetscInt i, const double *rate);

@@ -15,10 +15,14 @@
  *
  * Every field but the position is kicked with its rate (velocity, energy, and the
  * density, stress and books where the model carries them); positions drift with the
- * velocity alone. This first version evaluates the whole right-hand side at each tick
- * and kicks the active particles only: the dynamics of block steps, not their speed (a
- * pass restricted to the active particles is what would bring it); -ts_view reports the
- * fraction of particles active per evaluation, the share such a pass would do. */
+ * velocity alone. Where the model has a pass restricted to the active particles
+ * (model.h's rhs_active: the gas with one h) each tick computes the forces of the
+ * particles whose step ends there and no others (-block_restricted, the default; false:
+ * the whole right-hand side at each tick, the same result up to round-off); the neighbour
+ * walks of the step criterion and the limiter visit only the pairs with a particle whose
+ * bin may change. A woken particle's new rate comes from a second restricted evaluation
+ * on the same predicted state. -ts_view reports the fraction of particles active per
+ * evaluation and how many evaluations were restricted. */
 #include <petsc/private/tsimpl.h>
 #include "ts_family.h"
 #include "block_kdk.h"
@@ -26,6 +30,7 @@
 
 typedef struct {
   SpamBlockSettings set;
+  PetscBool         restricted_set; /* -block_restricted given (refused where no pass exists) */
   SpamBlockWalk     walk;
   PetscInt          n, nv;   /* particles and fields the arrays were made for         */
   double           *f, *g, *yp; /* [n nv]: rates at each particle's step start, the last
@@ -33,10 +38,13 @@ typedef struct {
   int              *lev;     /* [n] bin of the current step                            */
   PetscInt64       *start;   /* [n] tick where the current step began                  */
   unsigned char    *ends;    /* [n] the step ends (or is woken) at this tick            */
+  unsigned char    *chg, *nxt; /* [n] bin made deeper: this ring's mask, the next ring's  */
+  unsigned char    *woke;    /* [n] woken at this tick, its new rate still to take       */
+  unsigned char    *near;    /* [n] scratch of the restricted pass                       */
   PetscBool         have_f;  /* f holds the rates of the synchronised state             */
   /* statistics: cycles, evaluations, particle steps, woken particles, sum over the
    * evaluations of the fraction of particles whose step ended there, deepest bin */
-  long              cycles, evals, psteps, woken;
+  long              cycles, evals, psteps, woken, restricted, wake_evals;
   double            active_sum;
   int               deepest;
 } TS_SpamBlock;
@@ -53,6 +61,32 @@ static PetscErrorCode Evaluate(SpamTsApp *app, double t, const double *y, double
     app->bad  = bad;
     app->tbad = t;
   }
+  PetscFunctionReturn(0);
+}
+
+/* The rates of the particles marked in mask (NULL: all) into out: the restricted pass where
+ * the settings ask for it and the state allows it, else the whole right-hand side. */
+static PetscErrorCode EvaluateMarked(SpamTsApp *app, TS_SpamBlock *b, double t, const double *y, double *out, const unsigned char *mask, PetscBool *ok)
+{
+  PetscBool done = PETSC_FALSE;
+  PetscInt  bad  = -1;
+
+  PetscFunctionBeginUser;
+  if (mask && b->set.restricted) PetscCall(SpamRhsActive(app->sim, y, out, mask, b->near, &done, &bad));
+  if (bad >= 0) {
+    *ok = PETSC_FALSE;
+    if (app->bad < 0) {
+      app->bad  = bad;
+      app->tbad = t;
+    }
+    PetscFunctionReturn(0);
+  }
+  if (done) {
+    *ok = PETSC_TRUE;
+    b->restricted++;
+    PetscFunctionReturn(0);
+  }
+  PetscCall(Evaluate(app, t, y, out, ok));
   PetscFunctionReturn(0);
 }
 
@@ -111,7 +145,7 @@ static PetscErrorCode FirstBins(TS ts, SpamTsApp *app, TS_SpamBlock *b, const do
   }
   for (int pass = 0; L > 0 && changed && pass <= L; pass++) { /* one bin: nothing to limit */
     changed = PETSC_FALSE;
-    PetscCall(SpamBlockNeighbours(sim, y, b->lev, &b->walk));
+    PetscCall(SpamBlockNeighbours(sim, y, b->lev, NULL, &b->walk));
     for (PetscInt i = 0; i < b->n; i++)
       if (b->lev[i] < b->walk.nbmax[i] - SPAM_BLOCK_LIMITER) {
         b->lev[i] = b->walk.nbmax[i] - SPAM_BLOCK_LIMITER;
@@ -135,11 +169,14 @@ static void Predict(const TS_SpamBlock *b, const SpamLayout *l, int dim, const d
   }
 }
 
-/* The limiter against the bins just chosen at tick s, one ring of neighbours: a particle
- * more than two bins coarser than a neighbour takes a deeper bin. One starting a step at s
- * just does; one mid-step is woken, its step ended at s with its kicks corrected to the
- * time it ran (the first half kick of the step planned undone, half the step run kicked
- * with the old rate and half with the new one), and starts anew. *moved: some bin changed. */
+/* The limiter against the bins just made deeper at tick s (b->chg), one ring of
+ * neighbours: a particle more than two bins coarser than a neighbour takes a deeper bin.
+ * One starting a step at s just does; one mid-step is woken, its step ended at s with its
+ * kicks corrected to the time it ran (the first half kick of the step planned undone, half
+ * the step run kicked with the old rate and, in WokenKicks once its rate is known, half
+ * with the new one), and starts anew. Only the pairs with a particle just made deeper are
+ * walked: the limiter held before, so only they can break it. b->chg becomes this ring's
+ * deepened particles; *moved: some bin changed. */
 static PetscErrorCode Wake(SpamSim *sim, TS_SpamBlock *b, double *y, PetscInt64 s, int L, PetscInt64 ticks, double tau, PetscBool *moved)
 {
   const SpamLayout *l   = &sim->model.layout;
@@ -147,20 +184,47 @@ static PetscErrorCode Wake(SpamSim *sim, TS_SpamBlock *b, double *y, PetscInt64 
 
   PetscFunctionBeginUser;
   *moved = PETSC_FALSE;
-  PetscCall(SpamBlockNeighbours(sim, b->yp, b->lev, &b->walk));
+  PetscCall(SpamBlockNeighbours(sim, b->yp, b->lev, b->chg, &b->walk));
   for (PetscInt i = 0; i < b->n; i++) {
+    b->nxt[i] = 0;
     if (b->lev[i] >= b->walk.nbmax[i] - SPAM_BLOCK_LIMITER || b->lev[i] >= L) continue;
-    *moved = PETSC_TRUE;
+    *moved    = PETSC_TRUE;
+    b->nxt[i] = 1;
     if (!b->ends[i]) {
-      double      *p   = y + (size_t)i * b->nv;
       const double old = (double)(ticks >> b->lev[i]) * tau, ran = (double)(s - b->start[i]) * tau;
-      Kick(l, dim, p, b->f + (size_t)i * b->nv, 0.5 * (ran - old));
-      Kick(l, dim, p, b->g + (size_t)i * b->nv, 0.5 * ran);
+      Kick(l, dim, y + (size_t)i * b->nv, b->f + (size_t)i * b->nv, 0.5 * (ran - old));
       b->ends[i] = 1;
+      b->woke[i] = 1;
       b->woken++;
       b->psteps++;
     }
     b->lev[i] = PetscMin(L, PetscMax(aligned, b->walk.nbmax[i] - SPAM_BLOCK_LIMITER));
+  }
+  PetscCall(PetscArraycpy(b->chg, b->nxt, b->n));
+  PetscFunctionReturn(0);
+}
+
+/* The woken particles' second half kicks, half the time they ran along their rate at s
+ * (evaluated for them alone on the predicted state when the pass is restricted). */
+static PetscErrorCode WokenKicks(SpamTsApp *app, TS_SpamBlock *b, double *y, PetscInt64 s, double t0, double tau, PetscBool *ok)
+{
+  const SpamLayout *l   = &app->sim->model.layout;
+  const int         dim = app->sim->model.dim;
+  PetscBool         any = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  *ok = PETSC_TRUE;
+  for (PetscInt i = 0; i < b->n && !any; i++) any = (PetscBool)b->woke[i];
+  if (!any) PetscFunctionReturn(0);
+  if (b->set.restricted) { /* the full pass left every rate in g already */
+    PetscCall(EvaluateMarked(app, b, t0 + (double)s * tau, b->yp, b->g, b->woke, ok));
+    b->wake_evals++;
+    if (!*ok) PetscFunctionReturn(0);
+  }
+  for (PetscInt i = 0; i < b->n; i++) {
+    if (!b->woke[i]) continue;
+    Kick(l, dim, y + (size_t)i * b->nv, b->g + (size_t)i * b->nv, 0.5 * (double)(s - b->start[i]) * tau);
+    b->woke[i] = 0;
   }
   PetscFunctionReturn(0);
 }
@@ -170,7 +234,7 @@ static PetscErrorCode Wake(SpamSim *sim, TS_SpamBlock *b, double *y, PetscInt64 
  * bins); then the particles these leave too slow are woken (only a bin made deeper can
  * leave one so), and theirs in turn.
  * Each particle starting a step gets its first half kick. */
-static PetscErrorCode Rebin(TS ts, SpamTsApp *app, TS_SpamBlock *b, double *y, PetscInt64 s, double D, int L, PetscInt64 ticks, double tau, PetscBool *ok)
+static PetscErrorCode Rebin(TS ts, SpamTsApp *app, TS_SpamBlock *b, double *y, PetscInt64 s, double t0, double D, int L, PetscInt64 ticks, double tau, PetscBool *ok)
 {
   SpamSim          *sim = app->sim;
   const SpamLayout *l   = &sim->model.layout;
@@ -179,8 +243,9 @@ static PetscErrorCode Rebin(TS ts, SpamTsApp *app, TS_SpamBlock *b, double *y, P
 
   PetscFunctionBeginUser;
   *ok = PETSC_TRUE;
-  PetscCall(SpamBlockNeighbours(sim, b->yp, b->lev, &b->walk));
+  PetscCall(SpamBlockNeighbours(sim, b->yp, b->lev, b->ends, &b->walk));
   for (PetscInt i = 0; i < b->n; i++) {
+    b->chg[i] = 0;
     if (!b->ends[i]) continue;
     const double want = SpamBlockWanted(sim, &b->set, &b->walk, i, b->g + (size_t)i * b->nv);
     int          k    = LevelFor(want, D, L);
@@ -192,11 +257,14 @@ static PetscErrorCode Rebin(TS ts, SpamTsApp *app, TS_SpamBlock *b, double *y, P
       PetscFunctionReturn(0);
     }
     k = PetscMin(L, PetscMax(k, PetscMax(aligned, b->walk.nbmax[i] - SPAM_BLOCK_LIMITER)));
+    b->chg[i] = (unsigned char)(k > b->lev[i]);
     deeper |= k > b->lev[i];
     b->lev[i] = k;
   }
   /* a woken particle's bin is deeper too: the limiter spreads ring by ring until it holds */
   for (int ring = 0; deeper && ring <= L; ring++) PetscCall(Wake(sim, b, y, s, L, ticks, tau, &deeper));
+  PetscCall(WokenKicks(app, b, y, s, t0, tau, ok));
+  if (!*ok) PetscFunctionReturn(0);
   for (PetscInt i = 0; i < b->n; i++) {
     if (!b->ends[i]) continue;
     PetscCall(PetscArraycpy(b->f + (size_t)i * b->nv, b->g + (size_t)i * b->nv, b->nv));
@@ -241,14 +309,16 @@ static PetscErrorCode Tick(SpamTsApp *app, TS_SpamBlock *b, double *y, PetscInt6
     for (int d = 0; d < dim; d++) p[l->x + d] += dt * p[l->v + d];
   }
   Predict(b, l, dim, y, s, ticks, tau);
-  PetscCall(Evaluate(app, t0 + (double)s * tau, b->yp, b->g, ok));
+  for (PetscInt i = 0; i < b->n; i++) {
+    b->ends[i] = (unsigned char)(b->start[i] + (ticks >> b->lev[i]) == s);
+    nact += b->ends[i];
+  }
+  PetscCall(EvaluateMarked(app, b, t0 + (double)s * tau, b->yp, b->g, nact < b->n ? b->ends : NULL, ok));
   b->evals++;
   if (!*ok) PetscFunctionReturn(0);
   for (PetscInt i = 0; i < b->n; i++) {
-    b->ends[i] = (unsigned char)(b->start[i] + (ticks >> b->lev[i]) == s);
     if (!b->ends[i]) continue;
     Kick(l, dim, y + (size_t)i * b->nv, b->g + (size_t)i * b->nv, 0.5 * (double)(ticks >> b->lev[i]) * tau);
-    nact++;
   }
   b->psteps += nact;
   b->active_sum += (double)nact / (double)PetscMax(b->n, 1);
@@ -273,7 +343,7 @@ static PetscErrorCode TSStep_SpamBlock(TS ts)
   if (!b->have_f || ts->steprestart) PetscCall(Evaluate(app, t0, y, b->f, &ok));
   ts->steprestart = PETSC_FALSE;
   b->have_f       = ok;
-  if (ok) PetscCall(SpamBlockNeighbours(app->sim, y, NULL, &b->walk)); /* the signal speeds TopStep reads */
+  if (ok) PetscCall(SpamBlockNeighbours(app->sim, y, NULL, NULL, &b->walk)); /* the signal speeds TopStep reads */
   if (ok) {
     D   = TopStep(ts, app, b);
     tau = D / (double)ticks;
@@ -291,7 +361,7 @@ static PetscErrorCode TSStep_SpamBlock(TS ts)
     for (PetscInt i = 0; i < b->n; i++) next = PetscMin(next, b->start[i] + (ticks >> b->lev[i]));
     PetscCall(Tick(app, b, y, s, next, ticks, t0, tau, &ok));
     s = next;
-    if (ok && s < ticks) PetscCall(Rebin(ts, app, b, y, s, D, L, ticks, tau, &ok));
+    if (ok && s < ticks) PetscCall(Rebin(ts, app, b, y, s, t0, D, L, ticks, tau, &ok));
   }
   PetscCall(VecRestoreArray(ts->vec_sol, &y));
   if (!ok) {
@@ -326,6 +396,11 @@ static PetscErrorCode TSSetUp_SpamBlock(TS ts)
   b->nv = l->nvar;
   PetscCall(PetscMalloc3((size_t)b->n * b->nv + 1, &b->f, (size_t)b->n * b->nv + 1, &b->g, (size_t)b->n * b->nv + 1, &b->yp));
   PetscCall(PetscMalloc3(b->n + 1, &b->lev, b->n + 1, &b->start, b->n + 1, &b->ends));
+  PetscCall(PetscCalloc4(b->n + 1, &b->chg, b->n + 1, &b->nxt, b->n + 1, &b->woke, b->n + 1, &b->near));
+  if (b->set.restricted && !sim->model.rhs_active) {
+    if (b->restricted_set) SPAM_BAD_INPUT("-block_restricted", "true", "model %s has no pass restricted to the active particles (the gas with one h, no conduction or viscous stress, R0 coordinates, no torque scaling has one): leave it false", sim->model.name);
+    b->set.restricted = PETSC_FALSE; /* the default asks for it only where it exists */
+  }
   b->have_f          = PETSC_FALSE;
   app->self_stepping = PETSC_TRUE;
   PetscFunctionReturn(0);
@@ -338,6 +413,7 @@ static PetscErrorCode TSReset_SpamBlock(TS ts)
   PetscFunctionBeginUser;
   if (b->f) PetscCall(PetscFree3(b->f, b->g, b->yp));
   if (b->lev) PetscCall(PetscFree3(b->lev, b->start, b->ends));
+  if (b->chg) PetscCall(PetscFree4(b->chg, b->nxt, b->woke, b->near));
   PetscCall(SpamBlockWalkDestroy(&b->walk));
   b->have_f = PETSC_FALSE;
   PetscFunctionReturn(0);
@@ -363,17 +439,19 @@ static PetscErrorCode TSView_SpamBlock(TS ts, PetscViewer viewer)
   if (!ascii) PetscFunctionReturn(0);
   PetscCall(PetscViewerASCIIPrintf(viewer, "  block steps, kick-drift-kick: -block_cfl %g -block_force %g -block_max_level %" PetscInt_FMT ", limiter %d levels\n", b->set.cfl, b->set.force, b->set.max_level, SPAM_BLOCK_LIMITER));
   PetscCall(PetscViewerASCIIPrintf(viewer, "  block cycles %ld, evaluations in them %ld, particle steps %ld (woken %ld), deepest bin %d\n", b->cycles, b->evals, b->psteps, b->woken, b->deepest));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "  block restricted pass %s: restricted evaluations %ld (of them for woken particles %ld)\n", b->set.restricted ? "on" : "off", b->restricted, b->wake_evals));
   PetscCall(PetscViewerASCIIPrintf(viewer, "  block mean active fraction %.6f (particle steps / (evaluations x particles) %.6f)\n", b->evals ? b->active_sum / (double)b->evals : 0.0, b->evals && b->n ? (double)b->psteps / ((double)b->evals * (double)b->n) : 0.0));
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode OptionsRead(PetscOptionItems *PetscOptionsObject, SpamBlockSettings *s)
+static PetscErrorCode OptionsRead(PetscOptionItems *PetscOptionsObject, SpamBlockSettings *s, PetscBool *restricted_set)
 {
   char val[64];
 
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsReal("-block_cfl", "Block steps: each particle's step at most C h_i / v_sig,i (signal speed over its neighbours)", "README", s->cfl, &s->cfl, NULL));
   PetscCall(PetscOptionsReal("-block_force", "Block steps: each particle's step at most C' sqrt(h_i / |a_i|)", "README", s->force, &s->force, NULL));
+  PetscCall(PetscOptionsBool("-block_restricted", "Block steps: each tick computes the forces of the active particles only (where the model has that pass: the gas with one h), else the whole right-hand side", "README", s->restricted, &s->restricted, restricted_set));
   PetscCall(PetscOptionsInt("-block_max_level", "Block steps: the deepest bin, steps down to D / 2^L of the top step D", "README", s->max_level, &s->max_level, NULL));
   PetscCall(SpamOptionText("-block_cfl", s->cfl, val, sizeof val));
   if (!(s->cfl > 0 && s->cfl <= 1)) SPAM_BAD_INPUT("-block_cfl", val, "must be in (0, 1]");
@@ -388,7 +466,8 @@ static void Defaults(SpamBlockSettings *s)
 {
   s->cfl       = 0.25;
   s->force     = 0.25;
-  s->max_level = 16;
+  s->max_level  = 16;
+  s->restricted = PETSC_TRUE;
 }
 
 static PetscErrorCode TSSetFromOptions_SpamBlock(TS ts, PetscOptionItems *PetscOptionsObject)
@@ -397,7 +476,7 @@ static PetscErrorCode TSSetFromOptions_SpamBlock(TS ts, PetscOptionItems *PetscO
 
   PetscFunctionBeginUser;
   PetscOptionsHeadBegin(PetscOptionsObject, "Block individual steps (kick-drift-kick)");
-  PetscCall(OptionsRead(PetscOptionsObject, &b->set));
+  PetscCall(OptionsRead(PetscOptionsObject, &b->set, &b->restricted_set));
   PetscOptionsHeadEnd();
   PetscFunctionReturn(0);
 }
@@ -429,7 +508,7 @@ static PetscErrorCode HelpBlock(PetscOptionItems *PetscOptionsObject, const Spam
   PetscFunctionBeginUser;
   (void)o;
   Defaults(&s);
-  PetscCall(OptionsRead(PetscOptionsObject, &s));
+  PetscCall(OptionsRead(PetscOptionsObject, &s, NULL));
   PetscFunctionReturn(0);
 }
 
@@ -443,7 +522,7 @@ static PetscErrorCode DescribeBlock(TS ts, const char **sub, char *adapt, size_t
   PetscFunctionReturn(0);
 }
 
-static const SpamTSOption OptionsBlock[] = {{"block_cfl", PETSC_TRUE, PETSC_FALSE}, {"block_force", PETSC_TRUE, PETSC_FALSE}, {"block_max_level", PETSC_TRUE, PETSC_FALSE}, {NULL, PETSC_FALSE, PETSC_FALSE}};
+static const SpamTSOption OptionsBlock[] = {{"block_cfl", PETSC_TRUE, PETSC_FALSE}, {"block_force", PETSC_TRUE, PETSC_FALSE}, {"block_max_level", PETSC_TRUE, PETSC_FALSE}, {"block_restricted", PETSC_TRUE, PETSC_FALSE}, {NULL, PETSC_FALSE, PETSC_FALSE}};
 
 const SpamTSFamily SpamTSFamilyBlock = {
   .options         = OptionsBlock,

@@ -74,4 +74,50 @@
     SPAM_WALK_DISPATCH(Name, k->dim, k->kind, SPAM_WALK_UNKNOWN(k->kind), nl, k, ctx) \
     PetscFunctionReturn(0); \
   }
+
+/* SPAM_PAIR_WALK_MASKED(Name, Ctx, Fn): the same walk restricted to the pairs with at least
+ * one member marked in mask (one byte per slot of the list), defining
+ *   static PetscErrorCode Name(const SpamNeighbours *nl, const SpamKernel *k, const unsigned char *mask, Ctx *ctx)
+ * Each pair it visits is visited in the plain walk's order, so a marked particle's sums are
+ * the plain walk's, term for term; an unmarked one gets only its pairs with marked ones.
+ * The rows of unmarked particles are still read (the half list holds each pair in one row
+ * only). A macro of its own, so that the plain walk's loop stays as it was. */
+#define SPAM_PAIR_WALK_MASKED(Name, Ctx, Fn) \
+  static inline __attribute__((always_inline)) void Name##Segment(const int dim, const int kind, const int img, const SpamNeighbours *nl, const SpamKernel *k, const unsigned char *mask, Ctx *ctx, int i, const int *nb, int np) \
+  { \
+    const int    mi    = mask[i]; \
+    const double ui[3] = {nl->u[0][i], dim > 1 ? nl->u[1][i] : 0.0, dim > 2 ? nl->u[2][i] : 0.0}; \
+    for (int c = 0; c < np; c++) { \
+      const int j = nb[c]; \
+      if (!mi && !mask[j]) continue; \
+      double dx[3] = {0.0, 0.0, 0.0}, r2 = 0.0; \
+      for (int d = 0; d < dim; d++) { \
+        dx[d] = img ? SpamImageDelta(&nl->im, d, ui[d] - nl->u[d][j]) : ui[d] - nl->u[d][j]; \
+        r2 += dx[d] * dx[d]; \
+      } \
+      if (r2 >= k->h2) continue; \
+      const double s = sqrt(r2) * k->hinv; \
+      Fn(dim, ctx, i, j, dx, r2, SpamKernelShapeScaledF(kind, dim, k->wnorm, s), SpamKernelShapeScaledG(kind, dim, k->gnorm, s)); \
+    } \
+  } \
+  static inline __attribute__((always_inline)) void Name##Rows(const int dim, const int kind, const SpamNeighbours *nl, const SpamKernel *k, const unsigned char *mask, Ctx *ctx) \
+  { \
+    for (int i = 0; i < nl->n; i++) { \
+      const int *nb = nl->nbr + nl->start[i], np = nl->start[i + 1] - nl->start[i]; \
+      const int *gb = nl->gnbr + nl->gstart[i], ng = nl->gstart[i + 1] - nl->gstart[i]; \
+      if (nl->image[i]) { \
+        Name##Segment(dim, kind, 1, nl, k, mask, ctx, i, nb, np); \
+        if (ng) Name##Segment(dim, kind, 1, nl, k, mask, ctx, i, gb, ng); \
+      } else { \
+        Name##Segment(dim, kind, 0, nl, k, mask, ctx, i, nb, np); \
+        if (ng) Name##Segment(dim, kind, 0, nl, k, mask, ctx, i, gb, ng); \
+      } \
+    } \
+  } \
+  static PetscErrorCode Name(const SpamNeighbours *nl, const SpamKernel *k, const unsigned char *mask, Ctx *ctx) \
+  { \
+    PetscFunctionBeginUser; \
+    SPAM_WALK_DISPATCH(Name, k->dim, k->kind, SPAM_WALK_UNKNOWN(k->kind), nl, k, mask, ctx) \
+    PetscFunctionReturn(0); \
+  }
 #endif

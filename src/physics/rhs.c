@@ -59,6 +59,19 @@ PetscErrorCode SpamRhsOfPart(SpamSim *sim, const double *y, double *ydot, SpamRh
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode SpamRhsActive(SpamSim *sim, const double *y, double *ydot, const unsigned char *active, unsigned char *near, PetscBool *done, PetscInt *bad)
+{
+  Mark m = {0, 0, 0};
+
+  PetscFunctionBeginUser;
+  PetscCheck(sim->model.rhs_active, sim->p.comm, PETSC_ERR_SUP, "model %s has no right-hand side restricted to active particles", sim->model.name);
+  PetscCall(Start(sim, &m));
+  PetscCall(sim->model.rhs_active(sim, y, ydot, active, near, done, bad));
+  if (*done || *bad >= 0) PetscCall(Finish(sim, &m));
+  else PetscCall(PetscLogEventEnd(sim->run.ev.rhs, 0, 0, 0, 0)); /* not evaluated: the caller's full evaluation counts */
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamAccel(SpamSim *sim, const double *x, int stride, PetscInt *bad)
 {
   Mark m = {0, 0, 0};

@@ -285,7 +285,7 @@ static PetscErrorCode Gradients(SpamSim *sim, TensorPass *c)
 
 /* sigma/rho^2 of particle i into q (D x D): the state's stress (elastic) or -P/rho^2 I
  * with P = (gamma - 1) rho e (gas), plus the viscous stresses. */
-static void StressOverRho2(const SpamSim *sim, const SpamBackground *bg, const double *yi, int i, double *q)
+static inline __attribute__((always_inline)) void StressOverRho2(const SpamSim *sim, const SpamBackground *bg, const double *yi, int i, double *q)
 {
   const SpamLayout      *l   = &sim->model.layout;
   const SpamSolidParams *p   = &sim->model.solid;
@@ -546,6 +546,121 @@ PetscErrorCode SpamRhsSolid(SpamSim *sim, const double *y, double *ydot, PetscIn
 {
   PetscFunctionBeginUser;
   PetscCall(SpamRhsSolidPart(sim, y, ydot, SPAM_RHS_ALL, bad));
+  PetscFunctionReturn(0);
+}
+
+/* The pass restricted to the active particles (block steps, ts_block_kdk.c): the rates of
+ * the marked particles, each the full pass's sum over the same pairs in the same order.
+ * What a force on an active particle reads: the stress sigma/rho^2 and the density of its
+ * neighbours, so the densities are summed for the active particles and every particle
+ * listed beside one ("near"; the list's skin makes this a superset), the laws evaluated
+ * there, and the force walk visits the pairs with an active member. It covers the gas
+ * whose laws read no gradient: the plain scheme with one h, no conduction and no viscous
+ * stress (Monaghan's pair viscosity or none), R0 coordinates, no torque scaling; others
+ * return without it (SpamRhsSolidActiveCovers). */
+PetscBool SpamRhsSolidActiveCovers(const SpamSolidParams *p)
+{
+  return (PetscBool)(p->material == SPAM_MATERIAL_GAS && p->smoothing == SPAM_SMOOTHING_FIXED && p->scheme == SPAM_GAS_PLAIN && p->conductivity == 0.0 && p->shear_visc == 0.0 && p->bulk_visc == 0.0 && p->viscosity != SPAM_VISCOSITY_VON_NEUMANN &&
+                     p->coords == SPAM_COORDS_R0 && p->angmom == SPAM_ANGMOM_NONE);
+}
+
+static inline __attribute__((always_inline)) void DensityPair(const int dim, TensorPass *c, int i, int j, const double dx[3], double r2, double w, double g)
+{
+  SpamFields *f = c->f;
+  (void)dim;
+  (void)dx;
+  (void)r2;
+  (void)g;
+  f->rho[i] += f->m[j] * w;
+  f->rho[j] += f->m[i] * w;
+}
+SPAM_PAIR_WALK_MASKED(WalkDensityNear, TensorPass, DensityPair)
+SPAM_PAIR_WALK_MASKED(WalkForcesActive, TensorPass, ForcePair)
+
+/* near: the active particles and every particle listed beside one (no range test). */
+static void MarkNear(const SpamNeighbours *nl, const unsigned char *active, unsigned char *near)
+{
+  for (int i = 0; i < nl->n; i++) near[i] = active[i];
+  for (int i = 0; i < nl->n; i++) {
+    const int *nb = nl->nbr + nl->start[i], np = nl->start[i + 1] - nl->start[i];
+    if (active[i])
+      for (int c = 0; c < np; c++) near[nb[c]] = 1;
+    else
+      for (int c = 0; c < np && !near[i]; c++) near[i] = active[nb[c]];
+  }
+}
+
+/* The fields the active particles' forces read, at the near particles: velocity, density
+ * (summed, or the state's), sigma/rho^2 and the continuity velocity. The other particles'
+ * densities are partial sums, read by nothing. */
+static PetscErrorCode NearFields(SpamSim *sim, TensorPass *c, const double *y, const unsigned char *near, PetscInt *bad)
+{
+  const SpamLayout *l   = &sim->model.layout;
+  SpamFields       *f   = c->f;
+  const int         dim = l->dim, n = (int)sim->p.n, nv = l->nvar;
+  const double      w0  = sim->model.kernel.wnorm;
+
+  PetscFunctionBeginUser;
+  for (int i = 0; i < n; i++) {
+    if (!near[i]) continue;
+    for (int d = 0; d < dim; d++) f->v[(size_t)i * dim + d] = y[(size_t)i * nv + l->v + d];
+  }
+  if (c->p->density == SPAM_DENSITY_SUMMATION) {
+    for (int i = 0; i < n; i++) f->rho[i] = f->m[i] * w0;
+    PetscCall(WalkDensityNear(&sim->pair.nl, &sim->model.kernel, near, c));
+  } else
+    for (int i = 0; i < n; i++) {
+      if (!near[i]) continue;
+      f->rho[i] = y[(size_t)i * nv + l->rho];
+      if (!(f->rho[i] > 0.0) || !isfinite(f->rho[i])) {
+        *bad = i;
+        PetscFunctionReturn(0);
+      }
+    }
+  for (int i = 0; i < n; i++) {
+    if (!near[i]) continue;
+    StressOverRho2(sim, &c->bg, y + (size_t)i * nv, i, f->qs + (size_t)i * dim * dim);
+    for (int d = 0; d < dim; d++) f->uc[(size_t)i * dim + d] = f->v[(size_t)i * dim + d];
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamRhsSolidActive(SpamSim *sim, const double *y, double *ydot, const unsigned char *active, unsigned char *near, PetscBool *done, PetscInt *bad)
+{
+  const SpamLayout *l   = &sim->model.layout;
+  SpamFields       *f   = &sim->pair.f;
+  const int         dim = l->dim, n = (int)sim->p.n, nv = l->nvar;
+  TensorPass        c;
+
+  PetscFunctionBeginUser;
+  *done = PETSC_FALSE;
+  *bad  = -1;
+  if (!SpamRhsSolidActiveCovers(&sim->model.solid)) PetscFunctionReturn(0);
+  PetscCall(SpamNeighboursUpdate(&sim->pair.nl, &sim->geo.box, y + l->x, nv, PETSC_FALSE, bad));
+  if (*bad >= 0 || SpamNeighboursSlots(&sim->pair.nl) != n) PetscFunctionReturn(0); /* ghost slots (walls, images, ranks): the full pass */
+  PetscCall(SpamFieldsReserve(f, n));
+  c = PassOf(sim, SPAM_RHS_ALL);
+  MarkNear(&sim->pair.nl, active, near);
+  PetscCall(PetscLogEventBegin(sim->run.ev.force, 0, 0, 0, 0));
+  PetscCall(NearFields(sim, &c, y, near, bad));
+  if (*bad >= 0) {
+    PetscCall(PetscLogEventEnd(sim->run.ev.force, 0, 0, 0, 0));
+    PetscFunctionReturn(0);
+  }
+  ZeroRates(f, n, dim, PETSC_TRUE);
+  PetscCall(WalkForcesActive(&sim->pair.nl, &sim->model.kernel, active, &c));
+  PetscCall(PetscLogEventEnd(sim->run.ev.force, 0, 0, 0, 0));
+  for (int i = 0; i < n; i++) { /* Assemble's rows, of the active particles only */
+    double *r = ydot + (size_t)i * nv;
+    if (!active[i]) continue;
+    for (int d = 0; d < dim; d++) {
+      r[l->x + d] = f->v[(size_t)i * dim + d];
+      r[l->v + d] = f->acc[(size_t)i * dim + d] + sim->model.gravity[d];
+    }
+    r[l->e] = f->edot[i] + f->qdot[i];
+    if (l->rho >= 0) r[l->rho] = f->rhodot[i];
+  }
+  *done = PETSC_TRUE;
   PetscFunctionReturn(0);
 }
 
