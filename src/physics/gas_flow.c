@@ -188,9 +188,14 @@ PetscErrorCode SpamGasFlowDivergence(SpamSim *sim)
 /* After the force walk: the drift corrections (dv . grad) v and dv . grad e, the body
  * force -grad B / rho that gives back the background's gradient, and B's compression
  * work -B div v / rho (SpamGasFlowDivergence), so that the internal energy follows the
- * full pressure. The book's rate is what these give the particle's energy, with the
+ * full pressure. With shiftwork (-shift_compression) B also works on the compression the
+ * shift makes, B / rho^2 times the summed density's rate from the particles' drift dv
+ * (f->rhodot, walk 3): the summed density follows v + dv, and an energy that followed v
+ * alone would let P = (gamma - 1) rho e change by the shift's compression at fixed e
+ * (a hot column compressed instead of expanded: the convection cell's roll then grew
+ * below onset). The book's rate is what these give the particle's energy, with the
  * gravitational energy the drift moves it through (-g . dv). */
-void SpamGasFlowCorrect(SpamSim *sim, const double *y, const SpamBackground *b)
+void SpamGasFlowCorrect(SpamSim *sim, const double *y, const SpamBackground *b, PetscBool shiftwork)
 {
   const SpamLayout      *l     = &sim->model.layout;
   const SpamSolidParams *p     = &sim->model.solid;
@@ -212,7 +217,9 @@ void SpamGasFlowCorrect(SpamSim *sim, const double *y, const SpamBackground *b)
     if (bg) {
       const double slope = SpamBackgroundSlope(b, dim, x);
       for (int d = 0; d < dim; d++) da[d] -= slope * b->up[d] / rho;
-      de -= SpamBackgroundAt(b, dim, x) * f->divv[i] / rho;
+      const double B = SpamBackgroundAt(b, dim, x);
+      de -= B * f->divv[i] / rho;
+      if (shiftwork) de += B * f->rhodot[i] / (rho * rho);
     }
     for (int d = 0; d < dim; d++) {
       f->acc[(size_t)i * dim + d] += da[d];
