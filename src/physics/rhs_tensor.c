@@ -414,6 +414,7 @@ static PetscErrorCode Forces(SpamSim *sim, TensorPass *c, const double *y)
   else PetscCall(WalkForces(&sim->pair.nl, &sim->model.kernel, c));
   FoldRates(gh, f, n, PETSC_TRUE);
   for (int i = 0; i < n; i++) f->edot[i] += f->qdot[i];
+  if (c->shiftwork) PetscCall(SpamGasFlowShiftCompression(sim));
   if (c->flow) SpamGasFlowCorrect(sim, y, &c->bg, (PetscBool)c->shiftwork);
   if (c->heatlin) /* the correction's heat, not conserved pair by pair, goes into the book */
     for (int i = 0; i < n; i++) {
