@@ -51,7 +51,8 @@ static inline double SpamPairDelta2(const SpamNeighbours *nl, const SpamImage *i
 PetscErrorCode SpamGasFlowFit(SpamSim *sim, const double *y, SpamBackground *b);
 void           SpamGasFlowShift(SpamSim *sim);
 PetscErrorCode SpamGasFlowDivergence(SpamSim *sim);
-void           SpamGasFlowCorrect(SpamSim *sim, const double *y, const SpamBackground *b);
+PetscErrorCode SpamGasFlowShiftCompression(SpamSim *sim);
+void           SpamGasFlowCorrect(SpamSim *sim, const double *y, const SpamBackground *b, PetscBool shiftwork);
 void           SpamGasFlowTemperatureGradient(SpamSim *sim);
 
 /* Allocates sim->ps for sim->p.n particles; it is freed with the swarm. */

@@ -61,6 +61,8 @@ typedef struct {
   SpamDiffusionForm  diffusion;     /* flow: viscosity and conduction's pair form     */
   PetscBool          heat_linear;   /* flow, pair form: conduction exact for linear T  */
                                     /* on any arrangement (pair_diffusion.h)           */
+  PetscBool          shift_work;    /* flow: B's compression work follows the shift's */
+                                    /* change of the summed density too (gas_flow.c)  */
   PetscBool          plain_default; /* the scene's gas keeps the plain scheme unless  */
                                     /* asked (gas_flow.h: expansion into vacuum, and  */
                                     /* the convection cell, whose onset it moves)      */

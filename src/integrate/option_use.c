@@ -49,7 +49,7 @@ static const Known KnownOptions[] = {
   {"gas_gamma", PETSC_TRUE, G_SOLID_GAMMA}, {"solid_lambda", PETSC_TRUE, G_SOLID_ELASTIC}, {"solid_eta", PETSC_TRUE, G_SOLID_ELASTIC},
   {"viscosity_alpha", PETSC_TRUE, G_SOLID_VISC}, {"viscosity_beta", PETSC_TRUE, G_SOLID_VISC}, {"xsph_eps", PETSC_TRUE, G_SOLID_R2},
   {"angmom_scope", PETSC_TRUE, G_SOLID_TORQUE}, {"density_initial", PETSC_TRUE, G_SOLID_CONT},
-  {"gas_scheme", PETSC_TRUE, G_SOLID_GAS}, {"background_pressure", PETSC_TRUE, G_SOLID_FLOW}, {"shift_coefficient", PETSC_TRUE, G_SOLID_FLOW}, {"diffusion_form", PETSC_TRUE, G_SOLID_FLOW}, {"conduction_linear", PETSC_FALSE, G_SOLID_FLOW},
+  {"gas_scheme", PETSC_TRUE, G_SOLID_GAS}, {"background_pressure", PETSC_TRUE, G_SOLID_FLOW}, {"shift_coefficient", PETSC_TRUE, G_SOLID_FLOW}, {"diffusion_form", PETSC_TRUE, G_SOLID_FLOW}, {"conduction_linear", PETSC_FALSE, G_SOLID_FLOW}, {"shift_compression", PETSC_FALSE, G_SOLID_FLOW},
   /* The gas's kernel range: one h, or each particle's own (smoothing_options.c). */
   {"smoothing_length", PETSC_TRUE, G_SOLID_GAS}, {"h_eta", PETSC_TRUE, G_SOLID_ADAPTIVE}, {"h_min", PETSC_TRUE, G_SOLID_ADAPTIVE}, {"h_max", PETSC_TRUE, G_SOLID_ADAPTIVE}, {"h_tol", PETSC_TRUE, G_SOLID_ADAPTIVE},
   /* the pair layer: kernel, gravity, periodic images as ghosts (scene.c) */

@@ -43,6 +43,7 @@ typedef struct {
   int                    nown;       /* this rank's particles: slots below are not ghosts */
   int                    scale;      /* torque scaling (Ti or Tij) in walk 3           */
   int                    continuity; /* drho/dt in walk 3 (the state's, or B's work)    */
+  int                    shiftwork;  /* B's work on the shift's compression (walk 3's drho/dt) */
   SpamBackground         bg;         /* the flow scheme's background pressure         */
   const SpamPhysicsScratch *ps;      /* bodies and torque sums                          */
   double                 torque;     /* walk 2: sum of the unscaled pair torques        */
@@ -327,12 +328,16 @@ static PetscErrorCode ParticleLaws(SpamSim *sim, const TensorPass *c, const doub
     for (int d = 0; d < dim; d++) {
       if (!c->pairdiff) f->heat[(size_t)i * dim + d] *= -p->conductivity / (f->rho[i] * f->rho[i]);
       f->uc[(size_t)i * dim + d] = p->density == SPAM_DENSITY_CHAIN_RULE ? f->xdot[(size_t)i * dim + d] : f->v[(size_t)i * dim + d];
+      if (c->shiftwork) f->uc[(size_t)i * dim + d] = f->shift[(size_t)i * dim + d];
     }
   }
   PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_STRESS, f->qs));
   if (gh->mirror && p->material == SPAM_MATERIAL_GAS && (sim->model.gravity_on || SpamGasImagesOfPlace(sim))) SpamGasImagesStresses(sim, &c->bg);
   if (!c->pairdiff) PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_HEAT_FLUX, f->heat));
-  PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_VELOCITY, f->uc));
+  /* The shift's velocity of an image is its source's mirrored, as its position is: the
+   * walls' velocity rules are the fluid's, not the images' motion. */
+  if (c->shiftwork) PetscCall(SpamGhostsGather(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->uc));
+  else PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_VELOCITY, f->uc));
   PetscFunctionReturn(0);
 }
 
@@ -409,7 +414,8 @@ static PetscErrorCode Forces(SpamSim *sim, TensorPass *c, const double *y)
   else PetscCall(WalkForces(&sim->pair.nl, &sim->model.kernel, c));
   FoldRates(gh, f, n, PETSC_TRUE);
   for (int i = 0; i < n; i++) f->edot[i] += f->qdot[i];
-  if (c->flow) SpamGasFlowCorrect(sim, y, &c->bg);
+  if (c->shiftwork) PetscCall(SpamGasFlowShiftCompression(sim));
+  if (c->flow) SpamGasFlowCorrect(sim, y, &c->bg, (PetscBool)c->shiftwork);
   if (c->heatlin) /* the correction's heat, not conserved pair by pair, goes into the book */
     for (int i = 0; i < n; i++) {
       f->edot[i] += f->qlin[i];
@@ -471,7 +477,8 @@ static TensorPass PassOf(SpamSim *sim, SpamRhsPart part)
   c.gradT                     = c.gradT || c.heatlin;
   c.nown                      = (int)sim->p.n;
   c.scale                     = p->angmom == SPAM_ANGMOM_TI || p->angmom == SPAM_ANGMOM_TIJ;
-  c.continuity                = p->density != SPAM_DENSITY_SUMMATION;
+  c.shiftwork                 = bg && shift && p->shift_work && p->density == SPAM_DENSITY_SUMMATION;
+  c.continuity                = p->density != SPAM_DENSITY_SUMMATION || c.shiftwork; /* the shift's drho/dt */
   c.ps                        = sim->ps;
   c.remote0                   = (int)sim->p.n + sim->pair.nl.ghosts.nlocal;
   c.rkind                     = sim->pair.nl.ghosts.kind ? sim->pair.nl.ghosts.kind + sim->pair.nl.ghosts.nlocal : NULL;

@@ -62,6 +62,7 @@ static PetscErrorCode GasSchemeOptions(PetscOptionItems *PetscOptionsObject, Pet
     PetscCall(PetscOptionsString("-background_pressure", "Flow scheme: pressure taken out of the momentum equation: mean (the particles' mean pressure, fitted along gravity where there is gravity) or none", "README", bg, bg, lb, NULL));
     PetscCall(PetscOptionsReal("-shift_coefficient", "Flow scheme: transport shifting coefficient C (shift velocity C c h times the particle-volume gradient; 0: off)", "README", p->shift_coef, &p->shift_coef, NULL));
     PetscCall(PetscOptionsString("-diffusion_form", "Flow scheme: viscosity and conduction as pair Laplacians in one pass (pair: damps particle-scale noise) or through the particles' gradients (gradient: the papers' two passes)", "README", form, form, lf, NULL));
+    PetscCall(PetscOptionsBool("-shift_compression", "Flow scheme, summed density: the background pressure's compression work follows the particles (v + dv), as the summed density does, not the fluid (v) alone: B / rho^2 times the summed density's rate from the shift, less its volume mean, is added to de/dt and booked", "README", p->shift_work, &p->shift_work, NULL));
     PetscCall(PetscOptionsBool("-conduction_linear", "Flow scheme, pair form: conduction exact for a linear temperature on any arrangement (each side subtracts its corrected gradient's part; not conserved pair by pair: the book carries it)", "README", p->heat_linear, &p->heat_linear, NULL));
   }
   PetscFunctionReturn(0);
@@ -152,6 +153,7 @@ PetscErrorCode SpamSolidOptions(SpamSolidParams *p)
     p->shift_coef = 0.0;
     p->diffusion  = SPAM_DIFFUSION_GRADIENT;
     p->heat_linear = PETSC_FALSE;
+    p->shift_work  = PETSC_FALSE;
   }
   PetscCall(Choice("-viscosity", visc, SpamViscosityModeNames, 3, &k));
   p->viscosity = (SpamViscosityMode)k;
@@ -160,6 +162,11 @@ PetscErrorCode SpamSolidOptions(SpamSolidParams *p)
   PetscCall(Positive("-xsph_eps", p->xsph_eps, PETSC_TRUE));
   PetscCall(Choice("-density", dens, SpamDensityModeNames, 3, &k));
   p->density = (SpamDensityMode)k;
+  if (p->shift_work && p->scheme == SPAM_GAS_FLOW && p->material == SPAM_MATERIAL_GAS) {
+    if (p->background == SPAM_BACKGROUND_NONE || !(p->shift_coef > 0.0)) SPAM_BAD_INPUT("-shift_compression", "true", "is the background pressure's work on the shift's compression: it needs -background_pressure mean and -shift_coefficient > 0");
+    if (p->density != SPAM_DENSITY_SUMMATION) SPAM_BAD_INPUT("-shift_compression", "true", "follows the summed density: it needs -density summation (a continuity density does not see the shift)");
+    if (p->smoothing == SPAM_SMOOTHING_ADAPTIVE) SPAM_BAD_INPUT("-shift_compression", "true", "is written for one smoothing length (the adaptive path's walks do not carry it)");
+  }
   PetscCall(Choice("-density_initial", init, SpamDensityInitialNames, 2, &k));
   p->density_initial = (SpamDensityInitial)k;
   {
