@@ -26,8 +26,8 @@ Numbers. Every number a page quotes through a marker (<!--num FILE KEY-->, <!--t
 <!--test ...-->) equals its source, a JSON a chart script wrote beside its chart with the
 command and commit that made it (tools/docs_numbers.py --check); a page edited by hand
 beside its marker is caught (control); a number typed in a page's prose without a marker
-must be one tools/docs_typed_numbers.txt lists for that page (a parameter, or a measurement
-still to be put under a marker), and a new one is caught (control).
+must be a parameter tools/docs_typed_numbers.txt lists for that page, and a new one is caught
+(control); the list names no measurement (a 'PAGE measured:' line is refused: control).
 README.md is at most 15 KB and starts with exactly two commands, the second being the one
 .ci/run runs.
 Control: a page with a bad option, a script missing, a script run through python3, a
@@ -268,6 +268,12 @@ def numbers_control(c, workdir):
     c.check(p.returncode == 1 and "typed.md:1: 3.2e-5 typed without a marker" in p.stdout
             and "40 steps typed" in p.stdout and "1e-6 typed" not in p.stdout,
             f"control: a number typed in prose without a marker is caught, not one in code ({p.stdout.strip()[-300:]})")
+    listed = os.path.join(d, "typed_numbers.txt")
+    with open(listed, "w") as f:
+        f.write(f"{os.path.relpath(typed, ROOT)}: 40 steps\n{os.path.relpath(typed, ROOT)} measured: 3.2e-5\n")
+    p = subprocess.run(tool + ["--check", "--list", listed, typed], capture_output=True, text=True)
+    c.check(p.returncode == 1 and "a 'measured' line for" in p.stdout and "typed without a marker" not in p.stdout,
+            f"control: a measurement on the list ('PAGE measured:') is refused ({p.stdout.strip()[-300:]})")
 
 
 def main():

@@ -190,6 +190,7 @@ static PetscErrorCode PartA(TestCount *c, SUNContext sctx)
     PetscCall(ErkRun(&b, 0, sctx, theirs));
     const int dh = FirstDiff(ours->h, theirs->h, NSTEP), dy = FirstDiff(ours->y, theirs->y, 4 * NORB);
     TestCheck(c, dh < 0 && dy < 0 && ours->netf[NSTEP - 1] == theirs->netf[NSTEP - 1], "(a) DP5 %s%s: our controller == ARKODE's over %d steps (%ld rejections): first differing step %d, state entry %d", ms[k].adapt, ms[k].ngains ? " gains 0.7,0.3,0.05" : "", NSTEP, theirs->netf[NSTEP - 1], dh, dy);
+    TestReading(PETSC_COMM_SELF, "kepler_rejections", (double)theirs->netf[NSTEP - 1]);
   }
   PetscCall(PetscFree(ours));
   PetscCall(PetscFree(theirs));

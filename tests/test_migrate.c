@@ -340,6 +340,7 @@ static PetscErrorCode Corner(Ctx *t, int dim, int side)
   PetscCall(PetscSNPrintf(when, sizeof when, "%dD moves up to 1.5 L, old cut", dim));
   PetscCall(Migrate(t, &s, &sim, &dec, &info, when));
   PetscCall(Check(t, !info.recut && dec.cuts == 1 && (t->size == 1 || info.imbalance > SPAM_RECUT_ABOVE_DEFAULT), "%s: no re-cut at an infinite threshold; imbalance %.4f after the moves (above the default threshold %.2f on more than one rank)", when, info.imbalance, SPAM_RECUT_ABOVE_DEFAULT));
+  if (t->size > 1) TestReading(t->comm, "imbalance_after_moves", info.imbalance);
 
   /* The default threshold: the imbalance asks for a re-cut. */
   dec.recut_above = SPAM_RECUT_ABOVE_DEFAULT;
@@ -347,6 +348,7 @@ static PetscErrorCode Corner(Ctx *t, int dim, int side)
   PetscCall(Migrate(t, &s, &sim, &dec, &info, when));
   if (t->size > 1) {
     PetscCall(Check(t, info.recut && dec.cuts == 2 && info.imbalance_before > dec.recut_above, "%s: re-cut triggered by imbalance %.4f, after it %.4f", when, info.imbalance_before, info.imbalance));
+    TestReading(t->comm, "imbalance_after_recut", info.imbalance);
     PetscCall(Balanced(t, &s, &sim, &dec, when));
   } else PetscCall(Check(t, !info.recut && !info.changed, "%s: one rank: imbalance %.1f, no re-cut and nothing to do", when, info.imbalance_before));
 

@@ -669,6 +669,7 @@ static PetscErrorCode CompareSums(Ctx *t, const Case *c, SpamSim *ref, SpamSim *
     PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, agree, 2, MPI_DOUBLE, MPI_MAX, t->comm));
     PetscCall(Check(t, agree[0] == -agree[1], "%s on %d ranks: every rank gets the same grid entropy %.17g", c->name, t->size, Sp));
     PetscCall(Check(t, t->rank || fabs(Sref - b->S) <= b->bound, "%s: one-rank grid entropy %.15g against this test's evaluation %.15g: |difference| %.2e within the bound %.2e (%.1e of S): the bound's model of the sum holds", c->name, Sref, b->S, fabs(Sref - b->S), b->bound, b->bound / fabs(b->S)));
+    if (c->dim == 2) TestReading(t->comm, "entropy_bound_rel_2d", b->bound / fabs(b->S));
     PetscCall(Check(t, t->rank || fabs(Sp - Sref) <= b->bound, "%s on %d ranks: grid entropy %.17g, one rank %.17g: |difference| %.2e within the bound %.2e (%.1e of S)", c->name, t->size, Sp, Sref, fabs(Sp - Sref), b->bound, b->bound / fabs(Sref)));
   }
   if (t->size > 1) { /* controls: the sums of this rank's particles only */

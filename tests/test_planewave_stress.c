@@ -108,6 +108,7 @@ static PetscErrorCode RandomField(TestCount *c, PetscInt nx, PetscInt ny)
     derr = fabs(SpamLatticeSummedDensity(&ker, &L) - rho_brute);
   }
   TestCheck(c, err < 1e-12 * scale, "random displacement, %" PetscInt_FMT " x %" PetscInt_FMT " (box %s 2h): stress vs brute force over all images, max error %.2e of %.2e", nx, ny, nx < 6 ? "shorter than" : "at least", err, scale);
+  TestReading(PETSC_COMM_SELF, "random_stress_error", err);
   TestCheck(c, derr < 1e-13, "random displacement, %" PetscInt_FMT " x %" PetscInt_FMT ": summed lattice density vs brute force, error %.1e", nx, ny, derr);
   PetscCall(PetscFree5(x0, u, sig, rho, e));
   PetscFunctionReturn(0);

@@ -39,6 +39,15 @@ PetscErrorCode TestCheckAll(MPI_Comm comm, TestCount *c, int ok_here, const char
   PetscFunctionReturn(0);
 }
 
+void TestReading(MPI_Comm comm, const char *key, double value)
+{
+  int rank = 0;
+  (void)MPI_Comm_rank(comm, &rank);
+  if (rank) return;
+  printf("reading %s %.17g\n", key, value);
+  fflush(stdout);
+}
+
 int TestFinish(const TestCount *c)
 {
   printf("%d passed, %d failed\n", c->passed, c->failed);

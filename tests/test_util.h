@@ -18,6 +18,10 @@ void TestCheck(TestCount *c, int ok, const char *fmt, ...);
 void TestCheckAgreed(MPI_Comm comm, TestCount *c, int ok, const char *fmt, va_list ap);
 /* On several ranks: a check that passes when ok_here holds on every rank (MPI_LAND). */
 PetscErrorCode TestCheckAll(MPI_Comm comm, TestCount *c, int ok_here, const char *fmt, ...) PETSC_ATTRIBUTE_FORMAT(4, 5);
+/* A value the pages quote (tests/README.md): prints "reading KEY VALUE" on the rank 0 of
+ * comm, which tools/c_test_readings.py gathers into a readings JSON; a key printed several
+ * times becomes its range. */
+void TestReading(MPI_Comm comm, const char *key, double value);
 /* Prints the closing line "N passed, N failed" and returns the exit code. */
 int TestFinish(const TestCount *c);
 /* Uniform in [0, 1) from a splitmix64 stream. */

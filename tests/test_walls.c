@@ -114,6 +114,7 @@ static PetscErrorCode LatticeAtRest(TestCount *c)
     PetscCall(MaxRates(&sim, &amax, &emax));
     /* The pressure force on one particle is a sum of ~28 terms of size P/rho^2 |grad w| ~ 0.1. */
     TestCheck(c, amax < 1e-13 && emax < 1e-13, "lattice at rest, %s max |a| = %.1e, max |de/dt| = %.1e (round-off: < 1e-13)", names[k], amax, emax);
+    TestReading(PETSC_COMM_WORLD, k ? "rest_max_acc_walls" : "rest_max_acc_periodic", amax);
     PetscCall(SpamSimDestroy(&sim));
   }
   PetscFunctionReturn(0);
@@ -187,6 +188,8 @@ static PetscErrorCode Books(TestCount *c)
   TestCheck(c, fabs(se - pw) < 1e-12 * scale, "sum m (v.a + de/dt) = %.6e, the walls' work + heat %.6e (of %.1e)", se, pw, scale);
   TestCheck(c, fabs(bw[0] + bw[1] - pw) < 1e-12 * scale && fabs(bp[0] - fm[0]) + fabs(bp[1] - fm[1]) < 1e-12 * (fabs(fm[0]) + fabs(fm[1])), "book rates: work + heat %.6e, impulse (%.6e, %.6e)", bw[0] + bw[1], bp[0], bp[1]);
   TestCheck(c, sim.out.wall_rates.heat[2] != 0.0 && fabs(sim.out.wall_rates.heat[3]) < 1e-13 * scale, "heat through the isothermal wall %.3e, through the adiabatic one %.1e", sim.out.wall_rates.heat[2], sim.out.wall_rates.heat[3]);
+  TestReading(PETSC_COMM_WORLD, "heat_isothermal", sim.out.wall_rates.heat[2]);
+  TestReading(PETSC_COMM_WORLD, "heat_adiabatic", fabs(sim.out.wall_rates.heat[3]));
   PetscCall(VecRestoreArrayRead(sim.p.X, &y));
   PetscCall(PetscFree(f));
   PetscCall(Ghosts(c, &sim));

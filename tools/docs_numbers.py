@@ -29,18 +29,19 @@ A number typed in a page's prose (outside markers, code, option values and links
 an exponent, a percentage, a ratio "2.4x", "3 x 10^-5", or a count with a unit, "40 steps",
 "12 s") is a parameter, an exact or analytic value, or a measurement that escaped its
 marker. Those a page may type are listed in tools/docs_typed_numbers.txt, one line per page,
-comma-separated: "PAGE: 0.5, 1e-6, 40 steps"; a line "PAGE measured: ..." lists the
-measurements a page still types (known debt: each is to go under a marker or away, and none
-is to be added). A number a page types that its lines do not list is a problem: put it
-under a marker if it was measured, or add it to the page's line if it is a parameter.
-A listed number the page no longer types is a problem too, so the list only shrinks as
-pages lose their typed measurements. --unmarked lists every typed number with its line (*
-not listed, m listed as measured); --allow adds the pages' unlisted typed numbers to their
-parameters' lines (look first); --prune drops the listed numbers the pages no longer type.
+comma-separated: "PAGE: 0.5, 1e-6, 40 steps". A measurement is never listed: a line
+"PAGE measured: ..." (the form the list once had for measurements still typed) is refused.
+A number a page types that its line does not list is a problem: put it under a marker if
+it was measured, or add it to the page's line if it is a parameter. A listed number the
+page no longer types is a problem too (the list says only what the pages type).
+--unmarked lists every typed number with its line (* not listed); --allow adds the pages'
+unlisted typed numbers to their parameters' line (look first: a measurement goes under a
+marker instead); --prune drops the listed numbers the pages no longer type.
 
 --check (the default) lists every marker whose text differs from its source, every
 source or key that does not exist, every JSON without its command and commit, every
-number typed without a marker that tools/docs_typed_numbers.txt does not list, and every
+number typed without a marker that tools/docs_typed_numbers.txt does not list, every
+"measured" line of that list, and every
 figure a page labels as a hand run or as history (made by no script: regenerate it with one,
 or leave it to git's history), and exits 1 if there is one; --update rewrites the pages' marked text from the sources. With paths,
 only those pages; otherwise README.md, CONTRIBUTING.md, bench/README.md, tests/README.md
@@ -256,12 +257,12 @@ def indented_code(lines, i):
     return blank
 
 
-def allowed_numbers():
-    """{page: set of numbers it may type}, {page: the measured ones among them} from
-    tools/docs_typed_numbers.txt."""
+def allowed_numbers(path=ALLOWED):
+    """{page: set of numbers it may type}, {page: the measured ones among them} from the list
+    (tools/docs_typed_numbers.txt)."""
     out, measured = {}, {}
     try:
-        lines = open(ALLOWED, encoding="utf-8").read().splitlines()
+        lines = open(path, encoding="utf-8").read().splitlines()
     except OSError:
         return out, measured
     for line in lines:
@@ -295,11 +296,11 @@ def _order(t):
         return (0.0, t)
 
 
-def write_allowed(allowed, measured):
-    with open(ALLOWED, "w", encoding="utf-8") as fh:
+def write_allowed(allowed, measured, path=ALLOWED):
+    with open(path, "w", encoding="utf-8") as fh:
         fh.write("# The numbers each page may type in its prose without a marker (tools/docs_numbers.py --check):\n"
-                 "# 'PAGE:' parameters, exact and analytic values; 'PAGE measured:' measurements the page still\n"
-                 "# types, to be put under a marker or removed (never add to those). Comma-separated.\n")
+                 "# parameters, exact and analytic values only, 'PAGE: 0.25, 1e-6, 40 steps'. A measurement goes\n"
+                 "# under a marker (a 'PAGE measured:' line is refused). Comma-separated.\n")
         for page in sorted(allowed):
             params = allowed[page] - measured.get(page, set())
             if params:
@@ -322,17 +323,19 @@ def main():
                     help="add the pages' typed numbers to tools/docs_typed_numbers.txt")
     ap.add_argument("--prune", action="store_true",
                     help="drop from tools/docs_typed_numbers.txt the numbers the pages no longer type")
+    ap.add_argument("--list", default=ALLOWED, help="the list of the numbers pages may type "
+                    "(default tools/docs_typed_numbers.txt; another for the docs check's controls)")
     ap.add_argument("pages", nargs="*")
     a = ap.parse_args()
     problems, markers, changed = [], 0, []
-    allowed, measured = allowed_numbers()
+    allowed, measured = allowed_numbers(a.list)
     if a.prune:
         for page in pages(a.pages):
             typed = {num for _, num, _ in typed_numbers(open(os.path.join(ROOT, page), encoding="utf-8").read())}
             for d in (allowed, measured):
                 if page in d:
                     d[page] &= typed
-        write_allowed(allowed, measured)
+        write_allowed(allowed, measured, a.list)
         sys.exit(0)
     if a.unmarked or a.allow:
         total = debt = 0
@@ -347,9 +350,13 @@ def main():
                     debt += tag == "m"
                     print(f"{tag} {page}:{n}: {num:10s} | {line[:140]}")
         if a.allow:
-            write_allowed(allowed, measured)
-        print(f"{total} typed numbers, {debt} of them listed as measurements still typed")
+            write_allowed(allowed, measured, a.list)
+        print(f"{total} typed numbers, {debt} of them on a 'measured' line (refused by --check)")
         sys.exit(0)
+    for page in sorted(p for p in measured if measured[p]):
+        problems.append(f"{os.path.relpath(a.list, ROOT)}: a 'measured' line for {page} "
+                        f"({', '.join(sorted(measured[page], key=_order))}): a measurement goes under a "
+                        f"marker, or away; the list names parameters only")
     for page in pages(a.pages):
         path = os.path.join(ROOT, page)
         text = open(path, encoding="utf-8").read()
