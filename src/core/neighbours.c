@@ -1,5 +1,6 @@
 /* Cell binning and the half Verlet list with a skin. */
 #include <spam/neighbours.h>
+#include <spam/huge_pages.h>
 #include <float.h>
 #include <limits.h>
 #include <string.h>
@@ -35,6 +36,16 @@ static PetscErrorCode CellCounts(int n, const SpamBox *box, double rc, int ncell
   PetscFunctionReturn(0);
 }
 
+/* PetscCalloc for the large arrays: the zeros written after the huge-page advice. */
+static PetscErrorCode ZeroedHuge(size_t count, size_t size, void **a)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc(count * size, a));
+  SpamAdviseHugePages(*a, count * size);
+  PetscCall(PetscMemzero(*a, count * size));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamNeighboursCreate(int n, const SpamBox *box, double cutoff, double skin, SpamNeighbours *nl)
 {
   const double rc = cutoff + skin;
@@ -60,16 +71,23 @@ PetscErrorCode SpamNeighboursCreate(int n, const SpamBox *box, double cutoff, do
   PetscCall(PetscMalloc5(n, &nl->cell_of, nl->ncells + 1, &nl->cell_start, n, &nl->cell_list, n + 1, &nl->start, n + 1, &nl->slot));
   PetscCall(PetscMalloc1(nl->cap, &nl->nbr));
   PetscCall(PetscCalloc1(n + 1, &nl->image));
-  PetscCall(PetscCalloc1(n + 1, &nl->gstart));
+  PetscCall(ZeroedHuge(n + 1, sizeof(int), (void **)&nl->gstart));
+  /* the arrays that every right-hand side streams: huge pages before their first write */
+  SpamAdviseHugePages(nl->nbr, nl->cap * sizeof(int));
+  SpamAdviseHugePages(nl->cell_list, (size_t)n * sizeof(int));
+  SpamAdviseHugePages(nl->start, (size_t)(n + 1) * sizeof(int));
   nl->lbox = *box;
   nl->im   = SpamBoxImage(box);
   nl->ucap = n + 1;
   for (int d = 0; d < 3; d++) nl->ucell[d] = NULL;
-  for (int d = 0; d < box->dim; d++) PetscCall(PetscMalloc1(n + 1, &nl->ucell[d]));
+  for (int d = 0; d < box->dim; d++) {
+    PetscCall(PetscMalloc1(n + 1, &nl->ucell[d]));
+    SpamAdviseHugePages(nl->ucell[d], (size_t)(n + 1) * sizeof(double));
+  }
   for (int d = 0; d < 3; d++) {
-    PetscCall(PetscCalloc1(n + 1, &nl->u[d]));
-    PetscCall(PetscCalloc1(n + 1, &nl->xref[d]));
-    PetscCall(PetscCalloc1(n + 1, &nl->off[d]));
+    PetscCall(ZeroedHuge(n + 1, sizeof(double), (void **)&nl->u[d]));
+    PetscCall(ZeroedHuge(n + 1, sizeof(double), (void **)&nl->xref[d]));
+    PetscCall(ZeroedHuge(n + 1, sizeof(double), (void **)&nl->off[d]));
   }
   PetscFunctionReturn(0);
 }
@@ -225,6 +243,7 @@ static PetscErrorCode Reserve(SpamPairBuffer *b, size_t need, long *grows)
   PetscCheck(need <= (size_t)INT_MAX, PETSC_COMM_SELF, PETSC_ERR_MEM, "the neighbour list would hold more than %d pairs (%zu needed): the particles are too many or too densely packed for the kernel range", INT_MAX, need);
   b->cap = PetscMin(PetscMax(need, b->cap + b->cap / 2 + 16), (size_t)INT_MAX);
   PetscCall(PetscRealloc(b->cap * sizeof(int), &b->nbr));
+  SpamAdviseHugePages(b->nbr, b->cap * sizeof(int));
   (*grows)++;
   PetscFunctionReturn(0);
 }
