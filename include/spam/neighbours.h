@@ -13,6 +13,8 @@
  * last pair, so that a pair loop may compute whole vectors of terms past a row's end
  * (lanes it then ignores) and read neighbour indices no further than the list's room. */
 #define SPAM_LIST_PAD 8
+/* Rows of the half list per row block (SpamNeighbours blk_zero, blk_final). */
+#define SPAM_ROW_BLOCK 128
 
 /* Pair entries being appended: the list itself, or one thread's part of it. */
 typedef struct {
@@ -33,6 +35,12 @@ typedef struct {
   unsigned char *image;          /* [n] 1: particle i's pairs may cross a periodic   */
                                  /* face (needs the minimum image); 0: they cannot   */
   size_t  npairs, cap;
+  /* Row blocks of the half list, made at every build: block b holds rows [b B, (b + 1) B)
+   * (B = SPAM_ROW_BLOCK). Once the rows of blocks 0..b are done, every local particle a
+   * row of those blocks names lies below blk_zero[b], and no later row names a particle
+   * below blk_final[b], so that a pass can clear its sums just ahead of the rows and use
+   * a particle's sum as soon as it is complete, while both are still in the cache. */
+  int    *blk_zero, *blk_final, nblk;
   double *xref[3];               /* [n] per direction: positions at the last build   */
   double *off[3];                /* [n] x - u, the periodic shift fixed at the build */
   double *ucell[3];              /* [n] u at the build in cell order (build scratch) */

@@ -70,6 +70,8 @@ PetscErrorCode SpamNeighboursCreate(int n, const SpamBox *box, double cutoff, do
   nl->cap = (size_t)PetscMax(n, 1) * 16;
   PetscCall(PetscMalloc5(n, &nl->cell_of, nl->ncells + 1, &nl->cell_start, n, &nl->cell_list, n + 1, &nl->start, n + 1, &nl->slot));
   PetscCall(PetscMalloc1(nl->cap, &nl->nbr));
+  nl->nblk = (n + SPAM_ROW_BLOCK - 1) / SPAM_ROW_BLOCK;
+  PetscCall(PetscMalloc2(nl->nblk + 1, &nl->blk_zero, nl->nblk + 1, &nl->blk_final));
   PetscCall(PetscCalloc1(n + 1, &nl->image));
   PetscCall(ZeroedHuge(n + 1, sizeof(int), (void **)&nl->gstart));
   /* the arrays that every right-hand side streams: huge pages before their first write */
@@ -114,6 +116,7 @@ PetscErrorCode SpamNeighboursDestroy(SpamNeighbours *nl)
   PetscCall(PetscFree(nl->tbuf));
   PetscCall(PetscFree5(nl->cell_of, nl->cell_start, nl->cell_list, nl->start, nl->slot));
   PetscCall(PetscFree(nl->nbr));
+  PetscCall(PetscFree2(nl->blk_zero, nl->blk_final));
   PetscCall(PetscFree(nl->image));
   PetscCall(PetscFree(nl->gstart));
   PetscCall(PetscFree(nl->gnbr));
@@ -502,6 +505,31 @@ PetscErrorCode SpamNeighboursPadList(int **nbr, size_t *cap, size_t n)
   PetscFunctionReturn(0);
 }
 
+/* The row blocks (neighbours.h) of the half list just built: a prefix maximum of the
+ * particles the rows name (blk_zero) and a suffix minimum (blk_final), from one read of the
+ * list. A block's rows that name nothing below their end leave blk_final at that end. */
+static void RowBlocks(SpamNeighbours *nl)
+{
+  int ahead = 0, later = nl->n;
+
+  for (int b = 0; b < nl->nblk; b++) {
+    const int i0 = b * SPAM_ROW_BLOCK, i1 = PetscMin(nl->n, i0 + SPAM_ROW_BLOCK);
+    int       lo = i1, hi = i1;
+    for (int k = nl->start[i0]; k < nl->start[i1]; k++) {
+      lo = PetscMin(lo, nl->nbr[k]);
+      hi = PetscMax(hi, nl->nbr[k] + 1);
+    }
+    ahead            = PetscMax(ahead, hi);
+    nl->blk_zero[b]  = ahead;
+    nl->blk_final[b] = lo; /* the block's lowest partner, until the second loop */
+  }
+  for (int b = nl->nblk - 1; b >= 0; b--) {
+    const int lowest = nl->blk_final[b];
+    nl->blk_final[b] = PetscMin(PetscMin(nl->n, (b + 1) * SPAM_ROW_BLOCK), later);
+    later            = PetscMin(later, lowest);
+  }
+}
+
 /* The local rows over the list's box (ghost-periodic directions open), then the ghosts
  * of the true box and their rows. */
 static PetscErrorCode BuildList(SpamNeighbours *nl, const SpamBox *box)
@@ -516,6 +544,7 @@ static PetscErrorCode BuildList(SpamNeighbours *nl, const SpamBox *box)
   if (nl->threads > 1) PetscCall(BuildRowsThreaded(nl, lbox, &im));
   else PetscCall(BuildRows(nl, lbox, &im));
   PetscCall(SpamNeighboursPadList(&nl->nbr, &nl->cap, nl->npairs));
+  RowBlocks(nl);
   PetscCall(SpamNeighboursBuildGhosts(nl, box));
   PetscCall(SpamNeighboursBuildCanonical(nl)); /* -reproducible: the sorted full rows */
   nl->builds++;
