@@ -103,6 +103,18 @@ PetscErrorCode SpamNeighboursSetComm(SpamNeighbours *nl, MPI_Comm comm);
  * this rank's first such particle, or SPAM_BAD_ON_OTHER_RANK on the ranks that have none
  * (nl->bad_rank names the lowest rank that has one); *bad is -1 otherwise. */
 PetscErrorCode SpamNeighboursUpdate(SpamNeighbours *nl, const SpamBox *box, const double *x, int stride, PetscBool force, PetscInt *bad);
+/* SpamNeighboursUpdate without the copy into u when the list is kept and has no ghost
+ * slots (*stale set): the rebuild decision and *bad as there, but u keeps its old values
+ * until the caller places each particle (SpamNeighboursPlace) before it reads its u, as
+ * the blocked force pass does just ahead of its rows, while the state is in the cache.
+ * With *stale unset, u is current as after SpamNeighboursUpdate. */
+PetscErrorCode SpamNeighboursUpdateStale(SpamNeighbours *nl, const SpamBox *box, const double *x, int stride, PetscInt *bad, PetscBool *stale);
+/* u of particles [i0, i1) from x, as SpamNeighboursUpdate computes it (bitwise). */
+static inline void SpamNeighboursPlace(const SpamNeighbours *nl, const double *x, int stride, int i0, int i1)
+{
+  for (int d = 0; d < nl->dim; d++)
+    for (int i = i0; i < i1; i++) nl->u[d][i] = x[(size_t)i * stride + d] - nl->off[d][i];
+}
 /* Rebuilds the list at the reference positions xref[i*dim + d] of an earlier build (a
  * checkpoint's), as that build made it; the next update moves from there. */
 PetscErrorCode SpamNeighboursRestore(SpamNeighbours *nl, const SpamBox *box, const double *xref);

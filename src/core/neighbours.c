@@ -552,10 +552,11 @@ static PetscErrorCode BuildList(SpamNeighbours *nl, const SpamBox *box)
   PetscFunctionReturn(0);
 }
 
-/* Largest squared displacement since the last build, and u = x - off: the positions in
- * the box frame of the last build. One loop without exits, so that it vectorises; a
- * non-finite position only raises a flag here. */
-static double Displace(SpamNeighbours *nl, int dim, const double *x, int stride, int *nonfinite)
+/* Largest squared displacement since the last build, and (place) u = x - off: the
+ * positions in the box frame of the last build. One loop without exits, so that it
+ * vectorises; a non-finite position only raises a flag here. place is a literal at each
+ * call. */
+static inline __attribute__((always_inline)) double DisplaceOrNot(SpamNeighbours *nl, int dim, const double *x, int stride, const int place, int *nonfinite)
 {
   double maxd2 = 0.0;
   int    bad   = 0;
@@ -566,12 +567,17 @@ static double Displace(SpamNeighbours *nl, int dim, const double *x, int stride,
       const double xi = x[(size_t)i * stride + d], dx = xi - nl->xref[d][i];
       bad |= !(fabs(xi) <= DBL_MAX);
       d2 += dx * dx;
-      nl->u[d][i] = xi - nl->off[d][i];
+      if (place) nl->u[d][i] = xi - nl->off[d][i];
     }
     maxd2 = maxd2 > d2 ? maxd2 : d2;
   }
   *nonfinite = bad;
   return maxd2;
+}
+
+static double Displace(SpamNeighbours *nl, int dim, const double *x, int stride, PetscBool place, int *nonfinite)
+{
+  return place ? DisplaceOrNot(nl, dim, x, stride, 1, nonfinite) : DisplaceOrNot(nl, dim, x, stride, 0, nonfinite);
 }
 
 /* At a build: wraps every position into the box and keeps the shift off = x - u, so that
@@ -638,7 +644,9 @@ static PetscErrorCode Agree(SpamNeighbours *nl, int *rebuild, int nonfinite)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamNeighboursUpdate(SpamNeighbours *nl, const SpamBox *box, const double *x, int stride, PetscBool force, PetscInt *bad)
+/* The update; with lazy, u is left stale (*stale) when the list is kept and no ghost
+ * slot's position has to be taken from it. */
+static PetscErrorCode Update(SpamNeighbours *nl, const SpamBox *box, const double *x, int stride, PetscBool force, PetscBool lazy, PetscInt *bad, PetscBool *stale)
 {
   const int dim = box->dim;
   int       nonfinite, rebuild;
@@ -646,8 +654,9 @@ PetscErrorCode SpamNeighboursUpdate(SpamNeighbours *nl, const SpamBox *box, cons
 
   PetscFunctionBeginUser;
   nl->updates++;
-  *bad  = -1;
-  maxd2 = Displace(nl, dim, x, stride, &nonfinite);
+  *bad   = -1;
+  *stale = (PetscBool)(lazy && !nl->ghosts.n && !SpamHaloActive(&nl->ghosts.halo) && nl->builds > 0);
+  maxd2  = Displace(nl, dim, x, stride, (PetscBool)!*stale, &nonfinite);
   /* Two particles each moving skin/2 towards each other stay inside the list range. */
   rebuild = force || nl->builds == 0 || (!nonfinite && maxd2 > 0.25 * nl->skin * nl->skin);
   PetscCall(Agree(nl, &rebuild, nonfinite));
@@ -659,9 +668,26 @@ PetscErrorCode SpamNeighboursUpdate(SpamNeighbours *nl, const SpamBox *box, cons
     PetscFunctionReturn(0);
   }
   if (rebuild) {
+    *stale = PETSC_FALSE; /* Wrap writes every u */
     PetscCall(WrapAll(nl, box, x, stride));
     PetscCall(BuildList(nl, box));
   } else PetscCall(SpamNeighboursMoveGhosts(nl));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamNeighboursUpdate(SpamNeighbours *nl, const SpamBox *box, const double *x, int stride, PetscBool force, PetscInt *bad)
+{
+  PetscBool stale;
+
+  PetscFunctionBeginUser;
+  PetscCall(Update(nl, box, x, stride, force, PETSC_FALSE, bad, &stale));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamNeighboursUpdateStale(SpamNeighbours *nl, const SpamBox *box, const double *x, int stride, PetscInt *bad, PetscBool *stale)
+{
+  PetscFunctionBeginUser;
+  PetscCall(Update(nl, box, x, stride, PETSC_FALSE, PETSC_TRUE, bad, stale));
   PetscFunctionReturn(0);
 }
 

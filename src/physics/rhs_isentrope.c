@@ -61,6 +61,7 @@ typedef struct {
   const SpamSim *sim;
   const double  *y;
   double        *ydot;
+  PetscBool      stale; /* the list's positions are placed by the pass (SpamNeighboursUpdateStale) */
 } RhsOut;
 
 /* dr/dt = v and dv/dt = acc (plus gravity, added to acc as the unblocked path does) of
@@ -90,8 +91,9 @@ static PetscErrorCode Force(SpamSim *sim, const SpamPairPass *p, RhsOut *out, Pe
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(sim->run.ev.force, 0, 0, 0, 0));
   *written = (PetscBool)(out && SpamChunkedForceFits(p));
+  if (out && out->stale && !*written) SpamNeighboursPlace(p->nl, out->y + sim->model.layout.x, sim->model.layout.nvar, 0, p->n);
   if (p->canonical) PetscCall(SpamCanonicalForce(p));
-  else if (*written) PetscCall(SpamChunkedForceBlocks(p, WriteRows, out));
+  else if (*written) PetscCall(SpamChunkedForceBlocks(p, out->stale ? out->y + sim->model.layout.x : NULL, sim->model.layout.nvar, WriteRows, out));
   else PetscCall(SpamChunkedForce(p));
   /* The isentrope's walls: their forces only (its energy has no equation to book work in). */
   if (p->gh->mirror) PetscCall(SpamWallBooks(p->gh, p->f, &sim->model.layout, p->n, PETSC_FALSE, &sim->out.wall_rates, NULL));
@@ -138,7 +140,10 @@ static PetscErrorCode Accel(SpamSim *sim, const double *x, int stride, RhsOut *o
 
   PetscFunctionBeginUser;
   *written = PETSC_FALSE;
-  PetscCall(SpamNeighboursUpdate(&sim->pair.nl, &sim->geo.box, x, stride, PETSC_FALSE, bad));
+  /* A right-hand side without a density pass reads the list's positions in the force
+   * pass only, which can place them itself. */
+  if (out && m->density_free && sim->pair.threads == 1 && !SpamNeighboursCanonical(&sim->pair.nl)) PetscCall(SpamNeighboursUpdateStale(&sim->pair.nl, &sim->geo.box, x, stride, bad, &out->stale));
+  else PetscCall(SpamNeighboursUpdate(&sim->pair.nl, &sim->geo.box, x, stride, PETSC_FALSE, bad));
   if (*bad >= 0) PetscFunctionReturn(0);
   PetscCall(ReserveSlots(sim));
   p = SpamPairPassOf(sim);
@@ -169,7 +174,7 @@ PetscErrorCode SpamRhsIsentrope(SpamSim *sim, const double *y, double *ydot, Pet
 {
   const SpamLayout *l   = &sim->model.layout;
   const int         dim = sim->model.dim, nv = l->nvar;
-  RhsOut            out = {sim, y, ydot};
+  RhsOut            out = {sim, y, ydot, PETSC_FALSE};
   PetscBool         written;
 
   PetscFunctionBeginUser;
