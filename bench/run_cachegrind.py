@@ -29,9 +29,10 @@ from spam_driver import spam_cmd, spam_make_initial
 TOGGLE = "SpamRhs"
 # Functions reported on their own (self cost), by the start of their symbol; the rest of
 # the right-hand side is summed as "other".
-PARTS = [("pair force pass", "Force"), ("positions from the state (list update)", "Displace"),
+PARTS = [("pair force pass", "Force"), ("list update (displacements; positions u)", "Displace"),
+         ("u placed ahead of the rows", "SpamChunkedForceBlocks"),
          ("dr/dt, dv/dt written", "WriteRows"), ("dr/dt, dv/dt copied", "SpamRhsIsentrope"),
-         ("clearing (memset)", "__memset")]
+         ("accelerations cleared (memset)", "__memset")]
 
 
 def parse_args(argv):
