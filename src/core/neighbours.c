@@ -74,8 +74,9 @@ PetscErrorCode SpamNeighboursCreate(int n, const SpamBox *box, double cutoff, do
   PetscCall(PetscMalloc2(nl->nblk + 1, &nl->blk_zero, nl->nblk + 1, &nl->blk_final));
   PetscCall(PetscCalloc1(n + 1, &nl->image));
   PetscCall(ZeroedHuge(n + 1, sizeof(int), (void **)&nl->gstart));
-  /* the arrays that every right-hand side streams: huge pages before their first write */
-  SpamAdviseHugePages(nl->nbr, nl->cap * sizeof(int));
+  /* the arrays that every right-hand side streams: huge pages before their first write
+   * (not the pair rows, whose room is larger than what they hold: a huge page across the
+   * end of the rows would make up to 2 MiB of unused room resident) */
   SpamAdviseHugePages(nl->cell_list, (size_t)n * sizeof(int));
   SpamAdviseHugePages(nl->start, (size_t)(n + 1) * sizeof(int));
   nl->lbox = *box;
@@ -246,7 +247,6 @@ static PetscErrorCode Reserve(SpamPairBuffer *b, size_t need, long *grows)
   PetscCheck(need <= (size_t)INT_MAX, PETSC_COMM_SELF, PETSC_ERR_MEM, "the neighbour list would hold more than %d pairs (%zu needed): the particles are too many or too densely packed for the kernel range", INT_MAX, need);
   b->cap = PetscMin(PetscMax(need, b->cap + b->cap / 2 + 16), (size_t)INT_MAX);
   PetscCall(PetscRealloc(b->cap * sizeof(int), &b->nbr));
-  SpamAdviseHugePages(b->nbr, b->cap * sizeof(int));
   (*grows)++;
   PetscFunctionReturn(0);
 }
