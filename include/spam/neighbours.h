@@ -13,6 +13,8 @@
  * last pair, so that a pair loop may compute whole vectors of terms past a row's end
  * (lanes it then ignores) and read neighbour indices no further than the list's room. */
 #define SPAM_LIST_PAD 8
+/* Rows of the half list per row block (SpamNeighbours blk_zero, blk_final). */
+#define SPAM_ROW_BLOCK 128
 
 /* Pair entries being appended: the list itself, or one thread's part of it. */
 typedef struct {
@@ -33,6 +35,12 @@ typedef struct {
   unsigned char *image;          /* [n] 1: particle i's pairs may cross a periodic   */
                                  /* face (needs the minimum image); 0: they cannot   */
   size_t  npairs, cap;
+  /* Row blocks of the half list, made at every build: block b holds rows [b B, (b + 1) B)
+   * (B = SPAM_ROW_BLOCK). Once the rows of blocks 0..b are done, every local particle a
+   * row of those blocks names lies below blk_zero[b], and no later row names a particle
+   * below blk_final[b], so that a pass can clear its sums just ahead of the rows and use
+   * a particle's sum as soon as it is complete, while both are still in the cache. */
+  int    *blk_zero, *blk_final, nblk;
   double *xref[3];               /* [n] per direction: positions at the last build   */
   double *off[3];                /* [n] x - u, the periodic shift fixed at the build */
   double *ucell[3];              /* [n] u at the build in cell order (build scratch) */
@@ -95,6 +103,18 @@ PetscErrorCode SpamNeighboursSetComm(SpamNeighbours *nl, MPI_Comm comm);
  * this rank's first such particle, or SPAM_BAD_ON_OTHER_RANK on the ranks that have none
  * (nl->bad_rank names the lowest rank that has one); *bad is -1 otherwise. */
 PetscErrorCode SpamNeighboursUpdate(SpamNeighbours *nl, const SpamBox *box, const double *x, int stride, PetscBool force, PetscInt *bad);
+/* SpamNeighboursUpdate without the copy into u when the list is kept and has no ghost
+ * slots (*stale set): the rebuild decision and *bad as there, but u keeps its old values
+ * until the caller places each particle (SpamNeighboursPlace) before it reads its u, as
+ * the blocked force pass does just ahead of its rows, while the state is in the cache.
+ * With *stale unset, u is current as after SpamNeighboursUpdate. */
+PetscErrorCode SpamNeighboursUpdateStale(SpamNeighbours *nl, const SpamBox *box, const double *x, int stride, PetscInt *bad, PetscBool *stale);
+/* u of particles [i0, i1) from x, as SpamNeighboursUpdate computes it (bitwise). */
+static inline void SpamNeighboursPlace(const SpamNeighbours *nl, const double *x, int stride, int i0, int i1)
+{
+  for (int d = 0; d < nl->dim; d++)
+    for (int i = i0; i < i1; i++) nl->u[d][i] = x[(size_t)i * stride + d] - nl->off[d][i];
+}
 /* Rebuilds the list at the reference positions xref[i*dim + d] of an earlier build (a
  * checkpoint's), as that build made it; the next update moves from there. */
 PetscErrorCode SpamNeighboursRestore(SpamNeighbours *nl, const SpamBox *box, const double *xref);

@@ -1,5 +1,6 @@
 /* Cell binning and the half Verlet list with a skin. */
 #include <spam/neighbours.h>
+#include <spam/huge_pages.h>
 #include <float.h>
 #include <limits.h>
 #include <string.h>
@@ -35,6 +36,16 @@ static PetscErrorCode CellCounts(int n, const SpamBox *box, double rc, int ncell
   PetscFunctionReturn(0);
 }
 
+/* PetscCalloc for the large arrays: the zeros written after the huge-page advice. */
+static PetscErrorCode ZeroedHuge(size_t count, size_t size, void **a)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc(count * size, a));
+  SpamAdviseHugePages(*a, count * size);
+  PetscCall(PetscMemzero(*a, count * size));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamNeighboursCreate(int n, const SpamBox *box, double cutoff, double skin, SpamNeighbours *nl)
 {
   const double rc = cutoff + skin;
@@ -59,17 +70,27 @@ PetscErrorCode SpamNeighboursCreate(int n, const SpamBox *box, double cutoff, do
   nl->cap = (size_t)PetscMax(n, 1) * 16;
   PetscCall(PetscMalloc5(n, &nl->cell_of, nl->ncells + 1, &nl->cell_start, n, &nl->cell_list, n + 1, &nl->start, n + 1, &nl->slot));
   PetscCall(PetscMalloc1(nl->cap, &nl->nbr));
+  nl->nblk = (n + SPAM_ROW_BLOCK - 1) / SPAM_ROW_BLOCK;
+  PetscCall(PetscMalloc2(nl->nblk + 1, &nl->blk_zero, nl->nblk + 1, &nl->blk_final));
   PetscCall(PetscCalloc1(n + 1, &nl->image));
-  PetscCall(PetscCalloc1(n + 1, &nl->gstart));
+  PetscCall(ZeroedHuge(n + 1, sizeof(int), (void **)&nl->gstart));
+  /* the arrays that every right-hand side streams: huge pages before their first write
+   * (not the pair rows, whose room is larger than what they hold: a huge page across the
+   * end of the rows would make up to 2 MiB of unused room resident) */
+  SpamAdviseHugePages(nl->cell_list, (size_t)n * sizeof(int));
+  SpamAdviseHugePages(nl->start, (size_t)(n + 1) * sizeof(int));
   nl->lbox = *box;
   nl->im   = SpamBoxImage(box);
   nl->ucap = n + 1;
   for (int d = 0; d < 3; d++) nl->ucell[d] = NULL;
-  for (int d = 0; d < box->dim; d++) PetscCall(PetscMalloc1(n + 1, &nl->ucell[d]));
+  for (int d = 0; d < box->dim; d++) {
+    PetscCall(PetscMalloc1(n + 1, &nl->ucell[d]));
+    SpamAdviseHugePages(nl->ucell[d], (size_t)(n + 1) * sizeof(double));
+  }
   for (int d = 0; d < 3; d++) {
-    PetscCall(PetscCalloc1(n + 1, &nl->u[d]));
-    PetscCall(PetscCalloc1(n + 1, &nl->xref[d]));
-    PetscCall(PetscCalloc1(n + 1, &nl->off[d]));
+    PetscCall(ZeroedHuge(n + 1, sizeof(double), (void **)&nl->u[d]));
+    PetscCall(ZeroedHuge(n + 1, sizeof(double), (void **)&nl->xref[d]));
+    PetscCall(ZeroedHuge(n + 1, sizeof(double), (void **)&nl->off[d]));
   }
   PetscFunctionReturn(0);
 }
@@ -96,6 +117,7 @@ PetscErrorCode SpamNeighboursDestroy(SpamNeighbours *nl)
   PetscCall(PetscFree(nl->tbuf));
   PetscCall(PetscFree5(nl->cell_of, nl->cell_start, nl->cell_list, nl->start, nl->slot));
   PetscCall(PetscFree(nl->nbr));
+  PetscCall(PetscFree2(nl->blk_zero, nl->blk_final));
   PetscCall(PetscFree(nl->image));
   PetscCall(PetscFree(nl->gstart));
   PetscCall(PetscFree(nl->gnbr));
@@ -483,6 +505,31 @@ PetscErrorCode SpamNeighboursPadList(int **nbr, size_t *cap, size_t n)
   PetscFunctionReturn(0);
 }
 
+/* The row blocks (neighbours.h) of the half list just built: a prefix maximum of the
+ * particles the rows name (blk_zero) and a suffix minimum (blk_final), from one read of the
+ * list. A block's rows that name nothing below their end leave blk_final at that end. */
+static void RowBlocks(SpamNeighbours *nl)
+{
+  int ahead = 0, later = nl->n;
+
+  for (int b = 0; b < nl->nblk; b++) {
+    const int i0 = b * SPAM_ROW_BLOCK, i1 = PetscMin(nl->n, i0 + SPAM_ROW_BLOCK);
+    int       lo = i1, hi = i1;
+    for (int k = nl->start[i0]; k < nl->start[i1]; k++) {
+      lo = PetscMin(lo, nl->nbr[k]);
+      hi = PetscMax(hi, nl->nbr[k] + 1);
+    }
+    ahead            = PetscMax(ahead, hi);
+    nl->blk_zero[b]  = ahead;
+    nl->blk_final[b] = lo; /* the block's lowest partner, until the second loop */
+  }
+  for (int b = nl->nblk - 1; b >= 0; b--) {
+    const int lowest = nl->blk_final[b];
+    nl->blk_final[b] = PetscMin(PetscMin(nl->n, (b + 1) * SPAM_ROW_BLOCK), later);
+    later            = PetscMin(later, lowest);
+  }
+}
+
 /* The local rows over the list's box (ghost-periodic directions open), then the ghosts
  * of the true box and their rows. */
 static PetscErrorCode BuildList(SpamNeighbours *nl, const SpamBox *box)
@@ -497,6 +544,7 @@ static PetscErrorCode BuildList(SpamNeighbours *nl, const SpamBox *box)
   if (nl->threads > 1) PetscCall(BuildRowsThreaded(nl, lbox, &im));
   else PetscCall(BuildRows(nl, lbox, &im));
   PetscCall(SpamNeighboursPadList(&nl->nbr, &nl->cap, nl->npairs));
+  RowBlocks(nl);
   PetscCall(SpamNeighboursBuildGhosts(nl, box));
   PetscCall(SpamNeighboursBuildCanonical(nl)); /* -reproducible: the sorted full rows */
   nl->builds++;
@@ -504,10 +552,11 @@ static PetscErrorCode BuildList(SpamNeighbours *nl, const SpamBox *box)
   PetscFunctionReturn(0);
 }
 
-/* Largest squared displacement since the last build, and u = x - off: the positions in
- * the box frame of the last build. One loop without exits, so that it vectorises; a
- * non-finite position only raises a flag here. */
-static double Displace(SpamNeighbours *nl, int dim, const double *x, int stride, int *nonfinite)
+/* Largest squared displacement since the last build, and (place) u = x - off: the
+ * positions in the box frame of the last build. One loop without exits, so that it
+ * vectorises; a non-finite position only raises a flag here. place is a literal at each
+ * call. */
+static inline __attribute__((always_inline)) double DisplaceOrNot(SpamNeighbours *nl, int dim, const double *x, int stride, const int place, int *nonfinite)
 {
   double maxd2 = 0.0;
   int    bad   = 0;
@@ -518,12 +567,17 @@ static double Displace(SpamNeighbours *nl, int dim, const double *x, int stride,
       const double xi = x[(size_t)i * stride + d], dx = xi - nl->xref[d][i];
       bad |= !(fabs(xi) <= DBL_MAX);
       d2 += dx * dx;
-      nl->u[d][i] = xi - nl->off[d][i];
+      if (place) nl->u[d][i] = xi - nl->off[d][i];
     }
     maxd2 = maxd2 > d2 ? maxd2 : d2;
   }
   *nonfinite = bad;
   return maxd2;
+}
+
+static double Displace(SpamNeighbours *nl, int dim, const double *x, int stride, PetscBool place, int *nonfinite)
+{
+  return place ? DisplaceOrNot(nl, dim, x, stride, 1, nonfinite) : DisplaceOrNot(nl, dim, x, stride, 0, nonfinite);
 }
 
 /* At a build: wraps every position into the box and keeps the shift off = x - u, so that
@@ -590,7 +644,9 @@ static PetscErrorCode Agree(SpamNeighbours *nl, int *rebuild, int nonfinite)
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamNeighboursUpdate(SpamNeighbours *nl, const SpamBox *box, const double *x, int stride, PetscBool force, PetscInt *bad)
+/* The update; with lazy, u is left stale (*stale) when the list is kept and no ghost
+ * slot's position has to be taken from it. */
+static PetscErrorCode Update(SpamNeighbours *nl, const SpamBox *box, const double *x, int stride, PetscBool force, PetscBool lazy, PetscInt *bad, PetscBool *stale)
 {
   const int dim = box->dim;
   int       nonfinite, rebuild;
@@ -598,8 +654,9 @@ PetscErrorCode SpamNeighboursUpdate(SpamNeighbours *nl, const SpamBox *box, cons
 
   PetscFunctionBeginUser;
   nl->updates++;
-  *bad  = -1;
-  maxd2 = Displace(nl, dim, x, stride, &nonfinite);
+  *bad   = -1;
+  *stale = (PetscBool)(lazy && !nl->ghosts.n && !SpamHaloActive(&nl->ghosts.halo) && nl->builds > 0);
+  maxd2  = Displace(nl, dim, x, stride, (PetscBool)!*stale, &nonfinite);
   /* Two particles each moving skin/2 towards each other stay inside the list range. */
   rebuild = force || nl->builds == 0 || (!nonfinite && maxd2 > 0.25 * nl->skin * nl->skin);
   PetscCall(Agree(nl, &rebuild, nonfinite));
@@ -611,9 +668,26 @@ PetscErrorCode SpamNeighboursUpdate(SpamNeighbours *nl, const SpamBox *box, cons
     PetscFunctionReturn(0);
   }
   if (rebuild) {
+    *stale = PETSC_FALSE; /* Wrap writes every u */
     PetscCall(WrapAll(nl, box, x, stride));
     PetscCall(BuildList(nl, box));
   } else PetscCall(SpamNeighboursMoveGhosts(nl));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamNeighboursUpdate(SpamNeighbours *nl, const SpamBox *box, const double *x, int stride, PetscBool force, PetscInt *bad)
+{
+  PetscBool stale;
+
+  PetscFunctionBeginUser;
+  PetscCall(Update(nl, box, x, stride, force, PETSC_FALSE, bad, &stale));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamNeighboursUpdateStale(SpamNeighbours *nl, const SpamBox *box, const double *x, int stride, PetscInt *bad, PetscBool *stale)
+{
+  PetscFunctionBeginUser;
+  PetscCall(Update(nl, box, x, stride, PETSC_FALSE, PETSC_TRUE, bad, stale));
   PetscFunctionReturn(0);
 }
 

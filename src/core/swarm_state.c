@@ -4,6 +4,7 @@
  * vector of memory, stays resident and unused for the vector's life. Made here over the
  * field's array from the start, so the state takes its memory once. */
 #include <spam/swarm.h>
+#include <spam/huge_pages.h>
 
 PetscErrorCode SpamSwarmOpenState(SpamSwarm *p)
 {
@@ -17,6 +18,8 @@ PetscErrorCode SpamSwarmOpenState(SpamSwarm *p)
   PetscCall(DMSwarmGetField(p->swarm, SPAM_STATE_FIELD, &bs, &type, (void **)&s));
   PetscCheck(type == PETSC_REAL, p->comm, PETSC_ERR_SUP, "the state field must hold reals");
   PetscCallMPI(MPI_Comm_size(p->comm, &size));
+  /* DMSwarm has zeroed the field: its pages are small until gathered (huge_pages.c) */
+  SpamCollapseHugePages(s, (size_t)n * bs * sizeof *s);
   if (size == 1) PetscCall(VecCreateSeqWithArray(p->comm, bs, n * bs, s, &p->X));
   else PetscCall(VecCreateMPIWithArray(p->comm, bs, n * bs, PETSC_DETERMINE, s, &p->X));
   PetscFunctionReturn(0);

@@ -5,8 +5,11 @@
  * never in a run without dense outputs (five vectors, 160 bytes a particle in 2D). The
  * clone here takes its array from PetscMalloc unwritten, so a vector's pages become
  * resident when the integrator first writes it. SUNDIALS writes each vector before it
- * reads it (its serial vectors are not zeroed either), so the results do not change. */
+ * reads it (its serial vectors are not zeroed either), so the results do not change.
+ * Those first writes come inside the run loop (a stage vector's inside a right-hand
+ * side), so a large clone asks for huge pages (huge_pages.c). */
 #include <spam/integrator.h>
+#include <spam/huge_pages.h>
 #include <nvector/nvector_petsc.h>
 
 /* A Vec of w's type, layout and communicator over an array nobody has written: VECSEQ
@@ -32,7 +35,8 @@ static PetscErrorCode VecUnwritten(Vec w, Vec *v)
   if (seq) PetscCall(VecCreateSeqWithArray(comm, bs, n, NULL, v));
   else PetscCall(VecCreateMPIWithArray(comm, bs, n, N, NULL, v));
   PetscCall(PetscMalloc1(n, &a));
-  PetscCall(VecReplaceArray(*v, a)); /* the Vec owns a and frees it */
+  SpamAdviseHugePages(a, (size_t)n * sizeof *a); /* first written in the loop (huge_pages.c) */
+  PetscCall(VecReplaceArray(*v, a));             /* the Vec owns a and frees it */
   PetscFunctionReturn(0);
 }
 

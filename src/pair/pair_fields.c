@@ -1,5 +1,6 @@
 /* Per-particle field arrays with ghost slots. */
 #include <spam/fields.h>
+#include <spam/huge_pages.h>
 
 /* Every array with its number of values per slot (0: not allocated for this model). */
 static int Arrays(SpamFields *f, double **a[40], int per[40])
@@ -78,6 +79,7 @@ PetscErrorCode SpamFieldsReserve(SpamFields *f, int slots)
   for (int k = 0; k < na; k++) {
     if (!per[k]) continue;
     PetscCall(PetscRealloc((size_t)f->cap * per[k] * sizeof(double), a[k]));
+    SpamAdviseHugePages(*a[k], (size_t)f->cap * per[k] * sizeof(double)); /* before the zeros below */
     for (size_t z = (size_t)old * per[k]; z < (size_t)f->cap * per[k]; z++) (*a[k])[z] = 0.0;
   }
   if (f->tensor) PetscCall(PetscRealloc((size_t)f->cap * sizeof(double), &f->tfac));

@@ -35,6 +35,16 @@ typedef struct {
  * keep theirs for the walls' books): the chunked rows and the canonical rows. */
 PetscErrorCode SpamChunkedDensity(const SpamPairPass *p);
 PetscErrorCode SpamChunkedForce(const SpamPairPass *p);
+/* The chunked force pass by the list's row blocks (neighbours.h), for one thread and no
+ * ghost slot taking reactions (SpamChunkedForceFits): the accelerations are cleared just
+ * ahead of the rows, and done(ctx, i0, i1) is called as soon as particles [i0, i1) have
+ * their final accelerations, in order, once each. With x (the list left stale by
+ * SpamNeighboursUpdateStale) the list's positions are placed from x[i*stride + d] just
+ * ahead of the rows too. The same sums in the same order as SpamChunkedForce: f->acc ends
+ * bitwise the same. */
+typedef void (*SpamRowsDone)(void *ctx, int i0, int i1);
+PetscBool      SpamChunkedForceFits(const SpamPairPass *p);
+PetscErrorCode SpamChunkedForceBlocks(const SpamPairPass *p, const double *x, int stride, SpamRowsDone done, void *ctx);
 PetscErrorCode SpamCanonicalDensity(const SpamPairPass *p);
 PetscErrorCode SpamCanonicalForce(const SpamPairPass *p);
 #endif

@@ -56,12 +56,44 @@ static PetscErrorCode Density(SpamRunCounts *run, const SpamPairPass *p)
   PetscFunctionReturn(0);
 }
 
-/* Accelerations from f->q = P/rho^2 into f->acc; the walls' books of the mirror slots. */
-static PetscErrorCode Force(SpamSim *sim, const SpamPairPass *p)
+/* The right-hand side's rows (y, ydot) written as the force pass completes them. */
+typedef struct {
+  const SpamSim *sim;
+  const double  *y;
+  double        *ydot;
+  PetscBool      stale; /* the list's positions are placed by the pass (SpamNeighboursUpdateStale) */
+} RhsOut;
+
+/* dr/dt = v and dv/dt = acc (plus gravity, added to acc as the unblocked path does) of
+ * particles [i0, i1). */
+static void WriteRows(void *ctx, int i0, int i1)
+{
+  const RhsOut     *o = ctx;
+  const SpamModel  *m = &o->sim->model;
+  const SpamLayout *l = &m->layout;
+  const int         dim = m->dim, nv = l->nvar;
+  double           *acc = o->sim->pair.f.acc;
+
+  for (int i = i0; i < i1; i++)
+    for (int d = 0; d < dim; d++) {
+      if (m->gravity_on) acc[(size_t)i * dim + d] += m->gravity[d];
+      o->ydot[(size_t)i * nv + l->x + d] = o->y[(size_t)i * nv + l->v + d];
+      o->ydot[(size_t)i * nv + l->v + d] = acc[(size_t)i * dim + d];
+    }
+}
+
+/* Accelerations from f->q = P/rho^2 into f->acc; the walls' books of the mirror slots.
+ * With out (a right-hand side) and a pass that fits the row blocks, the rows of ydot are
+ * written by the pass as their accelerations complete (*written set), while they are in
+ * the cache. */
+static PetscErrorCode Force(SpamSim *sim, const SpamPairPass *p, RhsOut *out, PetscBool *written)
 {
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(sim->run.ev.force, 0, 0, 0, 0));
+  *written = (PetscBool)(out && SpamChunkedForceFits(p));
+  if (out && out->stale && !*written) SpamNeighboursPlace(p->nl, out->y + sim->model.layout.x, sim->model.layout.nvar, 0, p->n);
   if (p->canonical) PetscCall(SpamCanonicalForce(p));
+  else if (*written) PetscCall(SpamChunkedForceBlocks(p, out->stale ? out->y + sim->model.layout.x : NULL, sim->model.layout.nvar, WriteRows, out));
   else PetscCall(SpamChunkedForce(p));
   /* The isentrope's walls: their forces only (its energy has no equation to book work in). */
   if (p->gh->mirror) PetscCall(SpamWallBooks(p->gh, p->f, &sim->model.layout, p->n, PETSC_FALSE, &sim->out.wall_rates, NULL));
@@ -103,13 +135,19 @@ PetscErrorCode SpamDensitySummation(SpamSim *sim, const double *y, PetscInt *bad
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamAccelIsentrope(SpamSim *sim, const double *x, int stride, PetscInt *bad)
+/* The accelerations, and with out the right-hand side itself (*written) when the pass
+ * writes it. */
+static PetscErrorCode Accel(SpamSim *sim, const double *x, int stride, RhsOut *out, PetscBool *written, PetscInt *bad)
 {
   const SpamModel *m = &sim->model;
   SpamPairPass     p;
 
   PetscFunctionBeginUser;
-  PetscCall(SpamNeighboursUpdate(&sim->pair.nl, &sim->geo.box, x, stride, PETSC_FALSE, bad));
+  *written = PETSC_FALSE;
+  /* A right-hand side without a density pass reads the list's positions in the force
+   * pass only, which can place them itself. */
+  if (out && m->density_free && sim->pair.threads == 1 && !SpamNeighboursCanonical(&sim->pair.nl)) PetscCall(SpamNeighboursUpdateStale(&sim->pair.nl, &sim->geo.box, x, stride, bad, &out->stale));
+  else PetscCall(SpamNeighboursUpdate(&sim->pair.nl, &sim->geo.box, x, stride, PETSC_FALSE, bad));
   if (*bad >= 0) PetscFunctionReturn(0);
   PetscCall(ReserveSlots(sim));
   p = SpamPairPassOf(sim);
@@ -118,8 +156,8 @@ PetscErrorCode SpamAccelIsentrope(SpamSim *sim, const double *x, int stride, Pet
     for (PetscInt i = 0; i < sim->p.n; i++) sim->pair.f.q[i] = SpamEosPOverRho2(&m->eos, sim->pair.f.rho[i]);
     PetscCall(SpamGhostsGather(p.gh, m->dim, p.n, 1, SPAM_GHOST_SCALAR, sim->pair.f.q));
   }
-  PetscCall(Force(sim, &p));
-  if (m->gravity_on)
+  PetscCall(Force(sim, &p, out, written));
+  if (m->gravity_on && !*written)
     for (PetscInt i = 0; i < sim->p.n; i++)
       for (int d = 0; d < m->dim; d++) sim->pair.f.acc[(size_t)i * m->dim + d] += m->gravity[d];
   /* Canonical rows list every pair twice, once in each particle's row. */
@@ -127,14 +165,25 @@ PetscErrorCode SpamAccelIsentrope(SpamSim *sim, const double *x, int stride, Pet
   PetscFunctionReturn(0);
 }
 
+PetscErrorCode SpamAccelIsentrope(SpamSim *sim, const double *x, int stride, PetscInt *bad)
+{
+  PetscBool written;
+
+  PetscFunctionBeginUser;
+  PetscCall(Accel(sim, x, stride, NULL, &written, bad));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamRhsIsentrope(SpamSim *sim, const double *y, double *ydot, PetscInt *bad)
 {
   const SpamLayout *l   = &sim->model.layout;
   const int         dim = sim->model.dim, nv = l->nvar;
+  RhsOut            out = {sim, y, ydot, PETSC_FALSE};
+  PetscBool         written;
 
   PetscFunctionBeginUser;
-  PetscCall(SpamAccelIsentrope(sim, y + l->x, nv, bad));
-  if (*bad >= 0) PetscFunctionReturn(0);
+  PetscCall(Accel(sim, y + l->x, nv, &out, &written, bad));
+  if (*bad >= 0 || written) PetscFunctionReturn(0);
 #pragma omp parallel for if (sim->pair.threads > 1) num_threads(sim->pair.threads) schedule(static)
   for (PetscInt i = 0; i < sim->p.n; i++) {
     for (int d = 0; d < dim; d++) {
