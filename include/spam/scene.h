@@ -157,6 +157,9 @@ PetscErrorCode SpamShearChannelBuild(const SpamCommonParams *c, const char *name
 /* The kinematic viscosity eta/rho0 and sound speed of the channel's gas; bad input (naming
  * -NAME_speed) unless the viscosity is positive and |speed| below the sound speed. */
 PetscErrorCode SpamShearChannelCheck(const char *name, const SpamShearParams *p, const SpamSolidParams *solid, double *nu, double *c);
+/* The note a run of a viscous-gas lattice scene prints where its lattice is known to
+ * rearrange at rest (the Lucy kernel under the plain scheme). */
+PetscErrorCode SpamShearLatticeNote(const SpamCommonParams *c, const SpamSolidParams *solid, const char *name);
 
 /* Triangular lattices of unit spacing a: nx x ny rows filling a periodic box
  * (nx a) x (ny sqrt(3)/2 a); and the hexagon of n shells about the origin (vertices on

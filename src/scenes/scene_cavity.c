@@ -130,8 +130,7 @@ static PetscErrorCode Report(const SpamCommonParams *c, const SpamCavityParams *
   /* Ten lid transits: the primary vortex turns over several times. Whether the run is
    * steady shows in its kinetic energy (tests/run_cavity.py: its change over the last L/U). */
   out->info.t_end_default = 10.0 * L / fabs(U);
-  /* Measured (docs/scenes/couette.md): this gas's square lattice is unstable under Lucy at h = 3. */
-  if (c->kernel.kind == SPAM_KERNEL_LUCY) PetscCall(PetscPrintf(PETSC_COMM_WORLD, "cavity: note: the gas's square lattice is unstable under the Lucy kernel (it rearranges by t ~ 100 at h = 3); -kernel wendland_c2 keeps it\n"));
+  PetscCall(SpamShearLatticeNote(c, s, "cavity"));
   PetscFunctionReturn(0);
 }
 

@@ -42,6 +42,7 @@ static PetscErrorCode Build(const SpamCommonParams *c, const void *p, const Spam
   if (speed_set && c->walls.velocity_given[yhi]) SPAM_BAD_INPUT("-couette_speed", val, "-wall_yhi_velocity is given too and sets the upper wall's velocity: give one of them");
   PetscCall(SpamShearChannelCheck("couette", q, solid, &nu, &cs));
   PetscCall(SpamShearChannelBuild(c, "couette", q, out));
+  PetscCall(SpamShearLatticeNote(c, solid, "couette"));
   if (!c->walls.velocity_given[yhi]) out->walls.velocity[yhi][0] = q->speed;
   U = c->walls.velocity_given[yhi] ? c->walls.velocity[yhi][0] : q->speed;
   if (q->steady_start)

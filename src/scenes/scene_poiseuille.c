@@ -43,6 +43,7 @@ static PetscErrorCode Build(const SpamCommonParams *c, const void *p, const Spam
   if (speed_set && c->gravity_given) SPAM_BAD_INPUT("-poiseuille_speed", val, "-gravity is given too and sets the driving force: give one of them");
   PetscCall(SpamShearChannelCheck("poiseuille", q, solid, &nu, &cs));
   PetscCall(SpamShearChannelBuild(c, "poiseuille", q, out));
+  PetscCall(SpamShearLatticeNote(c, solid, "poiseuille"));
   out->gravity[0]  = 8.0 * nu * q->speed / (H * H);
   out->gravity_set = PETSC_TRUE;
   g                = c->gravity_given ? c->gravity[0] : out->gravity[0];
