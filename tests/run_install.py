@@ -12,10 +12,15 @@ temporary prefix, then, from other directories and without LD_LIBRARY_PATH:
   w(h/2) = w(0) (1 + 3/2) (1/2)^3; both are a few operations, so round-off (1e-14) bounds
   the difference;
 - the examples (executable) and the documentation are installed in PREFIX/share/spam, and
-  the installed examples/plot_run.py draws the installed binary's run."""
+  the installed examples/plot_run.py draws the installed binary's run;
+- every relative link of every installed page (README.md, CONTRIBUTING.md, docs/**,
+  tests/README.md, bench/README.md: Markdown links and images) names a file or directory
+  inside PREFIX/share/spam, so that an installed copy has no dead link; a control page with
+  a link into the source tree only is caught."""
 import glob
 import math
 import os
+import re
 import shutil
 import subprocess
 
@@ -47,11 +52,29 @@ target_link_libraries(consumer PRIVATE spam::spam)
 """
 
 H = 3.0
+LINK = re.compile(r"\]\(([^)\s]+)\)")
 
 
 def sh(cmd, cwd=None, env=None, timeout=600):
     p = subprocess.run(cmd, cwd=cwd, env=env, capture_output=True, text=True, timeout=timeout)
     return p.returncode, p.stdout, p.stderr
+
+
+def dead_links(share, pages):
+    """[(page, target)] of the relative links of pages (paths under share) that name nothing
+    inside share: a link that leaves the install, or one to a file not installed."""
+    dead = []
+    for page in pages:
+        with open(page, encoding="utf-8") as f:
+            text = f.read()
+        for m in LINK.finditer(text):
+            target = m.group(1)
+            if re.match(r"^(https?:|mailto:|#)", target):
+                continue
+            path = os.path.normpath(os.path.join(os.path.dirname(page), target.split("#", 1)[0]))
+            if os.path.relpath(path, share).startswith("..") or not os.path.exists(path):
+                dead.append((os.path.relpath(page, share), target))
+    return dead
 
 
 def check_kernel_line(c, how, code, out, err, version):
@@ -127,6 +150,25 @@ chart = os.path.join(elsewhere, "run.png")
 code, out, err = sh([plot_run, os.path.join(elsewhere, "out", "expansion"), "-o", chart], cwd=elsewhere, env=env)
 c.check(code == 0 and os.path.getsize(chart) > 10000 if os.path.exists(chart) else False,
         f"the installed plot_run.py draws the installed binary's run (exit {code}) {err.strip()[-200:]}")
+
+# The installed pages' links: every relative one resolves inside the installed share/spam.
+share = os.path.join(prefix, "share", "spam")
+pages = sorted(glob.glob(os.path.join(share, "**", "*.md"), recursive=True))
+names = {os.path.relpath(p, share) for p in pages}
+c.check({"README.md", "CONTRIBUTING.md", "docs/README.md", "tests/README.md", "bench/README.md"} <= names,
+        f"installed pages: {len(pages)}, the front page, the docs' map and the tests' and benchmarks' pages among them")
+dead = dead_links(share, pages)
+nlinks = sum(len(LINK.findall(open(p, encoding="utf-8").read())) for p in pages)
+c.check(len(pages) > 20 and not dead, f"every relative link of the {len(pages)} installed pages ({nlinks} links) resolves "
+        f"inside the prefix; dead: {dead[:8]}")
+# Control: a page linking to what only the source tree holds is caught.
+control = os.path.join(a.workdir, "control", "share", "spam")
+os.makedirs(os.path.join(control, "docs"))
+with open(os.path.join(control, "docs", "page.md"), "w", encoding="utf-8") as f:
+    f.write("[kept](page.md) [source](../src/app/main.c) [outside](../../../README.md#x) [web](https://example.org)\n")
+dead = dead_links(control, [os.path.join(control, "docs", "page.md")])
+c.check([t for _, t in dead] == ["../src/app/main.c", "../../../README.md#x"],
+        f"control: links to files not installed are caught: {dead}")
 
 # A file of that name in the working directory wins, silently as before.
 local = os.path.join(a.workdir, "local")

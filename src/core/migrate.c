@@ -1,11 +1,10 @@
 /* Migration between steps (decompose.h): owners by the curve cut, DMSwarmMigrate of a
  * DMSWARM_BASIC swarm with our own destination in DMSwarm_rank (the PIC migration with a
- * DMDA cell DM loses and duplicates particles in PETSc 3.18: design note
- * PARALLEL_RESTART.md 1.1), then the local sort, which also drops what was sent, and X
- * re-made.
+ * DMDA cell DM loses and duplicates particles in PETSc 3.18), then the local sort, which
+ * also drops what was sent, and X re-made.
  *
  * Every local phase ends in Agree: an error raised on some ranks only would leave the
- * others waiting in the next collective call for ever (the design note's t2 hung so).
+ * others waiting in the next collective call for ever (an early multi-rank run hung so).
  * The swarm may only resize while no field is open, so X (which holds the state field)
  * and the gid field are closed around DMSwarmMigrate; what the particles' owner keeps
  * outside the swarm it puts into the swarm's carried fields, or sends otherwise, in its

@@ -1,6 +1,6 @@
 /* What the run loop, the outputs and the checkpoints need to know of each TS type: one row
  * per type (ts_family.c), filled by the type's own implementation (ts_arkode.c,
- * ts_arkode_imex.c, ts_cvode.c, ts_symplectic.c, ts_petsc_rk.c). The rest of the program asks a TS's row
+ * ts_arkode_imex.c, ts_cvode.c, ts_symplectic.c, ts_petsc_explicit.c, ts_block_kdk.c). The rest of the program asks a TS's row
  * (SpamTSFamilyOf) instead of comparing type names, so a new type is one row and its hooks. */
 #ifndef SPAM_TS_FAMILY_H
 #define SPAM_TS_FAMILY_H

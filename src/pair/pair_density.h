@@ -1,6 +1,6 @@
 /* Summation density (CiSE Eq. 6): rho_i = sum_j m_j w_ij, the self term m_i w(0)
  * included by the caller. The one coding of the law, for every traversal of the list
- * (pass_isentrope.c's chunked rows, pass_canonical.c's sorted rows, the tensor path's
+ * (pass_chunked.c's chunked rows, pass_canonical.c's sorted rows, the tensor path's
  * and the diagnostics' callers of those):
  *   the pair's term c F(s), w_ij = wnorm F(s), with c = m wnorm when every particle has
  *   the mass m (the mass folded into the kernel's scale: one product per pair fewer),

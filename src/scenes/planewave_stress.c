@@ -1,6 +1,6 @@
 /* SPAM's own initial stress for the plane wave. Linearised about the stress-free lattice,
  * the solid's stress obeys d(sigma)/dt = Hooke(G v), G SPAM's velocity-gradient operator
- * on the reference lattice (velocity_gradient.c, elastic_stress_rate.c), so that
+ * on the reference lattice (the gradient walk of rhs_tensor.c, stress_hooke.c), so that
  *   sigma(t) - Hooke(G u(t)) is constant in time.
  * Starting from the continuum stress Hooke(grad u) leaves that constant nonzero: the
  * lattice then oscillates about a shifted equilibrium, u = u_off + (A - u_off) cos(wt)

@@ -1,3 +1,4 @@
+#!/usr/bin/python3
 """A scene added by its file and one row reaches every use of the scene list.
 
 The program under test is spam-ark compiled with the test-only scene test-drift (its file
