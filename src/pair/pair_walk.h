@@ -38,20 +38,26 @@
 /* The error of a walk asked for a kind kernel_list.h does not have. */
 #define SPAM_WALK_UNKNOWN(kind) SETERRQ(PETSC_COMM_SELF, PETSC_ERR_PLIB, "the pair walk has no kernel of kind %d (kernel_list.h lists %d)", (int)(kind), (int)SPAM_KERNEL_KINDS)
 
+/* The body of a walk's inner loop for the candidate pair (i, j): the separation (minimum
+ * image where img), the range test (continue: the macro is the loop body's last statement)
+ * and the call of Fn with both kernel values. Shared by the plain and the masked walks. */
+#define SPAM_PAIR_VISIT(Fn, dim, kind, img, nl, k, ctx, i, j, ui) \
+  double dx[3] = {0.0, 0.0, 0.0}, r2 = 0.0; \
+  for (int d = 0; d < dim; d++) { \
+    dx[d] = img ? SpamImageDelta(&nl->im, d, ui[d] - nl->u[d][j]) : ui[d] - nl->u[d][j]; \
+    r2 += dx[d] * dx[d]; \
+  } \
+  if (r2 >= k->h2) continue; \
+  const double s = sqrt(r2) * k->hinv; \
+  Fn(dim, ctx, i, j, dx, r2, SpamKernelShapeScaledF(kind, dim, k->wnorm, s), SpamKernelShapeScaledG(kind, dim, k->gnorm, s));
+
 #define SPAM_PAIR_WALK(Name, Ctx, Fn) \
   static inline __attribute__((always_inline)) void Name##Segment(const int dim, const int kind, const int img, const SpamNeighbours *nl, const SpamKernel *k, Ctx *ctx, int i, const int *nb, int np) \
   { \
     const double ui[3] = {nl->u[0][i], dim > 1 ? nl->u[1][i] : 0.0, dim > 2 ? nl->u[2][i] : 0.0}; \
     for (int c = 0; c < np; c++) { \
-      const int j     = nb[c]; \
-      double    dx[3] = {0.0, 0.0, 0.0}, r2 = 0.0; \
-      for (int d = 0; d < dim; d++) { \
-        dx[d] = img ? SpamImageDelta(&nl->im, d, ui[d] - nl->u[d][j]) : ui[d] - nl->u[d][j]; \
-        r2 += dx[d] * dx[d]; \
-      } \
-      if (r2 >= k->h2) continue; \
-      const double s = sqrt(r2) * k->hinv; \
-      Fn(dim, ctx, i, j, dx, r2, SpamKernelShapeScaledF(kind, dim, k->wnorm, s), SpamKernelShapeScaledG(kind, dim, k->gnorm, s)); \
+      const int j = nb[c]; \
+      SPAM_PAIR_VISIT(Fn, dim, kind, img, nl, k, ctx, i, j, ui) \
     } \
   } \
   static inline __attribute__((always_inline)) void Name##Rows(const int dim, const int kind, const SpamNeighbours *nl, const SpamKernel *k, Ctx *ctx) \
@@ -90,14 +96,7 @@
     for (int c = 0; c < np; c++) { \
       const int j = nb[c]; \
       if (!mi && !mask[j]) continue; \
-      double dx[3] = {0.0, 0.0, 0.0}, r2 = 0.0; \
-      for (int d = 0; d < dim; d++) { \
-        dx[d] = img ? SpamImageDelta(&nl->im, d, ui[d] - nl->u[d][j]) : ui[d] - nl->u[d][j]; \
-        r2 += dx[d] * dx[d]; \
-      } \
-      if (r2 >= k->h2) continue; \
-      const double s = sqrt(r2) * k->hinv; \
-      Fn(dim, ctx, i, j, dx, r2, SpamKernelShapeScaledF(kind, dim, k->wnorm, s), SpamKernelShapeScaledG(kind, dim, k->gnorm, s)); \
+      SPAM_PAIR_VISIT(Fn, dim, kind, img, nl, k, ctx, i, j, ui) \
     } \
   } \
   static inline __attribute__((always_inline)) void Name##Rows(const int dim, const int kind, const SpamNeighbours *nl, const SpamKernel *k, const unsigned char *mask, Ctx *ctx) \
