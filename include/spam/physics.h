@@ -43,7 +43,7 @@ typedef struct SpamPhysicsScratch {
 static inline double SpamPairDelta2(const SpamNeighbours *nl, const SpamImage *im, int i, int j, double dx[2])
 {
   dx[0] = SpamImageDelta(im, 0, nl->u[0][i] - nl->u[0][j]);
-  dx[1] = SpamImageDelta(im, 1, nl->u[1][i] - nl->u[1][j]);
+  dx[1] = nl->dim > 1 ? SpamImageDelta(im, 1, nl->u[1][i] - nl->u[1][j]) : 0.0; /* 1D: no u[1] */
   return dx[0] * dx[0] + dx[1] * dx[1];
 }
 

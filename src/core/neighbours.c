@@ -1,6 +1,7 @@
 /* Cell binning and the half Verlet list with a skin. */
 #include <spam/neighbours.h>
 #include <spam/huge_pages.h>
+#include <spam/zero_pages.h>
 #include <float.h>
 #include <limits.h>
 #include <string.h>
@@ -73,7 +74,8 @@ PetscErrorCode SpamNeighboursCreate(int n, const SpamBox *box, double cutoff, do
   nl->nblk = (n + SPAM_ROW_BLOCK - 1) / SPAM_ROW_BLOCK;
   PetscCall(PetscMalloc2(nl->nblk + 1, &nl->blk_zero, nl->nblk + 1, &nl->blk_final));
   PetscCall(PetscCalloc1(n + 1, &nl->image));
-  PetscCall(ZeroedHuge(n + 1, sizeof(int), (void **)&nl->gstart));
+  PetscCall(PetscMalloc1(n + 1, &nl->gstart));
+  SpamZeroPages(nl->gstart, (size_t)(n + 1) * sizeof(int)); /* read by every pass, written only with ghost rows */
   /* the arrays that every right-hand side streams: huge pages before their first write
    * (not the pair rows, whose room is larger than what they hold: a huge page across the
    * end of the rows would make up to 2 MiB of unused room resident) */
@@ -87,7 +89,10 @@ PetscErrorCode SpamNeighboursCreate(int n, const SpamBox *box, double cutoff, do
     PetscCall(PetscMalloc1(n + 1, &nl->ucell[d]));
     SpamAdviseHugePages(nl->ucell[d], (size_t)(n + 1) * sizeof(double));
   }
-  for (int d = 0; d < 3; d++) {
+  /* The box's directions only: an array for a direction the box lacks would be zeros
+   * written and never needed (24 bytes a particle in 2D). */
+  for (int d = 0; d < 3; d++) nl->u[d] = nl->xref[d] = nl->off[d] = NULL;
+  for (int d = 0; d < box->dim; d++) {
     PetscCall(ZeroedHuge(n + 1, sizeof(double), (void **)&nl->u[d]));
     PetscCall(ZeroedHuge(n + 1, sizeof(double), (void **)&nl->xref[d]));
     PetscCall(ZeroedHuge(n + 1, sizeof(double), (void **)&nl->off[d]));
@@ -216,7 +221,8 @@ static void BinParticles(SpamNeighbours *nl, const SpamBox *box)
   /* The cells are found by all threads; the counting sort itself is serial. */
 #pragma omp parallel for if (nl->threads > 1) num_threads(nl->threads) schedule(static)
   for (int i = 0; i < nl->n; i++) {
-    double u[3] = {nl->u[0][i], nl->u[1][i], nl->u[2][i]};
+    double u[3] = {0.0, 0.0, 0.0};
+    for (int d = 0; d < box->dim; d++) u[d] = nl->u[d][i];
     nl->cell_of[i] = SpamNeighboursCellOf(nl, box, u);
     nl->image[i]   = CellSeesImage(nl, box, nl->cell_of[i]);
   }

@@ -47,7 +47,7 @@ static PetscErrorCode GrowSlots(SpamNeighbours *nl)
   PetscFunctionBeginUser;
   if (need <= nl->ucap) PetscFunctionReturn(0);
   nl->ucap = need + need / 8 + 16;
-  for (int d = 0; d < 3; d++) PetscCall(PetscRealloc((size_t)nl->ucap * sizeof(double), &nl->u[d]));
+  for (int d = 0; d < nl->dim; d++) PetscCall(PetscRealloc((size_t)nl->ucap * sizeof(double), &nl->u[d]));
   PetscFunctionReturn(0);
 }
 
@@ -84,12 +84,12 @@ static PetscErrorCode BinGhosts(SpamNeighbours *nl)
   }
   for (int c = 0; c <= nl->ncells; c++) nl->gcell_start[c] = 0;
   for (int k = 0; k < ng; k++) {
-    const double u[3] = {nl->u[0][nl->n + k], nl->u[1][nl->n + k], nl->u[2][nl->n + k]};
+    const double u[3] = {nl->u[0][nl->n + k], nl->dim > 1 ? nl->u[1][nl->n + k] : 0.0, nl->dim > 2 ? nl->u[2][nl->n + k] : 0.0};
     nl->gcell_start[SpamNeighboursCellOf(nl, &nl->lbox, u) + 1]++;
   }
   for (int c = 0; c < nl->ncells; c++) nl->gcell_start[c + 1] += nl->gcell_start[c];
   for (int k = 0; k < ng; k++) {
-    const double u[3] = {nl->u[0][nl->n + k], nl->u[1][nl->n + k], nl->u[2][nl->n + k]};
+    const double u[3] = {nl->u[0][nl->n + k], nl->dim > 1 ? nl->u[1][nl->n + k] : 0.0, nl->dim > 2 ? nl->u[2][nl->n + k] : 0.0};
     nl->gcell_list[nl->gcell_start[SpamNeighboursCellOf(nl, &nl->lbox, u)]++] = k;
   }
   for (int c = nl->ncells; c > 0; c--) nl->gcell_start[c] = nl->gcell_start[c - 1];
@@ -141,7 +141,8 @@ static PetscErrorCode GhostRows(SpamNeighbours *nl)
   int               adj[27];
 
   PetscFunctionBeginUser;
-  nl->ngpairs   = 0;
+  nl->ngpairs = 0;
+  if (!g->n) PetscFunctionReturn(0); /* no rows: gstart holds zeros (SpamNeighboursBuildGhosts) */
   nl->gstart[0] = 0;
   for (int i = 0; i < nl->n; i++) {
     const int na = g->n && nl->gcell_near[nl->cell_of[i]] ? SpamNeighboursAdjacentCells(nl, &nl->lbox, nl->cell_of[i], adj) : 0;
@@ -167,8 +168,11 @@ PetscErrorCode SpamNeighboursBuildGhosts(SpamNeighbours *nl, const SpamBox *box)
   const PetscBool local = (PetscBool)(g->periodic[0] || g->periodic[1] || g->periodic[2] || g->mirror);
 
   PetscFunctionBeginUser;
+  /* gstart is zeros until a build has ghost rows (a periodic box of many cells has none:
+   * its pairs across a face are minimum images), and those zeros take no memory
+   * (SpamNeighboursCreate): written again only after rows. */
+  if (nl->ngpairs) for (int i = 0; i <= nl->n; i++) nl->gstart[i] = 0;
   nl->ngpairs = 0;
-  for (int i = 0; i <= nl->n; i++) nl->gstart[i] = 0;
   if (!local && !SpamHaloActive(&g->halo)) PetscFunctionReturn(0);
   /* At the build every particle is inside the box, so only an image within the list
    * range rc of a face can be within rc of a local particle. */

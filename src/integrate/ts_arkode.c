@@ -98,6 +98,8 @@ static PetscErrorCode TSSetUp_SpamARKode(TS ts)
   }
   if (app->o->classic_weights) PetscCallARK(ERKStepSStolerances(ark->mem, app->o->rtol, app->o->atol));
   else PetscCallARK(ERKStepWFtolerances(ark->mem, SpamErrorWeights));
+  app->w.fixed_step = ark->set.fixed_step > 0; /* no error test: zero weights (weights.c) */
+  app->w.zeroed     = NULL;
   PetscCallARK(ERKStepSetMaxNumSteps(ark->mem, -1)); /* the loop counts steps itself */
   /* -ts_max_reject means the same for every method: rejections of one step before it fails. */
   if (ts->max_reject > 0) PetscCallARK(ERKStepSetMaxErrTestFails(ark->mem, (int)ts->max_reject));
@@ -180,6 +182,7 @@ PetscErrorCode SpamTSARKodeResize(TS ts, Vec X)
   PetscCall(SpamErrorNormAttach(y, app->o->error_norm, app->sim->pair.reproducible));
   PetscCall(SpamNVectorDeterministic(y));
   SpamNVectorCloneUnwritten(y);
+  app->w.zeroed = NULL; /* new weights to zero (weights.c), whatever their address */
   PetscCallARK(ERKStepResize(ark->mem, y, 1.0, ts->ptime, NULL, NULL));
   N_VDestroy(ark->y);
   ark->y = y;

@@ -2,6 +2,7 @@
 #include <spam/sim.h>
 #include <spam/physics.h>
 #include <spam/decompose.h>
+#include <spam/zero_pages.h>
 
 /* Gids in rank order: this rank's particles follow those of the ranks before it. */
 static PetscErrorCode NumberParticles(SpamSwarm *sw)
@@ -37,6 +38,25 @@ static PetscErrorCode RegisterCarried(DM swarm, int dim)
   PetscFunctionReturn(0);
 }
 
+/* DMSwarm registers DMSwarm_pid and DMSwarm_rank itself and writes zeros into them when
+ * it sizes them: spam-ark never reads pid, and sets rank only before a migration (a local
+ * sort reads it: zeros there mean this rank, on one rank). The zeros stay, without their
+ * 12 bytes a particle of resident memory (zero_pages.c) until something writes them. */
+static PetscErrorCode ZeroUnusedFields(DM swarm, PetscInt n)
+{
+  PetscInt64 *pid;
+  PetscInt   *rank;
+
+  PetscFunctionBeginUser;
+  PetscCall(DMSwarmGetField(swarm, DMSwarmField_pid, NULL, NULL, (void **)&pid));
+  SpamZeroPages(pid, (size_t)n * sizeof *pid);
+  PetscCall(DMSwarmRestoreField(swarm, DMSwarmField_pid, NULL, NULL, (void **)&pid));
+  PetscCall(DMSwarmGetField(swarm, DMSwarmField_rank, NULL, NULL, (void **)&rank));
+  SpamZeroPages(rank, (size_t)n * sizeof *rank);
+  PetscCall(DMSwarmRestoreField(swarm, DMSwarmField_rank, NULL, NULL, (void **)&rank));
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamSimCreate(MPI_Comm comm, const SpamModel *model, const SpamBox *box, PetscInt n, double skin, SpamSim *sim)
 {
   PetscFunctionBeginUser;
@@ -60,6 +80,7 @@ PetscErrorCode SpamSimCreate(MPI_Comm comm, const SpamModel *model, const SpamBo
   if (SpamModelAdaptive(model)) PetscCall(DMSwarmRegisterPetscDatatypeField(sim->p.swarm, SPAM_H_FIELD, 1, PETSC_REAL));
   PetscCall(DMSwarmFinalizeFieldRegister(sim->p.swarm));
   PetscCall(DMSwarmSetLocalSizes(sim->p.swarm, n, 0));
+  PetscCall(ZeroUnusedFields(sim->p.swarm, n));
   PetscCall(DMSwarmGetField(sim->p.swarm, SPAM_GID_FIELD, NULL, NULL, (void **)&sim->p.gid));
   PetscCall(NumberParticles(&sim->p));
   PetscCall(SpamFieldsCreate(model->dim, (int)n, (int)n, model->tensor, &sim->pair.f));
