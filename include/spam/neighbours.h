@@ -80,6 +80,8 @@ typedef struct {
   int        *csort;             /* [threads * csort_row] merge-sort scratch of a build */
   int         csort_row;
   long    builds, grows;         /* statistics                                       */
+  double *keep;                  /* SpamNeighboursKeep's [n*dim], filled at the next */
+                                 /* change of xref or build (NULL: none pending)     */
   long    updates;               /* calls of SpamNeighboursUpdate                     */
   long    placements;            /* ghost slots' positions placed (an exchange through */
                                  /* the halo on several ranks): one per update or build */
@@ -120,9 +122,11 @@ static inline void SpamNeighboursPlace(const SpamNeighbours *nl, const double *x
 PetscErrorCode SpamNeighboursRestore(SpamNeighbours *nl, const SpamBox *box, const double *xref);
 /* Keep and revert: a list build made by work outside the trajectory (the diagnostics and
  * interpolations of an output) is undone, so the method's right-hand sides see the list
- * they would have seen without that output. Keep copies the reference positions (xref,
- * [n*dim]) and the build count; Revert rebuilds at them if a build happened since. */
-PetscErrorCode SpamNeighboursKeep(const SpamNeighbours *nl, double *xref, long *builds);
+ * they would have seen without that output. Keep notes the build count and hands over
+ * xref [n*dim], into which the reference positions are copied only when the list is
+ * about to change (most outputs build nothing: the buffer stays unwritten, no memory);
+ * Revert rebuilds at them if a build happened since. */
+PetscErrorCode SpamNeighboursKeep(SpamNeighbours *nl, double *xref, long *builds);
 PetscErrorCode SpamNeighboursRevert(SpamNeighbours *nl, const SpamBox *box, const double *xref, long builds);
 /* Periodic images as ghost slots instead of the minimum image along the directions set
  * in per (before the first build; a study of the ghost path, and the way halos work). */

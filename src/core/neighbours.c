@@ -538,12 +538,23 @@ static void RowBlocks(SpamNeighbours *nl)
 
 /* The local rows over the list's box (ghost-periodic directions open), then the ghosts
  * of the true box and their rows. */
+/* A pending Keep (SpamNeighboursKeep) takes the reference positions now, before the first
+ * change of xref or of the list since. */
+static void FillKeep(SpamNeighbours *nl)
+{
+  if (!nl->keep) return;
+  for (int i = 0; i < nl->n; i++)
+    for (int d = 0; d < nl->dim; d++) nl->keep[(size_t)i * nl->dim + d] = nl->xref[d][i];
+  nl->keep = NULL;
+}
+
 static PetscErrorCode BuildList(SpamNeighbours *nl, const SpamBox *box)
 {
   const SpamBox  *lbox = &nl->lbox;
   const SpamImage im   = nl->im;
 
   PetscFunctionBeginUser;
+  FillKeep(nl);
   if (nl->ev_build) PetscCall(PetscLogEventBegin(nl->ev_build, 0, 0, 0, 0));
   BinParticles(nl, lbox);
   nl->start[0] = 0;
@@ -617,6 +628,7 @@ static PetscErrorCode WrapAll(SpamNeighbours *nl, const SpamBox *box, const doub
   PetscMPIInt     first = -1;
 
   PetscFunctionBeginUser;
+  FillKeep(nl);
   Wrap(nl, box, x, stride, bad);
   if (SpamHaloActive(h)) {
     PetscMPIInt mine = bad[0] >= 0 ? h->size - h->rank : 0, most;
@@ -708,18 +720,18 @@ PetscErrorCode SpamNeighboursRestore(SpamNeighbours *nl, const SpamBox *box, con
   PetscFunctionReturn(0);
 }
 
-PetscErrorCode SpamNeighboursKeep(const SpamNeighbours *nl, double *xref, long *builds)
+PetscErrorCode SpamNeighboursKeep(SpamNeighbours *nl, double *xref, long *builds)
 {
   PetscFunctionBeginUser;
-  for (int i = 0; i < nl->n; i++)
-    for (int d = 0; d < nl->dim; d++) xref[(size_t)i * nl->dim + d] = nl->xref[d][i];
-  *builds = nl->builds;
+  nl->keep = xref; /* filled by FillKeep before xref or the list change */
+  *builds  = nl->builds;
   PetscFunctionReturn(0);
 }
 
 PetscErrorCode SpamNeighboursRevert(SpamNeighbours *nl, const SpamBox *box, const double *xref, long builds)
 {
   PetscFunctionBeginUser;
+  nl->keep = NULL;
   if (nl->builds == builds) PetscFunctionReturn(0);
   PetscCall(SpamNeighboursRestore(nl, box, xref));
   PetscFunctionReturn(0);
