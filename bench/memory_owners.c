@@ -7,7 +7,7 @@
  * Massif counts what is allocated; this counts what is written (a page becomes resident at
  * its first write; a read of an untouched page maps the shared zero page, left out).
  *
- * At exit it writes SPAM_MEM_OUT (a text file): a line "peak TOTAL" and then, per block
+ * At exit it writes SPAM_MEM_OUT.PID (a text file): a line "peak TOTAL" and then, per block
  * live at the peak, "block SIZE RESIDENT" followed by its frames "frame MODULE OFFSET",
  * which the Python side names with addr2line. Small blocks, the stack, libraries' own
  * mappings and the executable's pages are not counted here: they are the difference to
@@ -227,13 +227,16 @@ __attribute__((constructor)) static void Start(void)
 
 __attribute__((destructor)) static void Finish(void)
 {
-  const char *path = getenv("SPAM_MEM_OUT");
-  FILE       *f;
+  const char *base = getenv("SPAM_MEM_OUT");
+  char        path[4096];
+  FILE       *f = NULL;
 
   busy = 1;
   pthread_mutex_lock(&lock);
   Snapshot();
-  if (path && (f = fopen(path, "w"))) {
+  /* SPAM_MEM_OUT.PID: a launcher that the preload reaches too writes a file of its own */
+  if (base && snprintf(path, sizeof path, "%s.%ld", base, (long)getpid()) < (int)sizeof path) f = fopen(path, "w");
+  if (f) {
     fprintf(f, "peak %zu\nthreshold %zu\noverflow %d\nzero_frames %d\n", peak_total, threshold, overflow, zero_pfn != 0);
     for (int i = 0; i < nblocks; i++) {
       if (!blocks[i].at_peak) continue;

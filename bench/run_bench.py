@@ -111,11 +111,10 @@ def parse_args(argv):
     ap.add_argument("--memory", action="store_true",
                     help="only the memory tables (no LAMMPS, no timing): (peak RSS - "
                          "baseline) / N of gas-h3 and the 2D expansion at --memory-sizes, "
-                         "and the heap by owner under valgrind's massif")
+                         "and the resident bytes a particle by owner (bench/memory_owners.c "
+                         "preloaded into the gas-h3 run at N = 65536 and 262144)")
     ap.add_argument("--memory-sizes", default="16384,65536,262144",
                     help="N of the --memory RSS runs (default 16384,65536,262144)")
-    ap.add_argument("--memory-massif-size", type=int, default=65536,
-                    help="N of the --memory massif run (default 65536)")
     ap.add_argument("--workdir", default=None,
                     help="scratch directory (default: a fresh temporary one)")
     ap.add_argument("--keep", action="store_true", help="keep the scratch directory")
