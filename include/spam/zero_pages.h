@@ -9,4 +9,7 @@
  * its own). The partial pages at the ends, and every page where the kernel refuses, are
  * written. For an array that must read as zeros and is never written. */
 void SpamZeroPages(void *a, size_t bytes);
+/* Gives the heap's free pages back to the kernel (glibc: malloc_trim), so that arrays
+ * allocated after it start from pages nobody has written: before the run loop. */
+void SpamReleaseFreedMemory(void);
 #endif

@@ -8,6 +8,7 @@
  * time reached are written and the loop ends. */
 #include <spam/integrator.h>
 #include <spam/errors.h>
+#include <spam/zero_pages.h>
 #include <spam/interrupt.h>
 #include <spam/physics.h> /* the Gauss maxima of the run figures */
 #include "loop_state.h"
@@ -687,6 +688,7 @@ PetscErrorCode SpamRun(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *
   PetscErrorCode ierr;
 
   PetscFunctionBeginUser;
+  SpamReleaseFreedMemory();
   PetscCall(PetscNew(&L));
   PetscCall(PetscMalloc1((size_t)sim->p.n * (sim->model.dim + 1) + 1, &L->xref_keep));
   PetscCall(VecDuplicate(sim->p.X, &L->Xgood));
