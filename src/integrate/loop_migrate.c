@@ -15,9 +15,11 @@
 PetscErrorCode SpamLoopRemakeVectors(SpamSim *sim, SpamLoop *L)
 {
   PetscFunctionBeginUser;
-  PetscCall(VecDestroy(&L->Xgood));
-  PetscCall(VecDuplicate(sim->p.X, &L->Xgood));
-  PetscCall(VecCopy(sim->p.X, L->Xgood));
+  if (L->Xgood) { /* else the method keeps the last good state (time_loop.c) */
+    PetscCall(VecDestroy(&L->Xgood));
+    PetscCall(VecDuplicate(sim->p.X, &L->Xgood));
+    PetscCall(VecCopy(sim->p.X, L->Xgood));
+  }
   if (L->s.Xout) {
     PetscCall(VecDestroy(&L->s.Xout));
     PetscCall(VecDuplicate(sim->p.X, &L->s.Xout));

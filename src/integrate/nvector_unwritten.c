@@ -51,6 +51,16 @@ static N_Vector CloneUnwritten(N_Vector w)
     N_VDestroy_Petsc(c);
     return NULL;
   }
+  {
+    /* what is composed on the solution follows it into its clones (ts_arkode.c's record
+     * of ERKStep's copies) */
+    PetscObject k = NULL;
+    if (PetscObjectQuery((PetscObject)N_VGetVector_Petsc(w), "SpamArkodeCopies", &k) || (k && PetscObjectCompose((PetscObject)v, "SpamArkodeCopies", k))) {
+      VecDestroy(&v);
+      N_VDestroy_Petsc(c);
+      return NULL;
+    }
+  }
   ((N_VectorContent_Petsc)c->content)->own_data = SUNTRUE; /* N_VDestroy destroys v */
   ((N_VectorContent_Petsc)c->content)->pvec     = v;
   return c;

@@ -142,19 +142,48 @@ static PetscErrorCode InterpolatedOutputs(TS ts, SpamSim *sim, const SpamRunOpti
   PetscFunctionReturn(0);
 }
 
+/* Whether the method keeps the state its last step started from (ts_family.h): then the
+ * loop keeps no copy of its own, a state vector of memory less. */
+static PetscErrorCode MethodKeepsLastGood(TS ts, PetscBool *yes)
+{
+  const SpamTSFamily *f;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamTSFamilyOf(ts, &f));
+  *yes = PETSC_FALSE;
+  if (f->keeps_last_good) PetscCall(f->keeps_last_good(ts, yes));
+  PetscFunctionReturn(0);
+}
+
+/* The last good state: the loop's copy, or the method's (accepted: after an accepted step,
+ * else after a failed one); NULL if neither has it. */
+static PetscErrorCode LastGood(TS ts, const SpamLoop *L, PetscBool accepted, Vec *good)
+{
+  const SpamTSFamily *f;
+
+  PetscFunctionBeginUser;
+  *good = L->Xgood;
+  if (*good) PetscFunctionReturn(0);
+  PetscCall(SpamTSFamilyOf(ts, &f));
+  if (f->last_good) PetscCall(f->last_good(ts, accepted, good));
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode Unstable(SpamSim *sim, SpamOutput *out, Vec Xgood, double tgood, SpamRunResult *r, const char *why)
 {
   const PetscScalar *g;
-  PetscInt           bad;
+  PetscInt           bad = -1;
 
   PetscFunctionBeginUser;
   r->status = SPAM_STATUS_UNSTABLE;
   PetscCall(PetscStrncpy(r->reason, why, sizeof r->reason));
   /* Keep the last good state as a snapshot tagged last_good. */
-  PetscCall(VecGetArrayRead(Xgood, &g));
-  PetscCall(SpamDensitySummation(sim, g, &bad));
-  if (bad < 0) PetscCall(SpamSnapshotWrite(out, sim, g, tgood, "last_good"));
-  PetscCall(VecRestoreArrayRead(Xgood, &g));
+  if (Xgood) {
+    PetscCall(VecGetArrayRead(Xgood, &g));
+    PetscCall(SpamDensitySummation(sim, g, &bad));
+    if (bad < 0) PetscCall(SpamSnapshotWrite(out, sim, g, tgood, "last_good"));
+    PetscCall(VecRestoreArrayRead(Xgood, &g));
+  } else PetscCall(PetscPrintf(sim->p.comm, "spam-ark: the method kept no last good state: no last_good snapshot\n"));
   PetscCall(PetscPrintf(sim->p.comm, "spam-ark: unstable: %s\n", r->reason));
   PetscFunctionReturn(0);
 }
@@ -526,7 +555,7 @@ static PetscErrorCode RanksResult(SpamSim *sim, SpamRunResult *r)
   PetscFunctionReturn(0);
 }
 
-/* The loop proper; Xgood holds the last accepted state. rs: the checkpoint a restart
+/* The loop proper; Xgood (or the method: LastGood) holds the last accepted state. rs: the checkpoint a restart
  * continues (NULL: a new run). */
 static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamOutput *out, SpamRunResult *r, SpamRestart *rs, SpamLoop *L)
 {
@@ -560,7 +589,7 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
     PetscCall(SpamRestartApply(sim, o, ts, app, rs, r, L));
     PetscCall(Reschedule(sim, o, r->fixed_dt, rs, L));
   } else PetscCall(Start(sim, o, ts, out, r, L));
-  PetscCall(VecCopy(sim->p.X, L->Xgood));
+  if (L->Xgood) PetscCall(VecCopy(sim->p.X, L->Xgood));
   while (L->t < o->t_end && pp->steps < o->max_steps) {
     /* Interpolating, the only stop is t_end; a step cut there is an "end" step. */
     const PetscBool     dense = (PetscBool)(sp->mode == SPAM_OUTPUT_INTERPOLATED);
@@ -590,7 +619,9 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
     L->followed = PETSC_FALSE; /* the step evaluated f on the vectors a migration re-made */
     PetscCall(FailureReason(ts, app, pp->steps + 1, t, why, sizeof why));
     if (why[0]) {
-      PetscCall(Unstable(sim, out, L->Xgood, t, r, why));
+      Vec good;
+      PetscCall(LastGood(ts, L, PETSC_FALSE, &good));
+      PetscCall(Unstable(sim, out, good, t, r, why));
       break;
     }
     PetscCall(TSGetTime(ts, &tnew));
@@ -614,11 +645,13 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
      * below the floor fails. */
     if (!why[0] && r->fixed_dt <= 0 && limit != cut && pp->dt < dt_min && pp->dt < L->dt_prev) (void)snprintf(why, sizeof why, "step size %.3e fell below the floor %.3e at t = %.6g (step %ld)", pp->dt, dt_min, t, pp->steps);
     if (why[0]) {
-      PetscCall(Unstable(sim, out, L->Xgood, r->t, r, why));
+      Vec good;
+      PetscCall(LastGood(ts, L, PETSC_TRUE, &good));
+      PetscCall(Unstable(sim, out, good, r->t, r, why));
       break;
     }
     PetscCall(PostStep(ts, sim, r));
-    PetscCall(VecCopy(sim->p.X, L->Xgood));
+    if (L->Xgood) PetscCall(VecCopy(sim->p.X, L->Xgood));
     if (limit != cut) L->dt_prev = pp->dt;
     r->t = t;
     {
@@ -680,7 +713,8 @@ static PetscErrorCode Loop(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsA
   PetscFunctionReturn(0);
 }
 
-/* Xgood and Xout (made by the first interpolated output) are freed on every path: a failed
+/* Xgood (unless the method keeps the last good state) and Xout (made by the first
+ * interpolated output) are freed on every path: a failed
  * write ends the run with an error, not a leak. They live in the loop state, which a migration re-makes (loop_migrate.c). */
 PetscErrorCode SpamRun(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *app, SpamOutput *out, SpamRestart *rs, SpamRunResult *r)
 {
@@ -691,7 +725,11 @@ PetscErrorCode SpamRun(SpamSim *sim, const SpamRunOptions *o, TS ts, SpamTsApp *
   SpamReleaseFreedMemory();
   PetscCall(PetscNew(&L));
   PetscCall(PetscMalloc1((size_t)sim->p.n * (sim->model.dim + 1) + 1, &L->xref_keep));
-  PetscCall(VecDuplicate(sim->p.X, &L->Xgood));
+  {
+    PetscBool kept;
+    PetscCall(MethodKeepsLastGood(ts, &kept));
+    if (!kept) PetscCall(VecDuplicate(sim->p.X, &L->Xgood));
+  }
   ierr = Loop(sim, o, ts, app, out, r, rs, L);
   PetscCall(VecDestroy(&L->s.Xout));
   PetscCall(VecDestroy(&L->Xgood));

@@ -12,9 +12,18 @@
  * interpolant (massif of a Dormand-Prince run: 17 in all). */
 #define SPAM_ERK_WORK_VECTORS 10
 
+/* Which of ERKStep's vectors holds what, learnt from its copies (TrackedScale). */
+typedef struct {
+  N_Vector y;    /* the solution (the TS's X), ERKStep's output and stage sum   */
+  N_Vector yn;   /* ERKStep's state at the step's end: a copy of y             */
+  N_Vector yold; /* the Hermite interpolant's y at the step's start: of yn      */
+} SpamArkodeCopies;
+
 typedef struct {
   SUNContext           sunctx;
   N_Vector             y;
+  SpamArkodeCopies     copies;
+  PetscContainer       copies_c;  /* composed on every vector (nvector_unwritten.c)   */
   void                *mem;
   SpamArkodeSettings   set;       /* the type's options (arkode_options.c)            */
   SpamArkodeController ctl;       /* the step controller (arkode_controller.c)        */
@@ -61,6 +70,41 @@ PetscErrorCode SpamArkodeLoadTable(const char *name, ARKodeButcherTable *B)
   PetscFunctionReturn(0);
 }
 
+#define SPAM_COPIES_KEY "SpamArkodeCopies"
+
+/* N_VScale with a record of ERKStep's whole copies (c = 1) between its vectors. ERKStep
+ * 6.4.1 copies y into its yn when it starts and at the end of each step, and its Hermite
+ * interpolant copies yn into its yold before yn takes the new step's end; its other copies
+ * (yn into y, a stage into another) name neither pair. So after a step yold holds the
+ * state the step started from, which the run loop's last_good snapshot is written from
+ * (SpamTSLastGood): a state vector the loop no longer keeps a copy of. */
+static void TrackedScale(realtype c, N_Vector x, N_Vector z)
+{
+  PetscContainer    cont = NULL;
+  SpamArkodeCopies *k    = NULL;
+
+  N_VScale_Petsc(c, x, z);
+  if (c != 1.0 || x == z) return;
+  if (PetscObjectQuery((PetscObject)N_VGetVector_Petsc(z), SPAM_COPIES_KEY, (PetscObject *)&cont) || !cont) return;
+  if (PetscContainerGetPointer(cont, (void **)&k) || !k || z == k->y) return;
+  if (x == k->y) k->yn = z;
+  else if (x == k->yn) k->yold = z;
+}
+
+/* Every vector of ERKStep shares y's record: clones carry the composed container. */
+static PetscErrorCode TrackCopies(TS_SpamARKode *ark, N_Vector y)
+{
+  PetscFunctionBeginUser;
+  ark->copies = (SpamArkodeCopies){y, NULL, NULL};
+  if (!ark->copies_c) {
+    PetscCall(PetscContainerCreate(PETSC_COMM_SELF, &ark->copies_c));
+    PetscCall(PetscContainerSetPointer(ark->copies_c, &ark->copies));
+  }
+  PetscCall(PetscObjectCompose((PetscObject)N_VGetVector_Petsc(y), SPAM_COPIES_KEY, (PetscObject)ark->copies_c));
+  y->ops->nvscale = TrackedScale;
+  PetscFunctionReturn(0);
+}
+
 static PetscErrorCode TSSetUp_SpamARKode(TS ts)
 {
   TS_SpamARKode *ark = (TS_SpamARKode *)ts->data;
@@ -80,6 +124,7 @@ static PetscErrorCode TSSetUp_SpamARKode(TS ts)
    * stage is then y_n+1 bit for bit, which a restart needs. */
   PetscCall(SpamNVectorDeterministic(ark->y));
   SpamNVectorCloneUnwritten(ark->y);
+  PetscCall(TrackCopies(ark, ark->y));
   {
     ARKodeButcherTable B;
     PetscCall(SpamArkodeLoadTable(ark->set.table, &B));
@@ -183,6 +228,8 @@ PetscErrorCode SpamTSARKodeResize(TS ts, Vec X)
   PetscCall(SpamNVectorDeterministic(y));
   SpamNVectorCloneUnwritten(y);
   app->w.zeroed = NULL; /* new weights to zero (weights.c), whatever their address */
+  PetscCall(PetscObjectCompose((PetscObject)N_VGetVector_Petsc(ark->y), SPAM_COPIES_KEY, NULL));
+  PetscCall(TrackCopies(ark, y)); /* ERKStepResize copies y into its new yn */
   PetscCallARK(ERKStepResize(ark->mem, y, 1.0, ts->ptime, NULL, NULL));
   N_VDestroy(ark->y);
   ark->y = y;
@@ -195,8 +242,11 @@ static PetscErrorCode TSReset_SpamARKode(TS ts)
 
   PetscFunctionBeginUser;
   if (ark->mem) ERKStepFree(&ark->mem);
+  if (ark->y) PetscCall(PetscObjectCompose((PetscObject)N_VGetVector_Petsc(ark->y), SPAM_COPIES_KEY, NULL));
   if (ark->y) N_VDestroy(ark->y);
-  ark->y = NULL;
+  ark->y       = NULL;
+  ark->copies  = (SpamArkodeCopies){NULL, NULL, NULL};
+  PetscCall(PetscContainerDestroy(&ark->copies_c));
   if (ark->sunctx) PetscCallARK(SUNContext_Free(&ark->sunctx));
   PetscFunctionReturn(0);
 }
@@ -437,6 +487,31 @@ static PetscErrorCode CkReusesARKode(TS ts, const SpamCkFile *c, PetscBool *reus
   return 0;
 }
 
+/* The state the last step started from: after a failed step ERKStep has put it back into
+ * X (its yn, the last accepted state); after an accepted step it is the interpolant's
+ * yold. NULL when ERKStep's copies were not seen (another SUNDIALS): the loop keeps its
+ * own then (SpamTSKeepsLastGood). */
+static PetscErrorCode LastGoodARKode(TS ts, PetscBool accepted, Vec *good)
+{
+  TS_SpamARKode *ark = (TS_SpamARKode *)ts->data;
+
+  PetscFunctionBeginUser;
+  *good = NULL;
+  if (!ark->mem || !ark->copies.yn) PetscFunctionReturn(0);
+  if (!accepted) *good = ts->vec_sol;
+  else if (ark->copies.yold) *good = N_VGetVector_Petsc(ark->copies.yold);
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode KeepsLastGoodARKode(TS ts, PetscBool *yes)
+{
+  TS_SpamARKode *ark = (TS_SpamARKode *)ts->data;
+
+  PetscFunctionBeginUser;
+  *yes = (PetscBool)(ark->mem && ark->copies.yn); /* ERKStepCreate's copy of y was seen */
+  PetscFunctionReturn(0);
+}
+
 /* A set-up ERKStep of a never-stepped TS cannot be resized: it is made again on X. */
 static PetscErrorCode FollowPlacedARKode(TS ts, Vec X)
 {
@@ -466,4 +541,6 @@ const SpamTSFamily SpamTSFamilyARKode = {
   .ck_apply      = CkApplyARKode,
   .ck_reuses_f   = CkReusesARKode,
   .follow_placed = FollowPlacedARKode,
+  .last_good     = LastGoodARKode,
+  .keeps_last_good = KeepsLastGoodARKode,
 };

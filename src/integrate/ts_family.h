@@ -53,6 +53,10 @@ typedef struct SpamTSFamily {
   PetscErrorCode (*ck_apply)(TS ts, const SpamCkFile *c, double h_next, PetscBool pending);
   PetscErrorCode (*ck_reuses_f)(TS ts, const SpamCkFile *c, PetscBool *reused); /* NULL: evaluated anew */
   PetscErrorCode (*follow_placed)(TS ts, Vec X);                   /* onto a checkpoint's distribution */
+  /* the state the last step started from, held by the method (good: NULL if it has none);
+   * accepted: the step was accepted (else it failed) */
+  PetscErrorCode (*last_good)(TS ts, PetscBool accepted, Vec *good);
+  PetscErrorCode (*keeps_last_good)(TS ts, PetscBool *yes);        /* last_good will answer  */
 } SpamTSFamily;
 
 /* The row of type name (NULL if none); the row of ts's type (an error if none). */
