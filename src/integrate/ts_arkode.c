@@ -228,8 +228,7 @@ PetscErrorCode SpamTSARKodeResize(TS ts, Vec X)
   PetscCall(SpamNVectorDeterministic(y));
   SpamNVectorCloneUnwritten(y);
   app->w.zeroed = NULL; /* new weights to zero (weights.c), whatever their address */
-  PetscCall(PetscObjectCompose((PetscObject)N_VGetVector_Petsc(ark->y), SPAM_COPIES_KEY, NULL));
-  PetscCall(TrackCopies(ark, y)); /* ERKStepResize copies y into its new yn */
+  PetscCall(TrackCopies(ark, y)); /* ERKStepResize copies y into its new yn (the old X is gone) */
   PetscCallARK(ERKStepResize(ark->mem, y, 1.0, ts->ptime, NULL, NULL));
   N_VDestroy(ark->y);
   ark->y = y;
@@ -242,8 +241,7 @@ static PetscErrorCode TSReset_SpamARKode(TS ts)
 
   PetscFunctionBeginUser;
   if (ark->mem) ERKStepFree(&ark->mem);
-  if (ark->y) PetscCall(PetscObjectCompose((PetscObject)N_VGetVector_Petsc(ark->y), SPAM_COPIES_KEY, NULL));
-  if (ark->y) N_VDestroy(ark->y);
+  if (ark->y) N_VDestroy(ark->y); /* X may be gone already: its container goes with it */
   ark->y       = NULL;
   ark->copies  = (SpamArkodeCopies){NULL, NULL, NULL};
   PetscCall(PetscContainerDestroy(&ark->copies_c));
