@@ -225,7 +225,7 @@ def write_readings(path, results, seeds):
     chart_readings.write_json(path, {"ra_c": results["ra_c"], "options": results["extra"],
                                      "growth": chart_readings.table(columns, rows), "onset": onset, "bands": bands,
                                      "runs": [{k: r[k] for k in ("ra_over_ra_c", "amplitude", "s_theory", "s_measured", "s_ratio",
-                                                                 "nu", "band_rates")} for r in results["runs"]]})
+                                                                 "nu", "band_rates", "post_step_jumps", "ke_end")} for r in results["runs"]]})
 
 
 results = {"ra_c": ra_c, "k_c_H": kc, "k_roll_H": k1 * cell.H, "extra": a.extra, "runs": []}
