@@ -76,8 +76,8 @@ def end_time(a, cell, ratio, amplitude):
 
 
 def run_one(a, cell, ratio, name, extra):
-    """(Ra, Nu, Nu_bottom, Nu_top, KE_final, ms per RHS, Nu at the start, end time) of one
-    run, or None when it fails."""
+    """(Ra, Nu, Nu_bottom, Nu_top, KE_final, ms per RHS, Nu at the start, end time, wall
+    crossings) of one run, or None when it fails."""
     out = os.path.join(a.workdir, name, f"ra{ratio:g}")
     t_end, t_from, _ = end_time(a, cell, ratio, amplitude_of(a, extra))
     args = [a.spam_ark, "-options_file", os.path.join(HERE, "..", "options", "convection.opts"),
@@ -106,7 +106,8 @@ def run_one(a, cell, ratio, name, extra):
     t_last = series["t"][-1]
     nu, nub, nut, (qb, qt) = pc.nusselt(summary, series, a.t_bottom, a.t_top, 0.5 * t_last if t_from is None else t_from)
     ms = 1e3 * summary["rhs_time_s"] / summary["rhs_evals"]
-    return float(m.group(1)), nu, nub, nut, series["kinetic"][-1], ms, 0.5 * (qb[0] + qt[0]), t_last
+    return (float(m.group(1)), nu, nub, nut, series["kinetic"][-1], ms, 0.5 * (qb[0] + qt[0]), t_last,
+            summary.get("post_step_jumps", 0))
 
 
 def onset(points):
@@ -154,7 +155,7 @@ def main():
     import matplotlib.pyplot as plt
 
     ratios = [float(r) for r in a.ratios.split(",")]
-    fig, ax = plt.subplots(figsize=(7.5, 5))
+    fig, ax = plt.subplots(figsize=(7.5, 7))
     ax.set_xscale(a.xscale)
     cell = convection_linear.Cell(nx=a.nx, ny=a.ny, g=0.1 * 2.0 / a.ny, t_bottom=a.t_bottom, t_top=a.t_top)
     ra_cell, _ = convection_linear.cell_critical(cell)
@@ -168,14 +169,18 @@ def main():
                 failed.append(r)
                 print(f"{name} {r:g} failed", flush=True)
                 continue
-            ra, nu, nub, nut, ke, ms, nu0, t_end = got
-            ok.append((r, nu, nub, nut, nu0))
+            ra, nu, nub, nut, ke, ms, nu0, t_end, jumps = got
+            ok.append((r, nu, nub, nut, nu0, jumps))
             runs.setdefault(name, {})[f"{r:g}".replace(".", "_")] = {"ratio": r, "Ra": ra, "Nu": nu, "Nu_bottom": nub,
                                                                    "Nu_top": nut, "wall_difference": nut - nub, "ke_final": ke,
-                                                                   "Nu_start": nu0, "t_end": t_end}
+                                                                   "Nu_start": nu0, "t_end": t_end, "post_step_jumps": jumps}
             print(f"{name} {r:g} {ra:.6g} {nu:.5f} {nub:.5f} {nut:.5f} {ke:.5g} {ms:.4f} {t_end:.0f}", flush=True)
         label = f"{name}: {' '.join(extra)}" if extra else name
         ax.plot([x[0] for x in ok], [x[1] for x in ok], "-", color=colour, marker=marker, label=f"{label} (mean of both walls)")
+        crossed = [x for x in ok if x[5]]
+        if crossed:  # particles crossed the walls (reflected after the step): not a clean roll
+            ax.plot([x[0] for x in crossed], [x[1] for x in crossed], "o", ms=14, mfc="none", mec=colour, mew=1.5,
+                    label=f"{name}: particles crossed the walls (broken down)")
         ax.plot([x[0] for x in ok] * 2, [x[2] for x in ok] + [x[3] for x in ok], "_", color=colour, ms=9)
         if failed:
             ax.plot(failed, [1.0] * len(failed), "x", color=colour, ms=10, mew=2, label=f"{name}: run failed")
@@ -196,12 +201,12 @@ def main():
     ax.axhline(1.0, color="0.5", ls=":", lw=1, label="conduction Nu = 1")
     ax.set_xlabel("Ra / Ra_c (superadiabatic Rayleigh number over 1707.76)")
     ax.set_ylabel("Nusselt number Nu")
-    ax.set_title(f"scene convection: Nu against Ra ({a.nx} x {a.ny} lattice, Pr = 1, T_b = {a.t_bottom:g}, T_t = {a.t_top:g}, "
-                 f"kick {a.amplitude:g} c_s unless the variant sets it)", fontsize=9)
-    ax.legend(fontsize=8)
+    ax.set_title(f"scene convection: Nu against Ra\n{a.nx} x {a.ny} lattice, Pr = 1, T_b = {a.t_bottom:g}, T_t = {a.t_top:g}, "
+                 f"kick {a.amplitude:g} c_s unless the variant sets it", fontsize=9)
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12))
     out = a.out or os.path.join(a.workdir, "convection_nu_ra.png")
     fig.tight_layout()
-    fig.savefig(out, dpi=110)
+    fig.savefig(out, dpi=110, bbox_inches="tight")
     print(f"png={out}")
     if a.readings:
         import chart_readings
