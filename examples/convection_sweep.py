@@ -15,7 +15,9 @@ Nu against Ra / Ra_c with the continuum onset (rigid-rigid walls, Boussinesq: 17
 marked. Each --variant NAME="OPTIONS" (repeatable; default one variant, "default", with no
 options) runs every ratio with those options added; each variant has its own colour and
 marker, and a run that fails (say exit 3, unstable) is drawn as a cross on Nu = 1 and
-listed. Prints one line per run: variant ratio Ra Nu Nu_bottom Nu_top ke_final ms_per_rhs.
+listed. Prints one line per run: variant ratio Ra Nu Nu_bottom Nu_top ke_final ms_per_rhs t_end.
+A run whose particles crossed the walls (summary.json post_step_jumps > 0) is circled: its
+Nu is not that of clean rolls.
 With --readings, the runs and a table of Nu (hot, cold wall) per ratio and variant are
 written beside the chart (OUT.json, examples/chart_readings.py) for the pages' markers.
 
@@ -64,9 +66,9 @@ def amplitude_of(a, extra):
 
 
 def end_time(a, cell, ratio, amplitude):
-    """(end time or None for the options file's, the time Nu is averaged from as a fraction
-    of the run or an absolute time, s): --sized-end's end time where the cell's linear rate
-    s is positive (see the module's text), else --t-end and the second half."""
+    """(end time, or None for the options file's; the time Nu is averaged from, or None for
+    the second half of the run; s): --sized-end's end time where the cell's linear rate s
+    (at Pr = 1, the sweep's) is positive (see the module's text), else --t-end."""
     if a.sized_end:
         s = convection_linear.growth(cell, 2 * math.pi / cell.L, ratio * pc.RA_CRITICAL)[0]
         if s > 0:
