@@ -49,8 +49,8 @@ Checks, each with the number it comes from:
   2 Ra_c -shift_compression with Lucy's kernel goes unstable in this cell and its
   particles cross the walls by thousands (docs/scenes/convection.md).
 
-About 15 CPU-s for the two growth runs (28,500 right-hand sides), 24 for the two onset
-runs with their analysis (35,400 right-hand sides), at a load of 14 on 2 cores."""
+36 CPU-s in all at a load of 15 on 2 cores (112 s wall): about 12 for the two growth runs
+(28,500 right-hand sides), 24 for the two onset runs with their analysis (35,400)."""
 import json
 import os
 import shlex
