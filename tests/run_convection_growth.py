@@ -49,8 +49,7 @@ Checks, each with the number it comes from:
   2 Ra_c -shift_compression with Lucy's kernel goes unstable in this cell and its
   particles cross the walls by thousands (docs/scenes/convection.md).
 
-36 CPU-s in all at a load of 15 on 2 cores (112 s wall): about 12 for the two growth runs
-(28,500 right-hand sides), 24 for the two onset runs with their analysis (35,400)."""
+Work: 28,500 right-hand sides for the two growth runs, 35,400 for the two onset runs."""
 import json
 import os
 import shlex
