@@ -15,12 +15,33 @@ Nu against Ra / Ra_c with the continuum onset (rigid-rigid walls, Boussinesq: 17
 marked. Each --variant NAME="OPTIONS" (repeatable; default one variant, "default", with no
 options) runs every ratio with those options added; each variant has its own colour and
 marker, and a run that fails (say exit 3, unstable) is drawn as a cross on Nu = 1 and
-listed. Prints one line per run: variant ratio Ra Nu Nu_bottom Nu_top ke_final ms_per_rhs.
+listed. Prints one line per run: variant ratio Ra Nu Nu_bottom Nu_top ke_final ms_per_rhs t_end.
+A run whose particles crossed the walls (summary.json post_step_jumps > 0) is circled: its
+Nu is not that of clean rolls.
 With --readings, the runs and a table of Nu (hot, cold wall) per ratio and variant are
 written beside the chart (OUT.json, examples/chart_readings.py) for the pages' markers.
+
+Near onset the roll grows slowly (its linear rate s vanishes at Ra_c), so a fixed end time
+leaves it short of saturation there. --sized-end sizes each run's end time from the linear
+rate s of the cell (tests/convection_linear.py) at its Ra, as tests/run_convection_onset.py
+does: the seed's projection on the roll is about 0.05 of its amplitude, the saturated roll
+about 0.5 (in these units), so growth takes ln(0.5 / amplitude) e-foldings, then 3 to
+saturate and 3 to average Nu over (end time (ln(0.5 / amplitude) + 6) / s, Nu over the last
+3 / s). Where s <= 0 (below onset) the run ends at --t-end (or the options file's) and Nu
+is the mean over its second half. A variant may set its own -convection_amplitude (the
+last value given wins); the sized end time uses it.
+
+--onset draws, per variant, the line of Nu - 1 through the two lowest ratios that convect
+(Nu - 1 above 3 x the discrete flux error of the start, |Nu(t = 0) - 1|, as
+tests/run_convection_onset.py counts them) extrapolated to Nu = 1: weakly nonlinear theory
+has Nu - 1 linear in Ra - Ra_c near onset, so the intercept is the onset. With --readings
+the onset of each variant (in units of 1707.76 and of the cell's linear Ra_c) is written too.
+--reuse analyses runs already in --workdir that reached their end time again.
 """
 
 import argparse
+import json
+import math
 import os
 import re
 import shlex
@@ -38,26 +59,69 @@ HERE = os.path.dirname(os.path.abspath(__file__))
 STYLES = [("C3", "o"), ("C0", "s"), ("C2", "^"), ("C1", "D"), ("C4", "v")]
 
 
-def run_one(a, ratio, name, extra):
-    """(Ra, Nu, Nu_bottom, Nu_top, KE_final, ms per RHS) of one run, or None when it fails."""
+def amplitude_of(a, extra):
+    """The run's seed amplitude: the variant's last -convection_amplitude, else --amplitude."""
+    given = [extra[i + 1] for i in range(len(extra) - 1) if extra[i] == "-convection_amplitude"]
+    return float(given[-1]) if given else a.amplitude
+
+
+def end_time(a, cell, ratio, amplitude):
+    """(end time, or None for the options file's; the time Nu is averaged from, or None for
+    the second half of the run; s): --sized-end's end time where the cell's linear rate s
+    (at Pr = 1, the sweep's) is positive (see the module's text), else --t-end."""
+    if a.sized_end:
+        s = convection_linear.growth(cell, 2 * math.pi / cell.L, ratio * pc.RA_CRITICAL)[0]
+        if s > 0:
+            t_end = (math.log(0.5 / amplitude) + 6.0) / s
+            return t_end, t_end - 3.0 / s, s
+    return (a.t_end or None), None, None
+
+
+def run_one(a, cell, ratio, name, extra):
+    """(Ra, Nu, Nu_bottom, Nu_top, KE_final, ms per RHS, Nu at the start, end time, wall
+    crossings) of one run, or None when it fails."""
     out = os.path.join(a.workdir, name, f"ra{ratio:g}")
+    t_end, t_from, _ = end_time(a, cell, ratio, amplitude_of(a, extra))
     args = [a.spam_ark, "-options_file", os.path.join(HERE, "..", "options", "convection.opts"),
             "-convection_nx", a.nx, "-convection_ny", a.ny, "-convection_g", 0.1 * 2.0 / a.ny,
             "-convection_ra", ratio * pc.RA_CRITICAL, "-convection_amplitude", a.amplitude, "-snapshot_interval", 0,
-            "-output_dir", out, "-output_overwrite", "-output_interval", a.t_end / 200 if a.t_end else 20]
-    if a.t_end:
-        args += ["-ts_max_time", a.t_end]
+            "-output_dir", out, "-output_overwrite", "-output_interval", t_end / 200 if t_end else 20]
+    if t_end:
+        args += ["-ts_max_time", t_end]
     args = [str(x) for x in args] + extra
-    p = subprocess.run(args, capture_output=True, text=True)
-    if p.returncode != 0:
-        print(f"run failed (exit {p.returncode}): {' '.join(args)}: {p.stderr.strip()[-300:]}", file=sys.stderr)
-        return None
-    m = re.search(r"convection: Ra = ([0-9.eE+-]+)", p.stdout)
+    done = os.path.join(out, "summary.json")
+    reused = False
+    if a.reuse and os.path.exists(done) and os.path.exists(os.path.join(out, "stdout.txt")):
+        with open(done) as f:
+            sm = json.load(f)
+        reused = sm.get("status") == "ok" and (not t_end or abs(sm["t_final"] - t_end) < 1e-6 * t_end)
+    if not reused:
+        p = subprocess.run(args, capture_output=True, text=True)
+        if p.returncode != 0:
+            print(f"run failed (exit {p.returncode}): {' '.join(args)}: {p.stderr.strip()[-300:]}", file=sys.stderr)
+            return None
+        with open(os.path.join(out, "stdout.txt"), "w") as f:
+            f.write(p.stdout)
+    with open(os.path.join(out, "stdout.txt")) as f:
+        m = re.search(r"convection: Ra = ([0-9.eE+-]+)", f.read())
     summary, series, _ = pc.load(out)
-    t_end = series["t"][-1]
-    nu, nub, nut, _ = pc.nusselt(summary, series, a.t_bottom, a.t_top, 0.5 * t_end)
+    t_last = series["t"][-1]
+    nu, nub, nut, (qb, qt) = pc.nusselt(summary, series, a.t_bottom, a.t_top, 0.5 * t_last if t_from is None else t_from)
     ms = 1e3 * summary["rhs_time_s"] / summary["rhs_evals"]
-    return float(m.group(1)), nu, nub, nut, series["kinetic"][-1], ms
+    return (float(m.group(1)), nu, nub, nut, series["kinetic"][-1], ms, 0.5 * (qb[0] + qt[0]), t_last,
+            summary.get("post_step_jumps", 0))
+
+
+def onset(points):
+    """(Ra_onset / 1707.76, the two ratios, floor) from [(ratio, Nu, Nu at the start)]: the line
+    of Nu - 1 through the two lowest ratios above the floor 3 max |Nu_start - 1|, extrapolated
+    to Nu - 1 = 0 (nan when fewer than two convect or Nu does not rise)."""
+    floor = 3 * max(abs(n0 - 1.0) for _, _, n0 in points)
+    up = sorted((r, nu - 1.0) for r, nu, _ in points if nu - 1.0 > floor)[:2]
+    if len(up) < 2 or up[1][1] <= up[0][1]:
+        return float("nan"), [r for r, _ in up], floor
+    (r0, y0), (r1, y1) = up
+    return r0 - y0 * (r1 - r0) / (y1 - y0), [r0, r1], floor
 
 
 def main():
@@ -72,6 +136,10 @@ def main():
     ap.add_argument("--t-bottom", type=float, default=1.25)
     ap.add_argument("--t-top", type=float, default=0.75)
     ap.add_argument("--variant", action="append", default=None, help='NAME="OPTIONS" run at every ratio (repeatable)')
+    ap.add_argument("--sized-end", action="store_true", help="end time from the linear growth rate where it is positive (see above)")
+    ap.add_argument("--onset", action="store_true", help="draw and report each variant's onset from Nu - 1 (see above)")
+    ap.add_argument("--xscale", choices=("log", "linear"), default="log", help="the Ra axis")
+    ap.add_argument("--reuse", action="store_true", help="analyse the runs already in --workdir that reached their end time")
     ap.add_argument("-o", "--out", default=None)
     ap.add_argument("--readings", action="store_true", help="write the runs and the table beside the chart (OUT.json)")
     a = ap.parse_args()
@@ -89,51 +157,68 @@ def main():
     import matplotlib.pyplot as plt
 
     ratios = [float(r) for r in a.ratios.split(",")]
-    fig, ax = plt.subplots(figsize=(7.5, 5))
-    print("variant ratio Ra Nu Nu_bottom Nu_top ke_final ms_per_rhs")
-    runs = {}
+    fig, ax = plt.subplots(figsize=(7.5, 7))
+    ax.set_xscale(a.xscale)
+    cell = convection_linear.Cell(nx=a.nx, ny=a.ny, g=0.1 * 2.0 / a.ny, t_bottom=a.t_bottom, t_top=a.t_top)
+    ra_cell, _ = convection_linear.cell_critical(cell)
+    print("variant ratio Ra Nu Nu_bottom Nu_top ke_final ms_per_rhs t_end")
+    runs, onsets = {}, {}
     for (name, extra), (colour, marker) in zip(variants, STYLES):
         ok, failed = [], []
         for r in ratios:
-            got = run_one(a, r, name, extra)
+            got = run_one(a, cell, r, name, extra)
             if got is None:
                 failed.append(r)
                 print(f"{name} {r:g} failed", flush=True)
                 continue
-            ra, nu, nub, nut, ke, ms = got
-            ok.append((r, nu, nub, nut))
+            ra, nu, nub, nut, ke, ms, nu0, t_end, jumps = got
+            ok.append((r, nu, nub, nut, nu0, jumps))
             runs.setdefault(name, {})[f"{r:g}".replace(".", "_")] = {"ratio": r, "Ra": ra, "Nu": nu, "Nu_bottom": nub,
-                                                                   "Nu_top": nut, "wall_difference": nut - nub, "ke_final": ke}
-            print(f"{name} {r:g} {ra:.6g} {nu:.5f} {nub:.5f} {nut:.5f} {ke:.5g} {ms:.4f}", flush=True)
+                                                                   "Nu_top": nut, "wall_difference": nut - nub, "ke_final": ke,
+                                                                   "Nu_start": nu0, "t_end": t_end, "post_step_jumps": jumps}
+            print(f"{name} {r:g} {ra:.6g} {nu:.5f} {nub:.5f} {nut:.5f} {ke:.5g} {ms:.4f} {t_end:.0f}", flush=True)
         label = f"{name}: {' '.join(extra)}" if extra else name
-        ax.semilogx([x[0] for x in ok], [x[1] for x in ok], "-", color=colour, marker=marker, label=f"{label} (mean of both walls)")
+        ax.plot([x[0] for x in ok], [x[1] for x in ok], "-", color=colour, marker=marker, label=f"{label} (mean of both walls)")
+        crossed = [x for x in ok if x[5]]
+        if crossed:  # particles crossed the walls (reflected after the step): not a clean roll
+            ax.plot([x[0] for x in crossed], [x[1] for x in crossed], "o", ms=14, mfc="none", mec=colour, mew=1.5,
+                    label=f"{name}: particles crossed the walls (broken down)")
         ax.plot([x[0] for x in ok] * 2, [x[2] for x in ok] + [x[3] for x in ok], "_", color=colour, ms=9)
         if failed:
             ax.plot(failed, [1.0] * len(failed), "x", color=colour, ms=10, mew=2, label=f"{name}: run failed")
+        if a.onset and len(ok) >= 2:
+            r_on, used, floor = onset([(x[0], x[1], x[4]) for x in ok])
+            onsets[name] = {"ra_onset_over_1707": r_on, "ra_onset_over_ra_c_cell": r_on * pc.RA_CRITICAL / ra_cell,
+                            "ratios_fitted": used, "noise_floor": floor}
+            print(f"{name}: onset from Nu - 1 through ratios {used} (floor {floor:.4f}): Ra = {r_on:.4g} x 1707.76 "
+                  f"= {r_on * pc.RA_CRITICAL / ra_cell:.4f} of the cell's linear Ra_c", flush=True)
+            if math.isfinite(r_on):
+                nus = {x[0]: x[1] for x in ok}
+                ax.plot([r_on, used[1]], [1.0, nus[used[1]]], "--", color=colour, lw=1,
+                        label=f"{name}: Nu - 1 through {used[0]:g} and {used[1]:g}, to Nu = 1 at {r_on * pc.RA_CRITICAL / ra_cell:.3f} Ra_c")
     ax.plot([], [], "_", color="0.3", ms=9, label="bars: hot and cold wall")
-    cell = convection_linear.Cell(nx=a.nx, ny=a.ny, g=0.1 * 2.0 / a.ny, t_bottom=a.t_bottom, t_top=a.t_top)
-    ra_cell, _ = convection_linear.cell_critical(cell)
     ax.axvline(1.0, color="k", ls="--", lw=1, label="continuum onset, rigid walls, Boussinesq (1707.76)")
     ax.axvline(ra_cell / pc.RA_CRITICAL, color="k", ls=":", lw=1.2, label=f"onset of this compressible cell, linear theory ({ra_cell:.2f})")
     print(f"linear theory of the cell: Ra_c = {ra_cell:.6g} ({ra_cell / pc.RA_CRITICAL:.4f} of 1707.76)")
     ax.axhline(1.0, color="0.5", ls=":", lw=1, label="conduction Nu = 1")
     ax.set_xlabel("Ra / Ra_c (superadiabatic Rayleigh number over 1707.76)")
     ax.set_ylabel("Nusselt number Nu")
-    ax.set_title(f"scene convection: Nu against Ra ({a.nx} x {a.ny} lattice, Pr = 1, T_b = {a.t_bottom:g}, T_t = {a.t_top:g}, kick {a.amplitude:g} c_s)", fontsize=9)
-    ax.legend(fontsize=8)
+    ax.set_title(f"scene convection: Nu against Ra\n{a.nx} x {a.ny} lattice, Pr = 1, T_b = {a.t_bottom:g}, T_t = {a.t_top:g}, "
+                 f"kick {a.amplitude:g} c_s unless the variant sets it", fontsize=9)
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12))
     out = a.out or os.path.join(a.workdir, "convection_nu_ra.png")
     fig.tight_layout()
-    fig.savefig(out, dpi=110)
+    fig.savefig(out, dpi=110, bbox_inches="tight")
     print(f"png={out}")
     if a.readings:
         import chart_readings
 
-        def cell(name, r):
+        def entry(name, r):
             x = runs.get(name, {}).get(f"{r:g}".replace(".", "_"))
             return f"{x['Nu']:.4f} ({x['Nu_bottom']:.4f}, {x['Nu_top']:.4f})" if x else "failed"
-        chart_readings.write(out, {"runs": runs, "table": chart_readings.table(
+        chart_readings.write(out, {"runs": runs, "onset": onsets, "ra_c_cell": ra_cell, "table": chart_readings.table(
             ["Ra / Ra_c"] + [f"Nu, {name} (hot, cold wall)" for name, _ in variants],
-            [[f"{r:g}"] + [cell(name, r) for name, _ in variants] for r in ratios])})
+            [[f"{r:g}"] + [entry(name, r) for name, _ in variants] for r in ratios])})
 
 
 if __name__ == "__main__":

@@ -27,6 +27,8 @@ T_b = 1.25, T_t = 0.75) at Ra = f Ra_c for each f of --ra and each seed amplitud
     discrete flux error of the exact start, |Nu(t = 0) - 1|, as tests/run_convection.py;
     0.017 in this cell). Also printed: the bracket (the highest Ra still conducting, the
     lowest convecting); an extrapolated onset below it means Nu jumps (subcritical).
+    Also reported: where the parabola through the three lowest such points crosses zero
+    (how far the line's onset is moved by the curvature of Nu - 1 in Ra).
     Goal: within 10 % of Ra_c and the same for every seed (spread below 10 % of Ra_c): a
     supercritical onset does not depend on the seed.
 
@@ -215,7 +217,10 @@ def write_readings(path, results, seeds):
     columns = ["Ra / Ra_c"] + [f"s / s_linear, seed {amp:g}" for amp in seeds] + [f"Nu, seed {amp:g}" for amp in seeds]
     rows = [[f"{f:g}"] + [cell(f, amp, "s_ratio", ".2f") for amp in seeds] + [cell(f, amp, "nu", ".3f") for amp in seeds]
             for f in ras]
-    onset = [{"seed": float(k), "ra_onset_over_ra_c": v["ra_onset"] / results["ra_c"]} for k, v in results["onset"].items()]
+    onset = [{"seed": float(k), "ra_onset_over_ra_c": v["ra_onset"] / results["ra_c"],
+              "ra_onset_parabola_over_ra_c": v["ra_onset_parabola"] / results["ra_c"],
+              "parabola_minus_line_over_ra_c": (v["ra_onset_parabola"] - v["ra_onset"]) / results["ra_c"]}
+             for k, v in results["onset"].items()]
     # The rate by decade of the roll's amplitude over |linear rate| (band_rates), a row per run.
     decades = sorted({d for r in results["runs"] for d in r["band_rates"]}, key=float)
     bands = chart_readings.table(["Ra / Ra_c", "seed", "s linear"] + [f"A {d} to 1e{int(d[2:]) + 1}" for d in decades],
@@ -225,7 +230,7 @@ def write_readings(path, results, seeds):
     chart_readings.write_json(path, {"ra_c": results["ra_c"], "options": results["extra"],
                                      "growth": chart_readings.table(columns, rows), "onset": onset, "bands": bands,
                                      "runs": [{k: r[k] for k in ("ra_over_ra_c", "amplitude", "s_theory", "s_measured", "s_ratio",
-                                                                 "nu", "band_rates")} for r in results["runs"]]})
+                                                                 "nu", "band_rates", "post_step_jumps", "ke_end")} for r in results["runs"]]})
 
 
 results = {"ra_c": ra_c, "k_c_H": kc, "k_roll_H": k1 * cell.H, "extra": a.extra, "runs": []}
@@ -327,11 +332,21 @@ for amp in ([] if a.no_onset else seeds):
             x, yv = np.array([p[0] for p in pts[sel]]), np.array([p[1] for p in pts[sel]])
             slope, icpt = np.polyfit(x, yv, 1)
             fits[label] = -icpt / slope if slope > 0 else float("nan")
+    # The line's curvature error: the parabola through the three lowest points, where it
+    # crosses Nu - 1 = 0 nearest the line's onset (Nu - 1 bends down as Ra grows, so the
+    # line through the two lowest falls below the curve's zero).
+    fits["parabola"] = float("nan")
+    if len(pts) >= 3:
+        roots = np.roots(np.polyfit([p[0] for p in pts[:3]], [p[1] for p in pts[:3]], 2))
+        roots = [r.real for r in roots if abs(r.imag) < 1e-12 * abs(r)]
+        if roots and math.isfinite(fits["lowest two"]):
+            fits["parabola"] = float(min(roots, key=lambda r: abs(r - fits["lowest two"])))
     # The bracket: the highest Ra still conducting below the lowest convecting one. An
     # extrapolated onset below the bracket means Nu jumps (a subcritical onset).
     quiet = [r["ra"] for r in runs if r["nu"] - 1.0 <= floor and (not pts or r["ra"] < pts[0][0])]
     bracket = [quiet[-1] / ra_c if quiet else None, pts[0][0] / ra_c if pts else None]
-    results["onset"][f"{amp:g}"] = {"ra_onset": fits["lowest two"], "ra_onset_all": fits["all"], "noise_floor": floor,
+    results["onset"][f"{amp:g}"] = {"ra_onset": fits["lowest two"], "ra_onset_all": fits["all"], "ra_onset_parabola": fits["parabola"],
+                                    "noise_floor": floor,
                                     "bracket_over_ra_c": bracket, "points": [(r["ra"], r["nu"] - 1.0) for r in runs]}
     on = fits["lowest two"]
     listing = ", ".join(f"{r['nu'] - 1:.4f}" for r in runs)
