@@ -352,7 +352,7 @@ def first_output_time(path):
     return end if interval == 0 else min(interval, end) if end else interval
 
 
-REFUSED = {}
+REFUSED = {"convection-onset": "-conduction_linear"}
 optdir = os.path.join(OPTS_DIR, "options")
 for fname in sorted(os.listdir(optdir)):
     if not fname.endswith(".opts"):
