@@ -567,7 +567,7 @@ int main(int argc, char **argv)
   const char *tmp = getenv("TMPDIR");
   double     *big;
 
-  PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
+  PetscCall(TestInitialize(&argc, &argv));
   (void)snprintf(dir, sizeof dir, "%s/ckfile.XXXXXX", tmp && tmp[0] ? tmp : "/tmp");
   PetscCheck(mkdtemp(dir), PETSC_COMM_SELF, PETSC_ERR_FILE_OPEN, "cannot create %s: %s", dir, strerror(errno));
   (void)chmod(dir, 0755); /* nobody (TestWriteFailures) must reach the subdirectory */
@@ -588,6 +588,6 @@ int main(int argc, char **argv)
     (void)unlink(f);
     (void)rmdir(dir);
   }
-  PetscCall(PetscFinalize());
+  PetscCall(TestFinalize());
   return TestFinish(&tc);
 }

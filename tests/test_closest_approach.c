@@ -17,7 +17,7 @@ int main(int argc, char **argv)
   PetscInt        n1, n2;
   double          p0[2] = {0, 0}, p1[2] = {0, 0}, k0 = 0, k1 = 0;
 
-  PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
+  PetscCall(TestInitialize(&argc, &argv));
   SpamSolidDefaults(&sp);
   PetscCall(SpamParticlesAllocate(2, 100, &p));
   PetscCall(SpamParticlesAllocateFields(&p));
@@ -52,6 +52,6 @@ int main(int argc, char **argv)
   PetscCall(VecRestoreArray(sim.p.X, &y));
   PetscCall(SpamParticlesFree(&p));
   PetscCall(SpamSimDestroy(&sim));
-  PetscCall(PetscFinalize());
+  PetscCall(TestFinalize());
   return TestFinish(&c);
 }

@@ -25,7 +25,7 @@ int main(int argc, char **argv)
   TestCount    c  = {0, 0};
   const double cT = sqrt(3.0 / 8.0);
 
-  PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
+  PetscCall(TestInitialize(&argc, &argv));
   {
     const double cinf = SpeedT(3.0, 1e7, NULL);
     double       prev = 0.0, ratio;
@@ -57,6 +57,6 @@ int main(int argc, char **argv)
     SpamDispersionLucy(3.0, 1.0, 1.0, sqrt(4.0 / 3.0), lam, eta, kb, &w1, &l1);
     TestCheck(&c, fabs(w1 / w0 - 1.0) < 1e-6, "long waves along x and at 0.3 rad: omega ratio %.10f", w1 / w0);
   }
-  PetscCall(PetscFinalize());
+  PetscCall(TestFinalize());
   return TestFinish(&c);
 }

@@ -417,7 +417,7 @@ int main(int argc, char **argv)
   TestCount  c = {0, 0};
   SUNContext sctx;
 
-  PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
+  PetscCall(TestInitialize(&argc, &argv));
   PetscCall(SpamIntegratorsRegister());
   PetscCall(SUNContext_Create(NULL, &sctx));
   PetscCall(PartA(&c, sctx));
@@ -425,6 +425,6 @@ int main(int argc, char **argv)
   PetscCall(PartC(&c, PETSC_TRUE));
   PetscCall(PartC(&c, PETSC_FALSE));
   PetscCall(SUNContext_Free(&sctx));
-  PetscCall(PetscFinalize());
+  PetscCall(TestFinalize());
   return TestFinish(&c);
 }

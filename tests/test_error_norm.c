@@ -34,7 +34,7 @@ int main(int argc, char **argv)
   realtype   rms, max, nrm[2] = {-1.0, -1.0};
   N_Vector   xs[2], ws[2];
 
-  PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
+  PetscCall(TestInitialize(&argc, &argv));
   PetscCall(SUNContext_Create(NULL, &sunctx));
   PetscCall(VecCreateSeq(PETSC_COMM_SELF, L, &X));
   PetscCall(VecDuplicate(X, &W));
@@ -94,6 +94,6 @@ int main(int argc, char **argv)
   PetscCall(VecDestroy(&X));
   PetscCall(VecDestroy(&W));
   PetscCall(SUNContext_Free(&sunctx));
-  PetscCall(PetscFinalize());
+  PetscCall(TestFinalize());
   return TestFinish(&c);
 }

@@ -434,7 +434,7 @@ int main(int argc, char **argv)
   };
   World w = {0};
 
-  PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
+  PetscCall(TestInitialize(&argc, &argv));
   w.comm = PETSC_COMM_WORLD;
   PetscCallMPI(MPI_Comm_rank(w.comm, &w.rank));
   PetscCallMPI(MPI_Comm_size(w.comm, &w.size));
@@ -442,7 +442,7 @@ int main(int argc, char **argv)
   for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) PetscCall(RunCase(&w, &cases[k]));
   {
     const int code = w.rank == 0 ? TestFinish(&w.count) : (w.count.failed ? 1 : 0);
-    PetscCall(PetscFinalize());
+    PetscCall(TestFinalize());
     return code;
   }
 }

@@ -184,7 +184,7 @@ static PetscErrorCode CheckRegistry(TestCount *c)
 int main(int argc, char **argv)
 {
   TestCount c = {0, 0};
-  PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
+  PetscCall(TestInitialize(&argc, &argv));
   for (int kind = 0; kind < SPAM_KERNEL_KINDS; kind++)
     for (int dim = 1; dim <= 3; dim++)
       for (double h = 1.5; h <= 6.0; h *= 2.0) {
@@ -198,6 +198,6 @@ int main(int argc, char **argv)
         if (kind == SPAM_KERNEL_LUCY) CheckLucyUnchanged(&c, dim, h);
       }
   PetscCall(CheckRegistry(&c));
-  PetscCall(PetscFinalize());
+  PetscCall(TestFinalize());
   return TestFinish(&c);
 }

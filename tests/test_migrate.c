@@ -464,7 +464,7 @@ int main(int argc, char **argv)
 {
   Ctx t = {{0, 0}, MPI_COMM_NULL, 0, 1};
 
-  PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
+  PetscCall(TestInitialize(&argc, &argv));
   t.comm = PETSC_COMM_WORLD;
   PetscCallMPI(MPI_Comm_rank(t.comm, &t.rank));
   PetscCallMPI(MPI_Comm_size(t.comm, &t.size));
@@ -473,7 +473,7 @@ int main(int argc, char **argv)
   PetscCall(Corner(&t, 2, 40));
   PetscCall(Corner(&t, 3, 16));
   if (t.size == 2) PetscCall(Timing(&t));
-  PetscCall(PetscFinalize());
+  PetscCall(TestFinalize());
   if (t.rank == 0) return TestFinish(&t.count);
   return t.count.failed ? 1 : 0;
 }

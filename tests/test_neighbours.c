@@ -186,7 +186,7 @@ int main(int argc, char **argv)
 {
   TestCount    c = {0, 0};
   const double h = 3.0, skin = 0.3;
-  PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
+  PetscCall(TestInitialize(&argc, &argv));
   for (int dim = 1; dim <= 3; dim++) {
     const int n = dim == 1 ? 300 : dim == 2 ? 600 : 700;
     for (int per = 0; per < 2; per++) {
@@ -211,6 +211,6 @@ int main(int argc, char **argv)
     PetscCall(FaceCase(&c, dim, h, skin));
   }
   PetscCall(HostileCase(&c, h, skin));
-  PetscCall(PetscFinalize());
+  PetscCall(TestFinalize());
   return TestFinish(&c);
 }

@@ -888,7 +888,7 @@ int main(int argc, char **argv)
   PetscInt  time_n = 0;
   PetscBool keep   = PETSC_FALSE;
 
-  PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
+  PetscCall(TestInitialize(&argc, &argv));
   t.comm = PETSC_COMM_WORLD;
   PetscCallMPI(MPI_Comm_rank(t.comm, &t.rank));
   PetscCallMPI(MPI_Comm_size(t.comm, &t.size));
@@ -907,7 +907,7 @@ int main(int argc, char **argv)
   }
   PetscCallMPI(MPI_Barrier(t.comm));
   if (t.rank == 0 && !keep && !t.count.failed) (void)nftw(t.dir, RemoveEntry, 16, FTW_DEPTH | FTW_PHYS);
-  PetscCall(PetscFinalize());
+  PetscCall(TestFinalize());
   if (t.rank == 0) return TestFinish(&t.count);
   return t.count.failed ? 1 : 0;
 }

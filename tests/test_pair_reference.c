@@ -995,7 +995,7 @@ int main(int argc, char **argv)
   const int          ngas[3]    = {150, 300, 400}; /* per kernel: smaller than the Lucy sweep */
   const int          ntensor[3] = {100, 250, 300};
 
-  PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
+  PetscCall(TestInitialize(&argc, &argv));
   PetscCall(PetscTime(&t0));
   PetscCall(PetscOptionsGetString(NULL, NULL, "-reference_perturb", perturb, sizeof perturb, NULL));
   if (!strcmp(perturb, "self")) spoil.self = 0;
@@ -1050,6 +1050,6 @@ int main(int argc, char **argv)
     }
   PetscCall(PetscTime(&t1));
   printf("runtime %.2f s\n", (double)(t1 - t0));
-  PetscCall(PetscFinalize());
+  PetscCall(TestFinalize());
   return TestFinish(&c);
 }

@@ -117,8 +117,8 @@ int main(int argc, char **argv)
     {"isentropic gas, -reproducible", PETSC_FALSE, PETSC_FALSE, PETSC_TRUE},
   };
 
-  PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
+  PetscCall(TestInitialize(&argc, &argv));
   for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) PetscCall(RunCase(&c, &cases[k]));
-  PetscCall(PetscFinalize());
+  PetscCall(TestFinalize());
   return TestFinish(&c);
 }

@@ -118,11 +118,11 @@ int main(int argc, char **argv)
 {
   TestCount c = {0, 0};
 
-  PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
+  PetscCall(TestInitialize(&argc, &argv));
   PetscCall(SineMode(&c, PETSC_FALSE));
   PetscCall(SineMode(&c, PETSC_TRUE));
   PetscCall(RandomField(&c, 8, 8));
   PetscCall(RandomField(&c, 4, 4));
-  PetscCall(PetscFinalize());
+  PetscCall(TestFinalize());
   return TestFinish(&c);
 }

@@ -471,13 +471,13 @@ int main(int argc, char **argv)
     {"2D Lucy, open box, gamma 2 (no density pass)", "lucy", 2, 16, 18.0, 3.0, 2.0, PETSC_FALSE, PETSC_FALSE},
   };
 
-  PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
+  PetscCall(TestInitialize(&argc, &argv));
   t.comm = PETSC_COMM_WORLD;
   PetscCallMPI(MPI_Comm_rank(t.comm, &t.rank));
   PetscCallMPI(MPI_Comm_size(t.comm, &t.size));
   for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) PetscCall(CheckCase(&t, &cases[k]));
   PetscCall(CheckNorm(&t));
   if (t.rank == 0) (void)TestFinish(&t.count);
-  PetscCall(PetscFinalize());
+  PetscCall(TestFinalize());
   return t.count.failed ? 1 : 0;
 }

@@ -72,7 +72,7 @@ static PetscErrorCode Case(TestCount *c, int dim, double gamma, PetscBool period
 int main(int argc, char **argv)
 {
   TestCount c = {0, 0};
-  PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
+  PetscCall(TestInitialize(&argc, &argv));
   for (int dim = 1; dim <= 3; dim++) {
     for (int per = 0; per < 2; per++) {
       PetscCall(Case(&c, dim, 1.0 + 2.0 / dim, (PetscBool)per, 7 + dim + 10 * per)); /* the ideal-gas isentrope */
@@ -80,6 +80,6 @@ int main(int argc, char **argv)
       PetscCall(Case(&c, dim, 1.4, (PetscBool)per, 700 + dim + 10 * per));           /* a general exponent    */
     }
   }
-  PetscCall(PetscFinalize());
+  PetscCall(TestFinalize());
   return TestFinish(&c);
 }

@@ -270,7 +270,7 @@ int main(int argc, char **argv)
   TestCount c = {0, 0};
   char      names[512], *save = NULL;
 
-  PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
+  PetscCall(TestInitialize(&argc, &argv));
   PetscCall(SpamKernelNames(names, sizeof names));
   for (char *name = strtok_r(names, ", ", &save); name; name = strtok_r(NULL, ", ", &save))
     for (int k = 0; k < 3; k++) {
@@ -278,6 +278,6 @@ int main(int argc, char **argv)
       PetscCall(Conservation(&c, name, &Shapes[k], 0.0));
       PetscCall(Conservation(&c, name, &Shapes[k], 1.0));
     }
-  PetscCall(PetscFinalize());
+  PetscCall(TestFinalize());
   return TestFinish(&c);
 }

@@ -155,7 +155,7 @@ int main(int argc, char **argv)
 {
   TestCount c = {0, 0};
 
-  PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
+  PetscCall(TestInitialize(&argc, &argv));
   for (int dens = 0; dens < 3; dens++)
     for (int coords = 0; coords < 3; coords++)
       for (int am = 0; am < 4; am++)
@@ -186,6 +186,6 @@ int main(int argc, char **argv)
           PetscCall(SpamSimDestroy(&sim));
         }
   for (int dens = 0; dens < 3; dens++) PetscCall(Parts(&c, (SpamDensityMode)dens));
-  PetscCall(PetscFinalize());
+  PetscCall(TestFinalize());
   return TestFinish(&c);
 }

@@ -231,13 +231,13 @@ int main(int argc, char **argv)
 {
   Ctx t;
 
-  PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
+  PetscCall(TestInitialize(&argc, &argv));
   PetscCall(PetscMemzero(&t, sizeof t));
   t.comm = PETSC_COMM_WORLD;
   PetscCallMPI(MPI_Comm_rank(t.comm, &t.rank));
   PetscCallMPI(MPI_Comm_size(t.comm, &t.size));
   PetscCall(Run(&t));
-  PetscCall(PetscFinalize());
+  PetscCall(TestFinalize());
   if (t.rank == 0) return TestFinish(&t.count);
   return t.count.failed ? 1 : 0;
 }

@@ -133,7 +133,7 @@ int main(int argc, char **argv)
   double          G[2], g2, err;
   const double    ly = 12.0 * sqrt(3.0), k = 2.0 * PETSC_PI / ly, kv[2] = {0.0, 2.0 * PETSC_PI / (12.0 * sqrt(3.0))};
 
-  PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
+  PetscCall(TestInitialize(&argc, &argv));
   SpamSolidDefaults(&sp);
   sp.material = SPAM_MATERIAL_GAS;
   sp.gamma    = 2.0;
@@ -162,6 +162,6 @@ int main(int argc, char **argv)
   }
   sp.bulk_visc = 0.0;
   PetscCall(PairForm(sp, k, &c));
-  PetscCall(PetscFinalize());
+  PetscCall(TestFinalize());
   return TestFinish(&c);
 }

@@ -1,4 +1,5 @@
 #include "test_util.h"
+#include <spam/mpi_start.h>
 #include <stdarg.h>
 
 void TestCheck(TestCount *c, int ok, const char *fmt, ...)
@@ -90,4 +91,21 @@ PetscErrorCode SpamTestModelSolid(int dim, double h, const SpamSolidParams *p, S
   PetscCall(SpamKernelLucyInit(dim, h, &k));
   PetscCall(SpamModelSolidSetUp(dim, &k, 1.0, p, m));
   PetscFunctionReturn(0);
+}
+
+PetscErrorCode TestInitialize(int *argc, char ***argv)
+{
+  int provided;
+
+  if (SpamMpiInitThread(argc, argv, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS) return PETSC_ERR_LIB;
+  return PetscInitialize(argc, argv, NULL, NULL);
+}
+
+/* PETSc leaves MPI_Finalize to whoever started MPI. */
+PetscErrorCode TestFinalize(void)
+{
+  PetscErrorCode ierr = PetscFinalize();
+
+  if (MPI_Finalize() != MPI_SUCCESS && !ierr) ierr = PETSC_ERR_LIB;
+  return ierr;
 }

@@ -10,6 +10,11 @@ typedef struct {
   int passed, failed;
 } TestCount;
 
+/* MPI started as spam-ark starts it (SpamMpiInitThread: in the sanitizer build the leak
+ * check then ignores OpenMPI's own allocations), then PETSc; TestFinalize ends both. */
+PetscErrorCode TestInitialize(int *argc, char ***argv);
+PetscErrorCode TestFinalize(void);
+
 /* Records one check and prints it; the message says what was compared. */
 void TestCheck(TestCount *c, int ok, const char *fmt, ...);
 /* On several ranks: records a check whose outcome every rank already agrees on (each

@@ -201,9 +201,9 @@ int main(int argc, char **argv)
 {
   TestCount c = {0, 0};
 
-  PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
+  PetscCall(TestInitialize(&argc, &argv));
   PetscCall(LatticeAtRest(&c));
   PetscCall(Books(&c));
-  PetscCall(PetscFinalize());
+  PetscCall(TestFinalize());
   return TestFinish(&c);
 }

@@ -19,7 +19,7 @@ int main(int argc, char **argv)
   PetscBool      same;
   const PetscScalar *a;
 
-  PetscCall(PetscInitialize(&argc, &argv, NULL, NULL));
+  PetscCall(TestInitialize(&argc, &argv));
   for (int i = 0; i < 2 * n; i++) {
     x[i] = 20.0 * TestUniform(&seed);
     v[i] = TestUniform(&seed) - 0.5;
@@ -56,6 +56,6 @@ int main(int argc, char **argv)
   PetscCall(VecDestroy(&W1));
   PetscCall(SUNContext_Free(&sunctx));
   PetscCall(SpamSimDestroy(&sim));
-  PetscCall(PetscFinalize());
+  PetscCall(TestFinalize());
   return TestFinish(&c);
 }

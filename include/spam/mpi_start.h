@@ -6,4 +6,9 @@
  * as an isolated singleton with the ob1 messaging layer and hwloc without its I/O-device
  * plugins, unless the user's environment says otherwise. Under mpiexec nothing changes. */
 void SpamMpiSingletonDefaults(void);
+
+/* MPI_Init_thread. In the AddressSanitizer build, LeakSanitizer is told to ignore what it
+ * allocates (OpenMPI keeps it to the end of the process and frees none of it); elsewhere the
+ * call alone. Returns MPI_Init_thread's code. */
+int SpamMpiInitThread(int *argc, char ***argv, int required, int *provided);
 #endif

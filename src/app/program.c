@@ -64,7 +64,7 @@ static int StartMpi(int *argc, char ***argv)
 
   SpamMpiSingletonDefaults(); /* alone: no singleton daemon, no UCX probe, no hwloc I/O plugins (mpi_start.c) */
   (void)SpamMpiYieldDefault(); /* under mpiexec: more ranks than idle cores yield while waiting (mpi_yield.c) */
-  if (MPI_Init_thread(argc, argv, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS) {
+  if (SpamMpiInitThread(argc, argv, MPI_THREAD_FUNNELED, &provided) != MPI_SUCCESS) { /* mpi_start.c */
     fprintf(stderr, "spam-ark: error: MPI_Init failed\n");
     return SPAM_EXIT_ERROR;
   }
