@@ -40,7 +40,7 @@ typedef struct {
   unsigned char    *ends;    /* [n] the step ends (or is woken) at this tick            */
   unsigned char    *chg, *nxt; /* [n] bin made deeper: this ring's mask, the next ring's  */
   unsigned char    *woke;    /* [n] woken at this tick, its new rate still to take       */
-  unsigned char    *near;    /* [n] scratch of the restricted pass                       */
+  unsigned char    *near;    /* [2 n] scratch of the restricted pass                     */
   PetscBool         have_f;  /* f holds the rates of the synchronised state             */
   /* statistics: cycles, evaluations, particle steps, woken particles, sum over the
    * evaluations of the fraction of particles whose step ended there, deepest bin */
@@ -90,11 +90,12 @@ static PetscErrorCode EvaluateMarked(SpamTsApp *app, TS_SpamBlock *b, double t, 
   PetscFunctionReturn(0);
 }
 
-/* Kicks the fields other than the position of particle i by dt along rate. */
+/* Kicks the fields other than the position of particle i by dt along rate (the fields
+ * before the position and after it: two loops without a test per field). */
 static inline void Kick(const SpamLayout *l, int dim, double *p, const double *rate, double dt)
 {
-  for (int k = 0; k < l->nvar; k++)
-    if (k < l->x || k >= l->x + dim) p[k] += dt * rate[k];
+  for (int k = 0; k < l->x; k++) p[k] += dt * rate[k];
+  for (int k = l->x + dim; k < l->nvar; k++) p[k] += dt * rate[k];
 }
 
 /* The shallowest bin whose step D / 2^k is at most dt; -1 beyond bin L. */
@@ -163,9 +164,10 @@ static void Predict(const TS_SpamBlock *b, const SpamLayout *l, int dim, const d
   for (PetscInt i = 0; i < b->n; i++) {
     const double *p = y + (size_t)i * b->nv, *r = b->f + (size_t)i * b->nv;
     double       *q = b->yp + (size_t)i * b->nv;
-    const double  dt = (double)(ticks >> b->lev[i]) * tau, since = (double)(s - b->start[i]) * tau;
-    for (int k = 0; k < b->nv; k++) q[k] = p[k];
-    Kick(l, dim, q, r, since - 0.5 * dt);
+    const double  dt = (double)(ticks >> b->lev[i]) * tau, since = (double)(s - b->start[i]) * tau, c = since - 0.5 * dt;
+    for (int k = 0; k < l->x; k++) q[k] = p[k] + c * r[k]; /* Kick's arithmetic on a copy */
+    for (int k = l->x; k < l->x + dim; k++) q[k] = p[k];
+    for (int k = l->x + dim; k < l->nvar; k++) q[k] = p[k] + c * r[k];
   }
 }
 
@@ -187,7 +189,7 @@ static PetscErrorCode Wake(SpamSim *sim, TS_SpamBlock *b, double *y, PetscInt64 
   PetscCall(SpamBlockNeighbours(sim, b->yp, b->lev, b->chg, &b->walk));
   for (PetscInt i = 0; i < b->n; i++) {
     b->nxt[i] = 0;
-    if (b->lev[i] >= b->walk.nbmax[i] - SPAM_BLOCK_LIMITER || b->lev[i] >= L) continue;
+    if (!b->walk.seen[i] || b->lev[i] >= b->walk.nbmax[i] - SPAM_BLOCK_LIMITER || b->lev[i] >= L) continue; /* unseen: beside no deepened bin */
     *moved    = PETSC_TRUE;
     b->nxt[i] = 1;
     if (!b->ends[i]) {
@@ -396,7 +398,7 @@ static PetscErrorCode TSSetUp_SpamBlock(TS ts)
   b->nv = l->nvar;
   PetscCall(PetscMalloc3((size_t)b->n * b->nv + 1, &b->f, (size_t)b->n * b->nv + 1, &b->g, (size_t)b->n * b->nv + 1, &b->yp));
   PetscCall(PetscMalloc3(b->n + 1, &b->lev, b->n + 1, &b->start, b->n + 1, &b->ends));
-  PetscCall(PetscCalloc4(b->n + 1, &b->chg, b->n + 1, &b->nxt, b->n + 1, &b->woke, b->n + 1, &b->near));
+  PetscCall(PetscCalloc4(b->n + 1, &b->chg, b->n + 1, &b->nxt, b->n + 1, &b->woke, 2 * b->n + 1, &b->near));
   if (b->set.restricted && !sim->model.rhs_active) {
     if (b->restricted_set) SPAM_BAD_INPUT("-block_restricted", "true", "model %s has no pass restricted to the active particles (the gas with one h, no conduction or viscous stress, R0 coordinates, no torque scaling has one): leave it false", sim->model.name);
     b->set.restricted = PETSC_FALSE; /* the default asks for it only where it exists */
@@ -535,3 +537,4 @@ const SpamTSFamily SpamTSFamilyBlock = {
   .describe        = DescribeBlock,
   .help_other      = HelpBlock,
 };
+
