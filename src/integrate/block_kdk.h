@@ -4,11 +4,12 @@
 #define SPAM_BLOCK_KDK_H
 #include <spam/sim.h>
 
-/* -block_cfl, -block_force, -block_max_level, -block_restricted. */
+/* -block_cfl, -block_force, -block_max_level, -block_restricted, -block_wake_delay. */
 typedef struct {
   double    cfl, force;
   PetscInt  max_level;
   PetscBool restricted; /* -block_restricted: forces of the active particles only */
+  PetscBool wake_delay; /* -block_wake_delay: a wake off the needed bin's grid waits for its next tick */
 } SpamBlockSettings;
 
 /* A particle's bin may be at most this many levels longer than any neighbour's
