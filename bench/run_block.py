@@ -7,7 +7,9 @@ sweep of -ts_rtol, global kick-drift-kick (block_kdk with -block_max_level 0: on
 step the shortest particle wants) and block steps (-block_max_level 16) at a sweep of
 -block_cfl (= -block_force): with the pass restricted to the active particles (the default,
 -block_restricted) and, at --full-cfls, with the whole right-hand side at each tick
-(-block_restricted 0: the same result up to round-off, the cost of the first version).
+(-block_restricted 0: the same result up to round-off, the cost of the first version),
+and at --delay-cfls with the restricted pass and -block_wake_delay (a wake off the needed
+bin's grid put off to that grid's next tick).
 
 The error of each run is its time-integration error: against a DP5 run at -ts_rtol 1e-9 of
 the same scene, the shock radius (the outer radius where the radially binned summed density
@@ -115,7 +117,8 @@ def go(binary, n, work, name, extra, opts):
 
 
 STYLE = {"dp5": ("DP5 (-ts_rtol)", "tab:blue", "o"), "kdk": ("global KDK (-block_max_level 0)", "tab:orange", "s"),
-         "block": ("block KDK, restricted pass", "tab:green", "^"), "blockfull": ("block KDK, full pass at each tick", "tab:gray", "D")}
+         "block": ("block KDK, restricted pass", "tab:green", "^"), "blockfull": ("block KDK, full pass at each tick", "tab:gray", "D"),
+         "blockdelay": ("block KDK, restricted, -block_wake_delay", "tab:red", "v")}
 
 
 def chart(png, runs, failed, n, t_end):
@@ -150,6 +153,7 @@ def main():
     p.add_argument("--rtols", default="1e-2,1e-3,1e-4,1e-5,1e-6")
     p.add_argument("--cfls", default="0.4,0.2,0.1,0.05")
     p.add_argument("--full-cfls", default="0.1,0.05", help="block steps with the whole right-hand side at each tick ('' for none)")
+    p.add_argument("--delay-cfls", default="", help="block steps with -block_wake_delay ('' for none)")
     p.add_argument("--readings")
     p.add_argument("--chart", help="error against CPU time, PNG (its readings JSON beside it)")
     a = p.parse_args()
@@ -165,7 +169,8 @@ def main():
     runs += [go(a.spam_ark, a.n, work, f"kdk_{c.replace('.', 'p')}", ["-ts_type", "block_kdk", "-block_max_level", 0, "-block_cfl", c, "-block_force", c], plain) for c in a.cfls.split(",")]
     runs += [go(a.spam_ark, a.n, work, f"block_{c.replace('.', 'p')}", ["-ts_type", "block_kdk", "-block_cfl", c, "-block_force", c], plain) for c in a.cfls.split(",")]
     runs += [go(a.spam_ark, a.n, work, f"blockfull_{c.replace('.', 'p')}", ["-ts_type", "block_kdk", "-block_restricted", 0, "-block_cfl", c, "-block_force", c], plain) for c in a.full_cfls.split(",") if c]
-    names = [f"dp5_{r}" for r in a.rtols.split(",")] + [f"{m}_{c.replace('.', 'p')}" for m, cs in (("kdk", a.cfls), ("block", a.cfls), ("blockfull", a.full_cfls)) for c in cs.split(",") if c]
+    runs += [go(a.spam_ark, a.n, work, f"blockdelay_{c.replace('.', 'p')}", ["-ts_type", "block_kdk", "-block_wake_delay", 1, "-block_cfl", c, "-block_force", c], plain) for c in a.delay_cfls.split(",") if c]
+    names = [f"dp5_{r}" for r in a.rtols.split(",")] + [f"{m}_{c.replace('.', 'p')}" for m, cs in (("kdk", a.cfls), ("block", a.cfls), ("blockfull", a.full_cfls), ("blockdelay", a.delay_cfls)) for c in cs.split(",") if c]
     r_sm = smoothed_exact_radius(ref["t_end"])
     print(f"Sedov 2D n = {a.n} (N = {N}), t_end {ref['t_end']:.4g}; reference DP5 rtol 1e-9: R = {ref['R']:.4f} (smoothed exact {r_sm:.4f}), {ref['rhs_evals']} evals, {ref['cpu_s']:.1f} s CPU")
     print(f"{'run':14s} {'cpu s':>7s} {'evals':>7s} {'ideal':>8s} {'active':>7s} {'bin':>4s} {'|dR|':>9s} {'L1(rho)':>9s} {'|dE/E|':>9s} {'R-Rexact':>9s}")
@@ -179,7 +184,7 @@ def main():
         ideal = r["particle_steps"] / N if "particle_steps" in r else float(r["rhs_evals"])
         print(f"{r['name']:14s} {r['cpu_s']:7.2f} {r['rhs_evals']:7d} {ideal:8.1f} {r.get('active', 1.0):7.3f} {r.get('deepest', 0):4d} {r['dR']:9.2e} {r['L1']:9.2e} {r['drift']:9.2e} {r['R'] - r_sm:9.3f}")
         method, knob = r["name"].split("_", 1)
-        rows.append([{"dp5": "DP5", "kdk": "global KDK", "block": "block KDK", "blockfull": "block KDK, full pass"}[method], ("rtol " if method == "dp5" else "cfl ") + knob.replace("p", "."),
+        rows.append([{"dp5": "DP5", "kdk": "global KDK", "block": "block KDK", "blockfull": "block KDK, full pass", "blockdelay": "block KDK, delayed wakes"}[method], ("rtol " if method == "dp5" else "cfl ") + knob.replace("p", "."),
                      f"{r['cpu_s']:.2f}", str(r["rhs_evals"]), f"{ideal:.0f}" if "active" in r else "–", f"{r['active']:.3f}" if "active" in r else "–",
                      f"{r['dR']:.1e}", f"{r['L1']:.1e}", f"{r['drift']:.1e}", f"{r['R'] - r_sm:+.3f}"])
         readings[r["name"]] = {k: r[k] for k in ("cpu_s", "wall_s", "rhs_evals", "restricted_evals", "dR", "L1", "drift") if k in r}

@@ -20,7 +20,7 @@ typedef enum { SPAM_RHS_ALL, SPAM_RHS_EXPLICIT, SPAM_RHS_DIFFUSION } SpamRhsPart
 typedef PetscErrorCode (*SpamRhsPartFn)(struct SpamSim *sim, const double *y, double *ydot, SpamRhsPart part, PetscInt *bad);
 /* The right-hand side restricted to the particles marked in active (one byte per local
  * particle): their rows of ydot, as the full evaluation would give them up to round-off;
- * the other rows untouched. near: scratch of one byte per local particle. *done false
+ * the other rows untouched. near: scratch of two bytes per local particle. *done false
  * (nothing written) where the state needs the full evaluation (ghost slots). */
 typedef PetscErrorCode (*SpamRhsActiveFn)(struct SpamSim *sim, const double *y, double *ydot, const unsigned char *active, unsigned char *near, PetscBool *done, PetscInt *bad);
 /* Accelerations from positions alone, into sim->acc (models whose state is r and v only:

@@ -79,6 +79,13 @@ typedef struct {
   size_t      ncpairs, ccap;
   int        *csort;             /* [threads * csort_row] merge-sort scratch of a build */
   int         csort_row;
+  /* The transposed list (SpamNeighboursTranspose, made on demand for the passes over
+   * the pairs of a few marked particles): for each local particle p the rows that list p
+   * or a ghost slot of p, trows[tstart[p] .. tstart[p + 1]), ascending; made at build
+   * tbuilt (0: never). */
+  int    *tstart, *trows;
+  size_t  tcap;
+  long    tbuilt;
   long    builds, grows;         /* statistics                                       */
   double *keep;                  /* SpamNeighboursKeep's [n*dim], filled at the next */
                                  /* change of xref or build (NULL: none pending)     */
@@ -160,6 +167,16 @@ static inline int SpamImageCode(int s0, int s1, int s2)
 {
   return (s0 + 1) + 3 * (s1 + 1) + 9 * (s2 + 1);
 }
+/* The transposed list of the current build (nl->tstart, nl->trows), made if stale. */
+PetscErrorCode SpamNeighboursTranspose(SpamNeighbours *nl);
+/* row[i] = 1 for the rows i < n holding a pair with a member marked in mask (one byte per
+ * local particle; a ghost slot counts as marked when its source is), 0 for the others,
+ * from the transposed list (made if stale): the rows a walk restricted to the marked
+ * particles' pairs must read, found without reading the others. */
+PetscErrorCode SpamNeighboursMarkedRows(SpamNeighbours *nl, const unsigned char *mask, unsigned char *row);
+/* near[i] = 1 for the local particles marked in mask and every local particle listed
+ * beside one (no range test; ghost slots not followed), 0 for the others. */
+PetscErrorCode SpamNeighboursMarkedNear(SpamNeighbours *nl, const unsigned char *mask, unsigned char *near);
 /* Local plus ghost slots (remote ones included): the length every per-particle array of
  * a pass needs. */
 static inline int SpamNeighboursSlots(const SpamNeighbours *nl)

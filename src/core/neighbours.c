@@ -126,6 +126,8 @@ PetscErrorCode SpamNeighboursDestroy(SpamNeighbours *nl)
   PetscCall(PetscFree(nl->image));
   PetscCall(PetscFree(nl->gstart));
   PetscCall(PetscFree(nl->gnbr));
+  PetscCall(PetscFree(nl->tstart));
+  PetscCall(PetscFree(nl->trows));
   PetscCall(PetscFree2(nl->gcell_start, nl->gcell_list));
   PetscCall(PetscFree(nl->gcell_near));
   PetscCall(SpamGhostsDestroy(&nl->ghosts));

@@ -46,6 +46,7 @@ PetscErrorCode SpamBlockWalkDestroy(SpamBlockWalk *w)
 {
   PetscFunctionBeginUser;
   if (w->cap) PetscCall(PetscFree6(w->c, w->vel, w->sig, w->lev, w->nbmax, w->mark));
+  if (w->cap) PetscCall(PetscFree2(w->row, w->seen));
   w->cap = 0;
   PetscFunctionReturn(0);
 }
@@ -58,6 +59,7 @@ static PetscErrorCode Reserve(SpamBlockWalk *w, int slots, int dim)
   PetscCall(SpamBlockWalkDestroy(w));
   w->cap = slots + slots / 4 + 16;
   PetscCall(PetscMalloc6(w->cap, &w->c, (size_t)w->cap * dim, &w->vel, w->cap, &w->sig, w->cap, &w->lev, w->cap, &w->nbmax, w->cap, &w->mark));
+  PetscCall(PetscMalloc2(w->cap, &w->row, w->cap, &w->seen));
   PetscFunctionReturn(0);
 }
 
@@ -74,6 +76,18 @@ static double SoundSpeed(const SpamSim *sim, double cmodel, const double *p)
   return cmodel;
 }
 
+/* The walk's per-slot inputs of local particle i from its block p. */
+static inline void Load(const SpamSim *sim, double cmod, const double *p, const int *lev, int i, SpamBlockWalk *w)
+{
+  const int dim = sim->model.dim, v = sim->model.layout.v;
+
+  w->c[i]     = SoundSpeed(sim, cmod, p);
+  w->sig[i]   = w->c[i];
+  w->lev[i]   = lev ? lev[i] : 0;
+  w->nbmax[i] = w->lev[i];
+  for (int d = 0; d < dim; d++) w->vel[(size_t)i * dim + d] = p[v + d];
+}
+
 PetscErrorCode SpamBlockNeighbours(SpamSim *sim, const double *y, const int *lev, const unsigned char *mask, SpamBlockWalk *w)
 {
   const SpamLayout *l    = &sim->model.layout;
@@ -85,14 +99,12 @@ PetscErrorCode SpamBlockNeighbours(SpamSim *sim, const double *y, const int *lev
   PetscFunctionBeginUser;
   PetscCall(Reserve(w, slots, dim));
   if (sim->model.max_sound_speed) PetscCall(sim->model.max_sound_speed(sim, y, &cmod));
-  for (int i = 0; i < n; i++) {
-    const double *p = y + (size_t)i * l->nvar;
-    w->c[i]         = SoundSpeed(sim, cmod, p);
-    w->sig[i]       = w->c[i];
-    w->lev[i]       = lev ? lev[i] : 0;
-    w->nbmax[i]     = w->lev[i];
-    for (int d = 0; d < dim; d++) w->vel[(size_t)i * dim + d] = p[l->v + d];
-  }
+  /* without ghosts a masked walk reads only the marked particles and their listed partners */
+  if (mask && slots == n) PetscCall(SpamNeighboursMarkedNear(&sim->pair.nl, mask, w->seen));
+  else
+    for (int i = 0; i < n; i++) w->seen[i] = 1;
+  for (int i = 0; i < n; i++)
+    if (w->seen[i]) Load(sim, cmod, y + (size_t)i * l->nvar, lev, i, w);
   for (int k = 0; k < slots - n; k++) {
     const int src = gh->src[k];
     /* a remote ghost: block steps run on one rank (refused at set-up), so there is none */
@@ -106,7 +118,8 @@ PetscErrorCode SpamBlockNeighbours(SpamSim *sim, const double *y, const int *lev
   c = (WalkCtx){w->c, w->vel, w->lev, w->sig, w->nbmax, gh->src, gh->kind, n};
   if (mask) {
     for (int i = 0; i < n; i++) w->mark[i] = mask[i];
-    PetscCall(WalkSignalMarked(&sim->pair.nl, &sim->model.kernel, w->mark, &c));
+    PetscCall(SpamNeighboursMarkedRows(&sim->pair.nl, mask, w->row));
+    PetscCall(WalkSignalMarked(&sim->pair.nl, &sim->model.kernel, w->mark, w->row, &c));
   } else PetscCall(WalkSignal(&sim->pair.nl, &sim->model.kernel, &c));
   PetscFunctionReturn(0);
 }

@@ -4,11 +4,12 @@
 #define SPAM_BLOCK_KDK_H
 #include <spam/sim.h>
 
-/* -block_cfl, -block_force, -block_max_level, -block_restricted. */
+/* -block_cfl, -block_force, -block_max_level, -block_restricted, -block_wake_delay. */
 typedef struct {
   double    cfl, force;
   PetscInt  max_level;
   PetscBool restricted; /* -block_restricted: forces of the active particles only */
+  PetscBool wake_delay; /* -block_wake_delay: a wake off the needed bin's grid waits for its next tick */
 } SpamBlockSettings;
 
 /* A particle's bin may be at most this many levels longer than any neighbour's
@@ -24,6 +25,8 @@ typedef struct {
   double *c, *vel, *sig;
   int    *lev, *nbmax;
   unsigned char *mark; /* the walk's mask over the slots */
+  unsigned char *row;  /* [n] the rows of the list the masked walk reads */
+  unsigned char *seen; /* [n] sig, nbmax (and c, vel, lev) were set by the last walk */
 } SpamBlockWalk;
 
 PetscErrorCode SpamBlockWalkDestroy(SpamBlockWalk *w);
@@ -31,7 +34,10 @@ PetscErrorCode SpamBlockWalkDestroy(SpamBlockWalk *w);
  * (may be NULL: all level 0): w->sig[i] and w->nbmax[i] for i < n. With mask (one byte per
  * local particle; NULL: all) only the pairs with a marked member are walked: sig and
  * nbmax are whole for the marked particles; an unmarked one's nbmax is the deepest of its
- * own bin and its marked neighbours' (what the limiter needs after only those changed). */
+ * own bin and its marked neighbours' (what the limiter needs after only those changed).
+ * Without ghost slots a masked walk reads and sets only the marked particles and those
+ * listed beside one (w->seen[i] set; the others' sig and nbmax are left as they were, and
+ * their nbmax would be their own bin): the work is that of the marked particles' pairs. */
 PetscErrorCode SpamBlockNeighbours(SpamSim *sim, const double *y, const int *lev, const unsigned char *mask, SpamBlockWalk *w);
 /* The step particle i wants: min(cfl h_i / sig_i, force sqrt(h_i / |a_i|)), a_i the
  * velocity rate in rate (one particle block); infinity when neither bounds it. */

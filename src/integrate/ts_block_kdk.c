@@ -37,14 +37,16 @@ typedef struct {
                                 * evaluation's, the predicted state                      */
   int              *lev;     /* [n] bin of the current step                            */
   PetscInt64       *start;   /* [n] tick where the current step began                  */
+  PetscInt64       *len;     /* [n] its length in ticks: 2^(L - lev), or shorter when a
+                              * wake was put off to the next tick of the bin it needs   */
   unsigned char    *ends;    /* [n] the step ends (or is woken) at this tick            */
   unsigned char    *chg, *nxt; /* [n] bin made deeper: this ring's mask, the next ring's  */
   unsigned char    *woke;    /* [n] woken at this tick, its new rate still to take       */
-  unsigned char    *near;    /* [n] scratch of the restricted pass                       */
+  unsigned char    *near;    /* [2 n] scratch of the restricted pass                     */
   PetscBool         have_f;  /* f holds the rates of the synchronised state             */
   /* statistics: cycles, evaluations, particle steps, woken particles, sum over the
    * evaluations of the fraction of particles whose step ended there, deepest bin */
-  long              cycles, evals, psteps, woken, restricted, wake_evals;
+  long              cycles, evals, psteps, woken, restricted, wake_evals, delayed;
   double            active_sum;
   int               deepest;
 } TS_SpamBlock;
@@ -90,11 +92,12 @@ static PetscErrorCode EvaluateMarked(SpamTsApp *app, TS_SpamBlock *b, double t, 
   PetscFunctionReturn(0);
 }
 
-/* Kicks the fields other than the position of particle i by dt along rate. */
+/* Kicks the fields other than the position of particle i by dt along rate (the fields
+ * before the position and after it: two loops without a test per field). */
 static inline void Kick(const SpamLayout *l, int dim, double *p, const double *rate, double dt)
 {
-  for (int k = 0; k < l->nvar; k++)
-    if (k < l->x || k >= l->x + dim) p[k] += dt * rate[k];
+  for (int k = 0; k < l->x; k++) p[k] += dt * rate[k];
+  for (int k = l->x + dim; k < l->nvar; k++) p[k] += dt * rate[k];
 }
 
 /* The shallowest bin whose step D / 2^k is at most dt; -1 beyond bin L. */
@@ -158,14 +161,15 @@ static PetscErrorCode FirstBins(TS ts, SpamTsApp *app, TS_SpamBlock *b, const do
 /* The state the right-hand side sees at tick s: positions as drifted, the other fields of
  * each particle advanced from its step's middle (where the first half kick left them)
  * along its step's rate; a particle whose step ends at s gets the whole old kick. */
-static void Predict(const TS_SpamBlock *b, const SpamLayout *l, int dim, const double *y, PetscInt64 s, PetscInt64 ticks, double tau)
+static void Predict(const TS_SpamBlock *b, const SpamLayout *l, int dim, const double *y, PetscInt64 s, double tau)
 {
   for (PetscInt i = 0; i < b->n; i++) {
     const double *p = y + (size_t)i * b->nv, *r = b->f + (size_t)i * b->nv;
     double       *q = b->yp + (size_t)i * b->nv;
-    const double  dt = (double)(ticks >> b->lev[i]) * tau, since = (double)(s - b->start[i]) * tau;
-    for (int k = 0; k < b->nv; k++) q[k] = p[k];
-    Kick(l, dim, q, r, since - 0.5 * dt);
+    const double  dt = (double)b->len[i] * tau, since = (double)(s - b->start[i]) * tau, c = since - 0.5 * dt;
+    for (int k = 0; k < l->x; k++) q[k] = p[k] + c * r[k]; /* Kick's arithmetic on a copy */
+    for (int k = l->x; k < l->x + dim; k++) q[k] = p[k];
+    for (int k = l->x + dim; k < l->nvar; k++) q[k] = p[k] + c * r[k];
   }
 }
 
@@ -187,11 +191,23 @@ static PetscErrorCode Wake(SpamSim *sim, TS_SpamBlock *b, double *y, PetscInt64 
   PetscCall(SpamBlockNeighbours(sim, b->yp, b->lev, b->chg, &b->walk));
   for (PetscInt i = 0; i < b->n; i++) {
     b->nxt[i] = 0;
-    if (b->lev[i] >= b->walk.nbmax[i] - SPAM_BLOCK_LIMITER || b->lev[i] >= L) continue;
+    if (!b->walk.seen[i] || b->lev[i] >= b->walk.nbmax[i] - SPAM_BLOCK_LIMITER || b->lev[i] >= L) continue; /* unseen: beside no deepened bin */
     *moved    = PETSC_TRUE;
     b->nxt[i] = 1;
+    if (!b->ends[i] && b->set.wake_delay && aligned > b->walk.nbmax[i] - SPAM_BLOCK_LIMITER) {
+      /* s is off the grid of the bin it needs: its step is cut to end at that grid's next
+       * tick instead (no deeper than the limiter asks), the first half kick made half the
+       * shortened step */
+      const int        need = PetscMin(L, b->walk.nbmax[i] - SPAM_BLOCK_LIMITER);
+      const PetscInt64 g = ticks >> need, e = (s / g + 1) * g;
+      Kick(l, dim, y + (size_t)i * b->nv, b->f + (size_t)i * b->nv, 0.5 * (double)(e - b->start[i] - b->len[i]) * tau);
+      b->len[i] = e - b->start[i];
+      b->lev[i] = need;
+      b->delayed++;
+      continue;
+    }
     if (!b->ends[i]) {
-      const double old = (double)(ticks >> b->lev[i]) * tau, ran = (double)(s - b->start[i]) * tau;
+      const double old = (double)b->len[i] * tau, ran = (double)(s - b->start[i]) * tau;
       Kick(l, dim, y + (size_t)i * b->nv, b->f + (size_t)i * b->nv, 0.5 * (ran - old));
       b->ends[i] = 1;
       b->woke[i] = 1;
@@ -268,7 +284,8 @@ static PetscErrorCode Rebin(TS ts, SpamTsApp *app, TS_SpamBlock *b, double *y, P
   for (PetscInt i = 0; i < b->n; i++) {
     if (!b->ends[i]) continue;
     PetscCall(PetscArraycpy(b->f + (size_t)i * b->nv, b->g + (size_t)i * b->nv, b->nv));
-    Kick(l, dim, y + (size_t)i * b->nv, b->f + (size_t)i * b->nv, 0.5 * (double)(ticks >> b->lev[i]) * tau);
+    b->len[i] = ticks >> b->lev[i];
+    Kick(l, dim, y + (size_t)i * b->nv, b->f + (size_t)i * b->nv, 0.5 * (double)b->len[i] * tau);
     b->start[i] = s;
     b->deepest  = PetscMax(b->deepest, b->lev[i]);
   }
@@ -295,7 +312,7 @@ static double TopStep(const TS ts, const SpamTsApp *app, const TS_SpamBlock *b)
 
 /* One tick: drift everyone to tick s, evaluate on the predicted state, second half kick of
  * the particles whose step ends there. */
-static PetscErrorCode Tick(SpamTsApp *app, TS_SpamBlock *b, double *y, PetscInt64 from, PetscInt64 s, PetscInt64 ticks, double t0, double tau, PetscBool *ok)
+static PetscErrorCode Tick(SpamTsApp *app, TS_SpamBlock *b, double *y, PetscInt64 from, PetscInt64 s, double t0, double tau, PetscBool *ok)
 {
   SpamSim          *sim = app->sim;
   const SpamLayout *l   = &sim->model.layout;
@@ -308,9 +325,9 @@ static PetscErrorCode Tick(SpamTsApp *app, TS_SpamBlock *b, double *y, PetscInt6
     double *p = y + (size_t)i * b->nv;
     for (int d = 0; d < dim; d++) p[l->x + d] += dt * p[l->v + d];
   }
-  Predict(b, l, dim, y, s, ticks, tau);
+  Predict(b, l, dim, y, s, tau);
   for (PetscInt i = 0; i < b->n; i++) {
-    b->ends[i] = (unsigned char)(b->start[i] + (ticks >> b->lev[i]) == s);
+    b->ends[i] = (unsigned char)(b->start[i] + b->len[i] == s);
     nact += b->ends[i];
   }
   PetscCall(EvaluateMarked(app, b, t0 + (double)s * tau, b->yp, b->g, nact < b->n ? b->ends : NULL, ok));
@@ -318,7 +335,7 @@ static PetscErrorCode Tick(SpamTsApp *app, TS_SpamBlock *b, double *y, PetscInt6
   if (!*ok) PetscFunctionReturn(0);
   for (PetscInt i = 0; i < b->n; i++) {
     if (!b->ends[i]) continue;
-    Kick(l, dim, y + (size_t)i * b->nv, b->g + (size_t)i * b->nv, 0.5 * (double)(ticks >> b->lev[i]) * tau);
+    Kick(l, dim, y + (size_t)i * b->nv, b->g + (size_t)i * b->nv, 0.5 * (double)b->len[i] * tau);
   }
   b->psteps += nact;
   b->active_sum += (double)nact / (double)PetscMax(b->n, 1);
@@ -351,15 +368,16 @@ static PetscErrorCode TSStep_SpamBlock(TS ts)
   }
   if (ok) {
     for (PetscInt i = 0; i < b->n; i++) {
-      Kick(&app->sim->model.layout, app->sim->model.dim, y + (size_t)i * b->nv, b->f + (size_t)i * b->nv, 0.5 * (double)(ticks >> b->lev[i]) * tau);
+      b->len[i] = ticks >> b->lev[i];
+      Kick(&app->sim->model.layout, app->sim->model.dim, y + (size_t)i * b->nv, b->f + (size_t)i * b->nv, 0.5 * (double)b->len[i] * tau);
       b->start[i] = 0;
       b->deepest  = PetscMax(b->deepest, b->lev[i]);
     }
   }
   while (ok && s < ticks) {
     PetscInt64 next = ticks;
-    for (PetscInt i = 0; i < b->n; i++) next = PetscMin(next, b->start[i] + (ticks >> b->lev[i]));
-    PetscCall(Tick(app, b, y, s, next, ticks, t0, tau, &ok));
+    for (PetscInt i = 0; i < b->n; i++) next = PetscMin(next, b->start[i] + b->len[i]);
+    PetscCall(Tick(app, b, y, s, next, t0, tau, &ok));
     s = next;
     if (ok && s < ticks) PetscCall(Rebin(ts, app, b, y, s, t0, D, L, ticks, tau, &ok));
   }
@@ -395,8 +413,8 @@ static PetscErrorCode TSSetUp_SpamBlock(TS ts)
   b->n  = sim->p.n;
   b->nv = l->nvar;
   PetscCall(PetscMalloc3((size_t)b->n * b->nv + 1, &b->f, (size_t)b->n * b->nv + 1, &b->g, (size_t)b->n * b->nv + 1, &b->yp));
-  PetscCall(PetscMalloc3(b->n + 1, &b->lev, b->n + 1, &b->start, b->n + 1, &b->ends));
-  PetscCall(PetscCalloc4(b->n + 1, &b->chg, b->n + 1, &b->nxt, b->n + 1, &b->woke, b->n + 1, &b->near));
+  PetscCall(PetscMalloc4(b->n + 1, &b->lev, b->n + 1, &b->start, b->n + 1, &b->len, b->n + 1, &b->ends));
+  PetscCall(PetscCalloc4(b->n + 1, &b->chg, b->n + 1, &b->nxt, b->n + 1, &b->woke, 2 * b->n + 1, &b->near));
   if (b->set.restricted && !sim->model.rhs_active) {
     if (b->restricted_set) SPAM_BAD_INPUT("-block_restricted", "true", "model %s has no pass restricted to the active particles (the gas with one h, no conduction or viscous stress, R0 coordinates, no torque scaling has one): leave it false", sim->model.name);
     b->set.restricted = PETSC_FALSE; /* the default asks for it only where it exists */
@@ -412,7 +430,7 @@ static PetscErrorCode TSReset_SpamBlock(TS ts)
 
   PetscFunctionBeginUser;
   if (b->f) PetscCall(PetscFree3(b->f, b->g, b->yp));
-  if (b->lev) PetscCall(PetscFree3(b->lev, b->start, b->ends));
+  if (b->lev) PetscCall(PetscFree4(b->lev, b->start, b->len, b->ends));
   if (b->chg) PetscCall(PetscFree4(b->chg, b->nxt, b->woke, b->near));
   PetscCall(SpamBlockWalkDestroy(&b->walk));
   b->have_f = PETSC_FALSE;
@@ -440,6 +458,7 @@ static PetscErrorCode TSView_SpamBlock(TS ts, PetscViewer viewer)
   PetscCall(PetscViewerASCIIPrintf(viewer, "  block steps, kick-drift-kick: -block_cfl %g -block_force %g -block_max_level %" PetscInt_FMT ", limiter %d levels\n", b->set.cfl, b->set.force, b->set.max_level, SPAM_BLOCK_LIMITER));
   PetscCall(PetscViewerASCIIPrintf(viewer, "  block cycles %ld, evaluations in them %ld, particle steps %ld (woken %ld), deepest bin %d\n", b->cycles, b->evals, b->psteps, b->woken, b->deepest));
   PetscCall(PetscViewerASCIIPrintf(viewer, "  block restricted pass %s: restricted evaluations %ld (of them for woken particles %ld)\n", b->set.restricted ? "on" : "off", b->restricted, b->wake_evals));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "  block wakes put off to the needed bin's next tick (-block_wake_delay %s): %ld\n", b->set.wake_delay ? "true" : "false", b->delayed));
   PetscCall(PetscViewerASCIIPrintf(viewer, "  block mean active fraction %.6f (particle steps / (evaluations x particles) %.6f)\n", b->evals ? b->active_sum / (double)b->evals : 0.0, b->evals && b->n ? (double)b->psteps / ((double)b->evals * (double)b->n) : 0.0));
   PetscFunctionReturn(0);
 }
@@ -452,6 +471,7 @@ static PetscErrorCode OptionsRead(PetscOptionItems *PetscOptionsObject, SpamBloc
   PetscCall(PetscOptionsReal("-block_cfl", "Block steps: each particle's step at most C h_i / v_sig,i (signal speed over its neighbours)", "README", s->cfl, &s->cfl, NULL));
   PetscCall(PetscOptionsReal("-block_force", "Block steps: each particle's step at most C' sqrt(h_i / |a_i|)", "README", s->force, &s->force, NULL));
   PetscCall(PetscOptionsBool("-block_restricted", "Block steps: each tick computes the forces of the active particles only (where the model has that pass: the gas with one h), else the whole right-hand side", "README", s->restricted, &s->restricted, restricted_set));
+  PetscCall(PetscOptionsBool("-block_wake_delay", "Block steps: a particle the limiter wakes off its needed bin's grid ends its step at that grid's next tick (false: at once, in a bin as deep as the tick's alignment asks)", "README", s->wake_delay, &s->wake_delay, NULL));
   PetscCall(PetscOptionsInt("-block_max_level", "Block steps: the deepest bin, steps down to D / 2^L of the top step D", "README", s->max_level, &s->max_level, NULL));
   PetscCall(SpamOptionText("-block_cfl", s->cfl, val, sizeof val));
   if (!(s->cfl > 0 && s->cfl <= 1)) SPAM_BAD_INPUT("-block_cfl", val, "must be in (0, 1]");
@@ -468,6 +488,7 @@ static void Defaults(SpamBlockSettings *s)
   s->force     = 0.25;
   s->max_level  = 16;
   s->restricted = PETSC_TRUE;
+  s->wake_delay = PETSC_FALSE;
 }
 
 static PetscErrorCode TSSetFromOptions_SpamBlock(TS ts, PetscOptionItems *PetscOptionsObject)
@@ -522,7 +543,7 @@ static PetscErrorCode DescribeBlock(TS ts, const char **sub, char *adapt, size_t
   PetscFunctionReturn(0);
 }
 
-static const SpamTSOption OptionsBlock[] = {{"block_cfl", PETSC_TRUE, PETSC_FALSE}, {"block_force", PETSC_TRUE, PETSC_FALSE}, {"block_max_level", PETSC_TRUE, PETSC_FALSE}, {"block_restricted", PETSC_TRUE, PETSC_FALSE}, {NULL, PETSC_FALSE, PETSC_FALSE}};
+static const SpamTSOption OptionsBlock[] = {{"block_cfl", PETSC_TRUE, PETSC_FALSE}, {"block_force", PETSC_TRUE, PETSC_FALSE}, {"block_max_level", PETSC_TRUE, PETSC_FALSE}, {"block_restricted", PETSC_TRUE, PETSC_FALSE}, {"block_wake_delay", PETSC_TRUE, PETSC_FALSE}, {NULL, PETSC_FALSE, PETSC_FALSE}};
 
 const SpamTSFamily SpamTSFamilyBlock = {
   .options         = OptionsBlock,
@@ -535,3 +556,4 @@ const SpamTSFamily SpamTSFamilyBlock = {
   .describe        = DescribeBlock,
   .help_other      = HelpBlock,
 };
+

@@ -83,11 +83,13 @@
 
 /* SPAM_PAIR_WALK_MASKED(Name, Ctx, Fn): the same walk restricted to the pairs with at least
  * one member marked in mask (one byte per slot of the list), defining
- *   static PetscErrorCode Name(const SpamNeighbours *nl, const SpamKernel *k, const unsigned char *mask, Ctx *ctx)
+ *   static PetscErrorCode Name(const SpamNeighbours *nl, const SpamKernel *k, const unsigned char *mask, const unsigned char *row, Ctx *ctx)
  * Each pair it visits is visited in the plain walk's order, so a marked particle's sums are
  * the plain walk's, term for term; an unmarked one gets only its pairs with marked ones.
- * The rows of unmarked particles are still read (the half list holds each pair in one row
- * only). A macro of its own, so that the plain walk's loop stays as it was. */
+ * Only the rows i with row[i] set are read: row must be set at least where the row holds a
+ * pair with a marked member (SpamNeighboursMarkedRows; the half list holds each pair in
+ * one row only, which the transposed list names). A macro of its own, so that the plain
+ * walk's loop stays as it was. */
 #define SPAM_PAIR_WALK_MASKED(Name, Ctx, Fn) \
   static inline __attribute__((always_inline)) void Name##Segment(const int dim, const int kind, const int img, const SpamNeighbours *nl, const SpamKernel *k, const unsigned char *mask, Ctx *ctx, int i, const int *nb, int np) \
   { \
@@ -99,9 +101,10 @@
       SPAM_PAIR_VISIT(Fn, dim, kind, img, nl, k, ctx, i, j, ui) \
     } \
   } \
-  static inline __attribute__((always_inline)) void Name##Rows(const int dim, const int kind, const SpamNeighbours *nl, const SpamKernel *k, const unsigned char *mask, Ctx *ctx) \
+  static inline __attribute__((always_inline)) void Name##Rows(const int dim, const int kind, const SpamNeighbours *nl, const SpamKernel *k, const unsigned char *mask, const unsigned char *row, Ctx *ctx) \
   { \
     for (int i = 0; i < nl->n; i++) { \
+      if (!row[i]) continue; \
       const int *nb = nl->nbr + nl->start[i], np = nl->start[i + 1] - nl->start[i]; \
       const int *gb = nl->gnbr + nl->gstart[i], ng = nl->gstart[i + 1] - nl->gstart[i]; \
       if (nl->image[i]) { \
@@ -113,10 +116,10 @@
       } \
     } \
   } \
-  static PetscErrorCode Name(const SpamNeighbours *nl, const SpamKernel *k, const unsigned char *mask, Ctx *ctx) \
+  static PetscErrorCode Name(const SpamNeighbours *nl, const SpamKernel *k, const unsigned char *mask, const unsigned char *row, Ctx *ctx) \
   { \
     PetscFunctionBeginUser; \
-    SPAM_WALK_DISPATCH(Name, k->dim, k->kind, SPAM_WALK_UNKNOWN(k->kind), nl, k, mask, ctx) \
+    SPAM_WALK_DISPATCH(Name, k->dim, k->kind, SPAM_WALK_UNKNOWN(k->kind), nl, k, mask, row, ctx) \
     PetscFunctionReturn(0); \
   }
 #endif

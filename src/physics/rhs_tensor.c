@@ -584,23 +584,10 @@ static inline __attribute__((always_inline)) void DensityPair(const int dim, Ten
 SPAM_PAIR_WALK_MASKED(WalkDensityNear, TensorPass, DensityPair)
 SPAM_PAIR_WALK_MASKED(WalkForcesActive, TensorPass, ForcePair)
 
-/* near: the active particles and every particle listed beside one (no range test). */
-static void MarkNear(const SpamNeighbours *nl, const unsigned char *active, unsigned char *near)
-{
-  for (int i = 0; i < nl->n; i++) near[i] = active[i];
-  for (int i = 0; i < nl->n; i++) {
-    const int *nb = nl->nbr + nl->start[i], np = nl->start[i + 1] - nl->start[i];
-    if (active[i])
-      for (int c = 0; c < np; c++) near[nb[c]] = 1;
-    else
-      for (int c = 0; c < np && !near[i]; c++) near[i] = active[nb[c]];
-  }
-}
-
 /* The fields the active particles' forces read, at the near particles: velocity, density
  * (summed, or the state's), sigma/rho^2 and the continuity velocity. The other particles'
  * densities are partial sums, read by nothing. */
-static PetscErrorCode NearFields(SpamSim *sim, TensorPass *c, const double *y, const unsigned char *near, PetscInt *bad)
+static PetscErrorCode NearFields(SpamSim *sim, TensorPass *c, const double *y, const unsigned char *near, unsigned char *row, PetscInt *bad)
 {
   const SpamLayout *l   = &sim->model.layout;
   SpamFields       *f   = c->f;
@@ -614,7 +601,8 @@ static PetscErrorCode NearFields(SpamSim *sim, TensorPass *c, const double *y, c
   }
   if (c->p->density == SPAM_DENSITY_SUMMATION) {
     for (int i = 0; i < n; i++) f->rho[i] = f->m[i] * w0;
-    PetscCall(WalkDensityNear(&sim->pair.nl, &sim->model.kernel, near, c));
+    PetscCall(SpamNeighboursMarkedRows(&sim->pair.nl, near, row));
+    PetscCall(WalkDensityNear(&sim->pair.nl, &sim->model.kernel, near, row, c));
   } else
     for (int i = 0; i < n; i++) {
       if (!near[i]) continue;
@@ -647,15 +635,16 @@ PetscErrorCode SpamRhsSolidActive(SpamSim *sim, const double *y, double *ydot, c
   if (*bad >= 0 || SpamNeighboursSlots(&sim->pair.nl) != n) PetscFunctionReturn(0); /* ghost slots (walls, images, ranks): the full pass */
   PetscCall(SpamFieldsReserve(f, n));
   c = PassOf(sim, SPAM_RHS_ALL);
-  MarkNear(&sim->pair.nl, active, near);
+  PetscCall(SpamNeighboursMarkedNear(&sim->pair.nl, active, near));
   PetscCall(PetscLogEventBegin(sim->run.ev.force, 0, 0, 0, 0));
-  PetscCall(NearFields(sim, &c, y, near, bad));
+  PetscCall(NearFields(sim, &c, y, near, near + n, bad));
   if (*bad >= 0) {
     PetscCall(PetscLogEventEnd(sim->run.ev.force, 0, 0, 0, 0));
     PetscFunctionReturn(0);
   }
   ZeroRates(f, n, dim, PETSC_TRUE);
-  PetscCall(WalkForcesActive(&sim->pair.nl, &sim->model.kernel, active, &c));
+  PetscCall(SpamNeighboursMarkedRows(&sim->pair.nl, active, near + n));
+  PetscCall(WalkForcesActive(&sim->pair.nl, &sim->model.kernel, active, near + n, &c));
   PetscCall(PetscLogEventEnd(sim->run.ev.force, 0, 0, 0, 0));
   for (int i = 0; i < n; i++) { /* Assemble's rows, of the active particles only */
     double *r = ydot + (size_t)i * nv;
