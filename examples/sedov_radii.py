@@ -39,7 +39,8 @@ import numpy as np  # noqa: E402
 
 import chart_readings  # noqa: E402
 import spam_manifest  # noqa: E402
-from shock_exact import half_level_radius, sedov_profile, sedov_xi0  # noqa: E402
+from shock_exact import (half_level_radius, sedov_gathered_adaptive, sedov_gathered_density,  # noqa: E402
+                         sedov_profile, sedov_xi0)
 
 BIN = 0.5
 
@@ -71,13 +72,47 @@ def fit_offsets(ts, rs, xi0, e0, dim):
     return (t0, float(np.sqrt(np.mean(res_t ** 2)))), (dr, float(np.sqrt(np.mean(res_r ** 2))))
 
 
-def run_radii(d):
+def gathered_reference(r_ex, dim, gamma, prof, sm):
+    """The half level of the self-similar density averaged the way the run's summed density
+    averages it (shock_exact.sedov_gathered_*: Lucy's kernel about each point, the blast's
+    own geometry): at the one range h (fixed), or at each point's own range solving
+    rho_bar h^D = eta^D m within the run's bounds (adaptive, evolved). Returns (R_ref, peak)."""
+    h = float(sm["h"])
+    grid = np.arange(max(r_ex - 8.0, 0.0), r_ex + 2.5 * h, 0.05)
+    if sm.get("smoothing_length", "fixed") == "fixed":
+        rho = sedov_gathered_density(grid, r_ex, dim, gamma, h, prof, ns=80, na=180)
+    else:
+        eta = float(sm["h_eta"]) or h
+        rho, _ = sedov_gathered_adaptive(grid, r_ex, dim, gamma, eta, (float(sm["h_min"]) * h, float(sm["h_max"]) * h), prof, nh=16)
+    return half_level_radius(grid, rho)
+
+
+def inviscid_moment(d, dim, gamma, e0, t):
+    """I2 that the run's own energies give without the viscosity's stress (the virial):
+    I2'' = 4K + 2D sum_i m_i P_i/rho_i = 4K + 2D(gamma - 1)(U - U_ambient(0)) with K, U the
+    timeseries' kinetic and internal energies (the grad-h pressure forces satisfy it
+    exactly: sum_j m_j r_ij w'(r_ij, h_i) = -D rho_i Omega_i). Integrated twice from rest,
+    I2(t) = int_0^t (t - s) I2''(s) ds (trapezoids over the rows up to t). In 3D at gamma 5/3
+    this is 4E0: I2 = 2 E0 t^2 whatever the blast's structure, so what the particles' I2
+    holds beyond it is the viscosity's stress (and Omega = 1 where h_i is held at a bound)."""
+    with open(os.path.join(d, "timeseries.csv")) as fh:
+        rows = list(csv.DictReader(fh))
+    ts = np.array([float(q["t"]) for q in rows])
+    k = np.array([float(q["kinetic"]) for q in rows])
+    tot = np.array([float(q["total"]) for q in rows])
+    u_amb = tot[0] - e0
+    acc = 4.0 * k + 2.0 * dim * (gamma - 1.0) * (tot - k - u_amb)
+    sel = ts <= t + 1e-12
+    return float(np.trapz((t - ts[sel]) * acc[sel], ts[sel]))
+
+
+def run_radii(d, reference=True):
     man, sm = spam_manifest.open_run(d, "sedov_radii", scene="sedov")
     snaps = [(t, p) for t, p in spam_manifest.files(man, d, "snapshot_csv")]
     dim, gamma = int(sm["dim"]), float(sm["gas_gamma"])
     n = spam_manifest.option(man, "sedov_n", 20.0 if dim == 3 else 48.0)
     e0 = spam_manifest.option(man, "sedov_energy", 1e4)
-    xi0, cm = sedov_xi0(dim, gamma), moment_constant(dim, gamma)
+    xi0, cm, prof = sedov_xi0(dim, gamma), moment_constant(dim, gamma), sedov_profile(dim, gamma)
     sigma = {2: 2.0 * np.pi, 3: 4.0 * np.pi}[dim]
     centre = 0.5 * n
     _, x0, m0, _ = snapshot(snaps[0][1], dim)
@@ -93,15 +128,29 @@ def run_radii(d):
         i2 = float(np.sum(m * r * r)) - base
         r_mom = (i2 / (sigma * 1.0 * cm)) ** (1.0 / (dim + 2))
         r_ex = xi0 * (e0 * t * t) ** (1.0 / (dim + 2))
-        rows.append({"t": t, "R_exact": r_ex, "R_half": r_half, "R_moment": r_mom, "peak": peak,
-                     "half_err": r_half / r_ex - 1.0, "moment_err": r_mom / r_ex - 1.0})
+        row = {"t": t, "R_exact": r_ex, "R_half": r_half, "R_moment": r_mom, "peak": peak,
+               "half_err": r_half / r_ex - 1.0, "moment_err": r_mom / r_ex - 1.0}
+        i2_inv = inviscid_moment(d, dim, gamma, e0, t)
+        row["I2_over_inviscid"] = i2 / i2_inv - 1.0
+        row["R_moment_inviscid_err"] = (i2_inv / (sigma * cm)) ** (1.0 / (dim + 2)) / r_ex - 1.0
+        if reference:
+            # The front: the radius whose kernel-averaged self-similar profile has the
+            # particles' half level (the averaging's lead taken at R_exact and again at the
+            # first estimate: it changes slowly with R).
+            r_ref, peak_ref = gathered_reference(r_ex, dim, gamma, prof, sm)
+            r_front = r_half - (r_ref - r_ex)
+            r_ref2, _ = gathered_reference(r_front, dim, gamma, prof, sm)
+            r_front = r_half - (r_ref2 - r_front)
+            row.update({"R_half_averaged_exact": r_ref, "peak_averaged_exact": peak_ref,
+                        "half_lead_over_averaged": r_half - r_ref, "R_front": r_front, "front_err": r_front / r_ex - 1.0})
+        rows.append(row)
     by_time = {("t%.4g" % q["t"]).replace(".", "_"): q for q in rows}  # quotable keys: t12, t4_147
     ts = [q["t"] for q in rows]
     fits = {}
-    for key in ("R_half", "R_moment"):
+    for key in ("R_half", "R_moment") + (("R_front",) if reference else ()):
         (t0, rt), (dr, rr) = fit_offsets(ts, [q[key] for q in rows], xi0, e0, dim)
         fits[key] = {"t0": t0, "t0_rms": rt, "dR": dr, "dR_rms": rr}
-    return {"dim": dim, "n": n, "h": float(sm["h"]), "xi0": xi0, "C": cm, "snapshots": rows, "at": by_time, "fits": fits,
+    return {"dim": dim, "n": n, "h": float(sm["h"]), "smoothing_length": sm.get("smoothing_length", "fixed"), "xi0": xi0, "C": cm, "snapshots": rows, "at": by_time, "fits": fits,
             "wall_time_s": sm.get("wall_time_s"), "rhs_evals": sm.get("rhs_evals"), "n_particles": sm.get("n_particles")}
 
 
@@ -109,14 +158,17 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[1])
     ap.add_argument("dirs", nargs="+")
     ap.add_argument("--readings")
+    ap.add_argument("--no-reference", action="store_true", help="skip the kernel-averaged exact profile (slow at adaptive h)")
     a = ap.parse_args()
     out = {}
     for d in a.dirs:
-        res = run_radii(d)
+        res = run_radii(d, reference=not a.no_reference)
         out[os.path.basename(os.path.normpath(d)).replace(".", "_")] = res  # a dotted key could not be quoted
         for q in res["snapshots"]:
             print(f"{d}: t = {q['t']:.4g}: R_exact {q['R_exact']:.3f}, R_half {q['R_half']:.3f} ({q['half_err']:+.2%}), "
-                  f"R_moment {q['R_moment']:.3f} ({q['moment_err']:+.2%}), peak {q['peak']:.3f}")
+                  f"R_moment {q['R_moment']:.3f} ({q['moment_err']:+.2%}; I2 {q['I2_over_inviscid']:+.2%} over the inviscid virial's), peak {q['peak']:.3f}"
+                  + (f"; averaged exact: half level {q['R_half_averaged_exact']:.3f} (lead {q['half_lead_over_averaged']:+.3f}), "
+                     f"peak {q['peak_averaged_exact']:.3f}; R_front {q['R_front']:.3f} ({q['front_err']:+.2%})" if "R_front" in q else ""))
         for key, f in res["fits"].items():
             print(f"{d}: {key}: t0 = {f['t0']:+.4f} (rms {f['t0_rms']:.3f}), dR = {f['dR']:+.3f} (rms {f['dR_rms']:.3f})")
     if a.readings:
