@@ -2,7 +2,7 @@
 """The Sedov blast's radius three ways, from spam-ark runs' CSV snapshots (2D or 3D).
 
 Usage:
-    /usr/bin/python3 examples/sedov_radii.py DIR [DIR ...] [--readings FILE]
+    /usr/bin/python3 examples/sedov_radii.py DIR [DIR ...] [--readings FILE] [--reference-times T,T]
 
 For every snapshot after t = 0 of every run directory (-scene sedov, CSV snapshots):
 - R_half: the half-level radius of plot_sedov.py and tests/run_sedov.py (radial bins 0.5
@@ -18,7 +18,17 @@ For every snapshot after t = 0 of every run directory (-scene sedov, CSV snapsho
   leaves I2 unchanged: for f = rho - rho0, int |x|^2 (K*f) = int |y|^2 f + s^2 int f and
   int f = 0 (mass is conserved). So R_moment carries none of the half level's bias from
   the front's width; it measures where the mass went;
-- R_exact = xi0 (E0 t^2/rho0)^(1/(D+2)) (tests/shock_exact.py).
+- R_exact = xi0 (E0 t^2/rho0)^(1/(D+2)) (tests/shock_exact.py);
+- I2 over the inviscid I2 the run's own energies give (the virial: inviscid_moment), and the
+  radius that inviscid I2 would give: what I2 holds beyond it is the viscosity's stress
+  (tests/run_sedov_virial.py), which makes R_moment lead;
+- R_front: the shock radius whose self-similar profile, averaged by the kernel the way the
+  run's summation averages it (the blast's own geometry, each point's own range at the
+  adaptive and evolved ranges), has the particles' half level; and R_front_spread, the
+  same with that average spread further by a Gaussian fitted to the particles' lower peak
+  (the viscosity widens the front beyond the kernel's average, and the half level of a
+  lower peak lies further out). The reference is slow at the adaptive range (a table of
+  ranges): --reference-times limits it to some snapshots, --no-reference skips it.
 Then, per run, the time offset t0 and the space offset dR fitted to R_moment (and to
 R_half) over the snapshots: R = R_exact(t - t0) and R = R_exact(t) + dR, least squares,
 with the rms residual of each: a blast started from a blob of finite size is the point
@@ -39,7 +49,8 @@ import numpy as np  # noqa: E402
 
 import chart_readings  # noqa: E402
 import spam_manifest  # noqa: E402
-from shock_exact import half_level_radius, sedov_profile, sedov_xi0  # noqa: E402
+from shock_exact import (half_level_radius, sedov_gathered_adaptive, sedov_gathered_density,  # noqa: E402
+                         sedov_profile, sedov_xi0)
 
 BIN = 0.5
 
@@ -71,13 +82,73 @@ def fit_offsets(ts, rs, xi0, e0, dim):
     return (t0, float(np.sqrt(np.mean(res_t ** 2)))), (dr, float(np.sqrt(np.mean(res_r ** 2))))
 
 
-def run_radii(d):
+def gathered_reference(r_ex, dim, gamma, prof, sm):
+    """The half level of the self-similar density averaged the way the run's summed density
+    averages it (shock_exact.sedov_gathered_*: Lucy's kernel about each point, the blast's
+    own geometry): at the one range h (fixed), or at each point's own range solving
+    rho_bar h^D = eta^D m within the run's bounds (adaptive, evolved). Returns (R_ref, peak)."""
+    h = float(sm["h"])
+    grid = np.arange(max(r_ex - 8.0, 0.0), r_ex + 2.5 * h, 0.05)
+    if sm.get("smoothing_length", "fixed") == "fixed":
+        rho = sedov_gathered_density(grid, r_ex, dim, gamma, h, prof, ns=80, na=180)
+    else:
+        eta = float(sm["h_eta"]) or h
+        rho, _ = sedov_gathered_adaptive(grid, r_ex, dim, gamma, eta, (float(sm["h_min"]) * h, float(sm["h_max"]) * h), prof, nh=16)
+    return half_level_radius(grid, rho) + (grid, rho)
+
+
+def spread_to_peak(grid, rho, peak):
+    """The averaged exact profile spread further by a Gaussian (across the front: planar, its
+    width well below R) whose width makes its peak the particles' peak: the SPH front is
+    wider than the kernel's average (the viscosity spreads the shock), and the half level
+    of a lower peak lies further out. Returns (half level, sigma); sigma 0 when the
+    particles' peak is not below the averaged one."""
+    def spread(sig):
+        if sig <= 0.0:
+            return rho
+        ds = grid[1] - grid[0]
+        k = np.arange(-int(4 * sig / ds) - 1, int(4 * sig / ds) + 2) * ds
+        w = np.exp(-0.5 * (k / sig) ** 2)
+        w /= w.sum()
+        pad = len(k) // 2
+        ext = np.concatenate([np.full(pad, rho[0]), rho, np.full(pad, 1.0)])
+        return np.convolve(ext, w, mode="valid")
+    if peak >= rho.max():
+        return half_level_radius(grid, rho)[0], 0.0
+    lo, hi = 0.0, 10.0
+    for _ in range(40):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if spread(mid).max() > peak else (lo, mid)
+    sig = 0.5 * (lo + hi)
+    return half_level_radius(grid, spread(sig))[0], sig
+
+
+def inviscid_moment(d, dim, gamma, e0, t):
+    """I2 that the run's own energies give without the viscosity's stress (the virial):
+    I2'' = 4K + 2D sum_i m_i P_i/rho_i = 4K + 2D(gamma - 1)(U - U_ambient(0)) with K, U the
+    timeseries' kinetic and internal energies (the grad-h pressure forces satisfy it
+    exactly: sum_j m_j r_ij w'(r_ij, h_i) = -D rho_i Omega_i). Integrated twice from rest,
+    I2(t) = int_0^t (t - s) I2''(s) ds (trapezoids over the rows up to t). In 3D at gamma 5/3
+    this is 4E0: I2 = 2 E0 t^2 whatever the blast's structure, so what the particles' I2
+    holds beyond it is the viscosity's stress (and Omega = 1 where h_i is held at a bound)."""
+    with open(os.path.join(d, "timeseries.csv")) as fh:
+        rows = list(csv.DictReader(fh))
+    ts = np.array([float(q["t"]) for q in rows])
+    k = np.array([float(q["kinetic"]) for q in rows])
+    tot = np.array([float(q["total"]) for q in rows])
+    u_amb = tot[0] - e0
+    acc = 4.0 * k + 2.0 * dim * (gamma - 1.0) * (tot - k - u_amb)
+    sel = ts <= t + 1e-12
+    return float(np.trapz((t - ts[sel]) * acc[sel], ts[sel]))
+
+
+def run_radii(d, reference=True, reference_times=None):
     man, sm = spam_manifest.open_run(d, "sedov_radii", scene="sedov")
     snaps = [(t, p) for t, p in spam_manifest.files(man, d, "snapshot_csv")]
     dim, gamma = int(sm["dim"]), float(sm["gas_gamma"])
     n = spam_manifest.option(man, "sedov_n", 20.0 if dim == 3 else 48.0)
     e0 = spam_manifest.option(man, "sedov_energy", 1e4)
-    xi0, cm = sedov_xi0(dim, gamma), moment_constant(dim, gamma)
+    xi0, cm, prof = sedov_xi0(dim, gamma), moment_constant(dim, gamma), sedov_profile(dim, gamma)
     sigma = {2: 2.0 * np.pi, 3: 4.0 * np.pi}[dim]
     centre = 0.5 * n
     _, x0, m0, _ = snapshot(snaps[0][1], dim)
@@ -93,15 +164,36 @@ def run_radii(d):
         i2 = float(np.sum(m * r * r)) - base
         r_mom = (i2 / (sigma * 1.0 * cm)) ** (1.0 / (dim + 2))
         r_ex = xi0 * (e0 * t * t) ** (1.0 / (dim + 2))
-        rows.append({"t": t, "R_exact": r_ex, "R_half": r_half, "R_moment": r_mom, "peak": peak,
-                     "half_err": r_half / r_ex - 1.0, "moment_err": r_mom / r_ex - 1.0})
+        row = {"t": t, "R_exact": r_ex, "R_half": r_half, "R_moment": r_mom, "peak": peak,
+               "half_err": r_half / r_ex - 1.0, "moment_err": r_mom / r_ex - 1.0}
+        i2_inv = inviscid_moment(d, dim, gamma, e0, t)
+        row["I2_over_inviscid"] = i2 / i2_inv - 1.0
+        row["R_moment_inviscid_err"] = (i2_inv / (sigma * cm)) ** (1.0 / (dim + 2)) / r_ex - 1.0
+        if reference and (reference_times is None or any(abs(t - q) < 1e-6 * max(1.0, t) for q in reference_times)):
+            # The front: the radius whose kernel-averaged self-similar profile has the
+            # particles' half level (the averaging's lead taken at R_exact and again at the
+            # first estimate: it changes slowly with R).
+            r_ref, peak_ref, grid, rho_ref = gathered_reference(r_ex, dim, gamma, prof, sm)
+            r_front = r_half - (r_ref - r_ex)
+            r_ref2, _, grid2, rho_ref2 = gathered_reference(r_front, dim, gamma, prof, sm)
+            r_front1 = r_front
+            r_front = r_half - (r_ref2 - r_front1)
+            # The same with the reference spread to the particles' peak (spread_to_peak).
+            r_sp, sig = spread_to_peak(grid2, rho_ref2, peak)
+            r_front_sp = r_half - (r_sp - r_front1)
+            row.update({"R_half_averaged_exact": r_ref, "peak_averaged_exact": peak_ref,
+                        "half_lead_over_averaged": r_half - r_ref, "R_front": r_front, "front_err": r_front / r_ex - 1.0,
+                        "spread_sigma": sig, "R_front_spread": r_front_sp, "front_spread_err": r_front_sp / r_ex - 1.0})
+        rows.append(row)
     by_time = {("t%.4g" % q["t"]).replace(".", "_"): q for q in rows}  # quotable keys: t12, t4_147
     ts = [q["t"] for q in rows]
     fits = {}
-    for key in ("R_half", "R_moment"):
+    for key in ("R_half", "R_moment", "R_front", "R_front_spread"):
+        if any(key not in q for q in rows):
+            continue
         (t0, rt), (dr, rr) = fit_offsets(ts, [q[key] for q in rows], xi0, e0, dim)
         fits[key] = {"t0": t0, "t0_rms": rt, "dR": dr, "dR_rms": rr}
-    return {"dim": dim, "n": n, "h": float(sm["h"]), "xi0": xi0, "C": cm, "snapshots": rows, "at": by_time, "fits": fits,
+    return {"dim": dim, "n": n, "h": float(sm["h"]), "smoothing_length": sm.get("smoothing_length", "fixed"), "xi0": xi0, "C": cm, "snapshots": rows, "at": by_time, "fits": fits,
             "wall_time_s": sm.get("wall_time_s"), "rhs_evals": sm.get("rhs_evals"), "n_particles": sm.get("n_particles")}
 
 
@@ -109,14 +201,20 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[1])
     ap.add_argument("dirs", nargs="+")
     ap.add_argument("--readings")
+    ap.add_argument("--no-reference", action="store_true", help="skip the kernel-averaged exact profile (slow at adaptive h)")
+    ap.add_argument("--reference-times", help="comma-separated snapshot times to compare with it (default: every snapshot)")
     a = ap.parse_args()
     out = {}
     for d in a.dirs:
-        res = run_radii(d)
+        times = [float(x) for x in a.reference_times.split(",")] if a.reference_times else None
+        res = run_radii(d, reference=not a.no_reference, reference_times=times)
         out[os.path.basename(os.path.normpath(d)).replace(".", "_")] = res  # a dotted key could not be quoted
         for q in res["snapshots"]:
             print(f"{d}: t = {q['t']:.4g}: R_exact {q['R_exact']:.3f}, R_half {q['R_half']:.3f} ({q['half_err']:+.2%}), "
-                  f"R_moment {q['R_moment']:.3f} ({q['moment_err']:+.2%}), peak {q['peak']:.3f}")
+                  f"R_moment {q['R_moment']:.3f} ({q['moment_err']:+.2%}; I2 {q['I2_over_inviscid']:+.2%} over the inviscid virial's), peak {q['peak']:.3f}"
+                  + (f"; averaged exact: half level {q['R_half_averaged_exact']:.3f} (lead {q['half_lead_over_averaged']:+.3f}), "
+                     f"peak {q['peak_averaged_exact']:.3f}; R_front {q['R_front']:.3f} ({q['front_err']:+.2%}); spread to the peak "
+                     f"(sigma {q['spread_sigma']:.2f}): R_front {q['R_front_spread']:.3f} ({q['front_spread_err']:+.2%})" if "R_front" in q else ""))
         for key, f in res["fits"].items():
             print(f"{d}: {key}: t0 = {f['t0']:+.4f} (rms {f['t0_rms']:.3f}), dR = {f['dR']:+.3f} (rms {f['dR_rms']:.3f})")
     if a.readings:

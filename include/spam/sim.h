@@ -33,6 +33,11 @@ typedef struct {
    * interpolant's), and the list updates and ghost placements (on several ranks the
    * halo's exchange of positions) they made: one each per evaluation is the rule. */
   long counted, list_updates, ghost_placements;
+  /* The evolved range (-smoothing_length evolved): the particle evaluations whose grad-h
+   * factor Omega_i was not positive and took 1 (a particle whose range holds too few
+   * partners), and the most in one evaluation; summed (and the most taken) over the ranks
+   * at the end, for summary.json and a note. */
+  long omega_floored, omega_floored_max;
 } SpamRhsStats;
 
 /* PETSc log events (-log_view) of the right-hand side and its passes; registered per

@@ -537,6 +537,24 @@ static PetscErrorCode RunFigures(SpamSim *sim)
   PetscFunctionReturn(0);
 }
 
+/* The evolved range's particle evaluations whose grad-h factor was not positive and took 1
+ * (smoothing_adaptive.c): summed over the ranks (the most in one evaluation: the largest
+ * rank's, a bound of the run's) for summary.json, and a note, so it is never silent. */
+static PetscErrorCode OmegaFloored(SpamSim *sim)
+{
+  SpamRhsStats *s = &sim->run.stats;
+  long          v[2] = {s->omega_floored, s->omega_floored_max};
+
+  PetscFunctionBeginUser;
+  if (!sim->model.tensor || sim->model.solid.smoothing != SPAM_SMOOTHING_EVOLVED) PetscFunctionReturn(0);
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &v[0], 1, MPI_LONG, MPI_SUM, sim->p.comm));
+  PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &v[1], 1, MPI_LONG, MPI_MAX, sim->p.comm));
+  s->omega_floored     = v[0];
+  s->omega_floored_max = v[1];
+  if (v[0] > 0) PetscCall(PetscFPrintf(sim->p.comm, stderr, "spam-ark: note: evolved h: %ld particle evaluations (at most %ld in one right-hand side) had a grad-h factor Omega <= 0 (a range holding too few partners) and took Omega = 1 (summary.json: omega_floored)\n", v[0], v[1]));
+  PetscFunctionReturn(0);
+}
+
 /* The decomposition's part of the result (summary.json). */
 static PetscErrorCode RanksResult(SpamSim *sim, SpamRunResult *r)
 {
@@ -552,6 +570,7 @@ static PetscErrorCode RanksResult(SpamSim *sim, SpamRunResult *r)
   PetscCallMPI(MPIU_Allreduce(&n, &nmax, 1, MPI_DOUBLE, MPI_MAX, sim->p.comm));
   r->imbalance = nmax * size / PetscMax((double)sim->p.nglobal, 1.0);
   if (size > 1) PetscCall(RunFigures(sim));
+  PetscCall(OmegaFloored(sim));
   PetscFunctionReturn(0);
 }
 

@@ -128,6 +128,10 @@ static void Counts(Summary *f, const SpamSim *sim, const SpamRunResult *r)
   Num(f, "gauss_momentum_residual_max", sim->ps ? sim->ps->gauss_momentum_residual : 0.0);
   Int(f, "neighbour_builds", sim->pair.nl.builds);
   Int(f, "neighbour_list_grows", sim->pair.nl.grows);
+  if (sim->model.tensor && sim->model.solid.smoothing == SPAM_SMOOTHING_EVOLVED) { /* Omega <= 0 took 1 (smoothing_adaptive.c) */
+    Int(f, "omega_floored", sim->run.stats.omega_floored);
+    Int(f, "omega_floored_max_per_rhs", sim->run.stats.omega_floored_max);
+  }
   RhsPasses(f, &sim->run.stats);
 }
 

@@ -359,8 +359,9 @@ PetscErrorCode SpamSmoothingSolve(SpamSim *sim)
  * took 25 times the right-hand sides), but for a particle whose Omega is not positive:
  * its range holds too few partners for rho h^D to grow with h (a particle leaving the
  * gas, whose density is its self term), where the solve would hold h_i at the upper
- * bound; it takes 1. No iteration: the right-hand side is a smooth function of the state,
- * h_i included, but where Omega_i changes sign or h_i meets a bound. */
+ * bound; it takes 1, and is counted. No iteration: the right-hand side is a smooth
+ * function of the state, h_i included, but where Omega_i changes sign or h_i meets a
+ * bound. */
 PetscErrorCode SpamSmoothingAt(SpamSim *sim, const double *y)
 {
   const Solve       s = SolveOf(sim);
@@ -368,6 +369,7 @@ PetscErrorCode SpamSmoothingAt(SpamSim *sim, const double *y)
   SpamFields       *f = &sim->pair.f;
   const int         n = (int)sim->p.n;
   int               keep;
+  long              floored = 0;
 
   PetscFunctionBeginUser;
   PetscCall(PetscLogEventBegin(sim->run.ev.density, 0, 0, 0, 0));
@@ -378,7 +380,11 @@ PetscErrorCode SpamSmoothingAt(SpamSim *sim, const double *y)
   for (int i = 0; i < n; i++) {
     const double om = 1.0 + f->h[i] * f->drho[i] / (s.dim * f->rho[i]);
     f->omega[i]     = om > 0.0 ? om : 1.0;
+    floored += !(om > 0.0);
   }
+  /* Counted, not silent: summary.json's omega_floored and a note at the end (time_loop.c). */
+  sim->run.stats.omega_floored += floored;
+  if (floored > sim->run.stats.omega_floored_max) sim->run.stats.omega_floored_max = floored;
   PetscCall(PetscLogEventEnd(sim->run.ev.density, 0, 0, 0, 0));
   PetscCall(Close(sim, &s, 0, -1));
   PetscFunctionReturn(0);
