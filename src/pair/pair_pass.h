@@ -15,6 +15,16 @@
 #include <spam/fields.h>
 #include <spam/ghosts.h>
 
+/* The passes' rows are compiled for the x86-64 baseline and for AVX2 (pass_chunked.c says
+ * why); the loader picks the clone the processor runs. Both clones give the same bits. The
+ * sanitizer build (CMakeLists.txt, SPAM_ONE_ISA) compiles the baseline alone: the clones
+ * are one source, and each doubled the longest compiles of that build. */
+#ifdef SPAM_ONE_ISA
+#define SPAM_CLONES
+#else
+#define SPAM_CLONES __attribute__((target_clones("avx2", "default")))
+#endif
+
 typedef struct {
   const SpamNeighbours *nl;
   const SpamKernel     *k;

@@ -130,8 +130,6 @@ static PetscErrorCode KnownKind(const SpamKernel *k)
   PetscFunctionReturn(0);
 }
 
-#define SPAM_CLONES __attribute__((target_clones("avx2", "default")))
-
 SPAM_CLONES PetscErrorCode SpamCanonicalDensity(const SpamPairPass *p)
 {
   const SpamKernel *k = p->k;

@@ -227,8 +227,7 @@ static Rows RowsOf(const SpamPairPass *p, double c)
  * differently on different machines. (All dimensions and kernels in one function made it
  * too large for gcc to optimise as well: its force pass took 1.07-1.12 of the time of this
  * split, perf samples at N = 65536.) The tables below hold them by kind (kernel_list.h's
- * row order is the kinds' order) and dimension. */
-#define SPAM_CLONES __attribute__((target_clones("avx2", "default")))
+ * row order is the kinds' order) and dimension. SPAM_CLONES: src/pair/pair_pass.h. */
 typedef void (*DensityRowsFn)(const Rows *R, int uni, double *rho, int i0, int i1);
 typedef void (*ForceRowsFn)(const Rows *R, int uni, int uq, double *acc, int i0, int i1);
 #define SPAM_ROWS_DIM(Prefix, D, KIND) \
