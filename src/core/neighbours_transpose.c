@@ -60,17 +60,16 @@ PetscErrorCode SpamNeighboursMarkedRows(SpamNeighbours *nl, const unsigned char 
   PetscFunctionReturn(0);
 }
 
+/* The marked rows, and the particles the marked ones' own rows list. */
 PetscErrorCode SpamNeighboursMarkedNear(SpamNeighbours *nl, const unsigned char *mask, unsigned char *near)
 {
   const int n = nl->n;
 
   PetscFunctionBeginUser;
-  PetscCall(SpamNeighboursTranspose(nl));
-  for (int i = 0; i < n; i++) near[i] = mask[i];
+  PetscCall(SpamNeighboursMarkedRows(nl, mask, near));
   for (int p = 0; p < n; p++) {
     if (!mask[p]) continue;
     for (int c = nl->start[p]; c < nl->start[p + 1]; c++) near[nl->nbr[c]] = 1;
-    for (int c = nl->tstart[p]; c < nl->tstart[p + 1]; c++) near[nl->trows[c]] = 1;
   }
   PetscFunctionReturn(0);
 }
