@@ -2,7 +2,7 @@
 """The Sedov blast's radius three ways, from spam-ark runs' CSV snapshots (2D or 3D).
 
 Usage:
-    /usr/bin/python3 examples/sedov_radii.py DIR [DIR ...] [--readings FILE] [--reference-times T,T]
+    /usr/bin/python3 examples/sedov_radii.py DIR [DIR ...] [--readings FILE] [--reference-times T,T] [--bin W]
 
 For every snapshot after t = 0 of every run directory (-scene sedov, CSV snapshots):
 - R_half: the half-level radius of plot_sedov.py and tests/run_sedov.py (radial bins 0.5
@@ -95,8 +95,9 @@ def kernel_free(r, r0, x, v, r_ex, t, dim, lag):
     rdot = 2.0 / (dim + 2) * r_ex / t
     b = np.floor(r / BIN).astype(int)
     cnt = np.bincount(b)
-    ok = cnt > 0
-    r_vel, _ = half_level_radius(((np.arange(len(cnt)) + 0.5) * BIN)[ok], (np.bincount(b, vr / rdot)[ok] / cnt[ok]), 0.0)
+    rb = (np.arange(len(cnt)) + 0.5) * BIN
+    ok = (cnt > 0) & (rb > 0.5 * r_ex)  # the front's peak, not a hot core's particles flung out
+    r_vel, _ = half_level_radius(rb[ok], (np.bincount(b, vr / rdot)[ok] / cnt[ok]), 0.0)
     sel = (r0 > 0.7 * r_ex) & (r0 < 0.98 * r_ex)
     disp = float(np.mean(r[sel] - r_ex * np.interp(r0[sel] / r_ex, lag[0], lag[1])))
     return r_vel, disp
@@ -205,7 +206,7 @@ def run_radii(d, reference=True, reference_times=None):
         r_mom = (i2 / (sigma * 1.0 * cm)) ** (1.0 / (dim + 2))
         r_ex = xi0 * (e0 * t * t) ** (1.0 / (dim + 2))
         row = {"t": t, "R_exact": r_ex, "R_half": r_half, "R_moment": r_mom, "peak": peak,
-               "half_err": r_half / r_ex - 1.0, "moment_err": r_mom / r_ex - 1.0}
+               "half_err": r_half / r_ex - 1.0, "moment_err": r_mom / r_ex - 1.0, "half_lead": r_half - r_ex, "moment_lead": r_mom - r_ex}
         r_vel, disp = kernel_free(r, r0, x - centre, v, r_ex, t, dim, lag)
         row.update({"R_velocity": r_vel, "velocity_lead": r_vel - r_ex, "shell_displacement": disp})
         i2_inv = inviscid_moment(d, dim, gamma, e0, t)
@@ -245,7 +246,9 @@ def main():
     ap.add_argument("--readings")
     ap.add_argument("--no-reference", action="store_true", help="skip the kernel-averaged exact profile (slow at adaptive h)")
     ap.add_argument("--reference-times", help="comma-separated snapshot times to compare with it (default: every snapshot)")
+    ap.add_argument("--bin", type=float, default=BIN, help="width of the radial bins of the half levels (default %(default)s)")
     a = ap.parse_args()
+    globals()["BIN"] = a.bin
     out = {}
     for d in a.dirs:
         times = [float(x) for x in a.reference_times.split(",")] if a.reference_times else None
