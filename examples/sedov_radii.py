@@ -79,7 +79,7 @@ def lagrangian_radius(dim, gamma):
     """(l0, l): the self-similar radius l = r/R of the gas that started at l0 = r0/R (its
     mass coordinate: l0^D = D int_0^l g l'^(D-1) dl')."""
     l, _, g, _ = sedov_profile(dim, gamma)
-    l, g = l[::-1], g[::-1]
+    l, g = l[::-1], np.maximum(g[::-1], 0.0)  # the 3D core's g rounds to -5e-12
     m = np.concatenate([[0.0], np.cumsum(0.5 * (g[1:] * l[1:] ** (dim - 1) + g[:-1] * l[:-1] ** (dim - 1)) * np.diff(l))])
     return (m / m[-1]) ** (1.0 / dim), l
 
