@@ -334,10 +334,16 @@ static PetscErrorCode ParticleLaws(SpamSim *sim, const TensorPass *c, const doub
   PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_STRESS, f->qs));
   if (gh->mirror && p->material == SPAM_MATERIAL_GAS && (sim->model.gravity_on || SpamGasImagesOfPlace(sim))) SpamGasImagesStresses(sim, &c->bg);
   if (!c->pairdiff) PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_HEAT_FLUX, f->heat));
-  /* The shift's velocity of an image is its source's mirrored, as its position is: the
-   * walls' velocity rules are the fluid's, not the images' motion. */
-  if (c->shiftwork) PetscCall(SpamGhostsGather(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->uc));
-  else PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_VELOCITY, f->uc));
+  /* The shift's velocity of an image follows the walls' velocity rule (wall at rest), as
+   * the images' v does in the gradient that B's work on div v reads: the two works then
+   * measure v and dv alike, and where a wall particle is held (v = -dv) they cancel. With
+   * the images' dv mirrored instead (their positions' motion: at a no-slip wall the same
+   * tangential dv as the source's, where the rule reverses v's) the shift's tangential
+   * compression of a wall row counted its images and the fluid's did not: a held wall
+   * particle cooled or heated steadily, its pressure fell below its neighbours' and its
+   * image pulled it further in; the wall rows of the 32 x 16 convection cell broke up
+   * from 2.5 Ra_c (docs/gas-flow.md). */
+  PetscCall(SpamGhostsGatherWall(gh, dim, n, c->shiftwork ? SPAM_WALL_FIELD_DRIFT : SPAM_WALL_FIELD_VELOCITY, f->uc));
   PetscFunctionReturn(0);
 }
 
