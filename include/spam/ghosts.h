@@ -65,8 +65,11 @@ typedef enum { SPAM_GHOST_SCALAR, SPAM_GHOST_VECTOR, SPAM_GHOST_TENSOR } SpamGho
  * (ncomp = 1): isothermal or adiabatic. Heat flux (ncomp = dim): its normal component is
  * continued through an isothermal wall and reversed at an adiabatic one, the tangential
  * ones follow the temperature. Stress (D x D): continued through a no-slip wall (the
- * shear it transmits), mirrored at a free-slip one (no shear). */
-typedef enum { SPAM_WALL_FIELD_VELOCITY, SPAM_WALL_FIELD_TEMPERATURE, SPAM_WALL_FIELD_HEAT_FLUX, SPAM_WALL_FIELD_STRESS } SpamWallField;
+ * shear it transmits), mirrored at a free-slip one (no shear). Drift (ncomp = dim): a
+ * velocity relative to the fluid's (the flow scheme's transport shift), under the
+ * velocity's rule with the wall at rest, so that the fluid's velocity plus the drift has
+ * the image the velocity's rule gives their sum. */
+typedef enum { SPAM_WALL_FIELD_VELOCITY, SPAM_WALL_FIELD_TEMPERATURE, SPAM_WALL_FIELD_HEAT_FLUX, SPAM_WALL_FIELD_STRESS, SPAM_WALL_FIELD_DRIFT } SpamWallField;
 /* Both gathers fill the remote slots from their owners, mirrored as local ghosts are;
  * collective on more than one rank, every rank must call them. */
 PetscErrorCode SpamGhostsGatherWall(const SpamGhosts *g, int dim, int n, SpamWallField what, double *field);

@@ -204,6 +204,11 @@ static void WallRule(const SpamWalls *w, int f, int dim, SpamWallField what, dou
       for (int c = 0; c < dim; c++) t[c] = 2.0 * w->velocity[f][c] - t[c];
     else t[d] = -t[d];
     break;
+  case SPAM_WALL_FIELD_DRIFT:
+    if (w->slip[f] == SPAM_WALL_NOSLIP)
+      for (int c = 0; c < dim; c++) t[c] = -t[c];
+    else t[d] = -t[d];
+    break;
   case SPAM_WALL_FIELD_TEMPERATURE:
     t[0] = SpamWallGhostTemperature(w, f, t[0]);
     break;

@@ -61,9 +61,10 @@ static inline __attribute__((always_inline)) void SpamPairHeatDiffusion(SpamFiel
  * quadratic stays exact. The two sides no longer cancel: the plain pair form goes into
  * qdot (the walls' books read it there: what crosses a wall is the plain form's
  * exchange with the images), each side's correction into qlin, which the flow scheme's
- * book carries. A mirror image (j not one of this rank's particles, own_j = 0) takes no
- * correction: its side is the wall's. Other ranks' particles and periodic ghost slots
- * would lose theirs, so the option is refused with them (solid_options.c). */
+ * book carries. A mirror image (own_j = 0) takes no correction: its side is the wall's.
+ * A periodic ghost slot (own_j = 1) takes its source's G, gathered, and its side is
+ * folded onto the source. Other ranks' particles would lose theirs, so the option is
+ * refused on several ranks (solid_options.c). */
 static inline __attribute__((always_inline)) void SpamPairHeatDiffusionLinear(const int dim, SpamFields *f, int i, int j, double kappa, double k, const double dx[3], int own_j)
 {
   const double *Gi = f->heat + (size_t)i * dim, *Gj = f->heat + (size_t)j * dim, c = 2.0 * kappa * k;

@@ -51,6 +51,7 @@ typedef struct {
                                      /* one is walked on both ranks, so each adds half    */
                                      /* (not a mirror image's: it pairs on this rank only) */
   const unsigned char   *rkind;      /* SpamGhostKind of slots remote0 ..                */
+  const unsigned char   *gkind;      /* SpamGhostKind of the ghost slots nown ..         */
   int                    own_rho;    /* grad v over each particle's own density (PassOf) */
 } TensorPass;
 
@@ -122,6 +123,14 @@ static inline __attribute__((always_inline)) double TorqueFactor(const TensorPas
   return 0.5 * (c->f->tfac[i] + c->f->tfac[j]);
 }
 
+/* Whether slot j takes its own side of the pair conduction's linear correction: this
+ * rank's particles and their periodic ghost slots (folded onto their sources), not a
+ * mirror image (its side is the wall's). */
+static inline __attribute__((always_inline)) int OwnSide(const TensorPass *c, int j)
+{
+  return j < c->nown || (j < c->remote0 && c->gkind[j - c->nown] == SPAM_GHOST_PERIODIC);
+}
+
 /* Walk 3: the pair force (scaled, with Monaghan's viscosity) and its work, the continuity
  * density rate and the heat flux. pairdiff (a literal) admits the pair Laplacians: the
  * walk without them does not test for them at every pair. */
@@ -141,7 +150,7 @@ static inline __attribute__((always_inline)) void ForcePairWith(const int dim, c
     if (c->diffuse) {
       const double k = SpamPairDiffusionFactor(f, i, j, g);
       SpamPairViscousDiffusion(dim, f, i, j, c->p->shear_visc, k, F);
-      if (c->heatlin) SpamPairHeatDiffusionLinear(dim, f, i, j, c->p->conductivity, k, dx, j < c->nown);
+      if (c->heatlin) SpamPairHeatDiffusionLinear(dim, f, i, j, c->p->conductivity, k, dx, OwnSide(c, j));
       else if (c->conduction) SpamPairHeatDiffusion(f, i, j, c->p->conductivity, k);
     }
   } else if (c->conduction) SpamPairHeatFlux(dim, f, i, j, dx, g);
@@ -334,10 +343,16 @@ static PetscErrorCode ParticleLaws(SpamSim *sim, const TensorPass *c, const doub
   PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_STRESS, f->qs));
   if (gh->mirror && p->material == SPAM_MATERIAL_GAS && (sim->model.gravity_on || SpamGasImagesOfPlace(sim))) SpamGasImagesStresses(sim, &c->bg);
   if (!c->pairdiff) PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_HEAT_FLUX, f->heat));
-  /* The shift's velocity of an image is its source's mirrored, as its position is: the
-   * walls' velocity rules are the fluid's, not the images' motion. */
-  if (c->shiftwork) PetscCall(SpamGhostsGather(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->uc));
-  else PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_VELOCITY, f->uc));
+  /* The shift's velocity of an image follows the walls' velocity rule (wall at rest), as
+   * the images' v does in the gradient that B's work on div v reads: the two works then
+   * measure v and dv alike, and where a wall particle is held (v = -dv) they cancel. With
+   * the images' dv mirrored instead (their positions' motion: at a no-slip wall the same
+   * tangential dv as the source's, where the rule reverses v's) the shift's tangential
+   * compression of a wall row counted its images and the fluid's did not: a held wall
+   * particle cooled or heated steadily, its pressure fell below its neighbours' and its
+   * image pulled it further in; the wall rows of the 32 x 16 convection cell broke up
+   * from 2.5 Ra_c (docs/gas-flow.md). */
+  PetscCall(SpamGhostsGatherWall(gh, dim, n, c->shiftwork ? SPAM_WALL_FIELD_DRIFT : SPAM_WALL_FIELD_VELOCITY, f->uc));
   PetscFunctionReturn(0);
 }
 
@@ -408,11 +423,15 @@ static PetscErrorCode Forces(SpamSim *sim, TensorPass *c, const double *y)
   ZeroRates(f, slots, dim, PETSC_TRUE);
   if (c->heatlin) {
     SpamGasFlowTemperatureGradient(sim); /* f->heat: grad T made exact for a linear T */
-    Zero(f->qlin, (size_t)n);
+    /* a periodic ghost slot takes its source's G for its own side of the correction,
+     * accumulated in its slot and folded onto the source below */
+    PetscCall(SpamGhostsGather(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->heat));
+    Zero(f->qlin, (size_t)slots);
   }
   if (c->pairdiff) PetscCall(WalkForcesDiffusion(&sim->pair.nl, &sim->model.kernel, c));
   else PetscCall(WalkForces(&sim->pair.nl, &sim->model.kernel, c));
   FoldRates(gh, f, n, PETSC_TRUE);
+  if (c->heatlin) SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->qlin);
   for (int i = 0; i < n; i++) f->edot[i] += f->qdot[i];
   if (c->shiftwork) PetscCall(SpamGasFlowShiftCompression(sim));
   if (c->flow) SpamGasFlowCorrect(sim, y, &c->bg, (PetscBool)c->shiftwork);
@@ -482,6 +501,7 @@ static TensorPass PassOf(SpamSim *sim, SpamRhsPart part)
   c.ps                        = sim->ps;
   c.remote0                   = (int)sim->p.n + sim->pair.nl.ghosts.nlocal;
   c.rkind                     = sim->pair.nl.ghosts.kind ? sim->pair.nl.ghosts.kind + sim->pair.nl.ghosts.nlocal : NULL;
+  c.gkind                     = sim->pair.nl.ghosts.kind;
   c.own_rho                   = p->material == SPAM_MATERIAL_ELASTIC && p->density == SPAM_DENSITY_SUMMATION;
   return c;
 }
