@@ -51,6 +51,22 @@ typedef struct {
   int               deepest;
 } TS_SpamBlock;
 
+/* Several ranks take every decision of the cycle together: a flag set on any rank (or held
+ * on all), the smallest or largest value. On one rank nothing is exchanged. */
+static PetscErrorCode AnyRank(const SpamSim *sim, MPI_Op op, PetscBool *flag)
+{
+  PetscFunctionBeginUser;
+  if (SpamSimDistributed(sim)) PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, flag, 1, MPIU_BOOL, op, sim->p.comm));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode RankReduce(const SpamSim *sim, MPI_Datatype type, MPI_Op op, void *v)
+{
+  PetscFunctionBeginUser;
+  if (SpamSimDistributed(sim)) PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, v, 1, type, op, sim->p.comm));
+  PetscFunctionReturn(0);
+}
+
 /* One evaluation into out; *ok false (and the failure booked) when a particle went bad. */
 static PetscErrorCode Evaluate(SpamTsApp *app, double t, const double *y, double *out, PetscBool *ok)
 {
@@ -59,6 +75,7 @@ static PetscErrorCode Evaluate(SpamTsApp *app, double t, const double *y, double
   PetscFunctionBeginUser;
   PetscCall(SpamRhs(app->sim, y, out, &bad));
   *ok = (PetscBool)(bad < 0);
+  PetscCall(AnyRank(app->sim, MPI_LAND, ok));
   if (bad >= 0 && app->bad < 0) {
     app->bad  = bad;
     app->tbad = t;
@@ -126,26 +143,49 @@ static PetscErrorCode Fail(TS ts, SpamTsApp *app, const char *msg)
   PetscFunctionReturn(0);
 }
 
+/* Some particle wanted a step below the deepest bin (row >= 0: this rank's, the lowest
+ * such): every rank fails with the message of the lowest such row of all. *ok false
+ * then, on every rank. */
+static PetscErrorCode TooDeep(TS ts, SpamTsApp *app, PetscInt64 row, double want, double D, int L, PetscBool *ok)
+{
+  PetscInt64 first = row < 0 ? PETSC_MAX_INT : row;
+  double     w;
+
+  PetscFunctionBeginUser;
+  PetscCall(RankReduce(app->sim, MPIU_INT64, MPI_MIN, &first));
+  *ok = (PetscBool)(first == PETSC_MAX_INT);
+  if (*ok) PetscFunctionReturn(0);
+  w = row == first ? want : PETSC_INFINITY;
+  PetscCall(RankReduce(app->sim, MPI_DOUBLE, MPI_MIN, &w));
+  {
+    char msg[200];
+    (void)snprintf(msg, sizeof msg, "particle %" PetscInt64_FMT " wants a step %.3e below the deepest bin %.3e (-block_max_level %d)", first, w, D / (double)((PetscInt64)1 << L), L);
+    PetscCall(Fail(ts, app, msg));
+  }
+  PetscFunctionReturn(0);
+}
+
 /* The bins of a synchronised start: each particle's wanted bin, then the limiter applied
  * until no bin changes (a deep bin spreads to its neighbours two levels at a time). */
 static PetscErrorCode FirstBins(TS ts, SpamTsApp *app, TS_SpamBlock *b, const double *y, double D, int L, PetscBool *ok)
 {
   SpamSim  *sim = app->sim;
   PetscBool changed = PETSC_TRUE;
+  PetscInt64 row = -1;
+  double     wrow = 0.0;
 
   PetscFunctionBeginUser;
   *ok = PETSC_TRUE; /* b->walk holds the signal speeds of y (TSStep walked it for TopStep) */
-  for (PetscInt i = 0; i < b->n; i++) {
+  for (PetscInt i = 0; i < b->n && row < 0; i++) {
     const double want = SpamBlockWanted(sim, &b->set, &b->walk, i, b->f + (size_t)i * b->nv);
     b->lev[i]         = LevelFor(want, D, L);
     if (b->lev[i] < 0) {
-      char msg[200];
-      (void)snprintf(msg, sizeof msg, "particle %" PetscInt_FMT " wants a step %.3e below the deepest bin %.3e (-block_max_level %d)", SpamSimRowOf(sim, i), want, D / (double)((PetscInt64)1 << L), L);
-      PetscCall(Fail(ts, app, msg));
-      *ok = PETSC_FALSE;
-      PetscFunctionReturn(0);
+      row  = SpamSimRowOf(sim, i);
+      wrow = want;
     }
   }
+  PetscCall(TooDeep(ts, app, row, wrow, D, L, ok));
+  if (!*ok) PetscFunctionReturn(0);
   for (int pass = 0; L > 0 && changed && pass <= L; pass++) { /* one bin: nothing to limit */
     changed = PETSC_FALSE;
     PetscCall(SpamBlockNeighbours(sim, y, b->lev, NULL, &b->walk));
@@ -154,6 +194,7 @@ static PetscErrorCode FirstBins(TS ts, SpamTsApp *app, TS_SpamBlock *b, const do
         b->lev[i] = b->walk.nbmax[i] - SPAM_BLOCK_LIMITER;
         changed   = PETSC_TRUE;
       }
+    PetscCall(AnyRank(sim, MPI_LOR, &changed));
   }
   PetscFunctionReturn(0);
 }
@@ -217,6 +258,7 @@ static PetscErrorCode Wake(SpamSim *sim, TS_SpamBlock *b, double *y, PetscInt64 
     b->lev[i] = PetscMin(L, PetscMax(aligned, b->walk.nbmax[i] - SPAM_BLOCK_LIMITER));
   }
   PetscCall(PetscArraycpy(b->chg, b->nxt, b->n));
+  PetscCall(AnyRank(sim, MPI_LOR, moved));
   PetscFunctionReturn(0);
 }
 
@@ -231,6 +273,7 @@ static PetscErrorCode WokenKicks(SpamTsApp *app, TS_SpamBlock *b, double *y, Pet
   PetscFunctionBeginUser;
   *ok = PETSC_TRUE;
   for (PetscInt i = 0; i < b->n && !any; i++) any = (PetscBool)b->woke[i];
+  PetscCall(AnyRank(app->sim, MPI_LOR, &any)); /* the restricted evaluation is collective */
   if (!any) PetscFunctionReturn(0);
   if (b->set.restricted) { /* the full pass left every rate in g already */
     PetscCall(EvaluateMarked(app, b, t0 + (double)s * tau, b->yp, b->g, b->woke, ok));
@@ -256,27 +299,30 @@ static PetscErrorCode Rebin(TS ts, SpamTsApp *app, TS_SpamBlock *b, double *y, P
   const SpamLayout *l   = &sim->model.layout;
   const int         dim = sim->model.dim, aligned = AlignedLevel(s, L);
   PetscBool         deeper = PETSC_FALSE;
+  PetscInt64        row    = -1;
+  double            wrow   = 0.0;
 
   PetscFunctionBeginUser;
   *ok = PETSC_TRUE;
   PetscCall(SpamBlockNeighbours(sim, b->yp, b->lev, b->ends, &b->walk));
-  for (PetscInt i = 0; i < b->n; i++) {
+  for (PetscInt i = 0; i < b->n && row < 0; i++) {
     b->chg[i] = 0;
     if (!b->ends[i]) continue;
     const double want = SpamBlockWanted(sim, &b->set, &b->walk, i, b->g + (size_t)i * b->nv);
     int          k    = LevelFor(want, D, L);
     if (k < 0) {
-      char msg[200];
-      (void)snprintf(msg, sizeof msg, "particle %" PetscInt_FMT " wants a step %.3e below the deepest bin %.3e (-block_max_level %d)", SpamSimRowOf(sim, i), want, D / (double)((PetscInt64)1 << L), L);
-      PetscCall(Fail(ts, app, msg));
-      *ok = PETSC_FALSE;
-      PetscFunctionReturn(0);
+      row  = SpamSimRowOf(sim, i);
+      wrow = want;
+      break;
     }
     k = PetscMin(L, PetscMax(k, PetscMax(aligned, b->walk.nbmax[i] - SPAM_BLOCK_LIMITER)));
     b->chg[i] = (unsigned char)(k > b->lev[i]);
     deeper |= k > b->lev[i];
     b->lev[i] = k;
   }
+  PetscCall(TooDeep(ts, app, row, wrow, D, L, ok));
+  if (!*ok) PetscFunctionReturn(0);
+  PetscCall(AnyRank(sim, MPI_LOR, &deeper));
   /* a woken particle's bin is deeper too: the limiter spreads ring by ring until it holds */
   for (int ring = 0; deeper && ring <= L; ring++) PetscCall(Wake(sim, b, y, s, L, ticks, tau, &deeper));
   PetscCall(WokenKicks(app, b, y, s, t0, tau, ok));
@@ -295,19 +341,23 @@ static PetscErrorCode Rebin(TS ts, SpamTsApp *app, TS_SpamBlock *b, double *y, P
 /* The top step: the longest any particle wants, at most the distance to the stop time,
  * -ts_dt, and 2^L times the shortest any particle wants (so that it fits the deepest
  * bin: with -block_max_level 0 the method is global kick-drift-kick on the shortest). */
-static double TopStep(const TS ts, const SpamTsApp *app, const TS_SpamBlock *b)
+static PetscErrorCode TopStep(const TS ts, const SpamTsApp *app, const TS_SpamBlock *b, double *top)
 {
   double D = ts->max_time - ts->ptime, longest = 0.0, shortest = PETSC_INFINITY;
 
+  PetscFunctionBeginUser;
   if (app->o->dt_first > 0) D = PetscMin(D, app->o->dt_first);
   for (PetscInt i = 0; i < b->n; i++) {
     const double want = SpamBlockWanted(app->sim, &b->set, &b->walk, i, b->f + (size_t)i * b->nv);
     longest  = PetscMax(longest, want);
     shortest = PetscMin(shortest, want);
   }
+  PetscCall(RankReduce(app->sim, MPI_DOUBLE, MPI_MAX, &longest));
+  PetscCall(RankReduce(app->sim, MPI_DOUBLE, MPI_MIN, &shortest));
   if (longest > 0.0) D = PetscMin(D, longest);
   if (shortest > 0.0) D = PetscMin(D, shortest * (double)((PetscInt64)1 << b->set.max_level));
-  return D;
+  *top = D;
+  PetscFunctionReturn(0);
 }
 
 /* One tick: drift everyone to tick s, evaluate on the predicted state, second half kick of
@@ -318,7 +368,7 @@ static PetscErrorCode Tick(SpamTsApp *app, TS_SpamBlock *b, double *y, PetscInt6
   const SpamLayout *l   = &sim->model.layout;
   const int         dim = sim->model.dim;
   const double      dt  = (double)(s - from) * tau;
-  PetscInt          nact = 0;
+  PetscInt64        nact = 0, all;
 
   PetscFunctionBeginUser;
   for (PetscInt i = 0; i < b->n; i++) {
@@ -330,7 +380,9 @@ static PetscErrorCode Tick(SpamTsApp *app, TS_SpamBlock *b, double *y, PetscInt6
     b->ends[i] = (unsigned char)(b->start[i] + b->len[i] == s);
     nact += b->ends[i];
   }
-  PetscCall(EvaluateMarked(app, b, t0 + (double)s * tau, b->yp, b->g, nact < b->n ? b->ends : NULL, ok));
+  all = nact;
+  PetscCall(RankReduce(sim, MPIU_INT64, MPI_SUM, &all));
+  PetscCall(EvaluateMarked(app, b, t0 + (double)s * tau, b->yp, b->g, all < sim->p.nglobal ? b->ends : NULL, ok));
   b->evals++;
   if (!*ok) PetscFunctionReturn(0);
   for (PetscInt i = 0; i < b->n; i++) {
@@ -338,7 +390,7 @@ static PetscErrorCode Tick(SpamTsApp *app, TS_SpamBlock *b, double *y, PetscInt6
     Kick(l, dim, y + (size_t)i * b->nv, b->g + (size_t)i * b->nv, 0.5 * (double)b->len[i] * tau);
   }
   b->psteps += nact;
-  b->active_sum += (double)nact / (double)PetscMax(b->n, 1);
+  b->active_sum += (double)all / (double)PetscMax(sim->p.nglobal, 1);
   PetscFunctionReturn(0);
 }
 
@@ -362,7 +414,7 @@ static PetscErrorCode TSStep_SpamBlock(TS ts)
   b->have_f       = ok;
   if (ok) PetscCall(SpamBlockNeighbours(app->sim, y, NULL, NULL, &b->walk)); /* the signal speeds TopStep reads */
   if (ok) {
-    D   = TopStep(ts, app, b);
+    PetscCall(TopStep(ts, app, b, &D));
     tau = D / (double)ticks;
     PetscCall(FirstBins(ts, app, b, y, D, L, &ok)); /* the bins of this cycle's top step */
   }
@@ -377,6 +429,7 @@ static PetscErrorCode TSStep_SpamBlock(TS ts)
   while (ok && s < ticks) {
     PetscInt64 next = ticks;
     for (PetscInt i = 0; i < b->n; i++) next = PetscMin(next, b->start[i] + b->len[i]);
+    PetscCall(RankReduce(app->sim, MPIU_INT64, MPI_MIN, &next));
     PetscCall(Tick(app, b, y, s, next, t0, tau, &ok));
     s = next;
     if (ok && s < ticks) PetscCall(Rebin(ts, app, b, y, s, t0, D, L, ticks, tau, &ok));
@@ -407,7 +460,6 @@ static PetscErrorCode TSSetUp_SpamBlock(TS ts)
   PetscCheck(app, PetscObjectComm((PetscObject)ts), PETSC_ERR_ORDER, "the block_kdk TS needs a SpamTsApp application context");
   sim = app->sim;
   l   = &sim->model.layout;
-  if (SpamSimDistributed(sim)) SPAM_BAD_INPUT("-ts_type", SPAM_TSBLOCK_KDK, "block steps run on one rank (their neighbour walk reads no other rank's particles): run without mpiexec or use -ts_type arkode");
   if (l->x < 0 || l->v < 0) SPAM_BAD_INPUT("-ts_type", SPAM_TSBLOCK_KDK, "kick-drift-kick needs positions and velocities in the state; model %s has none", sim->model.name);
   if (sim->model.post_step) SPAM_BAD_INPUT("-ts_type", SPAM_TSBLOCK_KDK, "model %s changes the state after each step (closest-approach reflection), which a block cycle cannot follow particle by particle: use -ts_type arkode", sim->model.name);
   b->n  = sim->p.n;
@@ -418,6 +470,10 @@ static PetscErrorCode TSSetUp_SpamBlock(TS ts)
   if (b->set.restricted && !sim->model.rhs_active) {
     if (b->restricted_set) SPAM_BAD_INPUT("-block_restricted", "true", "model %s has no pass restricted to the active particles (the gas with one h, no conduction or viscous stress, R0 coordinates, no torque scaling has one): leave it false", sim->model.name);
     b->set.restricted = PETSC_FALSE; /* the default asks for it only where it exists */
+  }
+  if (b->set.restricted && SpamSimDistributed(sim)) {
+    if (b->restricted_set) SPAM_BAD_INPUT("-block_restricted", "true", "the pass restricted to the active particles runs on one rank (it reads no ghost slots: other ranks' particles would need their densities and stresses at each tick): leave it false on several ranks, where each tick evaluates the whole right-hand side");
+    b->set.restricted = PETSC_FALSE;
   }
   b->have_f          = PETSC_FALSE;
   app->self_stepping = PETSC_TRUE;
@@ -450,16 +506,25 @@ static PetscErrorCode TSDestroy_SpamBlock(TS ts)
 static PetscErrorCode TSView_SpamBlock(TS ts, PetscViewer viewer)
 {
   TS_SpamBlock *b = (TS_SpamBlock *)ts->data;
+  SpamTsApp    *app;
   PetscBool     ascii;
+  PetscInt64    counts[3] = {b->psteps, b->woken, b->delayed}, nall = b->n; /* over the ranks */
+  int           deepest   = b->deepest;
 
   PetscFunctionBeginUser;
   PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERASCII, &ascii));
   if (!ascii) PetscFunctionReturn(0);
+  PetscCall(TSGetApplicationContext(ts, &app));
+  if (app && app->sim && SpamSimDistributed(app->sim)) {
+    PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, counts, 3, MPIU_INT64, MPI_SUM, app->sim->p.comm));
+    PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &deepest, 1, MPI_INT, MPI_MAX, app->sim->p.comm));
+    nall = app->sim->p.nglobal;
+  }
   PetscCall(PetscViewerASCIIPrintf(viewer, "  block steps, kick-drift-kick: -block_cfl %g -block_force %g -block_max_level %" PetscInt_FMT ", limiter %d levels\n", b->set.cfl, b->set.force, b->set.max_level, SPAM_BLOCK_LIMITER));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "  block cycles %ld, evaluations in them %ld, particle steps %ld (woken %ld), deepest bin %d\n", b->cycles, b->evals, b->psteps, b->woken, b->deepest));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "  block cycles %ld, evaluations in them %ld, particle steps %" PetscInt64_FMT " (woken %" PetscInt64_FMT "), deepest bin %d\n", b->cycles, b->evals, counts[0], counts[1], deepest));
   PetscCall(PetscViewerASCIIPrintf(viewer, "  block restricted pass %s: restricted evaluations %ld (of them for woken particles %ld)\n", b->set.restricted ? "on" : "off", b->restricted, b->wake_evals));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "  block wakes put off to the needed bin's next tick (-block_wake_delay %s): %ld\n", b->set.wake_delay ? "true" : "false", b->delayed));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "  block mean active fraction %.6f (particle steps / (evaluations x particles) %.6f)\n", b->evals ? b->active_sum / (double)b->evals : 0.0, b->evals && b->n ? (double)b->psteps / ((double)b->evals * (double)b->n) : 0.0));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "  block wakes put off to the needed bin's next tick (-block_wake_delay %s): %" PetscInt64_FMT "\n", b->set.wake_delay ? "true" : "false", counts[2]));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "  block mean active fraction %.6f (particle steps / (evaluations x particles) %.6f)\n", b->evals ? b->active_sum / (double)b->evals : 0.0, b->evals && nall ? (double)counts[0] / ((double)b->evals * (double)nall) : 0.0));
   PetscFunctionReturn(0);
 }
 
