@@ -83,6 +83,18 @@ static PetscErrorCode Evaluate(SpamTsApp *app, double t, const double *y, double
   PetscFunctionReturn(0);
 }
 
+/* The list's positions moved to those of y (collective); *ok false if one is not finite. */
+static PetscErrorCode PlaceList(SpamSim *sim, const double *y, PetscBool *ok)
+{
+  const SpamLayout *l = &sim->model.layout;
+  PetscInt          bad;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamNeighboursUpdate(&sim->pair.nl, &sim->geo.box, y + l->x, l->nvar, PETSC_FALSE, &bad));
+  *ok = (PetscBool)(bad < 0);
+  PetscFunctionReturn(0);
+}
+
 /* The rates of the particles marked in mask (NULL: all) into out: the restricted pass where
  * the settings ask for it and the state allows it, else the whole right-hand side. */
 static PetscErrorCode EvaluateMarked(SpamTsApp *app, TS_SpamBlock *b, double t, const double *y, double *out, const unsigned char *mask, PetscBool *ok)
@@ -408,8 +420,12 @@ static PetscErrorCode TSStep_SpamBlock(TS ts)
   PetscFunctionBeginUser;
   PetscCall(TSGetApplicationContext(ts, &app));
   PetscCall(VecGetArray(ts->vec_sol, &y));
-  /* the rates of a synchronised state: kept from the last tick, or anew after a jump */
+  /* the rates of a synchronised state: kept from the last tick (or a checkpoint), or anew
+   * after a jump; when kept, the list is moved to y, where the last tick left it (a no-op
+   * then) unless an output's list build was reverted or a restart rebuilt it at the
+   * checkpoint's reference positions since */
   if (!b->have_f || ts->steprestart) PetscCall(Evaluate(app, t0, y, b->f, &ok));
+  else PetscCall(PlaceList(app->sim, y, &ok));
   ts->steprestart = PETSC_FALSE;
   b->have_f       = ok;
   if (ok) PetscCall(SpamBlockNeighbours(app->sim, y, NULL, NULL, &b->walk)); /* the signal speeds TopStep reads */
@@ -608,6 +624,64 @@ static PetscErrorCode DescribeBlock(TS ts, const char **sub, char *adapt, size_t
   PetscFunctionReturn(0);
 }
 
+/* Checkpoints: the rates each particle's first half kick of the next cycle takes (b->f, the
+ * last tick's, evaluated on the predicted state: a restart could not make them again from
+ * the synchronised state), so that a restart continues bit for bit. A marker among the
+ * shared entries says they are there (checked before the run touches its directory). */
+static PetscErrorCode CkPutBlock(TS ts, const SpamTsApp *app, SpamCkFile *c, PetscReal *dt)
+{
+  TS_SpamBlock *b = (TS_SpamBlock *)ts->data;
+
+  PetscFunctionBeginUser;
+  (void)app;
+  (void)dt;
+  PetscCall(SpamCkPutLong(c, "block_rates", b->have_f));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode CkPutParticlesBlock(TS ts, SpamCkFile *pc)
+{
+  TS_SpamBlock *b = (TS_SpamBlock *)ts->data;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamCkPutReal(pc, "block_rate", b->have_f ? (size_t)b->n * b->nv : 0, b->f));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode CkCheckBlock(const SpamCkFile *c, const char *path)
+{
+  PetscFunctionBeginUser;
+  if (!SpamCkHas(c, "block_rates")) SPAM_BAD_INPUT("-restart", path, "has no entry 'block_rates' (the rates the next block cycle starts from), which a run of -ts_type block_kdk writes");
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode CkApplyBlock(TS ts, const SpamCkFile *c, double h_next, PetscBool pending)
+{
+  PetscFunctionBeginUser;
+  (void)c;
+  (void)h_next;
+  ts->steprestart = pending ? PETSC_TRUE : PETSC_FALSE;
+  PetscFunctionReturn(0);
+}
+
+/* After set-up (which sized the arrays for this rank's particles, in the checkpoint's
+ * order): the rates back, or none (the cycle evaluates them) if the writer had none. */
+static PetscErrorCode CkApplyParticlesBlock(TS ts, const SpamCkFile *pc)
+{
+  TS_SpamBlock *b = (TS_SpamBlock *)ts->data;
+  const double *f;
+  size_t        len;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamCkGetLength(pc, "block_rate", &len));
+  b->have_f = PETSC_FALSE;
+  if (len == 0) PetscFunctionReturn(0);
+  PetscCall(SpamCkGetReal(pc, "block_rate", (size_t)b->n * b->nv, &f));
+  PetscCall(PetscArraycpy(b->f, f, (size_t)b->n * b->nv));
+  b->have_f = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
 static const SpamTSOption OptionsBlock[] = {{"block_cfl", PETSC_TRUE, PETSC_FALSE}, {"block_force", PETSC_TRUE, PETSC_FALSE}, {"block_max_level", PETSC_TRUE, PETSC_FALSE}, {"block_restricted", PETSC_TRUE, PETSC_FALSE}, {"block_wake_delay", PETSC_TRUE, PETSC_FALSE}, {NULL, PETSC_FALSE, PETSC_FALSE}};
 
 const SpamTSFamily SpamTSFamilyBlock = {
@@ -617,7 +691,11 @@ const SpamTSFamily SpamTSFamilyBlock = {
   .steps           = SPAM_TS_STEPS_OWN,
   .follow          = SPAM_TS_FOLLOW_NONE,
   .step_rule       = "sets each particle's step by -block_cfl and -block_force",
-  .restart_inexact = "the rates a cycle starts from were evaluated on the predicted state; a restart evaluates them on the synchronised one",
+  .ck_put             = CkPutBlock,
+  .ck_check           = CkCheckBlock,
+  .ck_apply           = CkApplyBlock,
+  .ck_put_particles   = CkPutParticlesBlock,
+  .ck_apply_particles = CkApplyParticlesBlock,
   .describe        = DescribeBlock,
   .help_other      = HelpBlock,
 };

@@ -51,6 +51,11 @@ typedef struct SpamTSFamily {
   PetscErrorCode (*ck_check)(const SpamCkFile *c, const char *path);
   PetscErrorCode (*ck_before_setup)(TS ts);
   PetscErrorCode (*ck_apply)(TS ts, const SpamCkFile *c, double h_next, PetscBool pending);
+  /* what the type keeps per particle, into and from the particles' entries (on several
+   * ranks each rank's own block, in its local order; on one rank the file itself):
+   * put at a checkpoint, applied after ck_apply */
+  PetscErrorCode (*ck_put_particles)(TS ts, SpamCkFile *pc);
+  PetscErrorCode (*ck_apply_particles)(TS ts, const SpamCkFile *pc);
   PetscErrorCode (*ck_reuses_f)(TS ts, const SpamCkFile *c, PetscBool *reused); /* NULL: evaluated anew */
   PetscErrorCode (*follow_placed)(TS ts, Vec X);                   /* onto a checkpoint's distribution */
   /* the state the last step started from, held by the method (good: NULL if it has none);
