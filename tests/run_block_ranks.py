@@ -23,7 +23,7 @@ Checkpoints: the Sedov run on 2 ranks stopped after its first cycle with a check
 run (snapshots, steps.csv, timeseries.csv but for its timing columns) and say it continued
 bit for bit; on one rank the same with the default restricted pass (fixed h, no
 -reproducible). -block_restricted true on 2 ranks is refused in one line (exit 2).
-Slow (multi-rank starts)."""
+Slow (multi-rank starts). --readings FILE: the drifts (docs/block_ranks.json)."""
 import os
 import subprocess
 import sys
@@ -67,10 +67,12 @@ for name, args in REPRO.items():
         if c.check(code == 0, f"{name} on {ranks} rank(s) runs (exit {code}) {one_line(err)}"):
             outs[ranks] = out
             drift = summary(out)["energy_rel_drift_max"]
+            c.reading(f"{name}.drift_np{ranks}", drift)
             c.check(drift <= DRIFT, f"{name} on {ranks} rank(s): |dE/E| {drift:.3g} <= {DRIFT:g}")
     if len(outs) == 2:
         one, two = snapshots_and_steps(outs[1]), snapshots_and_steps(outs[2])
         differ = [n for n in one if one[n] != two.get(n)]
+        c.reading(f"{name}.files_equal", len(one) - len(differ))
         c.check(len(one) > 2 and not differ and one.keys() == two.keys(),
                 f"{name}: 2 ranks write the one-rank run's {len(one) - 1} snapshots and steps.csv byte for byte (differ: {differ})")
 
@@ -105,4 +107,4 @@ code, _, err = spam(2, SEDOV + ["-block_restricted", 1], os.path.join(a.workdir,
 refusals = [ln for ln in err.splitlines() if ln.startswith("spam-ark:")]  # mpiexec adds its own lines
 c.check(code == 2 and len(refusals) == 1 and "-block_restricted" in refusals[0],
         f"-block_restricted true on 2 ranks refused once, in one line (exit {code}): {refusals}")
-c.finish()
+c.finish(a.readings)

@@ -22,7 +22,15 @@
  * walks of the step criterion and the limiter visit only the pairs with a particle whose
  * bin may change. A woken particle's new rate comes from a second restricted evaluation
  * on the same predicted state. -ts_view reports the fraction of particles active per
- * evaluation and how many evaluations were restricted. */
+ * evaluation and how many evaluations were restricted.
+ *
+ * On several ranks every particle-by-particle step is the one rank's (a particle's drift,
+ * prediction and kicks read its own data only); what crosses ranks is the right-hand side
+ * (through the halo, as for any method), the walk's inputs of other ranks' particles
+ * (block_bins.c) and each decision of the cycle, reduced over the ranks (AnyRank,
+ * RankReduce). The restricted pass reads no ghost slots, so several ranks evaluate the
+ * whole right-hand side at each tick. A checkpoint keeps f, the rates the next cycle
+ * starts from: a restart continues bit for bit. */
 #include <petsc/private/tsimpl.h>
 #include "ts_family.h"
 #include "block_kdk.h"
@@ -551,7 +559,7 @@ static PetscErrorCode OptionsRead(PetscOptionItems *PetscOptionsObject, SpamBloc
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsReal("-block_cfl", "Block steps: each particle's step at most C h_i / v_sig,i (signal speed over its neighbours)", "README", s->cfl, &s->cfl, NULL));
   PetscCall(PetscOptionsReal("-block_force", "Block steps: each particle's step at most C' sqrt(h_i / |a_i|)", "README", s->force, &s->force, NULL));
-  PetscCall(PetscOptionsBool("-block_restricted", "Block steps: each tick computes the forces of the active particles only (where the model has that pass: the gas with one h), else the whole right-hand side", "README", s->restricted, &s->restricted, restricted_set));
+  PetscCall(PetscOptionsBool("-block_restricted", "Block steps: each tick computes the forces of the active particles only (on one rank, where the model has that pass: the gas with one h), else the whole right-hand side", "README", s->restricted, &s->restricted, restricted_set));
   PetscCall(PetscOptionsBool("-block_wake_delay", "Block steps: a particle the limiter wakes off its needed bin's grid ends its step at that grid's next tick (false: at once, in a bin as deep as the tick's alignment asks)", "README", s->wake_delay, &s->wake_delay, NULL));
   PetscCall(PetscOptionsInt("-block_max_level", "Block steps: the deepest bin, steps down to D / 2^L of the top step D", "README", s->max_level, &s->max_level, NULL));
   PetscCall(SpamOptionText("-block_cfl", s->cfl, val, sizeof val));
