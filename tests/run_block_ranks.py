@@ -9,7 +9,9 @@ Under -reproducible the right-hand side is the canonical rows' (the same bits on
 count) and the walk takes those rows too, each pair from its row's side; its signal speeds
 and deepest neighbour bins are maxima, whose bits do not depend on the order. So a run on 2
 ranks must be the one-rank run to the bit: every CSV snapshot (gathered by gid, 17
-significant digits) and steps.csv byte for byte. Asked of
+significant digits) and steps.csv byte for byte, with the particles migrating between
+cycles (-migrate_interval 1: each migration re-makes the TS on the new vector and carries
+the rates each particle's next cycle starts from, by id). Asked of
 - the 2D Sedov blast (options/sedov.opts at -sedov_n 32, the adaptive kernel range, which
   -reproducible needs for the gas with energy), block_cfl = block_force 0.1, to t = 1
   (2 cycles, deepest bin 8: the bins spread and particles are woken, across the cut);
@@ -18,7 +20,7 @@ significant digits) and steps.csv byte for byte. Asked of
 Each run's energy must be kept: |dE/E| at most 1e-3 (energy_rel_drift_max), the bound the
 block steps are asked to meet on the blast (measured: 3.7e-4 and 5e-4).
 
-Checkpoints: the Sedov run on 2 ranks stopped after its first cycle with a checkpoint
+Checkpoints: the Sedov run on 2 ranks (with its migrations) stopped after its first cycle with a checkpoint
 (-ts_max_steps 1) and restarted must write exactly the files of the uninterrupted 2-rank
 run (snapshots, steps.csv, timeseries.csv but for its timing columns) and say it continued
 bit for bit; on one rank the same with the default restricted pass (fixed h, no
@@ -48,6 +50,9 @@ REPRO = {
 }
 
 
+MIGRATE = {1: [], 2: ["-migrate_interval", 1]}  # a migration at the end of every cycle that built the list
+
+
 def spam(ranks, args, out):
     cmd, env = rank_command(mpiexec, ENV, ranks, a.spam_ark, list(args) + ["-output_dir", out, "-output_overwrite"])
     p = subprocess.run(cmd, capture_output=True, text=True, timeout=300, env=env)
@@ -63,10 +68,13 @@ for name, args in REPRO.items():
     outs = {}
     for ranks in (1, 2):
         out = os.path.join(a.workdir, f"{name}_np{ranks}")
-        code, _, err = spam(ranks, args, out)
+        code, _, err = spam(ranks, args + MIGRATE[ranks], out)
         if c.check(code == 0, f"{name} on {ranks} rank(s) runs (exit {code}) {one_line(err)}"):
             outs[ranks] = out
             drift = summary(out)["energy_rel_drift_max"]
+            if ranks == 2:
+                moved = summary(out)["migrations"]
+                c.check(moved >= 2, f"{name} on 2 ranks: the particles migrate between cycles ({moved} migrations)")
             c.reading(f"{name}.drift_np{ranks}", drift)
             c.check(drift <= DRIFT, f"{name} on {ranks} rank(s): |dE/E| {drift:.3g} <= {DRIFT:g}")
     if len(outs) == 2:
@@ -100,7 +108,7 @@ def restart(ranks, args, label):
     c.check(not diff, f"{label}: the restarted run writes the uninterrupted run's files ({diff or 'the same'})")
 
 
-restart(2, REPRO["sedov"], "sedov_np2")
+restart(2, REPRO["sedov"] + MIGRATE[2], "sedov_np2")
 restart(1, SEDOV, "sedov_restricted_np1")
 
 code, _, err = spam(2, SEDOV + ["-block_restricted", 1], os.path.join(a.workdir, "refused"))

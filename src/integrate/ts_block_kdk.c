@@ -29,8 +29,9 @@
  * (through the halo, as for any method), the walk's inputs of other ranks' particles
  * (block_bins.c) and each decision of the cycle, reduced over the ranks (AnyRank,
  * RankReduce). The restricted pass reads no ghost slots, so several ranks evaluate the
- * whole right-hand side at each tick. A checkpoint keeps f, the rates the next cycle
- * starts from: a restart continues bit for bit. */
+ * whole right-hand side at each tick. Migrations come between cycles (FollowBlock carries
+ * f with the particles, by id). A checkpoint keeps f, the rates the next cycle starts
+ * from: a restart continues bit for bit. */
 #include <petsc/private/tsimpl.h>
 #include "ts_family.h"
 #include "block_kdk.h"
@@ -41,6 +42,7 @@ typedef struct {
   PetscBool         restricted_set; /* -block_restricted given (refused where no pass exists) */
   SpamBlockWalk     walk;
   PetscInt          n, nv;   /* particles and fields the arrays were made for         */
+  PetscInt64       *gid;     /* [n] their global ids, in the arrays' order              */
   double           *f, *g, *yp; /* [n nv]: rates at each particle's step start, the last
                                 * evaluation's, the predicted state                      */
   int              *lev;     /* [n] bin of the current step                            */
@@ -491,6 +493,8 @@ static PetscErrorCode TSSetUp_SpamBlock(TS ts)
   PetscCall(PetscMalloc3((size_t)b->n * b->nv + 1, &b->f, (size_t)b->n * b->nv + 1, &b->g, (size_t)b->n * b->nv + 1, &b->yp));
   PetscCall(PetscMalloc4(b->n + 1, &b->lev, b->n + 1, &b->start, b->n + 1, &b->len, b->n + 1, &b->ends));
   PetscCall(PetscCalloc4(b->n + 1, &b->chg, b->n + 1, &b->nxt, b->n + 1, &b->woke, 2 * b->n + 1, &b->near));
+  PetscCall(PetscMalloc1(b->n + 1, &b->gid));
+  PetscCall(PetscArraycpy(b->gid, sim->p.gid, b->n));
   if (b->set.restricted && !sim->model.rhs_active) {
     if (b->restricted_set) SPAM_BAD_INPUT("-block_restricted", "true", "model %s has no pass restricted to the active particles (the gas with one h, no conduction or viscous stress, R0 coordinates, no torque scaling has one): leave it false", sim->model.name);
     b->set.restricted = PETSC_FALSE; /* the default asks for it only where it exists */
@@ -512,6 +516,7 @@ static PetscErrorCode TSReset_SpamBlock(TS ts)
   if (b->f) PetscCall(PetscFree3(b->f, b->g, b->yp));
   if (b->lev) PetscCall(PetscFree4(b->lev, b->start, b->len, b->ends));
   if (b->chg) PetscCall(PetscFree4(b->chg, b->nxt, b->woke, b->near));
+  PetscCall(PetscFree(b->gid));
   PetscCall(SpamBlockWalkDestroy(&b->walk));
   b->have_f = PETSC_FALSE;
   PetscFunctionReturn(0);
@@ -632,6 +637,76 @@ static PetscErrorCode DescribeBlock(TS ts, const char **sub, char *adapt, size_t
   PetscFunctionReturn(0);
 }
 
+/* The rates f of the particles before a migration (ids b->gid, b->n of them) into out, in
+ * the order of the particles after it (sim->p.gid): a PetscSF matching the ids (collective). */
+static PetscErrorCode CarryRates(const SpamSim *sim, const TS_SpamBlock *b, double *out)
+{
+  PetscLayout  layout;
+  PetscSF      sf;
+  PetscInt    *roots, *leaves, nleaves;
+  MPI_Datatype unit;
+  int          mine, all;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc2(b->n + 1, &roots, sim->p.n + 1, &leaves));
+  for (PetscInt i = 0; i < b->n; i++) roots[i] = (PetscInt)b->gid[i];
+  for (PetscInt i = 0; i < sim->p.n; i++) leaves[i] = (PetscInt)sim->p.gid[i];
+  PetscCall(PetscLayoutCreate(sim->p.comm, &layout));
+  PetscCall(PetscLayoutSetSize(layout, sim->p.nglobal));
+  PetscCall(PetscLayoutSetUp(layout));
+  PetscCall(PetscSFCreateByMatchingIndices(layout, b->n, roots, NULL, 0, sim->p.n, leaves, NULL, 0, NULL, &sf));
+  PetscCall(PetscLayoutDestroy(&layout));
+  PetscCall(PetscFree2(roots, leaves));
+  PetscCall(PetscSFGetGraph(sf, NULL, &nleaves, NULL, NULL));
+  mine = nleaves == sim->p.n;
+  PetscCallMPI(MPIU_Allreduce(&mine, &all, 1, MPI_INT, MPI_LAND, sim->p.comm));
+  PetscCheck(all, sim->p.comm, PETSC_ERR_PLIB, "a migrated particle's block rates were held by no rank");
+  PetscCallMPI(MPI_Type_contiguous((PetscMPIInt)b->nv, MPI_DOUBLE, &unit));
+  PetscCallMPI(MPI_Type_commit(&unit));
+  PetscCall(PetscSFBcastBegin(sf, unit, b->f, out, MPI_REPLACE));
+  PetscCall(PetscSFBcastEnd(sf, unit, b->f, out, MPI_REPLACE));
+  PetscCallMPI(MPI_Type_free(&unit));
+  PetscCall(PetscSFDestroy(&sf));
+  PetscFunctionReturn(0);
+}
+
+/* A migration between two cycles (every particle synchronised): the TS is made again on
+ * the new vector, and the rates the next cycle starts from travel with their particles, so
+ * that the run goes on as if nothing had moved (under -reproducible, bit for bit as on one
+ * rank). Without rates (before the first cycle, or after a failed one) nothing travels. */
+static PetscErrorCode FollowBlock(TS ts, SpamTsApp *app)
+{
+  TS_SpamBlock *b    = (TS_SpamBlock *)ts->data;
+  SpamSim      *sim  = app->sim;
+  PetscBool     have = b->have_f && b->f && b->gid;
+  double       *f    = NULL;
+  PetscReal     t, dt;
+  PetscInt      step;
+
+  PetscFunctionBeginUser;
+  PetscCall(AnyRank(sim, MPI_LAND, &have));
+  if (have) {
+    PetscCall(PetscMalloc1((size_t)sim->p.n * b->nv + 1, &f));
+    PetscCall(CarryRates(sim, b, f));
+  }
+  PetscCall(TSGetTime(ts, &t));
+  PetscCall(TSGetTimeStep(ts, &dt));
+  PetscCall(TSGetStepNumber(ts, &step));
+  PetscCall(TSReset(ts));
+  PetscCall(TSSetSolution(ts, sim->p.X));
+  PetscCall(TSSetUp(ts));
+  PetscCall(TSSetTime(ts, t));
+  PetscCall(TSSetTimeStep(ts, dt));
+  PetscCall(TSSetStepNumber(ts, step));
+  if (have) {
+    PetscCall(PetscArraycpy(b->f, f, (size_t)b->n * b->nv));
+    b->have_f = PETSC_TRUE;
+  }
+  PetscCall(PetscFree(f));
+  ts->steprestart = PETSC_FALSE; /* nothing jumped: the next cycle starts from the carried rates */
+  PetscFunctionReturn(0);
+}
+
 /* Checkpoints: the rates each particle's first half kick of the next cycle takes (b->f, the
  * last tick's, evaluated on the predicted state: a restart could not make them again from
  * the synchronised state), so that a restart continues bit for bit. A marker among the
@@ -697,7 +772,8 @@ const SpamTSFamily SpamTSFamilyBlock = {
   .type            = SPAM_TSBLOCK_KDK,
   .adapt_default   = TSADAPTNONE,
   .steps           = SPAM_TS_STEPS_OWN,
-  .follow          = SPAM_TS_FOLLOW_NONE,
+  .follow          = SPAM_TS_FOLLOW_CARRY,
+  .follow_carry    = FollowBlock,
   .step_rule       = "sets each particle's step by -block_cfl and -block_force",
   .ck_put             = CkPutBlock,
   .ck_check           = CkCheckBlock,
