@@ -36,6 +36,7 @@
 #include "ts_family.h"
 #include "block_kdk.h"
 #include <spam/errors.h>
+#include <stdint.h>
 
 typedef struct {
   SpamBlockSettings set;
@@ -94,14 +95,19 @@ static PetscErrorCode Evaluate(SpamTsApp *app, double t, const double *y, double
 }
 
 /* The list's positions moved to those of y (collective); *ok false if one is not finite. */
-static PetscErrorCode PlaceList(SpamSim *sim, const double *y, PetscBool *ok)
+static PetscErrorCode PlaceList(SpamTsApp *app, double t, const double *y, PetscBool *ok)
 {
-  const SpamLayout *l = &sim->model.layout;
+  SpamSim          *sim = app->sim;
+  const SpamLayout *l   = &sim->model.layout;
   PetscInt          bad;
 
   PetscFunctionBeginUser;
   PetscCall(SpamNeighboursUpdate(&sim->pair.nl, &sim->geo.box, y + l->x, l->nvar, PETSC_FALSE, &bad));
-  *ok = (PetscBool)(bad < 0);
+  *ok = (PetscBool)(bad < 0); /* agreed by every rank (neighbours.h) */
+  if (bad >= 0 && app->bad < 0) {
+    app->bad  = bad;
+    app->tbad = t;
+  }
   PetscFunctionReturn(0);
 }
 
@@ -170,12 +176,12 @@ static PetscErrorCode Fail(TS ts, SpamTsApp *app, const char *msg)
  * then, on every rank. */
 static PetscErrorCode TooDeep(TS ts, SpamTsApp *app, PetscInt64 row, double want, double D, int L, PetscBool *ok)
 {
-  PetscInt64 first = row < 0 ? PETSC_MAX_INT : row;
+  PetscInt64 first = row < 0 ? INT64_MAX : row;
   double     w;
 
   PetscFunctionBeginUser;
   PetscCall(RankReduce(app->sim, MPIU_INT64, MPI_MIN, &first));
-  *ok = (PetscBool)(first == PETSC_MAX_INT);
+  *ok = (PetscBool)(first == INT64_MAX);
   if (*ok) PetscFunctionReturn(0);
   w = row == first ? want : PETSC_INFINITY;
   PetscCall(RankReduce(app->sim, MPI_DOUBLE, MPI_MIN, &w));
@@ -435,7 +441,7 @@ static PetscErrorCode TSStep_SpamBlock(TS ts)
    * then) unless an output's list build was reverted or a restart rebuilt it at the
    * checkpoint's reference positions since */
   if (!b->have_f || ts->steprestart) PetscCall(Evaluate(app, t0, y, b->f, &ok));
-  else PetscCall(PlaceList(app->sim, y, &ok));
+  else PetscCall(PlaceList(app, t0, y, &ok));
   ts->steprestart = PETSC_FALSE;
   b->have_f       = ok;
   if (ok) PetscCall(SpamBlockNeighbours(app->sim, y, NULL, NULL, &b->walk)); /* the signal speeds TopStep reads */
