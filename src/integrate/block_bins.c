@@ -147,6 +147,25 @@ static PetscErrorCode Remote(const SpamGhosts *gh, int dim, int n, const unsigne
   PetscFunctionReturn(0);
 }
 
+/* The rows a masked walk must read besides those the transposed list names: the rows with
+ * a marked remote ghost slot among their ghost partners (the transposed list knows only
+ * the local sources' marks). */
+static void RemoteRows(const SpamNeighbours *nl, SpamBlockWalk *w)
+{
+  const int first = nl->n + nl->ghosts.nlocal;
+
+  for (int i = 0; i < nl->n; i++) {
+    if (w->row[i]) continue;
+    for (int p = nl->gstart[i]; p < nl->gstart[i + 1]; p++) {
+      const int j = nl->gnbr[p];
+      if (j >= first && w->mark[j]) {
+        w->row[i] = 1;
+        break;
+      }
+    }
+  }
+}
+
 PetscErrorCode SpamBlockNeighbours(SpamSim *sim, const double *y, const int *lev, const unsigned char *mask, SpamBlockWalk *w)
 {
   const SpamLayout *l      = &sim->model.layout;
@@ -180,6 +199,7 @@ PetscErrorCode SpamBlockNeighbours(SpamSim *sim, const double *y, const int *lev
   if (SpamNeighboursCanonical(&sim->pair.nl)) WalkSignalCanonical(&sim->pair.nl, &sim->model.kernel, mask ? w->mark : NULL, &c);
   else if (mask) {
     PetscCall(SpamNeighboursMarkedRows(&sim->pair.nl, mask, w->row));
+    if (remote) RemoteRows(&sim->pair.nl, w);
     PetscCall(WalkSignalMarked(&sim->pair.nl, &sim->model.kernel, w->mark, w->row, &c));
   } else PetscCall(WalkSignal(&sim->pair.nl, &sim->model.kernel, &c));
   PetscFunctionReturn(0);
