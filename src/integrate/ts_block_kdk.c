@@ -28,8 +28,8 @@
  * prediction and kicks read its own data only); what crosses ranks is the right-hand side
  * (through the halo, as for any method), the walk's inputs of other ranks' particles
  * (block_bins.c) and each decision of the cycle, reduced over the ranks (AnyRank,
- * RankReduce). The restricted pass reads no ghost slots, so several ranks evaluate the
- * whole right-hand side at each tick. Migrations come between cycles (FollowBlock carries
+ * RankReduce); the restricted pass takes the other ranks' particles through the halo
+ * (rhs_tensor.c). Migrations come between cycles (FollowBlock carries
  * f with the particles, by id). A checkpoint keeps f, the rates the next cycle starts
  * from: a restart continues bit for bit. */
 #include <petsc/private/tsimpl.h>
@@ -505,10 +505,6 @@ static PetscErrorCode TSSetUp_SpamBlock(TS ts)
     if (b->restricted_set) SPAM_BAD_INPUT("-block_restricted", "true", "model %s has no pass restricted to the active particles (the gas with one h, no conduction or viscous stress, R0 coordinates, no torque scaling has one): leave it false", sim->model.name);
     b->set.restricted = PETSC_FALSE; /* the default asks for it only where it exists */
   }
-  if (b->set.restricted && SpamSimDistributed(sim)) {
-    if (b->restricted_set) SPAM_BAD_INPUT("-block_restricted", "true", "the pass restricted to the active particles runs on one rank (it reads no ghost slots: other ranks' particles would need their densities and stresses at each tick): leave it false on several ranks, where each tick evaluates the whole right-hand side");
-    b->set.restricted = PETSC_FALSE;
-  }
   b->have_f          = PETSC_FALSE;
   app->self_stepping = PETSC_TRUE;
   PetscFunctionReturn(0);
@@ -570,7 +566,7 @@ static PetscErrorCode OptionsRead(PetscOptionItems *PetscOptionsObject, SpamBloc
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsReal("-block_cfl", "Block steps: each particle's step at most C h_i / v_sig,i (signal speed over its neighbours)", "README", s->cfl, &s->cfl, NULL));
   PetscCall(PetscOptionsReal("-block_force", "Block steps: each particle's step at most C' sqrt(h_i / |a_i|)", "README", s->force, &s->force, NULL));
-  PetscCall(PetscOptionsBool("-block_restricted", "Block steps: each tick computes the forces of the active particles only (on one rank, where the model has that pass: the gas with one h), else the whole right-hand side", "README", s->restricted, &s->restricted, restricted_set));
+  PetscCall(PetscOptionsBool("-block_restricted", "Block steps: each tick computes the forces of the active particles only (where the model has that pass: the gas with one h, no walls or periodic ghost images), else the whole right-hand side", "README", s->restricted, &s->restricted, restricted_set));
   PetscCall(PetscOptionsBool("-block_wake_delay", "Block steps: a particle the limiter wakes off its needed bin's grid ends its step at that grid's next tick (false: at once, in a bin as deep as the tick's alignment asks)", "README", s->wake_delay, &s->wake_delay, NULL));
   PetscCall(PetscOptionsInt("-block_max_level", "Block steps: the deepest bin, steps down to D / 2^L of the top step D", "README", s->max_level, &s->max_level, NULL));
   PetscCall(SpamOptionText("-block_cfl", s->cfl, val, sizeof val));
