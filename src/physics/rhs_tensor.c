@@ -645,7 +645,7 @@ static PetscErrorCode RemoteMarks(SpamSim *sim, const unsigned char *active, uns
   PetscCall(SpamHaloForward(&nl->ghosts.halo, 1, f->mbuf, f->mbuf + n)); /* no local ghosts: the remote slots start at n */
   for (int i = 0; i < n; i++) act[i] = active[i];
   for (int j = n; j < slots; j++) act[j] = f->mbuf[j] != 0.0;
-  PetscCall(SpamNeighboursMarkedNear((SpamNeighbours *)nl, active, near));
+  PetscCall(SpamNeighboursMarkedNear(&sim->pair.nl, active, near));
   for (int i = 0; i < n; i++)
     for (int p = nl->gstart[i]; p < nl->gstart[i + 1] && !near[i]; p++) near[i] = act[nl->gnbr[p]];
   for (int i = 0; i < n; i++) nm[i] = near[i];
