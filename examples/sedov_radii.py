@@ -2,7 +2,7 @@
 """The Sedov blast's radius three ways, from spam-ark runs' CSV snapshots (2D or 3D).
 
 Usage:
-    /usr/bin/python3 examples/sedov_radii.py DIR [DIR ...] [--readings FILE] [--reference-times T,T]
+    /usr/bin/python3 examples/sedov_radii.py DIR [DIR ...] [--readings FILE] [--reference-times T,T] [--bin W]
 
 For every snapshot after t = 0 of every run directory (-scene sedov, CSV snapshots):
 - R_half: the half-level radius of plot_sedov.py and tests/run_sedov.py (radial bins 0.5
@@ -27,8 +27,15 @@ For every snapshot after t = 0 of every run directory (-scene sedov, CSV snapsho
   adaptive and evolved ranges), has the particles' half level; and R_front_spread, the
   same with that average spread further by a Gaussian fitted to the particles' lower peak
   (the viscosity widens the front beyond the kernel's average, and the half level of a
-  lower peak lies further out). The reference is slow at the adaptive range (a table of
-  ranges): --reference-times limits it to some snapshots, --no-reference skips it.
+  lower peak lies further out), with the run's kernel. The reference is slow at the
+  adaptive range (a table of ranges): --reference-times limits it to some snapshots,
+  --no-reference skips it;
+- two positions of the front that no kernel averages (kernel_free): R_velocity, the half
+  level of the binned radial velocity (the particles carry v; the self-similar step has its
+  half level at R), and shell_displacement, the mean distance by which the particles that
+  started between 0.7 R and 0.98 R lie beyond where the self-similar flow puts the gas that
+  started there (a shell displaced by d puts the shock's equal-mass position about
+  d rho2/(rho2 - rho0) ahead).
 Then, per run, the time offset t0 and the space offset dR fitted to R_moment (and to
 R_half) over the snapshots: R = R_exact(t - t0) and R = R_exact(t) + dR, least squares,
 with the rms residual of each: a blast started from a blob of finite size is the point
@@ -55,12 +62,45 @@ from shock_exact import (half_level_radius, sedov_gathered_adaptive, sedov_gathe
 BIN = 0.5
 
 
-def snapshot(path, dim):
+def snapshot(path, dim, extra=False):
+    """(t, x, m, rho_sum) of a CSV snapshot, rows in particle id order; with extra, also v."""
     with open(path) as f:
         t = float(f.readline().split("=")[1])
         rows = list(csv.DictReader(f))
+    rows.sort(key=lambda r: int(r["id"]))
     x = np.array([[float(r[a]) for a in "xyz"[:dim]] for r in rows])
-    return t, x, np.array([float(r["m"]) for r in rows]), np.array([float(r["rho_sum"]) for r in rows])
+    out = (t, x, np.array([float(r["m"]) for r in rows]), np.array([float(r["rho_sum"]) for r in rows]))
+    if extra:
+        out += (np.array([[float(r["v" + a]) for a in "xyz"[:dim]] for r in rows]),)
+    return out
+
+
+def lagrangian_radius(dim, gamma):
+    """(l0, l): the self-similar radius l = r/R of the gas that started at l0 = r0/R (its
+    mass coordinate: l0^D = D int_0^l g l'^(D-1) dl')."""
+    l, _, g, _ = sedov_profile(dim, gamma)
+    l, g = l[::-1], np.maximum(g[::-1], 0.0)  # the 3D core's g rounds to -5e-12
+    m = np.concatenate([[0.0], np.cumsum(0.5 * (g[1:] * l[1:] ** (dim - 1) + g[:-1] * l[:-1] ** (dim - 1)) * np.diff(l))])
+    return (m / m[-1]) ** (1.0 / dim), l
+
+
+def kernel_free(r, r0, x, v, r_ex, t, dim, lag):
+    """Two positions of the front that no kernel averages: the half level of the binned
+    radial velocity (the particles carry v; the self-similar step from 0 to the post-shock
+    speed has its half level at R), and the shell's mean excess displacement: each particle
+    that started at r0 in 0.7 R..0.98 R against where the self-similar flow puts the gas
+    that started there (mass coordinates); a shell displaced by d puts the shock's
+    equal-mass position about d rho2/(rho2 - rho0) ahead."""
+    vr = np.sum(v * x, axis=1) / np.maximum(r, 1e-300)
+    rdot = 2.0 / (dim + 2) * r_ex / t
+    b = np.floor(r / BIN).astype(int)
+    cnt = np.bincount(b)
+    rb = (np.arange(len(cnt)) + 0.5) * BIN
+    ok = (cnt > 0) & (rb > 0.5 * r_ex)  # the front's peak, not a hot core's particles flung out
+    r_vel, _ = half_level_radius(rb[ok], (np.bincount(b, vr / rdot)[ok] / cnt[ok]), 0.0)
+    sel = (r0 > 0.7 * r_ex) & (r0 < 0.98 * r_ex)
+    disp = float(np.mean(r[sel] - r_ex * np.interp(r0[sel] / r_ex, lag[0], lag[1])))
+    return r_vel, disp
 
 
 def moment_constant(dim, gamma):
@@ -84,16 +124,16 @@ def fit_offsets(ts, rs, xi0, e0, dim):
 
 def gathered_reference(r_ex, dim, gamma, prof, sm):
     """The half level of the self-similar density averaged the way the run's summed density
-    averages it (shock_exact.sedov_gathered_*: Lucy's kernel about each point, the blast's
-    own geometry): at the one range h (fixed), or at each point's own range solving
+    averages it (shock_exact.sedov_gathered_*: the run's kernel about each point, the
+    blast's own geometry): at the one range h (fixed), or at each point's own range solving
     rho_bar h^D = eta^D m within the run's bounds (adaptive, evolved). Returns (R_ref, peak)."""
-    h = float(sm["h"])
+    h, kernel = float(sm["h"]), sm.get("kernel", "lucy")
     grid = np.arange(max(r_ex - 8.0, 0.0), r_ex + 2.5 * h, 0.05)
     if sm.get("smoothing_length", "fixed") == "fixed":
-        rho = sedov_gathered_density(grid, r_ex, dim, gamma, h, prof, ns=80, na=180)
+        rho = sedov_gathered_density(grid, r_ex, dim, gamma, h, prof, ns=80, na=180, kernel=kernel)
     else:
         eta = float(sm["h_eta"]) or h
-        rho, _ = sedov_gathered_adaptive(grid, r_ex, dim, gamma, eta, (float(sm["h_min"]) * h, float(sm["h_max"]) * h), prof, nh=16)
+        rho, _ = sedov_gathered_adaptive(grid, r_ex, dim, gamma, eta, (float(sm["h_min"]) * h, float(sm["h_max"]) * h), prof, nh=16, kernel=kernel)
     return half_level_radius(grid, rho) + (grid, rho)
 
 
@@ -153,9 +193,10 @@ def run_radii(d, reference=True, reference_times=None):
     centre = 0.5 * n
     _, x0, m0, _ = snapshot(snaps[0][1], dim)
     base = float(np.sum(m0 * np.sum((x0 - centre) ** 2, axis=1)))
+    r0, lag = np.linalg.norm(x0 - centre, axis=1), lagrangian_radius(dim, gamma)
     rows = []
     for t, path in snaps[1:]:
-        t, x, m, rho = snapshot(path, dim)
+        t, x, m, rho, v = snapshot(path, dim, extra=True)
         r = np.linalg.norm(x - centre, axis=1)
         b = np.floor(r / BIN).astype(int)
         cnt, s = np.bincount(b), np.bincount(b, rho / m)
@@ -165,7 +206,9 @@ def run_radii(d, reference=True, reference_times=None):
         r_mom = (i2 / (sigma * 1.0 * cm)) ** (1.0 / (dim + 2))
         r_ex = xi0 * (e0 * t * t) ** (1.0 / (dim + 2))
         row = {"t": t, "R_exact": r_ex, "R_half": r_half, "R_moment": r_mom, "peak": peak,
-               "half_err": r_half / r_ex - 1.0, "moment_err": r_mom / r_ex - 1.0}
+               "half_err": r_half / r_ex - 1.0, "moment_err": r_mom / r_ex - 1.0, "half_lead": r_half - r_ex, "moment_lead": r_mom - r_ex}
+        r_vel, disp = kernel_free(r, r0, x - centre, v, r_ex, t, dim, lag)
+        row.update({"R_velocity": r_vel, "velocity_lead": r_vel - r_ex, "shell_displacement": disp})
         i2_inv = inviscid_moment(d, dim, gamma, e0, t)
         row["I2_over_inviscid"] = i2 / i2_inv - 1.0
         row["R_moment_inviscid_err"] = (i2_inv / (sigma * cm)) ** (1.0 / (dim + 2)) / r_ex - 1.0
@@ -182,18 +225,18 @@ def run_radii(d, reference=True, reference_times=None):
             r_sp, sig = spread_to_peak(grid2, rho_ref2, peak)
             r_front_sp = r_half - (r_sp - r_front1)
             row.update({"R_half_averaged_exact": r_ref, "peak_averaged_exact": peak_ref,
-                        "half_lead_over_averaged": r_half - r_ref, "R_front": r_front, "front_err": r_front / r_ex - 1.0,
-                        "spread_sigma": sig, "R_front_spread": r_front_sp, "front_spread_err": r_front_sp / r_ex - 1.0})
+                        "half_lead_over_averaged": r_half - r_ref, "R_front": r_front, "front_err": r_front / r_ex - 1.0, "front_lead": r_front - r_ex,
+                        "spread_sigma": sig, "R_front_spread": r_front_sp, "front_spread_err": r_front_sp / r_ex - 1.0, "front_spread_lead": r_front_sp - r_ex})
         rows.append(row)
     by_time = {("t%.4g" % q["t"]).replace(".", "_"): q for q in rows}  # quotable keys: t12, t4_147
     ts = [q["t"] for q in rows]
     fits = {}
-    for key in ("R_half", "R_moment", "R_front", "R_front_spread"):
+    for key in ("R_half", "R_moment", "R_front", "R_front_spread", "R_velocity"):
         if any(key not in q for q in rows):
             continue
         (t0, rt), (dr, rr) = fit_offsets(ts, [q[key] for q in rows], xi0, e0, dim)
         fits[key] = {"t0": t0, "t0_rms": rt, "dR": dr, "dR_rms": rr}
-    return {"dim": dim, "n": n, "h": float(sm["h"]), "smoothing_length": sm.get("smoothing_length", "fixed"), "xi0": xi0, "C": cm, "snapshots": rows, "at": by_time, "fits": fits,
+    return {"dim": dim, "n": n, "h": float(sm["h"]), "h_eta": float(sm.get("h_eta", 0.0) or 0.0), "kernel": sm.get("kernel", "lucy"), "smoothing_length": sm.get("smoothing_length", "fixed"), "xi0": xi0, "C": cm, "snapshots": rows, "at": by_time, "fits": fits,
             "wall_time_s": sm.get("wall_time_s"), "rhs_evals": sm.get("rhs_evals"), "n_particles": sm.get("n_particles")}
 
 
@@ -203,7 +246,9 @@ def main():
     ap.add_argument("--readings")
     ap.add_argument("--no-reference", action="store_true", help="skip the kernel-averaged exact profile (slow at adaptive h)")
     ap.add_argument("--reference-times", help="comma-separated snapshot times to compare with it (default: every snapshot)")
+    ap.add_argument("--bin", type=float, default=BIN, help="width of the radial bins of the half levels (default %(default)s)")
     a = ap.parse_args()
+    globals()["BIN"] = a.bin
     out = {}
     for d in a.dirs:
         times = [float(x) for x in a.reference_times.split(",")] if a.reference_times else None
@@ -211,7 +256,8 @@ def main():
         out[os.path.basename(os.path.normpath(d)).replace(".", "_")] = res  # a dotted key could not be quoted
         for q in res["snapshots"]:
             print(f"{d}: t = {q['t']:.4g}: R_exact {q['R_exact']:.3f}, R_half {q['R_half']:.3f} ({q['half_err']:+.2%}), "
-                  f"R_moment {q['R_moment']:.3f} ({q['moment_err']:+.2%}; I2 {q['I2_over_inviscid']:+.2%} over the inviscid virial's), peak {q['peak']:.3f}"
+                  f"R_moment {q['R_moment']:.3f} ({q['moment_err']:+.2%}; I2 {q['I2_over_inviscid']:+.2%} over the inviscid virial's), peak {q['peak']:.3f}, "
+                  f"velocity's half level {q['velocity_lead']:+.3f}, shell displaced {q['shell_displacement']:+.3f}"
                   + (f"; averaged exact: half level {q['R_half_averaged_exact']:.3f} (lead {q['half_lead_over_averaged']:+.3f}), "
                      f"peak {q['peak_averaged_exact']:.3f}; R_front {q['R_front']:.3f} ({q['front_err']:+.2%}); spread to the peak "
                      f"(sigma {q['spread_sigma']:.2f}): R_front {q['R_front_spread']:.3f} ({q['front_spread_err']:+.2%})" if "R_front" in q else ""))

@@ -223,18 +223,47 @@ def lucy(dim, h, s):
     return np.where(q < 1.0, norm * (1 + 3 * q) * (1 - q) ** 3, 0.0)
 
 
-def sedov_gathered_density(r, radius, nu, gamma, h, profile=None, ns=120, na=360):
+def kernel_shape(name, dim, q):
+    """The shape F(q) of the kernel -kernel calls name (src/kernels/), q = r/h, range h."""
+    q = np.abs(np.asarray(q, dtype=float))
+    t = np.clip(1.0 - q, 0.0, None)
+    if name == "lucy" or (name == "wendland_c2" and dim == 1):
+        return (1 + 3 * q) * t ** 3
+    if name == "wendland_c2":
+        return (1 + 4 * q) * t ** 4
+    if name == "wendland_c4":
+        return (1 + 6 * q + 35.0 / 3.0 * q * q) * t ** 6 if dim > 1 else (1 + 5 * q + 8 * q * q) * t ** 5
+    if name == "wendland_c6":
+        return (1 + 8 * q + 25 * q * q + 32 * q ** 3) * t ** 8 if dim > 1 else (1 + 7 * q + 19 * q * q + 21 * q ** 3) * t ** 7
+    if name == "cubic_spline":
+        return 2 * t ** 3 - np.clip(1.0 - 2.0 * q, 0.0, None) ** 3
+    if name == "quintic_spline":
+        return t ** 5 - 6 * np.clip(2.0 / 3.0 - q, 0.0, None) ** 5 + 15 * np.clip(1.0 / 3.0 - q, 0.0, None) ** 5
+    raise ValueError("unknown kernel " + name)
+
+
+def kernel_w(name, dim, h, s):
+    """The kernel called name, range h, normalised in dim dimensions (numerically: its
+    integral over the ball of radius h by 20000 trapezoids; Lucy's kernel is lucy())."""
+    if name == "lucy":
+        return lucy(dim, h, s)
+    q = np.linspace(0.0, 1.0, 20001)
+    c = 1.0 / np.trapz(kernel_shape(name, dim, q) * (2.0 * math.pi * q if dim == 2 else 4.0 * math.pi * q * q), q)
+    return c / h ** dim * kernel_shape(name, dim, np.asarray(s, dtype=float) / h)
+
+
+def sedov_gathered_density(r, radius, nu, gamma, h, profile=None, ns=120, na=360, kernel="lucy"):
     """The self-similar density rho/rho0 (shock at `radius`) averaged by Lucy's kernel of
     range h about the points at distance r from the centre, in the blast's own geometry
-    (circles in 2D, spheres in 3D; no planar approximation): what a summed density at h
-    makes of the exact field, sum_j m_j W(r_ij, h) -> int rho(x') W(|x - x'|, h) dx'.
+    (circles in 2D, spheres in 3D; no planar approximation; another kernel by its -kernel
+    name): what a summed density at h makes of the exact field, sum_j m_j W(r_ij, h) -> int rho(x') W(|x - x'|, h) dx'.
     The point x at (r, 0); x' = x + s e(angle): 2D int_0^h W s ds int_0^2pi rho(|x'|) dphi,
     3D int_0^h W s^2 ds 2 pi int_-1^1 rho(|x'|) dmu (midpoint rules, ns x na nodes)."""
     l, f, g, hh = profile if profile is not None else sedov_profile(nu, gamma)
     s = (np.arange(ns) + 0.5) * h / ns
     a = (np.arange(na) + 0.5) / na
     c = np.cos(2.0 * math.pi * a) if nu == 2 else 2.0 * a - 1.0
-    ws = lucy(nu, h, s) * (2.0 * math.pi * s * h / ns if nu == 2 else 4.0 * math.pi * s * s * h / ns)
+    ws = kernel_w(kernel, nu, h, s) * (2.0 * math.pi * s * h / ns if nu == 2 else 4.0 * math.pi * s * s * h / ns)
     out = []
     for rr in np.atleast_1d(np.asarray(r, dtype=float)):
         d = np.sqrt(np.maximum(rr * rr + s[:, None] ** 2 + 2.0 * rr * s[:, None] * c[None, :], 0.0))
@@ -244,13 +273,13 @@ def sedov_gathered_density(r, radius, nu, gamma, h, profile=None, ns=120, na=360
     return np.array(out)
 
 
-def sedov_gathered_adaptive(r, radius, nu, gamma, eta, bounds, profile=None, nh=24):
+def sedov_gathered_adaptive(r, radius, nu, gamma, eta, bounds, profile=None, nh=24, kernel="lucy"):
     """The same average at each point's own gather range h(r), the root of
     rho_bar(r, h) h^D = eta^D m (m = 1: the relation the adaptive particles solve), held at
     a bound (bounds = (h_lo, h_hi), absolute) where no root lies between them: rho_bar
     tabulated on nh ranges, the root interpolated linearly in h. Returns (rho_bar, h)."""
     hs = np.linspace(bounds[0], bounds[1], nh)
-    table = np.array([sedov_gathered_density(r, radius, nu, gamma, hv, profile) for hv in hs])
+    table = np.array([sedov_gathered_density(r, radius, nu, gamma, hv, profile, kernel=kernel) for hv in hs])
     fz = table * hs[:, None] ** nu - eta ** nu
     rho_out, h_out = np.empty(table.shape[1]), np.empty(table.shape[1])
     for k in range(table.shape[1]):
