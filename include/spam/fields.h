@@ -50,6 +50,12 @@ typedef struct {
   size_t  near_cap;
   int     near_wide, near_valid;
   long    near_builds;
+  /* Scratch of the pass restricted to the active particles on several ranks
+   * (rhs_tensor.c): two byte masks over the slots (active, near) and a value per slot
+   * for the halo's exchange of the marks, [mcap] each, grown with the slots. */
+  unsigned char *amark;
+  double        *mbuf;
+  int            mcap;
   PetscBool tensor;        /* the tensor-path arrays are allocated                     */
   int       uniform_mass;  /* every particle has mass m[0] (set at set-up)             */
   int       adaptive;      /* the adaptive range's arrays are allocated               */
@@ -66,6 +72,8 @@ PetscErrorCode SpamFieldsAddInverseMass(SpamFields *f);
  * local ones; called after a list build added ghosts (rare: not in the steady state). */
 PetscErrorCode SpamFieldsReserve(SpamFields *f, int slots);
 PetscErrorCode SpamFieldsDestroy(SpamFields *f);
+/* Room for slots in the restricted pass's masks (amark: 2 * mcap bytes, mbuf: mcap values). */
+PetscErrorCode SpamFieldsReserveMarks(SpamFields *f, int slots);
 /* Allocates the adaptive range's arrays (h, ..., hhi) at the current capacity; Reserve
  * grows them with the others. */
 PetscErrorCode SpamFieldsAddSmoothing(SpamFields *f);

@@ -21,7 +21,8 @@ typedef PetscErrorCode (*SpamRhsPartFn)(struct SpamSim *sim, const double *y, do
 /* The right-hand side restricted to the particles marked in active (one byte per local
  * particle): their rows of ydot, as the full evaluation would give them up to round-off;
  * the other rows untouched. near: scratch of two bytes per local particle. *done false
- * (nothing written) where the state needs the full evaluation (ghost slots). */
+ * (nothing written) where the state needs the full evaluation (a rank's own ghost slots:
+ * walls, periodic images), the same on every rank; collective on several ranks. */
 typedef PetscErrorCode (*SpamRhsActiveFn)(struct SpamSim *sim, const double *y, double *ydot, const unsigned char *active, unsigned char *near, PetscBool *done, PetscInt *bad);
 /* Accelerations from positions alone, into sim->acc (models whose state is r and v only:
  * the force half of a symplectic split). x has stride 'stride' between particles. */

@@ -42,11 +42,42 @@ static inline __attribute__((always_inline)) void SignalPair(const int dim, Walk
 SPAM_PAIR_WALK(WalkSignal, WalkCtx, SignalPair)
 SPAM_PAIR_WALK_MASKED(WalkSignalMarked, WalkCtx, SignalPair)
 
+/* Under -reproducible: the canonical rows (every partner of a local particle, sorted by
+ * key), each pair taken from the row's side and only the row's particle updated. The
+ * separation u_i - u_j is then the same expression whichever rank holds j (a periodic
+ * image's pair seen from its two ends may differ in the last bit, so the half list's
+ * Newton update would not be), and sig and nbmax are maxima, whose bits do not depend on
+ * the order: the walk gives the same bits on any rank count. With mask, only the pairs
+ * with a marked member, as the masked half-list walk. */
+static void WalkSignalCanonical(const SpamNeighbours *nl, const SpamKernel *k, const unsigned char *mask, WalkCtx *c)
+{
+  const int dim = nl->dim;
+
+  for (int i = 0; i < nl->n; i++) {
+    const int     mi = mask ? mask[i] : 1;
+    const double *vi = c->vel + (size_t)i * dim;
+    for (int p = nl->cstart[i]; p < nl->cstart[i + 1]; p++) {
+      const int j = nl->cnbr[p];
+      double    r2 = 0.0, vr = 0.0, dx[3] = {0.0, 0.0, 0.0};
+      if (!mi && !mask[j]) continue;
+      for (int d = 0; d < dim; d++) {
+        dx[d] = nl->u[d][i] - nl->u[d][j];
+        r2 += dx[d] * dx[d];
+      }
+      if (r2 >= k->h2) continue;
+      for (int d = 0; d < dim; d++) vr += (vi[d] - c->vel[(size_t)j * dim + d]) * dx[d];
+      const double s = c->c[i] + c->c[j] + (vr < 0.0 && r2 > 0.0 ? -3.0 * vr / sqrt(r2) : 0.0);
+      if (s > c->sig[i]) c->sig[i] = s;
+      if (c->lev[j] > c->nbmax[i]) c->nbmax[i] = c->lev[j];
+    }
+  }
+}
+
 PetscErrorCode SpamBlockWalkDestroy(SpamBlockWalk *w)
 {
   PetscFunctionBeginUser;
   if (w->cap) PetscCall(PetscFree6(w->c, w->vel, w->sig, w->lev, w->nbmax, w->mark));
-  if (w->cap) PetscCall(PetscFree2(w->row, w->seen));
+  if (w->cap) PetscCall(PetscFree4(w->row, w->seen, w->send, w->recv));
   w->cap = 0;
   PetscFunctionReturn(0);
 }
@@ -59,7 +90,7 @@ static PetscErrorCode Reserve(SpamBlockWalk *w, int slots, int dim)
   PetscCall(SpamBlockWalkDestroy(w));
   w->cap = slots + slots / 4 + 16;
   PetscCall(PetscMalloc6(w->cap, &w->c, (size_t)w->cap * dim, &w->vel, w->cap, &w->sig, w->cap, &w->lev, w->cap, &w->nbmax, w->cap, &w->mark));
-  PetscCall(PetscMalloc2(w->cap, &w->row, w->cap, &w->seen));
+  PetscCall(PetscMalloc4(w->cap, &w->row, w->cap, &w->seen, (size_t)w->cap * (SPAM_BLOCK_SENT + dim), &w->send, (size_t)w->cap * (SPAM_BLOCK_SENT + dim), &w->recv));
   PetscFunctionReturn(0);
 }
 
@@ -88,37 +119,87 @@ static inline void Load(const SpamSim *sim, double cmod, const double *p, const 
   for (int d = 0; d < dim; d++) w->vel[(size_t)i * dim + d] = p[v + d];
 }
 
+/* The remote ghost slots' inputs from their owners through the halo (collective): sound
+ * speed, bin, mark and velocity of each, mirrored as a local image's where the slot is
+ * another rank's mirror image. */
+static PetscErrorCode Remote(const SpamGhosts *gh, int dim, int n, const unsigned char *mask, SpamBlockWalk *w)
+{
+  const int nc = SPAM_BLOCK_SENT + dim;
+
+  PetscFunctionBeginUser;
+  for (int i = 0; i < n; i++) {
+    double *q = w->send + (size_t)i * nc;
+    q[0]      = w->c[i];
+    q[1]      = w->lev[i];
+    q[2]      = mask ? mask[i] : 0;
+    for (int d = 0; d < dim; d++) q[SPAM_BLOCK_SENT + d] = w->vel[(size_t)i * dim + d];
+  }
+  PetscCall(SpamHaloForward(&gh->halo, nc, w->send, w->recv));
+  for (int k = gh->nlocal; k < gh->n; k++) {
+    const double *q = w->recv + (size_t)(k - gh->nlocal) * nc;
+    const int     s = n + k;
+    w->c[s]         = q[0];
+    w->sig[s]       = 0.0;
+    w->lev[s]       = (int)q[1];
+    w->mark[s]      = (unsigned char)q[2];
+    for (int d = 0; d < dim; d++) w->vel[(size_t)s * dim + d] = ((gh->flip[k] >> d) & 1) ? -q[SPAM_BLOCK_SENT + d] : q[SPAM_BLOCK_SENT + d];
+  }
+  PetscFunctionReturn(0);
+}
+
+/* The rows a masked walk must read besides those the transposed list names: the rows with
+ * a marked remote ghost slot among their ghost partners (the transposed list knows only
+ * the local sources' marks). */
+static void RemoteRows(const SpamNeighbours *nl, SpamBlockWalk *w)
+{
+  const int first = nl->n + nl->ghosts.nlocal;
+
+  for (int i = 0; i < nl->n; i++) {
+    if (w->row[i]) continue;
+    for (int p = nl->gstart[i]; p < nl->gstart[i + 1]; p++) {
+      const int j = nl->gnbr[p];
+      if (j >= first && w->mark[j]) {
+        w->row[i] = 1;
+        break;
+      }
+    }
+  }
+}
+
 PetscErrorCode SpamBlockNeighbours(SpamSim *sim, const double *y, const int *lev, const unsigned char *mask, SpamBlockWalk *w)
 {
-  const SpamLayout *l    = &sim->model.layout;
-  const SpamGhosts *gh   = &sim->pair.nl.ghosts;
-  const int         dim  = sim->model.dim, n = (int)sim->p.n, slots = SpamNeighboursSlots(&sim->pair.nl);
-  double            cmod = 0.0;
+  const SpamLayout *l      = &sim->model.layout;
+  const SpamGhosts *gh     = &sim->pair.nl.ghosts;
+  const int         dim    = sim->model.dim, n = (int)sim->p.n, slots = SpamNeighboursSlots(&sim->pair.nl);
+  const PetscBool   remote = SpamHaloActive(&gh->halo);
+  double            cmod   = 0.0;
   WalkCtx           c;
 
   PetscFunctionBeginUser;
   PetscCall(Reserve(w, slots, dim));
   if (sim->model.max_sound_speed) PetscCall(sim->model.max_sound_speed(sim, y, &cmod));
   /* without ghosts a masked walk reads only the marked particles and their listed partners */
-  if (mask && slots == n) PetscCall(SpamNeighboursMarkedNear(&sim->pair.nl, mask, w->seen));
+  if (mask && slots == n && !remote) PetscCall(SpamNeighboursMarkedNear(&sim->pair.nl, mask, w->seen));
   else
     for (int i = 0; i < n; i++) w->seen[i] = 1;
   for (int i = 0; i < n; i++)
     if (w->seen[i]) Load(sim, cmod, y + (size_t)i * l->nvar, lev, i, w);
-  for (int k = 0; k < slots - n; k++) {
-    const int src = gh->src[k];
-    /* a remote ghost: block steps run on one rank (refused at set-up), so there is none */
-    const int s   = src >= 0 ? src : 0;
+  for (int k = 0; k < gh->nlocal; k++) { /* this rank's periodic and mirror images */
+    const int s   = gh->src[k];
     w->c[n + k]   = w->c[s];
     w->sig[n + k] = 0.0;
     w->lev[n + k] = w->lev[s];
     if (mask) w->mark[n + k] = mask[s]; /* an image of a marked particle is marked */
     for (int d = 0; d < dim; d++) w->vel[(size_t)(n + k) * dim + d] = ((gh->flip[k] >> d) & 1) ? -w->vel[(size_t)s * dim + d] : w->vel[(size_t)s * dim + d];
   }
+  if (remote) PetscCall(Remote(gh, dim, n, mask, w));
   c = (WalkCtx){w->c, w->vel, w->lev, w->sig, w->nbmax, gh->src, gh->kind, n};
-  if (mask) {
+  if (mask)
     for (int i = 0; i < n; i++) w->mark[i] = mask[i];
+  if (SpamNeighboursCanonical(&sim->pair.nl)) WalkSignalCanonical(&sim->pair.nl, &sim->model.kernel, mask ? w->mark : NULL, &c);
+  else if (mask) {
     PetscCall(SpamNeighboursMarkedRows(&sim->pair.nl, mask, w->row));
+    if (remote) RemoteRows(&sim->pair.nl, w);
     PetscCall(WalkSignalMarked(&sim->pair.nl, &sim->model.kernel, w->mark, w->row, &c));
   } else PetscCall(WalkSignal(&sim->pair.nl, &sim->model.kernel, &c));
   PetscFunctionReturn(0);

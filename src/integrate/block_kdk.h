@@ -27,7 +27,12 @@ typedef struct {
   unsigned char *mark; /* the walk's mask over the slots */
   unsigned char *row;  /* [n] the rows of the list the masked walk reads */
   unsigned char *seen; /* [n] sig, nbmax (and c, vel, lev) were set by the last walk */
+  double *send, *recv; /* [cap * (SPAM_BLOCK_SENT + dim)] what the halo carries: c, lev,
+                        * mark and vel of each particle, to the remote ghost slots */
 } SpamBlockWalk;
+
+/* The values per particle the halo carries to the walk besides the velocity. */
+#define SPAM_BLOCK_SENT 3
 
 PetscErrorCode SpamBlockWalkDestroy(SpamBlockWalk *w);
 /* Per particle from state y (whose positions the list was last updated to) and bins lev
@@ -37,7 +42,11 @@ PetscErrorCode SpamBlockWalkDestroy(SpamBlockWalk *w);
  * own bin and its marked neighbours' (what the limiter needs after only those changed).
  * Without ghost slots a masked walk reads and sets only the marked particles and those
  * listed beside one (w->seen[i] set; the others' sig and nbmax are left as they were, and
- * their nbmax would be their own bin): the work is that of the marked particles' pairs. */
+ * their nbmax would be their own bin): the work is that of the marked particles' pairs.
+ * On several ranks the other ranks' particles near this rank's (remote ghost slots) enter
+ * through the halo (collective: every rank calls it together). Under -reproducible the
+ * walk takes the canonical rows, each pair from its row's side: the same bits on any
+ * rank count. */
 PetscErrorCode SpamBlockNeighbours(SpamSim *sim, const double *y, const int *lev, const unsigned char *mask, SpamBlockWalk *w);
 /* The step particle i wants: min(cfl h_i / sig_i, force sqrt(h_i / |a_i|)), a_i the
  * velocity rate in rate (one particle block); infinity when neither bounds it. */

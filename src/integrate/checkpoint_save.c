@@ -14,12 +14,14 @@
  *   arkode_history [5], arkode_accepted ERKStep's controller: h_next, 2 errors, 2 steps
  *   loop [11]                           schedule, loop times and end (see PutLoop)
  *   kick_cached                         basicsymplectic: the kick's force is cached
+ *   block_rates, block_rate [n*nvar]    block_kdk: the rates its next cycle starts from
+ *                                       (per particle: on several ranks each rank's)
  *   progress [6], limit                 counters of the last step and what limited it
  *   rhs_stats [3], list_builds          the RHS's counters
  *   run_result                          the run's result so far (same build only)
  *   out_*                               the output series (output_resume.c)
  * On P > 1 ranks (checkpoint_file.h: one file, each rank's block in rank order) the
- * per-particle entries state, id, xref, mass, acc and the rank's own rhs_stats are each
+ * per-particle entries state, id, xref, mass, acc, block_rate and the rank's own rhs_stats are each
  * rank's, in its local order, and the shared entries add
  *   decomposition_cut [P+1]             the curve keys of the cut in force (bits as int64)
  *   decomposition_count [P]             what each rank got at that cut
@@ -124,7 +126,7 @@ static PetscErrorCode PutRanks(const SpamSim *sim, const SpamLoop *L, SpamCkFile
 
 /* The integrator: the step it proposes next, and what the method keeps of its own (ERKStep
  * its controller's history). */
-static PetscErrorCode PutIntegrator(TS ts, const SpamTsApp *app, PetscBool followed, SpamCkFile *c)
+static PetscErrorCode PutIntegrator(TS ts, const SpamTsApp *app, PetscBool followed, SpamCkFile *c, SpamCkFile *pc)
 {
   const SpamTSFamily *f;
   PetscReal           dt;
@@ -133,6 +135,7 @@ static PetscErrorCode PutIntegrator(TS ts, const SpamTsApp *app, PetscBool follo
   PetscCall(TSGetTimeStep(ts, &dt));
   PetscCall(SpamTSFamilyOf(ts, &f));
   if (f->ck_put) PetscCall(f->ck_put(ts, app, c, &dt));
+  if (f->ck_put_particles) PetscCall(f->ck_put_particles(ts, pc));
   PetscCall(SpamCkPutScalar(c, "h_next", dt));
   PetscCall(SpamCkPutScalar(c, "velocity_scale", app->w.vscale));
   {
@@ -199,7 +202,7 @@ PetscErrorCode SpamCheckpointWrite(SpamSim *sim, const SpamRunOptions *o, TS ts,
   if (!ierr) ierr = SpamCkPutLong(&c, "exact", exact);
   if (!ierr) ierr = PutParticles(sim, ranks ? &mine : &c, &c);
   if (!ierr && ranks) ierr = PutRanks(sim, L, &c);
-  if (!ierr) ierr = PutIntegrator(ts, app, L->followed, &c);
+  if (!ierr) ierr = PutIntegrator(ts, app, L->followed, &c, ranks ? &mine : &c);
   if (!ierr) ierr = PutLoop(o, L, r, &c);
   if (!ierr && out->owned) ierr = SpamOutputSave(out, &c); /* rank 0's files; rank 0 writes the shared entries */
   if (!ierr) ierr = SpamOutputPath(out, SPAM_CHECKPOINT_FILE, path, sizeof path);

@@ -6,8 +6,8 @@
  * error history), the loop's last good state and interpolation scratch, the list's kept
  * reference positions. Without migrations the run stays correct (a rank's halo is taken
  * from the bounding box of its particles wherever they are), only slower as the boxes grow.
- * ERKStep, rk, ssp and euler follow (SpamTSFollowParticles); cvode and basicsymplectic
- * keep the first distribution. */
+ * ERKStep, rk, ssp, euler and block_kdk (between its cycles, carrying its rates by id)
+ * follow (SpamTSFollowParticles); cvode and basicsymplectic keep the first distribution. */
 #include <spam/integrator.h>
 #include <spam/decompose.h>
 #include "loop_state.h"

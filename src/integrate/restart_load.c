@@ -340,6 +340,7 @@ static PetscErrorCode ApplyIntegrator(TS ts, SpamTsApp *app, const SpamRestart *
   if (f->ck_before_setup) PetscCall(f->ck_before_setup(ts));
   PetscCall(TSSetUp(ts));
   if (f->ck_apply) PetscCall(f->ck_apply(ts, &rs->file, h_next, (PetscBool)(pending != 0)));
+  if (f->ck_apply_particles) PetscCall(f->ck_apply_particles(ts, rs->ranks > 1 ? &rs->mine : &rs->file));
   app->cache_valid = PETSC_FALSE;
   PetscFunctionReturn(0);
 }

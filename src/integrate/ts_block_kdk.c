@@ -22,17 +22,28 @@
  * walks of the step criterion and the limiter visit only the pairs with a particle whose
  * bin may change. A woken particle's new rate comes from a second restricted evaluation
  * on the same predicted state. -ts_view reports the fraction of particles active per
- * evaluation and how many evaluations were restricted. */
+ * evaluation and how many evaluations were restricted.
+ *
+ * On several ranks every particle-by-particle step is the one rank's (a particle's drift,
+ * prediction and kicks read its own data only); what crosses ranks is the right-hand side
+ * (through the halo, as for any method), the walk's inputs of other ranks' particles
+ * (block_bins.c) and each decision of the cycle, reduced over the ranks (AnyRank,
+ * RankReduce); the restricted pass takes the other ranks' particles through the halo
+ * (rhs_tensor.c). Migrations come between cycles (FollowBlock carries
+ * f with the particles, by id). A checkpoint keeps f, the rates the next cycle starts
+ * from: a restart continues bit for bit. */
 #include <petsc/private/tsimpl.h>
 #include "ts_family.h"
 #include "block_kdk.h"
 #include <spam/errors.h>
+#include <stdint.h>
 
 typedef struct {
   SpamBlockSettings set;
   PetscBool         restricted_set; /* -block_restricted given (refused where no pass exists) */
   SpamBlockWalk     walk;
   PetscInt          n, nv;   /* particles and fields the arrays were made for         */
+  PetscInt64       *gid;     /* [n] their global ids, in the arrays' order              */
   double           *f, *g, *yp; /* [n nv]: rates at each particle's step start, the last
                                 * evaluation's, the predicted state                      */
   int              *lev;     /* [n] bin of the current step                            */
@@ -51,6 +62,22 @@ typedef struct {
   int               deepest;
 } TS_SpamBlock;
 
+/* Several ranks take every decision of the cycle together: a flag set on any rank (or held
+ * on all), the smallest or largest value. On one rank nothing is exchanged. */
+static PetscErrorCode AnyRank(const SpamSim *sim, MPI_Op op, PetscBool *flag)
+{
+  PetscFunctionBeginUser;
+  if (SpamSimDistributed(sim)) PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, flag, 1, MPIU_BOOL, op, sim->p.comm));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode RankReduce(const SpamSim *sim, MPI_Datatype type, MPI_Op op, void *v)
+{
+  PetscFunctionBeginUser;
+  if (SpamSimDistributed(sim)) PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, v, 1, type, op, sim->p.comm));
+  PetscFunctionReturn(0);
+}
+
 /* One evaluation into out; *ok false (and the failure booked) when a particle went bad. */
 static PetscErrorCode Evaluate(SpamTsApp *app, double t, const double *y, double *out, PetscBool *ok)
 {
@@ -59,6 +86,24 @@ static PetscErrorCode Evaluate(SpamTsApp *app, double t, const double *y, double
   PetscFunctionBeginUser;
   PetscCall(SpamRhs(app->sim, y, out, &bad));
   *ok = (PetscBool)(bad < 0);
+  PetscCall(AnyRank(app->sim, MPI_LAND, ok));
+  if (bad >= 0 && app->bad < 0) {
+    app->bad  = bad;
+    app->tbad = t;
+  }
+  PetscFunctionReturn(0);
+}
+
+/* The list's positions moved to those of y (collective); *ok false if one is not finite. */
+static PetscErrorCode PlaceList(SpamTsApp *app, double t, const double *y, PetscBool *ok)
+{
+  SpamSim          *sim = app->sim;
+  const SpamLayout *l   = &sim->model.layout;
+  PetscInt          bad;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamNeighboursUpdate(&sim->pair.nl, &sim->geo.box, y + l->x, l->nvar, PETSC_FALSE, &bad));
+  *ok = (PetscBool)(bad < 0); /* agreed by every rank (neighbours.h) */
   if (bad >= 0 && app->bad < 0) {
     app->bad  = bad;
     app->tbad = t;
@@ -126,26 +171,49 @@ static PetscErrorCode Fail(TS ts, SpamTsApp *app, const char *msg)
   PetscFunctionReturn(0);
 }
 
+/* Some particle wanted a step below the deepest bin (row >= 0: this rank's, the lowest
+ * such): every rank fails with the message of the lowest such row of all. *ok false
+ * then, on every rank. */
+static PetscErrorCode TooDeep(TS ts, SpamTsApp *app, PetscInt64 row, double want, double D, int L, PetscBool *ok)
+{
+  PetscInt64 first = row < 0 ? INT64_MAX : row;
+  double     w;
+
+  PetscFunctionBeginUser;
+  PetscCall(RankReduce(app->sim, MPIU_INT64, MPI_MIN, &first));
+  *ok = (PetscBool)(first == INT64_MAX);
+  if (*ok) PetscFunctionReturn(0);
+  w = row == first ? want : PETSC_INFINITY;
+  PetscCall(RankReduce(app->sim, MPI_DOUBLE, MPI_MIN, &w));
+  {
+    char msg[200];
+    (void)snprintf(msg, sizeof msg, "particle %" PetscInt64_FMT " wants a step %.3e below the deepest bin %.3e (-block_max_level %d)", first, w, D / (double)((PetscInt64)1 << L), L);
+    PetscCall(Fail(ts, app, msg));
+  }
+  PetscFunctionReturn(0);
+}
+
 /* The bins of a synchronised start: each particle's wanted bin, then the limiter applied
  * until no bin changes (a deep bin spreads to its neighbours two levels at a time). */
 static PetscErrorCode FirstBins(TS ts, SpamTsApp *app, TS_SpamBlock *b, const double *y, double D, int L, PetscBool *ok)
 {
   SpamSim  *sim = app->sim;
   PetscBool changed = PETSC_TRUE;
+  PetscInt64 row = -1;
+  double     wrow = 0.0;
 
   PetscFunctionBeginUser;
   *ok = PETSC_TRUE; /* b->walk holds the signal speeds of y (TSStep walked it for TopStep) */
-  for (PetscInt i = 0; i < b->n; i++) {
+  for (PetscInt i = 0; i < b->n && row < 0; i++) {
     const double want = SpamBlockWanted(sim, &b->set, &b->walk, i, b->f + (size_t)i * b->nv);
     b->lev[i]         = LevelFor(want, D, L);
     if (b->lev[i] < 0) {
-      char msg[200];
-      (void)snprintf(msg, sizeof msg, "particle %" PetscInt_FMT " wants a step %.3e below the deepest bin %.3e (-block_max_level %d)", SpamSimRowOf(sim, i), want, D / (double)((PetscInt64)1 << L), L);
-      PetscCall(Fail(ts, app, msg));
-      *ok = PETSC_FALSE;
-      PetscFunctionReturn(0);
+      row  = SpamSimRowOf(sim, i);
+      wrow = want;
     }
   }
+  PetscCall(TooDeep(ts, app, row, wrow, D, L, ok));
+  if (!*ok) PetscFunctionReturn(0);
   for (int pass = 0; L > 0 && changed && pass <= L; pass++) { /* one bin: nothing to limit */
     changed = PETSC_FALSE;
     PetscCall(SpamBlockNeighbours(sim, y, b->lev, NULL, &b->walk));
@@ -154,6 +222,7 @@ static PetscErrorCode FirstBins(TS ts, SpamTsApp *app, TS_SpamBlock *b, const do
         b->lev[i] = b->walk.nbmax[i] - SPAM_BLOCK_LIMITER;
         changed   = PETSC_TRUE;
       }
+    PetscCall(AnyRank(sim, MPI_LOR, &changed));
   }
   PetscFunctionReturn(0);
 }
@@ -217,6 +286,7 @@ static PetscErrorCode Wake(SpamSim *sim, TS_SpamBlock *b, double *y, PetscInt64 
     b->lev[i] = PetscMin(L, PetscMax(aligned, b->walk.nbmax[i] - SPAM_BLOCK_LIMITER));
   }
   PetscCall(PetscArraycpy(b->chg, b->nxt, b->n));
+  PetscCall(AnyRank(sim, MPI_LOR, moved));
   PetscFunctionReturn(0);
 }
 
@@ -231,6 +301,7 @@ static PetscErrorCode WokenKicks(SpamTsApp *app, TS_SpamBlock *b, double *y, Pet
   PetscFunctionBeginUser;
   *ok = PETSC_TRUE;
   for (PetscInt i = 0; i < b->n && !any; i++) any = (PetscBool)b->woke[i];
+  PetscCall(AnyRank(app->sim, MPI_LOR, &any)); /* the restricted evaluation is collective */
   if (!any) PetscFunctionReturn(0);
   if (b->set.restricted) { /* the full pass left every rate in g already */
     PetscCall(EvaluateMarked(app, b, t0 + (double)s * tau, b->yp, b->g, b->woke, ok));
@@ -256,27 +327,30 @@ static PetscErrorCode Rebin(TS ts, SpamTsApp *app, TS_SpamBlock *b, double *y, P
   const SpamLayout *l   = &sim->model.layout;
   const int         dim = sim->model.dim, aligned = AlignedLevel(s, L);
   PetscBool         deeper = PETSC_FALSE;
+  PetscInt64        row    = -1;
+  double            wrow   = 0.0;
 
   PetscFunctionBeginUser;
   *ok = PETSC_TRUE;
   PetscCall(SpamBlockNeighbours(sim, b->yp, b->lev, b->ends, &b->walk));
-  for (PetscInt i = 0; i < b->n; i++) {
+  for (PetscInt i = 0; i < b->n && row < 0; i++) {
     b->chg[i] = 0;
     if (!b->ends[i]) continue;
     const double want = SpamBlockWanted(sim, &b->set, &b->walk, i, b->g + (size_t)i * b->nv);
     int          k    = LevelFor(want, D, L);
     if (k < 0) {
-      char msg[200];
-      (void)snprintf(msg, sizeof msg, "particle %" PetscInt_FMT " wants a step %.3e below the deepest bin %.3e (-block_max_level %d)", SpamSimRowOf(sim, i), want, D / (double)((PetscInt64)1 << L), L);
-      PetscCall(Fail(ts, app, msg));
-      *ok = PETSC_FALSE;
-      PetscFunctionReturn(0);
+      row  = SpamSimRowOf(sim, i);
+      wrow = want;
+      break;
     }
     k = PetscMin(L, PetscMax(k, PetscMax(aligned, b->walk.nbmax[i] - SPAM_BLOCK_LIMITER)));
     b->chg[i] = (unsigned char)(k > b->lev[i]);
     deeper |= k > b->lev[i];
     b->lev[i] = k;
   }
+  PetscCall(TooDeep(ts, app, row, wrow, D, L, ok));
+  if (!*ok) PetscFunctionReturn(0);
+  PetscCall(AnyRank(sim, MPI_LOR, &deeper));
   /* a woken particle's bin is deeper too: the limiter spreads ring by ring until it holds */
   for (int ring = 0; deeper && ring <= L; ring++) PetscCall(Wake(sim, b, y, s, L, ticks, tau, &deeper));
   PetscCall(WokenKicks(app, b, y, s, t0, tau, ok));
@@ -295,19 +369,23 @@ static PetscErrorCode Rebin(TS ts, SpamTsApp *app, TS_SpamBlock *b, double *y, P
 /* The top step: the longest any particle wants, at most the distance to the stop time,
  * -ts_dt, and 2^L times the shortest any particle wants (so that it fits the deepest
  * bin: with -block_max_level 0 the method is global kick-drift-kick on the shortest). */
-static double TopStep(const TS ts, const SpamTsApp *app, const TS_SpamBlock *b)
+static PetscErrorCode TopStep(const TS ts, const SpamTsApp *app, const TS_SpamBlock *b, double *top)
 {
   double D = ts->max_time - ts->ptime, longest = 0.0, shortest = PETSC_INFINITY;
 
+  PetscFunctionBeginUser;
   if (app->o->dt_first > 0) D = PetscMin(D, app->o->dt_first);
   for (PetscInt i = 0; i < b->n; i++) {
     const double want = SpamBlockWanted(app->sim, &b->set, &b->walk, i, b->f + (size_t)i * b->nv);
     longest  = PetscMax(longest, want);
     shortest = PetscMin(shortest, want);
   }
+  PetscCall(RankReduce(app->sim, MPI_DOUBLE, MPI_MAX, &longest));
+  PetscCall(RankReduce(app->sim, MPI_DOUBLE, MPI_MIN, &shortest));
   if (longest > 0.0) D = PetscMin(D, longest);
   if (shortest > 0.0) D = PetscMin(D, shortest * (double)((PetscInt64)1 << b->set.max_level));
-  return D;
+  *top = D;
+  PetscFunctionReturn(0);
 }
 
 /* One tick: drift everyone to tick s, evaluate on the predicted state, second half kick of
@@ -318,7 +396,7 @@ static PetscErrorCode Tick(SpamTsApp *app, TS_SpamBlock *b, double *y, PetscInt6
   const SpamLayout *l   = &sim->model.layout;
   const int         dim = sim->model.dim;
   const double      dt  = (double)(s - from) * tau;
-  PetscInt          nact = 0;
+  PetscInt64        nact = 0, all;
 
   PetscFunctionBeginUser;
   for (PetscInt i = 0; i < b->n; i++) {
@@ -330,7 +408,9 @@ static PetscErrorCode Tick(SpamTsApp *app, TS_SpamBlock *b, double *y, PetscInt6
     b->ends[i] = (unsigned char)(b->start[i] + b->len[i] == s);
     nact += b->ends[i];
   }
-  PetscCall(EvaluateMarked(app, b, t0 + (double)s * tau, b->yp, b->g, nact < b->n ? b->ends : NULL, ok));
+  all = nact;
+  PetscCall(RankReduce(sim, MPIU_INT64, MPI_SUM, &all));
+  PetscCall(EvaluateMarked(app, b, t0 + (double)s * tau, b->yp, b->g, all < sim->p.nglobal ? b->ends : NULL, ok));
   b->evals++;
   if (!*ok) PetscFunctionReturn(0);
   for (PetscInt i = 0; i < b->n; i++) {
@@ -338,7 +418,7 @@ static PetscErrorCode Tick(SpamTsApp *app, TS_SpamBlock *b, double *y, PetscInt6
     Kick(l, dim, y + (size_t)i * b->nv, b->g + (size_t)i * b->nv, 0.5 * (double)b->len[i] * tau);
   }
   b->psteps += nact;
-  b->active_sum += (double)nact / (double)PetscMax(b->n, 1);
+  b->active_sum += (double)all / (double)PetscMax(sim->p.nglobal, 1);
   PetscFunctionReturn(0);
 }
 
@@ -356,13 +436,17 @@ static PetscErrorCode TSStep_SpamBlock(TS ts)
   PetscFunctionBeginUser;
   PetscCall(TSGetApplicationContext(ts, &app));
   PetscCall(VecGetArray(ts->vec_sol, &y));
-  /* the rates of a synchronised state: kept from the last tick, or anew after a jump */
+  /* the rates of a synchronised state: kept from the last tick (or a checkpoint), or anew
+   * after a jump; when kept, the list is moved to y, where the last tick left it (a no-op
+   * then) unless an output's list build was reverted or a restart rebuilt it at the
+   * checkpoint's reference positions since */
   if (!b->have_f || ts->steprestart) PetscCall(Evaluate(app, t0, y, b->f, &ok));
+  else PetscCall(PlaceList(app, t0, y, &ok));
   ts->steprestart = PETSC_FALSE;
   b->have_f       = ok;
   if (ok) PetscCall(SpamBlockNeighbours(app->sim, y, NULL, NULL, &b->walk)); /* the signal speeds TopStep reads */
   if (ok) {
-    D   = TopStep(ts, app, b);
+    PetscCall(TopStep(ts, app, b, &D));
     tau = D / (double)ticks;
     PetscCall(FirstBins(ts, app, b, y, D, L, &ok)); /* the bins of this cycle's top step */
   }
@@ -377,6 +461,7 @@ static PetscErrorCode TSStep_SpamBlock(TS ts)
   while (ok && s < ticks) {
     PetscInt64 next = ticks;
     for (PetscInt i = 0; i < b->n; i++) next = PetscMin(next, b->start[i] + b->len[i]);
+    PetscCall(RankReduce(app->sim, MPIU_INT64, MPI_MIN, &next));
     PetscCall(Tick(app, b, y, s, next, t0, tau, &ok));
     s = next;
     if (ok && s < ticks) PetscCall(Rebin(ts, app, b, y, s, t0, D, L, ticks, tau, &ok));
@@ -407,7 +492,6 @@ static PetscErrorCode TSSetUp_SpamBlock(TS ts)
   PetscCheck(app, PetscObjectComm((PetscObject)ts), PETSC_ERR_ORDER, "the block_kdk TS needs a SpamTsApp application context");
   sim = app->sim;
   l   = &sim->model.layout;
-  if (SpamSimDistributed(sim)) SPAM_BAD_INPUT("-ts_type", SPAM_TSBLOCK_KDK, "block steps run on one rank (their neighbour walk reads no other rank's particles): run without mpiexec or use -ts_type arkode");
   if (l->x < 0 || l->v < 0) SPAM_BAD_INPUT("-ts_type", SPAM_TSBLOCK_KDK, "kick-drift-kick needs positions and velocities in the state; model %s has none", sim->model.name);
   if (sim->model.post_step) SPAM_BAD_INPUT("-ts_type", SPAM_TSBLOCK_KDK, "model %s changes the state after each step (closest-approach reflection), which a block cycle cannot follow particle by particle: use -ts_type arkode", sim->model.name);
   b->n  = sim->p.n;
@@ -415,6 +499,8 @@ static PetscErrorCode TSSetUp_SpamBlock(TS ts)
   PetscCall(PetscMalloc3((size_t)b->n * b->nv + 1, &b->f, (size_t)b->n * b->nv + 1, &b->g, (size_t)b->n * b->nv + 1, &b->yp));
   PetscCall(PetscMalloc4(b->n + 1, &b->lev, b->n + 1, &b->start, b->n + 1, &b->len, b->n + 1, &b->ends));
   PetscCall(PetscCalloc4(b->n + 1, &b->chg, b->n + 1, &b->nxt, b->n + 1, &b->woke, 2 * b->n + 1, &b->near));
+  PetscCall(PetscMalloc1(b->n + 1, &b->gid));
+  PetscCall(PetscArraycpy(b->gid, sim->p.gid, b->n));
   if (b->set.restricted && !sim->model.rhs_active) {
     if (b->restricted_set) SPAM_BAD_INPUT("-block_restricted", "true", "model %s has no pass restricted to the active particles (the gas with one h, no conduction or viscous stress, R0 coordinates, no torque scaling has one): leave it false", sim->model.name);
     b->set.restricted = PETSC_FALSE; /* the default asks for it only where it exists */
@@ -432,6 +518,7 @@ static PetscErrorCode TSReset_SpamBlock(TS ts)
   if (b->f) PetscCall(PetscFree3(b->f, b->g, b->yp));
   if (b->lev) PetscCall(PetscFree4(b->lev, b->start, b->len, b->ends));
   if (b->chg) PetscCall(PetscFree4(b->chg, b->nxt, b->woke, b->near));
+  PetscCall(PetscFree(b->gid));
   PetscCall(SpamBlockWalkDestroy(&b->walk));
   b->have_f = PETSC_FALSE;
   PetscFunctionReturn(0);
@@ -450,16 +537,25 @@ static PetscErrorCode TSDestroy_SpamBlock(TS ts)
 static PetscErrorCode TSView_SpamBlock(TS ts, PetscViewer viewer)
 {
   TS_SpamBlock *b = (TS_SpamBlock *)ts->data;
+  SpamTsApp    *app;
   PetscBool     ascii;
+  PetscInt64    counts[3] = {b->psteps, b->woken, b->delayed}, nall = b->n; /* over the ranks */
+  int           deepest   = b->deepest;
 
   PetscFunctionBeginUser;
   PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERASCII, &ascii));
   if (!ascii) PetscFunctionReturn(0);
+  PetscCall(TSGetApplicationContext(ts, &app));
+  if (app && app->sim && SpamSimDistributed(app->sim)) {
+    PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, counts, 3, MPIU_INT64, MPI_SUM, app->sim->p.comm));
+    PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &deepest, 1, MPI_INT, MPI_MAX, app->sim->p.comm));
+    nall = app->sim->p.nglobal;
+  }
   PetscCall(PetscViewerASCIIPrintf(viewer, "  block steps, kick-drift-kick: -block_cfl %g -block_force %g -block_max_level %" PetscInt_FMT ", limiter %d levels\n", b->set.cfl, b->set.force, b->set.max_level, SPAM_BLOCK_LIMITER));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "  block cycles %ld, evaluations in them %ld, particle steps %ld (woken %ld), deepest bin %d\n", b->cycles, b->evals, b->psteps, b->woken, b->deepest));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "  block cycles %ld, evaluations in them %ld, particle steps %" PetscInt64_FMT " (woken %" PetscInt64_FMT "), deepest bin %d\n", b->cycles, b->evals, counts[0], counts[1], deepest));
   PetscCall(PetscViewerASCIIPrintf(viewer, "  block restricted pass %s: restricted evaluations %ld (of them for woken particles %ld)\n", b->set.restricted ? "on" : "off", b->restricted, b->wake_evals));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "  block wakes put off to the needed bin's next tick (-block_wake_delay %s): %ld\n", b->set.wake_delay ? "true" : "false", b->delayed));
-  PetscCall(PetscViewerASCIIPrintf(viewer, "  block mean active fraction %.6f (particle steps / (evaluations x particles) %.6f)\n", b->evals ? b->active_sum / (double)b->evals : 0.0, b->evals && b->n ? (double)b->psteps / ((double)b->evals * (double)b->n) : 0.0));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "  block wakes put off to the needed bin's next tick (-block_wake_delay %s): %" PetscInt64_FMT "\n", b->set.wake_delay ? "true" : "false", counts[2]));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "  block mean active fraction %.6f (particle steps / (evaluations x particles) %.6f)\n", b->evals ? b->active_sum / (double)b->evals : 0.0, b->evals && nall ? (double)counts[0] / ((double)b->evals * (double)nall) : 0.0));
   PetscFunctionReturn(0);
 }
 
@@ -470,7 +566,7 @@ static PetscErrorCode OptionsRead(PetscOptionItems *PetscOptionsObject, SpamBloc
   PetscFunctionBeginUser;
   PetscCall(PetscOptionsReal("-block_cfl", "Block steps: each particle's step at most C h_i / v_sig,i (signal speed over its neighbours)", "README", s->cfl, &s->cfl, NULL));
   PetscCall(PetscOptionsReal("-block_force", "Block steps: each particle's step at most C' sqrt(h_i / |a_i|)", "README", s->force, &s->force, NULL));
-  PetscCall(PetscOptionsBool("-block_restricted", "Block steps: each tick computes the forces of the active particles only (where the model has that pass: the gas with one h), else the whole right-hand side", "README", s->restricted, &s->restricted, restricted_set));
+  PetscCall(PetscOptionsBool("-block_restricted", "Block steps: each tick computes the forces of the active particles only (where the model has that pass: the gas with one h, no walls or periodic ghost images), else the whole right-hand side", "README", s->restricted, &s->restricted, restricted_set));
   PetscCall(PetscOptionsBool("-block_wake_delay", "Block steps: a particle the limiter wakes off its needed bin's grid ends its step at that grid's next tick (false: at once, in a bin as deep as the tick's alignment asks)", "README", s->wake_delay, &s->wake_delay, NULL));
   PetscCall(PetscOptionsInt("-block_max_level", "Block steps: the deepest bin, steps down to D / 2^L of the top step D", "README", s->max_level, &s->max_level, NULL));
   PetscCall(SpamOptionText("-block_cfl", s->cfl, val, sizeof val));
@@ -543,6 +639,134 @@ static PetscErrorCode DescribeBlock(TS ts, const char **sub, char *adapt, size_t
   PetscFunctionReturn(0);
 }
 
+/* The rates f of the particles before a migration (ids b->gid, b->n of them) into out, in
+ * the order of the particles after it (sim->p.gid): a PetscSF matching the ids (collective). */
+static PetscErrorCode CarryRates(const SpamSim *sim, const TS_SpamBlock *b, double *out)
+{
+  PetscLayout  layout;
+  PetscSF      sf;
+  PetscInt    *roots, *leaves, nleaves;
+  MPI_Datatype unit;
+  int          mine, all;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscMalloc2(b->n + 1, &roots, sim->p.n + 1, &leaves));
+  for (PetscInt i = 0; i < b->n; i++) roots[i] = (PetscInt)b->gid[i];
+  for (PetscInt i = 0; i < sim->p.n; i++) leaves[i] = (PetscInt)sim->p.gid[i];
+  PetscCall(PetscLayoutCreate(sim->p.comm, &layout));
+  PetscCall(PetscLayoutSetSize(layout, sim->p.nglobal));
+  PetscCall(PetscLayoutSetUp(layout));
+  PetscCall(PetscSFCreateByMatchingIndices(layout, b->n, roots, NULL, 0, sim->p.n, leaves, NULL, 0, NULL, &sf));
+  PetscCall(PetscLayoutDestroy(&layout));
+  PetscCall(PetscFree2(roots, leaves));
+  PetscCall(PetscSFGetGraph(sf, NULL, &nleaves, NULL, NULL));
+  mine = nleaves == sim->p.n;
+  PetscCallMPI(MPIU_Allreduce(&mine, &all, 1, MPI_INT, MPI_LAND, sim->p.comm));
+  PetscCheck(all, sim->p.comm, PETSC_ERR_PLIB, "a migrated particle's block rates were held by no rank");
+  PetscCallMPI(MPI_Type_contiguous((PetscMPIInt)b->nv, MPI_DOUBLE, &unit));
+  PetscCallMPI(MPI_Type_commit(&unit));
+  PetscCall(PetscSFBcastBegin(sf, unit, b->f, out, MPI_REPLACE));
+  PetscCall(PetscSFBcastEnd(sf, unit, b->f, out, MPI_REPLACE));
+  PetscCallMPI(MPI_Type_free(&unit));
+  PetscCall(PetscSFDestroy(&sf));
+  PetscFunctionReturn(0);
+}
+
+/* A migration between two cycles (every particle synchronised): the TS is made again on
+ * the new vector, and the rates the next cycle starts from travel with their particles, so
+ * that the run goes on as if nothing had moved (under -reproducible, bit for bit as on one
+ * rank). Without rates (before the first cycle, or after a failed one) nothing travels. */
+static PetscErrorCode FollowBlock(TS ts, SpamTsApp *app)
+{
+  TS_SpamBlock *b    = (TS_SpamBlock *)ts->data;
+  SpamSim      *sim  = app->sim;
+  PetscBool     have = b->have_f && b->f && b->gid;
+  double       *f    = NULL;
+  PetscReal     t, dt;
+  PetscInt      step;
+
+  PetscFunctionBeginUser;
+  PetscCall(AnyRank(sim, MPI_LAND, &have));
+  if (have) {
+    PetscCall(PetscMalloc1((size_t)sim->p.n * b->nv + 1, &f));
+    PetscCall(CarryRates(sim, b, f));
+  }
+  PetscCall(TSGetTime(ts, &t));
+  PetscCall(TSGetTimeStep(ts, &dt));
+  PetscCall(TSGetStepNumber(ts, &step));
+  PetscCall(TSReset(ts));
+  PetscCall(TSSetSolution(ts, sim->p.X));
+  PetscCall(TSSetUp(ts));
+  PetscCall(TSSetTime(ts, t));
+  PetscCall(TSSetTimeStep(ts, dt));
+  PetscCall(TSSetStepNumber(ts, step));
+  if (have) {
+    PetscCall(PetscArraycpy(b->f, f, (size_t)b->n * b->nv));
+    b->have_f = PETSC_TRUE;
+  }
+  PetscCall(PetscFree(f));
+  ts->steprestart = PETSC_FALSE; /* nothing jumped: the next cycle starts from the carried rates */
+  PetscFunctionReturn(0);
+}
+
+/* Checkpoints: the rates each particle's first half kick of the next cycle takes (b->f, the
+ * last tick's, evaluated on the predicted state: a restart could not make them again from
+ * the synchronised state), so that a restart continues bit for bit. A marker among the
+ * shared entries says they are there (checked before the run touches its directory). */
+static PetscErrorCode CkPutBlock(TS ts, const SpamTsApp *app, SpamCkFile *c, PetscReal *dt)
+{
+  TS_SpamBlock *b = (TS_SpamBlock *)ts->data;
+
+  PetscFunctionBeginUser;
+  (void)app;
+  (void)dt;
+  PetscCall(SpamCkPutLong(c, "block_rates", b->have_f));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode CkPutParticlesBlock(TS ts, SpamCkFile *pc)
+{
+  TS_SpamBlock *b = (TS_SpamBlock *)ts->data;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamCkPutReal(pc, "block_rate", b->have_f ? (size_t)b->n * b->nv : 0, b->f));
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode CkCheckBlock(const SpamCkFile *c, const char *path)
+{
+  PetscFunctionBeginUser;
+  if (!SpamCkHas(c, "block_rates")) SPAM_BAD_INPUT("-restart", path, "has no entry 'block_rates' (the rates the next block cycle starts from), which a run of -ts_type block_kdk writes");
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode CkApplyBlock(TS ts, const SpamCkFile *c, double h_next, PetscBool pending)
+{
+  PetscFunctionBeginUser;
+  (void)c;
+  (void)h_next;
+  ts->steprestart = pending ? PETSC_TRUE : PETSC_FALSE;
+  PetscFunctionReturn(0);
+}
+
+/* After set-up (which sized the arrays for this rank's particles, in the checkpoint's
+ * order): the rates back, or none (the cycle evaluates them) if the writer had none. */
+static PetscErrorCode CkApplyParticlesBlock(TS ts, const SpamCkFile *pc)
+{
+  TS_SpamBlock *b = (TS_SpamBlock *)ts->data;
+  const double *f;
+  size_t        len;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamCkGetLength(pc, "block_rate", &len));
+  b->have_f = PETSC_FALSE;
+  if (len == 0) PetscFunctionReturn(0);
+  PetscCall(SpamCkGetReal(pc, "block_rate", (size_t)b->n * b->nv, &f));
+  PetscCall(PetscArraycpy(b->f, f, (size_t)b->n * b->nv));
+  b->have_f = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
 static const SpamTSOption OptionsBlock[] = {{"block_cfl", PETSC_TRUE, PETSC_FALSE}, {"block_force", PETSC_TRUE, PETSC_FALSE}, {"block_max_level", PETSC_TRUE, PETSC_FALSE}, {"block_restricted", PETSC_TRUE, PETSC_FALSE}, {"block_wake_delay", PETSC_TRUE, PETSC_FALSE}, {NULL, PETSC_FALSE, PETSC_FALSE}};
 
 const SpamTSFamily SpamTSFamilyBlock = {
@@ -550,9 +774,14 @@ const SpamTSFamily SpamTSFamilyBlock = {
   .type            = SPAM_TSBLOCK_KDK,
   .adapt_default   = TSADAPTNONE,
   .steps           = SPAM_TS_STEPS_OWN,
-  .follow          = SPAM_TS_FOLLOW_NONE,
+  .follow          = SPAM_TS_FOLLOW_CARRY,
+  .follow_carry    = FollowBlock,
   .step_rule       = "sets each particle's step by -block_cfl and -block_force",
-  .restart_inexact = "the rates a cycle starts from were evaluated on the predicted state; a restart evaluates them on the synchronised one",
+  .ck_put             = CkPutBlock,
+  .ck_check           = CkCheckBlock,
+  .ck_apply           = CkApplyBlock,
+  .ck_put_particles   = CkPutParticlesBlock,
+  .ck_apply_particles = CkApplyParticlesBlock,
   .describe        = DescribeBlock,
   .help_other      = HelpBlock,
 };

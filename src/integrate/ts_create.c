@@ -224,7 +224,7 @@ PetscBool SpamTSTypeCanFollow(const char *type, const char *adapt)
   const SpamTSFamily *f = SpamTSFamilyNamed(type);
 
   if (!f) return PETSC_FALSE;
-  return (PetscBool)(f->follow == SPAM_TS_FOLLOW_RESIZE || (f->follow == SPAM_TS_FOLLOW_RESET_FIXED && !strcmp(adapt, TSADAPTNONE)));
+  return (PetscBool)(f->follow == SPAM_TS_FOLLOW_RESIZE || f->follow == SPAM_TS_FOLLOW_CARRY || (f->follow == SPAM_TS_FOLLOW_RESET_FIXED && !strcmp(adapt, TSADAPTNONE)));
 }
 
 PetscBool SpamTSCanFollow(TS ts)
@@ -248,6 +248,11 @@ PetscErrorCode SpamTSFollowParticles(TS ts, SpamTsApp *app, PetscBool *followed)
   PetscCall(SpamTSFamilyOf(ts, &f));
   if (f->follow == SPAM_TS_FOLLOW_RESIZE) {
     PetscCall(SpamTSARKodeResize(ts, app->sim->p.X));
+    *followed = PETSC_TRUE;
+    PetscFunctionReturn(0);
+  }
+  if (f->follow == SPAM_TS_FOLLOW_CARRY) {
+    PetscCall(f->follow_carry(ts, app));
     *followed = PETSC_TRUE;
     PetscFunctionReturn(0);
   }

@@ -14,8 +14,10 @@ typedef enum { SPAM_TS_STEPS_OWN, SPAM_TS_STEPS_ADAPTOR, SPAM_TS_STEPS_FIXED } S
 
 /* How a TS follows a migration (the state vector changes its local length): resized with
  * its history (ERKStepResize), reset onto the new vector when it takes fixed steps (PETSc
- * 3.18 has no resize, and its adaptors keep a vector of the old length), or not at all. */
-typedef enum { SPAM_TS_FOLLOW_RESIZE, SPAM_TS_FOLLOW_RESET_FIXED, SPAM_TS_FOLLOW_NONE } SpamTSFollow;
+ * 3.18 has no resize, and its adaptors keep a vector of the old length), by its own hook
+ * (follow_carry: what it keeps per particle travels with the particles, by id), or not at
+ * all. */
+typedef enum { SPAM_TS_FOLLOW_RESIZE, SPAM_TS_FOLLOW_RESET_FIXED, SPAM_TS_FOLLOW_CARRY, SPAM_TS_FOLLOW_NONE } SpamTSFollow;
 
 /* An option a type's implementation reads (name without '-'): whether it takes a value, and
  * whether it applies only when the type's steps are adaptive. */
@@ -51,8 +53,14 @@ typedef struct SpamTSFamily {
   PetscErrorCode (*ck_check)(const SpamCkFile *c, const char *path);
   PetscErrorCode (*ck_before_setup)(TS ts);
   PetscErrorCode (*ck_apply)(TS ts, const SpamCkFile *c, double h_next, PetscBool pending);
+  /* what the type keeps per particle, into and from the particles' entries (on several
+   * ranks each rank's own block, in its local order; on one rank the file itself):
+   * put at a checkpoint, applied after ck_apply */
+  PetscErrorCode (*ck_put_particles)(TS ts, SpamCkFile *pc);
+  PetscErrorCode (*ck_apply_particles)(TS ts, const SpamCkFile *pc);
   PetscErrorCode (*ck_reuses_f)(TS ts, const SpamCkFile *c, PetscBool *reused); /* NULL: evaluated anew */
   PetscErrorCode (*follow_placed)(TS ts, Vec X);                   /* onto a checkpoint's distribution */
+  PetscErrorCode (*follow_carry)(TS ts, SpamTsApp *app);           /* SPAM_TS_FOLLOW_CARRY: onto sim->p.X after a migration */
   /* the state the last step started from, held by the method (good: NULL if it has none);
    * accepted: the step was accepted (else it failed) */
   PetscErrorCode (*last_good)(TS ts, PetscBool accepted, Vec *good);

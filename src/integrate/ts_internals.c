@@ -15,7 +15,7 @@ PetscErrorCode SpamTSJumpPending(TS ts, PetscBool followed, PetscBool *pending)
 
   PetscFunctionBeginUser;
   PetscCall(SpamTSFamilyOf(ts, &f));
-  *pending = (PetscBool)(ts->steprestart && ts->steps > 0 && !(followed && f->follow == SPAM_TS_FOLLOW_RESET_FIXED));
+  *pending = (PetscBool)(ts->steprestart && ts->steps > 0 && !(followed && (f->follow == SPAM_TS_FOLLOW_RESET_FIXED || f->follow == SPAM_TS_FOLLOW_CARRY)));
   PetscFunctionReturn(0);
 }
 

@@ -97,6 +97,18 @@ PetscErrorCode SpamFieldsDestroy(SpamFields *f)
   PetscCall(PetscFree(f->tfac));
   PetscCall(PetscFree(f->near_start));
   PetscCall(PetscFree(f->near_nbr));
+  PetscCall(PetscFree2(f->amark, f->mbuf));
+  f->mcap = 0;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamFieldsReserveMarks(SpamFields *f, int slots)
+{
+  PetscFunctionBeginUser;
+  if (slots + 1 <= f->mcap) PetscFunctionReturn(0);
+  PetscCall(PetscFree2(f->amark, f->mbuf));
+  f->mcap = slots + slots / 8 + 16;
+  PetscCall(PetscCalloc2((size_t)2 * f->mcap, &f->amark, (size_t)f->mcap, &f->mbuf));
   PetscFunctionReturn(0);
 }
 

@@ -584,7 +584,11 @@ PetscErrorCode SpamRhsSolid(SpamSim *sim, const double *y, double *ydot, PetscIn
  * there, and the force walk visits the pairs with an active member. It covers the gas
  * whose laws read no gradient: the plain scheme with one h, no conduction and no viscous
  * stress (Monaghan's pair viscosity or none), R0 coordinates, no torque scaling; others
- * return without it (SpamRhsSolidActiveCovers). */
+ * return without it (SpamRhsSolidActiveCovers), and so does a state with ghost slots of a
+ * rank's own (walls, periodic images). On several ranks the other ranks' particles enter
+ * as remote ghost slots: their active marks through the halo (RemoteMarks), a particle
+ * near another rank's active one summed by its owner, whose near fields (rho, v, sigma/rho^2,
+ * uc) the halo then carries to the slots the force walk reads. */
 PetscBool SpamRhsSolidActiveCovers(const SpamSolidParams *p)
 {
   return (PetscBool)(p->material == SPAM_MATERIAL_GAS && p->smoothing == SPAM_SMOOTHING_FIXED && p->scheme == SPAM_GAS_PLAIN && p->conductivity == 0.0 && p->shear_visc == 0.0 && p->bulk_visc == 0.0 && p->viscosity != SPAM_VISCOSITY_VON_NEUMANN &&
@@ -607,7 +611,7 @@ SPAM_PAIR_WALK_MASKED(WalkForcesActive, TensorPass, ForcePair)
 /* The fields the active particles' forces read, at the near particles: velocity, density
  * (summed, or the state's), sigma/rho^2 and the continuity velocity. The other particles'
  * densities are partial sums, read by nothing. */
-static PetscErrorCode NearFields(SpamSim *sim, TensorPass *c, const double *y, const unsigned char *near, unsigned char *row, PetscInt *bad)
+static PetscErrorCode NearFields(SpamSim *sim, TensorPass *c, const double *y, const unsigned char *near, unsigned char *row, PetscBool remote, PetscInt *bad)
 {
   const SpamLayout *l   = &sim->model.layout;
   SpamFields       *f   = c->f;
@@ -622,6 +626,8 @@ static PetscErrorCode NearFields(SpamSim *sim, TensorPass *c, const double *y, c
   if (c->p->density == SPAM_DENSITY_SUMMATION) {
     for (int i = 0; i < n; i++) f->rho[i] = f->m[i] * w0;
     PetscCall(SpamNeighboursMarkedRows(&sim->pair.nl, near, row));
+    if (remote) /* a near particle's pairs with other ranks' particles sit in its own row */
+      for (int i = 0; i < n; i++) row[i] |= near[i];
     PetscCall(WalkDensityNear(&sim->pair.nl, &sim->model.kernel, near, row, c));
   } else
     for (int i = 0; i < n; i++) {
@@ -640,11 +646,56 @@ static PetscErrorCode NearFields(SpamSim *sim, TensorPass *c, const double *y, c
   PetscFunctionReturn(0);
 }
 
+/* Several ranks: the marks over the slots (f->amark: active, then near, mcap apart). The
+ * active marks of the other ranks' particles arrive through the halo; a local particle is
+ * near when an active one is listed beside it, another rank's included (its ghost row);
+ * the near marks of remote slots stay 0 (their owners sum their densities). Collective. */
+static PetscErrorCode RemoteMarks(SpamSim *sim, const unsigned char *active, unsigned char *near)
+{
+  const SpamNeighbours *nl = &sim->pair.nl;
+  SpamFields           *f  = &sim->pair.f;
+  const int             n  = (int)sim->p.n, slots = SpamNeighboursSlots(nl);
+  unsigned char        *act, *nm;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamFieldsReserveMarks(f, slots));
+  act = f->amark;
+  nm  = f->amark + f->mcap;
+  for (int i = 0; i < n; i++) f->mbuf[i] = active[i];
+  PetscCall(SpamHaloForward(&nl->ghosts.halo, 1, f->mbuf, f->mbuf + n)); /* no local ghosts: the remote slots start at n */
+  for (int i = 0; i < n; i++) act[i] = active[i];
+  for (int j = n; j < slots; j++) act[j] = f->mbuf[j] != 0.0;
+  PetscCall(SpamNeighboursMarkedNear(&sim->pair.nl, active, near));
+  for (int i = 0; i < n; i++)
+    for (int p = nl->gstart[i]; p < nl->gstart[i + 1] && !near[i]; p++) near[i] = act[nl->gnbr[p]];
+  for (int i = 0; i < n; i++) nm[i] = near[i];
+  for (int j = n; j < slots; j++) nm[j] = 0;
+  PetscFunctionReturn(0);
+}
+
+/* The rows of the force walk: those the transposed list names, and on several ranks also
+ * those with an active partner of another rank (act: the marks over the slots). */
+static PetscErrorCode ActiveRows(SpamSim *sim, const unsigned char *active, const unsigned char *act, PetscBool remote, unsigned char *row)
+{
+  const SpamNeighbours *nl = &sim->pair.nl;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamNeighboursMarkedRows(&sim->pair.nl, active, row));
+  if (remote)
+    for (int i = 0; i < nl->n; i++)
+      for (int p = nl->gstart[i]; p < nl->gstart[i + 1] && !row[i]; p++) row[i] = act[nl->gnbr[p]];
+  PetscFunctionReturn(0);
+}
+
 PetscErrorCode SpamRhsSolidActive(SpamSim *sim, const double *y, double *ydot, const unsigned char *active, unsigned char *near, PetscBool *done, PetscInt *bad)
 {
-  const SpamLayout *l   = &sim->model.layout;
-  SpamFields       *f   = &sim->pair.f;
-  const int         dim = l->dim, n = (int)sim->p.n, nv = l->nvar;
+  const SpamLayout *l      = &sim->model.layout;
+  SpamFields       *f      = &sim->pair.f;
+  const SpamGhosts *gh     = &sim->pair.nl.ghosts;
+  const int         dim    = l->dim, n = (int)sim->p.n, nv = l->nvar;
+  const PetscBool   remote = SpamHaloActive(&gh->halo);
+  const unsigned char *act = active, *nmask = near;
+  PetscBool         images;
   TensorPass        c;
 
   PetscFunctionBeginUser;
@@ -652,19 +703,39 @@ PetscErrorCode SpamRhsSolidActive(SpamSim *sim, const double *y, double *ydot, c
   *bad  = -1;
   if (!SpamRhsSolidActiveCovers(&sim->model.solid)) PetscFunctionReturn(0);
   PetscCall(SpamNeighboursUpdate(&sim->pair.nl, &sim->geo.box, y + l->x, nv, PETSC_FALSE, bad));
-  if (*bad >= 0 || SpamNeighboursSlots(&sim->pair.nl) != n) PetscFunctionReturn(0); /* ghost slots (walls, images, ranks): the full pass */
-  PetscCall(SpamFieldsReserve(f, n));
+  if (*bad >= 0) PetscFunctionReturn(0);
+  /* a rank's own ghost slots (walls, periodic images) take the full pass, on every rank */
+  images = (PetscBool)(gh->nlocal > 0 || (!remote && SpamNeighboursSlots(&sim->pair.nl) != n));
+  if (remote) PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &images, 1, MPIU_BOOL, MPI_LOR, sim->p.comm));
+  if (images) PetscFunctionReturn(0);
+  PetscCall(SpamFieldsReserve(f, SpamNeighboursSlots(&sim->pair.nl)));
   c = PassOf(sim, SPAM_RHS_ALL);
-  PetscCall(SpamNeighboursMarkedNear(&sim->pair.nl, active, near));
+  if (remote) {
+    PetscCall(RemoteMarks(sim, active, near));
+    act   = f->amark;
+    nmask = f->amark + f->mcap;
+    PetscCall(SpamSimGhostMasses(sim));
+  } else PetscCall(SpamNeighboursMarkedNear(&sim->pair.nl, active, near));
   PetscCall(PetscLogEventBegin(sim->run.ev.force, 0, 0, 0, 0));
-  PetscCall(NearFields(sim, &c, y, near, near + n, bad));
+  PetscCall(NearFields(sim, &c, y, nmask, near + n, remote, bad));
+  if (remote) { /* a bad density on one rank stops every rank before the exchanges below */
+    PetscInt worst = *bad >= 0 ? 1 : 0;
+    PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &worst, 1, MPIU_INT, MPI_MAX, sim->p.comm));
+    if (worst && *bad < 0) *bad = SPAM_BAD_ON_OTHER_RANK;
+  }
   if (*bad >= 0) {
     PetscCall(PetscLogEventEnd(sim->run.ev.force, 0, 0, 0, 0));
     PetscFunctionReturn(0);
   }
+  if (remote) { /* the near particles' fields to the other ranks' slots of them */
+    PetscCall(SpamGhostsGather(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->rho));
+    PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_VELOCITY, f->v));
+    PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_STRESS, f->qs));
+    PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_VELOCITY, f->uc));
+  }
   ZeroRates(f, n, dim, PETSC_TRUE);
-  PetscCall(SpamNeighboursMarkedRows(&sim->pair.nl, active, near + n));
-  PetscCall(WalkForcesActive(&sim->pair.nl, &sim->model.kernel, active, near + n, &c));
+  PetscCall(ActiveRows(sim, active, act, remote, near + n));
+  PetscCall(WalkForcesActive(&sim->pair.nl, &sim->model.kernel, act, near + n, &c));
   PetscCall(PetscLogEventEnd(sim->run.ev.force, 0, 0, 0, 0));
   for (int i = 0; i < n; i++) { /* Assemble's rows, of the active particles only */
     double *r = ydot + (size_t)i * nv;
