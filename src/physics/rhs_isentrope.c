@@ -84,7 +84,7 @@ static PetscBool PlainRows(const SpamModel *m)
   return (PetscBool)(!m->gravity_on && l->x == 0 && l->v == m->dim && l->nvar == 2 * m->dim && m->dim >= 1 && m->dim <= 3);
 }
 
-static void CopyPlainRows(int dim, const double *y, double *ydot, const double *acc, size_t i0, size_t i1)
+static void WriteRowsPlain(int dim, const double *y, double *ydot, const double *acc, size_t i0, size_t i1)
 {
   if (dim == 1) CopyRows(1, y, ydot, acc, i0, i1);
   else if (dim == 2) CopyRows(2, y, ydot, acc, i0, i1);
@@ -102,7 +102,7 @@ static void WriteRows(void *ctx, int i0, int i1)
   double           *acc = o->sim->pair.f.acc;
 
   if (PlainRows(m)) {
-    CopyPlainRows(dim, o->y, o->ydot, acc, (size_t)i0, (size_t)i1);
+    WriteRowsPlain(dim, o->y, o->ydot, acc, (size_t)i0, (size_t)i1);
     return;
   }
   for (int i = i0; i < i1; i++)
@@ -216,7 +216,7 @@ PetscErrorCode SpamRhsIsentrope(SpamSim *sim, const double *y, double *ydot, Pet
   PetscCall(Accel(sim, y + l->x, nv, &out, &written, bad));
   if (*bad >= 0 || written) PetscFunctionReturn(0);
   if (sim->pair.threads == 1 && PlainRows(&sim->model)) {
-    CopyPlainRows(dim, y, ydot, sim->pair.f.acc, 0, (size_t)sim->p.n);
+    WriteRowsPlain(dim, y, ydot, sim->pair.f.acc, 0, (size_t)sim->p.n);
     PetscFunctionReturn(0);
   }
 #pragma omp parallel for if (sim->pair.threads > 1) num_threads(sim->pair.threads) schedule(static)
