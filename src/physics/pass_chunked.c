@@ -51,10 +51,10 @@ typedef struct {
 /* Separation u_i - u_j of pair (i, j) along d (zero for d >= dim). Written without a
  * loop over d: gcc 12 keeps a local dx[3] indexed in a loop as memory and then does not
  * vectorise the pair loop. */
-SPAM_INLINE double Delta(const int dim, const int img, const Rows *R, double ui, int j, int d)
+SPAM_INLINE double Delta(const int dim, const int img, const Rows *R, const double *ui, int j, int d)
 {
   if (d >= dim) return 0.0;
-  const double dx = ui - R->u[d][j];
+  const double dx = ui[d] - R->u[d][j];
   return img ? SpamImageDelta(&R->im, d, dx) : dx;
 }
 
@@ -79,7 +79,7 @@ SPAM_INLINE double Dist2(const int dim, double x, double y, double z)
 SPAM_INLINE void DensityChunk(const int dim, const int kind, const int img, const Rows *R, const double *ui, const int *nb, int np, double *wj)
 {
   for (int c = 0; c < np; c++) {
-    const double x = Delta(dim, img, R, ui[0], nb[c], 0), y = Delta(dim, img, R, ui[1], nb[c], 1), z = Delta(dim, img, R, ui[2], nb[c], 2);
+    const double x = Delta(dim, img, R, ui, nb[c], 0), y = Delta(dim, img, R, ui, nb[c], 1), z = Delta(dim, img, R, ui, nb[c], 2);
     wj[c]          = SpamPairDensityTerm(kind, dim, R->c, sqrt(Dist2(dim, x, y, z)) * R->hinv);
   }
 }
@@ -128,33 +128,19 @@ SPAM_INLINE void DensityRows(const int dim, const int kind, const int uni, const
   }
 }
 
-/* Rows are taken FLAT pairs at a time: the terms of a run of whole rows in one vector
- * loop, then the scatters row by row. The terms' buffers hold FLAT pairs and the lanes
- * past the last (Lanes), and the four a row's fill may write past them. */
-#define FLAT  256
-#define FDCAP (FLAT + SPAM_LIST_PAD + 4)
-
-/* Four doubles: a row's position and P/rho^2 written to four lanes at once. */
-typedef double Lane4 __attribute__((vector_size(32)));
-
-/* The force terms f (u_i - u_j) of np listed neighbours nb into fd. f > 0 pushes i away
- * from j for positive pressure. With flat, lane c's own particle is at ui[d FDCAP + c]
- * with q_i = qb[c] (qi with uq); else every lane's at ui[d] with q_i = qi. The loop only
- * stores: particle i's sum is taken in the scatter loop, because gcc 12 made this loop's
- * vector reduction an epilogue of eight serial adds per component, reloaded from the
- * stack, for rows of about 13 pairs: 18% of the force pass's samples (perf annotate,
- * N = 16384). */
-SPAM_INLINE void ForceChunk(const int dim, const int kind, const int uq, const int img, const int flat, const Rows *R, double qi, const double *qb, const double *ui, const int *nb, int np, double fd[3][FDCAP])
+/* The force terms f (u_i - u_j) of np listed neighbours nb of particle i (at ui, q_i = qi)
+ * into fd. f > 0 pushes i away from j for positive pressure. The loop only stores:
+ * particle i's sum is taken in the scatter loop, because gcc 12 made this loop's vector
+ * reduction an epilogue of eight serial adds per component, reloaded from the stack, for
+ * rows of about 13 pairs: 18% of the force pass's samples (perf annotate, N = 16384). */
+SPAM_INLINE void ForceChunk(const int dim, const int kind, const int uq, const int img, const Rows *R, double qi, const double *ui, const int *nb, int np, double fd[3][CHUNK])
 {
   const double *q = R->q;
 #pragma omp simd
   for (int c = 0; c < np; c++) {
-    const double *uc = flat ? ui + c : ui;
-    const int     du = flat ? FDCAP : 1;
-    const double  x = Delta(dim, img, R, uc[0], nb[c], 0), y = Delta(dim, img, R, dim > 1 ? uc[du] : 0.0, nb[c], 1), z = Delta(dim, img, R, dim > 2 ? uc[2 * du] : 0.0, nb[c], 2);
-    const double  qc = flat && !uq ? qb[c] : qi;
-    const double  f  = SpamPairPressureFactor(kind, dim, R->c, qc, uq ? qc : q[nb[c]], sqrt(Dist2(dim, x, y, z)) * R->hinv);
-    fd[0][c]         = f * x;
+    const double x = Delta(dim, img, R, ui, nb[c], 0), y = Delta(dim, img, R, ui, nb[c], 1), z = Delta(dim, img, R, ui, nb[c], 2);
+    const double f = SpamPairPressureFactor(kind, dim, R->c, qi, uq ? qi : q[nb[c]], sqrt(Dist2(dim, x, y, z)) * R->hinv);
+    fd[0][c]       = f * x;
     if (dim > 1) fd[1][c] = f * y;
     if (dim > 2) fd[2][c] = f * z;
   }
@@ -163,13 +149,13 @@ SPAM_INLINE void ForceChunk(const int dim, const int kind, const int uq, const i
 /* Two doubles as one SSE2 register: the x and y of a 2D pair term, its partner's sum. */
 typedef double Pair2 __attribute__((vector_size(16)));
 
-/* The scatter of np terms (f0, f1) of equal masses in 2D, the reaction taken: x and y as
- * one pair of lanes, so each term is one load, one add to particle i's sum s and one
- * subtraction from acc[j] (the same roundings, lane by lane, as two scalar sums), and
- * two terms a turn of the loop: 11 instructions a pair instead of 15. */
-SPAM_INLINE Pair2 Scatter2One(const int *nb, int c, const double *f0, const double *f1, double *acc, Pair2 s)
+/* The scatter of np terms fd of equal masses in 2D, the reaction taken: x and y as one
+ * pair of lanes, so each term is one load, one add to particle i's sum s and one
+ * subtraction from acc[j] (the same roundings, lane by lane, as two scalar sums): 13
+ * instructions a pair instead of 15. */
+SPAM_INLINE Pair2 Scatter2One(const int *nb, int c, const double fd[3][CHUNK], double *acc, Pair2 s)
 {
-  const Pair2 f = {f0[c], f1[c]};
+  const Pair2 f = {fd[0][c], fd[1][c]};
   Pair2       a;
   double     *aj = acc + (size_t)nb[c] * 2;
   __builtin_memcpy(&a, aj, sizeof a);
@@ -178,120 +164,53 @@ SPAM_INLINE Pair2 Scatter2One(const int *nb, int c, const double *f0, const doub
   return s + f;
 }
 
-SPAM_INLINE Pair2 Scatter2(const int *nb, int np, const double *f0, const double *f1, double *acc, Pair2 s)
+SPAM_INLINE Pair2 Scatter2(const int *nb, int np, const double fd[3][CHUNK], double *acc, Pair2 s)
 {
   int c = 0;
   for (; c + 2 <= np; c += 2) {
-    s = Scatter2One(nb, c, f0, f1, acc, s);
-    s = Scatter2One(nb, c + 1, f0, f1, acc, s);
+    s = Scatter2One(nb, c, fd, acc, s);
+    s = Scatter2One(nb, c + 1, fd, acc, s);
   }
-  if (c < np) s = Scatter2One(nb, c, f0, f1, acc, s);
+  if (c < np) s = Scatter2One(nb, c, fd, acc, s);
   return s;
 }
 
-/* The np terms fd[d][off + c] of row i's neighbours nb subtracted from acc[j] where the
- * partner takes the reaction, and added to particle i's sum s (one variable per
- * direction: an array here was kept in memory). */
-SPAM_INLINE void ScatterRow(const int dim, const int uni, const int newton, const Rows *R, int i, const int *nb, int np, const double fd[3][FDCAP], int off, double *acc, double *s0, double *s1, double *s2)
-{
-  const double mi = uni ? 1.0 : R->m[i];
-  const double *f0 = fd[0] + off, *f1 = fd[1] + off, *f2 = fd[2] + off;
-  if (dim == 2 && uni && newton) {
-    Pair2 sp = {*s0, *s1};
-    sp       = Scatter2(nb, np, f0, f1, acc, sp);
-    *s0      = sp[0];
-    *s1      = sp[1];
-    return;
-  }
-  double a0 = *s0, a1 = *s1, a2 = *s2;
-  for (int c = 0; c < np; c++) {
-    double      *aj = acc + (size_t)nb[c] * dim;
-    const double mj = uni ? 1.0 : R->m[nb[c]];
-    if (newton) aj[0] -= uni ? f0[c] : mi * f0[c];
-    a0 += uni ? f0[c] : mj * f0[c];
-    if (dim > 1) {
-      if (newton) aj[1] -= uni ? f1[c] : mi * f1[c];
-      a1 += uni ? f1[c] : mj * f1[c];
-    }
-    if (dim > 2) {
-      if (newton) aj[2] -= uni ? f2[c] : mi * f2[c];
-      a2 += uni ? f2[c] : mj * f2[c];
-    }
-  }
-  *s0 = a0;
-  *s1 = a1;
-  *s2 = a2;
-}
-
-/* One segment of row i, CHUNK pairs at a time: its terms subtracted from acc[j] where the
- * partner takes the reaction, and added to particle i's sum a. */
+/* One segment of row i: its terms subtracted from acc[j] where the partner takes the
+ * reaction, and added to particle i's sum a (one variable per direction: an array here
+ * was kept in memory). */
 SPAM_INLINE void ForceSegment(const int dim, const int kind, const int uni, const int uq, const int img, const int newton, const Rows *R, int i, const double *ui, const int *nbr, int p0, int p1, double *acc, double *a0, double *a1, double *a2)
 {
+  const double mi = uni ? 1.0 : R->m[i];
+  double       s0 = *a0, s1 = *a1, s2 = *a2;
   for (; p0 < p1; p0 += CHUNK) {
     const int *nb = nbr + p0, np = PetscMin(CHUNK, p1 - p0);
-    double     fd[3][FDCAP];
-    ForceChunk(dim, kind, uq, img, 0, R, R->q[i], NULL, ui, nb, Lanes(np), fd);
-    ScatterRow(dim, uni, newton, R, i, nb, np, (const double(*)[FDCAP])fd, 0, acc, a0, a1, a2);
-  }
-}
-
-/* Row i's pairs, its local and its ghost segments, and its sum added to acc[i]. */
-SPAM_INLINE void ForceRow(const int dim, const int kind, const int uni, const int uq, const int newton, const Rows *R, double *acc, int i)
-{
-  double a0 = 0.0, a1 = 0.0, a2 = 0.0, ui[3] = {0, 0, 0};
-  for (int d = 0; d < dim; d++) ui[d] = R->u[d][i];
-#define SPAM_FORCE_SEGMENT(IMG, NEWTON, nbr, start) ForceSegment(dim, kind, uni, uq, IMG, NEWTON, R, i, ui, R->nbr, R->start[i], R->start[i + 1], acc, &a0, &a1, &a2)
-  if (R->image[i]) {
-    SPAM_FORCE_SEGMENT(1, 1, nbr, start);
-    if (R->ghosts) SPAM_FORCE_SEGMENT(1, newton, gnbr, gstart);
-  } else {
-    SPAM_FORCE_SEGMENT(0, 1, nbr, start);
-    if (R->ghosts) SPAM_FORCE_SEGMENT(0, newton, gnbr, gstart);
-  }
-#undef SPAM_FORCE_SEGMENT
-  acc[(size_t)i * dim] += a0;
-  if (dim > 1) acc[(size_t)i * dim + 1] += a1;
-  if (dim > 2) acc[(size_t)i * dim + 2] += a2;
-}
-
-/* Rows [r0, r1) of one image flag img, at most FLAT pairs in all and no ghost rows (the
- * partners are local particles, which take the reaction): the
- * terms of all their pairs in one vector loop (each lane given its own particle's
- * position, and its P/rho^2 unless uniform), then row by row the scatters and the row's
- * sum added to acc[i]: the same operations in the same order as row by row, so the same
- * bits. Taken row by row, each row's vector loop was set up anew and rounded up to whole
- * vectors: about 100 instructions and 3 idle lanes a row of 17 pairs (callgrind, gas
- * h = 3, N = 65536). With uq, every particle's P/rho^2 is the same value (gamma = 2), so
- * r0's stands for all. */
-SPAM_INLINE void ForceFlat(const int dim, const int kind, const int uni, const int uq, const int img, const Rows *R, double *acc, int r0, int r1)
-{
-  const int p0 = R->start[r0], np = R->start[r1] - p0, lanes = Lanes(np);
-  double    ub[3 * FDCAP], qb[FDCAP], fd[3][FDCAP];
-
-  /* Whole vectors of four from each row's first lane on: the lanes past its last are
-   * those of the rows after it, which write them again, or idle lanes. */
-  for (int i = r0; i < r1; i++) {
-    const int  a = R->start[i] - p0, b = i + 1 < r1 ? R->start[i + 1] - p0 : lanes;
-    const Lane4 x = {R->u[0][i], R->u[0][i], R->u[0][i], R->u[0][i]};
-    const Lane4 y = dim > 1 ? (Lane4){R->u[1][i], R->u[1][i], R->u[1][i], R->u[1][i]} : x;
-    const Lane4 z = dim > 2 ? (Lane4){R->u[2][i], R->u[2][i], R->u[2][i], R->u[2][i]} : x;
-    const Lane4 w = uq ? x : (Lane4){R->q[i], R->q[i], R->q[i], R->q[i]};
-    for (int c = a; c < b; c += 4) {
-      __builtin_memcpy(ub + c, &x, sizeof x);
-      if (dim > 1) __builtin_memcpy(ub + FDCAP + c, &y, sizeof y);
-      if (dim > 2) __builtin_memcpy(ub + 2 * FDCAP + c, &z, sizeof z);
-      if (!uq) __builtin_memcpy(qb + c, &w, sizeof w);
+    double     fd[3][CHUNK];
+    ForceChunk(dim, kind, uq, img, R, R->q[i], ui, nb, Lanes(np), fd);
+    if (dim == 2 && uni && newton) {
+      Pair2 sp = {s0, s1};
+      sp       = Scatter2(nb, np, (const double(*)[CHUNK])fd, acc, sp);
+      s0       = sp[0];
+      s1       = sp[1];
+      continue;
+    }
+    for (int c = 0; c < np; c++) {
+      double      *aj = acc + (size_t)nb[c] * dim;
+      const double mj = uni ? 1.0 : R->m[nb[c]];
+      if (newton) aj[0] -= uni ? fd[0][c] : mi * fd[0][c];
+      s0 += uni ? fd[0][c] : mj * fd[0][c];
+      if (dim > 1) {
+        if (newton) aj[1] -= uni ? fd[1][c] : mi * fd[1][c];
+        s1 += uni ? fd[1][c] : mj * fd[1][c];
+      }
+      if (dim > 2) {
+        if (newton) aj[2] -= uni ? fd[2][c] : mi * fd[2][c];
+        s2 += uni ? fd[2][c] : mj * fd[2][c];
+      }
     }
   }
-  ForceChunk(dim, kind, uq, img, 1, R, R->q[r0], qb, ub, R->nbr + p0, lanes, fd);
-  for (int i = r0; i < r1; i++) {
-    const int a = R->start[i] - p0;
-    double    a0 = 0.0, a1 = 0.0, a2 = 0.0;
-    ScatterRow(dim, uni, 1, R, i, R->nbr + p0 + a, R->start[i + 1] - p0 - a, (const double(*)[FDCAP])fd, a, acc, &a0, &a1, &a2);
-    acc[(size_t)i * dim] += a0;
-    if (dim > 1) acc[(size_t)i * dim + 1] += a1;
-    if (dim > 2) acc[(size_t)i * dim + 2] += a2;
-  }
+  *a0 = s0;
+  *a1 = s1;
+  *a2 = s2;
 }
 
 /* Rows [i0, i1) of the force pass, added to acc; newton (the ghost slots take the
@@ -299,26 +218,25 @@ SPAM_INLINE void ForceFlat(const int dim, const int kind, const int uni, const i
  * 0.5 % of the pass (callgrind, gas N = 16384). The rows read a local copy of *Rp: a
  * store to acc may alias the doubles behind the pointer, and with the pointer the
  * compiler kept more values on the stack around the pair loop (callgrind, gas h = 3,
- * N = 16384: 0.9 % of the RHS's instructions). Without ghost rows, runs of rows of one
- * image flag are taken flat (ForceFlat); a row of more than FLAT pairs, and every row of
- * a list with ghost rows, CHUNK pairs at a time. */
+ * N = 16384: 0.9 % of the RHS's instructions). */
 SPAM_INLINE void ForceRows(const int dim, const int kind, const int uni, const int uq, const int newton, const Rows *Rp, double *acc, int i0, int i1)
 {
   const Rows L = *Rp, *R = &L;
-  if (R->ghosts) {
-    for (int i = i0; i < i1; i++) ForceRow(dim, kind, uni, uq, newton, R, acc, i);
-    return;
-  }
-  for (int i = i0; i < i1;) {
-    const int img = R->image[i];
-    int       j   = i;
-    while (j < i1 && R->image[j] == img && R->start[j + 1] - R->start[i] <= FLAT) j++;
-    if (j == i) ForceRow(dim, kind, uni, uq, newton, R, acc, i++);
-    else {
-      if (img) ForceFlat(dim, kind, uni, uq, 1, R, acc, i, j);
-      else ForceFlat(dim, kind, uni, uq, 0, R, acc, i, j);
-      i = j;
+  for (int i = i0; i < i1; i++) {
+    double a0 = 0.0, a1 = 0.0, a2 = 0.0, ui[3] = {0, 0, 0};
+    for (int d = 0; d < dim; d++) ui[d] = R->u[d][i];
+#define SPAM_FORCE_SEGMENT(IMG, NEWTON, nbr, start) ForceSegment(dim, kind, uni, uq, IMG, NEWTON, R, i, ui, R->nbr, R->start[i], R->start[i + 1], acc, &a0, &a1, &a2)
+    if (R->image[i]) {
+      SPAM_FORCE_SEGMENT(1, 1, nbr, start);
+      if (R->ghosts) SPAM_FORCE_SEGMENT(1, newton, gnbr, gstart);
+    } else {
+      SPAM_FORCE_SEGMENT(0, 1, nbr, start);
+      if (R->ghosts) SPAM_FORCE_SEGMENT(0, newton, gnbr, gstart);
     }
+#undef SPAM_FORCE_SEGMENT
+    acc[(size_t)i * dim] += a0;
+    if (dim > 1) acc[(size_t)i * dim + 1] += a1;
+    if (dim > 2) acc[(size_t)i * dim + 2] += a2;
   }
 }
 
