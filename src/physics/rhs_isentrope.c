@@ -64,6 +64,33 @@ typedef struct {
   PetscBool      stale; /* the list's positions are placed by the pass (SpamNeighboursUpdateStale) */
 } RhsOut;
 
+/* dr/dt = v and dv/dt = acc of particles [i0, i1) in the layout [x v] (nvar = 2 dim),
+ * dim a literal: copies the compiler makes whole-vector moves of. Through the layout's
+ * offsets and a loop over a run-time dim it took 45 instructions a particle in 2D, 7 % of
+ * the gas's right-hand side (callgrind, gas h = 3, N = 65536). */
+static inline __attribute__((always_inline)) void CopyRows(const int dim, const double *restrict y, double *restrict ydot, const double *restrict acc, size_t i0, size_t i1)
+{
+  for (size_t i = i0; i < i1; i++)
+    for (int d = 0; d < dim; d++) {
+      ydot[i * 2 * dim + d]       = y[i * 2 * dim + dim + d];
+      ydot[i * 2 * dim + dim + d] = acc[i * dim + d];
+    }
+}
+
+/* Whether the rows are [x v] without gravity (CopyRows writes them). */
+static PetscBool PlainRows(const SpamModel *m)
+{
+  const SpamLayout *l = &m->layout;
+  return (PetscBool)(!m->gravity_on && l->x == 0 && l->v == m->dim && l->nvar == 2 * m->dim && m->dim >= 1 && m->dim <= 3);
+}
+
+static void WriteRowsPlain(int dim, const double *y, double *ydot, const double *acc, size_t i0, size_t i1)
+{
+  if (dim == 1) CopyRows(1, y, ydot, acc, i0, i1);
+  else if (dim == 2) CopyRows(2, y, ydot, acc, i0, i1);
+  else CopyRows(3, y, ydot, acc, i0, i1);
+}
+
 /* dr/dt = v and dv/dt = acc (plus gravity, added to acc as the unblocked path does) of
  * particles [i0, i1). */
 static void WriteRows(void *ctx, int i0, int i1)
@@ -74,6 +101,10 @@ static void WriteRows(void *ctx, int i0, int i1)
   const int         dim = m->dim, nv = l->nvar;
   double           *acc = o->sim->pair.f.acc;
 
+  if (PlainRows(m)) {
+    WriteRowsPlain(dim, o->y, o->ydot, acc, (size_t)i0, (size_t)i1);
+    return;
+  }
   for (int i = i0; i < i1; i++)
     for (int d = 0; d < dim; d++) {
       if (m->gravity_on) acc[(size_t)i * dim + d] += m->gravity[d];
@@ -184,6 +215,10 @@ PetscErrorCode SpamRhsIsentrope(SpamSim *sim, const double *y, double *ydot, Pet
   PetscFunctionBeginUser;
   PetscCall(Accel(sim, y + l->x, nv, &out, &written, bad));
   if (*bad >= 0 || written) PetscFunctionReturn(0);
+  if (sim->pair.threads == 1 && PlainRows(&sim->model)) {
+    WriteRowsPlain(dim, y, ydot, sim->pair.f.acc, 0, (size_t)sim->p.n);
+    PetscFunctionReturn(0);
+  }
 #pragma omp parallel for if (sim->pair.threads > 1) num_threads(sim->pair.threads) schedule(static)
   for (PetscInt i = 0; i < sim->p.n; i++) {
     for (int d = 0; d < dim; d++) {
