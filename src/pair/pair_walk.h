@@ -24,11 +24,23 @@
 #define SPAM_WALK_ROWS_(K, Name, D, ...) Name##Rows(D, K, __VA_ARGS__)
 #define SPAM_WALK_CASE(call, KIND, name, Prefix) \
   case SPAM_KERNEL_##KIND: SPAM_WALK_ROWS(SPAM_KERNEL_##KIND, SPAM_WALK_UNPACK call); break;
+#ifdef SPAM_ONE_KERNEL_COPY
+/* The sanitizer build (CMakeLists.txt) compiles each walk once per dimension, with the kind a
+ * value known only at run time: the kernel's shape is then a switch inside the pair loop
+ * (kernel_shape.h), the arithmetic and the memory the walk touches are the same, and the
+ * compiler instruments one copy of the loop instead of one per kernel. */
+#define SPAM_WALK_KERNELS(Name, D, kind, Unknown, ...) \
+  if ((kind) >= 0 && (kind) < SPAM_KERNEL_KINDS) Name##Rows(D, kind, __VA_ARGS__); \
+  else { \
+    Unknown; \
+  }
+#else
 #define SPAM_WALK_KERNELS(Name, D, kind, Unknown, ...) \
   switch (kind) { \
     SPAM_KERNEL_LIST(SPAM_WALK_CASE, (Name, D, __VA_ARGS__)) \
   default: Unknown; \
   }
+#endif
 #define SPAM_WALK_DISPATCH(Name, dim, kind, Unknown, ...) \
   switch (dim) { \
   case 1: SPAM_WALK_KERNELS(Name, 1, kind, Unknown, __VA_ARGS__); break; \

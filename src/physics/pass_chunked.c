@@ -280,6 +280,31 @@ static Rows RowsOf(const SpamPairPass *p, double c)
  * row order is the kinds' order) and dimension. SPAM_CLONES: src/pair/pair_pass.h. */
 typedef void (*DensityRowsFn)(const Rows *R, int uni, double *rho, int i0, int i1);
 typedef void (*ForceRowsFn)(const Rows *R, int uni, int uq, double *acc, int i0, int i1);
+#ifdef SPAM_ONE_KERNEL_COPY
+/* The sanitizer build: the rows once per dimension, the kind a value known at run time, as
+ * the pair walks there (src/pair/pair_walk.h says why); the table's entries call them. */
+#define SPAM_ROWS_ANY_KIND(D) \
+  static __attribute__((noinline)) void DensityAnyKind##D(int kind, const Rows *R, int uni, double *rho, int i0, int i1) \
+  { \
+    DensityKindRows(D, kind, R, uni, rho, i0, i1); \
+  } \
+  static __attribute__((noinline)) void ForceAnyKind##D(int kind, const Rows *R, int uni, int uq, double *acc, int i0, int i1) \
+  { \
+    ForceKindRows(D, kind, R, uni, uq, acc, i0, i1); \
+  }
+SPAM_ROWS_ANY_KIND(1)
+SPAM_ROWS_ANY_KIND(2)
+SPAM_ROWS_ANY_KIND(3)
+#define SPAM_ROWS_DIM(Prefix, D, KIND) \
+  static void Density##D##Prefix(const Rows *R, int uni, double *rho, int i0, int i1) \
+  { \
+    DensityAnyKind##D(SPAM_KERNEL_##KIND, R, uni, rho, i0, i1); \
+  } \
+  static void Force##D##Prefix(const Rows *R, int uni, int uq, double *acc, int i0, int i1) \
+  { \
+    ForceAnyKind##D(SPAM_KERNEL_##KIND, R, uni, uq, acc, i0, i1); \
+  }
+#else
 #define SPAM_ROWS_DIM(Prefix, D, KIND) \
   SPAM_CLONES static void Density##D##Prefix(const Rows *R, int uni, double *rho, int i0, int i1) \
   { \
@@ -289,6 +314,7 @@ typedef void (*ForceRowsFn)(const Rows *R, int uni, int uq, double *acc, int i0,
   { \
     ForceKindRows(D, SPAM_KERNEL_##KIND, R, uni, uq, acc, i0, i1); \
   }
+#endif
 #define SPAM_ROWS_KIND(ctx, KIND, name, Prefix) SPAM_ROWS_DIM(Prefix, 1, KIND) SPAM_ROWS_DIM(Prefix, 2, KIND) SPAM_ROWS_DIM(Prefix, 3, KIND)
 SPAM_KERNEL_LIST(SPAM_ROWS_KIND, ~)
 #define SPAM_DENSITY_ROW(ctx, KIND, name, Prefix) {Density1##Prefix, Density2##Prefix, Density3##Prefix},
