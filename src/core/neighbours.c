@@ -538,8 +538,6 @@ static void RowBlocks(SpamNeighbours *nl)
   }
 }
 
-/* The local rows over the list's box (ghost-periodic directions open), then the ghosts
- * of the true box and their rows. */
 /* A pending Keep (SpamNeighboursKeep) takes the reference positions now, before the first
  * change of xref or of the list since. */
 static void FillKeep(SpamNeighbours *nl)
@@ -550,6 +548,8 @@ static void FillKeep(SpamNeighbours *nl)
   nl->keep = NULL;
 }
 
+/* The local rows over the list's box (ghost-periodic directions open), then the ghosts
+ * of the true box and their rows. */
 static PetscErrorCode BuildList(SpamNeighbours *nl, const SpamBox *box)
 {
   const SpamBox  *lbox = &nl->lbox;

@@ -117,12 +117,12 @@ SPAM_INLINE void DensityRows(const int dim, const int kind, const int uni, const
     for (int d = 0; d < dim; d++) ui[d] = R->u[d][i];
     if (R->image[i]) {
       ri = DensitySegment(dim, kind, uni, 1, 1, R, i, ui, R->nbr, R->start[i], R->start[i + 1], rho, ri);
-      if (R->ghosts && R->newton) ri = DensitySegment(dim, kind, uni, 1, 1, R, i, ui, R->gnbr, R->gstart[i], R->gstart[i + 1], rho, ri);
-      else if (R->ghosts) ri = DensitySegment(dim, kind, uni, 1, 0, R, i, ui, R->gnbr, R->gstart[i], R->gstart[i + 1], rho, ri);
+      if (R->ghosts) ri = R->newton ? DensitySegment(dim, kind, uni, 1, 1, R, i, ui, R->gnbr, R->gstart[i], R->gstart[i + 1], rho, ri)
+                                    : DensitySegment(dim, kind, uni, 1, 0, R, i, ui, R->gnbr, R->gstart[i], R->gstart[i + 1], rho, ri);
     } else {
       ri = DensitySegment(dim, kind, uni, 0, 1, R, i, ui, R->nbr, R->start[i], R->start[i + 1], rho, ri);
-      if (R->ghosts && R->newton) ri = DensitySegment(dim, kind, uni, 0, 1, R, i, ui, R->gnbr, R->gstart[i], R->gstart[i + 1], rho, ri);
-      else if (R->ghosts) ri = DensitySegment(dim, kind, uni, 0, 0, R, i, ui, R->gnbr, R->gstart[i], R->gstart[i + 1], rho, ri);
+      if (R->ghosts) ri = R->newton ? DensitySegment(dim, kind, uni, 0, 1, R, i, ui, R->gnbr, R->gstart[i], R->gstart[i + 1], rho, ri)
+                                    : DensitySegment(dim, kind, uni, 0, 0, R, i, ui, R->gnbr, R->gstart[i], R->gstart[i + 1], rho, ri);
     }
     rho[i] += ri;
   }
