@@ -106,16 +106,28 @@ print(f"linear theory ({time.time() - t0:.1f} s): Ra_c = {ra_c:.4f}, k_c H = {kc
 
 
 def roll_amplitudes(out, k, y, fields):
-    """(t, A_T, A_v) in every CSV snapshot: the roll's amplitude (its peak vertical velocity,
+    """(t, A_T, A_v, C, phi) in every CSV snapshot: the roll's amplitude (its peak vertical velocity,
     the eigenfunction's scale) from the projection of T - T0(y) on T'(y) exp(i k x), and from
     that of v_y on v(y) exp(i k x), both mass-weighted. The temperature carries the roll
     more than the sound waves that fill the cell (the eigenfunction's T' peaks at 2.4 x
     its v at 3 Ra_c, a sound wave's T' is (gamma - 1) T v / c_s ~ 0.7 v), and the runs
     show it: A_T's noise floor is about 1e-4, A_v's 1e-3 (the cell's sound at the same k).
-    A_T is the measure fitted."""
+    A_T is the measure fitted.
+    C and phi tell the disturbance from the linear eigenmode: C the correlation of its
+    T - T0 row profile (the complex k-component in each of the cell's ny rows, the
+    mass-weighted mean over the row's particles) with the eigenfunction's T' there,
+    |<c, T'>| / (|c| |T'|), 1 for the eigenmode at any amplitude and phase; phi the phase
+    of A_T's projection (where the roll sits along x), constant for the eigenmode, which is
+    stationary. C alone does not tell the mode from the seed's transient (the seed's v
+    advecting the mean gradient gives a T' of the same sin-like shape: C 0.99 at 1.2 Ra_c,
+    seed 1e-2, while the projection decays and its phase turns by 2 rad); the phase does.
+    The v_y profile would tell them apart as well, but its noise floor (the cell's sound)
+    keeps its correlation low up to A ~ 1e-3."""
     wT, wv = fields["T"].real, fields["v"].real
     beta = (cell.t_bottom - cell.t_top) / cell.H
-    ts, aT, av = [], [], []
+    edges = np.linspace(0.0, cell.H, cell.ny + 1)
+    eig = np.interp(0.5 * (edges[1:] + edges[:-1]), y, wT)
+    ts, aT, av, cs, phs = [], [], [], [], []
     for path in manifest_files(out, "snapshot_csv"):
         with open(path) as f:
             first = f.readline()
@@ -125,45 +137,89 @@ def roll_amplitudes(out, k, y, fields):
         dT = (cell.gamma - 1.0) * d["e"] - (cell.t_bottom - beta * d["y"])
         pT, pv = np.interp(d["y"], y, wT), np.interp(d["y"], y, wv)
         ts.append(t)
-        aT.append(2 * abs(np.sum(d["m"] * dT * pT * ph)) / np.sum(d["m"] * pT * pT))
+        projT = np.sum(d["m"] * dT * pT * ph)
+        aT.append(2 * abs(projT) / np.sum(d["m"] * pT * pT))
+        phs.append(float(np.angle(projT)))
         av.append(2 * abs(np.sum(d["m"] * d["vy"] * pv * ph)) / np.sum(d["m"] * pv * pv))
+        row = np.clip(np.digitize(d["y"], edges) - 1, 0, cell.ny - 1)
+        mass = np.maximum(np.bincount(row, d["m"], cell.ny), 1e-300)
+        prof = (np.bincount(row, (d["m"] * dT * ph).real, cell.ny) + 1j * np.bincount(row, (d["m"] * dT * ph).imag, cell.ny)) / mass
+        norm = math.sqrt(np.sum(abs(prof) ** 2) * np.sum(eig ** 2))
+        cs.append(abs(np.sum(prof * eig)) / norm if norm > 0 else 0.0)
     order = np.argsort(ts)
-    return np.array(ts)[order], np.array(aT)[order], np.array(av)[order]
+    return tuple(np.array(q)[order] for q in (ts, aT, av, cs, phs))
 
 
-def exponential_fit(t, A, t_sat, t_start=0.0):
-    """(rate, t_from, t_to, note) of the line through ln A over the exponential phase:
-    after t_start, from where A first exceeds 3 x its minimum there to where it reaches
-    0.2 x its saturated value ("exponential"). A seed that grows to within 10 x of
-    saturation before t_start leaves no such phase: then from the minimum after t = 0 to
-    0.5 x saturation ("short": the rate mixes the seed's transient in). No growth
-    (saturation below 3 x the minimum): the slope of ln A from its peak to the end ("none":
-    how fast what the seed and the start's transient put into the roll decays)."""
+# The fit window's start: the disturbance is the linear eigenmode once its T' row profile
+# correlates with the eigenfunction's (roll_amplitudes' C) at MODE_CORR or above and its
+# phase has turned by at most MODE_PHASE over the e-folding time 1/s before, at every
+# snapshot up to the window's end. At 0.98 what is not the eigenmode's shape is at most
+# sqrt(1 - 0.98^2) = 0.2 of the profile's norm (the goal's 20 %); a non-stationary part of
+# relative size eps turns the phase by up to eps: 0.1 rad, a tenth. A seed within SAT_START
+# of the saturated amplitude there (less than ln(0.2 / 0.05) = 1.4 e-foldings before the
+# window's end) starts near saturation: its rate is fitted to 0.5 x saturation and flagged.
+MODE_CORR, MODE_PHASE, SAT_START = 0.98, 0.1, 0.05
+
+
+def exponential_fit(t, A, C, phi, lag, t_sat):
+    """(rate, t_from, t_to, note) of the line through ln A over the exponential phase: from
+    the first snapshot after which the disturbance is the eigenmode (C >= MODE_CORR and the
+    phase's turn over the lag snapshots before (1/s) <= MODE_PHASE at every snapshot up to
+    the window's end) to where A reaches 0.2 x its saturated value (the mean from t_sat
+    on): "exponential". Notes otherwise: "saturated start" (A already SAT_START x
+    saturation where the window starts, or at its minimum: fitted up to 0.5 x saturation, at
+    least three snapshots), "not modal" (the
+    criterion is not met before 0.2 x saturation: fitted from where A first exceeds 3 x its
+    minimum, a rate of the projection, not of the mode), "none" (no growth: saturation below
+    3 x the minimum; the slope of ln A from its peak to the end, how fast what the seed and
+    the start's transient put into the roll decays)."""
     sat = np.mean(A[t >= t_sat]) if np.any(t >= t_sat) else A[-1]
+    turn = np.array([abs(math.remainder(phi[i] - phi[i - lag], 2 * math.pi)) if i >= lag else math.pi for i in range(len(t))])
+    modal = (C >= MODE_CORR) & (turn <= MODE_PHASE)
     pos = t > 0
-    t, A = t[pos], A[pos]
+    t, A, modal = t[pos], A[pos], modal[pos]
 
     def first(i_from, cond):
         return next((i for i in range(i_from, len(A)) if cond(A[i])), len(A) - 1)
 
-    def lowest(i_from):
-        """The minimum from i_from up to the peak after it."""
-        return i_from + int(np.argmin(A[i_from: i_from + int(np.argmax(A[i_from:])) + 1]))
-
-    i_all = lowest(0)
-    i_late = next((i for i in range(len(t)) if t[i] >= t_start), len(t) - 1)
-    i_min = lowest(i_late)
-    i0, i1 = first(i_min, lambda x: x > 3 * A[i_min]), first(i_min, lambda x: x >= 0.2 * sat)
-    if sat < 3 * A[i_all]:
+    i_min = int(np.argmin(A[: int(np.argmax(A)) + 1]))
+    i1 = first(0, lambda x: x >= 0.2 * sat)
+    i_mode = i1 + 1
+    while i_mode > 0 and modal[i_mode - 1]:
+        i_mode -= 1
+    i0 = i_mode if i_mode <= i1 else first(i_min, lambda x: x > 3 * A[i_min])
+    if sat < 3 * A[i_min]:
         i0, i1, note = int(np.argmax(A)), len(A) - 1, "none"
-    elif sat > 10 * A[i_min] and i1 - i0 >= 2:
-        note = "exponential"
+    elif A[i0] >= SAT_START * sat or A[i_min] >= SAT_START * sat:
+        i1, note = max(first(i0, lambda x: x >= 0.5 * sat), i0 + 2), "saturated start"
+    elif i_mode > i1:
+        note = "not modal"
     else:
-        i0, i1, note = i_all, first(i_all, lambda x: x >= 0.5 * sat), "short"
-    if i1 - i0 < 1:
+        note = "exponential"
+    if i1 - i0 < 2:
         return float("nan"), float(t[i0]), float(t[i1]), note + " (too few snapshots)"
     p = np.polyfit(t[i0:i1 + 1], np.log(A[i0:i1 + 1]), 1)
     return float(p[0]), float(t[i0]), float(t[i1]), note
+
+
+# Saturation, for Nu: the roll's amplitude has saturated at t_sat, the first snapshot where
+# A reaches SAT_LEVEL x its mean over the run's last e-folding time 1/s; Nu is averaged from
+# t_sat + 1/s (one e-folding time to settle) to the end, over at least NU_WINDOW / s. A run
+# whose end comes sooner is continued from its last checkpoint (taken every 1/s) to
+# t_sat + (1 + NU_WINDOW) / s and looked at again, up to MAX_EXTENSIONS times; then its Nu
+# is flagged "not saturated". The runs' sized end times assume the roll grows from t = 0;
+# a seed whose disturbance first decays (1.2 Ra_c, seed 1e-2: for about 3000 time units)
+# ends during the rise, and its Nu, averaged over the last 3 / s, took in part of it
+# (1.214 against 1.223-1.229 at saturation).
+SAT_LEVEL, NU_WINDOW, MAX_EXTENSIONS = 0.9, 3.0, 4
+
+
+def saturation(t, A, s):
+    """(t_sat, A_end): t_sat the first time A reaches SAT_LEVEL x A_end, the mean of A over the
+    run's last 1/s."""
+    a_end = float(np.mean(A[t >= t[-1] - 1.0 / s]))
+    i = next((i for i in range(len(t)) if t[i] > 0 and A[i] >= SAT_LEVEL * a_end), len(t) - 1)
+    return float(t[i]), a_end
 
 
 def band_rates(t, A, t_start):
@@ -212,8 +268,9 @@ def write_readings(path, results, seeds):
         r = by.get((f, amp))
         if r is None:
             return ""
-        return format(r[key], spec) + (" (short fit)" if key == "s_ratio" and r["fit"] == "short" else "") \
-            + (" (no growth)" if key == "s_ratio" and r["fit"].startswith("none") else "")
+        flag = {"saturated start": " (saturated start)", "not modal": " (not modal)", "none": " (no growth)"}
+        return format(r[key], spec) + (next((v for k, v in flag.items() if r["fit"].startswith(k)), "") if key == "s_ratio" else "") \
+            + (" (not saturated)" if key == "nu" and not r["saturated"] else "")
     columns = ["Ra / Ra_c"] + [f"s / s_linear, seed {amp:g}" for amp in seeds] + [f"Nu, seed {amp:g}" for amp in seeds]
     rows = [[f"{f:g}"] + [cell(f, amp, "s_ratio", ".2f") for amp in seeds] + [cell(f, amp, "nu", ".3f") for amp in seeds]
             for f in ras]
@@ -247,34 +304,59 @@ for f in factors:
             t_end = a.t_scale * 5.0 * cell.H ** 2 / (cell.transport(ra)[1] / (cell.mass * cell.cp))
         dt_out = 0.125 / s_theory if s_theory > 0 else t_end / 40.0
         dt_out = min(dt_out, t_end / 20.0)
+        extend = a.t_end is None and s_theory > 0  # an end time given is kept
         name = f"ra{f:g}_amp{amp:g}"
         out = os.path.join(a.workdir, name)
-        args = ["-options_file", OPTIONS, "-convection_ra", ra, "-convection_amplitude", amp, "-ts_max_time", t_end,
+        args = ["-options_file", OPTIONS, "-convection_ra", ra, "-convection_amplitude", amp,
                 "-snapshot_interval", dt_out, "-snapshot_hdf5", 0, "-output_interval", dt_out / 2] + extra
+        if extend:
+            args += ["-checkpoint_interval", 1.0 / s_theory]
         w0 = time.time()
         done = os.path.join(out, "summary.json")
-        if a.reuse and os.path.exists(done) and summary(out).get("status") == "ok" and abs(summary(out)["t_final"] - t_end) < 1e-6 * t_end:
-            code, err = 0, "(reused)"
+        if a.reuse and os.path.exists(done) and summary(out).get("status") == "ok" and summary(out)["t_final"] > t_end * (1 - 1e-6):
+            code, err, t_end = 0, "(reused)", summary(out)["t_final"]
         else:
             shutil.rmtree(out, ignore_errors=True)
-            code, so, err = run(a.spam_ark, args, out, timeout=6 * 3600)
-        wall = time.time() - w0
-        if not c.check(code == 0, f"{name}: run completes (exit {code}, {wall:.1f} s) {err.strip()[-300:]}"):
+            code, so, err = run(a.spam_ark, args + ["-ts_max_time", t_end], out, timeout=6 * 3600)
+        if not c.check(code == 0, f"{name}: run completes (exit {code}, {time.time() - w0:.1f} s) {err.strip()[-300:]}"):
             continue
+        tt, A, Av, C, phi = roll_amplitudes(out, k1, y, fields)
+        extensions, saturated = 0, True
+        if extend:
+            saturated = False
+            while True:
+                t_sat, a_end = saturation(tt, A, s_theory)
+                t_need = t_sat + (1.0 + NU_WINDOW) / s_theory
+                if t_end >= t_need * (1 - 1e-9):
+                    saturated = True
+                    break
+                if extensions == MAX_EXTENSIONS or not os.path.exists(os.path.join(out, "checkpoint.h5")):
+                    break
+                extensions += 1
+                t_end = t_need
+                print(f"{name}: A reaches {SAT_LEVEL} x its end value {a_end:.3g} at t = {t_sat:.0f}: continued to {t_end:.0f}", flush=True)
+                code, so, err = run(a.spam_ark, args + ["-ts_max_time", t_end, "-restart", os.path.join(out, "checkpoint.h5")], out, timeout=6 * 3600)
+                if not c.check(code == 0, f"{name}: continued run completes (exit {code}) {err.strip()[-300:]}"):
+                    break
+                tt, A, Av, C, phi = roll_amplitudes(out, k1, y, fields)
+        wall = time.time() - w0
         sm, ts = summary(out), table(os.path.join(out, "timeseries.csv"))
         if err == "(reused)":
             wall = sm["wall_time_s"]  # the run's own time, not the analysis's
-        t_avg = t_end - 3.0 / s_theory if s_theory > 0 else 0.5 * t_end
+        if extend:
+            t_avg = saturation(tt, A, s_theory)[0] + 1.0 / s_theory
+        else:
+            t_avg = t_end - 3.0 / s_theory if s_theory > 0 else 0.5 * t_end
         nu, nub, nut, (qb, qt) = pc.nusselt(sm, ts, cell.t_bottom, cell.t_top, t_avg)
-        tt, A, Av = roll_amplitudes(out, k1, y, fields)
         # The seed is velocity only: its T' follows as the seed's v advects the mean gradient,
         # not as the mode. The other modes' share (decaying at least at the slowest thermal
         # rate chi q^2, q^2 = k^2 + (pi / H)^2, relative to the growing one) falls below
-        # e^-2 = 14 % after 2 / (s + chi q^2): the fit starts there.
+        # e^-2 = 14 % after 2 / (s + chi q^2): the rates by decade start there.
         chi = cell.transport(ra)[1] / (cell.mass * cell.cp)
         t_start = 2.0 / (max(s_theory, 0.0) + chi * (k1 ** 2 + (math.pi / cell.H) ** 2))
-        rate, fa, fb, note = exponential_fit(tt, A, t_avg, t_start)
-        rate_v = exponential_fit(tt, Av, t_avg, t_start)[0]
+        lag = max(1, round(1.0 / (s_theory * dt_out))) if s_theory > 0 else 1  # snapshots in 1/s
+        rate, fa, fb, note = exponential_fit(tt, A, C, phi, lag, t_avg)
+        rate_v = exponential_fit(tt, Av, C, phi, lag, t_avg)[0]
         bands = band_rates(tt, A, t_start)
         # saturation: the roll's amplitude over the last 1.5 e-folding times against the 1.5 before
         last = A[tt >= t_end - 1.5 / s_theory] if s_theory > 0 else A[-3:]
@@ -285,7 +367,8 @@ for f in factors:
         r = {"ra_over_ra_c": f, "ra": ra, "amplitude": amp, "t_end": t_end, "wall_s": wall, "rhs_evals": sm["rhs_evals"],
              "post_step_jumps": sm.get("post_step_jumps"), "s_theory": s_theory, "s_measured": rate, "s_measured_vy": rate_v, "ra_effective_over_ra_c": ra_eff / ra_c, "fit_from": fa, "fit_to": fb,
              "band_rates": bands,
-             "fit": note, "roll_amplitude_min": float(A[1:].min()), "roll_amplitude_end": float(A[-1]),
+             "fit": note, "mode_corr_end": float(C[-1]), "series": {"t": tt.tolist(), "A": A.tolist(), "C": C.tolist(), "phase": phi.tolist()}, "saturated": saturated, "extensions": extensions,
+             "roll_amplitude_min": float(A[1:].min()), "roll_amplitude_end": float(A[-1]),
              "roll_amplitude_vy_end": float(Av[-1]),
              "saturation_drift": drift, "nu": nu, "nu_hot": nub, "nu_cold": nut, "nu_start": 0.5 * (qb[0] + qt[0]),
              "nu_from_t": t_avg, "ke_start": ke[0], "ke_max": max(ke), "ke_end": ke[-1], "dir": out}
@@ -297,16 +380,18 @@ for f in factors:
               + ", ".join(f"{k}: {v / abs(s_theory):+.2f}" for k, v in bands.items()), flush=True)
 
 # (a) growth rates
-print("\nRa/Ra_c  amplitude  t_end    wall s  s theory    s measured  ratio   fit           s from v_y  Ra_eff/Ra_c  Nu       Nu start  sat. drift")
+print("\nRa/Ra_c  amplitude  t_end    wall s  s theory    s measured  ratio   fit              fit from  s from v_y  Ra_eff/Ra_c  Nu       Nu from  sat. drift")
 for r in results["runs"]:
     ratio = r["s_measured"] / r["s_theory"] if r["s_theory"] else float("nan")
     r["s_ratio"] = ratio
     print(f"{r['ra_over_ra_c']:<7.3g}  {r['amplitude']:<9.0e}  {r['t_end']:<7.0f}  {r['wall_s']:<6.1f}  {r['s_theory']:<10.4g}  "
-          f"{r['s_measured']:<10.4g}  {ratio:<6.3f}  {r['fit'][:12]:<12}  {r['s_measured_vy']:<10.4g}  {r['ra_effective_over_ra_c']:<11.4g}  {r['nu']:.4f}   {r['nu_start']:.4f}    {r['saturation_drift']:.3f}")
-# Asserted for the smallest seed, whose exponential phase is the linear one. A larger seed
+          f"{r['s_measured']:<10.4g}  {ratio:<6.3f}  {r['fit'][:15]:<15}  {r['fit_from']:<8.0f}  {r['s_measured_vy']:<10.4g}  {r['ra_effective_over_ra_c']:<11.4g}  "
+          f"{r['nu']:.4f}{'' if r['saturated'] else ' (not saturated)'}   {r['nu_from_t']:<7.0f}  {r['saturation_drift']:.3f}")
+# Asserted for the smallest seed, whose exponential phase is the longest. A larger seed
 # starts nearer saturation: its fit window is shorter and its rate moves with round-off (a
 # change of the pair sums' order moved the 1e-2 seed's ratio from 1.195 to 1.233 at 2 Ra_c
-# and from 1.126 to 0.917 at 3 Ra_c, the 1e-3 seed's by 0.03 and 0.01): printed.
+# and from 1.126 to 0.917 at 3 Ra_c, the 1e-3 seed's by 0.03 and 0.01, when the window
+# started at 3 x the minimum of A): printed.
 for r in results["runs"]:
     text = (f"Ra = {r['ra_over_ra_c']:g} Ra_c, amplitude {r['amplitude']:g}: growth rate {r['s_measured']:.4g} against linear "
             f"{r['s_theory']:.4g} (ratio {r['s_ratio']:.3f}; goal within 20 %; {r['fit']})")
@@ -362,7 +447,9 @@ if len(ons) > 1:
     c.check(spread < 0.1, f"onset independent of the seed: spread {spread:.4g} Ra_c (goal below 0.1)")
 results["total_wall_s"] = sum(r["wall_s"] for r in results["runs"])
 print(f"total run time {results['total_wall_s']:.1f} s over {len(results['runs'])} runs")
-print("(fit: exponential, short (seed near saturation) or none (no growth: s is the slope of ln A from its peak to the end); Ra_eff: the Ra at which "
+print(f"(fit: exponential (from where the disturbance is the eigenmode, profile correlation >= {MODE_CORR}), saturated start (the mode "
+      f"reached at >= {SAT_START} x saturation), not modal (the correlation never settles: fitted from 3 x the minimum) or none (no growth: s is the slope of ln A "
+      "from its peak to the end); Nu from: the start of Nu's average (saturation + 1/s); Ra_eff: the Ra at which "
       "the continuum's roll grows at the measured rate; sat. drift: the roll's amplitude over the last 1.5 e-folding times of the "
       "linear rate over that of the 1.5 before, 1 when saturated)")
 if a.readings:
