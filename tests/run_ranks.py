@@ -352,7 +352,7 @@ def first_output_time(path):
     return end if interval == 0 else min(interval, end) if end else interval
 
 
-REFUSED = {"convection-onset": "-conduction_linear"}
+REFUSED = {}  # options files refused on several ranks, by name: the option named
 optdir = os.path.join(OPTS_DIR, "options")
 for fname in sorted(os.listdir(optdir)):
     if not fname.endswith(".opts"):

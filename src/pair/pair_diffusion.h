@@ -63,8 +63,9 @@ static inline __attribute__((always_inline)) void SpamPairHeatDiffusion(SpamFiel
  * exchange with the images), each side's correction into qlin, which the flow scheme's
  * book carries. A mirror image (own_j = 0) takes no correction: its side is the wall's.
  * A periodic ghost slot (own_j = 1) takes its source's G, gathered, and its side is
- * folded onto the source. Other ranks' particles would lose theirs, so the option is
- * refused on several ranks (solid_options.c). */
+ * folded onto the source. Another rank's particle (own_j = 0) takes its side on its own
+ * rank, where the same pair is computed from the other end with the same operands (the
+ * halo carries G to the remote slots with the other gathered fields). */
 static inline __attribute__((always_inline)) void SpamPairHeatDiffusionLinear(const int dim, SpamFields *f, int i, int j, double kappa, double k, const double dx[3], int own_j)
 {
   const double *Gi = f->heat + (size_t)i * dim, *Gj = f->heat + (size_t)j * dim, c = 2.0 * kappa * k;

@@ -142,9 +142,6 @@ PetscErrorCode SpamSolidOptions(SpamSolidParams *p)
     if (p->diffusion != SPAM_DIFFUSION_PAIR || !(p->conductivity > 0.0)) SPAM_BAD_INPUT("-conduction_linear", "true", "corrects the pair form's conduction: it needs -diffusion_form pair and -conductivity > 0");
     if (p->smoothing != SPAM_SMOOTHING_FIXED) SPAM_BAD_INPUT("-conduction_linear", "true", "is written for one smoothing length (the adaptive path has no pair form)");
     if (p->background == SPAM_BACKGROUND_NONE && !(p->shift_coef > 0.0)) SPAM_BAD_INPUT("-conduction_linear", "true", "is booked with the flow scheme's laws: it needs -background_pressure mean or -shift_coefficient > 0");
-    PetscMPIInt size;
-    PetscCallMPI(MPI_Comm_size(PETSC_COMM_WORLD, &size));
-    if (size > 1) SPAM_BAD_INPUT("-conduction_linear", "true", "is written for one rank (another rank's particles' own corrections are not exchanged)");
   }
   if (p->scheme == SPAM_GAS_PLAIN || p->material != SPAM_MATERIAL_GAS) { /* the flow scheme's laws are off in the plain scheme */
     p->background = SPAM_BACKGROUND_NONE;
