@@ -11,16 +11,20 @@ T_b = 1.25, T_t = 0.75) at Ra = f Ra_c for each f of --ra and each seed amplitud
     linear eigenfunction's temperature (real: the onset is stationary), scaled to the
     roll's peak vertical velocity: its noise floor from the sound that fills the cell is
     about 10 x below that of the projection of v_y (also printed).
-    ln(amplitude) is fitted by a line over its exponential phase: after the seed's other
-    modes have decayed relative to the roll (2 / (s + chi q^2), q^2 = k^2 + (pi/H)^2, the
-    slowest thermal decay: 230 at 1.2 Ra_c, where 1/s = 1020), from where it first exceeds
-    3 x its minimum (above the noise floor) to where it reaches
-    0.2 x its saturated value (the mean over the last three e-folding times): with
-    dA/dt = s A - g A^3 the rate there is still 0.96 s, so the fit is low by about 2 %.
+    ln(amplitude) is fitted by a line over its exponential phase: from where the
+    disturbance has become the linear eigenmode (its T' row profile correlates with the
+    eigenfunction's at 0.98 or more and its phase, where the roll sits, turns by at most
+    0.1 rad per e-folding time 1/s, at every snapshot up to the window's end: MODE_CORR,
+    MODE_PHASE) to where it reaches 0.2 x its saturated value (the mean from saturation
+    on): with dA/dt = s A - g A^3 the rate there is still 0.96 s, so the fit is low by
+    about 2 %. A seed whose amplitude there (or at its minimum) is already 0.05 x the
+    saturated one starts near saturation: flagged "saturated start" in the table.
     Goal of the project: within 20 %. Also printed: Ra_eff, the Ra at which the
     continuum's roll grows at the measured rate (how far from the continuum SPAM's cell is).
-(b) the onset: Nu - 1 of the saturated state (Nu over the last three e-folding times of the
-    linear rate, from the wall heat rates as examples/plot_convection.py computes it)
+(b) the onset: Nu - 1 of the saturated state (Nu from one e-folding time 1/s after the
+    roll's amplitude first reaches 0.9 x its final value to the end, at least 3/s long: a
+    run that ends sooner is continued from its checkpoint; from the wall heat rates as
+    examples/plot_convection.py computes it)
     against Ra, fitted by a line through the two lowest Ra (weakly nonlinear theory:
     Nu - 1 is linear in Ra - Ra_c near onset; the higher points curve) and extrapolated to
     Nu - 1 = 0. Only points above the conduction state's noise floor count (3 x the
@@ -45,6 +49,9 @@ roll is about 0.05 of -convection_amplitude (512 random velocities), the saturat
 vertical velocity about 10 chi / H (Boussinesq rolls near onset), so growth takes
 ln(0.5 / amplitude) e-foldings; then 3 e-foldings to saturate and 3 to average Nu:
 t_end = (ln(0.5 / amplitude) + 6) / s (1.2 Ra_c, amplitude 1e-4: s = 9.8e-4, t_end = 14,800).
+That is a first guess (a seed's disturbance may first decay: 1.2 Ra_c, seed 1e-2, for about
+3000 time units): a run is continued until Nu's average, from saturation + 1/s, spans 3/s
+(SAT_LEVEL, NU_WINDOW; every run alike). --t-end keeps the end time given.
 --t-scale multiplies it, --t-end replaces it. Snapshots every 1/(8 s)
 (about 18 points per decade of growth).
 
@@ -287,7 +294,8 @@ def write_readings(path, results, seeds):
     chart_readings.write_json(path, {"ra_c": results["ra_c"], "options": results["extra"],
                                      "growth": chart_readings.table(columns, rows), "onset": onset, "bands": bands,
                                      "runs": [{k: r[k] for k in ("ra_over_ra_c", "amplitude", "s_theory", "s_measured", "s_ratio",
-                                                                 "nu", "band_rates", "post_step_jumps", "ke_end")} for r in results["runs"]]})
+                                                                 "nu", "band_rates", "post_step_jumps", "ke_end",
+                                                                 "fit", "fit_from", "fit_to", "nu_from_t", "t_end", "saturated", "extensions")} for r in results["runs"]]})
 
 
 results = {"ra_c": ra_c, "k_c_H": kc, "k_roll_H": k1 * cell.H, "extra": a.extra, "runs": []}
