@@ -18,7 +18,8 @@ T_b = 1.25, T_t = 0.75) at Ra = f Ra_c for each f of --ra and each seed amplitud
     MODE_PHASE) to where it reaches 0.2 x its saturated value (the mean from saturation
     on): with dA/dt = s A - g A^3 the rate there is still 0.96 s, so the fit is low by
     about 2 %. A seed whose amplitude there (or at its minimum) is already 0.05 x the
-    saturated one starts near saturation: flagged "saturated start" in the table.
+    saturated one starts near saturation ("saturated start"; "late mode" when the disturbance
+    becomes the mode only there): flagged in the table.
     Goal of the project: within 20 %. Also printed: Ra_eff, the Ra at which the
     continuum's roll grows at the measured rate (how far from the continuum SPAM's cell is).
 (b) the onset: Nu - 1 of the saturated state (Nu from one e-folding time 1/s after the
@@ -164,18 +165,21 @@ def roll_amplitudes(out, k, y, fields):
 # sqrt(1 - 0.98^2) = 0.2 of the profile's norm (the goal's 20 %); a non-stationary part of
 # relative size eps turns the phase by up to eps: 0.1 rad, a tenth. A seed within SAT_START
 # of the saturated amplitude there (less than ln(0.2 / 0.05) = 1.4 e-foldings before the
-# window's end) starts near saturation: its rate is fitted to 0.5 x saturation and flagged.
+# window's end) starts near saturation, and a run whose disturbance becomes the mode only
+# there reaches it late: their rates are fitted to 0.5 x saturation and flagged.
 MODE_CORR, MODE_PHASE, SAT_START = 0.98, 0.1, 0.05
 
 
-def exponential_fit(t, A, C, phi, lag, t_sat):
+def exponential_fit(t, A, C, phi, lag, t_sat, seed_share):
     """(rate, t_from, t_to, note) of the line through ln A over the exponential phase: from
     the first snapshot after which the disturbance is the eigenmode (C >= MODE_CORR and the
     phase's turn over the lag snapshots before (1/s) <= MODE_PHASE at every snapshot up to
     the window's end) to where A reaches 0.2 x its saturated value (the mean from t_sat
-    on): "exponential". Notes otherwise: "saturated start" (A already SAT_START x
-    saturation where the window starts, or at its minimum: fitted up to 0.5 x saturation, at
-    least three snapshots), "not modal" (the
+    on): "exponential". Notes otherwise: "saturated start" (seed_share, the seed's own
+    projection on the roll, its v_y at t = 0, is SAT_START of the saturated v_y or more: the
+    seed is velocity only, so A, of T', starts from 0 whatever the seed), "late mode" (A is SAT_START x saturation or more where the
+    criterion is first met for good), both fitted up to 0.5 x saturation (at least three
+    snapshots), "not modal" (the
     criterion is not met before 0.2 x saturation: fitted from where A first exceeds 3 x its
     minimum, a rate of the projection, not of the mode), "none" (no growth: saturation below
     3 x the minimum; the slope of ln A from its peak to the end, how fast what the seed and
@@ -197,8 +201,10 @@ def exponential_fit(t, A, C, phi, lag, t_sat):
     i0 = i_mode if i_mode <= i1 else first(i_min, lambda x: x > 3 * A[i_min])
     if sat < 3 * A[i_min]:
         i0, i1, note = int(np.argmax(A)), len(A) - 1, "none"
-    elif A[i0] >= SAT_START * sat or A[i_min] >= SAT_START * sat:
+    elif seed_share >= SAT_START:
         i1, note = max(first(i0, lambda x: x >= 0.5 * sat), i0 + 2), "saturated start"
+    elif A[i0] >= SAT_START * sat:
+        i1, note = max(first(i0, lambda x: x >= 0.5 * sat), i0 + 2), "late mode"
     elif i_mode > i1:
         note = "not modal"
     else:
@@ -275,7 +281,7 @@ def write_readings(path, results, seeds):
         r = by.get((f, amp))
         if r is None:
             return ""
-        flag = {"saturated start": " (saturated start)", "not modal": " (not modal)", "none": " (no growth)"}
+        flag = {"saturated start": " (saturated start)", "late mode": " (late mode)", "not modal": " (not modal)", "none": " (no growth)"}
         return format(r[key], spec) + (next((v for k, v in flag.items() if r["fit"].startswith(k)), "") if key == "s_ratio" else "") \
             + (" (not saturated)" if key == "nu" and not r["saturated"] else "")
     columns = ["Ra / Ra_c"] + [f"s / s_linear, seed {amp:g}" for amp in seeds] + [f"Nu, seed {amp:g}" for amp in seeds]
@@ -295,7 +301,7 @@ def write_readings(path, results, seeds):
                                      "growth": chart_readings.table(columns, rows), "onset": onset, "bands": bands,
                                      "runs": [{k: r[k] for k in ("ra_over_ra_c", "amplitude", "s_theory", "s_measured", "s_ratio",
                                                                  "nu", "band_rates", "post_step_jumps", "ke_end",
-                                                                 "fit", "fit_from", "fit_to", "nu_from_t", "t_end", "saturated", "extensions")} for r in results["runs"]]})
+                                                                 "fit", "seed_share", "fit_from", "fit_to", "nu_from_t", "t_end", "saturated", "extensions")} for r in results["runs"]]})
 
 
 results = {"ra_c": ra_c, "k_c_H": kc, "k_roll_H": k1 * cell.H, "extra": a.extra, "runs": []}
@@ -363,8 +369,9 @@ for f in factors:
         chi = cell.transport(ra)[1] / (cell.mass * cell.cp)
         t_start = 2.0 / (max(s_theory, 0.0) + chi * (k1 ** 2 + (math.pi / cell.H) ** 2))
         lag = max(1, round(1.0 / (s_theory * dt_out))) if s_theory > 0 else 1  # snapshots in 1/s
-        rate, fa, fb, note = exponential_fit(tt, A, C, phi, lag, t_avg)
-        rate_v = exponential_fit(tt, Av, C, phi, lag, t_avg)[0]
+        seed_share = float(Av[0] / np.mean(Av[tt >= t_avg])) if np.any(tt >= t_avg) else float("nan")
+        rate, fa, fb, note = exponential_fit(tt, A, C, phi, lag, t_avg, seed_share)
+        rate_v = exponential_fit(tt, Av, C, phi, lag, t_avg, seed_share)[0]
         bands = band_rates(tt, A, t_start)
         # saturation: the roll's amplitude over the last 1.5 e-folding times against the 1.5 before
         last = A[tt >= t_end - 1.5 / s_theory] if s_theory > 0 else A[-3:]
@@ -375,7 +382,7 @@ for f in factors:
         r = {"ra_over_ra_c": f, "ra": ra, "amplitude": amp, "t_end": t_end, "wall_s": wall, "rhs_evals": sm["rhs_evals"],
              "post_step_jumps": sm.get("post_step_jumps"), "s_theory": s_theory, "s_measured": rate, "s_measured_vy": rate_v, "ra_effective_over_ra_c": ra_eff / ra_c, "fit_from": fa, "fit_to": fb,
              "band_rates": bands,
-             "fit": note, "mode_corr_end": float(C[-1]), "series": {"t": tt.tolist(), "A": A.tolist(), "C": C.tolist(), "phase": phi.tolist()}, "saturated": saturated, "extensions": extensions,
+             "fit": note, "seed_share": seed_share, "mode_corr_end": float(C[-1]), "series": {"t": tt.tolist(), "A": A.tolist(), "C": C.tolist(), "phase": phi.tolist()}, "saturated": saturated, "extensions": extensions,
              "roll_amplitude_min": float(A[1:].min()), "roll_amplitude_end": float(A[-1]),
              "roll_amplitude_vy_end": float(Av[-1]),
              "saturation_drift": drift, "nu": nu, "nu_hot": nub, "nu_cold": nut, "nu_start": 0.5 * (qb[0] + qt[0]),
@@ -455,8 +462,8 @@ if len(ons) > 1:
     c.check(spread < 0.1, f"onset independent of the seed: spread {spread:.4g} Ra_c (goal below 0.1)")
 results["total_wall_s"] = sum(r["wall_s"] for r in results["runs"])
 print(f"total run time {results['total_wall_s']:.1f} s over {len(results['runs'])} runs")
-print(f"(fit: exponential (from where the disturbance is the eigenmode, profile correlation >= {MODE_CORR}), saturated start (the mode "
-      f"reached at >= {SAT_START} x saturation), not modal (the correlation never settles: fitted from 3 x the minimum) or none (no growth: s is the slope of ln A "
+print(f"(fit: exponential (from where the disturbance is the eigenmode: T' profile correlation >= {MODE_CORR}, phase turn <= {MODE_PHASE} rad "
+      f"per 1/s), saturated start (the seed's v_y projection >= {SAT_START} x saturated), late mode (the mode reached at >= {SAT_START} x saturation), not modal (the correlation never settles: fitted from 3 x the minimum) or none (no growth: s is the slope of ln A "
       "from its peak to the end); Nu from: the start of Nu's average (saturation + 1/s); Ra_eff: the Ra at which "
       "the continuum's roll grows at the measured rate; sat. drift: the roll's amplitude over the last 1.5 e-folding times of the "
       "linear rate over that of the 1.5 before, 1 when saturated)")
