@@ -369,7 +369,7 @@ for f in factors:
         chi = cell.transport(ra)[1] / (cell.mass * cell.cp)
         t_start = 2.0 / (max(s_theory, 0.0) + chi * (k1 ** 2 + (math.pi / cell.H) ** 2))
         lag = max(1, round(1.0 / (s_theory * dt_out))) if s_theory > 0 else 1  # snapshots in 1/s
-        seed_share = float(Av[0] / np.mean(Av[tt >= t_avg])) if np.any(tt >= t_avg) else float("nan")
+        seed_share = float(Av[0] / np.mean(Av[tt >= t_avg])) if np.any(tt >= t_avg) and s_theory > 0 else float("nan")
         rate, fa, fb, note = exponential_fit(tt, A, C, phi, lag, t_avg, seed_share)
         rate_v = exponential_fit(tt, Av, C, phi, lag, t_avg, seed_share)[0]
         bands = band_rates(tt, A, t_start)
