@@ -15,13 +15,14 @@ itself stands 3.2e-8 off the runs: tests/run_imex_order.py). Cost: right-hand-si
 evaluations (explicit and implicit separately, from the summary's rhs_evals_process and
 rhs_evals_diffusion), GMRES iterations (ARKStep's statistics, -sundials_stats), the
 preconditioner's Jacobian assemblies (each a pass over the pairs like one evaluation of the
-diffusion part, counted with the evaluations in the ratios) and wall time. The ratio DP5 /
+diffusion part, counted with the evaluations in the ratios), wall time (the summary's) and CPU time (the
+process's user + system time, its start included; less sensitive to the load). The ratio DP5 /
 IMEX at equal error is the DP5 cost interpolated (log-log) at the IMEX run's error. Prints a
 table and the ratios; with --chart, a PNG of error against wall time and against evaluations.
 
 --pcs: the IMEX runs' stage preconditioners (-arkode_imex_pc), comma-separated: none
 (unpreconditioned GMRES; method "imex"), diffusion (GMRES preconditioned on the right by
-the assembled diffusion Jacobian, ILU(0) by default; method "imex_pc"); --pc-options adds
+the assembled diffusion Jacobian, ILU(1) by default; method "imex_pc"); --pc-options adds
 options of its KSP (say "-imex_pc_pc_type lu").
 
 --case couette: plane Couette flow from rest (options/couette.opts) with the viscosity raised
@@ -39,7 +40,9 @@ import argparse
 import csv
 import json
 import math
+import os
 import re
+import resource
 import subprocess
 import sys
 import tempfile
@@ -92,7 +95,10 @@ def one_run(spam_ark, work, case, method, rtol):
     args = [spam_ark] + scene + ["-ts_rtol", repr(rtol), "-ts_atol", "1e-20", "-output_interval", "0",
                                  "-output_dir", str(out), "-output_overwrite", "-initial_csv", str(out) + ".initial.csv",
                                  "-final_csv", str(out) + ".final.csv", "-sundials_stats"] + method[0]
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     p = subprocess.run(args, capture_output=True, text=True, timeout=3600)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
     if p.returncode != 0:
         print(f"  {method[1]} rtol {rtol:g}: exit {p.returncode} {p.stderr.strip()[-200:]}")
         return None
@@ -103,7 +109,7 @@ def one_run(spam_ark, work, case, method, rtol):
     return {"method": method[1], "rtol": rtol, "error": error(str(out) + ".initial.csv", str(out) + ".final.csv"),
             "steps": s["steps"], "rejected": s["rejected_steps"], "explicit": s["rhs_evals_process"] - implicit,
             "implicit": implicit, "linear": int(lin.group(1)) if lin else 0, "assemblies": int(jac.group(1)) if jac else 0,
-            "wall": s["wall_time_s"],
+            "wall": s["wall_time_s"], "cpu": cpu,
             "drift": s["energy_rel_drift_max"]}
 
 
@@ -127,33 +133,33 @@ def chart(path, runs, failed, title, table):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     sys.path.insert(0, str(ROOT / "examples"))
-    from chart_style import style
-    fig, axes = plt.subplots(1, 2, figsize=(10.5, 4.4))
+    from chart_style import style, UNSTABLE
+    fig, axes = plt.subplots(1, 2, figsize=(10.5, 5.0))
     for method, rs in runs.items():
         if not rs:
             continue
         name = NAMES[method].format(table=table)
         err = [r["error"] for r in rs]
-        st = style(name.split(" (")[0])
+        st = style(STYLE_KEYS[method])
         axes[0].loglog([r["wall"] for r in rs], err, "-", label=name, **st)
-        axes[1].loglog([evaluations(r) for r in rs], err, "-", label=name, **st)
+        axes[1].loglog([evaluations(r) for r in rs], err, "-", **st)
     for method, rtol in failed:
-        for ax in axes:
-            ax.plot([], [], "rX", mfc="none", label=f"{method} rtol {rtol:g}: failed")
+        axes[0].plot([], [], label=f"{method} rtol {rtol:g}: failed", **UNSTABLE)
     axes[0].set_xlabel("wall time (s)")
     axes[1].set_xlabel("pair passes: right-hand-side evaluations + Jacobian assemblies")
     for ax in axes:
         ax.set_ylabel("max-norm error (relative)")
         ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=8)
-    fig.suptitle(f"{title}: work at equal error")
-    fig.tight_layout()
+    fig.legend(loc="lower center", ncol=2, fontsize=8, frameon=False)
+    fig.suptitle(f"{title}: work at equal error (load {os.getloadavg()[0]:.0f} on {os.cpu_count()} cores)")
+    fig.tight_layout(rect=(0, 0.1, 1, 1))
     fig.savefig(path, dpi=110)
     print(f"chart: {path}")
 
 
 DISCRETE = {}
 REFERENCE = {}
+STYLE_KEYS = {"dp5": "DP5", "imex": "IMEX, unpreconditioned", "imex_pc": "IMEX, preconditioned"}
 NAMES = {"dp5": "DP5 (explicit, -ts_type arkode)", "imex": "IMEX {table}, GMRES unpreconditioned",
          "imex_pc": "IMEX {table}, GMRES preconditioned (-arkode_imex_pc diffusion)"}
 
@@ -166,6 +172,7 @@ def main():
     ap.add_argument("--L", type=int, default=96)
     ap.add_argument("--table", default="ARK436L2SA")
     ap.add_argument("--rtols", default="1e-7,1e-8,1e-9,1e-10,1e-11")
+    ap.add_argument("--dp5-rtols", default=None, help="DP5's own sweep (default --rtols), to bracket the IMEX runs' errors")
     ap.add_argument("--pcs", default="none", help="IMEX stage preconditioners, comma-separated: none, diffusion")
     ap.add_argument("--pc-options", default="", help="options of the preconditioner's KSP, e.g. '-imex_pc_pc_type lu'")
     ap.add_argument("--chart", default=None)
@@ -173,6 +180,7 @@ def main():
     a = ap.parse_args()
     DISCRETE[a.L] = heat_mode(2, a.L, H, E0, GAMMA, KAPPA, "pair")[0]
     rtols = [float(x) for x in a.rtols.split(",")]
+    dp5_rtols = [float(x) for x in a.dp5_rtols.split(",")] if a.dp5_rtols else rtols
     case = case_args(a.case, a.L, a.nu)
     methods = [(["-ts_type", "arkode"], "dp5")]
     for pc in a.pcs.split(","):
@@ -188,7 +196,7 @@ def main():
         runs, failed = {}, []
         for m in methods:
             runs[m[1]] = []
-            for t in rtols:
+            for t in (dp5_rtols if m[1] == "dp5" else rtols):
                 r = one_run(a.spam_ark, work, case, m, t)
                 if r:
                     runs[m[1]].append(r)
@@ -198,10 +206,10 @@ def main():
         print(f"Couette from rest, nu = {a.nu:g} (Re = {0.1 * 32 / a.nu:.2f}), to 1.5 H^2/nu; error = max |vx - vx_ref| / U")
     else:
         print(f"heat mode 2D {a.L} x {LY}, to T = 1/sigma_v; error = max |e - exact| / (eps e0)")
-    print(f"{'method':7} {'rtol':>7} {'error':>9} {'steps':>6} {'rej':>4} {'f_E':>7} {'f_I':>7} {'GMRES':>7} {'J':>4} {'wall s':>7} {'dE/E':>8}")
+    print(f"{'method':7} {'rtol':>7} {'error':>9} {'steps':>6} {'rej':>4} {'f_E':>7} {'f_I':>7} {'GMRES':>7} {'J':>4} {'wall s':>7} {'cpu s':>7} {'dE/E':>8}")
     for m in runs.values():
         for r in m:
-            print(f"{r['method']:7} {r['rtol']:7.0e} {r['error']:9.2e} {r['steps']:6d} {r['rejected']:4d} {r['explicit']:7d} {r['implicit']:7d} {r['linear']:7d} {r['assemblies']:4d} {r['wall']:7.2f} {r['drift']:8.1e}")
+            print(f"{r['method']:7} {r['rtol']:7.0e} {r['error']:9.2e} {r['steps']:6d} {r['rejected']:4d} {r['explicit']:7d} {r['implicit']:7d} {r['linear']:7d} {r['assemblies']:4d} {r['wall']:7.2f} {r['cpu']:7.2f} {r['drift']:8.1e}")
     all_ratios = {}
     for method in runs:
         if method == "dp5":
@@ -210,25 +218,26 @@ def main():
         ratios = all_ratios.setdefault(method, [])
         for r in runs[method]:
             w = at_error(runs["dp5"], "wall", r["error"])
+            cpu = at_error(runs["dp5"], "cpu", r["error"])
             ev = at_error([dict(x, all=evaluations(x)) for x in runs["dp5"]], "all", r["error"])
             if w is None:
                 print(f"  error {r['error']:.2e}: outside the DP5 runs' range")
                 ratios.append(None)
                 continue
-            ratios.append({"error": r["error"], "wall": w / r["wall"], "evaluations": ev / evaluations(r)})
-            print(f"  error {r['error']:.2e}: wall time {w / r['wall']:.2f}x, evaluations {ev / evaluations(r):.2f}x")
+            ratios.append({"error": r["error"], "wall": w / r["wall"], "cpu": cpu / r["cpu"], "evaluations": ev / evaluations(r)})
+            print(f"  error {r['error']:.2e}: wall time {w / r['wall']:.2f}x, CPU time {cpu / r['cpu']:.2f}x, evaluations {ev / evaluations(r):.2f}x")
     if a.readings:
         sys.path.insert(0, str(ROOT / "examples"))
         import chart_readings
         label = {"dp5": "DP5", "imex": "IMEX", "imex_pc": "IMEX, pc"}
         rows = [[label[r["method"]], f"{r['rtol']:.0e}".replace("e-0", "e-"),
                  f"{r['error']:.2e}".replace("e-0", "e-"), f"{r['steps']} ({r['rejected']})", r["explicit"], r["implicit"],
-                 r["linear"], r["assemblies"], f"{r['wall']:.1f}"] for m in runs.values() for r in m]
+                 r["linear"], r["assemblies"], f"{r['wall']:.1f}", f"{r['cpu']:.1f}"] for m in runs.values() for r in m]
         chart_readings.write_json(a.readings, {
             "runs": runs, "ratios": all_ratios.get("imex", []), "ratios_pc": all_ratios.get("imex_pc", []),
             "failed": [{"method": m, "rtol": t} for m, t in failed], "pc_options": a.pc_options,
             "reference_steps": ref["steps"] if ref else None,
-            "table": chart_readings.table(["method", "rtol", "error", "steps (rejected)", "f_E", "f_I", "GMRES", "J", "wall s"], rows)},
+            "table": chart_readings.table(["method", "rtol", "error", "steps (rejected)", "f_E", "f_I", "GMRES", "J", "wall s", "CPU s"], rows)},
             chart=a.chart)
     if a.chart:
         if a.case == "couette":

@@ -1,5 +1,6 @@
 #!/usr/bin/python3
-"""The order of -ts_type arkode_imex's additive pairs on a diffusion-dominated scene with an
+"""The order of -ts_type arkode_imex's additive pairs (with its default stage preconditioner;
+tests/run_imex_pc.py compares it with the unpreconditioned solver) on a diffusion-dominated scene with an
 exact answer: the temperature mode of the conducting gas at rest (-scene heat-mode, as in
 run_heat_mode.py: L = 48 along x, 12 across, h = 3, gamma = 1.4, kappa = 1, e0 = 1e-6, here
 eps = 1e-4), whose conduction (the flow scheme's pair Laplacian, -diffusion_form pair) is
