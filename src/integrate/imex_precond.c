@@ -104,9 +104,11 @@ int SpamImexPCSetup(realtype t, N_Vector y, N_Vector fy, booleantype jok, boolea
 }
 
 /* z = P^-1 r on this rank's rows; a failed KSP is recoverable (ARKODE sets up again with
- * fresh data or a smaller step). */
-static PetscErrorCode Solve(SpamImexPC *pc, N_Vector r, N_Vector z, int *flag)
+ * fresh data or a smaller step), on every rank if on one (ARKODE's decisions must agree). */
+static PetscErrorCode Solve(SpamImexPC *pc, MPI_Comm comm, N_Vector r, N_Vector z, int *flag)
 {
+  PetscMPIInt size;
+
   const PetscScalar *ra;
   PetscScalar       *za;
   KSPConvergedReason reason;
@@ -127,6 +129,8 @@ static PetscErrorCode Solve(SpamImexPC *pc, N_Vector r, N_Vector z, int *flag)
   pc->solves++;
   pc->ksp_its += its;
   *flag = reason < 0 ? 1 : 0;
+  PetscCallMPI(MPI_Comm_size(comm, &size));
+  if (size > 1) PetscCallMPI(MPI_Allreduce(MPI_IN_PLACE, flag, 1, MPI_INT, MPI_MAX, comm));
   PetscFunctionReturn(0);
 }
 
@@ -141,7 +145,7 @@ int SpamImexPCSolve(realtype t, N_Vector y, N_Vector fy, N_Vector r, N_Vector z,
   (void)gamma;
   (void)delta;
   (void)lr;
-  app->perr = Solve((SpamImexPC *)app->imex_pc, r, z, &flag);
+  app->perr = Solve((SpamImexPC *)app->imex_pc, app->sim->p.comm, r, z, &flag);
   return app->perr ? -1 : flag;
 }
 
