@@ -9,8 +9,9 @@
  * GMRES (SUNLinSol_SPGMR) on ARKStep's difference-quotient Jacobian-vector product, each
  * Krylov iteration one evaluation of the diffusion part: unpreconditioned
  * (-arkode_imex_pc none: no matrix is formed), or preconditioned on the right by the
- * assembled diffusion Jacobian (-arkode_imex_pc diffusion, imex_precond.c). The error weights, the controllers and the stability function (-step_cfl,
- * -step_force) are those of the arkode type; the controller is ARKODE's own (a restart
+ * assembled diffusion Jacobian (-arkode_imex_pc diffusion, imex_precond.c). The error
+ * weights, the controllers and the stability function (-step_cfl, -step_force) are those
+ * of the arkode type; the controller is ARKODE's own (a restart
  * does not carry its history). Like arkode, TSStep takes one ARKStep step towards
  * ts->max_time. */
 #include <petsc/private/tsimpl.h>
