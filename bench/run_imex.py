@@ -1,6 +1,6 @@
 #!/usr/bin/python3
-"""Work at equal max-norm error: -ts_type arkode_imex (ARKStep, conduction implicit by
-Newton-GMRES) against the explicit default, ARKODE's Dormand-Prince 5(4) (-ts_type arkode),
+"""Work at equal max-norm error: -ts_type arkode_imex (ARKStep, diffusion implicit by
+Newton-GMRES, unpreconditioned and preconditioned) against the explicit default, ARKODE's Dormand-Prince 5(4) (-ts_type arkode),
 on a diffusion-limited case: the temperature mode of the conducting gas at rest
 (-scene heat-mode, 2D, L x 12 lattice, h = 3, gamma = 1.4, kappa = 1, e0 = 1e-6, eps = 1e-4:
 the sound speed, 7.5e-4, leaves conduction alone to set the steps), run to one e-folding,
@@ -13,10 +13,17 @@ the max-norm over the particles of e(T) against the lattice's linear theory of t
 (tests/lattice_modes.py, pair form), relative to the mode's amplitude eps e0 (that theory
 itself stands 3.2e-8 off the runs: tests/run_imex_order.py). Cost: right-hand-side
 evaluations (explicit and implicit separately, from the summary's rhs_evals_process and
-rhs_evals_diffusion), GMRES iterations (ARKStep's statistics, -sundials_stats) and wall
-time. The ratio DP5 / IMEX at equal error is the DP5 cost interpolated (log-log) at the
-IMEX run's error. Prints a table and the ratios; with --chart, a PNG of error against wall
-time and against evaluations.
+rhs_evals_diffusion), GMRES iterations (ARKStep's statistics, -sundials_stats), the
+preconditioner's Jacobian assemblies (each a pass over the pairs like one evaluation of the
+diffusion part, counted with the evaluations in the ratios), wall time (the summary's) and CPU time (the
+process's user + system time, its start included; less sensitive to the load). The ratio DP5 /
+IMEX at equal error is the DP5 cost interpolated (log-log) at the IMEX run's error. Prints a
+table and the ratios; with --chart, a PNG of error against wall time and against evaluations.
+
+--pcs: the IMEX runs' stage preconditioners (-arkode_imex_pc), comma-separated: none
+(unpreconditioned GMRES; method "imex"), diffusion (GMRES preconditioned on the right by
+the assembled diffusion Jacobian, ILU(1) by default; method "imex_pc"); --pc-options adds
+options of its KSP (say "-imex_pc_pc_type lu").
 
 --case couette: plane Couette flow from rest (options/couette.opts) with the viscosity raised
 to --nu (default 10: Re = U H / nu = 0.32, c h / nu = 0.42), to t = 1.5 H^2/nu = 150; the
@@ -25,7 +32,7 @@ error is the max-norm of vx(t) against a DP5 run at rtol 1e-11, over U. There th
 
 This is a measurement, not a test. Usage (spam-ark built in build/):
     /usr/bin/python3 bench/run_imex.py [--L 96] [--table ARK436L2SA] [--chart docs/imex_heat_mode.png]
-    /usr/bin/python3 bench/run_imex.py --case couette [--nu 10] [--rtols 1e-5,1e-6,1e-7]
+    /usr/bin/python3 bench/run_imex.py --case couette [--nu 10] [--rtols 1e-5,1e-6,1e-7] [--pcs none,diffusion]
 With --readings FILE, the runs, the table and the ratios go to FILE (with the command, the
 commit and the load the wall times were taken under) for the pages' markers.
 """
@@ -33,7 +40,9 @@ import argparse
 import csv
 import json
 import math
+import os
 import re
+import resource
 import subprocess
 import sys
 import tempfile
@@ -86,16 +95,21 @@ def one_run(spam_ark, work, case, method, rtol):
     args = [spam_ark] + scene + ["-ts_rtol", repr(rtol), "-ts_atol", "1e-20", "-output_interval", "0",
                                  "-output_dir", str(out), "-output_overwrite", "-initial_csv", str(out) + ".initial.csv",
                                  "-final_csv", str(out) + ".final.csv", "-sundials_stats"] + method[0]
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
     p = subprocess.run(args, capture_output=True, text=True, timeout=3600)
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    cpu = after.ru_utime + after.ru_stime - before.ru_utime - before.ru_stime
     if p.returncode != 0:
         print(f"  {method[1]} rtol {rtol:g}: exit {p.returncode} {p.stderr.strip()[-200:]}")
         return None
     s = json.load(open(out / "summary.json"))
     lin = re.search(r"^LS iters\s*=\s*(\d+)", p.stdout, re.M)
+    jac = re.search(r"^Jacobian assemblies\s*=\s*(\d+)", p.stdout, re.M)
     implicit = s["rhs_evals_diffusion"]
     return {"method": method[1], "rtol": rtol, "error": error(str(out) + ".initial.csv", str(out) + ".final.csv"),
             "steps": s["steps"], "rejected": s["rejected_steps"], "explicit": s["rhs_evals_process"] - implicit,
-            "implicit": implicit, "linear": int(lin.group(1)) if lin else 0, "wall": s["wall_time_s"],
+            "implicit": implicit, "linear": int(lin.group(1)) if lin else 0, "assemblies": int(jac.group(1)) if jac else 0,
+            "wall": s["wall_time_s"], "cpu": cpu,
             "drift": s["energy_rel_drift_max"]}
 
 
@@ -109,31 +123,45 @@ def at_error(runs, key, err):
     return None
 
 
-def chart(path, dp5, imex, title, table):
+def evaluations(r):
+    """Every pass over the pairs: both parts' evaluations and the Jacobian's assemblies."""
+    return r["explicit"] + r["implicit"] + r.get("assemblies", 0)
+
+
+def chart(path, runs, failed, title, table):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4.2))
-    for runs, name, style in ((dp5, "explicit DP5 (-ts_type arkode)", "o-"), (imex, f"IMEX {table} (-ts_type arkode_imex)", "s-")):
-        err = [r["error"] for r in runs]
-        axes[0].loglog([r["wall"] for r in runs], err, style, label=name)
-        axes[1].loglog([r["explicit"] + r["implicit"] for r in runs], err, style, label=name + ": all evaluations")
-        if runs is imex:
-            axes[1].loglog([r["explicit"] + r["implicit"] - r["linear"] for r in runs], err, "s--", color="grey", label="IMEX without the GMRES products")
+    sys.path.insert(0, str(ROOT / "examples"))
+    from chart_style import style, UNSTABLE
+    fig, axes = plt.subplots(1, 2, figsize=(10.5, 5.0))
+    for method, rs in runs.items():
+        if not rs:
+            continue
+        name = NAMES[method].format(table=table)
+        err = [r["error"] for r in rs]
+        st = style(STYLE_KEYS[method])
+        axes[0].loglog([r["wall"] for r in rs], err, "-", label=name, **st)
+        axes[1].loglog([evaluations(r) for r in rs], err, "-", **st)
+    for method, rtol in failed:
+        axes[0].plot([], [], label=f"{method} rtol {rtol:g}: failed", **UNSTABLE)
     axes[0].set_xlabel("wall time (s)")
-    axes[1].set_xlabel("right-hand-side evaluations")
+    axes[1].set_xlabel("pair passes: right-hand-side evaluations + Jacobian assemblies")
     for ax in axes:
         ax.set_ylabel("max-norm error (relative)")
         ax.grid(True, which="both", alpha=0.3)
-        ax.legend(fontsize=8)
-    fig.suptitle(f"{title}: work at equal error")
-    fig.tight_layout()
+    fig.legend(loc="lower center", ncol=2, fontsize=8, frameon=False)
+    fig.suptitle(f"{title}: work at equal error (load {os.getloadavg()[0]:.0f} on {os.cpu_count()} cores)")
+    fig.tight_layout(rect=(0, 0.1, 1, 1))
     fig.savefig(path, dpi=110)
     print(f"chart: {path}")
 
 
 DISCRETE = {}
 REFERENCE = {}
+STYLE_KEYS = {"dp5": "DP5", "imex": "IMEX, unpreconditioned", "imex_pc": "IMEX, preconditioned"}
+NAMES = {"dp5": "DP5 (explicit, -ts_type arkode)", "imex": "IMEX {table}, GMRES unpreconditioned",
+         "imex_pc": "IMEX {table}, GMRES preconditioned (-arkode_imex_pc diffusion)"}
 
 
 def main():
@@ -144,13 +172,20 @@ def main():
     ap.add_argument("--L", type=int, default=96)
     ap.add_argument("--table", default="ARK436L2SA")
     ap.add_argument("--rtols", default="1e-7,1e-8,1e-9,1e-10,1e-11")
+    ap.add_argument("--dp5-rtols", default=None, help="DP5's own sweep (default --rtols), to bracket the IMEX runs' errors")
+    ap.add_argument("--pcs", default="none", help="IMEX stage preconditioners, comma-separated: none, diffusion")
+    ap.add_argument("--pc-options", default="", help="options of the preconditioner's KSP, e.g. '-imex_pc_pc_type lu'")
     ap.add_argument("--chart", default=None)
     ap.add_argument("--readings", default=None, help="also write the runs, table and ratios the pages quote to this JSON")
     a = ap.parse_args()
     DISCRETE[a.L] = heat_mode(2, a.L, H, E0, GAMMA, KAPPA, "pair")[0]
     rtols = [float(x) for x in a.rtols.split(",")]
+    dp5_rtols = [float(x) for x in a.dp5_rtols.split(",")] if a.dp5_rtols else rtols
     case = case_args(a.case, a.L, a.nu)
-    methods = ((["-ts_type", "arkode"], "dp5"), (["-ts_type", "arkode_imex", "-arkode_imex_table", a.table], "imex"))
+    methods = [(["-ts_type", "arkode"], "dp5")]
+    for pc in a.pcs.split(","):
+        extra = a.pc_options.split() if pc == "diffusion" else []
+        methods.append((["-ts_type", "arkode_imex", "-arkode_imex_table", a.table, "-arkode_imex_pc", pc] + extra, "imex_pc" if pc == "diffusion" else "imex"))
     with tempfile.TemporaryDirectory() as work:
         if a.case == "couette":
             ref = one_run(a.spam_ark, work, (case[0], lambda f, l: 0.0), (["-ts_type", "arkode"], "reference"), 1e-11)
@@ -158,38 +193,58 @@ def main():
             print(f"reference: DP5 rtol 1e-11, {ref['steps']} steps, {ref['wall']:.1f} s")
         else:
             ref = None
-        runs = {m[1]: [r for r in (one_run(a.spam_ark, work, case, m, t) for t in rtols) if r] for m in methods}
+        runs, failed = {}, []
+        for m in methods:
+            runs[m[1]] = []
+            for t in (dp5_rtols if m[1] == "dp5" else rtols):
+                r = one_run(a.spam_ark, work, case, m, t)
+                if r:
+                    runs[m[1]].append(r)
+                else:
+                    failed.append((m[1], t))
     if a.case == "couette":
         print(f"Couette from rest, nu = {a.nu:g} (Re = {0.1 * 32 / a.nu:.2f}), to 1.5 H^2/nu; error = max |vx - vx_ref| / U")
     else:
         print(f"heat mode 2D {a.L} x {LY}, to T = 1/sigma_v; error = max |e - exact| / (eps e0)")
-    print(f"{'method':6} {'rtol':>7} {'error':>9} {'steps':>6} {'rej':>4} {'f_E':>7} {'f_I':>7} {'GMRES':>7} {'wall s':>7} {'dE/E':>8}")
+    print(f"{'method':7} {'rtol':>7} {'error':>9} {'steps':>6} {'rej':>4} {'f_E':>7} {'f_I':>7} {'GMRES':>7} {'J':>4} {'wall s':>7} {'cpu s':>7} {'dE/E':>8}")
     for m in runs.values():
         for r in m:
-            print(f"{r['method']:6} {r['rtol']:7.0e} {r['error']:9.2e} {r['steps']:6d} {r['rejected']:4d} {r['explicit']:7d} {r['implicit']:7d} {r['linear']:7d} {r['wall']:7.2f} {r['drift']:8.1e}")
-    print("ratio DP5 / IMEX at the IMEX run's error (DP5 interpolated):")
-    ratios = []
-    for r in runs["imex"]:
-        w = at_error(runs["dp5"], "wall", r["error"])
-        ev = at_error([dict(x, all=x["explicit"] + x["implicit"]) for x in runs["dp5"]], "all", r["error"])
-        if w is None:
-            print(f"  error {r['error']:.2e}: outside the DP5 runs' range")
-            ratios.append(None)
+            print(f"{r['method']:7} {r['rtol']:7.0e} {r['error']:9.2e} {r['steps']:6d} {r['rejected']:4d} {r['explicit']:7d} {r['implicit']:7d} {r['linear']:7d} {r['assemblies']:4d} {r['wall']:7.2f} {r['cpu']:7.2f} {r['drift']:8.1e}")
+    all_ratios = {}
+    for method in runs:
+        if method == "dp5":
             continue
-        ratios.append({"error": r["error"], "wall": w / r["wall"], "evaluations": ev / (r["explicit"] + r["implicit"])})
-        print(f"  error {r['error']:.2e}: wall time {w / r['wall']:.2f}x, evaluations {ev / (r['explicit'] + r['implicit']):.2f}x")
+        print(f"ratio DP5 / {method} at the {method} run's error (DP5 interpolated):")
+        ratios = all_ratios.setdefault(method, [])
+        for r in runs[method]:
+            w = at_error(runs["dp5"], "wall", r["error"])
+            cpu = at_error(runs["dp5"], "cpu", r["error"])
+            ev = at_error([dict(x, all=evaluations(x)) for x in runs["dp5"]], "all", r["error"])
+            if w is None:
+                print(f"  error {r['error']:.2e}: outside the DP5 runs' range")
+                ratios.append(None)
+                continue
+            ratios.append({"error": r["error"], "wall": w / r["wall"], "cpu": cpu / r["cpu"], "evaluations": ev / evaluations(r)})
+            print(f"  error {r['error']:.2e}: wall time {w / r['wall']:.2f}x, CPU time {cpu / r['cpu']:.2f}x, evaluations {ev / evaluations(r):.2f}x")
     if a.readings:
         sys.path.insert(0, str(ROOT / "examples"))
         import chart_readings
-        rows = [[r["method"].upper() if r["method"] == "imex" else "DP5", f"{r['rtol']:.0e}".replace("e-0", "e-"),
+        label = {"dp5": "DP5", "imex": "IMEX", "imex_pc": "IMEX, pc"}
+        rows = [[label[r["method"]], f"{r['rtol']:.0e}".replace("e-0", "e-"),
                  f"{r['error']:.2e}".replace("e-0", "e-"), f"{r['steps']} ({r['rejected']})", r["explicit"], r["implicit"],
-                 r["linear"], f"{r['wall']:.1f}"] for m in runs.values() for r in m]
+                 r["linear"], r["assemblies"], f"{r['wall']:.1f}", f"{r['cpu']:.1f}"] for m in runs.values() for r in m]
         chart_readings.write_json(a.readings, {
-            "runs": runs, "ratios": ratios, "reference_steps": ref["steps"] if ref else None,
-            "table": chart_readings.table(["method", "rtol", "error", "steps (rejected)", "f_E", "f_I", "GMRES", "wall s"], rows)})
+            "runs": runs, "ratios": all_ratios.get("imex", []), "ratios_pc": all_ratios.get("imex_pc", []),
+            "failed": [{"method": m, "rtol": t} for m, t in failed], "pc_options": a.pc_options,
+            "reference_steps": ref["steps"] if ref else None,
+            "table": chart_readings.table(["method", "rtol", "error", "steps (rejected)", "f_E", "f_I", "GMRES", "J", "wall s", "CPU s"], rows)},
+            chart=a.chart)
     if a.chart:
-        title = f"Couette from rest, nu = {a.nu:g}" if a.case == "couette" else f"Heat mode, 2D {a.L} x {LY}, h = 3, to one e-folding"
-        chart(a.chart, runs["dp5"], runs["imex"], title, a.table)
+        if a.case == "couette":
+            title = f"Couette from rest, nu = {a.nu:g} (Re = {0.1 * 32 / a.nu:.2g})"
+        else:
+            title = f"Heat mode, 2D {a.L} x {LY}, h = 3, to one e-folding"
+        chart(a.chart, runs, failed, title, a.table)
 
 
 if __name__ == "__main__":

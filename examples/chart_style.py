@@ -21,6 +21,9 @@ STYLES = {
     "F8": ("#d62728", "^"),
     "CVODE": ("#9467bd", "v"),
     "rk5dp": ("#8c564b", "<"),
+    # IMEX (bench/run_imex.py): GMRES unpreconditioned, and preconditioned
+    "IMEX, unpreconditioned": ("#1f77b4", "o"),
+    "IMEX, preconditioned": ("#2ca02c", "D"),
     # symplectic, fixed steps (precision, drift, stability)
     "Verlet": ("#e377c2", ">"),
     "Symp3": ("#17becf", "p"),

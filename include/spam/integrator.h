@@ -57,6 +57,7 @@ typedef struct {
   double                retry_t;
   int                   stage0;
   PetscBool             f0_kept;
+  void                 *imex_pc;       /* arkode_imex's stage preconditioner (imex_precond.h), or NULL */
 } SpamTsApp;
 
 /* SUNDIALS callbacks shared by the arkode and cvode types (user data: a SpamTsApp). */

@@ -6,6 +6,7 @@
 #include <spam/layout.h>
 #include <spam/eos.h>
 #include <spam/solid.h>
+#include <spam/diffusion_jacobian.h>
 
 struct SpamSim;
 
@@ -18,6 +19,8 @@ typedef PetscErrorCode (*SpamRhsFn)(struct SpamSim *sim, const double *y, double
  * work). The last two sum to the first, up to round-off. */
 typedef enum { SPAM_RHS_ALL, SPAM_RHS_EXPLICIT, SPAM_RHS_DIFFUSION } SpamRhsPart;
 typedef PetscErrorCode (*SpamRhsPartFn)(struct SpamSim *sim, const double *y, double *ydot, SpamRhsPart part, PetscInt *bad);
+/* The diffusion part's Jacobian at state y, into jac (diffusion_jacobian.h). */
+typedef PetscErrorCode (*SpamDiffusionJacFn)(struct SpamSim *sim, const double *y, SpamDiffusionJac *jac, PetscInt *bad);
 /* The right-hand side restricted to the particles marked in active (one byte per local
  * particle): their rows of ydot, as the full evaluation would give them up to round-off;
  * the other rows untouched. near: scratch of two bytes per local particle. *done false
@@ -63,6 +66,7 @@ typedef struct {
   char             name[32];     /* e.g. "isentrope"                                  */
   SpamRhsFn        rhs;
   SpamRhsPartFn    rhs_part;     /* NULL: the model has no diffusion to treat apart     */
+  SpamDiffusionJacFn diffusion_jac; /* with rhs_part: that part's Jacobian (a preconditioner's) */
   SpamRhsActiveFn  rhs_active;   /* NULL: no pass restricted to active particles        */
   SpamAccelFn      accel;        /* NULL unless the state is exactly [x, v]            */
   SpamSoundSpeedFn max_sound_speed;

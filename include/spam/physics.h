@@ -91,6 +91,10 @@ PetscErrorCode SpamRhsSolid(SpamSim *sim, const double *y, double *ydot, PetscIn
 /* The same restricted to one part (model.h's SpamRhsPart): the gas's flow scheme with the
  * pair form of viscosity and conduction. */
 PetscErrorCode SpamRhsSolidPart(SpamSim *sim, const double *y, double *ydot, SpamRhsPart part, PetscInt *bad);
+/* What the diffusion part reads besides the list, for its Jacobian (diffusion_jacobian.c):
+ * the fields of y (v, e, T, m, rho, gathered to the ghost slots, the list updated) and the
+ * pair Laplacian's norms, as an evaluation of that part leaves them. */
+PetscErrorCode SpamRhsSolidDiffusionFields(SpamSim *sim, const double *y, PetscInt *bad);
 /* The same restricted to the active particles (model.h's SpamRhsActiveFn), for the cases
  * SpamRhsSolidActiveCovers admits (the plain inviscid or Monaghan gas with one h). */
 PetscErrorCode SpamRhsSolidActive(SpamSim *sim, const double *y, double *ydot, const unsigned char *active, unsigned char *near, PetscBool *done, PetscInt *bad);

@@ -12,6 +12,8 @@
 #include <string.h>
 #include <ctype.h>
 
+#define IMEX_PC_PREFIX "imex_pc_" /* src/integrate/imex_precond.h */
+
 /* PETSc's printer (PetscVFPrintf, through which its help, version and option lists all
  * pass) takes no context, so what this filter carries from one call to the next (a line in
  * pieces, the block being skipped, the printer it stands in front of) lives here. It is
@@ -21,6 +23,8 @@ static struct {
   size_t    len;
   PetscBool dashes;   /* a block's rule was seen: the next line is its title */
   PetscBool skipping; /* inside a block that is not printed                  */
+  PetscBool revealed; /* ... but for the stage preconditioner's options, its title printed */
+  char      title[256];
   PetscBool viewer;   /* inside a viewer's block, which PETSc opens in the middle of another
                          block and closes without a rule: its lines name PetscOptionsGetViewer */
   PetscErrorCode (*next)(FILE *, const char[], va_list);
@@ -109,12 +113,23 @@ static void Line(const char *line)
     Help.viewer = (PetscBool)!strncmp(line, "Viewer (", 8);
     if (Help.viewer) return;
     Help.skipping = DroppedTitle(line);
+    Help.revealed = PETSC_FALSE;
+    (void)snprintf(Help.title, sizeof Help.title, "%.200s", line);
     if (!Help.skipping) Emit("\n%s\n", line);
     return;
   }
   if (Help.viewer && strstr(line, "(PetscOptionsGetViewer)")) return;
   Help.viewer = PETSC_FALSE; /* the enclosing block goes on */
-  if (Help.skipping) return;
+  /* arkode_imex's stage preconditioner is a KSP and PC of ours (prefix -imex_pc_): their
+   * blocks are shown for its options, and for the sub-titles among them */
+  if (Help.skipping && !strncmp(line, "  -" IMEX_PC_PREFIX, 3 + strlen(IMEX_PC_PREFIX)) && !Help.revealed) {
+    Emit("\n%s (arkode_imex's stage preconditioner, -arkode_imex_pc diffusion)\n", Help.title);
+    Help.revealed = PETSC_TRUE;
+  }
+  if (Help.revealed && !strncmp(line, "  -", 3) && strncmp(line, "  -" IMEX_PC_PREFIX, 3 + strlen(IMEX_PC_PREFIX))) {
+    Help.skipping = Help.revealed = PETSC_FALSE; /* the block the KSP's opened inside goes on */
+  }
+  if (Help.skipping && !(Help.revealed && (strncmp(line, "  -", 3) || !strncmp(line, "  -" IMEX_PC_PREFIX, 3 + strlen(IMEX_PC_PREFIX))))) return;
   Rewrite(line, out, sizeof out);
   Emit("%s\n", out);
 }

@@ -281,6 +281,7 @@ typedef struct {
   PetscBool              adaptive;
   double                 arkode_fixed;    /* arkode's fixed step, or 0             */
   PetscBool              arkode_fixed_ts; /* ... given as -ts_adapt_type none -ts_dt */
+  const char            *pc_prefix;       /* arkode_imex's preconditioner KSP, or NULL */
 } Run;
 
 static PetscErrorCode RunDescribe(const SpamSim *sim, const SpamRunOptions *o, TS ts, Run *r)
@@ -308,6 +309,7 @@ static PetscErrorCode RunDescribe(const SpamSim *sim, const SpamRunOptions *o, T
     r->arkode_fixed    = s->fixed_step;
     r->arkode_fixed_ts = s->fixed_by_ts;
   }
+  PetscCall(SpamTSARKodeImexPCPrefix(ts, &r->pc_prefix));
   r->adaptive = r->own ? (PetscBool)!(r->arkode_fixed > 0) : (PetscBool)strcmp(atype, TSADAPTNONE);
   if (r->f->sub_type) PetscCall(r->f->sub_type(ts, &sub));
   if (sub) (void)snprintf(r->method, sizeof r->method, "-ts_type %s %s %s", r->type, r->f->sub_option, sub);
@@ -687,10 +689,19 @@ static PetscErrorCode CheckOne(const char *name, const char *value, const Run *r
     PetscFunctionReturn(0);
   }
   if (IsPetscRuntime(name)) PetscFunctionReturn(0);
+  /* The stage preconditioner's KSP and PC (-imex_pc_ksp_type, -imex_pc_pc_type, ...): read
+   * by its KSPSetFromOptions; one PETSc left unread is not an option of that KSP or PC. */
+  if (!strncasecmp(name, SPAM_IMEX_PC_PREFIX_TEXT, strlen(SPAM_IMEX_PC_PREFIX_TEXT))) {
+    if (!r->pc_prefix) {
+      (void)snprintf(why, sizeof why, "applies to the stage preconditioner of -ts_type arkode_imex -arkode_imex_pc diffusion (this run: %s%s)", r->method, strcmp(r->type, SPAM_TSARKODE_IMEX) ? "" : " -arkode_imex_pc none");
+      PetscCall(NotUsed(name, value, why));
+    } else if (Unused(name, nleft, left)) PetscCall(RefuseUnknown(name, value));
+    PetscFunctionReturn(0);
+  }
   /* TSSetFromOptions makes a SNES and reads its options (and its KSP's and PC's) for every
    * type, so PETSc marks them used; no method of spam-ark uses PETSc's solvers (the
    * implicit one, arkode_imex, solves with SUNDIALS' Newton and GMRES). */
-  if (!strncmp(name, "snes_", 5) || !strncmp(name, "ksp_", 4) || !strncmp(name, "pc_", 3)) PetscCall(NotUsed(name, value, "applies to PETSc's implicit solvers (SNES, KSP, PC), which no -ts_type of spam-ark uses (arkode_imex solves with SUNDIALS' Newton-GMRES: see -arkode_imex_*)"));
+  if (!strncmp(name, "snes_", 5) || !strncmp(name, "ksp_", 4) || !strncmp(name, "pc_", 3)) PetscCall(NotUsed(name, value, "applies to PETSc's implicit solvers (SNES, KSP, PC), which no -ts_type of spam-ark uses directly (arkode_imex solves with SUNDIALS' Newton-GMRES: see -arkode_imex_*; its stage preconditioner's KSP takes the prefix -imex_pc_)"));
   /* PETSc's step adaptor reads -ts_adapt_* for every method, used or not.
    * -ts_adapt_monitor reports the steps of every type (PETSc's adaptor, or the loop for
    * arkode, cvode and basicsymplectic: sundials_report.c). */

@@ -6,10 +6,12 @@
  * set by the error and by the explicit part's stability.
  *
  * The stages' implicit systems are solved by Newton's method (SUNNonlinSol_Newton) with
- * unpreconditioned GMRES (SUNLinSol_SPGMR) on ARKStep's difference-quotient Jacobian-vector
- * product: no matrix is formed, and each Krylov iteration costs one evaluation of the
- * diffusion part. The error weights, the controllers and the stability function (-step_cfl,
- * -step_force) are those of the arkode type; the controller is ARKODE's own (a restart
+ * GMRES (SUNLinSol_SPGMR) on ARKStep's difference-quotient Jacobian-vector product, each
+ * Krylov iteration one evaluation of the diffusion part: unpreconditioned
+ * (-arkode_imex_pc none: no matrix is formed), or preconditioned on the right by the
+ * assembled diffusion Jacobian (-arkode_imex_pc diffusion, imex_precond.c). The error
+ * weights, the controllers and the stability function (-step_cfl, -step_force) are those
+ * of the arkode type; the controller is ARKODE's own (a restart
  * does not carry its history). Like arkode, TSStep takes one ARKStep step towards
  * ts->max_time. */
 #include <petsc/private/tsimpl.h>
@@ -19,6 +21,7 @@
 #include <nvector/nvector_petsc.h>
 #include <sunnonlinsol/sunnonlinsol_newton.h>
 #include <sunlinsol/sunlinsol_spgmr.h>
+#include "imex_precond.h"
 
 /* The additive pairs of ARKODE 6.4 (Kennedy and Carpenter), by the name the option takes:
  * the implicit (ESDIRK) and explicit tables. */
@@ -26,6 +29,9 @@ static const char *const ImexTables[]   = {"ARK324L2SA", "ARK436L2SA", "ARK437L2
 static const char *const ImexImplicit[] = {"ARKODE_ARK324L2SA_DIRK_4_2_3", "ARKODE_ARK436L2SA_DIRK_6_3_4", "ARKODE_ARK437L2SA_DIRK_7_3_4", "ARKODE_ARK548L2SA_DIRK_8_4_5", "ARKODE_ARK548L2SAb_DIRK_8_4_5"};
 static const char *const ImexExplicit[] = {"ARKODE_ARK324L2SA_ERK_4_2_3", "ARKODE_ARK436L2SA_ERK_6_3_4", "ARKODE_ARK437L2SA_ERK_7_3_4", "ARKODE_ARK548L2SA_ERK_8_4_5", "ARKODE_ARK548L2SAb_ERK_8_4_5"};
 #define NIMEX 5
+/* The stage preconditioner: none, or the diffusion part's assembled Jacobian. */
+static const char *const ImexPCs[] = {"none", "diffusion"};
+#define NIMEX_PC 2
 
 /* The solver options (-arkode_imex_*). */
 /* Vectors ARKStep clones besides its stages' right-hand sides (SUNDIALS 6.4.1: weights,
@@ -39,6 +45,7 @@ typedef struct {
   double   eps_lin;     /* GMRES's tolerance as a fraction of Newton's                */
   PetscInt max_nonlin;  /* Newton iterations of a stage before the step is retried    */
   PetscInt krylov_dim;  /* GMRES's Krylov dimension (no restarts)                     */
+  char     pc[16];      /* the stage preconditioner (ImexPCs)                         */
 } SpamImexSolver;
 
 typedef struct {
@@ -49,6 +56,7 @@ typedef struct {
   SUNLinearSolver    ls;
   SpamArkodeSettings set;    /* the step options it shares with arkode (arkode_options.c) */
   SpamImexSolver     solver; /* its own                                                 */
+  SpamImexPC         pc;     /* -arkode_imex_pc diffusion                               */
 } TS_SpamARKImex;
 
 static PetscErrorCode SolverDefaults(SpamImexSolver *v)
@@ -59,6 +67,7 @@ static PetscErrorCode SolverDefaults(SpamImexSolver *v)
   v->eps_lin     = 0.05;
   v->max_nonlin  = 3;
   v->krylov_dim  = 50; /* a step of ~70 explicit diffusion limits takes ~30 GMRES iterations (ARKODE: 5) */
+  PetscCall(PetscStrncpy(v->pc, "diffusion", sizeof v->pc)); /* see SpamImexPCCreate and docs/integrators.md */
   PetscFunctionReturn(0);
 }
 
@@ -74,8 +83,10 @@ static PetscErrorCode SolverOptionsRead(PetscOptionItems *PetscOptionsObject, Sp
   PetscCall(PetscOptionsReal("-arkode_imex_eps_lin", "GMRES tolerance, as a fraction of Newton's", "README", v->eps_lin, &v->eps_lin, NULL));
   PetscCall(PetscOptionsInt("-arkode_imex_max_nonlin_iters", "Newton iterations of a stage before the step is retried smaller", "README", v->max_nonlin, &v->max_nonlin, NULL));
   PetscCall(PetscOptionsInt("-arkode_imex_krylov_dim", "GMRES Krylov dimension (no restarts)", "README", v->krylov_dim, &v->krylov_dim, NULL));
+  PetscCall(PetscOptionsString("-arkode_imex_pc", "GMRES preconditioner: none, or diffusion (the assembled diffusion Jacobian, solved by the KSP of prefix -imex_pc_)", "README", v->pc, v->pc, sizeof v->pc, NULL));
   PetscOptionsHeadEnd();
   PetscCall(SpamCheckAllowed("-arkode_imex_table", v->table, ImexTables, NIMEX));
+  PetscCall(SpamCheckAllowed("-arkode_imex_pc", v->pc, ImexPCs, NIMEX_PC));
   PetscCall(SpamOptionText("-arkode_imex_nonlin_coef", v->nonlin_coef, val, sizeof val));
   if (!(v->nonlin_coef > 0.0) || !isfinite(v->nonlin_coef)) SPAM_BAD_INPUT("-arkode_imex_nonlin_coef", val, "must be a positive number");
   PetscCall(SpamOptionText("-arkode_imex_eps_lin", v->eps_lin, val, sizeof val));
@@ -130,17 +141,25 @@ static PetscErrorCode ConfigureSteps(void *mem, const SpamArkodeSettings *o)
   PetscFunctionReturn(0);
 }
 
+static PetscBool Preconditioned(const TS_SpamARKImex *ark)
+{
+  return (PetscBool)!strcmp(ark->solver.pc, "diffusion");
+}
+
 /* Newton's method with matrix-free GMRES (ARKStep's difference-quotient J v: no
- * ARKStepSetJacTimes). */
+ * ARKStepSetJacTimes), preconditioned on the right or not at all. */
 static PetscErrorCode ConfigureSolver(TS_SpamARKImex *ark, MPI_Comm comm)
 {
+  const PetscBool pre = Preconditioned(ark);
+
   PetscFunctionBeginUser;
   ark->nls = SUNNonlinSol_Newton(ark->y, ark->sunctx);
   PetscCheck(ark->nls, comm, PETSC_ERR_LIB, "SUNNonlinSol_Newton failed");
   PetscCallARK(ARKStepSetNonlinearSolver(ark->mem, ark->nls));
-  ark->ls = SUNLinSol_SPGMR(ark->y, SUN_PREC_NONE, (int)ark->solver.krylov_dim, ark->sunctx);
+  ark->ls = SUNLinSol_SPGMR(ark->y, pre ? SUN_PREC_RIGHT : SUN_PREC_NONE, (int)ark->solver.krylov_dim, ark->sunctx);
   PetscCheck(ark->ls, comm, PETSC_ERR_LIB, "SUNLinSol_SPGMR failed");
   PetscCallARKLS(ARKStepSetLinearSolver(ark->mem, ark->ls, NULL));
+  if (pre) PetscCallARKLS(ARKStepSetPreconditioner(ark->mem, SpamImexPCSetup, SpamImexPCSolve));
   PetscCallARKLS(ARKStepSetEpsLin(ark->mem, ark->solver.eps_lin));
   PetscCallARK(ARKStepSetNonlinConvCoef(ark->mem, ark->solver.nonlin_coef));
   PetscCallARK(ARKStepSetMaxNonlinIters(ark->mem, (int)ark->solver.max_nonlin));
@@ -175,6 +194,7 @@ static PetscErrorCode TSSetUp_SpamARKImex(TS ts)
   }
   PetscCheck(ark->mem, comm, PETSC_ERR_LIB, "ARKStepCreate failed");
   PetscCallARK(ARKStepSetUserData(ark->mem, app));
+  app->imex_pc = Preconditioned(ark) ? &ark->pc : NULL;
   PetscCallARK(ARKStepSetErrHandlerFn(ark->mem, SpamSundialsErrHandler, app));
   {
     const int flag = ARKStepSetTables(ark->mem, Bi->q, Bi->p, Bi, Be); /* ARKStep keeps copies */
@@ -260,14 +280,22 @@ static PetscErrorCode TSReset_SpamARKImex(TS ts)
   ark->nls = NULL;
   if (ark->y) N_VDestroy(ark->y);
   ark->y = NULL;
+  /* the KSP and its options stay (made by setfromoptions); the matrices go */
+  PetscCall(MatDestroy(&ark->pc.P));
+  PetscCall(VecDestroy(&ark->pc.r));
+  PetscCall(VecDestroy(&ark->pc.z));
+  PetscCall(SpamDiffusionJacDestroy(&ark->pc.jac));
   if (ark->sunctx) PetscCallARK(SUNContext_Free(&ark->sunctx));
   PetscFunctionReturn(0);
 }
 
 static PetscErrorCode TSDestroy_SpamARKImex(TS ts)
 {
+  TS_SpamARKImex *ark = (TS_SpamARKImex *)ts->data;
+
   PetscFunctionBeginUser;
   PetscCall(TSReset_SpamARKImex(ts));
+  PetscCall(SpamImexPCDestroy(&ark->pc));
   PetscCall(PetscObjectComposeFunction((PetscObject)ts, "SpamTSSundialsStats_C", NULL));
   PetscCall(PetscFree(ts->data));
   PetscFunctionReturn(0);
@@ -280,7 +308,9 @@ static PetscErrorCode SundialsStats_SpamARKImex(TS ts, FILE *file, PetscBool for
   TS_SpamARKImex *ark = (TS_SpamARKImex *)ts->data;
 
   PetscFunctionBeginUser;
-  if (ark->mem && (force || ark->set.sundials_stats)) PetscCallARK(ARKStepPrintAllStats(ark->mem, file, SUN_OUTPUTFORMAT_TABLE));
+  if (!ark->mem || !(force || ark->set.sundials_stats)) PetscFunctionReturn(0);
+  PetscCallARK(ARKStepPrintAllStats(ark->mem, file, SUN_OUTPUTFORMAT_TABLE));
+  if (Preconditioned(ark)) PetscCall(SpamImexPCPrintStats(&ark->pc, file));
   PetscFunctionReturn(0);
 }
 
@@ -294,7 +324,7 @@ static PetscErrorCode TSView_SpamARKImex(TS ts, PetscViewer viewer)
   PetscFunctionBeginUser;
   PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERASCII, &ascii));
   if (!ascii) PetscFunctionReturn(0);
-  PetscCall(PetscViewerASCIIPrintf(viewer, "  ARKODE ARKStep IMEX, pair %s (diffusion implicit), Newton-GMRES (Krylov dimension %" PetscInt_FMT "), ", ark->solver.table, ark->solver.krylov_dim));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "  ARKODE ARKStep IMEX, pair %s (diffusion implicit), Newton-GMRES (Krylov dimension %" PetscInt_FMT ", preconditioner %s), ", ark->solver.table, ark->solver.krylov_dim, ark->solver.pc));
   if (ark->set.fixed_step > 0) PetscCall(PetscViewerASCIIPrintf(viewer, "fixed step %g\n", ark->set.fixed_step));
   else PetscCall(PetscViewerASCIIPrintf(viewer, "controller %s\n", ark->set.adapt));
   if (!ark->mem) PetscFunctionReturn(0);
@@ -315,6 +345,21 @@ static PetscErrorCode TSSetFromOptions_SpamARKImex(TS ts, PetscOptionItems *Pets
   PetscCall(SpamArkodeOptionsRead(PetscOptionsObject, app->o, PETSC_FALSE, &ark->set));
   PetscCall(SpamArkodeAdaptType(app->o, SPAM_TSARKODE_IMEX, &ark->set));
   PetscCall(SolverOptionsRead(PetscOptionsObject, &ark->solver));
+  if (Preconditioned(ark)) PetscCall(SpamImexPCCreate(&ark->pc));
+  else {
+    PetscCall(SpamImexPCDestroy(&ark->pc));
+    if (PetscOptionsObject->printhelp) PetscCall(SpamImexPCHelp());
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamTSARKodeImexPCPrefix(TS ts, const char **prefix)
+{
+  PetscBool imex;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectTypeCompare((PetscObject)ts, SPAM_TSARKODE_IMEX, &imex));
+  *prefix = imex && Preconditioned((TS_SpamARKImex *)ts->data) ? SPAM_IMEX_PC_PREFIX : NULL;
   PetscFunctionReturn(0);
 }
 
@@ -371,6 +416,7 @@ static PetscErrorCode HelpARKImex(PetscOptionItems *PetscOptionsObject, const Sp
   PetscFunctionBeginUser;
   (void)o;
   PetscCall(SolverOptionsRead(PetscOptionsObject, &v));
+  if (PetscOptionsObject->printhelp) PetscCall(SpamImexPCHelp()); /* the KSP's options */
   PetscFunctionReturn(0);
 }
 
@@ -400,7 +446,7 @@ static PetscErrorCode CkApplyARKImex(TS ts, const SpamCkFile *c, double h_next, 
 
 static const SpamTSOption OptionsARKImex[] = {
   {"arkode_imex_table", PETSC_TRUE, PETSC_FALSE},      {"arkode_imex_nonlin_coef", PETSC_TRUE, PETSC_FALSE}, {"arkode_imex_eps_lin", PETSC_TRUE, PETSC_FALSE},
-  {"arkode_imex_max_nonlin_iters", PETSC_TRUE, PETSC_FALSE}, {"arkode_imex_krylov_dim", PETSC_TRUE, PETSC_FALSE},
+  {"arkode_imex_max_nonlin_iters", PETSC_TRUE, PETSC_FALSE}, {"arkode_imex_krylov_dim", PETSC_TRUE, PETSC_FALSE}, {"arkode_imex_pc", PETSC_TRUE, PETSC_FALSE},
   {"arkode_fixed_step", PETSC_TRUE, PETSC_FALSE},      {"arkode_adapt", PETSC_TRUE, PETSC_TRUE},             {"arkode_adapt_params", PETSC_TRUE, PETSC_TRUE},
   {"arkode_safety", PETSC_TRUE, PETSC_TRUE},           {"arkode_max_growth", PETSC_TRUE, PETSC_TRUE},        {"arkode_max_first_growth", PETSC_TRUE, PETSC_TRUE},
   {"arkode_max_efail_growth", PETSC_TRUE, PETSC_TRUE}, {"sundials_stats", PETSC_FALSE, PETSC_FALSE},         {NULL, PETSC_FALSE, PETSC_FALSE}};

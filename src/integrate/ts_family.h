@@ -91,6 +91,10 @@ const SpamTSOption *SpamTSFamilyOption(const SpamTSFamily *f, const char *name);
  * interpolant, CVODE's Nordsieck array). */
 PetscErrorCode SpamTSInterpolatesAlways(TS ts, PetscBool *yes);
 
+/* The options prefix of arkode_imex's stage preconditioner when this TS uses it (its KSP
+ * reads -imex_pc_*), else NULL. */
+PetscErrorCode SpamTSARKodeImexPCPrefix(TS ts, const char **prefix);
+#define SPAM_IMEX_PC_PREFIX_TEXT "imex_pc_"
 /* The rows, each defined beside its type's implementation. */
 extern const SpamTSFamily SpamTSFamilyARKode, SpamTSFamilyARKodeImex, SpamTSFamilyCVode, SpamTSFamilyRK, SpamTSFamilySSP, SpamTSFamilyEuler, SpamTSFamilySymplectic, SpamTSFamilyBlock;
 #endif

@@ -89,7 +89,10 @@ PetscErrorCode SpamModelSolidSetUp(int dim, const SpamKernel *kernel, double mas
   if (p->material == SPAM_MATERIAL_GAS && p->smoothing == SPAM_SMOOTHING_EVOLVED) PetscCall(SpamLayoutAddSmoothing(&m->layout, kernel->h));
   if (SpamRhsSolidActiveCovers(p)) m->rhs_active = SpamRhsSolidActive;
   /* Diffusion to treat apart: the pair Laplacians of the flow scheme, with one range. */
-  if (p->material == SPAM_MATERIAL_GAS && p->scheme == SPAM_GAS_FLOW && p->diffusion == SPAM_DIFFUSION_PAIR && p->smoothing == SPAM_SMOOTHING_FIXED && (p->shear_visc > 0.0 || p->conductivity > 0.0)) m->rhs_part = SpamRhsSolidPart;
+  if (p->material == SPAM_MATERIAL_GAS && p->scheme == SPAM_GAS_FLOW && p->diffusion == SPAM_DIFFUSION_PAIR && p->smoothing == SPAM_SMOOTHING_FIXED && (p->shear_visc > 0.0 || p->conductivity > 0.0)) {
+    m->rhs_part      = SpamRhsSolidPart;
+    m->diffusion_jac = SpamDiffusionJacAssemble;
+  }
   if (p->smoothing != SPAM_SMOOTHING_FIXED && !(p->h_eta > 0.0)) m->solid.h_eta = kernel->h; /* -h spacings of a unit lattice */
   m->max_sound_speed = SolidSoundSpeed;
   m->diag            = SpamDiagSolid;

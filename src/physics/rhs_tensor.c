@@ -506,6 +506,32 @@ static TensorPass PassOf(SpamSim *sim, SpamRhsPart part)
   return c;
 }
 
+/* The moment that normalises the pair Laplacian, and the norms N_i from it. */
+static PetscErrorCode DiffusionMoments(SpamSim *sim, TensorPass *c)
+{
+  SpamFields *f   = c->f;
+  const int   dim = f->dim, n = (int)sim->p.n, slots = SpamNeighboursSlots(&sim->pair.nl);
+
+  PetscFunctionBeginUser;
+  Zero(f->gmom, (size_t)slots * dim * dim);
+  PetscCall(WalkMoments(&sim->pair.nl, &sim->model.kernel, c));
+  SpamGhostsFold(&sim->pair.nl.ghosts, dim, n, dim * dim, SPAM_GHOST_TENSOR, f->gmom);
+  PetscCall(DiffusionNorms(sim));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamRhsSolidDiffusionFields(SpamSim *sim, const double *y, PetscInt *bad)
+{
+  TensorPass c;
+
+  PetscFunctionBeginUser;
+  PetscCall(FillFields(sim, y, bad));
+  if (*bad >= 0) PetscFunctionReturn(0);
+  c = PassOf(sim, SPAM_RHS_DIFFUSION);
+  PetscCall(DiffusionMoments(sim, &c));
+  PetscFunctionReturn(0);
+}
+
 /* The diffusion part (SPAM_RHS_DIFFUSION): the rates of the pair Laplacians alone, on the
  * fields FillFields left; positions and densities take none, nor does the flow scheme's
  * book (its laws are in the other part). The walls' books take this part's exchanges:
@@ -518,10 +544,7 @@ static PetscErrorCode Diffusion(SpamSim *sim, TensorPass *c, double *ydot)
   const int         dim = f->dim, n = (int)sim->p.n, slots = SpamNeighboursSlots(&sim->pair.nl);
 
   PetscFunctionBeginUser;
-  Zero(f->gmom, (size_t)slots * dim * dim);
-  PetscCall(WalkMoments(&sim->pair.nl, &sim->model.kernel, c));
-  SpamGhostsFold(gh, dim, n, dim * dim, SPAM_GHOST_TENSOR, f->gmom);
-  PetscCall(DiffusionNorms(sim));
+  PetscCall(DiffusionMoments(sim, c));
   ZeroRates(f, slots, dim, PETSC_FALSE);
   PetscCall(WalkDiffusion(&sim->pair.nl, &sim->model.kernel, c));
   FoldRates(gh, f, n, PETSC_FALSE);

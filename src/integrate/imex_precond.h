@@ -1,0 +1,35 @@
+/* The preconditioner of -ts_type arkode_imex's stage systems (-arkode_imex_pc diffusion):
+ * P = I - gamma J, J the diffusion part's assembled Jacobian (spam/diffusion_jacobian.h),
+ * solved by a PETSc KSP of options prefix -imex_pc_ (ILU(0) applied once by default). Each
+ * rank solves its own particles' rows: block Jacobi across ranks. */
+#ifndef SPAM_IMEX_PRECOND_H
+#define SPAM_IMEX_PRECOND_H
+#include <petscksp.h>
+#include <spam/integrator.h>
+#include <spam/diffusion_jacobian.h>
+#include "ts_family.h"
+#include <sundials/sundials_nvector.h>
+
+#define SPAM_IMEX_PC_PREFIX SPAM_IMEX_PC_PREFIX_TEXT
+
+typedef struct {
+  KSP              ksp;
+  Mat              P;        /* I - gamma J, J's pattern                          */
+  Vec              r, z;     /* the local rows, on the N_Vectors' arrays          */
+  SpamDiffusionJac jac;
+  long             patterns; /* jac.patterns when P was made                      */
+  long             setups, assemblies, solves, ksp_its;
+} SpamImexPC;
+
+/* The KSP with its prefix and defaults, then its options (listed by -help). */
+PetscErrorCode SpamImexPCCreate(SpamImexPC *pc);
+/* -help when the preconditioner is not in use: its KSP's options all the same. */
+PetscErrorCode SpamImexPCHelp(void);
+PetscErrorCode SpamImexPCDestroy(SpamImexPC *pc);
+/* ARKODE's preconditioner callbacks (ARKLsPrecSetupFn, ARKLsPrecSolveFn); user data: the
+ * SpamTsApp, whose imex_pc is the SpamImexPC. */
+int SpamImexPCSetup(realtype t, N_Vector y, N_Vector fy, booleantype jok, booleantype *jcur, realtype gamma, void *data);
+int SpamImexPCSolve(realtype t, N_Vector y, N_Vector fy, N_Vector r, N_Vector z, realtype gamma, realtype delta, int lr, void *data);
+/* Its counters, in the style of SUNDIALS' statistics table. */
+PetscErrorCode SpamImexPCPrintStats(const SpamImexPC *pc, FILE *file);
+#endif

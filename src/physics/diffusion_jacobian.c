@@ -1,0 +1,220 @@
+/* The diffusion part's Jacobian (spam/diffusion_jacobian.h), assembled from the neighbour
+ * list into a preallocated AIJ matrix.
+ *
+ * The pair (i, j) of pair_diffusion.h adds c_i (f_i - f_j) to the rate of particle i and
+ * -c_j (f_i - f_j) to j's, per velocity component f = v_d with c_i = 2 eta k m_j, and for the
+ * energy with f = T = (gamma - 1) e and c_i = 2 kappa k m_j (gamma - 1), where k is the
+ * pair's factor (negative: the pair relaxes). A ghost slot j stands for a source particle s:
+ * f_j = a f_s + b, a = +1 for a periodic image, and what a wall's rule gives (-1 for a
+ * no-slip wall's velocity, per component at a free-slip one, the temperature's at an
+ * isothermal or adiabatic one); a periodic image's own rate is folded onto s, a mirror
+ * image's is the wall's. The coefficients a are read off the walls' gathers themselves
+ * (the gather of ones minus that of zeros), so the rules live in one place (ghosts.c). */
+#include <spam/physics.h>
+#include <spam/diffusion_jacobian.h>
+#include "../pair/pair_walk.h"
+#include "../pair/pair_diffusion.h"
+
+typedef struct {
+  SpamFields       *f;
+  Mat               J;
+  const SpamGhosts *gh;
+  const double     *coef; /* [ghosts (dim + 1)] */
+  int               n, nvar, off[4], ncomp;
+  double            c[4]; /* per component: 2 eta, or 2 kappa (gamma - 1) */
+  PetscErrorCode    ierr;
+} JacPass;
+
+static inline __attribute__((always_inline)) void JacobianPair(const int dim, JacPass *c, int i, int j, const double dx[3], double r2, double w, double g)
+{
+  const double k = SpamPairDiffusionFactor(c->f, i, j, g);
+  int          s = j, fold = 1;
+  (void)dim;
+  (void)dx;
+  (void)r2;
+  (void)w;
+  if (c->ierr) return;
+  if (j >= c->n) { /* a ghost slot: its local source, or none (another rank's: block Jacobi) */
+    const int gk = j - c->n;
+    s            = gk < c->gh->nlocal ? c->gh->src[gk] : -1;
+    fold         = s >= 0 && c->gh->kind[gk] == SPAM_GHOST_PERIODIC;
+  }
+  for (int q = 0; q < c->ncomp && !c->ierr; q++) {
+    const double   a  = j >= c->n && s >= 0 ? c->coef[(size_t)(j - c->n) * c->ncomp + q] : 1.0;
+    const double   ci = c->c[q] * k * c->f->m[j], cj = c->c[q] * k * c->f->m[i];
+    const PetscInt ri = (PetscInt)i * c->nvar + c->off[q];
+    if (s < 0) {
+      c->ierr = MatSetValue(c->J, ri, ri, ci, ADD_VALUES);
+      continue;
+    }
+    const PetscInt    rs = (PetscInt)s * c->nvar + c->off[q], rows[2] = {ri, rs}, cols[2] = {ri, rs};
+    const PetscScalar v[4] = {ci, -ci * a, -cj, cj * a};
+    c->ierr = MatSetValues(c->J, fold ? 2 : 1, rows, 2, cols, v, ADD_VALUES);
+  }
+}
+SPAM_PAIR_WALK(WalkJacobian, JacPass, JacobianPair)
+
+/* The components the part diffuses: the velocity's dim, then the energy (through T). */
+static JacPass PassOf(SpamSim *sim, SpamDiffusionJac *jac)
+{
+  const SpamLayout      *l = &sim->model.layout;
+  const SpamSolidParams *p = &sim->model.solid;
+  JacPass                c = {0};
+
+  c.f     = &sim->pair.f;
+  c.J     = jac->J;
+  c.gh    = &sim->pair.nl.ghosts;
+  c.coef  = jac->coef;
+  c.n     = (int)sim->p.n;
+  c.nvar  = l->nvar;
+  c.ncomp = l->dim + 1;
+  for (int d = 0; d < l->dim; d++) {
+    c.off[d] = l->v + d;
+    c.c[d]   = 2.0 * p->shear_visc;
+  }
+  c.off[l->dim] = l->e;
+  c.c[l->dim]   = 2.0 * p->conductivity * (p->gamma - 1.0);
+  return c;
+}
+
+/* Room for the pattern's arrays: allocated only when the list outgrew them. */
+static PetscErrorCode Reserve(SpamDiffusionJac *jac, int rows, int slots, int dim)
+{
+  PetscFunctionBeginUser;
+  if (rows > jac->rows_cap) {
+    PetscCall(PetscFree(jac->nnz));
+    PetscCall(PetscMalloc1(rows, &jac->nnz));
+    jac->rows_cap = rows;
+  }
+  if (slots > jac->slots_cap) {
+    PetscCall(PetscFree2(jac->coef, jac->ones));
+    PetscCall(PetscMalloc2((size_t)slots * (dim + 1), &jac->coef, (size_t)slots * dim, &jac->ones));
+    jac->slots_cap = slots;
+  }
+  PetscFunctionReturn(0);
+}
+
+/* Every pair of the list as zeros, so that later assemblies never add a nonzero (a pair
+ * comes within range between builds); a pair whose column is not this rank's has none. */
+static PetscErrorCode InsertPattern(SpamSim *sim, const JacPass *c)
+{
+  const SpamNeighbours *nl = &sim->pair.nl;
+  const PetscInt        rows = (PetscInt)c->n * c->nvar;
+
+  PetscFunctionBeginUser;
+  for (PetscInt r = 0; r < rows; r++) PetscCall(MatSetValue(c->J, r, r, 0.0, INSERT_VALUES));
+  for (int i = 0; i < c->n; i++) {
+    for (int t = 0; t < 2; t++) {
+      const int *nb = t ? nl->gnbr + nl->gstart[i] : nl->nbr + nl->start[i];
+      const int  np = t ? nl->gstart[i + 1] - nl->gstart[i] : nl->start[i + 1] - nl->start[i];
+      for (int b = 0; b < np; b++) {
+        const int j = nb[b], gk = j - c->n;
+        const int s = j < c->n ? j : gk < c->gh->nlocal ? c->gh->src[gk] : -1;
+        if (s < 0) continue;
+        for (int q = 0; q < c->ncomp; q++) {
+          const PetscInt ri = (PetscInt)i * c->nvar + c->off[q], rs = (PetscInt)s * c->nvar + c->off[q];
+          PetscCall(MatSetValue(c->J, ri, rs, 0.0, INSERT_VALUES));
+          PetscCall(MatSetValue(c->J, rs, ri, 0.0, INSERT_VALUES));
+        }
+      }
+    }
+  }
+  PetscFunctionReturn(0);
+}
+
+/* A new matrix for the list's pattern: per particle, its pairs counted at both ends (an
+ * overestimate where a particle pairs with several images of one source). */
+static PetscErrorCode NewPattern(SpamSim *sim, SpamDiffusionJac *jac)
+{
+  const SpamNeighbours *nl = &sim->pair.nl;
+  const SpamLayout     *l  = &sim->model.layout;
+  const int             n = (int)sim->p.n, nvar = l->nvar, slots = SpamNeighboursSlots(nl);
+  PetscInt             *deg;
+  JacPass               c;
+
+  PetscFunctionBeginUser;
+  PetscCall(Reserve(jac, n * nvar, slots, l->dim));
+  deg = jac->nnz; /* per particle first, spread over its rows below (from the last down) */
+  for (int i = 0; i < n; i++) deg[i] = 1;
+  for (int i = 0; i < n; i++) {
+    for (int b = nl->start[i]; b < nl->start[i + 1]; b++)
+      if (nl->nbr[b] < n) deg[i]++, deg[nl->nbr[b]]++;
+    for (int b = nl->gstart[i]; b < nl->gstart[i + 1]; b++) {
+      const int gk = nl->gnbr[b] - n;
+      if (gk >= nl->ghosts.nlocal || nl->ghosts.src[gk] < 0) continue;
+      deg[i]++;
+      deg[nl->ghosts.src[gk]]++;
+    }
+  }
+  for (int i = n - 1; i >= 0; i--) {
+    const PetscInt di = deg[i];
+    for (int v = nvar - 1; v >= 0; v--) deg[(size_t)i * nvar + v] = (v >= l->v && v < l->v + l->dim) || v == l->e ? PetscMin(di, (PetscInt)n) : 1;
+  }
+  PetscCall(MatDestroy(&jac->J));
+  PetscCall(MatCreateSeqAIJ(PETSC_COMM_SELF, n * nvar, n * nvar, 0, jac->nnz, &jac->J));
+  PetscCall(MatSetOption(jac->J, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
+  c = PassOf(sim, jac);
+  PetscCall(InsertPattern(sim, &c));
+  PetscCall(MatAssemblyBegin(jac->J, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(jac->J, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatSetOption(jac->J, MAT_NEW_NONZERO_LOCATION_ERR, PETSC_TRUE));
+  jac->builds  = nl->builds;
+  jac->npairs  = nl->npairs;
+  jac->ngpairs = nl->ngpairs;
+  jac->n       = n;
+  jac->slots   = slots;
+  jac->patterns++;
+  PetscFunctionReturn(0);
+}
+
+/* The ghosts' coefficients a per component, from the gathers of ones and of zeros. */
+static PetscErrorCode ImageCoefficients(SpamSim *sim, SpamDiffusionJac *jac)
+{
+  const SpamGhosts *gh  = &sim->pair.nl.ghosts;
+  const int         dim = sim->model.dim, n = (int)sim->p.n, nc = dim + 1;
+
+  PetscFunctionBeginUser;
+  for (int pass = 0; pass < 2; pass++) {
+    for (int q = 0; q < 2; q++) { /* q 0: the velocity, 1: the temperature */
+      const int ncomp = q ? 1 : dim;
+      for (size_t k = 0; k < (size_t)n * ncomp; k++) jac->ones[k] = pass ? 0.0 : 1.0;
+      PetscCall(SpamGhostsGatherWall(gh, dim, n, q ? SPAM_WALL_FIELD_TEMPERATURE : SPAM_WALL_FIELD_VELOCITY, jac->ones));
+      for (int k = 0; k < gh->nlocal; k++)
+        for (int d = 0; d < ncomp; d++) {
+          double *a = &jac->coef[(size_t)k * nc + (q ? dim : d)];
+          *a        = pass ? *a - jac->ones[(size_t)(n + k) * ncomp + d] : jac->ones[(size_t)(n + k) * ncomp + d];
+        }
+    }
+  }
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamDiffusionJacAssemble(SpamSim *sim, const double *y, SpamDiffusionJac *jac, PetscInt *bad)
+{
+  const SpamNeighbours *nl = &sim->pair.nl;
+  JacPass               c;
+
+  PetscFunctionBeginUser;
+  PetscCall(SpamRhsSolidDiffusionFields(sim, y, bad));
+  if (*bad >= 0) PetscFunctionReturn(0);
+  if (!jac->J || jac->builds != nl->builds || jac->npairs != nl->npairs || jac->ngpairs != nl->ngpairs || jac->n != (int)sim->p.n || jac->slots != SpamNeighboursSlots(nl)) PetscCall(NewPattern(sim, jac));
+  PetscCall(ImageCoefficients(sim, jac));
+  PetscCall(MatZeroEntries(jac->J));
+  c = PassOf(sim, jac);
+  PetscCall(WalkJacobian(nl, &sim->model.kernel, &c));
+  PetscCall(c.ierr);
+  PetscCall(MatAssemblyBegin(jac->J, MAT_FINAL_ASSEMBLY));
+  PetscCall(MatAssemblyEnd(jac->J, MAT_FINAL_ASSEMBLY));
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamDiffusionJacDestroy(SpamDiffusionJac *jac)
+{
+  PetscFunctionBeginUser;
+  PetscCall(MatDestroy(&jac->J));
+  PetscCall(PetscFree(jac->nnz));
+  PetscCall(PetscFree2(jac->coef, jac->ones));
+  jac->rows_cap = jac->slots_cap = 0;
+  jac->builds                    = -1;
+  PetscFunctionReturn(0);
+}
