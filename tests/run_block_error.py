@@ -17,26 +17,25 @@ DRIFT at 1e-5; the momentum is kept to the method's order with mixed bins (a pai
 act on its particles at each one's own step ends), its change below MOMENTUM of the summed
 |m v| at rtol 1e-5.
 
-Under -reproducible (the gas at -smoothing_length adaptive) a run on 2 ranks, the
-particles migrating between cycles (-migrate_interval 1), must write the one-rank run's
-final state and steps.csv byte for byte (every decision of the controller is a particle's
-own, from its own data, and a rejected cycle is agreed by all ranks); a run stopped after a
-cycle with a checkpoint and restarted must write the uninterrupted run's files (the steps
-the controllers ask are in the checkpoint), on one rank and on 2.
+With -block_reject 2 a step above twice the tolerance rejects its cycle, redone from the
+cycle's start with that particle's step cut: the run completes with its error that of
+the run without. A run stopped after a cycle with a checkpoint and restarted must write
+the uninterrupted run's files (the steps the controllers ask are in the checkpoint; on 2
+ranks under -reproducible, and 1 against 2 ranks: tests/run_block_ranks.py).
 
 Refused in one line each: -block_force with -block_criterion error (the estimate replaces
-the force criterion), -arkode_classic_weights there, an unknown criterion, -ts_rtol with
-the CFL criterion. --readings FILE: the errors and slope (docs/block_error_order.json)."""
+the force criterion), -arkode_classic_weights there, an unknown criterion, -ts_rtol and
+-block_reject with the CFL criterion. About 1.5 s of CPU (labelled fast). --readings FILE:
+the errors and slope (docs/block_error_order.json)."""
 import os
-import subprocess
 
 import numpy as np
 
-from spamrun import Checks, arguments, mpiexec_env, one_line, rank_command, run, same_outputs, summary, table
+from spamrun import Checks, arguments, one_line, run, same_outputs, summary, table
 
 N, E_HOT, T = 16, 20.0, 1.0
 RTOLS = (1e-3, 1e-4, 1e-5)
-SLOPE_TOL, DRIFT, MOMENTUM = 0.3, 1e-4, 1e-4
+SLOPE_TOL, DRIFT, MOMENTUM, REJECT = 0.3, 1e-4, 1e-4, 2
 ERROR = ["-ts_type", "block_kdk", "-block_criterion", "error", "-block_cfl", 1]
 
 
@@ -101,37 +100,35 @@ if ref is not None and all(r is not None for r in runs):
     c.reading("particle_steps", steps)
     c.reading("rejected", rejected)
 
+# -block_reject: a step above REJECT times the tolerance rejects the cycle, which is redone
+# with that particle's step cut: at rtol 1e-4 some cycle is rejected, the run completes and
+# its error stays that of the run without rejections (within a factor 2: only a few
+# particles' steps change).
+rej = go("reject", ERROR + ["-ts_rtol", 1e-4, "-ts_atol", 1e-4, "-block_reject", REJECT])
+if rej is not None and ref is not None and runs[1] is not None:
+    n_rej = int(rej[4].split("rejected cycles")[1].split()[0])
+    dx = rej[0] - ref[0]
+    dx -= N * np.round(dx / N)
+    e_rej = float(np.max(np.abs(dx)))
+    c.check(n_rej >= 1 and e_rej <= 2 * xerr[1], f"-block_reject {REJECT}: {n_rej} cycle(s) rejected and redone, error {e_rej:.2e} (without: {xerr[1]:.2e})")
+    c.reading("reject.cycles", n_rej)
+    c.reading("reject.x_error", e_rej)
+
 # Refusals, one line each.
 for extra, words in ((ERROR + ["-block_force", 0.1], "-block_force"), (ERROR + ["-arkode_classic_weights"], "-arkode_classic_weights"),
-                     (["-ts_type", "block_kdk", "-block_criterion", "tolerance"], "-block_criterion"), (["-ts_type", "block_kdk", "-ts_rtol", 1e-6], "-ts_rtol")):
-    code, _, err = run(a.spam_ark, scene(gas) + ["-ts_max_time", 0.01] + extra, os.path.join(a.workdir, "refused"))
+                     (["-ts_type", "block_kdk", "-block_criterion", "tolerance"], "-block_criterion"), (["-ts_type", "block_kdk", "-ts_rtol", 1e-6], "-ts_rtol"), (["-ts_type", "block_kdk", "-block_reject", 2], "-block_reject")):
+    code, _, err = run(a.spam_ark, scene(gas) + ["-ts_max_time", 0.01] + extra, os.path.join(a.workdir, "refused_" + words.strip("-")))
     line = one_line(err) or ""
     c.check(code != 0 and words in line and len(err.strip().splitlines()) == 1, f"{' '.join(map(str, extra))}: refused in one line ({line.strip()[:200]})")
 
-# Ranks and restarts under -reproducible.
-mpiexec, ENV = mpiexec_env()
-REPRO = scene(gas) + ERROR + ["-ts_rtol", 1e-4, "-ts_atol", 1e-4, "-smoothing_length", "adaptive", "-reproducible"]
-MIGRATE = {1: [], 2: ["-migrate_interval", 1]}
+# A restart from a checkpoint after the first cycle (one rank; 2 ranks with migrations:
+# tests/run_block_ranks.py).
+mpiexec, ENV = None, dict(os.environ)
 
 
 def spam(ranks, args, out):
-    cmd, env = rank_command(mpiexec, ENV, ranks, a.spam_ark, [str(x) for x in args] + ["-output_dir", out, "-output_overwrite"])
-    p = subprocess.run(cmd, capture_output=True, text=True, timeout=300, env=env)
-    return p.returncode, p.stdout, p.stderr
-
-
-outs = {}
-for ranks in (1, 2):
-    out = os.path.join(a.workdir, f"repro_np{ranks}")
-    code, so, err = spam(ranks, REPRO + MIGRATE[ranks] + ["-final_csv", os.path.join(out, "final.csv"), "-ts_view"], out)
-    if c.check(code == 0, f"-reproducible on {ranks} rank(s) runs (exit {code}) {one_line(err)}"):
-        outs[ranks] = (out, so)
-if len(outs) == 2:
-    files = ("final.csv", "steps.csv")
-    differ = [n for n in files if open(os.path.join(outs[1][0], n), "rb").read() != open(os.path.join(outs[2][0], n), "rb").read()]
-    moved = summary(outs[2][0])["migrations"]
-    c.check(not differ and moved >= 1, f"2 ranks ({moved} migrations) write the one-rank run's final state and steps.csv byte for byte (differ: {differ})")
-    c.reading("repro_rejected", int(outs[1][1].split("rejected cycles")[1].split()[0]))
+    code, so, err = run(a.spam_ark, list(args) + ["-output_overwrite"], out)
+    return code, so, err
 
 
 def restart(ranks, args, label):
@@ -142,9 +139,8 @@ def restart(ranks, args, label):
     code, _, err = spam(ranks, args + ["-checkpoint_interval", 0.25, "-ts_max_steps", 1], part)
     if not c.check(code == 0 and os.path.exists(os.path.join(part, "checkpoint.h5")), f"{label}: stops after a cycle with a checkpoint (exit {code}) {one_line(err)}"):
         return
-    cmd, env = rank_command(mpiexec, ENV, ranks, a.spam_ark, [str(x) for x in args] + ["-output_dir", part, "-restart", os.path.join(part, "checkpoint.h5")])
-    p = subprocess.run(cmd, capture_output=True, text=True, timeout=300, env=env)
-    if not c.check(p.returncode == 0, f"{label}: restart (exit {p.returncode}) {one_line(p.stderr)}"):
+    code, _, err = run(a.spam_ark, list(args) + ["-restart", os.path.join(part, "checkpoint.h5")], part)
+    if not c.check(code == 0, f"{label}: restart (exit {code}) {one_line(err)}"):
         return
     s = summary(part)
     c.check(s.get("restart") == "bitwise", f"{label}: the restart says it continues bit for bit ({s.get('restart')}: {s.get('restart_why_approximate')})")
@@ -152,6 +148,5 @@ def restart(ranks, args, label):
     c.check(not diff, f"{label}: the restarted run writes the uninterrupted run's files ({diff or 'the same'})")
 
 
-restart(1, scene(gas) + ERROR + ["-ts_rtol", 1e-4, "-ts_atol", 1e-4], "restart_np1")
-restart(2, REPRO + MIGRATE[2], "restart_np2")
+restart(1, scene(gas) + ERROR + ["-ts_rtol", 1e-4, "-ts_atol", 1e-4, "-block_reject", REJECT], "restart_np1")
 c.finish(a.readings)

@@ -60,7 +60,7 @@ typedef struct {
    * in this cycle, the cycle's start (state, rates, asked steps, kernel ranges) to redo it
    * from, and scratch weights */
   SpamBlockErrorCtx ectl;
-  double           *want, *cut, *y0, *f0, *want0, *h0, *wscr;
+  double           *want, *cut, *cap, *y0, *f0, *want0, *h0, *wscr;
   long              rejected, over; /* cycles rejected; particle steps above the tolerance */
   /* statistics: cycles, evaluations, particle steps, woken particles, sum over the
    * evaluations of the fraction of particles whose step ended there, deepest bin */
@@ -162,10 +162,11 @@ static int LevelFor(double dt, double D, int L)
   return k > L ? -1 : k;
 }
 
-/* The step particle i's error controller asks for (infinity under the CFL criterion). */
+/* The step particle i's error controller asks for, at most the cap a rejection of this
+ * cycle set (infinity under the CFL criterion). */
 static inline double Controlled(const TS_SpamBlock *b, PetscInt i)
 {
-  return b->want ? b->want[i] : PETSC_INFINITY;
+  return b->want ? PetscMin(b->want[i], b->cap[i]) : PETSC_INFINITY;
 }
 
 /* The deepest bin whose grid tick s lies on (s a multiple of 2^(L-k)): a step may only
@@ -404,10 +405,12 @@ static PetscErrorCode TopStep(const TS ts, const SpamTsApp *app, const TS_SpamBl
 
 /* Under -block_criterion error, after the second half kicks at a tick: each particle
  * whose step ended gets its error estimate and the step its controller asks next. A step
- * above the tolerance is accepted, its successor cut by the controller (no particle's step
- * can be redone alone: its neighbours moved on its forces); with -block_reject F > 0 a
- * step above F times the tolerance rejects the cycle instead: *rejected (on any rank), its
- * particle's cut step kept in b->cut for the redo. A woken particle, whose step the limiter
+ * above the tolerance is accepted, its successor cut by the controller; a step above
+ * -block_reject F times the tolerance (default 4: more than twice too long, the estimate
+ * being of order dt^2) rejects the whole cycle (no particle's step can be redone alone: its
+ * neighbours moved on its forces): *rejected (on any rank), its particle's cut step kept in
+ * b->cut for the redo. Without it an event within a long step (a shock's arrival at a
+ * particle at rest) enters the result unchecked. A woken particle, whose step the limiter
  * cut short, keeps the step it asked before. */
 static PetscErrorCode Estimate(const SpamSim *sim, TS_SpamBlock *b, const double *y, double tau, PetscBool *rejected)
 {
@@ -506,17 +509,22 @@ static PetscErrorCode Cycle(TS ts, SpamTsApp *app, TS_SpamBlock *b, double *y, d
 }
 
 /* Under -block_criterion error, the particles with no step asked yet (the run's start):
- * as ARKODE's first step, a trial. Each takes an Euler step of the length the CFL bound
- * allows it (every field, the position with its velocity), the rates are evaluated there,
- * and the difference of the two kicks over that length, weighed as any step's estimate,
- * gives the step asked: dt safety err^(-1/2) (at most SPAM_BLOCK_GROWTH dt). One
- * evaluation more at the start; b->yp and b->g are its scratch. */
+ * as ARKODE's first step, trials. Each such particle takes the kick-drift-kick step's
+ * predicted end over the length dt it is allowed (the CFL bound, then the last trial's
+ * answer): the position drifted with the half-kicked velocity, the other fields advanced
+ * along their rates; the rates are evaluated there, and the difference of the two kicks
+ * over dt, weighed as any step's estimate, gives the step asked: dt safety err^(-1/2) (at
+ * most SPAM_BLOCK_GROWTH dt). (A drift with the velocity alone would see nothing move in
+ * a gas at rest.) Repeated while some particle's answer is below half its trial's length,
+ * at most FIRST_TRIALS times: one evaluation each, at the run's start only. The other
+ * particles stay where they are in the trials. b->yp, b->g and b->cut are scratch. */
+#define FIRST_TRIALS 4
 static PetscErrorCode FirstWants(SpamTsApp *app, TS_SpamBlock *b, double t0, const double *y, PetscBool *ok)
 {
   SpamSim          *sim = app->sim;
   const SpamLayout *l   = &sim->model.layout;
   const int         dim = sim->model.dim;
-  PetscBool         any = PETSC_FALSE;
+  PetscBool         any = PETSC_FALSE, again = PETSC_TRUE;
 
   PetscFunctionBeginUser;
   *ok = PETSC_TRUE;
@@ -525,25 +533,36 @@ static PetscErrorCode FirstWants(SpamTsApp *app, TS_SpamBlock *b, double t0, con
   if (!any) PetscFunctionReturn(0);
   PetscCall(SpamBlockNeighbours(sim, y, NULL, NULL, &b->walk));
   for (PetscInt i = 0; i < b->n; i++) {
-    const size_t  o  = (size_t)i * b->nv;
-    const double  dt = SpamBlockWanted(sim, &b->set, &b->walk, i, b->f + o, PETSC_INFINITY);
-    const double *p  = y + o, *r = b->f + o;
-    double       *q  = b->yp + o;
-    b->cut[i]        = dt < PETSC_INFINITY ? dt : 0.0; /* the trial's length, kept here until the estimate */
-    for (int k = 0; k < b->nv; k++) q[k] = p[k] + b->cut[i] * r[k];
-    for (int d = 0; d < dim; d++) q[l->x + d] = p[l->x + d] + b->cut[i] * p[l->v + d];
+    const double dt = b->want[i] >= PETSC_INFINITY ? SpamBlockWanted(sim, &b->set, &b->walk, i, b->f + (size_t)i * b->nv, PETSC_INFINITY) : 0.0;
+    b->cut[i]       = dt < PETSC_INFINITY ? dt : 0.0; /* the trial's length (0: none) */
   }
-  PetscCall(Evaluate(app, t0, b->yp, b->g, ok));
-  if (!*ok) PetscFunctionReturn(0);
-  for (PetscInt i = 0; i < b->n; i++) {
-    const size_t o  = (size_t)i * b->nv;
-    const double dt = b->cut[i];
-    double       e;
-    b->cut[i] = PETSC_INFINITY;
-    if (b->want[i] < PETSC_INFINITY || !(dt > 0.0)) continue;
-    e          = SpamBlockError(sim, &b->ectl, y + o, b->f + o, b->g + o, dt, b->wscr);
-    b->want[i] = e > 0.0 ? dt * PetscMin(SPAM_BLOCK_GROWTH, SPAM_BLOCK_SAFETY / sqrt(e)) : SPAM_BLOCK_GROWTH * dt;
+  for (int trial = 0; trial < FIRST_TRIALS && again; trial++) {
+    again = PETSC_FALSE;
+    for (PetscInt i = 0; i < b->n; i++) {
+      const size_t  o = (size_t)i * b->nv;
+      const double *p = y + o, *r = b->f + o, dt = b->cut[i];
+      double       *q = b->yp + o;
+      for (int k = 0; k < b->nv; k++) q[k] = p[k] + dt * r[k];
+      for (int d = 0; d < dim; d++) q[l->x + d] = p[l->x + d] + dt * (p[l->v + d] + 0.5 * dt * r[l->v + d]);
+    }
+    PetscCall(Evaluate(app, t0, b->yp, b->g, ok));
+    if (!*ok) PetscFunctionReturn(0);
+    for (PetscInt i = 0; i < b->n; i++) {
+      const size_t o  = (size_t)i * b->nv;
+      const double dt = b->cut[i];
+      double       e, w;
+      if (!(dt > 0.0)) continue;
+      e         = SpamBlockError(sim, &b->ectl, y + o, b->f + o, b->g + o, dt, b->wscr);
+      w         = e > 0.0 ? dt * PetscMin(SPAM_BLOCK_GROWTH, SPAM_BLOCK_SAFETY / sqrt(e)) : SPAM_BLOCK_GROWTH * dt;
+      b->want[i] = w;
+      if (w < 0.5 * dt) {
+        b->cut[i] = w;
+        again     = PETSC_TRUE;
+      }
+    }
+    PetscCall(AnyRank(sim, MPI_LOR, &again));
   }
+  for (PetscInt i = 0; i < b->n; i++) b->cut[i] = PETSC_INFINITY;
   PetscFunctionReturn(0);
 }
 
@@ -556,12 +575,14 @@ static PetscErrorCode KeepStart(const SpamSim *sim, TS_SpamBlock *b, const doubl
   PetscCall(PetscArraycpy(b->f0, b->f, (size_t)b->n * b->nv));
   PetscCall(PetscArraycpy(b->want0, b->want, b->n));
   if (sim->pair.f.adaptive) PetscCall(PetscArraycpy(b->h0, sim->pair.f.h, b->n));
-  for (PetscInt i = 0; i < b->n; i++) b->cut[i] = PETSC_INFINITY;
+  for (PetscInt i = 0; i < b->n; i++) b->cut[i] = b->cap[i] = PETSC_INFINITY;
   PetscFunctionReturn(0);
 }
 
-/* A rejected cycle: back to its start, each rejected particle asking for the step its
- * controller gave (at most the one it asked at the start), the others as at the start. */
+/* A rejected cycle: back to its start, each rejected particle's steps capped for the rest
+ * of the cycle's tries at the step its controller gave after the rejected one (a cap, not
+ * only its first step: before the event that made its error jump its controller would
+ * lengthen its steps again), the others as at the start. */
 static PetscErrorCode BackToStart(SpamSim *sim, TS_SpamBlock *b, double *y)
 {
   PetscFunctionBeginUser;
@@ -569,7 +590,8 @@ static PetscErrorCode BackToStart(SpamSim *sim, TS_SpamBlock *b, double *y)
   PetscCall(PetscArraycpy(b->f, b->f0, (size_t)b->n * b->nv));
   if (sim->pair.f.adaptive) PetscCall(PetscArraycpy(sim->pair.f.h, b->h0, b->n));
   for (PetscInt i = 0; i < b->n; i++) {
-    b->want[i] = PetscMin(b->want0[i], b->cut[i]);
+    b->cap[i]  = PetscMin(b->cap[i], b->cut[i]);
+    b->want[i] = b->want0[i];
     b->cut[i]  = PETSC_INFINITY;
   }
   PetscFunctionReturn(0);
@@ -653,9 +675,9 @@ static PetscErrorCode TSSetUp_SpamBlock(TS ts)
   PetscCall(PetscMalloc1(b->n + 1, &b->gid));
   PetscCall(PetscArraycpy(b->gid, sim->p.gid, b->n));
   if (b->set.criterion == SPAM_BLOCK_CRITERION_ERROR) {
-    PetscCall(PetscMalloc3(b->n + 1, &b->want, b->n + 1, &b->cut, b->n + 1, &b->want0));
+    PetscCall(PetscMalloc4(b->n + 1, &b->want, b->n + 1, &b->cut, b->n + 1, &b->want0, b->n + 1, &b->cap));
     PetscCall(PetscMalloc4((size_t)b->n * b->nv + 1, &b->y0, (size_t)b->n * b->nv + 1, &b->f0, b->n + 1, &b->h0, b->nv + 1, &b->wscr));
-    for (PetscInt i = 0; i < b->n; i++) b->want[i] = PETSC_INFINITY; /* no estimate yet: the CFL criterion alone */
+    for (PetscInt i = 0; i < b->n; i++) b->want[i] = b->cap[i] = PETSC_INFINITY; /* no estimate yet: the CFL criterion alone */
   }
   if (b->set.restricted && !sim->model.rhs_active) {
     if (b->restricted_set) SPAM_BAD_INPUT("-block_restricted", "true", "model %s has no pass restricted to the active particles (the gas with one h, no conduction or viscous stress, R0 coordinates, no torque scaling has one): leave it false", sim->model.name);
@@ -675,7 +697,7 @@ static PetscErrorCode TSReset_SpamBlock(TS ts)
   if (b->lev) PetscCall(PetscFree4(b->lev, b->start, b->len, b->ends));
   if (b->chg) PetscCall(PetscFree4(b->chg, b->nxt, b->woke, b->near));
   PetscCall(PetscFree(b->gid));
-  if (b->want) PetscCall(PetscFree3(b->want, b->cut, b->want0));
+  if (b->want) PetscCall(PetscFree4(b->want, b->cut, b->want0, b->cap));
   if (b->y0) PetscCall(PetscFree4(b->y0, b->f0, b->h0, b->wscr));
   PetscCall(SpamBlockWalkDestroy(&b->walk));
   b->have_f = PETSC_FALSE;
@@ -737,7 +759,7 @@ static PetscErrorCode OptionsRead(PetscOptionItems *PetscOptionsObject, SpamBloc
   PetscCall(PetscOptionsString("-block_criterion", "Block steps: each particle's bin from cfl (-block_cfl, -block_force) or error (its kick-drift-kick step against the embedded first-order one, held to -ts_rtol, -ts_atol in -error_norm's norm, bounded by -block_cfl)", "README", crit, crit, sizeof crit, NULL));
   PetscCall(SpamCheckAllowed("-block_criterion", crit, CriterionNames, 2));
   s->criterion = strcmp(crit, "error") ? SPAM_BLOCK_CRITERION_CFL : SPAM_BLOCK_CRITERION_ERROR;
-  PetscCall(PetscOptionsReal("-block_reject", "Block steps, -block_criterion error: a particle's estimate above this many times the tolerance rejects the whole cycle, redone with its step cut (0: never; a step above the tolerance is accepted and the next one cut)", "README", s->reject, &s->reject, NULL));
+  PetscCall(PetscOptionsReal("-block_reject", "Block steps, -block_criterion error: a particle's estimate above this many times the tolerance rejects the whole cycle, redone with that particle's steps capped (0: never; a step above the tolerance but not this is accepted and the next one cut)", "README", s->reject, &s->reject, NULL));
   PetscCall(SpamOptionText("-block_reject", s->reject, val, sizeof val));
   if (!(s->reject == 0.0 || s->reject >= 1.0)) SPAM_BAD_INPUT("-block_reject", val, "must be 0 (never) or at least 1");
   PetscCall(PetscOptionsReal("-block_cfl", "Block steps: each particle's step at most C h_i / v_sig,i (signal speed over its neighbours)", "README", s->cfl, &s->cfl, NULL));
@@ -757,7 +779,7 @@ static PetscErrorCode OptionsRead(PetscOptionItems *PetscOptionsObject, SpamBloc
 static void Defaults(SpamBlockSettings *s)
 {
   s->criterion = SPAM_BLOCK_CRITERION_CFL;
-  s->reject    = 0.0;
+  s->reject    = 4.0; /* a step more than twice too long for an estimate of order dt^2 */
   s->cfl       = 0.25;
   s->force     = 0.25;
   s->max_level  = 16;
