@@ -113,20 +113,23 @@ def chart(png, runs, failed, title):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4.4))
+    fig, axes = plt.subplots(1, 3, figsize=(16, 4.6))
     for m, (label, colour, marker) in STYLE.items():
         rs = [r for r in runs if r["name"].split("_", 1)[0] == m]
         if not rs:
             continue
         if m != "cfl":
             axes[0].loglog([r["rtol"] for r in rs], [r["L1"] for r in rs], marker=marker, color=colour, label=label)
-        axes[1].loglog([r["cpu_s"] for r in rs], [r["L1"] for r in rs], marker=marker, color=colour, label=label)
-        for r in rs:
-            axes[1].annotate(r["name"].split("_", 1)[1].replace("p", "."), (r["cpu_s"], r["L1"]), textcoords="offset points", xytext=(4, 3), fontsize=7, color=colour)
+        for ax, key in ((axes[1], "cpu_s"), (axes[2], "ideal")):
+            ax.loglog([r[key] for r in rs], [r["L1"] for r in rs], marker=marker, color=colour, label=label)
+            for r in rs:
+                ax.annotate(r["name"].split("_", 1)[1].replace("p", "."), (r[key], r["L1"]), textcoords="offset points", xytext=(4, 3), fontsize=7, color=colour)
     axes[0].set_xlabel("-ts_rtol (-ts_atol the same)")
     axes[0].set_ylabel("L1(rho) against DP5 rtol 1e-9 (mean |rho_i - rho_i,ref|)")
     axes[1].set_xlabel("CPU time of the run (s)")
     axes[1].set_ylabel("L1(rho) against DP5 rtol 1e-9")
+    axes[2].set_xlabel("particle steps / N (DP5: right-hand-side evaluations)")
+    axes[2].set_ylabel("L1(rho) against DP5 rtol 1e-9")
     for ax in axes:
         ax.grid(True, which="both", alpha=0.3)
         ax.legend(fontsize=8)
