@@ -214,7 +214,7 @@ def main():
         rows.append([{"dp5": "DP5", "err": "block KDK, error", "cfl": "block KDK, cfl"}[method], ("cfl " if method == "cfl" else "rtol ") + knob.replace("p", "."),
                      f"{r['cpu_s']:.2f}", str(r["rhs_evals"]), f"{r['ideal']:.0f}" if "particle_steps" in r else "–", str(r.get("rejected", "–")),
                      f"{r['L1']:.1e}", f"{r['xerr']:.1e}", f"{r['drift']:.1e}", f"{r['momentum']:.1e}"])
-    readings["table"] = chart_readings.table(["method", "setting", "CPU s", "evaluations", "ideal evaluations", "rejected cycles", "L1(rho) vs ref", "max dx vs ref", "max dE/E", "max dP / sum m|v|"], rows)
+    readings["table"] = chart_readings.table(["method", "setting", "CPU s", "evaluations", "ideal evaluations", "rejected cycles", "L1(rho) vs ref", "max dx vs ref", "max dE/E", "max dP / sum of m abs(v)"], rows)
     failed = [n for n, r in zip(names, runs) if r is None]
     readings["failed"] = failed
     if a.chart:
