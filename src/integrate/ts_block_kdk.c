@@ -517,7 +517,8 @@ static PetscErrorCode Cycle(TS ts, SpamTsApp *app, TS_SpamBlock *b, double *y, d
  * most SPAM_BLOCK_GROWTH dt). (A drift with the velocity alone would see nothing move in
  * a gas at rest.) Repeated while some particle's answer is below half its trial's length,
  * at most FIRST_TRIALS times: one evaluation each, at the run's start only. The other
- * particles stay where they are in the trials. b->yp, b->g and b->cut are scratch. */
+ * particles stay where they are in the trials. b->yp, b->g and b->cut are scratch; the
+ * kernel ranges the trials' evaluations leave (the adaptive range) are put back. */
 #define FIRST_TRIALS 4
 static PetscErrorCode FirstWants(SpamTsApp *app, TS_SpamBlock *b, double t0, const double *y, PetscBool *ok)
 {
@@ -532,6 +533,7 @@ static PetscErrorCode FirstWants(SpamTsApp *app, TS_SpamBlock *b, double t0, con
   PetscCall(AnyRank(sim, MPI_LOR, &any));
   if (!any) PetscFunctionReturn(0);
   PetscCall(SpamBlockNeighbours(sim, y, NULL, NULL, &b->walk));
+  if (sim->pair.f.adaptive) PetscCall(PetscArraycpy(b->h0, sim->pair.f.h, b->n));
   for (PetscInt i = 0; i < b->n; i++) {
     const double dt = b->want[i] >= PETSC_INFINITY ? SpamBlockWanted(sim, &b->set, &b->walk, i, b->f + (size_t)i * b->nv, PETSC_INFINITY) : 0.0;
     b->cut[i]       = dt < PETSC_INFINITY ? dt : 0.0; /* the trial's length (0: none) */
@@ -546,7 +548,7 @@ static PetscErrorCode FirstWants(SpamTsApp *app, TS_SpamBlock *b, double t0, con
       for (int d = 0; d < dim; d++) q[l->x + d] = p[l->x + d] + dt * (p[l->v + d] + 0.5 * dt * r[l->v + d]);
     }
     PetscCall(Evaluate(app, t0, b->yp, b->g, ok));
-    if (!*ok) PetscFunctionReturn(0);
+    if (!*ok) break;
     for (PetscInt i = 0; i < b->n; i++) {
       const size_t o  = (size_t)i * b->nv;
       const double dt = b->cut[i];
@@ -563,6 +565,7 @@ static PetscErrorCode FirstWants(SpamTsApp *app, TS_SpamBlock *b, double t0, con
     PetscCall(AnyRank(sim, MPI_LOR, &again));
   }
   for (PetscInt i = 0; i < b->n; i++) b->cut[i] = PETSC_INFINITY;
+  if (sim->pair.f.adaptive) PetscCall(PetscArraycpy(sim->pair.f.h, b->h0, b->n));
   PetscFunctionReturn(0);
 }
 
