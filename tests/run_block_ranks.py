@@ -16,13 +16,17 @@ vector and carries the rates each particle's next cycle starts from, by id). Ask
   -reproducible needs for the gas with energy), block_cfl = block_force 0.1, to t = 1
   (2 cycles, deepest bin 8: the bins spread and particles are woken, across the cut);
 - the periodic 2D expansion of the isentropic gas (24^2, h 3, gamma 1.7), block_cfl 0.1,
-  to t = 20, and the 3D one (8^3, h 2.5) to t = 6.
+  to t = 20, and the 3D one (8^3, h 2.5) to t = 6;
+- the blast with bins by error control (-block_criterion error, rtol = atol 1e-3, bounded
+  by -block_cfl 0.25): each particle's controller reads its own estimate, from its own
+  data, so its bins are the one-rank run's too.
 Each run's energy must be kept: |dE/E| at most 1e-3 (energy_rel_drift_max), the bound the
 block steps are asked to meet on the blast (measured: 3.7e-4, 4.0e-4, 1.8e-4).
 
 The default mode (the same blast at fixed h, the restricted pass): see below.
 
-Checkpoints: the Sedov run on 2 ranks (with its migrations) stopped after its first cycle
+Checkpoints: the Sedov runs on 2 ranks (with their migrations; the error-controlled one
+keeps the steps its controllers ask in the checkpoint) stopped after their first cycle
 with a checkpoint (-ts_max_steps 1) and restarted must write exactly the files of the
 uninterrupted 2-rank run (snapshots, steps.csv, timeseries.csv but for its timing
 columns) and say it continued bit for bit; the same in the default mode (the restricted
@@ -54,6 +58,9 @@ REPRO = {
                   "-ts_max_time", 20, "-output_interval", 4, "-snapshot_interval", 10, "-reproducible"] + BLOCK,
     "expansion3d": ["-scene", "expansion", "-dim", 3, "-expansion_n", 8, "-h", 2.5, "-expansion_amplitude", 0.1,
                     "-ts_max_time", 6, "-output_interval", 1, "-snapshot_interval", 3, "-reproducible"] + BLOCK,
+    # bins by error control: each particle's controller reads its own estimate only
+    "sedov_error": SEDOV[:SEDOV.index("-ts_type")] + ["-ts_type", "block_kdk", "-block_criterion", "error", "-block_cfl", 0.25, "-ts_rtol", 1e-3, "-ts_atol", 1e-3,
+                                                      "-smoothing_length", "adaptive", "-reproducible"],
 }
 
 
@@ -138,7 +145,7 @@ def restart(ranks, args, label):
     """Stop after the first cycle with a checkpoint, restart, compare with the whole run."""
     whole = os.path.join(a.workdir, f"{label}_whole")
     part = os.path.join(a.workdir, f"{label}_part")
-    if label in ("sedov_np2", "sedov_default_np1", "sedov_default_np2"):  # the whole run is one above
+    if label in ("sedov_np2", "sedov_error_np2", "sedov_default_np1", "sedov_default_np2"):  # the whole run is one above
         whole = os.path.join(a.workdir, label)  # a run above
     else:
         code, _, err = spam(ranks, args, whole)
@@ -158,6 +165,7 @@ def restart(ranks, args, label):
 
 
 restart(2, REPRO["sedov"] + MIGRATE[2], "sedov_np2")
+restart(2, REPRO["sedov_error"] + MIGRATE[2], "sedov_error_np2")
 restart(1, SEDOV, "sedov_default_np1")
 restart(2, SEDOV + MIGRATE[2], "sedov_default_np2")
 

@@ -205,13 +205,14 @@ PetscErrorCode SpamBlockNeighbours(SpamSim *sim, const double *y, const int *lev
   PetscFunctionReturn(0);
 }
 
-double SpamBlockWanted(const SpamSim *sim, const SpamBlockSettings *s, const SpamBlockWalk *w, PetscInt i, const double *rate)
+double SpamBlockWanted(const SpamSim *sim, const SpamBlockSettings *s, const SpamBlockWalk *w, PetscInt i, const double *rate, double controlled)
 {
   const SpamLayout *l  = &sim->model.layout;
   const double      h  = sim->pair.f.adaptive ? sim->pair.f.h[i] : sim->model.kernel.h;
   double            dt = PETSC_INFINITY, a2 = 0.0;
 
   if (w->sig[i] > 0.0) dt = s->cfl * h / w->sig[i];
+  if (s->criterion == SPAM_BLOCK_CRITERION_ERROR) return PetscMin(dt, controlled);
   for (int d = 0; d < sim->model.dim; d++) a2 += rate[l->v + d] * rate[l->v + d];
   if (a2 > 0.0) dt = PetscMin(dt, s->force * sqrt(h / sqrt(a2)));
   return dt;

@@ -3,9 +3,17 @@
 #ifndef SPAM_BLOCK_KDK_H
 #define SPAM_BLOCK_KDK_H
 #include <spam/sim.h>
+#include <spam/run_record.h> /* SpamErrorNorm */
 
-/* -block_cfl, -block_force, -block_max_level, -block_restricted, -block_wake_delay. */
+/* What chooses each particle's bin: the CFL and force criteria, or the local error
+ * estimate against -ts_rtol, -ts_atol (block_error.c), bounded by the CFL criterion. */
+typedef enum { SPAM_BLOCK_CRITERION_CFL, SPAM_BLOCK_CRITERION_ERROR } SpamBlockCriterion;
+
+/* -block_cfl, -block_force, -block_max_level, -block_restricted, -block_wake_delay,
+ * -block_criterion, -block_reject. */
 typedef struct {
+  SpamBlockCriterion criterion;
+  double    reject; /* -block_reject: an estimate above it rejects the cycle (0: never) */
   double    cfl, force;
   PetscInt  max_level;
   PetscBool restricted; /* -block_restricted: forces of the active particles only */
@@ -49,6 +57,29 @@ PetscErrorCode SpamBlockWalkDestroy(SpamBlockWalk *w);
  * rank count. */
 PetscErrorCode SpamBlockNeighbours(SpamSim *sim, const double *y, const int *lev, const unsigned char *mask, SpamBlockWalk *w);
 /* The step particle i wants: min(cfl h_i / sig_i, force sqrt(h_i / |a_i|)), a_i the
- * velocity rate in rate (one particle block); infinity when neither bounds it. */
-double SpamBlockWanted(const SpamSim *sim, const SpamBlockSettings *s, const SpamBlockWalk *w, PetscInt i, const double *rate);
+ * velocity rate in rate (one particle block); under -block_criterion error
+ * min(cfl h_i / sig_i, controlled), the step its error controller asked for; infinity when
+ * nothing bounds it. */
+double SpamBlockWanted(const SpamSim *sim, const SpamBlockSettings *s, const SpamBlockWalk *w, PetscInt i, const double *rate, double controlled);
+
+/* The error control (block_error.c): the tolerances and norm of the run, the velocity
+ * scale of its weights (the initial sound speed, as ARKODE's). */
+typedef struct {
+  double        rtol, atol, vscale;
+  SpamErrorNorm norm;
+} SpamBlockErrorCtx;
+
+/* The controller: a step's estimate err asks for dt SAFETY err^(-1/2), at most GROWTH
+ * times dt (one bin up), at least SHRINK times dt (ARKODE's smallest cut after a failed
+ * step). */
+#define SPAM_BLOCK_SAFETY 0.9
+#define SPAM_BLOCK_GROWTH 2.0
+#define SPAM_BLOCK_SHRINK 0.1
+
+/* The weighted norm of the difference between a particle's kick-drift-kick step of length
+ * dt and the embedded first-order one (rates f at its start, g at its end; p its state at
+ * the end; w scratch of nvar doubles). */
+double SpamBlockError(const SpamSim *sim, const SpamBlockErrorCtx *e, const double *p, const double *f, const double *g, double dt, double *w);
+/* The next step the controller asks for after a step dt with estimate err. */
+double SpamBlockErrorStep(double dt, double err);
 #endif

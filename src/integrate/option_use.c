@@ -277,6 +277,8 @@ typedef struct {
   const SpamRunOptions  *o;
   char                   type[32], adapt[32], method[160];
   const SpamTSFamily    *f;               /* the row of the method's TS type        */
+  TS                     ts;
+  PetscBool              error_controlled; /* a step rule's steps under error control */
   PetscBool              own;             /* the type chooses its own steps         */
   PetscBool              adaptive;
   double                 arkode_fixed;    /* arkode's fixed step, or 0             */
@@ -299,6 +301,8 @@ static PetscErrorCode RunDescribe(const SpamSim *sim, const SpamRunOptions *o, T
   r->o     = o;
   if (!strcmp(r->model, "elastic") || !strcmp(r->model, "gas")) r->solid = &sim->model.solid;
   PetscCall(SpamTSFamilyOf(ts, &r->f));
+  r->ts               = ts;
+  r->error_controlled = (PetscBool)(r->f->error_controlled && r->f->error_controlled(ts));
   PetscCall(PetscStrncpy(r->type, r->f->type, sizeof r->type));
   PetscCall(TSGetAdapt(ts, &adapt));
   PetscCall(TSAdaptGetType(adapt, &atype));
@@ -386,7 +390,7 @@ static PetscBool RelevantMethod(Group g, const Run *r, char *why, size_t len, Pe
     (void)snprintf(why, len, "the step of this run is -arkode_fixed_step %.17g", r->arkode_fixed);
     return PETSC_FALSE;
   case G_TOLERANCE: /* the weighted norm: the error test's, and an implicit method's solver's */
-    if (r->f->step_rule) {
+    if (r->f->step_rule && !r->error_controlled) {
       (void)snprintf(why, len, "applies to steps under error control (this run: %s %s)", r->method, r->f->step_rule);
       return PETSC_FALSE;
     }
@@ -671,6 +675,7 @@ static PetscBool WallRelevant(const char *name, const Run *r, char *why, size_t 
 /* Whether known option k applies to run r; if not, why[] says what it applies to. */
 static PetscBool KnownRelevant(const Known *k, const Run *r, char *why, size_t len)
 {
+  if (r->f->option_off && r->f->option_off(r->ts, k->name, why, len)) return PETSC_FALSE;
   if (k->group == G_WALL) return WallRelevant(k->name, r, why, len);
   if (k->group == G_SCENE) return RelevantToScene(k->name, r, why, len);
   if (k->group == G_METHOD) return RelevantToMethod(k->name, r, why, len);

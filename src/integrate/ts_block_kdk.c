@@ -55,9 +55,17 @@ typedef struct {
   unsigned char    *woke;    /* [n] woken at this tick, its new rate still to take       */
   unsigned char    *near;    /* [2 n] scratch of the restricted pass                     */
   PetscBool         have_f;  /* f holds the rates of the synchronised state             */
+  /* -block_criterion error: the step each particle's controller asks for next (infinity:
+   * none yet, the CFL criterion alone), the cut ones of particles whose step was rejected
+   * in this cycle, the cycle's start (state, rates, asked steps, kernel ranges) to redo it
+   * from, and scratch weights */
+  SpamBlockErrorCtx ectl;
+  double           *want, *cut, *cap, *y0, *f0, *want0, *h0, *wscr;
+  long              rejected, over; /* cycles rejected; particle steps above the tolerance */
   /* statistics: cycles, evaluations, particle steps, woken particles, sum over the
    * evaluations of the fraction of particles whose step ended there, deepest bin */
-  long              cycles, evals, psteps, woken, restricted, wake_evals, delayed;
+  long              cycles, evals, psteps, woken, restricted, wake_evals, delayed, ests;
+  double            err_max; /* largest particle estimate */
   double            active_sum;
   int               deepest;
 } TS_SpamBlock;
@@ -154,6 +162,13 @@ static int LevelFor(double dt, double D, int L)
   return k > L ? -1 : k;
 }
 
+/* The step particle i's error controller asks for, at most the cap a rejection of this
+ * cycle set (infinity under the CFL criterion). */
+static inline double Controlled(const TS_SpamBlock *b, PetscInt i)
+{
+  return b->want ? PetscMin(b->want[i], b->cap[i]) : PETSC_INFINITY;
+}
+
 /* The deepest bin whose grid tick s lies on (s a multiple of 2^(L-k)): a step may only
  * start on its own bin's grid, so that it ends on the coarser bins' ends. */
 static int AlignedLevel(PetscInt64 s, int L)
@@ -205,7 +220,7 @@ static PetscErrorCode FirstBins(TS ts, SpamTsApp *app, TS_SpamBlock *b, const do
   PetscFunctionBeginUser;
   *ok = PETSC_TRUE; /* b->walk holds the signal speeds of y (TSStep walked it for TopStep) */
   for (PetscInt i = 0; i < b->n && row < 0; i++) {
-    const double want = SpamBlockWanted(sim, &b->set, &b->walk, i, b->f + (size_t)i * b->nv);
+    const double want = SpamBlockWanted(sim, &b->set, &b->walk, i, b->f + (size_t)i * b->nv, Controlled(b, i));
     b->lev[i]         = LevelFor(want, D, L);
     if (b->lev[i] < 0) {
       row  = SpamSimRowOf(sim, i);
@@ -336,7 +351,7 @@ static PetscErrorCode Rebin(TS ts, SpamTsApp *app, TS_SpamBlock *b, double *y, P
   for (PetscInt i = 0; i < b->n && row < 0; i++) {
     b->chg[i] = 0;
     if (!b->ends[i]) continue;
-    const double want = SpamBlockWanted(sim, &b->set, &b->walk, i, b->g + (size_t)i * b->nv);
+    const double want = SpamBlockWanted(sim, &b->set, &b->walk, i, b->g + (size_t)i * b->nv, Controlled(b, i));
     int          k    = LevelFor(want, D, L);
     if (k < 0) {
       row  = SpamSimRowOf(sim, i);
@@ -376,7 +391,7 @@ static PetscErrorCode TopStep(const TS ts, const SpamTsApp *app, const TS_SpamBl
   PetscFunctionBeginUser;
   if (app->o->dt_first > 0) D = PetscMin(D, app->o->dt_first);
   for (PetscInt i = 0; i < b->n; i++) {
-    const double want = SpamBlockWanted(app->sim, &b->set, &b->walk, i, b->f + (size_t)i * b->nv);
+    const double want = SpamBlockWanted(app->sim, &b->set, &b->walk, i, b->f + (size_t)i * b->nv, Controlled(b, i));
     longest  = PetscMax(longest, want);
     shortest = PetscMin(shortest, want);
   }
@@ -388,9 +403,43 @@ static PetscErrorCode TopStep(const TS ts, const SpamTsApp *app, const TS_SpamBl
   PetscFunctionReturn(0);
 }
 
+/* Under -block_criterion error, after the second half kicks at a tick: each particle
+ * whose step ended gets its error estimate and the step its controller asks next. A step
+ * above the tolerance is accepted, its successor cut by the controller; a step above
+ * -block_reject F times the tolerance (default 4: more than twice too long, the estimate
+ * being of order dt^2) rejects the whole cycle (no particle's step can be redone alone: its
+ * neighbours moved on its forces): *rejected (on any rank), its particle's cut step kept in
+ * b->cut for the redo. Without it an event within a long step (a shock's arrival at a
+ * particle at rest) enters the result unchecked. A woken particle, whose step the limiter
+ * cut short, keeps the step it asked before. */
+static PetscErrorCode Estimate(const SpamSim *sim, TS_SpamBlock *b, const double *y, double tau, PetscBool *rejected)
+{
+  PetscBool bad = PETSC_FALSE;
+
+  PetscFunctionBeginUser;
+  for (PetscInt i = 0; i < b->n; i++) {
+    const size_t o  = (size_t)i * b->nv;
+    const double dt = (double)b->len[i] * tau;
+    double       e;
+    if (!b->ends[i]) continue;
+    e          = SpamBlockError(sim, &b->ectl, y + o, b->f + o, b->g + o, dt, b->wscr);
+    b->want[i] = SpamBlockErrorStep(dt, e);
+    b->ests++;
+    b->err_max = PetscMax(b->err_max, e);
+    b->over += e > 1.0;
+    if (b->set.reject > 0.0 && !(e <= b->set.reject)) {
+      b->cut[i] = PetscMin(b->cut[i], b->want[i]);
+      bad       = PETSC_TRUE;
+    }
+  }
+  PetscCall(AnyRank(sim, MPI_LOR, &bad));
+  *rejected = bad;
+  PetscFunctionReturn(0);
+}
+
 /* One tick: drift everyone to tick s, evaluate on the predicted state, second half kick of
  * the particles whose step ends there. */
-static PetscErrorCode Tick(SpamTsApp *app, TS_SpamBlock *b, double *y, PetscInt64 from, PetscInt64 s, double t0, double tau, PetscBool *ok)
+static PetscErrorCode Tick(SpamTsApp *app, TS_SpamBlock *b, double *y, PetscInt64 from, PetscInt64 s, double t0, double tau, PetscBool *ok, PetscBool *rejected)
 {
   SpamSim          *sim = app->sim;
   const SpamLayout *l   = &sim->model.layout;
@@ -417,21 +466,148 @@ static PetscErrorCode Tick(SpamTsApp *app, TS_SpamBlock *b, double *y, PetscInt6
     if (!b->ends[i]) continue;
     Kick(l, dim, y + (size_t)i * b->nv, b->g + (size_t)i * b->nv, 0.5 * (double)b->len[i] * tau);
   }
+  if (b->want) PetscCall(Estimate(sim, b, y, tau, rejected));
   b->psteps += nact;
   b->active_sum += (double)all / (double)PetscMax(sim->p.nglobal, 1);
   PetscFunctionReturn(0);
 }
 
-static PetscErrorCode TSStep_SpamBlock(TS ts)
+/* One cycle from the synchronised state y with rates b->f: its top step D, the bins, the
+ * ticks. *rejected (-block_criterion error with -block_reject): some particle's estimate
+ * exceeded -block_reject at a tick, and the cycle stopped there (y and b->f half done). */
+static PetscErrorCode Cycle(TS ts, SpamTsApp *app, TS_SpamBlock *b, double *y, double *D, PetscBool *ok, PetscBool *rejected)
 {
-  TS_SpamBlock    *b = (TS_SpamBlock *)ts->data;
-  SpamTsApp       *app;
   const int        L     = (int)b->set.max_level;
   const PetscInt64 ticks = (PetscInt64)1 << L;
   const double     t0    = ts->ptime;
-  double          *y, D = 0.0, tau = 0.0; /* set by the cycle below; initialised for gcc's flow analysis under the sanitizers */
-  PetscInt64       s = 0;
-  PetscBool        ok = PETSC_TRUE;
+  double           tau   = 0.0;
+  PetscInt64       s     = 0;
+
+  PetscFunctionBeginUser;
+  *rejected = PETSC_FALSE;
+  PetscCall(SpamBlockNeighbours(app->sim, y, NULL, NULL, &b->walk)); /* the signal speeds TopStep reads */
+  PetscCall(TopStep(ts, app, b, D));
+  tau = *D / (double)ticks;
+  PetscCall(FirstBins(ts, app, b, y, *D, L, ok)); /* the bins of this cycle's top step */
+  if (*ok) {
+    for (PetscInt i = 0; i < b->n; i++) {
+      b->len[i] = ticks >> b->lev[i];
+      Kick(&app->sim->model.layout, app->sim->model.dim, y + (size_t)i * b->nv, b->f + (size_t)i * b->nv, 0.5 * (double)b->len[i] * tau);
+      b->start[i] = 0;
+      b->deepest  = PetscMax(b->deepest, b->lev[i]);
+    }
+  }
+  while (*ok && !*rejected && s < ticks) {
+    PetscInt64 next = ticks;
+    for (PetscInt i = 0; i < b->n; i++) next = PetscMin(next, b->start[i] + b->len[i]);
+    PetscCall(RankReduce(app->sim, MPIU_INT64, MPI_MIN, &next));
+    PetscCall(Tick(app, b, y, s, next, t0, tau, ok, rejected));
+    s = next;
+    if (*ok && !*rejected && s < ticks) PetscCall(Rebin(ts, app, b, y, s, t0, *D, L, ticks, tau, ok));
+  }
+  PetscFunctionReturn(0);
+}
+
+/* Under -block_criterion error, the particles with no step asked yet (the run's start):
+ * as ARKODE's first step, trials. Each such particle takes the kick-drift-kick step's
+ * predicted end over the length dt it is allowed (the CFL bound, then the last trial's
+ * answer): the position drifted with the half-kicked velocity, the other fields advanced
+ * along their rates; the rates are evaluated there, and the difference of the two kicks
+ * over dt, weighed as any step's estimate, gives the step asked: dt safety err^(-1/2) (at
+ * most SPAM_BLOCK_GROWTH dt). (A drift with the velocity alone would see nothing move in
+ * a gas at rest.) Repeated while some particle's answer is below half its trial's length,
+ * at most FIRST_TRIALS times: one evaluation each, at the run's start only. The other
+ * particles stay where they are in the trials. b->yp, b->g and b->cut are scratch; the
+ * kernel ranges the trials' evaluations leave (the adaptive range) are put back. */
+#define FIRST_TRIALS 4
+static PetscErrorCode FirstWants(SpamTsApp *app, TS_SpamBlock *b, double t0, const double *y, PetscBool *ok)
+{
+  SpamSim          *sim = app->sim;
+  const SpamLayout *l   = &sim->model.layout;
+  const int         dim = sim->model.dim;
+  PetscBool         any = PETSC_FALSE, again = PETSC_TRUE;
+
+  PetscFunctionBeginUser;
+  *ok = PETSC_TRUE;
+  for (PetscInt i = 0; i < b->n && !any; i++) any = (PetscBool)(b->want[i] >= PETSC_INFINITY);
+  PetscCall(AnyRank(sim, MPI_LOR, &any));
+  if (!any) PetscFunctionReturn(0);
+  PetscCall(SpamBlockNeighbours(sim, y, NULL, NULL, &b->walk));
+  if (sim->pair.f.adaptive) PetscCall(PetscArraycpy(b->h0, sim->pair.f.h, b->n));
+  for (PetscInt i = 0; i < b->n; i++) {
+    const double dt = b->want[i] >= PETSC_INFINITY ? SpamBlockWanted(sim, &b->set, &b->walk, i, b->f + (size_t)i * b->nv, PETSC_INFINITY) : 0.0;
+    b->cut[i]       = dt < PETSC_INFINITY ? dt : 0.0; /* the trial's length (0: none) */
+  }
+  for (int trial = 0; trial < FIRST_TRIALS && again; trial++) {
+    again = PETSC_FALSE;
+    for (PetscInt i = 0; i < b->n; i++) {
+      const size_t  o = (size_t)i * b->nv;
+      const double *p = y + o, *r = b->f + o, dt = b->cut[i];
+      double       *q = b->yp + o;
+      for (int k = 0; k < b->nv; k++) q[k] = p[k] + dt * r[k];
+      for (int d = 0; d < dim; d++) q[l->x + d] = p[l->x + d] + dt * (p[l->v + d] + 0.5 * dt * r[l->v + d]);
+    }
+    PetscCall(Evaluate(app, t0, b->yp, b->g, ok));
+    if (!*ok) break;
+    for (PetscInt i = 0; i < b->n; i++) {
+      const size_t o  = (size_t)i * b->nv;
+      const double dt = b->cut[i];
+      double       e, w;
+      if (!(dt > 0.0)) continue;
+      e         = SpamBlockError(sim, &b->ectl, y + o, b->f + o, b->g + o, dt, b->wscr);
+      w         = e > 0.0 ? dt * PetscMin(SPAM_BLOCK_GROWTH, SPAM_BLOCK_SAFETY / sqrt(e)) : SPAM_BLOCK_GROWTH * dt;
+      b->want[i] = w;
+      if (w < 0.5 * dt) {
+        b->cut[i] = w;
+        again     = PETSC_TRUE;
+      }
+    }
+    PetscCall(AnyRank(sim, MPI_LOR, &again));
+  }
+  for (PetscInt i = 0; i < b->n; i++) b->cut[i] = PETSC_INFINITY;
+  if (sim->pair.f.adaptive) PetscCall(PetscArraycpy(sim->pair.f.h, b->h0, b->n));
+  PetscFunctionReturn(0);
+}
+
+/* Under -block_criterion error, before a cycle: its start kept (state, rates, the steps
+ * asked, the kernel ranges), so that a rejected cycle can be redone from there. */
+static PetscErrorCode KeepStart(const SpamSim *sim, TS_SpamBlock *b, const double *y)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscArraycpy(b->y0, y, (size_t)b->n * b->nv));
+  PetscCall(PetscArraycpy(b->f0, b->f, (size_t)b->n * b->nv));
+  PetscCall(PetscArraycpy(b->want0, b->want, b->n));
+  if (sim->pair.f.adaptive) PetscCall(PetscArraycpy(b->h0, sim->pair.f.h, b->n));
+  for (PetscInt i = 0; i < b->n; i++) b->cut[i] = b->cap[i] = PETSC_INFINITY;
+  PetscFunctionReturn(0);
+}
+
+/* A rejected cycle: back to its start, each rejected particle's steps capped for the rest
+ * of the cycle's tries at the step its controller gave after the rejected one (a cap, not
+ * only its first step: before the event that made its error jump its controller would
+ * lengthen its steps again), the others as at the start. */
+static PetscErrorCode BackToStart(SpamSim *sim, TS_SpamBlock *b, double *y)
+{
+  PetscFunctionBeginUser;
+  PetscCall(PetscArraycpy(y, b->y0, (size_t)b->n * b->nv));
+  PetscCall(PetscArraycpy(b->f, b->f0, (size_t)b->n * b->nv));
+  if (sim->pair.f.adaptive) PetscCall(PetscArraycpy(sim->pair.f.h, b->h0, b->n));
+  for (PetscInt i = 0; i < b->n; i++) {
+    b->cap[i]  = PetscMin(b->cap[i], b->cut[i]);
+    b->want[i] = b->want0[i];
+    b->cut[i]  = PETSC_INFINITY;
+  }
+  PetscFunctionReturn(0);
+}
+
+static PetscErrorCode TSStep_SpamBlock(TS ts)
+{
+  TS_SpamBlock *b = (TS_SpamBlock *)ts->data;
+  SpamTsApp    *app;
+  const double  t0 = ts->ptime;
+  double       *y, D = 0.0; /* set by the cycle below; initialised for gcc's flow analysis under the sanitizers */
+  PetscBool     ok = PETSC_TRUE, rejected = PETSC_FALSE;
+  PetscInt      tries = 0;
 
   PetscFunctionBeginUser;
   PetscCall(TSGetApplicationContext(ts, &app));
@@ -444,27 +620,27 @@ static PetscErrorCode TSStep_SpamBlock(TS ts)
   else PetscCall(PlaceList(app, t0, y, &ok));
   ts->steprestart = PETSC_FALSE;
   b->have_f       = ok;
-  if (ok) PetscCall(SpamBlockNeighbours(app->sim, y, NULL, NULL, &b->walk)); /* the signal speeds TopStep reads */
-  if (ok) {
-    PetscCall(TopStep(ts, app, b, &D));
-    tau = D / (double)ticks;
-    PetscCall(FirstBins(ts, app, b, y, D, L, &ok)); /* the bins of this cycle's top step */
+  if (ok && b->want) {
+    b->ectl = (SpamBlockErrorCtx){app->w.rtol, app->w.atol, app->w.vscale, app->o->error_norm}; /* the weights' scale is a restart's too */
+    PetscCall(FirstWants(app, b, t0, y, &ok));
+    if (ok) PetscCall(PlaceList(app, t0, y, &ok)); /* the trial's evaluation moved the list */
   }
-  if (ok) {
-    for (PetscInt i = 0; i < b->n; i++) {
-      b->len[i] = ticks >> b->lev[i];
-      Kick(&app->sim->model.layout, app->sim->model.dim, y + (size_t)i * b->nv, b->f + (size_t)i * b->nv, 0.5 * (double)b->len[i] * tau);
-      b->start[i] = 0;
-      b->deepest  = PetscMax(b->deepest, b->lev[i]);
+  if (ok && b->want) {
+    PetscCall(KeepStart(app->sim, b, y));
+  }
+  if (ok) PetscCall(Cycle(ts, app, b, y, &D, &ok, &rejected));
+  while (ok && rejected) { /* -block_reject: redone with the rejected steps cut */
+    b->rejected++;
+    if (++tries >= PetscMax(ts->max_reject, 1)) {
+      char msg[200];
+      (void)snprintf(msg, sizeof msg, "a block cycle from t = %.6e was rejected %" PetscInt_FMT " times (some particle's error estimate above -block_reject %g times the tolerance each time; -ts_max_reject)", t0, tries, b->set.reject);
+      PetscCall(Fail(ts, app, msg));
+      ok = PETSC_FALSE;
+      break;
     }
-  }
-  while (ok && s < ticks) {
-    PetscInt64 next = ticks;
-    for (PetscInt i = 0; i < b->n; i++) next = PetscMin(next, b->start[i] + b->len[i]);
-    PetscCall(RankReduce(app->sim, MPIU_INT64, MPI_MIN, &next));
-    PetscCall(Tick(app, b, y, s, next, t0, tau, &ok));
-    s = next;
-    if (ok && s < ticks) PetscCall(Rebin(ts, app, b, y, s, t0, D, L, ticks, tau, &ok));
+    PetscCall(BackToStart(app->sim, b, y));
+    PetscCall(PlaceList(app, t0, y, &ok));
+    if (ok) PetscCall(Cycle(ts, app, b, y, &D, &ok, &rejected));
   }
   PetscCall(VecRestoreArray(ts->vec_sol, &y));
   if (!ok) {
@@ -501,6 +677,11 @@ static PetscErrorCode TSSetUp_SpamBlock(TS ts)
   PetscCall(PetscCalloc4(b->n + 1, &b->chg, b->n + 1, &b->nxt, b->n + 1, &b->woke, 2 * b->n + 1, &b->near));
   PetscCall(PetscMalloc1(b->n + 1, &b->gid));
   PetscCall(PetscArraycpy(b->gid, sim->p.gid, b->n));
+  if (b->set.criterion == SPAM_BLOCK_CRITERION_ERROR) {
+    PetscCall(PetscMalloc4(b->n + 1, &b->want, b->n + 1, &b->cut, b->n + 1, &b->want0, b->n + 1, &b->cap));
+    PetscCall(PetscMalloc4((size_t)b->n * b->nv + 1, &b->y0, (size_t)b->n * b->nv + 1, &b->f0, b->n + 1, &b->h0, b->nv + 1, &b->wscr));
+    for (PetscInt i = 0; i < b->n; i++) b->want[i] = b->cap[i] = PETSC_INFINITY; /* no estimate yet: the CFL criterion alone */
+  }
   if (b->set.restricted && !sim->model.rhs_active) {
     if (b->restricted_set) SPAM_BAD_INPUT("-block_restricted", "true", "model %s has no pass restricted to the active particles (the gas with one h, no conduction or viscous stress, R0 coordinates, no torque scaling has one): leave it false", sim->model.name);
     b->set.restricted = PETSC_FALSE; /* the default asks for it only where it exists */
@@ -519,6 +700,8 @@ static PetscErrorCode TSReset_SpamBlock(TS ts)
   if (b->lev) PetscCall(PetscFree4(b->lev, b->start, b->len, b->ends));
   if (b->chg) PetscCall(PetscFree4(b->chg, b->nxt, b->woke, b->near));
   PetscCall(PetscFree(b->gid));
+  if (b->want) PetscCall(PetscFree4(b->want, b->cut, b->want0, b->cap));
+  if (b->y0) PetscCall(PetscFree4(b->y0, b->f0, b->h0, b->wscr));
   PetscCall(SpamBlockWalkDestroy(&b->walk));
   b->have_f = PETSC_FALSE;
   PetscFunctionReturn(0);
@@ -551,7 +734,16 @@ static PetscErrorCode TSView_SpamBlock(TS ts, PetscViewer viewer)
     PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &deepest, 1, MPI_INT, MPI_MAX, app->sim->p.comm));
     nall = app->sim->p.nglobal;
   }
-  PetscCall(PetscViewerASCIIPrintf(viewer, "  block steps, kick-drift-kick: -block_cfl %g -block_force %g -block_max_level %" PetscInt_FMT ", limiter %d levels\n", b->set.cfl, b->set.force, b->set.max_level, SPAM_BLOCK_LIMITER));
+  if (b->set.criterion == SPAM_BLOCK_CRITERION_ERROR) {
+    long   c[3] = {b->rejected, b->ests, b->over};
+    double e    = b->err_max;
+    if (app && app->sim && SpamSimDistributed(app->sim)) {
+      PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, c, 3, MPI_LONG, MPI_SUM, app->sim->p.comm));
+      PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &e, 1, MPI_DOUBLE, MPI_MAX, app->sim->p.comm));
+    }
+    PetscCall(PetscViewerASCIIPrintf(viewer, "  block steps, kick-drift-kick, bins by error control: -ts_rtol %g -ts_atol %g (-error_norm %s per particle), bounded by -block_cfl %g; -block_max_level %" PetscInt_FMT ", limiter %d levels\n", b->ectl.rtol, b->ectl.atol, b->ectl.norm == SPAM_ERROR_NORM_MAX ? "max" : "rms", b->set.cfl, b->set.max_level, SPAM_BLOCK_LIMITER));
+    PetscCall(PetscViewerASCIIPrintf(viewer, "  block error control: particle estimates %ld, above the tolerance %ld, largest %.3g, rejected cycles %ld (-block_reject %g)\n", c[1], c[2], e, c[0], b->set.reject));
+  } else PetscCall(PetscViewerASCIIPrintf(viewer, "  block steps, kick-drift-kick: -block_cfl %g -block_force %g -block_max_level %" PetscInt_FMT ", limiter %d levels\n", b->set.cfl, b->set.force, b->set.max_level, SPAM_BLOCK_LIMITER));
   PetscCall(PetscViewerASCIIPrintf(viewer, "  block cycles %ld, evaluations in them %ld, particle steps %" PetscInt64_FMT " (woken %" PetscInt64_FMT "), deepest bin %d\n", b->cycles, b->evals, counts[0], counts[1], deepest));
   PetscCall(PetscViewerASCIIPrintf(viewer, "  block restricted pass %s: restricted evaluations %ld (of them for woken particles %ld)\n", b->set.restricted ? "on" : "off", b->restricted, b->wake_evals));
   PetscCall(PetscViewerASCIIPrintf(viewer, "  block wakes put off to the needed bin's next tick (-block_wake_delay %s): %" PetscInt64_FMT "\n", b->set.wake_delay ? "true" : "false", counts[2]));
@@ -559,11 +751,20 @@ static PetscErrorCode TSView_SpamBlock(TS ts, PetscViewer viewer)
   PetscFunctionReturn(0);
 }
 
+static const char *const CriterionNames[] = {"cfl", "error"};
+
 static PetscErrorCode OptionsRead(PetscOptionItems *PetscOptionsObject, SpamBlockSettings *s, PetscBool *restricted_set)
 {
-  char val[64];
+  char val[64], crit[16];
 
   PetscFunctionBeginUser;
+  PetscCall(PetscStrncpy(crit, CriterionNames[s->criterion], sizeof crit));
+  PetscCall(PetscOptionsString("-block_criterion", "Block steps: each particle's bin from cfl (-block_cfl, -block_force) or error (its kick-drift-kick step against the embedded first-order one, held to -ts_rtol, -ts_atol in -error_norm's norm, bounded by -block_cfl)", "README", crit, crit, sizeof crit, NULL));
+  PetscCall(SpamCheckAllowed("-block_criterion", crit, CriterionNames, 2));
+  s->criterion = strcmp(crit, "error") ? SPAM_BLOCK_CRITERION_CFL : SPAM_BLOCK_CRITERION_ERROR;
+  PetscCall(PetscOptionsReal("-block_reject", "Block steps, -block_criterion error: a particle's estimate above this many times the tolerance rejects the whole cycle, redone with that particle's steps capped (0: never; a step above the tolerance but not this is accepted and the next one cut)", "README", s->reject, &s->reject, NULL));
+  PetscCall(SpamOptionText("-block_reject", s->reject, val, sizeof val));
+  if (!(s->reject == 0.0 || s->reject >= 1.0)) SPAM_BAD_INPUT("-block_reject", val, "must be 0 (never) or at least 1");
   PetscCall(PetscOptionsReal("-block_cfl", "Block steps: each particle's step at most C h_i / v_sig,i (signal speed over its neighbours)", "README", s->cfl, &s->cfl, NULL));
   PetscCall(PetscOptionsReal("-block_force", "Block steps: each particle's step at most C' sqrt(h_i / |a_i|)", "README", s->force, &s->force, NULL));
   PetscCall(PetscOptionsBool("-block_restricted", "Block steps: each tick computes the forces of the active particles only (where the model has that pass: the gas with one h, no walls or periodic ghost images), else the whole right-hand side", "README", s->restricted, &s->restricted, restricted_set));
@@ -580,6 +781,8 @@ static PetscErrorCode OptionsRead(PetscOptionItems *PetscOptionsObject, SpamBloc
 
 static void Defaults(SpamBlockSettings *s)
 {
+  s->criterion = SPAM_BLOCK_CRITERION_CFL;
+  s->reject    = 4.0; /* a step more than twice too long for an estimate of order dt^2 */
   s->cfl       = 0.25;
   s->force     = 0.25;
   s->max_level  = 16;
@@ -639,9 +842,10 @@ static PetscErrorCode DescribeBlock(TS ts, const char **sub, char *adapt, size_t
   PetscFunctionReturn(0);
 }
 
-/* The rates f of the particles before a migration (ids b->gid, b->n of them) into out, in
- * the order of the particles after it (sim->p.gid): a PetscSF matching the ids (collective). */
-static PetscErrorCode CarryRates(const SpamSim *sim, const TS_SpamBlock *b, double *out)
+/* Per-particle values (nc doubles each, in the particles' order before a migration: ids
+ * b->gid, b->n of them) into out, in the order of the particles after it (sim->p.gid): a
+ * PetscSF matching the ids (collective). */
+static PetscErrorCode CarryRates(const SpamSim *sim, const TS_SpamBlock *b, PetscInt nc, const double *in, double *out)
 {
   PetscLayout  layout;
   PetscSF      sf;
@@ -663,10 +867,10 @@ static PetscErrorCode CarryRates(const SpamSim *sim, const TS_SpamBlock *b, doub
   mine = nleaves == sim->p.n;
   PetscCallMPI(MPIU_Allreduce(&mine, &all, 1, MPI_INT, MPI_LAND, sim->p.comm));
   PetscCheck(all, sim->p.comm, PETSC_ERR_PLIB, "a migrated particle's block rates were held by no rank");
-  PetscCallMPI(MPI_Type_contiguous((PetscMPIInt)b->nv, MPI_DOUBLE, &unit));
+  PetscCallMPI(MPI_Type_contiguous((PetscMPIInt)nc, MPI_DOUBLE, &unit));
   PetscCallMPI(MPI_Type_commit(&unit));
-  PetscCall(PetscSFBcastBegin(sf, unit, b->f, out, MPI_REPLACE));
-  PetscCall(PetscSFBcastEnd(sf, unit, b->f, out, MPI_REPLACE));
+  PetscCall(PetscSFBcastBegin(sf, unit, in, out, MPI_REPLACE));
+  PetscCall(PetscSFBcastEnd(sf, unit, in, out, MPI_REPLACE));
   PetscCallMPI(MPI_Type_free(&unit));
   PetscCall(PetscSFDestroy(&sf));
   PetscFunctionReturn(0);
@@ -681,7 +885,7 @@ static PetscErrorCode FollowBlock(TS ts, SpamTsApp *app)
   TS_SpamBlock *b    = (TS_SpamBlock *)ts->data;
   SpamSim      *sim  = app->sim;
   PetscBool     have = b->have_f && b->f && b->gid;
-  double       *f    = NULL;
+  double       *f    = NULL, *want = NULL;
   PetscReal     t, dt;
   PetscInt      step;
 
@@ -689,7 +893,11 @@ static PetscErrorCode FollowBlock(TS ts, SpamTsApp *app)
   PetscCall(AnyRank(sim, MPI_LAND, &have));
   if (have) {
     PetscCall(PetscMalloc1((size_t)sim->p.n * b->nv + 1, &f));
-    PetscCall(CarryRates(sim, b, f));
+    PetscCall(CarryRates(sim, b, b->nv, b->f, f));
+  }
+  if (b->want) { /* the steps the controllers ask travel too (infinity: none yet) */
+    PetscCall(PetscMalloc1(sim->p.n + 1, &want));
+    PetscCall(CarryRates(sim, b, 1, b->want, want));
   }
   PetscCall(TSGetTime(ts, &t));
   PetscCall(TSGetTimeStep(ts, &dt));
@@ -704,7 +912,9 @@ static PetscErrorCode FollowBlock(TS ts, SpamTsApp *app)
     PetscCall(PetscArraycpy(b->f, f, (size_t)b->n * b->nv));
     b->have_f = PETSC_TRUE;
   }
+  if (want) PetscCall(PetscArraycpy(b->want, want, b->n));
   PetscCall(PetscFree(f));
+  PetscCall(PetscFree(want));
   ts->steprestart = PETSC_FALSE; /* nothing jumped: the next cycle starts from the carried rates */
   PetscFunctionReturn(0);
 }
@@ -730,6 +940,7 @@ static PetscErrorCode CkPutParticlesBlock(TS ts, SpamCkFile *pc)
 
   PetscFunctionBeginUser;
   PetscCall(SpamCkPutReal(pc, "block_rate", b->have_f ? (size_t)b->n * b->nv : 0, b->f));
+  if (b->want) PetscCall(SpamCkPutReal(pc, "block_want", (size_t)b->n, b->want)); /* the steps the controllers ask */
   PetscFunctionReturn(0);
 }
 
@@ -758,6 +969,10 @@ static PetscErrorCode CkApplyParticlesBlock(TS ts, const SpamCkFile *pc)
   size_t        len;
 
   PetscFunctionBeginUser;
+  if (b->want && SpamCkHas(pc, "block_want")) { /* else (a run of -block_criterion cfl): none asked yet */
+    PetscCall(SpamCkGetReal(pc, "block_want", (size_t)b->n, &f));
+    PetscCall(PetscArraycpy(b->want, f, b->n));
+  }
   PetscCall(SpamCkGetLength(pc, "block_rate", &len));
   b->have_f = PETSC_FALSE;
   if (len == 0) PetscFunctionReturn(0);
@@ -767,7 +982,32 @@ static PetscErrorCode CkApplyParticlesBlock(TS ts, const SpamCkFile *pc)
   PetscFunctionReturn(0);
 }
 
-static const SpamTSOption OptionsBlock[] = {{"block_cfl", PETSC_TRUE, PETSC_FALSE}, {"block_force", PETSC_TRUE, PETSC_FALSE}, {"block_max_level", PETSC_TRUE, PETSC_FALSE}, {"block_restricted", PETSC_TRUE, PETSC_FALSE}, {"block_wake_delay", PETSC_TRUE, PETSC_FALSE}, {NULL, PETSC_FALSE, PETSC_FALSE}};
+/* -block_criterion error: the tolerances and the norm apply, the force criterion not. */
+static PetscBool ErrorControlled(TS ts)
+{
+  const TS_SpamBlock *b = (const TS_SpamBlock *)ts->data;
+  return (PetscBool)(b && b->set.criterion == SPAM_BLOCK_CRITERION_ERROR);
+}
+
+static PetscBool OptionOff(TS ts, const char *name, char *why, size_t len)
+{
+  if (!ErrorControlled(ts)) {
+    if (strcmp(name, "block_reject")) return PETSC_FALSE;
+    (void)snprintf(why, len, "applies to -block_criterion error (this run: -block_criterion cfl)");
+    return PETSC_TRUE;
+  }
+  if (!strcmp(name, "block_force")) {
+    (void)snprintf(why, len, "applies to -block_criterion cfl (this run: -block_criterion error, whose error estimate replaces the force criterion)");
+    return PETSC_TRUE;
+  }
+  if (!strcmp(name, "arkode_classic_weights")) {
+    (void)snprintf(why, len, "applies to -ts_type arkode, arkode_imex and cvode (this run: -ts_type block_kdk -block_criterion error weighs each particle's error with spam-ark's weights)");
+    return PETSC_TRUE;
+  }
+  return PETSC_FALSE;
+}
+
+static const SpamTSOption OptionsBlock[] = {{"block_cfl", PETSC_TRUE, PETSC_FALSE}, {"block_force", PETSC_TRUE, PETSC_FALSE}, {"block_max_level", PETSC_TRUE, PETSC_FALSE}, {"block_restricted", PETSC_TRUE, PETSC_FALSE}, {"block_wake_delay", PETSC_TRUE, PETSC_FALSE}, {"block_criterion", PETSC_TRUE, PETSC_FALSE}, {"block_reject", PETSC_TRUE, PETSC_FALSE}, {NULL, PETSC_FALSE, PETSC_FALSE}};
 
 const SpamTSFamily SpamTSFamilyBlock = {
   .options         = OptionsBlock,
@@ -776,13 +1016,15 @@ const SpamTSFamily SpamTSFamilyBlock = {
   .steps           = SPAM_TS_STEPS_OWN,
   .follow          = SPAM_TS_FOLLOW_CARRY,
   .follow_carry    = FollowBlock,
-  .step_rule       = "sets each particle's step by -block_cfl and -block_force",
+  .step_rule       = "sets each particle's step by -block_cfl and -block_force (or by -block_criterion error)",
   .ck_put             = CkPutBlock,
   .ck_check           = CkCheckBlock,
   .ck_apply           = CkApplyBlock,
   .ck_put_particles   = CkPutParticlesBlock,
   .ck_apply_particles = CkApplyParticlesBlock,
   .describe        = DescribeBlock,
+  .error_controlled   = ErrorControlled,
+  .option_off         = OptionOff,
   .help_other      = HelpBlock,
 };
 

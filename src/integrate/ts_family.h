@@ -65,6 +65,12 @@ typedef struct SpamTSFamily {
    * accepted: the step was accepted (else it failed) */
   PetscErrorCode (*last_good)(TS ts, PetscBool accepted, Vec *good);
   PetscErrorCode (*keeps_last_good)(TS ts, PetscBool *yes);        /* last_good will answer  */
+  /* a type with a step_rule whose settings put its steps under error control (then
+   * -ts_rtol, -ts_atol and -error_norm apply; NULL: never) */
+  PetscBool (*error_controlled)(TS ts);
+  /* a known option this type's settings make irrelevant: PETSC_TRUE and why[] says what it
+   * applies to (NULL: none) */
+  PetscBool (*option_off)(TS ts, const char *name, char *why, size_t len);
 } SpamTSFamily;
 
 /* The row of type name (NULL if none); the row of ts's type (an error if none). */
