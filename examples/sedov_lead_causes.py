@@ -162,7 +162,6 @@ def run_causes(d, fit_from, ideal_times=None, max_targets=8000):
     _, x0, _, m0, _, _ = snapshot(snaps[0][1], dim)
     d0 = x0 - centre
     r0 = np.linalg.norm(d0, axis=1)
-    order0 = np.sort(r0)
     base = float(np.sum(m0 * r0 ** 2))
     rows = []
     for t, path in snaps[1:]:
