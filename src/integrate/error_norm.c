@@ -9,6 +9,7 @@
 #include "ts_family.h"
 #include <nvector/nvector_petsc.h>
 #include <stdint.h>
+#include <string.h>
 
 const char *const SpamErrorNormNames[] = {"rms", "max"};
 
@@ -119,11 +120,17 @@ static int AllZero(N_Vector w)
   MPI_Comm           comm = PetscObjectComm((PetscObject)W);
   const PetscScalar *wa;
   PetscInt           n;
-  int                nonzero = 0, any;
+  uint64_t           bits = 0; /* the OR of the weights' bits but their signs: a loop that vectorises */
+  int                nonzero, any;
   PetscMPIInt        size;
 
   if (VecGetLocalSize(W, &n) || VecGetArrayRead(W, &wa)) return -1;
-  for (PetscInt i = 0; i < n; i++) nonzero |= wa[i] != 0.0;
+  for (PetscInt i = 0; i < n; i++) {
+    uint64_t b;
+    memcpy(&b, wa + i, sizeof b);
+    bits |= b << 1; /* +0.0 and -0.0 are zero; NaN, infinities, subnormals are not */
+  }
+  nonzero = bits != 0;
   if (VecRestoreArrayRead(W, &wa) || MPI_Comm_size(comm, &size) != MPI_SUCCESS) return -1;
   if (size > 1 && MPI_Allreduce(&nonzero, &any, 1, MPI_INT, MPI_LOR, comm) != MPI_SUCCESS) return -1;
   return !(size > 1 ? any : nonzero);
