@@ -45,6 +45,7 @@ from spam_driver import DP_TABLE, spam_ark_works
 from bench_cases import (baselines, bench_gas, bench_solid, log_view_run, parse_cases,
                          solid_reference, steps_for)
 from bench_memory import run_memory
+import run_verlet
 from bench_report import PAGE_COLUMNS, evaluate_targets, page_rows, print_gas, print_log_view, print_solid, print_summary
 
 
@@ -89,6 +90,12 @@ def parse_args(argv):
                          "with PETSc's -log_view; the file goes next to the JSON")
     ap.add_argument("--log-view-size", type=int, default=65536,
                     help="N of the --log-view run (default 65536)")
+    ap.add_argument("--verlet-n", type=int, default=None,
+                    help="N of the whole-process row: velocity Verlet, spam-ark kdk against "
+                         "LAMMPS fix nve, whole processes timed (run_verlet.py; default 65536, "
+                         "4096 with --quick; 0: no such row)")
+    ap.add_argument("--verlet-steps", type=int, default=None,
+                    help="steps of the whole-process row (default 200, %d with --quick)" % QUICK_STEPS)
     ap.add_argument("--skin", type=float, default=1.0,
                     help="LAMMPS neighbour skin (default 1.0, the fastest of "
                          "0.3/0.5/0.8/1.0/1.5 measured here on this problem)")
@@ -135,8 +142,18 @@ def parse_args(argv):
             args.steps = QUICK_STEPS
         if args.repeats is None:
             args.repeats = 1
+        if args.verlet_n is None:
+            args.verlet_n = 4096
+        if args.verlet_steps is None:
+            args.verlet_steps = QUICK_STEPS
     if args.sizes is None:
         args.sizes = DEFAULT_SIZES
+    if args.verlet_n is None:
+        args.verlet_n = 65536
+    if args.verlet_steps is None:
+        args.verlet_steps = 200
+    if args.verlet_n and int(round(args.verlet_n ** 0.5)) ** 2 != args.verlet_n:
+        raise SystemExit("--verlet-n must be a perfect square")
     if args.repeats is None:
         args.repeats = 5
     if args.repeats < 1:
@@ -181,6 +198,32 @@ def memory_only(args):
     if not args.workdir and not args.keep:
         shutil.rmtree(workdir, ignore_errors=True)
     return 0
+
+
+# The issue's goal for the whole process (run_verlet.py's row): spam-ark's wall time at most
+# this share of LAMMPS's.
+VERLET_PROCESS_GOAL = 0.35
+
+
+def verlet_row(args, workdir, pin, out):
+    """The whole-process row: velocity Verlet in both programs (run_verlet.measure), the
+    same repeats as the cases; printed, and returned without the runs (None on failure)."""
+    print("\nwhole process: velocity Verlet, N = %d, %d steps (run_verlet.py)" % (args.verlet_n, args.verlet_steps))
+    try:
+        # The cases' LAMMPS table (--table-points): run_verlet.py's finer default, made for
+        # its 1e-9 energy check, takes LAMMPS seconds to read, which would count here.
+        res = run_verlet.measure(args.spam_ark, args.lmp, args.verlet_n, steps=args.verlet_steps,
+                                 repeats=args.repeats, table_points=args.table_points, skin=args.skin,
+                                 pin=pin, work=workdir / "verlet")
+    except RuntimeError as exc:
+        print("FAILED\n%s" % exc)
+        out["failures"].append({"case": "verlet", "n": args.verlet_n, "error": str(exc)})
+        return None
+    lines = run_verlet.report_lines(res, VERLET_PROCESS_GOAL)
+    print("\n".join(lines))
+    res = {k: v for k, v in res.items() if not k.endswith("_runs")}
+    res["lines"] = lines
+    return res
 
 
 def main(argv=None):
@@ -321,6 +364,8 @@ def main(argv=None):
         for r in out["results"]:
             if r.get("kind") == "solid":
                 r["reference"] = solid_reference(r, out["results"])
+        if args.verlet_n > 0 and spam_ok:
+            out["verlet"] = verlet_row(args, workdir, pin, out)
         if args.log_view:
             log_view_path.parent.mkdir(parents=True, exist_ok=True)
             try:
@@ -340,6 +385,8 @@ def main(argv=None):
     if out.get("log_view") and "n" in out["log_view"]:
         print_log_view(out["log_view"])
     targets, lines = evaluate_targets(out["results"])
+    if out.get("verlet"):
+        lines.append("W   " + out["verlet"]["lines"][-1].strip())
     out["targets"] = targets
     print()
     print("Targets (a measurement: the exit code does not depend on them)")
@@ -360,6 +407,7 @@ def main(argv=None):
             "table": chart_readings.table(PAGE_COLUMNS, page_rows(out["results"])),
             "targets": "\n".join("    " + line for line in lines) + "\n", "repeats": args.repeats,
             "seconds": out["total_seconds"], "load_1min_start": out.get("load_1min_start"),
+            "verlet": out.get("verlet"),
             "log_view": out.get("log_view")})
     if out["failures"]:
         print("%d run(s) failed: %s" % (len(out["failures"]),

@@ -5,7 +5,8 @@ The growth of spam-ark's time per particle with N (run_bench.py's T2) is a quest
 memory, which wall times on a shared machine without hardware counters answer badly. This
 script runs the gas-h3 case of run_bench.py (the expansion lattice, Dormand-Prince at a
 fixed step) for a few steps under valgrind's callgrind, counting inside the right-hand
-side only (--toggle-collect=SpamRhs; the list's first build comes before the loop), with
+side only (--toggle-collect=SpamRhs; the list's first build comes before the loop; with
+--scope step inside whole steps, --toggle-collect=TSStep: ERKStep's vector work too), with
 a simulated first-level data cache and last level (default 48 KiB 12-way and 8 MiB 16-way,
 64-byte lines: this machine's L1d, and a share of its L3), and prints per particle and per
 evaluation: instructions, first-level misses and last-level misses, in total and by
@@ -26,13 +27,19 @@ from pathlib import Path
 from bench_common import REPO_ROOT, np
 from spam_driver import spam_cmd, spam_make_initial
 
-TOGGLE = "SpamRhs"
+TOGGLE = {"rhs": "SpamRhs", "step": "TSStep"}
 # Functions reported on their own (self cost), by the start of their symbol; the rest of
 # the right-hand side is summed as "other".
 PARTS = [("pair force pass", "Force"), ("list update (displacements; positions u)", "Displace"),
          ("u placed ahead of the rows", "SpamChunkedForceBlocks"),
          ("dr/dt, dv/dt written", "WriteRows"), ("dr/dt, dv/dt copied", "SpamRhsIsentrope"),
          ("accelerations cleared (memset)", "__memset")]
+# With --scope step, the integrator's vector work too (ERKStep's sums, its copies, the norm
+# of its "too much accuracy" test) and the list builds inside the steps.
+STEP_PARTS = [("integrator: stage and solution sums", "Combine"),
+              ("integrator: vector copies (memcpy)", "__memcpy"),
+              ("integrator: accuracy-test norm", ("N_VWSqrSum", "AllZero")),
+              ("list builds", ("AppendRow", "BuildList", "BinParticles", "WrapAll"))]
 
 
 def parse_args(argv):
@@ -43,6 +50,9 @@ def parse_args(argv):
     ap.add_argument("--steps", type=int, default=2, help="Dormand-Prince steps (default 2)")
     ap.add_argument("--d1", default="49152,12,64", help="valgrind --D1 (default 49152,12,64)")
     ap.add_argument("--ll", default="8388608,16,64", help="valgrind --LL (default 8388608,16,64)")
+    ap.add_argument("--scope", choices=("rhs", "step"), default="rhs",
+                    help="count inside the right-hand side (rhs, default) or inside whole steps "
+                         "(step: the integrator's vector work and the list builds as well)")
     ap.add_argument("--readings", default=None,
                     help="also write the table to this JSON (examples/chart_readings.py)")
     ap.add_argument("--workdir", default=None, help="scratch directory (default: a temporary one)")
@@ -85,7 +95,7 @@ def run_size(args, n, workdir):
     box = np.array([2.0 * nx, 2.0 * nx])
     cmd = spam_cmd(args.spam_ark, csv, box, 3.0, args.steps, outdir)
     cg = workdir / ("callgrind_%d.out" % n)
-    vg = ["valgrind", "--tool=callgrind", "--toggle-collect=" + TOGGLE, "--cache-sim=yes",
+    vg = ["valgrind", "--tool=callgrind", "--toggle-collect=" + TOGGLE[args.scope], "--cache-sim=yes",
           "--D1=" + args.d1, "--LL=" + args.ll, "--callgrind-out-file=%s" % cg]
     log = workdir / ("callgrind_%d.log" % n)
     with open(log, "w") as fh:
@@ -98,10 +108,10 @@ def run_size(args, n, workdir):
     k = float(n) * evals
     rec = {"n": n, "rhs_evals": evals, "total": per_particle(total, k), "parts": {}}
     rest = dict(total)
-    for label, prefix in PARTS:
+    for label, prefix in PARTS + (STEP_PARTS if args.scope == "step" else []):
         hit = {e: 0 for e in total}
         for name, vals in funcs.items():
-            if name.startswith(prefix):
+            if name.startswith(prefix):  # a str, or a tuple of them
                 for e in total:
                     hit[e] += vals.get(e, 0)
         if hit["Ir"] >= 0.5 * k:  # a part of half an instruction a particle or more
@@ -123,12 +133,13 @@ def main(argv=None):
     recs = [run_size(args, n, workdir) for n in sizes]
     rows = []
     for r in recs:
-        rows.append([r["n"], "whole right-hand side", "%.1f" % r["total"]["ir"],
+        rows.append([r["n"], "whole right-hand side" if args.scope == "rhs" else "whole steps", "%.1f" % r["total"]["ir"],
                      "%.2f" % r["total"]["d1"], "%.3f" % r["total"]["ll"]])
         for label, v in r["parts"].items():
             rows.append([r["n"], label, "%.1f" % v["ir"], "%.2f" % v["d1"], "%.3f" % v["ll"]])
     cols = ["N", "part", "instructions", "D1 misses", "LL misses"]
-    print("per particle per RHS evaluation (D1 %s, LL %s; %d steps):" % (args.d1, args.ll, args.steps))
+    print("per particle per RHS evaluation (D1 %s, LL %s; %d steps; counted inside %s):"
+          % (args.d1, args.ll, args.steps, "whole steps" if args.scope == "step" else "the right-hand side"))
     print(" | ".join(cols))
     for row in rows:
         print(" | ".join(str(c) for c in row))
@@ -141,7 +152,7 @@ def main(argv=None):
         sys.path.insert(0, str(REPO_ROOT / "examples"))
         import chart_readings
         chart_readings.write_json(args.readings, {
-            "sizes": sizes, "steps": args.steps, "d1": args.d1, "ll": args.ll, "runs": recs,
+            "sizes": sizes, "steps": args.steps, "d1": args.d1, "ll": args.ll, "scope": args.scope, "runs": recs,
             "growth": growth, "table": chart_readings.table(cols, rows)})
     if not args.workdir:
         shutil.rmtree(workdir, ignore_errors=True)

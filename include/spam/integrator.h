@@ -147,6 +147,11 @@ PetscErrorCode SpamArkodeLoadTable(const char *name, ARKodeButcherTable *B);
  * vectors it has. On the N_Vector (its clones inherit it) for ERKStep; on the Vec's maxpy
  * (its duplicates inherit it) for PETSc's rk. */
 PetscErrorCode SpamNVectorDeterministic(N_Vector y);
+/* Arms (around one ERKStepEvolve, while only the integrator writes y) or disarms the memo
+ * of the last combination written into y, which lets a combination that y already holds
+ * be skipped: an FSAL table's solution, the same sum as its last stage (det_combination.c).
+ * Composed on y's Vec at the first call. */
+PetscErrorCode SpamNVectorCombinationArm(N_Vector y, PetscBool armed);
 /* Clones of y (and of its clones) over arrays that are not written at creation
  * (nvector_unwritten.c): a vector the integrator never writes takes no resident memory. */
 void SpamNVectorCloneUnwritten(N_Vector y);

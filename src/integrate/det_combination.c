@@ -16,12 +16,33 @@
  * buffer, so that z may be one of the terms. No contraction of a + c x into an FMA
  * (-ffp-contract=off, CMakeLists.txt), so vectorised loops and scalar remainders agree bit
  * for bit whatever -march. */
+#include <petsc/private/petscimpl.h> /* PetscObjectStateGet */
 #include <spam/integrator.h>
 #include <nvector/nvector_petsc.h>
 #include "ts_vec_ops.h"
 
-#define BLOCK   512 /* 4 KiB of doubles: stays in L1 with the vectors' streams */
-#define MAX_VEC 32  /* ERKStep's largest: 13 stages + y_n; PETSc's rk: 13 stages */
+#define BLOCK    512 /* 4 KiB of doubles: stays in L1 with the vectors' streams */
+#define MAX_VEC  32  /* ERKStep's largest: 13 stages + y_n; PETSc's rk: 13 stages */
+#define MEMO_KEY "SpamCombinationMemo"
+
+/* The last combination written into the solution vector, while ERKStep alone writes it
+ * (armed: inside one ERKStepEvolve, see SpamNVectorCombinationArm). An FSAL table's last
+ * stage Y_s and the solution y_n+1 are the same combination (above), both written into
+ * ERKStep's ycur, which is the solution vector, with one right-hand side between them that
+ * only reads ycur and writes the stage derivative whose coefficient is zero. So the
+ * second is already there: a pass reading s vectors and writing one, at N = 65536 in 2D
+ * a sixth of the integrator's cache misses, skipped. The memo holds the terms (nonzero
+ * coefficients, vectors) and the PETSc object states of the vectors and of the result
+ * after it was written: any write through the Vec interface since (VecRestoreArray and
+ * the like raise the state) makes it miss. */
+typedef struct {
+  PetscBool        armed;
+  Vec              z; /* where the last combination went (NULL: none recorded) */
+  int              k;
+  double           c[MAX_VEC];
+  Vec              x[MAX_VEC];
+  PetscObjectState xs[MAX_VEC], zs;
+} CombinationMemo;
 
 /* a = [a +] c[0] x[0] + ... + c[k-1] x[k-1] over entries lo..lo+n-1 of the x, added left
  * to right (k = 1 to 4); init: a is not read. */
@@ -67,6 +88,68 @@ static void Combine(PetscInt n, int nvec, const double *c, const double *const *
   }
 }
 
+/* The armed memo composed on z (NULL: none, or not armed). */
+static PetscErrorCode MemoOf(Vec z, CombinationMemo **m)
+{
+  PetscContainer c = NULL;
+
+  PetscFunctionBeginUser;
+  *m = NULL;
+  PetscCall(PetscObjectQuery((PetscObject)z, MEMO_KEY, (PetscObject *)&c));
+  if (c) PetscCall(PetscContainerGetPointer(c, (void **)m));
+  if (*m && !(*m)->armed) *m = NULL;
+  PetscFunctionReturn(0);
+}
+
+/* The nonzero terms of a combination into m's c and x (m->k of them) with their states. */
+static PetscErrorCode MemoTerms(int nvec, const realtype *c, N_Vector *X, CombinationMemo *m)
+{
+  PetscFunctionBeginUser;
+  m->k = 0;
+  for (int j = 0; j < nvec; j++)
+    if (c[j] != 0.0) {
+      m->c[m->k] = c[j];
+      m->x[m->k] = N_VGetVector_Petsc(X[j]);
+      PetscCall(PetscObjectStateGet((PetscObject)m->x[m->k], &m->xs[m->k]));
+      m->k++;
+    }
+  PetscFunctionReturn(0);
+}
+
+/* Whether z holds sum_j c_j X_j already: the memo's last combination, same terms, the
+ * same states of every vector. */
+static PetscErrorCode MemoHolds(const CombinationMemo *m, int nvec, const realtype *c, N_Vector *X, Vec z, PetscBool *holds)
+{
+  CombinationMemo  now;
+  PetscObjectState zs;
+
+  PetscFunctionBeginUser;
+  *holds = PETSC_FALSE;
+  if (m->z != z) PetscFunctionReturn(0);
+  PetscCall(PetscObjectStateGet((PetscObject)z, &zs));
+  if (zs != m->zs) PetscFunctionReturn(0);
+  PetscCall(MemoTerms(nvec, c, X, &now));
+  if (now.k != m->k) PetscFunctionReturn(0);
+  for (int j = 0; j < m->k; j++)
+    if (now.c[j] != m->c[j] || now.x[j] != m->x[j] || now.xs[j] != m->xs[j]) PetscFunctionReturn(0);
+  *holds = PETSC_TRUE;
+  PetscFunctionReturn(0);
+}
+
+/* After z = sum_j c_j X_j was written: its terms, unless z is one of them (then z's new
+ * values are not the combination of its own). */
+static PetscErrorCode MemoRecord(CombinationMemo *m, int nvec, const realtype *c, N_Vector *X, Vec z)
+{
+  PetscFunctionBeginUser;
+  m->z = NULL;
+  PetscCall(MemoTerms(nvec, c, X, m));
+  for (int j = 0; j < m->k; j++)
+    if (m->x[j] == z) PetscFunctionReturn(0);
+  PetscCall(PetscObjectStateGet((PetscObject)z, &m->zs));
+  m->z = z;
+  PetscFunctionReturn(0);
+}
+
 /* N_VLinearCombination: z = sum_j c_j X_j (ERKStep's stages, solution and error). */
 static PetscErrorCode LinearCombination(int nvec, const realtype *c, N_Vector *X, N_Vector z)
 {
@@ -74,9 +157,16 @@ static PetscErrorCode LinearCombination(int nvec, const realtype *c, N_Vector *X
   const PetscScalar *x[MAX_VEC];
   PetscScalar       *za;
   PetscInt           n;
+  CombinationMemo   *memo;
 
   PetscFunctionBeginUser;
   PetscCheck(nvec >= 1 && nvec <= MAX_VEC, PETSC_COMM_SELF, PETSC_ERR_SUP, "linear combination of %d vectors (1 to %d supported)", nvec, MAX_VEC);
+  PetscCall(MemoOf(zv, &memo));
+  if (memo) {
+    PetscBool holds;
+    PetscCall(MemoHolds(memo, nvec, c, X, zv, &holds));
+    if (holds) PetscFunctionReturn(0);
+  }
   PetscCall(VecGetLocalSize(zv, &n));
   PetscCall(VecGetArray(zv, &za));
   for (int j = 0; j < nvec; j++) {
@@ -87,6 +177,7 @@ static PetscErrorCode LinearCombination(int nvec, const realtype *c, N_Vector *X
   for (int j = 0; j < nvec; j++)
     if (X[j] != z) PetscCall(VecRestoreArrayRead(N_VGetVector_Petsc(X[j]), &x[j]));
   PetscCall(VecRestoreArray(zv, &za));
+  if (memo) PetscCall(MemoRecord(memo, nvec, c, X, zv));
   PetscFunctionReturn(0);
 }
 
@@ -100,6 +191,27 @@ PetscErrorCode SpamNVectorDeterministic(N_Vector y)
   PetscFunctionBeginUser;
   /* N_VCloneEmpty copies the ops table: ERKStep's stage and work vectors inherit it. */
   y->ops->nvlinearcombination = NVLinearCombinationDet;
+  PetscFunctionReturn(0);
+}
+
+PetscErrorCode SpamNVectorCombinationArm(N_Vector y, PetscBool armed)
+{
+  Vec             yv = N_VGetVector_Petsc(y);
+  PetscContainer  c  = NULL;
+  CombinationMemo *m = NULL;
+
+  PetscFunctionBeginUser;
+  PetscCall(PetscObjectQuery((PetscObject)yv, MEMO_KEY, (PetscObject *)&c));
+  if (!c) {
+    PetscCall(PetscNew(&m));
+    PetscCall(PetscContainerCreate(PETSC_COMM_SELF, &c));
+    PetscCall(PetscContainerSetPointer(c, m));
+    PetscCall(PetscContainerSetUserDestroy(c, PetscContainerUserDestroyDefault));
+    PetscCall(PetscObjectCompose((PetscObject)yv, MEMO_KEY, (PetscObject)c));
+    PetscCall(PetscContainerDestroy(&c)); /* the Vec holds it */
+  } else PetscCall(PetscContainerGetPointer(c, (void **)&m));
+  m->armed = armed;
+  m->z     = NULL;
   PetscFunctionReturn(0);
 }
 

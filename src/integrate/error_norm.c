@@ -9,6 +9,7 @@
 #include "ts_family.h"
 #include <nvector/nvector_petsc.h>
 #include <stdint.h>
+#include <string.h>
 
 const char *const SpamErrorNormNames[] = {"rms", "max"};
 
@@ -106,6 +107,60 @@ PetscErrorCode SpamErrorNormAttach(N_Vector y, SpamErrorNorm norm, PetscBool rep
   /* The max norm is partition-independent as it is (a max is exact in any order). */
   y->ops->nvwrmsnorm = norm == SPAM_ERROR_NORM_MAX ? SpamNVWeightedMaxNorm_Petsc : SpamNVReproducibleWrmsNorm_Petsc;
   /* Without the fused array form SUNDIALS applies nvwrmsnorm to each vector in turn. */
+  y->ops->nvwrmsnormvectorarray = NULL;
+  PetscFunctionReturn(0);
+}
+
+/* 1 if every weight of w is zero on every rank, 0 if not, -1 on an error. The weights of a
+ * fixed step are pages given back (zero_pages.c): reading them reads the kernel's one zero
+ * page, from the cache. */
+static int AllZero(N_Vector w)
+{
+  Vec                W    = N_VGetVector_Petsc(w);
+  MPI_Comm           comm = PetscObjectComm((PetscObject)W);
+  const PetscScalar *wa;
+  PetscInt           n;
+  uint64_t           bits = 0; /* the OR of the weights' bits but their signs: a loop that vectorises */
+  int                nonzero, any;
+  PetscMPIInt        size;
+
+  if (VecGetLocalSize(W, &n) || VecGetArrayRead(W, &wa)) return -1;
+  for (PetscInt i = 0; i < n; i++) {
+    uint64_t b;
+    memcpy(&b, wa + i, sizeof b);
+    bits |= b << 1; /* +0.0 and -0.0 are zero; NaN, infinities, subnormals are not */
+  }
+  nonzero = bits != 0;
+  if (VecRestoreArrayRead(W, &wa) || MPI_Comm_size(comm, &size) != MPI_SUCCESS) return -1;
+  if (size > 1 && MPI_Allreduce(&nonzero, &any, 1, MPI_INT, MPI_LOR, comm) != MPI_SUCCESS) return -1;
+  return !(size > 1 ? any : nonzero);
+}
+
+static realtype ZeroOr(N_Vector x, N_Vector w, realtype (*norm)(N_Vector, N_Vector))
+{
+  const int zero = AllZero(w);
+  return zero < 0 ? NAN : zero ? 0.0 : norm(x, w);
+}
+
+static realtype ZeroOrRms(N_Vector x, N_Vector w)
+{
+  return ZeroOr(x, w, N_VWrmsNorm_Petsc);
+}
+
+static realtype ZeroOrMax(N_Vector x, N_Vector w)
+{
+  return ZeroOr(x, w, SpamNVWeightedMaxNorm_Petsc);
+}
+
+static realtype ZeroOrReproducible(N_Vector x, N_Vector w)
+{
+  return ZeroOr(x, w, SpamNVReproducibleWrmsNorm_Petsc);
+}
+
+PetscErrorCode SpamErrorNormZeroWeights(N_Vector y, SpamErrorNorm norm, PetscBool reproducible)
+{
+  PetscFunctionBeginUser;
+  y->ops->nvwrmsnorm            = norm == SPAM_ERROR_NORM_MAX ? ZeroOrMax : reproducible ? ZeroOrReproducible : ZeroOrRms;
   y->ops->nvwrmsnormvectorarray = NULL;
   PetscFunctionReturn(0);
 }

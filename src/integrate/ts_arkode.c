@@ -120,6 +120,7 @@ static PetscErrorCode TSSetUp_SpamARKode(TS ts)
    * (clones inherit the setting); the linear combination itself is replaced below. */
   PetscCheck(N_VEnableFusedOps_Petsc(ark->y, SUNTRUE) == 0, PetscObjectComm((PetscObject)ts), PETSC_ERR_LIB, "N_VEnableFusedOps_Petsc failed");
   PetscCall(SpamErrorNormAttach(ark->y, app->o->error_norm, app->sim->pair.reproducible)); /* -error_norm: cloned with y */
+  if (ark->set.fixed_step > 0 && !app->o->classic_weights) PetscCall(SpamErrorNormZeroWeights(ark->y, app->o->error_norm, app->sim->pair.reproducible)); /* weights.c's zeros */
   /* Stages and solution summed term by term (det_combination.c): an FSAL table's last
    * stage is then y_n+1 bit for bit, which a restart needs. */
   PetscCall(SpamNVectorDeterministic(ark->y));
@@ -172,8 +173,12 @@ static PetscErrorCode TSStep_SpamARKode(TS ts)
   if (ts->steprestart && ts->steps > 0) PetscCallARK(ERKStepReset(ark->mem, ts->ptime, ark->y));
   ts->steprestart = PETSC_FALSE;
   PetscCallARK(ERKStepSetStopTime(ark->mem, ts->max_time)); /* set again after each stop */
+  /* Inside the step only ERKStep writes y (the right-hand side reads it): the memo of its
+   * last combination holds there, and is dropped outside, where the loop may write X. */
+  PetscCall(SpamNVectorCombinationArm(ark->y, PETSC_TRUE));
   flag           = ERKStepEvolve(ark->mem, ts->max_time, ark->y, &tret, ARK_ONE_STEP);
   ark->last_flag = flag;
+  PetscCall(SpamNVectorCombinationArm(ark->y, PETSC_FALSE));
   PetscCall(app->perr);
   if (flag < 0) {
     SpamSundialsFailure(app, "ERKStepEvolve", ERKStepGetReturnFlagName, flag);
