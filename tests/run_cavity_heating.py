@@ -9,9 +9,9 @@ the work by T is W = 2 eta U^2 L sqrt(T / (pi nu)) = 1.15 at n = 32 (eta = nu = 
 The recirculating vortex steepens the shear under the lid beyond the Stokes layer's: the
 flow scheme's run gains 2.39 = 2.1 W (measured). Asserted: the gain is below 4 W.
 
-Known to fail with --extra "-shift_compression" (the shift's compression work under the
-moving lid; the gain there is 24.0 = 20.8 W): that option is not on by default and this test
-is not registered in ctest until it is fixed. Each run takes about 1.2 CPU-s."""
+ctest runs it with the defaults. It fails with --extra "-shift_compression" (the option,
+not a default, heats the gas under the moving lid: a gain of 24.0 = 20.8 W); a second ctest
+run with that option belongs here once it is fixed. Each run takes about 1.4 CPU-s."""
 import csv
 import math
 import os
