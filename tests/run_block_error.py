@@ -31,36 +31,19 @@ import os
 
 import numpy as np
 
+from block_gas_scene import N, T, scene, write_gas  # noqa: F401
 from spamrun import Checks, arguments, one_line, run, same_outputs, summary, table
 
-N, E_HOT, T = 16, 20.0, 1.0
 RTOLS = (1e-3, 1e-4, 1e-5)
 SLOPE_TOL, DRIFT, MOMENTUM, REJECT = 0.3, 1e-4, 1e-4, 2
 ERROR = ["-ts_type", "block_kdk", "-block_criterion", "error", "-block_cfl", 1]
-
-
-def write_gas(path):
-    rng = np.random.default_rng(1)
-    with open(path, "w") as f:
-        f.write("x,y,vx,vy,m,e\n")
-        for j in range(N):
-            for i in range(N):
-                x, y = i + 0.5, j + 0.5
-                e = 1.0 + E_HOT * np.exp(-((x - 5.3) ** 2 + (y - 6.1) ** 2) / 4.0)
-                vx, vy = 0.1 * rng.standard_normal(2)
-                f.write(f"{x!r},{y!r},{vx!r},{vy!r},1,{e!r}\n")
-
-
-def scene(gas):
-    return ["-scene", "file", "-file_path", gas, "-dim", 2, "-box_lo", "0,0", "-box_len", f"{N},{N}", "-periodic", "true,true", "-h", 3,
-            "-material", "gas", "-gas_gamma", 1.4, "-density", "summation", "-viscosity", "monaghan", "-ts_max_time", T, "-output_interval", 0.25]
 
 
 def go(name, extra):
     """(final positions, summary, timeseries, stdout) of one run, or None."""
     out = os.path.join(a.workdir, name)
     last = os.path.join(out, "final.csv")
-    code, so, err = run(a.spam_ark, scene(gas) + extra + ["-final_csv", last, "-ts_view"], out)
+    code, so, err = run(a.spam_ark, scene(gas, 0.25) + extra + ["-final_csv", last, "-ts_view"], out)
     if not c.check(code == 0, f"{name}: run completes (exit {code}) {err.strip()[-300:]}"):
         return None
     f = table(last)
@@ -117,7 +100,7 @@ if rej is not None and ref is not None and runs[1] is not None:
 # Refusals, one line each.
 for extra, words in ((ERROR + ["-block_force", 0.1], "-block_force"), (ERROR + ["-arkode_classic_weights"], "-arkode_classic_weights"),
                      (["-ts_type", "block_kdk", "-block_criterion", "tolerance"], "-block_criterion"), (["-ts_type", "block_kdk", "-ts_rtol", 1e-6], "-ts_rtol"), (["-ts_type", "block_kdk", "-block_reject", 2], "-block_reject")):
-    code, _, err = run(a.spam_ark, scene(gas) + ["-ts_max_time", 0.01] + extra, os.path.join(a.workdir, "refused_" + words.strip("-")))
+    code, _, err = run(a.spam_ark, scene(gas, 0.25) + ["-ts_max_time", 0.01] + extra, os.path.join(a.workdir, "refused_" + words.strip("-")))
     line = one_line(err) or ""
     c.check(code != 0 and words in line and len(err.strip().splitlines()) == 1, f"{' '.join(map(str, extra))}: refused in one line ({line.strip()[:200]})")
 
@@ -148,5 +131,5 @@ def restart(ranks, args, label):
     c.check(not diff, f"{label}: the restarted run writes the uninterrupted run's files ({diff or 'the same'})")
 
 
-restart(1, scene(gas) + ERROR + ["-ts_rtol", 1e-4, "-ts_atol", 1e-4, "-block_reject", REJECT], "restart_np1")
+restart(1, scene(gas, 0.25) + ERROR + ["-ts_rtol", 1e-4, "-ts_atol", 1e-4, "-block_reject", REJECT], "restart_np1")
 c.finish(a.readings)

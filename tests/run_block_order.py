@@ -36,28 +36,11 @@ import os
 
 import numpy as np
 
+from block_gas_scene import N, T, scene, write_gas  # noqa: F401
 from spamrun import Checks, arguments, one_line, run, summary, table
 
-N, E_HOT, T = 16, 20.0, 1.0
 SCALES = (0.0625, 0.03125, 0.015625)
 ORDER_TOL, ENERGY_ORDER_TOL, MOMENTUM_ORDER_MIN, ROUNDOFF = 0.2, 0.3, 1.5, 1e-12
-
-
-def write_gas(path):
-    rng = np.random.default_rng(1)
-    with open(path, "w") as f:
-        f.write("x,y,vx,vy,m,e\n")
-        for j in range(N):
-            for i in range(N):
-                x, y = i + 0.5, j + 0.5
-                e = 1.0 + E_HOT * np.exp(-((x - 5.3) ** 2 + (y - 6.1) ** 2) / 4.0)
-                vx, vy = 0.1 * rng.standard_normal(2)
-                f.write(f"{x!r},{y!r},{vx!r},{vy!r},1,{e!r}\n")
-
-
-def scene(gas):
-    return ["-scene", "file", "-file_path", gas, "-dim", 2, "-box_lo", "0,0", "-box_len", f"{N},{N}", "-periodic", "true,true", "-h", 3,
-            "-material", "gas", "-gas_gamma", 1.4, "-density", "summation", "-viscosity", "monaghan", "-ts_max_time", T, "-output_interval", 0]
 
 
 def go(a, c, gas, name, extra):
