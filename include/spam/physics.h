@@ -52,6 +52,7 @@ PetscErrorCode SpamGasFlowFit(SpamSim *sim, const double *y, SpamBackground *b);
 void           SpamGasFlowShift(SpamSim *sim);
 PetscErrorCode SpamGasFlowDivergence(SpamSim *sim);
 PetscErrorCode SpamGasFlowShiftCompression(SpamSim *sim);
+PetscBool      SpamGasFlowShiftWorks(const SpamSim *sim);
 void           SpamGasFlowCorrect(SpamSim *sim, const double *y, const SpamBackground *b, PetscBool shiftwork);
 void           SpamGasFlowTemperatureGradient(SpamSim *sim);
 

@@ -21,6 +21,10 @@ typedef enum { SPAM_DIFFUSION_GRADIENT, SPAM_DIFFUSION_PAIR } SpamDiffusionForm;
 /* The kernel range: one h for every particle, or each particle's own h_i from
  * rho_i h_i^D = eta^D m_i with the grad-h terms (smoothing_adaptive.c, rhs_gas_adaptive.c). */
 typedef enum { SPAM_SMOOTHING_FIXED, SPAM_SMOOTHING_ADAPTIVE, SPAM_SMOOTHING_EVOLVED } SpamSmoothingMode;
+/* Where the flow scheme's background pressure works on the shift's compression
+ * (-shift_compression, gas_flow.c): nowhere, where the background varies along gravity and
+ * no no-slip wall moves (the default), or in every flow-scheme run with a summed density. */
+typedef enum { SPAM_SHIFT_WORK_OFF, SPAM_SHIFT_WORK_STRATIFIED, SPAM_SHIFT_WORK_ALL } SpamShiftWork;
 
 extern const char *const SpamDensityModeNames[];
 extern const char *const SpamDensityInitialNames[];
@@ -32,6 +36,7 @@ extern const char *const SpamGasSchemeNames[];
 extern const char *const SpamBackgroundModeNames[];
 extern const char *const SpamDiffusionFormNames[];
 extern const char *const SpamSmoothingModeNames[];
+extern const char *const SpamShiftWorkNames[]; /* "false", "stratified", "true" */
 /* -h_tol's default: Newton's last step then moved h_i by about 1e-11 of itself, far below
  * the integrators' tolerances, so the right-hand side is smooth to that level. */
 #define SPAM_H_TOL_DEFAULT 1e-10
@@ -61,8 +66,8 @@ typedef struct {
   SpamDiffusionForm  diffusion;     /* flow: viscosity and conduction's pair form     */
   PetscBool          heat_linear;   /* flow, pair form: conduction exact for linear T  */
                                     /* on any arrangement (pair_diffusion.h)           */
-  PetscBool          shift_work;    /* flow: B's compression work follows the shift's */
-                                    /* change of the summed density too (gas_flow.c)  */
+  SpamShiftWork      shift_work;    /* flow: where B's compression work follows the   */
+                                    /* shift's change of the summed density too (gas_flow.c) */
   PetscBool          plain_default; /* the scene's gas keeps the plain scheme unless  */
                                     /* asked (gas_flow.h: expansion into vacuum, and  */
                                     /* the convection cell, whose onset it moves)      */

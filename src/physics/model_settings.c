@@ -22,7 +22,7 @@ static void TensorSettings(const SpamSolidParams *p, SpamSetting *s, int *n)
       Num(s, n, "shift_coefficient", p->shift_coef);
       Str(s, n, "diffusion_form", SpamDiffusionFormNames[p->diffusion]);
       Str(s, n, "conduction_linear", p->heat_linear ? "true" : "false");
-      Str(s, n, "shift_compression", p->shift_work ? "true" : "false");
+      Str(s, n, "shift_compression", SpamShiftWorkNames[p->shift_work]);
     }
   } else {
     Num(s, n, "solid_lambda", p->lambda);

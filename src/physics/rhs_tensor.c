@@ -496,7 +496,7 @@ static TensorPass PassOf(SpamSim *sim, SpamRhsPart part)
   c.gradT                     = c.gradT || c.heatlin;
   c.nown                      = (int)sim->p.n;
   c.scale                     = p->angmom == SPAM_ANGMOM_TI || p->angmom == SPAM_ANGMOM_TIJ;
-  c.shiftwork                 = bg && shift && p->shift_work && p->density == SPAM_DENSITY_SUMMATION;
+  c.shiftwork                 = bg && shift && SpamGasFlowShiftWorks(sim);
   c.continuity                = p->density != SPAM_DENSITY_SUMMATION || c.shiftwork; /* the shift's drho/dt */
   c.ps                        = sim->ps;
   c.remote0                   = (int)sim->p.n + sim->pair.nl.ghosts.nlocal;

@@ -14,6 +14,30 @@ const char *const SpamMaterialNames[]       = {"elastic", "gas", "isentrope"};
 const char *const SpamGasSchemeNames[]      = {"plain", "flow"};
 const char *const SpamBackgroundModeNames[] = {"none", "mean"};
 const char *const SpamDiffusionFormNames[]  = {"gradient", "pair"};
+const char *const SpamShiftWorkNames[]      = {"false", "stratified", "true"};
+
+/* -shift_compression's value: stratified, or a boolean (alone: true). */
+static PetscErrorCode ShiftWorkChoice(const char *val, SpamShiftWork *w)
+{
+  static const char *const on[] = {"", "true", "1", "yes", "on"}, *const off[] = {"false", "0", "no", "off"};
+  char                     shown[100];
+
+  PetscFunctionBeginUser;
+  *w = SPAM_SHIFT_WORK_STRATIFIED;
+  if (!strcmp(val, "stratified")) PetscFunctionReturn(0);
+  for (size_t k = 0; k < sizeof on / sizeof *on; k++)
+    if (!strcmp(val, on[k])) {
+      *w = SPAM_SHIFT_WORK_ALL;
+      PetscFunctionReturn(0);
+    }
+  for (size_t k = 0; k < sizeof off / sizeof *off; k++)
+    if (!strcmp(val, off[k])) {
+      *w = SPAM_SHIFT_WORK_OFF;
+      PetscFunctionReturn(0);
+    }
+  SpamClip(val, shown, sizeof shown);
+  SPAM_BAD_INPUT("-shift_compression", shown, "allowed: stratified, true (or alone), false");
+}
 
 /* Index of val in names, or a bad-input error listing them. */
 static PetscErrorCode Choice(const char *opt, const char *val, const char *const *names, int n, int *k)
@@ -62,7 +86,9 @@ static PetscErrorCode GasSchemeOptions(PetscOptionItems *PetscOptionsObject, Pet
     PetscCall(PetscOptionsString("-background_pressure", "Flow scheme: pressure taken out of the momentum equation: mean (the particles' mean pressure, fitted along gravity where there is gravity) or none", "README", bg, bg, lb, NULL));
     PetscCall(PetscOptionsReal("-shift_coefficient", "Flow scheme: transport shifting coefficient C (shift velocity C c h times the particle-volume gradient; 0: off)", "README", p->shift_coef, &p->shift_coef, NULL));
     PetscCall(PetscOptionsString("-diffusion_form", "Flow scheme: viscosity and conduction as pair Laplacians in one pass (pair: damps particle-scale noise) or through the particles' gradients (gradient: the papers' two passes)", "README", form, form, lf, NULL));
-    PetscCall(PetscOptionsBool("-shift_compression", "Flow scheme, summed density: the background pressure's compression work follows the particles (v + dv), as the summed density does, not the fluid (v) alone: B / rho^2 times the summed density's rate from the shift, less its volume mean, is added to de/dt and booked", "README", p->shift_work, &p->shift_work, NULL));
+    char sw[32] = "stratified";
+    PetscCall(PetscOptionsString("-shift_compression", "Flow scheme, summed density: the background pressure's compression work follows the particles (v + dv), as the summed density does, not the fluid (v) alone: B / rho^2 times the summed density's rate from the shift, less its volume mean, is added to de/dt and booked. stratified: where B varies along gravity (a layer across walls) and no no-slip wall moves; true (or alone): every such run, walls moving refused; false: off", "README", sw, sw, sizeof sw, NULL));
+    PetscCall(ShiftWorkChoice(sw, &p->shift_work));
     PetscCall(PetscOptionsBool("-conduction_linear", "Flow scheme, pair form: conduction exact for a linear temperature on any arrangement (each side subtracts its corrected gradient's part; not conserved pair by pair: the book carries it)", "README", p->heat_linear, &p->heat_linear, NULL));
   }
   PetscFunctionReturn(0);
@@ -148,7 +174,7 @@ PetscErrorCode SpamSolidOptions(SpamSolidParams *p)
     p->shift_coef = 0.0;
     p->diffusion  = SPAM_DIFFUSION_GRADIENT;
     p->heat_linear = PETSC_FALSE;
-    p->shift_work  = PETSC_FALSE;
+    p->shift_work  = SPAM_SHIFT_WORK_OFF;
   }
   PetscCall(Choice("-viscosity", visc, SpamViscosityModeNames, 3, &k));
   p->viscosity = (SpamViscosityMode)k;
@@ -157,7 +183,7 @@ PetscErrorCode SpamSolidOptions(SpamSolidParams *p)
   PetscCall(Positive("-xsph_eps", p->xsph_eps, PETSC_TRUE));
   PetscCall(Choice("-density", dens, SpamDensityModeNames, 3, &k));
   p->density = (SpamDensityMode)k;
-  if (p->shift_work && p->scheme == SPAM_GAS_FLOW && p->material == SPAM_MATERIAL_GAS) {
+  if (p->shift_work == SPAM_SHIFT_WORK_ALL && p->scheme == SPAM_GAS_FLOW && p->material == SPAM_MATERIAL_GAS) { /* the default applies only where it can */
     if (p->background == SPAM_BACKGROUND_NONE || !(p->shift_coef > 0.0)) SPAM_BAD_INPUT("-shift_compression", "true", "is the background pressure's work on the shift's compression: it needs -background_pressure mean and -shift_coefficient > 0");
     if (p->density != SPAM_DENSITY_SUMMATION) SPAM_BAD_INPUT("-shift_compression", "true", "follows the summed density: it needs -density summation (a continuity density does not see the shift)");
     if (p->smoothing == SPAM_SMOOTHING_ADAPTIVE) SPAM_BAD_INPUT("-shift_compression", "true", "is written for one smoothing length (the adaptive path's walks do not carry it)");
