@@ -21,7 +21,9 @@ the shift coefficient; c the sound speed, largest at the hot wall, sqrt(gamma T_
 drift starts sound of at most the same speed. Checked at t = 300: every particle's speed
 within 2 C c_b max(delta) = 4.0e-4.
 
-Measured: wall rows' volume error -2.8e-5 (hot) and -8.3e-5 (cold); max speed 1.7e-4.
+Measured: wall rows' volume error -2.8e-5 (hot) and -8.3e-5 (cold); max speed 1.9e-4 (1.7e-4
+with -shift_compression false, before B's work on the shift's compression was the flow
+scheme's default in a stratified cell).
 With the images' masses and densities copied from their sources (as before the images had
 a place): -3.7e-3 and +6.4e-3, max speed 2.4e-3 (both checks fail). For scale, the plain
 scheme at rest reaches 2.9e-3 (Wendland C2) and 5.0e-2 (Lucy) in the same time."""
