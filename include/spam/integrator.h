@@ -50,6 +50,8 @@ typedef struct {
   /* kick-drift-kick: the force at the end of a step is the force at the next start */
   double               *xcache, *acache;
   PetscBool             cache_valid;
+  PetscObjectState      cache_state;   /* the state vector's when its positions were last
+                                        * known to be xcache's (-1: not known)         */
   /* adaptive rk (rk_rollback.c): the step, time and rejections at the last stage 0 (a
    * retry repeats the first two), whether the next RHS call is stage 0 of a first attempt
    * (1) or of a retry (2), and whether the first attempt's f(y_n) is in the stage vector */

@@ -20,9 +20,10 @@ const SpamSympScheme *SpamSympSchemeNamed(const char *name);
  * method). */
 PetscErrorCode SpamKickCacheCreate(SpamTsApp *app);
 /* Whether the cache holds the force at positions x (stride doubles from one particle to
- * the next), bit for bit; on several ranks only when it does on every rank, so that all
- * evaluate together. */
-PetscErrorCode SpamKickCached(SpamTsApp *app, const double *x, int stride, PetscBool *cached);
+ * the next), bit for bit (same: the caller knows the bits are the cache's, nothing is
+ * compared); on several ranks only when it does on every rank, so that all evaluate
+ * together. */
+PetscErrorCode SpamKickCached(SpamTsApp *app, const double *x, int stride, PetscBool same, PetscBool *cached);
 /* The force at x into sim->pair.f.acc (one right-hand-side evaluation). *ok false: a
  * particle went bad, booked in app (the loop reports it after the step), the cached force
  * zeroed so that the step ends on it, the cache no longer valid. */

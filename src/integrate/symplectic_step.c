@@ -16,7 +16,7 @@
 #include <petsc/private/tsimpl.h>
 #include "symplectic.h"
 #include <spam/errors.h>
-#include <stdint.h>
+#include <string.h>
 
 PetscErrorCode SpamKickCacheCreate(SpamTsApp *app)
 {
@@ -25,31 +25,25 @@ PetscErrorCode SpamKickCacheCreate(SpamTsApp *app)
   PetscFunctionBeginUser;
   if (!app->xcache) PetscCall(PetscMalloc2(len + 1, &app->xcache, len + 1, &app->acache));
   app->cache_valid = PETSC_FALSE;
+  app->cache_state = -1;
   PetscFunctionReturn(0);
 }
 
-/* Whether x (stride between particles) and the compact xc hold the same bits: one pass
- * without an early exit, which the compiler vectorises (the usual answer is yes). */
+/* Whether x (stride between particles) and the compact xc hold the same bits, stopping at
+ * the first difference (after a drift, the first particle that moved). */
 static PetscBool SameBits(PetscInt n, int dim, const double *x, int stride, const double *xc)
 {
-  uint64_t diff = 0;
-
   for (PetscInt i = 0; i < n; i++)
-    for (int d = 0; d < dim; d++) {
-      uint64_t a, b;
-      memcpy(&a, &x[(size_t)i * stride + d], sizeof a);
-      memcpy(&b, &xc[(size_t)i * dim + d], sizeof b);
-      diff |= a ^ b;
-    }
-  return (PetscBool)(diff == 0);
+    if (memcmp(&x[(size_t)i * stride], &xc[(size_t)i * dim], (size_t)dim * sizeof *x)) return PETSC_FALSE;
+  return PETSC_TRUE;
 }
 
-PetscErrorCode SpamKickCached(SpamTsApp *app, const double *x, int stride, PetscBool *cached)
+PetscErrorCode SpamKickCached(SpamTsApp *app, const double *x, int stride, PetscBool same, PetscBool *cached)
 {
   const SpamSim *sim = app->sim;
 
   PetscFunctionBeginUser;
-  *cached = (PetscBool)(app->cache_valid && SameBits(sim->p.n, sim->model.dim, x, stride, app->xcache));
+  *cached = (PetscBool)(app->cache_valid && (same || SameBits(sim->p.n, sim->model.dim, x, stride, app->xcache)));
   if (SpamSimDistributed(sim)) PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, cached, 1, MPIU_BOOL, MPI_LAND, sim->p.comm));
   PetscFunctionReturn(0);
 }
@@ -87,66 +81,87 @@ PetscErrorCode SpamKickKeep(SpamTsApp *app, const double *x, int stride)
 
 typedef struct {
   PetscInt      n;
-  int           nv, ox, ov; /* entries a particle, offsets of its position and velocity */
-  const double *a;          /* the force kicked with                                    */
+  const double *a;      /* the force kicked with                */
   double       *acache, *xcache;
-  double        hc, hd;     /* c_k dt, d_k dt                                           */
+  double        hc, hd; /* c_k dt, d_k dt                       */
   PetscBool     kick, drift, keep;
 } StagePass;
 
-/* One stage on every particle of y: v = v + hc a, then x = x + hd v where drift. With
- * keep (a fresh evaluation in a) the cache takes a and the positions it was evaluated at
- * in the same pass. Inlined with a constant dim by Pass, so the inner loop unrolls. */
-static inline void PassDim(const StagePass *s, double *restrict y, const int dim)
+/* One stage on every particle of the state y, [x v] (layout.c: positions first, then
+ * velocities, dim each): v = v + hc a where kick, then x = x + hd v where drift; where keep
+ * (a fresh evaluation in a), the cache takes a and the positions it was evaluated at in
+ * the same pass. dim and the flags are constants in each copy Pass inlines: every copy is
+ * a straight loop. */
+static inline __attribute__((always_inline)) void PassDim(const StagePass *s, double *restrict y, const int dim, const int kick, const int drift, const int keep)
 {
-  const double *restrict a = s->a;
+  const double *restrict a  = s->a;
   double *restrict       ac = s->acache, *restrict xc = s->xcache;
   const double           hc = s->hc, hd = s->hd;
-  const int              nv = s->nv, ox = s->ox, ov = s->ov;
-  const PetscBool        kick = s->kick, drift = s->drift, keep = s->keep;
 
   for (PetscInt i = 0; i < s->n; i++) {
-    double *restrict p = y + (size_t)i * nv;
+    double *restrict p = y + (size_t)i * 2 * dim;
     for (int d = 0; d < dim; d++) {
       const double ai = a[(size_t)i * dim + d];
       if (keep) {
         ac[(size_t)i * dim + d] = ai;
-        xc[(size_t)i * dim + d] = p[ox + d];
+        xc[(size_t)i * dim + d] = p[d];
       }
-      if (kick) p[ov + d] = p[ov + d] + hc * ai;
-      if (drift) p[ox + d] = p[ox + d] + hd * p[ov + d];
+      if (kick) p[dim + d] = p[dim + d] + hc * ai;
+      if (drift) p[d] = p[d] + hd * p[dim + d];
     }
   }
 }
 
+#define SPAM_PASS_FLAGS(DIM)                      \
+  switch (flags) {                                \
+  case 1: PassDim(s, y, DIM, 1, 0, 0); break;     \
+  case 2: PassDim(s, y, DIM, 0, 1, 0); break;     \
+  case 3: PassDim(s, y, DIM, 1, 1, 0); break;     \
+  case 4: PassDim(s, y, DIM, 0, 0, 1); break;     \
+  case 5: PassDim(s, y, DIM, 1, 0, 1); break;     \
+  case 6: PassDim(s, y, DIM, 0, 1, 1); break;     \
+  case 7: PassDim(s, y, DIM, 1, 1, 1); break;     \
+  default: break;                                 \
+  }
+
 static void Pass(const StagePass *s, double *y, int dim)
 {
+  const int flags = (s->kick ? 1 : 0) | (s->drift ? 2 : 0) | (s->keep ? 4 : 0);
+
   switch (dim) {
   case 1:
-    PassDim(s, y, 1);
+    SPAM_PASS_FLAGS(1)
     break;
   case 2:
-    PassDim(s, y, 2);
+    SPAM_PASS_FLAGS(2)
     break;
   default:
-    PassDim(s, y, 3);
+    SPAM_PASS_FLAGS(3)
     break;
   }
 }
 
-/* Stage k of scheme sc at the TS's time and step, on the state y. */
-static PetscErrorCode Stage(TS ts, SpamTsApp *app, const SpamSympScheme *sc, int k, double *y)
+/* Stage k of scheme sc at the TS's time and step. The positions are known to be the
+ * cache's, without comparing them, while the state vector is as the pass that kept the
+ * cache (or found it valid) left it without drifting: the usual first kick of a kdk step. */
+static PetscErrorCode Stage(TS ts, SpamTsApp *app, const SpamSympScheme *sc, int k)
 {
-  SpamSim          *sim = app->sim;
-  const SpamLayout *l   = &sim->model.layout;
-  StagePass         s   = {sim->p.n, l->nvar, l->x, l->v, app->acache, app->acache, app->xcache, sc->c[k] * ts->time_step, sc->d[k] * ts->time_step, PETSC_FALSE, PETSC_FALSE, PETSC_FALSE};
+  SpamSim         *sim = app->sim;
+  const int        dim = sim->model.dim;
+  Vec              X   = ts->vec_sol;
+  StagePass        s   = {sim->p.n, app->acache, app->acache, app->xcache, sc->c[k] * ts->time_step, sc->d[k] * ts->time_step, PETSC_FALSE, PETSC_FALSE, PETSC_FALSE};
+  PetscBool        cached = PETSC_FALSE;
+  PetscObjectState state;
+  PetscScalar     *y;
 
   PetscFunctionBeginUser;
+  PetscCall(PetscObjectStateGet((PetscObject)X, &state));
+  PetscCall(VecGetArray(X, &y));
   if (sc->c[k] != 0.0) {
-    PetscBool cached, ok;
-    PetscCall(SpamKickCached(app, y + l->x, l->nvar, &cached));
+    PetscCall(SpamKickCached(app, y, 2 * dim, (PetscBool)(state == app->cache_state), &cached));
     if (!cached) {
-      PetscCall(SpamKickEvaluate(app, ts->ptime, y + l->x, l->nvar, &ok));
+      PetscBool ok;
+      PetscCall(SpamKickEvaluate(app, ts->ptime, y, 2 * dim, &ok));
       if (ok) {
         s.a              = sim->pair.f.acc;
         s.keep           = PETSC_TRUE;
@@ -155,9 +170,11 @@ static PetscErrorCode Stage(TS ts, SpamTsApp *app, const SpamSympScheme *sc, int
     }
     s.kick = (PetscBool)(s.hc != 0.0); /* VecAXPY does nothing for a zero factor */
   }
-  s.drift = (PetscBool)(sc->d[k] != 0.0 && s.hd != 0.0);
-  if (!(s.kick || s.drift || s.keep)) PetscFunctionReturn(0);
-  Pass(&s, y, sim->model.dim);
+  s.drift = (PetscBool)(s.hd != 0.0);
+  Pass(&s, y, dim);
+  PetscCall(VecRestoreArray(X, &y));
+  PetscCall(PetscObjectStateGet((PetscObject)X, &state));
+  app->cache_state = app->cache_valid && !s.drift && (s.keep || cached) ? state : -1;
   PetscFunctionReturn(0);
 }
 
@@ -174,12 +191,9 @@ PetscErrorCode SpamSymplecticStep(TS ts)
   sc = SpamSympSchemeNamed(name);
   PetscCheck(sc, PetscObjectComm((PetscObject)ts), PETSC_ERR_PLIB, "basicsymplectic scheme %s is PETSc's: its own step takes it", name);
   for (int k = 0; k < 2; k++) {
-    PetscScalar *y;
-    PetscBool    ok;
+    PetscBool ok;
     PetscCall(TSPreStage(ts, ts->ptime));
-    PetscCall(VecGetArray(X, &y));
-    PetscCall(Stage(ts, app, sc, k, y));
-    PetscCall(VecRestoreArray(X, &y));
+    PetscCall(Stage(ts, app, sc, k));
     if (sc->d[k] != 0.0) ts->ptime = ts->ptime + sc->d[k] * ts->time_step;
     PetscCall(TSPostStage(ts, ts->ptime, 0, &X));
     PetscCall(TSAdaptCheckStage(ts->adapt, ts, ts->ptime, X, &ok));

@@ -62,7 +62,7 @@ static PetscErrorCode Kick(TS ts, PetscReal t, Vec X, Vec F, void *ctx)
   (void)ts;
   PetscCall(VecGetArrayRead(X, &x));
   PetscCall(VecGetArrayWrite(F, &f));
-  PetscCall(SpamKickCached(app, x, dim, &cached));
+  PetscCall(SpamKickCached(app, x, dim, PETSC_FALSE, &cached));
   if (!cached) {
     PetscCall(SpamKickEvaluate(app, t, x, dim, &ok));
     if (ok) PetscCall(SpamKickKeep(app, x, dim));
