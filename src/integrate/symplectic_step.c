@@ -1,9 +1,9 @@
 /* The Verlet step of the schemes spam-ark registers with PETSc's basicsymplectic ("kdk",
  * "dkd"), taken on the interleaved state [x v] itself. PETSc's own step works on position
  * and velocity sub-vectors, gathered from the state and scattered back at every step, with
- * an update vector and copies between them and the split functions: at N = 16384 about 990
- * instructions a particle per force evaluation against 600 for a whole Runge-Kutta stage.
- * Here a stage is one pass over the particles beside the force evaluation.
+ * an update vector and copies between them and the split functions. Here a stage is one
+ * pass over the particles beside the force evaluation (callgrind, N = 16384, 40 kdk steps:
+ * 987 instructions a particle per force evaluation with PETSc's step, 662 with this one).
  *
  * The arithmetic is PETSc 3.18's TSStep_BasicSymplectic, so the two give the same bits:
  * stage k first kicks, v = v + (c_k dt) a(x) when c_k is not zero (the force evaluated
