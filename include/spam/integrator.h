@@ -1,7 +1,8 @@
 /* One integrator interface. Every method is a PETSc TS type, so one TSStep loop serves
  * them all: ARKODE ERKStep ("arkode"), ARKStep with the diffusion implicit ("arkode_imex")
  * and CVODE Adams ("cvode") are registered as TS types by spam-ark, and PETSc's explicit types (rk, ssp, euler, basicsymplectic) are used as
- * they are, with a kick-drift-kick Verlet registered for basicsymplectic. */
+ * they are, with a kick-drift-kick Verlet registered for basicsymplectic (its kdk and dkd
+ * schemes stepped by spam-ark's own step on the state vector). */
 #ifndef SPAM_INTEGRATOR_H
 #define SPAM_INTEGRATOR_H
 #include <petscts.h>
