@@ -1,8 +1,9 @@
 #!/usr/bin/python3
 """Velocity Verlet in spam-ark against velocity Verlet in LAMMPS.
 
-spam-ark runs `-ts_type basicsymplectic -ts_basicsymplectic_type kdk -ts_dt 0.05` (PETSc's
-basicsymplectic TS with the kick-drift-kick scheme spam-ark registers); LAMMPS runs
+spam-ark runs `-ts_type basicsymplectic -ts_basicsymplectic_type kdk -ts_dt 0.05` (the
+kick-drift-kick scheme spam-ark registers with PETSc's basicsymplectic TS, stepped by
+spam-ark's own step on the state vector); LAMMPS runs
 `fix nve` (the same kick-drift-kick) at timestep 0.05, from the same particles (the 2D
 expansion lattice, h = 3), for 200 steps. For P = rho^2/2 the SPAM force is the force of the
 pair potential w(r) (see bench/README.md), so both integrate the same dynamics with the same

@@ -1,7 +1,8 @@
 /* One integrator interface. Every method is a PETSc TS type, so one TSStep loop serves
  * them all: ARKODE ERKStep ("arkode"), ARKStep with the diffusion implicit ("arkode_imex")
  * and CVODE Adams ("cvode") are registered as TS types by spam-ark, and PETSc's explicit types (rk, ssp, euler, basicsymplectic) are used as
- * they are, with a kick-drift-kick Verlet registered for basicsymplectic. */
+ * they are, with a kick-drift-kick Verlet registered for basicsymplectic (its kdk and dkd
+ * schemes stepped by spam-ark's own step on the state vector). */
 #ifndef SPAM_INTEGRATOR_H
 #define SPAM_INTEGRATOR_H
 #include <petscts.h>
@@ -50,6 +51,8 @@ typedef struct {
   /* kick-drift-kick: the force at the end of a step is the force at the next start */
   double               *xcache, *acache;
   PetscBool             cache_valid;
+  PetscObjectState      cache_state;   /* the state vector's when its positions were last
+                                        * known to be xcache's (-1: not known)         */
   /* adaptive rk (rk_rollback.c): the step, time and rejections at the last stage 0 (a
    * retry repeats the first two), whether the next RHS call is stage 0 of a first attempt
    * (1) or of a retry (2), and whether the first attempt's f(y_n) is in the stage vector */

@@ -4,18 +4,36 @@
  * orderings under explicit names, "dkd" (the same scheme as "2") and "kdk" (c = {1/2,
  * 1/2}, d = {1, 0}: the velocity Verlet of LAMMPS fix nve, SWIFT and Phantom). The
  * second kick of a kdk step and the first kick of the next see the same positions, so
- * the kick caches the force: one force evaluation per step, plus one at the start. */
+ * the kick caches the force: one force evaluation per step, plus one at the start.
+ *
+ * Our two schemes take our own step on the interleaved state (symplectic_step.c), the
+ * same bits as PETSc's step at a fraction of its cost; PETSc's own schemes ("1" to "4")
+ * take PETSc's step, on the position/momentum split made here. */
+#include <petsc/private/tsimpl.h>
 #include "ts_family.h"
+#include "symplectic.h"
 #include <spam/errors.h>
+
+static const SpamSympScheme Schemes[] = {
+  {"kdk", {0.5, 0.5}, {1.0, 0.0}},
+  {"dkd", {0.0, 1.0}, {0.5, 0.5}},
+};
+#define NSCHEMES ((int)(sizeof Schemes / sizeof Schemes[0]))
+
+const SpamSympScheme *SpamSympSchemeNamed(const char *name)
+{
+  for (int k = 0; name && k < NSCHEMES; k++)
+    if (!strcmp(name, Schemes[k].name)) return &Schemes[k];
+  return NULL;
+}
 
 PetscErrorCode SpamSymplecticRegister(void)
 {
-  PetscReal kdk_c[2] = {0.5, 0.5}, kdk_d[2] = {1.0, 0.0};
-  PetscReal dkd_c[2] = {0.0, 1.0}, dkd_d[2] = {0.5, 0.5};
-
   PetscFunctionBeginUser;
-  PetscCall(TSBasicSymplecticRegister("kdk", 2, 2, kdk_c, kdk_d));
-  PetscCall(TSBasicSymplecticRegister("dkd", 2, 2, dkd_c, dkd_d));
+  for (int k = 0; k < NSCHEMES; k++) {
+    PetscReal c[2] = {Schemes[k].c[0], Schemes[k].c[1]}, d[2] = {Schemes[k].d[0], Schemes[k].d[1]};
+    PetscCall(TSBasicSymplecticRegister(Schemes[k].name, 2, 2, c, d));
+  }
   PetscFunctionReturn(0);
 }
 
@@ -36,27 +54,20 @@ static PetscErrorCode Kick(TS ts, PetscReal t, Vec X, Vec F, void *ctx)
   SpamTsApp         *app = (SpamTsApp *)ctx;
   SpamSim           *sim = app->sim;
   const int          dim = sim->model.dim;
-  const size_t       len = (size_t)sim->p.n * dim;
   const PetscScalar *x;
   PetscScalar       *f;
+  PetscBool          cached, ok;
 
   PetscFunctionBeginUser;
   (void)ts;
   PetscCall(VecGetArrayRead(X, &x));
   PetscCall(VecGetArrayWrite(F, &f));
-  if (!(app->cache_valid && !memcmp(x, app->xcache, len * sizeof *x))) {
-    PetscInt bad;
-    PetscCall(SpamAccel(sim, x, dim, &bad));
-    if (bad >= 0 && app->bad < 0) {
-      app->bad  = bad;
-      app->tbad = t;
-    }
-    if (bad >= 0) PetscCall(PetscArrayzero(app->acache, len));
-    else PetscCall(PetscArraycpy(app->acache, sim->pair.f.acc, len)); /* same layout, a[i*dim + d] */
-    PetscCall(PetscArraycpy(app->xcache, x, len));
-    app->cache_valid = (PetscBool)(bad < 0);
+  PetscCall(SpamKickCached(app, x, dim, PETSC_FALSE, &cached));
+  if (!cached) {
+    PetscCall(SpamKickEvaluate(app, t, x, dim, &ok));
+    if (ok) PetscCall(SpamKickKeep(app, x, dim));
   }
-  PetscCall(PetscArraycpy(f, app->acache, len));
+  PetscCall(PetscArraycpy(f, app->acache, (size_t)sim->p.n * dim));
   PetscCall(VecRestoreArrayWrite(F, &f));
   PetscCall(VecRestoreArrayRead(X, &x));
   PetscFunctionReturn(0);
@@ -100,8 +111,6 @@ PetscErrorCode SpamSymplecticSetUp(TS ts, SpamTsApp *app)
   PetscCall(ISDestroy(&isv));
   PetscCall(TSRHSSplitSetRHSFunction(ts, "position", NULL, Drift, app));
   PetscCall(TSRHSSplitSetRHSFunction(ts, "momentum", NULL, Kick, app));
-  PetscCall(PetscMalloc2((size_t)sim->p.n * sim->model.dim + 1, &app->xcache, (size_t)sim->p.n * sim->model.dim + 1, &app->acache));
-  app->cache_valid = PETSC_FALSE;
   PetscFunctionReturn(0);
 }
 
@@ -115,13 +124,46 @@ static PetscErrorCode SubTypeSymplectic(TS ts, const char **sub)
   PetscFunctionReturn(0);
 }
 
+#define SPAM_PETSC_SETUP "SpamBasicSymplecticSetUp_C"
+
+/* TSSetUp, once the options have chosen the scheme: ours step on the state itself and
+ * need neither the split's sub-vectors nor PETSc's update vector (a state's worth of
+ * memory); PETSc's take PETSc's own set-up and step. */
+static PetscErrorCode SetUpSymplectic(TS ts)
+{
+  SpamTsApp  *app;
+  const char *name;
+
+  PetscFunctionBeginUser;
+  PetscCall(TSGetApplicationContext(ts, &app));
+  PetscCall(TSBasicSymplecticGetType(ts, &name));
+  PetscCall(SpamKickCacheCreate(app));
+  if (SpamSympSchemeNamed(name)) {
+    TSAdapt adapt;
+    PetscCall(TSGetAdapt(ts, &adapt));
+    PetscCall(TSAdaptCandidatesClear(adapt)); /* fixed steps, as PETSc's set-up makes them */
+    ts->ops->step = SpamSymplecticStep;
+  } else {
+    PetscErrorCode (*petsc)(TS) = NULL;
+    PetscCall(PetscObjectQueryFunction((PetscObject)ts, SPAM_PETSC_SETUP, &petsc));
+    PetscCheck(petsc, PetscObjectComm((PetscObject)ts), PETSC_ERR_PLIB, "basicsymplectic's own set-up was not kept");
+    PetscCall((*petsc)(ts));
+  }
+  PetscFunctionReturn(0);
+}
+
 /* Our default scheme is velocity Verlet (before the options, which may choose another),
- * and the position/momentum split. */
+ * and the position/momentum split PETSc's schemes step on: made here, before the TS has
+ * its solution vector, so that no sub-vector is taken of it (PETSc's set-up duplicates
+ * the vector with what is composed on it). The set-up, once the options have chosen the
+ * scheme, decides whose step it takes. */
 static PetscErrorCode CreatedSymplectic(TS ts, SpamTsApp *app)
 {
   PetscFunctionBeginUser;
   PetscCall(TSBasicSymplecticSetType(ts, "kdk"));
   PetscCall(SpamSymplecticSetUp(ts, app));
+  PetscCall(PetscObjectComposeFunction((PetscObject)ts, SPAM_PETSC_SETUP, ts->ops->setup));
+  ts->ops->setup = SetUpSymplectic;
   PetscFunctionReturn(0);
 }
 
