@@ -35,6 +35,9 @@ to t = 18 (about half an e-folding of the mode).
 4. On 2 ranks (the stage preconditioner block Jacobi, the correction's G through the
    halo) the gas's e equal to one rank's within the bound of 1.
 
+Read, not checked: the mode's decay rate over the run against the ordered lattice's linear
+theory (tests/lattice_modes.py), with and without the correction.
+
 Measured: e 6.9e-17 apart against a bound of 7.0e-15, the correction's own effect on e
 1.6e-9; the cell's e 5.0e-8 apart against 1.5e-7, its book 3.9e-11 (readings with
 --readings).
@@ -48,6 +51,7 @@ import numpy as np
 
 import subprocess
 
+from lattice_modes import heat_mode
 from spamrun import Checks, arguments, brief, mpiexec_env, rank_command, summary, table
 
 N, JITTER, H, GAMMA, KAPPA, E0, EPS, T_END = 24, 0.2, 3.0, 1.4, 1.0, 1e-6, 0.1, 18.0
@@ -134,6 +138,17 @@ def main():
         c.check(d2 < bound, f"gas on 2 ranks (block Jacobi): max |e - e 1 rank| {d2:.1e} within {bound:.1e}")
         c.reading("gas.de_ranks", d2)
     if imex and off:
+        # the mode's decay over the run, with and without the correction, against the
+        # ordered lattice's linear theory (a reading: how the correction reads a moved
+        # arrangement where there is no mean gradient)
+        x0, e_start = np.loadtxt(gas, delimiter=",", skiprows=1, usecols=(0, 5), unpack=True)
+        k = 2 * math.pi / N
+        a0 = 2 / len(x0) * np.sum((e_start - e_start.mean()) * np.cos(k * x0))
+        discrete, _, _ = heat_mode(2, N, H, E0, GAMMA, KAPPA, "pair")
+        lattice = -math.log(discrete(T_END)) / T_END
+        for key, got in (("on", imex), ("off", off)):
+            amp = 2 / len(x0) * np.sum((got[0] - got[0].mean()) * np.cos(k * x0)) / a0
+            c.reading(f"gas.rate_over_lattice_{key}", -math.log(amp) / T_END / lattice)
         d_off = float(np.max(np.abs(off[0] - imex[0])))
         c.check(d_off > SENSITIVITY * bound, f"gas: the correction moves e by {d_off:.1e}, more than {SENSITIVITY:g} x the bound")
         c.reading("gas.correction", d_off)
