@@ -177,7 +177,6 @@ static PetscErrorCode TSSetUp_SpamARKImex(TS ts)
   PetscCall(TSGetApplicationContext(ts, &app));
   PetscCheck(app, comm, PETSC_ERR_ORDER, "the arkode_imex TS needs a SpamTsApp application context");
   if (!app->sim->model.rhs_part) SPAM_BAD_INPUT("-ts_type", SPAM_TSARKODE_IMEX, "treats diffusion implicitly: it needs -material gas with -gas_scheme flow, -diffusion_form pair, one smoothing length and -viscosity_shear or -conductivity > 0 (this run: model %s)", app->sim->model.name);
-  if (app->sim->model.solid.heat_linear) SPAM_BAD_INPUT("-conduction_linear", "true", "is not in the implicit diffusion part of -ts_type %s (its walk has no grad T): use an explicit method", SPAM_TSARKODE_IMEX);
   PetscCallARK(SUNContext_Create((void *)&app->sim->p.comm, &ark->sunctx));
   ark->y = N_VMake_Petsc(ts->vec_sol, ark->sunctx);
   PetscCheck(ark->y, comm, PETSC_ERR_LIB, "N_VMake_Petsc failed");

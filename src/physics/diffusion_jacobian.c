@@ -9,11 +9,22 @@
  * no-slip wall's velocity, per component at a free-slip one, the temperature's at an
  * isothermal or adiabatic one); a periodic image's own rate is folded onto s, a mirror
  * image's is the wall's. The coefficients a are read off the walls' gathers themselves
- * (the gather of ones minus that of zeros), so the rules live in one place (ghosts.c). */
+ * (the gather of ones minus that of zeros), so the rules live in one place (ghosts.c).
+ *
+ * The pair conduction's linear correction (-conduction_linear, pair_diffusion.h) adds to
+ * each particle's rate -b_i . G_i, with b_i = sum_j m_j 2 kappa k_ij (x_i - x_j) over its
+ * pairs (the sides it takes) and G_i = -M_i^-1 S_i, S_i = sum_j m_j g_ij (T_j - T_i)
+ * (x_i - x_j) / rho_ij its SPAM grad T: so u_i . S_i with u_i = M_i^-1 b_i, linear in the
+ * T of i's own neighbours, and the matrix keeps the pairs' pattern. Per pair the row of i
+ * takes alpha_i (T_j - T_i), alpha_i = m_j g_ij (u_i . (x_i - x_j)) / rho_ij, and the row
+ * of j (where j takes its side) alpha_j (T_j - T_i) with u_j; the same entries go into the
+ * rows of the flow scheme's book, which carries the correction's heat. Exact, as the
+ * correction is linear in T at the stage's fixed positions and densities. */
 #include <spam/physics.h>
 #include <spam/diffusion_jacobian.h>
 #include "../pair/pair_walk.h"
 #include "../pair/pair_diffusion.h"
+#include "../pair/pair_gradients.h"
 
 typedef struct {
   SpamFields       *f;
@@ -21,38 +32,105 @@ typedef struct {
   const SpamGhosts *gh;
   const double     *coef; /* [ghosts (dim + 1)] */
   int               n, nvar, off[4], ncomp;
-  double            c[4]; /* per component: 2 eta, or 2 kappa (gamma - 1) */
+  double            c[4];    /* per component: 2 eta, or 2 kappa (gamma - 1) */
+  int               heatlin; /* the linear correction's entries (energy and book rows) */
+  int               fb;      /* the book's offset, or -1                                */
+  double            kappa2, tcoef; /* 2 kappa; gamma - 1 (T = (gamma - 1) e)            */
+  PetscBool         rho_geometric;
   PetscErrorCode    ierr;
 } JacPass;
+
+/* The slot of j and how its rows read: s its local source (-1: another rank's), fold
+ * whether its own rate is the source's (a periodic image) rather than the wall's. */
+static inline __attribute__((always_inline)) int SourceOf(const JacPass *c, int j, int *fold)
+{
+  *fold = 1;
+  if (j < c->n) return j;
+  const int gk = j - c->n, s = gk < c->gh->nlocal ? c->gh->src[gk] : -1;
+  *fold = s >= 0 && c->gh->kind[gk] == SPAM_GHOST_PERIODIC;
+  return s;
+}
+
+/* The correction's alpha_i, alpha_j of the pair (f->heat holds -u, LinearMoments). */
+static inline __attribute__((always_inline)) void LinearAlphas(const int dim, const JacPass *c, int i, int j, const double dx[3], double g, double *ai, double *aj)
+{
+  const SpamFields *f  = c->f;
+  const double      gr = c->tcoef * g / SpamPairMeanDensity(c->rho_geometric, f->rho[i], f->rho[j]);
+  double            ui = 0.0, uj = 0.0;
+  for (int d = 0; d < dim; d++) {
+    ui -= f->heat[(size_t)i * dim + d] * dx[d];
+    uj -= f->heat[(size_t)j * dim + d] * dx[d];
+  }
+  *ai = f->m[j] * gr * ui;
+  *aj = f->m[i] * gr * uj;
+}
+
+/* Adds the entries of rows ri (and rs when fold) at columns (ri, rs): row i c_i (f_i - f_j),
+ * row s -c_j (f_i - f_j), with f_j = a f_s (+ a constant); s < 0: row i's diagonal only. */
+static inline __attribute__((always_inline)) PetscErrorCode AddPair(Mat J, PetscInt ri, PetscInt rs, PetscInt ci_col, PetscInt cs_col, int s, int fold, double a, double ci, double cj)
+{
+  if (s < 0) return MatSetValue(J, ri, ci_col, ci, ADD_VALUES);
+  const PetscInt    rows[2] = {ri, rs}, cols[2] = {ci_col, cs_col};
+  const PetscScalar v[4]    = {ci, -ci * a, -cj, cj * a};
+  return MatSetValues(J, fold ? 2 : 1, rows, 2, cols, v, ADD_VALUES);
+}
 
 static inline __attribute__((always_inline)) void JacobianPair(const int dim, JacPass *c, int i, int j, const double dx[3], double r2, double w, double g)
 {
   const double k = SpamPairDiffusionFactor(c->f, i, j, g);
-  int          s = j, fold = 1;
-  (void)dim;
-  (void)dx;
+  int          fold;
+  const int    s = SourceOf(c, j, &fold);
   (void)r2;
   (void)w;
   if (c->ierr) return;
-  if (j >= c->n) { /* a ghost slot: its local source, or none (another rank's: block Jacobi) */
-    const int gk = j - c->n;
-    s            = gk < c->gh->nlocal ? c->gh->src[gk] : -1;
-    fold         = s >= 0 && c->gh->kind[gk] == SPAM_GHOST_PERIODIC;
-  }
   for (int q = 0; q < c->ncomp && !c->ierr; q++) {
     const double   a  = j >= c->n && s >= 0 ? c->coef[(size_t)(j - c->n) * c->ncomp + q] : 1.0;
-    const double   ci = c->c[q] * k * c->f->m[j], cj = c->c[q] * k * c->f->m[i];
-    const PetscInt ri = (PetscInt)i * c->nvar + c->off[q];
-    if (s < 0) {
-      c->ierr = MatSetValue(c->J, ri, ri, ci, ADD_VALUES);
-      continue;
+    double         ci = c->c[q] * k * c->f->m[j], cj = c->c[q] * k * c->f->m[i], ai = 0.0, aj = 0.0;
+    const PetscInt ri = (PetscInt)i * c->nvar + c->off[q], rs = s >= 0 ? (PetscInt)s * c->nvar + c->off[q] : -1;
+    if (c->heatlin && q == c->ncomp - 1) { /* the energy: row i alpha_i (T_j - T_i), row s alpha_j (T_j - T_i) */
+      LinearAlphas(dim, c, i, j, dx, g, &ai, &aj);
+      ci -= ai;
+      cj += aj;
     }
-    const PetscInt    rs = (PetscInt)s * c->nvar + c->off[q], rows[2] = {ri, rs}, cols[2] = {ri, rs};
-    const PetscScalar v[4] = {ci, -ci * a, -cj, cj * a};
-    c->ierr = MatSetValues(c->J, fold ? 2 : 1, rows, 2, cols, v, ADD_VALUES);
+    c->ierr = AddPair(c->J, ri, rs, ri, rs, s, fold, a, ci, cj);
+    if (c->heatlin && q == c->ncomp - 1 && c->fb >= 0 && !c->ierr) /* the book's rows: the correction alone */
+      c->ierr = AddPair(c->J, (PetscInt)i * c->nvar + c->fb, s >= 0 ? (PetscInt)s * c->nvar + c->fb : -1, ri, rs, s, fold, a, -ai, aj);
   }
 }
 SPAM_PAIR_WALK(WalkJacobian, JacPass, JacobianPair)
+
+/* b_i of the correction (f->heat): each pair's sides as SpamPairHeatDiffusionLinear takes
+ * them (j's only for a local particle or a periodic image, folded onto the source). */
+static inline __attribute__((always_inline)) void LinearMomentPair(const int dim, JacPass *c, int i, int j, const double dx[3], double r2, double w, double g)
+{
+  SpamFields  *f = c->f;
+  const double t = c->kappa2 * SpamPairDiffusionFactor(f, i, j, g);
+  int          fold;
+  const int    s = SourceOf(c, j, &fold);
+  (void)r2;
+  (void)w;
+  for (int d = 0; d < dim; d++) f->heat[(size_t)i * dim + d] += f->m[j] * t * dx[d];
+  if (s >= 0 && fold)
+    for (int d = 0; d < dim; d++) f->heat[(size_t)j * dim + d] -= f->m[i] * t * dx[d];
+}
+SPAM_PAIR_WALK(WalkLinearMoments, JacPass, LinearMomentPair)
+
+/* -u_i = -M_i^-1 b_i of every slot, in f->heat: b from the pairs, folded, then the solve
+ * the corrected grad T makes (SpamGasFlowTemperatureGradient: s -> -M^-1 s), gathered so
+ * that a periodic image holds its source's. */
+static PetscErrorCode LinearMoments(SpamSim *sim, JacPass *c)
+{
+  SpamFields *f   = c->f;
+  const int   dim = f->dim, n = (int)sim->p.n, slots = SpamNeighboursSlots(&sim->pair.nl);
+
+  PetscFunctionBeginUser;
+  for (size_t k = 0; k < (size_t)slots * dim; k++) f->heat[k] = 0.0;
+  PetscCall(WalkLinearMoments(&sim->pair.nl, &sim->model.kernel, c));
+  SpamGhostsFold(c->gh, dim, n, dim, SPAM_GHOST_VECTOR, f->heat);
+  SpamGasFlowTemperatureGradient(sim);
+  PetscCall(SpamGhostsGather(c->gh, dim, n, dim, SPAM_GHOST_VECTOR, f->heat));
+  PetscFunctionReturn(0);
+}
 
 /* The components the part diffuses: the velocity's dim, then the energy (through T). */
 static JacPass PassOf(SpamSim *sim, SpamDiffusionJac *jac)
@@ -72,8 +150,13 @@ static JacPass PassOf(SpamSim *sim, SpamDiffusionJac *jac)
     c.off[d] = l->v + d;
     c.c[d]   = 2.0 * p->shear_visc;
   }
-  c.off[l->dim] = l->e;
-  c.c[l->dim]   = 2.0 * p->conductivity * (p->gamma - 1.0);
+  c.off[l->dim]    = l->e;
+  c.c[l->dim]      = 2.0 * p->conductivity * (p->gamma - 1.0);
+  c.heatlin        = p->heat_linear && p->conductivity > 0.0;
+  c.fb             = c.heatlin ? l->fb : -1;
+  c.kappa2         = 2.0 * p->conductivity;
+  c.tcoef          = p->gamma - 1.0;
+  c.rho_geometric  = p->rho_geometric;
   return c;
 }
 
@@ -103,6 +186,7 @@ static PetscErrorCode InsertPattern(SpamSim *sim, const JacPass *c)
 
   PetscFunctionBeginUser;
   for (PetscInt r = 0; r < rows; r++) PetscCall(MatSetValue(c->J, r, r, 0.0, INSERT_VALUES));
+  for (int i = 0; i < c->n && c->fb >= 0; i++) PetscCall(MatSetValue(c->J, (PetscInt)i * c->nvar + c->fb, (PetscInt)i * c->nvar + c->off[c->ncomp - 1], 0.0, INSERT_VALUES));
   for (int i = 0; i < c->n; i++) {
     for (int t = 0; t < 2; t++) {
       const int *nb = t ? nl->gnbr + nl->gstart[i] : nl->nbr + nl->start[i];
@@ -115,6 +199,11 @@ static PetscErrorCode InsertPattern(SpamSim *sim, const JacPass *c)
           const PetscInt ri = (PetscInt)i * c->nvar + c->off[q], rs = (PetscInt)s * c->nvar + c->off[q];
           PetscCall(MatSetValue(c->J, ri, rs, 0.0, INSERT_VALUES));
           PetscCall(MatSetValue(c->J, rs, ri, 0.0, INSERT_VALUES));
+        }
+        if (c->fb >= 0) { /* the book's rows read the energies */
+          const PetscInt ei = (PetscInt)i * c->nvar + c->off[c->ncomp - 1], es = (PetscInt)s * c->nvar + c->off[c->ncomp - 1];
+          PetscCall(MatSetValue(c->J, (PetscInt)i * c->nvar + c->fb, es, 0.0, INSERT_VALUES));
+          PetscCall(MatSetValue(c->J, (PetscInt)s * c->nvar + c->fb, ei, 0.0, INSERT_VALUES));
         }
       }
     }
@@ -146,14 +235,20 @@ static PetscErrorCode NewPattern(SpamSim *sim, SpamDiffusionJac *jac)
       deg[nl->ghosts.src[gk]]++;
     }
   }
+  c = PassOf(sim, jac);
   for (int i = n - 1; i >= 0; i--) {
     const PetscInt di = deg[i];
-    for (int v = nvar - 1; v >= 0; v--) deg[(size_t)i * nvar + v] = (v >= l->v && v < l->v + l->dim) || v == l->e ? PetscMin(di, (PetscInt)n) : 1;
+    for (int v = nvar - 1; v >= 0; v--) {
+      PetscInt *d = &deg[(size_t)i * nvar + v];
+      if ((v >= l->v && v < l->v + l->dim) || v == l->e) *d = PetscMin(di, (PetscInt)n);
+      else if (v == c.fb) *d = PetscMin(di, (PetscInt)n) + 1; /* the energies and its own diagonal */
+      else *d = 1;
+    }
   }
   PetscCall(MatDestroy(&jac->J));
   PetscCall(MatCreateSeqAIJ(PETSC_COMM_SELF, n * nvar, n * nvar, 0, jac->nnz, &jac->J));
   PetscCall(MatSetOption(jac->J, MAT_NEW_NONZERO_ALLOCATION_ERR, PETSC_TRUE));
-  c = PassOf(sim, jac);
+  c.J = jac->J;
   PetscCall(InsertPattern(sim, &c));
   PetscCall(MatAssemblyBegin(jac->J, MAT_FINAL_ASSEMBLY));
   PetscCall(MatAssemblyEnd(jac->J, MAT_FINAL_ASSEMBLY));
@@ -201,6 +296,7 @@ PetscErrorCode SpamDiffusionJacAssemble(SpamSim *sim, const double *y, SpamDiffu
   PetscCall(ImageCoefficients(sim, jac));
   PetscCall(MatZeroEntries(jac->J));
   c = PassOf(sim, jac);
+  if (c.heatlin) PetscCall(LinearMoments(sim, &c));
   PetscCall(WalkJacobian(nl, &sim->model.kernel, &c));
   PetscCall(c.ierr);
   PetscCall(MatAssemblyBegin(jac->J, MAT_FINAL_ASSEMBLY));

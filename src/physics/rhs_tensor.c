@@ -178,6 +178,19 @@ static inline __attribute__((always_inline)) void MomentPair(const int dim, Tens
 }
 SPAM_PAIR_WALK(WalkMoments, TensorPass, MomentPair)
 
+/* The moment and the SPAM grad T in one walk: the linear correction's corrected gradient
+ * (-conduction_linear) reads both, and in the diffusion part nothing else computes grad T. */
+static inline __attribute__((always_inline)) void MomentGradTPair(const int dim, TensorPass *c, int i, int j, const double dx[3], double r2, double w, double g)
+{
+  SpamFields  *f  = c->f;
+  const double gr = g / SpamPairMeanDensity(c->p->rho_geometric, f->rho[i], f->rho[j]);
+  (void)r2;
+  (void)w;
+  SpamPairGradientMoment(dim, f, i, j, dx, gr);
+  SpamPairTemperatureGradient(dim, f, i, j, dx, gr);
+}
+SPAM_PAIR_WALK(WalkMomentsGradT, TensorPass, MomentGradTPair)
+
 static inline __attribute__((always_inline)) void DiffusionPair(const int dim, TensorPass *c, int i, int j, const double dx[3], double r2, double w, double g)
 {
   SpamFields  *f = c->f;
@@ -186,7 +199,8 @@ static inline __attribute__((always_inline)) void DiffusionPair(const int dim, T
   (void)r2;
   (void)w;
   SpamPairViscousDiffusion(dim, f, i, j, c->p->shear_visc, k, F);
-  if (c->conduction) SpamPairHeatDiffusion(f, i, j, c->p->conductivity, k);
+  if (c->heatlin) SpamPairHeatDiffusionLinear(dim, f, i, j, c->p->conductivity, k, dx, OwnSide(c, j));
+  else if (c->conduction) SpamPairHeatDiffusion(f, i, j, c->p->conductivity, k);
   SpamPairApplyForce(dim, f, i, j, dx, g, F, 0);
 }
 SPAM_PAIR_WALK(WalkDiffusion, TensorPass, DiffusionPair)
@@ -411,6 +425,21 @@ static void FoldRates(const SpamGhosts *gh, SpamFields *f, int n, PetscBool rho)
   if (rho) SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->rhodot);
 }
 
+/* The linear correction's grad T (f->heat: the SPAM gradient, made exact for a linear T),
+ * gathered so that a periodic ghost slot takes its source's for its own side of the
+ * correction (accumulated in its slot and folded onto the source after the walk). */
+static PetscErrorCode LinearGradient(SpamSim *sim, TensorPass *c)
+{
+  SpamFields *f   = c->f;
+  const int   dim = f->dim;
+
+  PetscFunctionBeginUser;
+  SpamGasFlowTemperatureGradient(sim);
+  PetscCall(SpamGhostsGather(&sim->pair.nl.ghosts, dim, (int)sim->p.n, dim, SPAM_GHOST_VECTOR, f->heat));
+  Zero(f->qlin, (size_t)SpamNeighboursSlots(&sim->pair.nl));
+  PetscFunctionReturn(0);
+}
+
 /* Walk 3 and its folds: accelerations, de/dt (work, then plus heat), drho/dt. The heat
  * rate stays apart on the ghost slots, where the walls' books read it. */
 static PetscErrorCode Forces(SpamSim *sim, TensorPass *c, const double *y)
@@ -421,13 +450,7 @@ static PetscErrorCode Forces(SpamSim *sim, TensorPass *c, const double *y)
 
   PetscFunctionBeginUser;
   ZeroRates(f, slots, dim, PETSC_TRUE);
-  if (c->heatlin) {
-    SpamGasFlowTemperatureGradient(sim); /* f->heat: grad T made exact for a linear T */
-    /* a periodic ghost slot takes its source's G for its own side of the correction,
-     * accumulated in its slot and folded onto the source below */
-    PetscCall(SpamGhostsGather(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->heat));
-    Zero(f->qlin, (size_t)slots);
-  }
+  if (c->heatlin) PetscCall(LinearGradient(sim, c));
   if (c->pairdiff) PetscCall(WalkForcesDiffusion(&sim->pair.nl, &sim->model.kernel, c));
   else PetscCall(WalkForces(&sim->pair.nl, &sim->model.kernel, c));
   FoldRates(gh, f, n, PETSC_TRUE);
@@ -506,16 +529,22 @@ static TensorPass PassOf(SpamSim *sim, SpamRhsPart part)
   return c;
 }
 
-/* The moment that normalises the pair Laplacian, and the norms N_i from it. */
+/* The moment that normalises the pair Laplacian, and the norms N_i from it; with the
+ * linear correction also the SPAM grad T (f->heat), folded as walk 1 folds it. */
 static PetscErrorCode DiffusionMoments(SpamSim *sim, TensorPass *c)
 {
-  SpamFields *f   = c->f;
-  const int   dim = f->dim, n = (int)sim->p.n, slots = SpamNeighboursSlots(&sim->pair.nl);
+  SpamFields       *f   = c->f;
+  const SpamGhosts *gh  = &sim->pair.nl.ghosts;
+  const int         dim = f->dim, n = (int)sim->p.n, slots = SpamNeighboursSlots(&sim->pair.nl);
 
   PetscFunctionBeginUser;
   Zero(f->gmom, (size_t)slots * dim * dim);
-  PetscCall(WalkMoments(&sim->pair.nl, &sim->model.kernel, c));
-  SpamGhostsFold(&sim->pair.nl.ghosts, dim, n, dim * dim, SPAM_GHOST_TENSOR, f->gmom);
+  if (c->heatlin) {
+    Zero(f->heat, (size_t)slots * dim);
+    PetscCall(WalkMomentsGradT(&sim->pair.nl, &sim->model.kernel, c));
+    SpamGhostsFold(gh, dim, n, dim, SPAM_GHOST_VECTOR, f->heat);
+  } else PetscCall(WalkMoments(&sim->pair.nl, &sim->model.kernel, c));
+  SpamGhostsFold(gh, dim, n, dim * dim, SPAM_GHOST_TENSOR, f->gmom);
   PetscCall(DiffusionNorms(sim));
   PetscFunctionReturn(0);
 }
@@ -527,7 +556,8 @@ PetscErrorCode SpamRhsSolidDiffusionFields(SpamSim *sim, const double *y, PetscI
   PetscFunctionBeginUser;
   PetscCall(FillFields(sim, y, bad));
   if (*bad >= 0) PetscFunctionReturn(0);
-  c = PassOf(sim, SPAM_RHS_DIFFUSION);
+  c         = PassOf(sim, SPAM_RHS_DIFFUSION);
+  c.heatlin = 0; /* the Jacobian reads the moment, not grad T (diffusion_jacobian.c) */
   PetscCall(DiffusionMoments(sim, &c));
   PetscFunctionReturn(0);
 }
@@ -546,17 +576,20 @@ static PetscErrorCode Diffusion(SpamSim *sim, TensorPass *c, double *ydot)
   PetscFunctionBeginUser;
   PetscCall(DiffusionMoments(sim, c));
   ZeroRates(f, slots, dim, PETSC_FALSE);
+  if (c->heatlin) PetscCall(LinearGradient(sim, c));
   PetscCall(WalkDiffusion(&sim->pair.nl, &sim->model.kernel, c));
   FoldRates(gh, f, n, PETSC_FALSE);
+  if (c->heatlin) SpamGhostsFold(gh, dim, n, 1, SPAM_GHOST_SCALAR, f->qlin);
   for (int i = 0; i < n; i++) {
-    double *r = ydot + (size_t)i * l->nvar;
+    double      *r   = ydot + (size_t)i * l->nvar;
+    const double lin = c->heatlin ? f->qlin[i] : 0.0;
     for (int d = 0; d < dim; d++) {
       r[l->x + d] = 0.0;
       r[l->v + d] = f->acc[(size_t)i * dim + d];
     }
-    r[l->e] = f->edot[i] + f->qdot[i];
+    r[l->e] = f->edot[i] + f->qdot[i] + lin;
     if (l->rho >= 0) r[l->rho] = 0.0;
-    if (l->fb >= 0) r[l->fb] = 0.0;
+    if (l->fb >= 0) r[l->fb] = lin; /* the correction's heat, booked as the whole RHS books it */
   }
   if (gh->mirror) PetscCall(SpamWallBooks(gh, f, l, n, PETSC_TRUE, &sim->out.wall_rates, ydot));
   sim->run.stats.pair_visits += 2.0 * (double)(sim->pair.nl.npairs + sim->pair.nl.ngpairs);

@@ -89,7 +89,11 @@ static PetscErrorCode GasSchemeOptions(PetscOptionItems *PetscOptionsObject, Pet
     char sw[32] = "stratified";
     PetscCall(PetscOptionsString("-shift_compression", "Flow scheme, summed density: the background pressure's compression work follows the particles (v + dv), as the summed density does, not the fluid (v) alone: B / rho^2 times the summed density's rate from the shift, less its volume mean, is added to de/dt and booked. stratified: where B varies along gravity (a layer across walls) and no no-slip wall moves; true (or alone): every such run, walls moving refused; false: off", "README", sw, sw, sizeof sw, NULL));
     PetscCall(ShiftWorkChoice(sw, &p->shift_work));
-    PetscCall(PetscOptionsBool("-conduction_linear", "Flow scheme, pair form: conduction exact for a linear temperature on any arrangement (each side subtracts its corrected gradient's part; not conserved pair by pair: the book carries it)", "README", p->heat_linear, &p->heat_linear, NULL));
+    /* On by default where the pair form conducts (the convection cell's conduction state
+     * read through moved particles fed the roll below onset: docs/gas-flow.md); the
+     * default is what the option's checks below accept, so it never refuses a run. */
+    p->heat_linear = (PetscBool)(!strcmp(form, "pair") && p->conductivity > 0.0 && (strcmp(bg, "none") || p->shift_coef > 0.0));
+    PetscCall(PetscOptionsBool("-conduction_linear", "Flow scheme, pair form: conduction exact for a linear temperature on any arrangement (each side subtracts its corrected gradient's part; not conserved pair by pair: the book carries it); default true with -diffusion_form pair and -conductivity > 0, false turns it off", "README", p->heat_linear, &p->heat_linear, NULL));
   }
   PetscFunctionReturn(0);
 }
