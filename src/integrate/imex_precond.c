@@ -11,6 +11,7 @@
 #include "imex_precond.h"
 #include <spam/sim.h>
 #include <nvector/nvector_petsc.h>
+#include <arkode/arkode_arkstep.h>
 
 PetscErrorCode SpamImexPCCreate(SpamImexPC *pc)
 {
@@ -52,6 +53,9 @@ PetscErrorCode SpamImexPCDestroy(SpamImexPC *pc)
   PetscCall(MatDestroy(&pc->P));
   PetscCall(VecDestroy(&pc->r));
   PetscCall(VecDestroy(&pc->z));
+  PetscCall(VecDestroy(&pc->ys));
+  PetscCall(VecDestroy(&pc->jx));
+  PetscCall(VecDestroy(&pc->jy));
   PetscCall(SpamDiffusionJacDestroy(&pc->jac));
   PetscFunctionReturn(0);
 }
@@ -70,6 +74,7 @@ static PetscErrorCode Setup(SpamTsApp *app, SpamImexPC *pc, N_Vector y, PetscBoo
     if (app->bad >= 0) PetscFunctionReturn(0);
     *jcur = PETSC_TRUE;
     pc->assemblies++;
+    pc->jv_fresh = PETSC_FALSE; /* at the iterate's positions: the products' J is due anew */
   }
   if (!pc->P || pc->patterns != pc->jac.patterns) {
     PetscInt rows;
@@ -161,8 +166,104 @@ PetscErrorCode SpamImexPCPrintStats(const SpamImexPC *pc, FILE *file)
   PetscCall(PCGetType(p, &ptype));
   PetscCall(PetscFPrintf(PETSC_COMM_SELF, file, "Stage preconditioner      = diffusion Jacobian, -%sksp_type %s -%spc_type %s (this rank's rows)\n", SPAM_IMEX_PC_PREFIX, ktype, SPAM_IMEX_PC_PREFIX, ptype ? ptype : "none"));
   PetscCall(PetscFPrintf(PETSC_COMM_SELF, file, "Jacobian assemblies       = %ld\n", pc->assemblies));
+  if (pc->jv_assemblies) PetscCall(PetscFPrintf(PETSC_COMM_SELF, file, "Jacobian stage assemblies = %ld\n", pc->jv_assemblies));
   PetscCall(PetscFPrintf(PETSC_COMM_SELF, file, "Jacobian patterns         = %ld\n", pc->jac.patterns));
   PetscCall(PetscFPrintf(PETSC_COMM_SELF, file, "Preconditioner factorings = %ld\n", pc->setups));
   PetscCall(PetscFPrintf(PETSC_COMM_SELF, file, "Preconditioner KSP iters  = %ld\n", pc->ksp_its));
   PetscFunctionReturn(0);
+}
+
+/* J for the products, assembled anew once per stage (a new time or gamma) at the stage's
+ * positions and densities with the iterate's velocities. The stage's positions are known
+ * before Newton has them: the diffusion part leaves x and rho alone, so there the stage
+ * residual zcor - gamma Fi - sdata vanishes at zcor = sdata and x = zpred + sdata, where
+ * the first iterate still stands at the predictor's. Within a stage J is then exact in
+ * the positions; the work's columns lag the velocities by an iteration (the energies'
+ * Newton corrections follow the velocities'). */
+static PetscErrorCode JacTimesSetup(SpamTsApp *app, SpamImexPC *pc, N_Vector y)
+{
+  const SpamLayout  *l = &app->sim->model.layout;
+  const PetscScalar *za, *sa;
+  PetscScalar       *ya;
+  realtype           t, gamma;
+  N_Vector           zpred, z, fi, sdata;
+  void              *data;
+  PetscInt           len;
+  int                flag;
+
+  PetscFunctionBeginUser;
+  flag = ARKStepGetNonlinearSystemData(pc->ark, &t, &zpred, &z, &fi, &gamma, &sdata, &data);
+  PetscCheck(flag == ARK_SUCCESS, PETSC_COMM_SELF, PETSC_ERR_LIB, "ARKStepGetNonlinearSystemData failed: %s", ARKStepGetReturnFlagName(flag));
+  if (pc->jv_fresh && t == pc->jv_t && gamma == pc->jv_gamma) PetscFunctionReturn(0);
+  if (!pc->ys) PetscCall(VecDuplicate(N_VGetVector_Petsc(y), &pc->ys));
+  PetscCall(VecCopy(N_VGetVector_Petsc(y), pc->ys));
+  PetscCall(VecGetLocalSize(pc->ys, &len));
+  PetscCall(VecGetArray(pc->ys, &ya));
+  PetscCall(VecGetArrayRead(N_VGetVector_Petsc(zpred), &za));
+  PetscCall(VecGetArrayRead(N_VGetVector_Petsc(sdata), &sa));
+  for (PetscInt b = 0; b < len; b += l->nvar) {
+    for (int d = 0; d < l->dim; d++) ya[b + l->x + d] = za[b + l->x + d] + sa[b + l->x + d];
+    if (l->rho >= 0) ya[b + l->rho] = za[b + l->rho] + sa[b + l->rho];
+  }
+  PetscCall(VecRestoreArrayRead(N_VGetVector_Petsc(sdata), &sa));
+  PetscCall(VecRestoreArrayRead(N_VGetVector_Petsc(zpred), &za));
+  PetscCall(app->sim->model.diffusion_jac(app->sim, ya, &pc->jac, &app->bad));
+  PetscCall(VecRestoreArray(pc->ys, &ya));
+  if (app->bad >= 0) PetscFunctionReturn(0);
+  if (!pc->jx || pc->jv_patterns != pc->jac.patterns) { /* the product's vectors, J's rows */
+    PetscInt rows;
+    PetscCall(VecDestroy(&pc->jx));
+    PetscCall(VecDestroy(&pc->jy));
+    PetscCall(MatGetSize(pc->jac.J, &rows, NULL));
+    PetscCall(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, rows, NULL, &pc->jx));
+    PetscCall(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, rows, NULL, &pc->jy));
+    pc->jv_patterns = pc->jac.patterns;
+  }
+  pc->jv_t     = t;
+  pc->jv_gamma = gamma;
+  pc->jv_fresh = PETSC_TRUE;
+  pc->jv_assemblies++;
+  PetscFunctionReturn(0);
+}
+
+int SpamImexPCJacTimesSetup(realtype t, N_Vector y, N_Vector fy, void *data)
+{
+  SpamTsApp *app = (SpamTsApp *)data;
+
+  (void)t;
+  (void)fy;
+  app->perr = JacTimesSetup(app, (SpamImexPC *)app->imex_pc, y);
+  return app->perr ? -1 : app->bad >= 0 ? 1 : 0;
+}
+
+/* J v from the assembled J: a sparse product where the difference quotient evaluates the
+ * diffusion part. */
+static PetscErrorCode JacTimes(SpamImexPC *pc, N_Vector v, N_Vector Jv)
+{
+  const PetscScalar *va;
+  PetscScalar       *ja;
+
+  PetscFunctionBeginUser;
+  PetscCall(VecGetArrayRead(N_VGetVector_Petsc(v), &va));
+  PetscCall(VecGetArrayWrite(N_VGetVector_Petsc(Jv), &ja));
+  PetscCall(VecPlaceArray(pc->jx, (PetscScalar *)(uintptr_t)va)); /* read only: MatMult does not write x */
+  PetscCall(VecPlaceArray(pc->jy, ja));
+  PetscCall(MatMult(pc->jac.J, pc->jx, pc->jy));
+  PetscCall(VecResetArray(pc->jx));
+  PetscCall(VecResetArray(pc->jy));
+  PetscCall(VecRestoreArrayWrite(N_VGetVector_Petsc(Jv), &ja));
+  PetscCall(VecRestoreArrayRead(N_VGetVector_Petsc(v), &va));
+  PetscFunctionReturn(0);
+}
+
+int SpamImexPCJacTimes(N_Vector v, N_Vector Jv, realtype t, N_Vector y, N_Vector fy, void *data, N_Vector tmp)
+{
+  SpamTsApp *app = (SpamTsApp *)data;
+
+  (void)t;
+  (void)y;
+  (void)fy;
+  (void)tmp;
+  app->perr = JacTimes((SpamImexPC *)app->imex_pc, v, Jv);
+  return app->perr ? -1 : 0;
 }
