@@ -56,7 +56,43 @@ PetscErrorCode SpamImexPCDestroy(SpamImexPC *pc)
   PetscCall(VecDestroy(&pc->ys));
   PetscCall(VecDestroy(&pc->jx));
   PetscCall(VecDestroy(&pc->jy));
+  if (pc->ewt) N_VDestroy(pc->ewt);
+  pc->ewt = NULL;
   PetscCall(SpamDiffusionJacDestroy(&pc->jac));
+  PetscFunctionReturn(0);
+}
+
+/* The state J is assembled at: the iterate y with the stage's own positions and densities.
+ * The diffusion part leaves x and rho alone, so there the stage residual
+ * zcor - gamma Fi - sdata vanishes at zcor = sdata: x = zpred + sdata, where the stage's
+ * first iterate still stands at the predictor's. */
+static PetscErrorCode StageState(SpamTsApp *app, SpamImexPC *pc, N_Vector y)
+{
+  const SpamLayout  *l = &app->sim->model.layout;
+  const PetscScalar *za, *sa;
+  PetscScalar       *ya;
+  N_Vector           zpred, z, fi, sdata;
+  void              *data;
+  realtype           t, gamma;
+  PetscInt           len;
+  int                flag;
+
+  PetscFunctionBeginUser;
+  flag = ARKStepGetNonlinearSystemData(pc->ark, &t, &zpred, &z, &fi, &gamma, &sdata, &data);
+  PetscCheck(flag == ARK_SUCCESS, PETSC_COMM_SELF, PETSC_ERR_LIB, "ARKStepGetNonlinearSystemData failed: %s", ARKStepGetReturnFlagName(flag));
+  if (!pc->ys) PetscCall(VecDuplicate(N_VGetVector_Petsc(y), &pc->ys));
+  PetscCall(VecCopy(N_VGetVector_Petsc(y), pc->ys));
+  PetscCall(VecGetLocalSize(pc->ys, &len));
+  PetscCall(VecGetArray(pc->ys, &ya));
+  PetscCall(VecGetArrayRead(N_VGetVector_Petsc(zpred), &za));
+  PetscCall(VecGetArrayRead(N_VGetVector_Petsc(sdata), &sa));
+  for (PetscInt b = 0; b < len; b += l->nvar) {
+    for (int d = 0; d < l->dim; d++) ya[b + l->x + d] = za[b + l->x + d] + sa[b + l->x + d];
+    if (l->rho >= 0) ya[b + l->rho] = za[b + l->rho] + sa[b + l->rho];
+  }
+  PetscCall(VecRestoreArrayRead(N_VGetVector_Petsc(sdata), &sa));
+  PetscCall(VecRestoreArrayRead(N_VGetVector_Petsc(zpred), &za));
+  PetscCall(VecRestoreArray(pc->ys, &ya));
   PetscFunctionReturn(0);
 }
 
@@ -68,13 +104,17 @@ static PetscErrorCode Setup(SpamTsApp *app, SpamImexPC *pc, N_Vector y, PetscBoo
   *jcur = PETSC_FALSE;
   if (!jok || !pc->jac.J) {
     const PetscScalar *ya;
-    PetscCall(VecGetArrayRead(N_VGetVector_Petsc(y), &ya));
+    Vec                at = N_VGetVector_Petsc(y);
+    if (pc->ark) { /* the products' J too: at the stage's positions */
+      PetscCall(StageState(app, pc, y));
+      at = pc->ys;
+    }
+    PetscCall(VecGetArrayRead(at, &ya));
     PetscCall(app->sim->model.diffusion_jac(app->sim, ya, &pc->jac, &app->bad));
-    PetscCall(VecRestoreArrayRead(N_VGetVector_Petsc(y), &ya));
+    PetscCall(VecRestoreArrayRead(at, &ya));
     if (app->bad >= 0) PetscFunctionReturn(0);
     *jcur = PETSC_TRUE;
     pc->assemblies++;
-    pc->jv_fresh = PETSC_FALSE; /* at the iterate's positions: the products' J is due anew */
   }
   if (!pc->P || pc->patterns != pc->jac.patterns) {
     PetscInt rows;
@@ -166,50 +206,33 @@ PetscErrorCode SpamImexPCPrintStats(const SpamImexPC *pc, FILE *file)
   PetscCall(PCGetType(p, &ptype));
   PetscCall(PetscFPrintf(PETSC_COMM_SELF, file, "Stage preconditioner      = diffusion Jacobian, -%sksp_type %s -%spc_type %s (this rank's rows)\n", SPAM_IMEX_PC_PREFIX, ktype, SPAM_IMEX_PC_PREFIX, ptype ? ptype : "none"));
   PetscCall(PetscFPrintf(PETSC_COMM_SELF, file, "Jacobian assemblies       = %ld\n", pc->assemblies));
-  if (pc->jv_assemblies) PetscCall(PetscFPrintf(PETSC_COMM_SELF, file, "Jacobian stage assemblies = %ld\n", pc->jv_assemblies));
+  if (pc->ark) PetscCall(PetscFPrintf(PETSC_COMM_SELF, file, "J v by difference         = %ld\n", pc->jv_dq_products));
   PetscCall(PetscFPrintf(PETSC_COMM_SELF, file, "Jacobian patterns         = %ld\n", pc->jac.patterns));
   PetscCall(PetscFPrintf(PETSC_COMM_SELF, file, "Preconditioner factorings = %ld\n", pc->setups));
   PetscCall(PetscFPrintf(PETSC_COMM_SELF, file, "Preconditioner KSP iters  = %ld\n", pc->ksp_its));
   PetscFunctionReturn(0);
 }
 
-/* J for the products, assembled anew once per stage (a new time or gamma) at the stage's
- * positions and densities with the iterate's velocities. The stage's positions are known
- * before Newton has them: the diffusion part leaves x and rho alone, so there the stage
- * residual zcor - gamma Fi - sdata vanishes at zcor = sdata and x = zpred + sdata, where
- * the first iterate still stands at the predictor's. Within a stage J is then exact in
- * the positions; the work's columns lag the velocities by an iteration (the energies'
- * Newton corrections follow the velocities'). */
-static PetscErrorCode JacTimesSetup(SpamTsApp *app, SpamImexPC *pc, N_Vector y)
+/* Which product the linear solve of this Newton iteration takes. J leaves out the
+ * positions' columns, and a stage's first iterate stands at the predictor's positions, not
+ * the stage's: its Newton step then lacks the positions' pull on v and e, and ARKODE may
+ * accept that iterate on the previous stage's convergence rate. So the first linear solve
+ * of each stage (a new time or gamma) takes the difference quotient, as ARKStep's own
+ * product; from the second on the positions are the stage's and J v stands for it. */
+static PetscErrorCode JacTimesSetup(SpamImexPC *pc)
 {
-  const SpamLayout  *l = &app->sim->model.layout;
-  const PetscScalar *za, *sa;
-  PetscScalar       *ya;
-  realtype           t, gamma;
-  N_Vector           zpred, z, fi, sdata;
-  void              *data;
-  PetscInt           len;
-  int                flag;
+  realtype t, gamma;
+  N_Vector zpred, z, fi, sdata;
+  void    *data;
+  int      flag;
 
   PetscFunctionBeginUser;
   flag = ARKStepGetNonlinearSystemData(pc->ark, &t, &zpred, &z, &fi, &gamma, &sdata, &data);
   PetscCheck(flag == ARK_SUCCESS, PETSC_COMM_SELF, PETSC_ERR_LIB, "ARKStepGetNonlinearSystemData failed: %s", ARKStepGetReturnFlagName(flag));
-  if (pc->jv_fresh && t == pc->jv_t && gamma == pc->jv_gamma) PetscFunctionReturn(0);
-  if (!pc->ys) PetscCall(VecDuplicate(N_VGetVector_Petsc(y), &pc->ys));
-  PetscCall(VecCopy(N_VGetVector_Petsc(y), pc->ys));
-  PetscCall(VecGetLocalSize(pc->ys, &len));
-  PetscCall(VecGetArray(pc->ys, &ya));
-  PetscCall(VecGetArrayRead(N_VGetVector_Petsc(zpred), &za));
-  PetscCall(VecGetArrayRead(N_VGetVector_Petsc(sdata), &sa));
-  for (PetscInt b = 0; b < len; b += l->nvar) {
-    for (int d = 0; d < l->dim; d++) ya[b + l->x + d] = za[b + l->x + d] + sa[b + l->x + d];
-    if (l->rho >= 0) ya[b + l->rho] = za[b + l->rho] + sa[b + l->rho];
-  }
-  PetscCall(VecRestoreArrayRead(N_VGetVector_Petsc(sdata), &sa));
-  PetscCall(VecRestoreArrayRead(N_VGetVector_Petsc(zpred), &za));
-  PetscCall(app->sim->model.diffusion_jac(app->sim, ya, &pc->jac, &app->bad));
-  PetscCall(VecRestoreArray(pc->ys, &ya));
-  if (app->bad >= 0) PetscFunctionReturn(0);
+  pc->jv_dq    = (PetscBool)!(pc->jv_started && t == pc->jv_t && gamma == pc->jv_gamma);
+  pc->jv_t     = t;
+  pc->jv_gamma = gamma;
+  pc->jv_started = PETSC_TRUE;
   if (!pc->jx || pc->jv_patterns != pc->jac.patterns) { /* the product's vectors, J's rows */
     PetscInt rows;
     PetscCall(VecDestroy(&pc->jx));
@@ -219,10 +242,6 @@ static PetscErrorCode JacTimesSetup(SpamTsApp *app, SpamImexPC *pc, N_Vector y)
     PetscCall(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, rows, NULL, &pc->jy));
     pc->jv_patterns = pc->jac.patterns;
   }
-  pc->jv_t     = t;
-  pc->jv_gamma = gamma;
-  pc->jv_fresh = PETSC_TRUE;
-  pc->jv_assemblies++;
   PetscFunctionReturn(0);
 }
 
@@ -231,9 +250,32 @@ int SpamImexPCJacTimesSetup(realtype t, N_Vector y, N_Vector fy, void *data)
   SpamTsApp *app = (SpamTsApp *)data;
 
   (void)t;
+  (void)y;
   (void)fy;
-  app->perr = JacTimesSetup(app, (SpamImexPC *)app->imex_pc, y);
-  return app->perr ? -1 : app->bad >= 0 ? 1 : 0;
+  app->perr = JacTimesSetup((SpamImexPC *)app->imex_pc);
+  return app->perr ? -1 : 0;
+}
+
+/* ARKStep's difference quotient (arkLsDQJtimes): (f(y + sig v) - f(y)) / sig with
+ * sig = 1/|v| in the error weights. */
+static int DifferenceQuotient(SpamTsApp *app, SpamImexPC *pc, N_Vector v, N_Vector Jv, realtype t, N_Vector y, N_Vector fy, N_Vector work)
+{
+  double sig;
+  int    flag;
+
+  if (!pc->ewt) {
+    pc->ewt = N_VClone(y);
+    if (!pc->ewt) return -1;
+  }
+  flag = ARKStepGetErrWeights(pc->ark, pc->ewt);
+  if (flag != ARK_SUCCESS) return -1;
+  sig = 1.0 / N_VWrmsNorm(v, pc->ewt);
+  N_VLinearSum(sig, v, 1.0, y, work);
+  flag = SpamSundialsRhsDiffusion(t, work, Jv, app);
+  if (flag) return flag;
+  N_VLinearSum(1.0 / sig, Jv, -1.0 / sig, fy, Jv);
+  pc->jv_dq_products++;
+  return 0;
 }
 
 /* J v from the assembled J: a sparse product where the difference quotient evaluates the
@@ -258,12 +300,10 @@ static PetscErrorCode JacTimes(SpamImexPC *pc, N_Vector v, N_Vector Jv)
 
 int SpamImexPCJacTimes(N_Vector v, N_Vector Jv, realtype t, N_Vector y, N_Vector fy, void *data, N_Vector tmp)
 {
-  SpamTsApp *app = (SpamTsApp *)data;
+  SpamTsApp  *app = (SpamTsApp *)data;
+  SpamImexPC *pc  = (SpamImexPC *)app->imex_pc;
 
-  (void)t;
-  (void)y;
-  (void)fy;
-  (void)tmp;
-  app->perr = JacTimes((SpamImexPC *)app->imex_pc, v, Jv);
+  if (pc->jv_dq) return DifferenceQuotient(app, pc, v, Jv, t, y, fy, tmp);
+  app->perr = JacTimes(pc, v, Jv);
   return app->perr ? -1 : 0;
 }

@@ -211,8 +211,8 @@ static PetscErrorCode TSSetUp_SpamARKImex(TS ts)
   PetscCheck(ark->mem, comm, PETSC_ERR_LIB, "ARKStepCreate failed");
   PetscCallARK(ARKStepSetUserData(ark->mem, app));
   app->imex_pc = Preconditioned(ark) ? &ark->pc : NULL;
-  ark->pc.ark      = ark->mem;
-  ark->pc.jv_fresh = PETSC_FALSE;
+  ark->pc.ark        = !strcmp(ark->solver.jv, "assembled") ? ark->mem : NULL;
+  ark->pc.jv_started = PETSC_FALSE;
   PetscCallARK(ARKStepSetErrHandlerFn(ark->mem, SpamSundialsErrHandler, app));
   {
     const int flag = ARKStepSetTables(ark->mem, Bi->q, Bi->p, Bi, Be); /* ARKStep keeps copies */
