@@ -30,6 +30,11 @@ to --nu (default 10: Re = U H / nu = 0.32, c h / nu = 0.42), to t = 1.5 H^2/nu =
 error is the max-norm of vx(t) against a DP5 run at rtol 1e-11, over U. There the sound
 (c = 1.41) bounds the explicit part's step, and so IMEX's, at ~h/c.
 
+--case convection: the convection cell (options/convection.opts, 32 x 16, Ra = 5 Ra_c) with the
+flow scheme's pair diffusion, -convection_prandtl --prandtl (default 10), to --t-end (default
+100); the error is the max-norm of (vx, vy) against a DP5 run at rtol 1e-11, over the
+reference's largest speed.
+
 This is a measurement, not a test. Usage (spam-ark built in build/):
     /usr/bin/python3 bench/run_imex.py [--L 96] [--table ARK436L2SA] [--chart docs/imex_heat_mode.png]
     /usr/bin/python3 bench/run_imex.py --case couette [--nu 10] [--rtols 1e-5,1e-6,1e-7] [--pcs none,diffusion]
@@ -63,8 +68,17 @@ def columns(path, names):
     return [np.array([float(r[n]) for r in rows]) for n in names]
 
 
-def case_args(case, L, nu):
+def case_args(case, L, nu, prandtl=10.0, t_conv=100.0):
     """The scene's options, the end time and the error function (final CSV paths -> error)."""
+    if case == "convection":
+        args = ["-options_file", str(ROOT / "options" / "convection.opts"), "-gas_scheme", "flow", "-diffusion_form", "pair",
+                "-convection_prandtl", repr(prandtl), "-ts_max_time", repr(t_conv), "-snapshot_interval", "0"]
+
+        def error(first, last):
+            vx, vy = columns(last, ["vx", "vy"])
+            scale = float(np.max(np.hypot(REFERENCE["vx"], REFERENCE["vy"])))
+            return float(max(np.max(np.abs(vx - REFERENCE["vx"])), np.max(np.abs(vy - REFERENCE["vy"]))) / scale)
+        return args, error
     if case == "couette":
         t_end = 1.5 * 32 * 32 / nu
         args = ["-options_file", str(ROOT / "options" / "couette.opts"), "-viscosity_shear", repr(nu), "-ts_max_time", repr(t_end),
@@ -167,7 +181,9 @@ NAMES = {"dp5": "DP5 (explicit, -ts_type arkode)", "imex": "IMEX {table}, GMRES 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--spam-ark", default=str(ROOT / "build" / "spam-ark"))
-    ap.add_argument("--case", choices=("heat-mode", "couette"), default="heat-mode")
+    ap.add_argument("--case", choices=("heat-mode", "couette", "convection"), default="heat-mode")
+    ap.add_argument("--prandtl", type=float, default=10.0, help="convection: -convection_prandtl")
+    ap.add_argument("--t-end", type=float, default=100.0, help="convection: the end time")
     ap.add_argument("--nu", type=float, default=10.0)
     ap.add_argument("--L", type=int, default=96)
     ap.add_argument("--table", default="ARK436L2SA")
@@ -181,15 +197,15 @@ def main():
     DISCRETE[a.L] = heat_mode(2, a.L, H, E0, GAMMA, KAPPA, "pair")[0]
     rtols = [float(x) for x in a.rtols.split(",")]
     dp5_rtols = [float(x) for x in a.dp5_rtols.split(",")] if a.dp5_rtols else rtols
-    case = case_args(a.case, a.L, a.nu)
+    case = case_args(a.case, a.L, a.nu, a.prandtl, a.t_end)
     methods = [(["-ts_type", "arkode"], "dp5")]
     for pc in a.pcs.split(","):
         extra = a.pc_options.split() if pc == "diffusion" else []
         methods.append((["-ts_type", "arkode_imex", "-arkode_imex_table", a.table, "-arkode_imex_pc", pc] + extra, "imex_pc" if pc == "diffusion" else "imex"))
     with tempfile.TemporaryDirectory() as work:
-        if a.case == "couette":
+        if a.case in ("couette", "convection"):
             ref = one_run(a.spam_ark, work, (case[0], lambda f, l: 0.0), (["-ts_type", "arkode"], "reference"), 1e-11)
-            (REFERENCE["vx"],) = columns(str(Path(work) / "reference_1e-11") + ".final.csv", ["vx"])
+            REFERENCE["vx"], REFERENCE["vy"] = columns(str(Path(work) / "reference_1e-11") + ".final.csv", ["vx", "vy"])
             print(f"reference: DP5 rtol 1e-11, {ref['steps']} steps, {ref['wall']:.1f} s")
         else:
             ref = None
@@ -202,7 +218,9 @@ def main():
                     runs[m[1]].append(r)
                 else:
                     failed.append((m[1], t))
-    if a.case == "couette":
+    if a.case == "convection":
+        print(f"convection 32 x 16 at Ra = 5 Ra_c, Pr = {a.prandtl:g}, flow scheme, pair diffusion, to t = {a.t_end:g}; error = max |v - v_ref| / max |v_ref|")
+    elif a.case == "couette":
         print(f"Couette from rest, nu = {a.nu:g} (Re = {0.1 * 32 / a.nu:.2f}), to 1.5 H^2/nu; error = max |vx - vx_ref| / U")
     else:
         print(f"heat mode 2D {a.L} x {LY}, to T = 1/sigma_v; error = max |e - exact| / (eps e0)")
@@ -240,7 +258,9 @@ def main():
             "table": chart_readings.table(["method", "rtol", "error", "steps (rejected)", "f_E", "f_I", "GMRES", "J", "wall s", "CPU s"], rows)},
             chart=a.chart)
     if a.chart:
-        if a.case == "couette":
+        if a.case == "convection":
+            title = f"Convection 32 x 16, Ra = 5 Ra_c, Pr = {a.prandtl:g}, to t = {a.t_end:g}"
+        elif a.case == "couette":
             title = f"Couette from rest, nu = {a.nu:g} (Re = {0.1 * 32 / a.nu:.2g})"
         else:
             title = f"Heat mode, 2D {a.L} x {LY}, h = 3, to one e-folding"

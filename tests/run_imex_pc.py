@@ -30,9 +30,13 @@ side's own), so:
    fewer with the preconditioner (a count, not a timing).
 4. The options: -imex_pc_* are refused without the preconditioner, and a misspelt one
    (-imex_pc_pc_typo) with it; with it, -imex_pc_pc_type is accepted (the Couette run).
-   The Couette run with the assembled J's products (and ten Newton iterations a stage: that
-   J leaves the viscous work and the walls' books out, so Newton converges linearly) equals
-   the unpreconditioned one within the same bound."""
+   The Couette run with the assembled J's products (each stage's first linear solve by the
+   difference quotient, the later ones by J, which holds the viscous work and the walls'
+   books) equals the unpreconditioned one within the same bound. It takes ten Newton
+   iterations a stage: J is the one of ARKODE's last set-up, and beside the moving wall the
+   work's derivative, C (v_i - v_j) with v_j the image's 2U - v_s, is a small difference of
+   near velocities that changes by its own size within a few steps; at this tolerance three
+   iterations of that modified Newton do not converge."""
 import csv
 import math
 import os
@@ -91,7 +95,7 @@ def amplitude(run_xe):
 def couette(a, c, pc, ranks=1, extra=()):
     """Couette from rest at fixed steps: (vx by id), GMRES iterations (rank 0's), drift, steps,
     particles; None if it failed."""
-    out = os.path.join(a.workdir, f"couette_{pc}_{ranks}_{len(extra)}")
+    out = os.path.join(a.workdir, "_".join(["couette", pc, str(ranks)] + [str(e).lstrip("-") for e in extra]))
     last = os.path.join(out, "final.csv")
     cmd, env = rank_command(*mpiexec_env(), ranks, a.spam_ark, ["-options_file", OPTS, "-ts_type", "arkode_imex", "-arkode_imex_pc", pc, "-viscosity_shear", COUETTE_NU, "-arkode_fixed_step", 0.5,
                                      "-ts_rtol", COUETTE_RTOL, "-ts_max_time", COUETTE_T, "-output_interval", 0, "-snapshot_interval", 0,
@@ -127,8 +131,6 @@ if ref is not None and all(r is not None for r in runs.values()):
 none = couette(a, c, "none")
 pre = couette(a, c, "diffusion", extra=("-imex_pc_pc_type", "ilu"))  # its KSP's options accepted
 pre2 = couette(a, c, "diffusion", ranks=2)
-# the assembled J's products leave out the viscous work and the walls' books: Newton then
-# converges linearly, and at this tolerance needs more than ARKODE's three iterations
 asm = couette(a, c, "diffusion", extra=("-arkode_imex_jv", "assembled", "-arkode_imex_max_nonlin_iters", 10))
 if none and pre:
     (v0, e0), it0, drift0, steps, n = none

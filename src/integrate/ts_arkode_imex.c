@@ -10,9 +10,9 @@
  * Krylov iteration one evaluation of the diffusion part: unpreconditioned
  * (-arkode_imex_pc none: no matrix is formed), or preconditioned on the right by the
  * assembled diffusion Jacobian (-arkode_imex_pc diffusion, imex_precond.c), whose product
- * may also stand for the difference quotient (-arkode_imex_jv assembled: a Krylov iteration
- * then costs a sparse product instead of an evaluation; Newton's residual, the true one,
- * still decides convergence). The error
+ * may also stand for the difference quotient after each stage's first linear solve
+ * (-arkode_imex_jv assembled: a Krylov iteration then costs a sparse product instead of an
+ * evaluation; Newton's residual, the true one, still decides convergence). The error
  * weights, the controllers and the stability function (-step_cfl, -step_force) are those
  * of the arkode type; the controller is ARKODE's own (a restart
  * does not carry its history). Like arkode, TSStep takes one ARKStep step towards
@@ -76,9 +76,11 @@ static PetscErrorCode SolverDefaults(SpamImexSolver *v)
   v->max_nonlin  = 3;
   v->krylov_dim  = 50; /* a step of ~70 explicit diffusion limits takes ~30 GMRES iterations (ARKODE: 5) */
   PetscCall(PetscStrncpy(v->pc, "diffusion", sizeof v->pc)); /* see SpamImexPCCreate and docs/integrators.md */
-  /* difference: the assembled J leaves out the viscous work's and the walls' books'
-   * dependence on v, so Newton then converges linearly; at -ts_rtol 1e-9 with fixed steps
-   * on Couette its three iterations no longer suffice */
+  /* difference: the assembled J is the one of ARKODE's last set-up, stale between set-ups
+   * in the positions and, beside a moving wall, in the work's derivative (a small difference
+   * of near velocities): Newton then converges linearly, and at -ts_rtol 1e-9 with fixed
+   * steps on Couette its three iterations no longer suffice; where it converges it saves
+   * 5-13 % of the implicit evaluations (Couette at Re 0.32, docs/integrators.md) */
   PetscCall(PetscStrncpy(v->jv, "difference", sizeof v->jv));
   PetscFunctionReturn(0);
 }
