@@ -2,9 +2,10 @@
  *
  * ARKStep's stage system is (I - gamma J) x = b with gamma = h a_ii. The diffusion part is
  * linear in v and e at the fixed positions and densities of a stage but for the viscous
- * work, so P = I - gamma J with J assembled from the pair list (the work left out) is
- * nearly the system itself: GMRES, preconditioned on the right (its residual test stays on
- * the system's own residual), then needs a few products where it needed tens. ARKODE asks
+ * work, so P = I - gamma J with J assembled from the pair list (the work's derivative at
+ * J's state included) is the system itself at that state: GMRES, preconditioned on the
+ * right (its residual test stays on the system's own residual), then needs a few products
+ * where it needed tens. ARKODE asks
  * for a set-up when its Jacobian data are due (every few steps, after a convergence
  * failure, or when gamma moved): J is assembled only when ARKODE says they are stale (jok
  * false) and P refactored from it for each new gamma. */
