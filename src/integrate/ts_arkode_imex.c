@@ -98,7 +98,7 @@ static PetscErrorCode SolverOptionsRead(PetscOptionItems *PetscOptionsObject, Sp
   PetscCall(PetscOptionsInt("-arkode_imex_max_nonlin_iters", "Newton iterations of a stage before the step is retried smaller", "README", v->max_nonlin, &v->max_nonlin, NULL));
   PetscCall(PetscOptionsInt("-arkode_imex_krylov_dim", "GMRES Krylov dimension (no restarts)", "README", v->krylov_dim, &v->krylov_dim, NULL));
   PetscCall(PetscOptionsString("-arkode_imex_pc", "GMRES preconditioner: none, or diffusion (the assembled diffusion Jacobian, solved by the KSP of prefix -imex_pc_)", "README", v->pc, v->pc, sizeof v->pc, NULL));
-  PetscCall(PetscOptionsString("-arkode_imex_jv", "GMRES's products J v: difference (ARKStep's difference quotient, one evaluation each) or, with -arkode_imex_pc diffusion, assembled (the assembled Jacobian's, made anew each stage: a sparse product instead of an evaluation)", "README", v->jv, v->jv, sizeof v->jv, NULL));
+  PetscCall(PetscOptionsString("-arkode_imex_jv", "GMRES's products J v: difference (ARKStep's difference quotient, one evaluation each) or, with -arkode_imex_pc diffusion, assembled (the assembled Jacobian's sparse product, from each stage's second linear solve on)", "README", v->jv, v->jv, sizeof v->jv, NULL));
   PetscOptionsHeadEnd();
   PetscCall(SpamCheckAllowed("-arkode_imex_jv", v->jv, ImexJvs, NIMEX_JV));
   if (strcmp(v->pc, "diffusion") && !strcmp(v->jv, "assembled")) SPAM_BAD_INPUT("-arkode_imex_jv", v->jv, "needs the assembled Jacobian of -arkode_imex_pc diffusion (this run: -arkode_imex_pc %s)", v->pc);
