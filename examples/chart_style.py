@@ -21,9 +21,11 @@ STYLES = {
     "F8": ("#d62728", "^"),
     "CVODE": ("#9467bd", "v"),
     "rk5dp": ("#8c564b", "<"),
-    # IMEX (bench/run_imex.py): GMRES unpreconditioned, and preconditioned
+    # IMEX (bench/run_imex.py): GMRES unpreconditioned, preconditioned, and with the
+    # assembled Jacobian's products
     "IMEX, unpreconditioned": ("#1f77b4", "o"),
     "IMEX, preconditioned": ("#2ca02c", "D"),
+    "IMEX, assembled J v": ("#d62728", "^"),
     # symplectic, fixed steps (precision, drift, stability)
     "Verlet": ("#e377c2", ">"),
     "Symp3": ("#17becf", "p"),

@@ -11,9 +11,17 @@
  *   3. The ghosts carry what the wall prescribes: a no-slip image v_g = 2 v_w - v_i, a
  *      free-slip one the normal velocity reversed, an isothermal one T_g = 2 T_w - T_i,
  *      an adiabatic one T_g = T_i; the image of a particle at height y sits at -y or
- *      2H - y. */
+ *      2H - y.
+ *   4. The diffusion part's assembled Jacobian (diffusion_jacobian.h) on the state of 2
+ *      with the flow scheme's pair Laplacians: J w against the central difference of the
+ *      part along a random direction w of the velocities and energies. The part is
+ *      quadratic in them (the viscous work, the books' work), so the difference is exact
+ *      but for round-off in every row: velocities, energies (the work's columns) and the
+ *      walls' books of the mirror images' sources. With the wall below isothermal, along
+ *      the velocities only (there the images' densities follow the sources' energies). */
 #include <spam/physics.h>
 #include <spam/scene.h>
+#include <spam/diffusion_jacobian.h>
 #include "test_util.h"
 
 #define NX 12
@@ -197,6 +205,118 @@ static PetscErrorCode Books(TestCount *c)
   PetscFunctionReturn(0);
 }
 
+/* Largest |a_k| and |a_k - b_k| over the rows k of one kind (rows[r] of each particle's
+ * block, r < nr). */
+static void RowError(const SpamSim *sim, const double *a, const double *b, const int *rows, int nr, double *amax, double *emax)
+{
+  const int nv = sim->model.layout.nvar;
+
+  *amax = *emax = 0.0;
+  for (PetscInt i = 0; i < sim->p.n; i++)
+    for (int r = 0; r < nr; r++) {
+      const size_t k = (size_t)i * nv + rows[r];
+      *amax          = PetscMax(*amax, fabs(a[k]));
+      *emax          = PetscMax(*emax, fabs(a[k] - b[k]));
+    }
+}
+
+/* y + s w into out, the diffusion part there into f. */
+static PetscErrorCode PartAt(SpamSim *sim, const double *y, const double *w, double s, double *out, double *f)
+{
+  const size_t len = (size_t)sim->p.n * sim->model.layout.nvar;
+  PetscInt     bad;
+
+  PetscFunctionBeginUser;
+  for (size_t k = 0; k < len; k++) out[k] = y[k] + s * w[k];
+  PetscCall(sim->model.rhs_part(sim, out, f, SPAM_RHS_DIFFUSION, &bad));
+  PetscCheck(bad < 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "the diffusion part refused particle %" PetscInt_FMT, bad);
+  PetscFunctionReturn(0);
+}
+
+/* One case: the moving no-slip wall below isothermal (T_w 0.5) or adiabatic, the direction
+ * along the energies too or along the velocities alone. */
+static PetscErrorCode JacobianCase(TestCount *c, PetscBool isothermal, PetscBool energies)
+{
+  const double       eps = 1e-4, tol = 1e-8;
+  double             escale = 0.0, work = 0.0;
+  SpamSolidParams    sp;
+  SpamWalls          w;
+  SpamSim            sim;
+  SpamDiffusionJac   jac;
+  const SpamLayout  *l;
+  const PetscScalar *y;
+  double            *dir, *yt, *fp, *fm, *jw;
+  Vec                vx, vy;
+  PetscInt           bad, len;
+  uint64_t           seed = 5;
+  int                rv[2], re[1], rb[4];
+  const char        *names[3] = {"velocity", "energy", "walls' books"};
+  const char        *keys[2][3] = {{"jacobian_error_velocity", "jacobian_error_energy", "jacobian_error_books"}, {"jacobian_error_velocity_isothermal", "jacobian_error_energy_isothermal", "jacobian_error_books_isothermal"}};
+
+  PetscFunctionBeginUser;
+  GasParams(&sp, 0.3, 0.4);
+  sp.scheme    = SPAM_GAS_FLOW;
+  sp.diffusion = SPAM_DIFFUSION_PAIR;
+  PetscCall(PetscMemzero(&w, sizeof w));
+  Wall(&w, 2, SPAM_WALL_NOSLIP, 0.3, isothermal ? 0.5 : 0.0);
+  Wall(&w, 3, SPAM_WALL_FREESLIP, 0, 0);
+  PetscCall(MakeGas(&sp, &w, 0.3, 11, &sim));
+  l   = &sim.model.layout;
+  len = sim.p.n * l->nvar;
+  PetscCheck(sim.model.diffusion_jac && l->wb >= 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "the flow scheme's gas between walls has no diffusion Jacobian or no books");
+  PetscCall(PetscMalloc5(len, &dir, len, &yt, len, &fp, len, &fm, len, &jw));
+  for (PetscInt k = 0; k < len; k++) dir[k] = 0.0;
+  for (PetscInt i = 0; i < sim.p.n; i++) {
+    for (int d = 0; d < 2; d++) dir[(size_t)i * l->nvar + l->v + d] = 0.3 * (TestUniform(&seed) - 0.5);
+    dir[(size_t)i * l->nvar + l->e] = energies ? TestUniform(&seed) - 0.5 : 0.0;
+  }
+  PetscCall(PetscMemzero(&jac, sizeof jac));
+  jac.builds = -1;
+  PetscCall(VecGetArrayRead(sim.p.X, &y));
+  PetscCall(sim.model.diffusion_jac(&sim, y, &jac, &bad));
+  PetscCheck(bad < 0, PETSC_COMM_SELF, PETSC_ERR_PLIB, "the Jacobian refused particle %" PetscInt_FMT, bad);
+  PetscCall(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, len, dir, &vx));
+  PetscCall(VecCreateSeqWithArray(PETSC_COMM_SELF, 1, len, jw, &vy));
+  PetscCall(MatMult(jac.J, vx, vy));
+  PetscCall(PartAt(&sim, y, dir, eps, yt, fp));
+  PetscCall(PartAt(&sim, y, dir, -eps, yt, fm));
+  PetscCall(VecRestoreArrayRead(sim.p.X, &y));
+  for (PetscInt k = 0; k < len; k++) fp[k] = (fp[k] - fm[k]) / (2.0 * eps);
+  rv[0] = l->v, rv[1] = l->v + 1, re[0] = l->e;
+  for (int b = 0; b < 4; b++) rb[b] = l->wb + b;
+  for (int g = 0; g < 3; g++) {
+    double amax, emax;
+    RowError(&sim, jw, fp, g == 0 ? rv : g == 1 ? re : rb, g == 0 ? 2 : g == 1 ? 1 : 4, &amax, &emax);
+    if (g == 1) escale = amax;
+    TestCheck(c, amax > 0.0 && emax < tol * amax, "diffusion Jacobian, %s wall below, along the velocities%s, %s rows: max |J w - central difference| %.1e of max |J w| %.2e (< %.0e: round-off)", isothermal ? "isothermal" : "adiabatic", energies ? " and energies" : "", names[g], emax, amax, tol);
+    TestReading(PETSC_COMM_WORLD, keys[isothermal][g], emax / amax);
+  }
+  if (energies) { /* the work's share: J w along the velocities alone, in the energies' rows */
+    for (PetscInt i = 0; i < sim.p.n; i++) dir[(size_t)i * l->nvar + l->e] = 0.0;
+    PetscCall(MatMult(jac.J, vx, vy));
+    for (PetscInt i = 0; i < sim.p.n; i++) work = PetscMax(work, fabs(jw[(size_t)i * l->nvar + l->e]));
+    TestCheck(c, work > 0.05 * escale, "the work's columns matter: max |J w| along the velocities alone in the energies' rows %.2e, along both %.2e", work, escale);
+  }
+  PetscCall(VecDestroy(&vx));
+  PetscCall(VecDestroy(&vy));
+  PetscCall(SpamDiffusionJacDestroy(&jac));
+  PetscCall(PetscFree5(dir, yt, fp, fm, jw));
+  PetscCall(SpamSimDestroy(&sim));
+  PetscFunctionReturn(0);
+}
+
+/* At an isothermal wall the flow scheme's images take the density of their place,
+ * rho_g / rho_s = T_s / T_g (gas_images.c), so the summed densities beside it depend on the
+ * sources' energies: J, which holds the densities fixed, is exact there along the
+ * velocities only. */
+static PetscErrorCode Jacobian(TestCount *c)
+{
+  PetscFunctionBeginUser;
+  PetscCall(JacobianCase(c, PETSC_FALSE, PETSC_TRUE));
+  PetscCall(JacobianCase(c, PETSC_TRUE, PETSC_FALSE));
+  PetscFunctionReturn(0);
+}
+
 int main(int argc, char **argv)
 {
   TestCount c = {0, 0};
@@ -204,6 +324,7 @@ int main(int argc, char **argv)
   PetscCall(TestInitialize(&argc, &argv));
   PetscCall(LatticeAtRest(&c));
   PetscCall(Books(&c));
+  PetscCall(Jacobian(&c));
   PetscCall(TestFinalize());
   return TestFinish(&c);
 }

@@ -9,7 +9,10 @@
  * GMRES (SUNLinSol_SPGMR) on ARKStep's difference-quotient Jacobian-vector product, each
  * Krylov iteration one evaluation of the diffusion part: unpreconditioned
  * (-arkode_imex_pc none: no matrix is formed), or preconditioned on the right by the
- * assembled diffusion Jacobian (-arkode_imex_pc diffusion, imex_precond.c). The error
+ * assembled diffusion Jacobian (-arkode_imex_pc diffusion, imex_precond.c), whose product
+ * may also stand for the difference quotient after each stage's first linear solve
+ * (-arkode_imex_jv assembled: a Krylov iteration then costs a sparse product instead of an
+ * evaluation; Newton's residual, the true one, still decides convergence). The error
  * weights, the controllers and the stability function (-step_cfl, -step_force) are those
  * of the arkode type; the controller is ARKODE's own (a restart
  * does not carry its history). Like arkode, TSStep takes one ARKStep step towards
@@ -32,6 +35,10 @@ static const char *const ImexExplicit[] = {"ARKODE_ARK324L2SA_ERK_4_2_3", "ARKOD
 /* The stage preconditioner: none, or the diffusion part's assembled Jacobian. */
 static const char *const ImexPCs[] = {"none", "diffusion"};
 #define NIMEX_PC 2
+/* GMRES's products J v: ARKStep's difference quotient (one evaluation of the diffusion part
+ * each, the viscous work's term included), or the assembled J's (a sparse product). */
+static const char *const ImexJvs[] = {"difference", "assembled"};
+#define NIMEX_JV 2
 
 /* The solver options (-arkode_imex_*). */
 /* Vectors ARKStep clones besides its stages' right-hand sides (SUNDIALS 6.4.1: weights,
@@ -46,6 +53,7 @@ typedef struct {
   PetscInt max_nonlin;  /* Newton iterations of a stage before the step is retried    */
   PetscInt krylov_dim;  /* GMRES's Krylov dimension (no restarts)                     */
   char     pc[16];      /* the stage preconditioner (ImexPCs)                         */
+  char     jv[16];      /* GMRES's products (ImexJvs)                                 */
 } SpamImexSolver;
 
 typedef struct {
@@ -68,6 +76,12 @@ static PetscErrorCode SolverDefaults(SpamImexSolver *v)
   v->max_nonlin  = 3;
   v->krylov_dim  = 50; /* a step of ~70 explicit diffusion limits takes ~30 GMRES iterations (ARKODE: 5) */
   PetscCall(PetscStrncpy(v->pc, "diffusion", sizeof v->pc)); /* see SpamImexPCCreate and docs/integrators.md */
+  /* difference: the assembled J is the one of ARKODE's last set-up, stale between set-ups
+   * in the positions and, beside a moving wall, in the work's derivative (a small difference
+   * of near velocities): Newton then converges linearly, and at -ts_rtol 1e-9 with fixed
+   * steps on Couette its three iterations no longer suffice; where it converges it saves
+   * 5-13 % of the implicit evaluations (Couette at Re 0.32, docs/integrators.md) */
+  PetscCall(PetscStrncpy(v->jv, "difference", sizeof v->jv));
   PetscFunctionReturn(0);
 }
 
@@ -84,7 +98,10 @@ static PetscErrorCode SolverOptionsRead(PetscOptionItems *PetscOptionsObject, Sp
   PetscCall(PetscOptionsInt("-arkode_imex_max_nonlin_iters", "Newton iterations of a stage before the step is retried smaller", "README", v->max_nonlin, &v->max_nonlin, NULL));
   PetscCall(PetscOptionsInt("-arkode_imex_krylov_dim", "GMRES Krylov dimension (no restarts)", "README", v->krylov_dim, &v->krylov_dim, NULL));
   PetscCall(PetscOptionsString("-arkode_imex_pc", "GMRES preconditioner: none, or diffusion (the assembled diffusion Jacobian, solved by the KSP of prefix -imex_pc_)", "README", v->pc, v->pc, sizeof v->pc, NULL));
+  PetscCall(PetscOptionsString("-arkode_imex_jv", "GMRES's products J v: difference (ARKStep's difference quotient, one evaluation each) or, with -arkode_imex_pc diffusion, assembled (the assembled Jacobian's sparse product, from each stage's second linear solve on)", "README", v->jv, v->jv, sizeof v->jv, NULL));
   PetscOptionsHeadEnd();
+  PetscCall(SpamCheckAllowed("-arkode_imex_jv", v->jv, ImexJvs, NIMEX_JV));
+  if (strcmp(v->pc, "diffusion") && !strcmp(v->jv, "assembled")) SPAM_BAD_INPUT("-arkode_imex_jv", v->jv, "needs the assembled Jacobian of -arkode_imex_pc diffusion (this run: -arkode_imex_pc %s)", v->pc);
   PetscCall(SpamCheckAllowed("-arkode_imex_table", v->table, ImexTables, NIMEX));
   PetscCall(SpamCheckAllowed("-arkode_imex_pc", v->pc, ImexPCs, NIMEX_PC));
   PetscCall(SpamOptionText("-arkode_imex_nonlin_coef", v->nonlin_coef, val, sizeof val));
@@ -160,6 +177,7 @@ static PetscErrorCode ConfigureSolver(TS_SpamARKImex *ark, MPI_Comm comm)
   PetscCheck(ark->ls, comm, PETSC_ERR_LIB, "SUNLinSol_SPGMR failed");
   PetscCallARKLS(ARKStepSetLinearSolver(ark->mem, ark->ls, NULL));
   if (pre) PetscCallARKLS(ARKStepSetPreconditioner(ark->mem, SpamImexPCSetup, SpamImexPCSolve));
+  if (pre && !strcmp(ark->solver.jv, "assembled")) PetscCallARKLS(ARKStepSetJacTimes(ark->mem, SpamImexPCJacTimesSetup, SpamImexPCJacTimes));
   PetscCallARKLS(ARKStepSetEpsLin(ark->mem, ark->solver.eps_lin));
   PetscCallARK(ARKStepSetNonlinConvCoef(ark->mem, ark->solver.nonlin_coef));
   PetscCallARK(ARKStepSetMaxNonlinIters(ark->mem, (int)ark->solver.max_nonlin));
@@ -194,6 +212,8 @@ static PetscErrorCode TSSetUp_SpamARKImex(TS ts)
   PetscCheck(ark->mem, comm, PETSC_ERR_LIB, "ARKStepCreate failed");
   PetscCallARK(ARKStepSetUserData(ark->mem, app));
   app->imex_pc = Preconditioned(ark) ? &ark->pc : NULL;
+  ark->pc.ark        = !strcmp(ark->solver.jv, "assembled") ? ark->mem : NULL;
+  ark->pc.jv_started = PETSC_FALSE;
   PetscCallARK(ARKStepSetErrHandlerFn(ark->mem, SpamSundialsErrHandler, app));
   {
     const int flag = ARKStepSetTables(ark->mem, Bi->q, Bi->p, Bi, Be); /* ARKStep keeps copies */
@@ -323,7 +343,7 @@ static PetscErrorCode TSView_SpamARKImex(TS ts, PetscViewer viewer)
   PetscFunctionBeginUser;
   PetscCall(PetscObjectTypeCompare((PetscObject)viewer, PETSCVIEWERASCII, &ascii));
   if (!ascii) PetscFunctionReturn(0);
-  PetscCall(PetscViewerASCIIPrintf(viewer, "  ARKODE ARKStep IMEX, pair %s (diffusion implicit), Newton-GMRES (Krylov dimension %" PetscInt_FMT ", preconditioner %s), ", ark->solver.table, ark->solver.krylov_dim, ark->solver.pc));
+  PetscCall(PetscViewerASCIIPrintf(viewer, "  ARKODE ARKStep IMEX, pair %s (diffusion implicit), Newton-GMRES (Krylov dimension %" PetscInt_FMT ", preconditioner %s, J v %s), ", ark->solver.table, ark->solver.krylov_dim, ark->solver.pc, ark->solver.jv));
   if (ark->set.fixed_step > 0) PetscCall(PetscViewerASCIIPrintf(viewer, "fixed step %g\n", ark->set.fixed_step));
   else PetscCall(PetscViewerASCIIPrintf(viewer, "controller %s\n", ark->set.adapt));
   if (!ark->mem) PetscFunctionReturn(0);
@@ -445,7 +465,7 @@ static PetscErrorCode CkApplyARKImex(TS ts, const SpamCkFile *c, double h_next, 
 
 static const SpamTSOption OptionsARKImex[] = {
   {"arkode_imex_table", PETSC_TRUE, PETSC_FALSE},      {"arkode_imex_nonlin_coef", PETSC_TRUE, PETSC_FALSE}, {"arkode_imex_eps_lin", PETSC_TRUE, PETSC_FALSE},
-  {"arkode_imex_max_nonlin_iters", PETSC_TRUE, PETSC_FALSE}, {"arkode_imex_krylov_dim", PETSC_TRUE, PETSC_FALSE}, {"arkode_imex_pc", PETSC_TRUE, PETSC_FALSE},
+  {"arkode_imex_max_nonlin_iters", PETSC_TRUE, PETSC_FALSE}, {"arkode_imex_krylov_dim", PETSC_TRUE, PETSC_FALSE}, {"arkode_imex_pc", PETSC_TRUE, PETSC_FALSE}, {"arkode_imex_jv", PETSC_TRUE, PETSC_FALSE},
   {"arkode_fixed_step", PETSC_TRUE, PETSC_FALSE},      {"arkode_adapt", PETSC_TRUE, PETSC_TRUE},             {"arkode_adapt_params", PETSC_TRUE, PETSC_TRUE},
   {"arkode_safety", PETSC_TRUE, PETSC_TRUE},           {"arkode_max_growth", PETSC_TRUE, PETSC_TRUE},        {"arkode_max_first_growth", PETSC_TRUE, PETSC_TRUE},
   {"arkode_max_efail_growth", PETSC_TRUE, PETSC_TRUE}, {"sundials_stats", PETSC_FALSE, PETSC_FALSE},         {NULL, PETSC_FALSE, PETSC_FALSE}};
