@@ -246,18 +246,36 @@ static PetscErrorCode FirstBins(TS ts, SpamTsApp *app, TS_SpamBlock *b, const do
   PetscFunctionReturn(0);
 }
 
-/* The state the right-hand side sees at tick s, of particle i (p its block, as drifted):
- * the position as drifted, the other fields advanced from its step's middle (where the
- * first half kick left them) along its step's rate; a particle whose step ends at s gets
- * the whole old kick. */
-static inline void Predict(const TS_SpamBlock *b, const SpamLayout *l, int dim, const double *p, PetscInt i, PetscInt64 s, double tau)
+/* Every particle drifted by dt to tick s (x += dt v, v its half-kicked velocity), and the
+ * state the right-hand side sees there (b->yp): the position as drifted, the other fields
+ * advanced from the step's middle (where the first half kick left them) along the step's
+ * rate (Kick's arithmetic on a copy), so that a particle whose step ends at s gets the
+ * whole old kick; the particles whose step ends at s listed in b->act (b->nends of them)
+ * and marked in b->ends. One loop over the particles, the arrays and offsets held in
+ * locals: a byte store may alias anything, and with the fields read through b the
+ * compiler would load them again for every particle. */
+static void DriftPredict(TS_SpamBlock *b, const SpamLayout *l, int dim, double *y, PetscInt64 s, double dt, double tau)
 {
-  const double *r = b->f + (size_t)i * b->nv;
-  double       *q = b->yp + (size_t)i * b->nv;
-  const double  dt = (double)b->len[i] * tau, since = (double)(s - b->start[i]) * tau, c = since - 0.5 * dt;
-  for (int k = 0; k < l->x; k++) q[k] = p[k] + c * r[k]; /* Kick's arithmetic on a copy */
-  for (int k = l->x; k < l->x + dim; k++) q[k] = p[k];
-  for (int k = l->x + dim; k < l->nvar; k++) q[k] = p[k] + c * r[k];
+  const PetscInt    n = b->n, nv = b->nv;
+  const int         lx = l->x, lv = l->v, nvar = l->nvar;
+  const double     *f = b->f;
+  double           *yp = b->yp;
+  const PetscInt64 *start = b->start, *len = b->len;
+  unsigned char    *ends = b->ends;
+  PetscInt         *act = b->act, na = 0;
+
+  for (PetscInt i = 0; i < n; i++) {
+    double       *p = y + (size_t)i * nv, *q = yp + (size_t)i * nv;
+    const double *r = f + (size_t)i * nv;
+    const double  dl = (double)len[i] * tau, since = (double)(s - start[i]) * tau, c = since - 0.5 * dl;
+    for (int d = 0; d < dim; d++) p[lx + d] += dt * p[lv + d];
+    for (int k = 0; k < lx; k++) q[k] = p[k] + c * r[k];
+    for (int k = lx; k < lx + dim; k++) q[k] = p[k];
+    for (int k = lx + dim; k < nvar; k++) q[k] = p[k] + c * r[k];
+    ends[i] = (unsigned char)(start[i] + len[i] == s);
+    if (ends[i]) act[na++] = i;
+  }
+  b->nends = b->nact = na;
 }
 
 /* The limiter against the bins just made deeper at tick s (b->chg), one ring of
@@ -453,16 +471,8 @@ static PetscErrorCode Tick(SpamTsApp *app, TS_SpamBlock *b, double *y, PetscInt6
   PetscInt64        nact, all;
 
   PetscFunctionBeginUser;
-  b->nact = 0;
-  for (PetscInt i = 0; i < b->n; i++) { /* one pass: drift, prediction, the list of ends */
-    double *p = y + (size_t)i * b->nv;
-    for (int d = 0; d < dim; d++) p[l->x + d] += dt * p[l->v + d];
-    Predict(b, l, dim, p, i, s, tau);
-    b->ends[i] = (unsigned char)(b->start[i] + b->len[i] == s);
-    if (b->ends[i]) b->act[b->nact++] = i;
-  }
-  b->nends = b->nact;
-  nact     = b->nact;
+  DriftPredict(b, l, dim, y, s, dt, tau);
+  nact = b->nact;
   all      = nact;
   PetscCall(RankReduce(sim, MPIU_INT64, MPI_SUM, &all));
   PetscCall(EvaluateMarked(app, b, t0 + (double)s * tau, b->yp, b->g, b->ends, ok));
