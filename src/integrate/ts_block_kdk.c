@@ -265,12 +265,13 @@ static void DriftPredict(TS_SpamBlock *b, const SpamLayout *l, int dim, double *
   PetscInt         *act = b->act, na = 0;
 
   for (PetscInt i = 0; i < n; i++) {
-    double *restrict       p = y + (size_t)i * nv, *restrict q = yp + (size_t)i * nv;
-    const double *restrict r = f + (size_t)i * nv;
-    const double           dl = (double)len[i] * tau, since = (double)(s - start[i]) * tau, c = since - 0.5 * dl;
+    double       *p = y + (size_t)i * nv, *q = yp + (size_t)i * nv;
+    const double *r = f + (size_t)i * nv;
+    const double  dl = (double)len[i] * tau, since = (double)(s - start[i]) * tau, c = since - 0.5 * dl;
     for (int d = 0; d < dim; d++) p[lx + d] += dt * p[lv + d];
-    for (int k = 0; k < nvar; k++) q[k] = p[k] + c * r[k]; /* the positions' entries replaced below */
-    for (int d = 0; d < dim; d++) q[lx + d] = p[lx + d];
+    for (int k = 0; k < lx; k++) q[k] = p[k] + c * r[k];
+    for (int k = lx; k < lx + dim; k++) q[k] = p[k];
+    for (int k = lx + dim; k < nvar; k++) q[k] = p[k] + c * r[k];
     ends[i] = (unsigned char)(start[i] + len[i] == s);
     if (ends[i]) act[na++] = i;
   }
