@@ -51,6 +51,10 @@ typedef struct {
   PetscInt64       *len;     /* [n] its length in ticks: 2^(L - lev), or shorter when a
                               * wake was put off to the next tick of the bin it needs   */
   unsigned char    *ends;    /* [n] the step ends (or is woken) at this tick            */
+  PetscInt         *act;     /* [n] the particles whose step ends at this tick, ascending
+                              * (nends of them), then those woken there (up to nact): the
+                              * loops after the evaluation visit these, not all n        */
+  PetscInt          nends, nact;
   unsigned char    *chg, *nxt; /* [n] bin made deeper: this ring's mask, the next ring's  */
   unsigned char    *woke;    /* [n] woken at this tick, its new rate still to take       */
   unsigned char    *near;    /* [2 n] scratch of the restricted pass                     */
@@ -242,19 +246,36 @@ static PetscErrorCode FirstBins(TS ts, SpamTsApp *app, TS_SpamBlock *b, const do
   PetscFunctionReturn(0);
 }
 
-/* The state the right-hand side sees at tick s: positions as drifted, the other fields of
- * each particle advanced from its step's middle (where the first half kick left them)
- * along its step's rate; a particle whose step ends at s gets the whole old kick. */
-static void Predict(const TS_SpamBlock *b, const SpamLayout *l, int dim, const double *y, PetscInt64 s, double tau)
+/* Every particle drifted by dt to tick s (x += dt v, v its half-kicked velocity), and the
+ * state the right-hand side sees there (b->yp): the position as drifted, the other fields
+ * advanced from the step's middle (where the first half kick left them) along the step's
+ * rate (Kick's arithmetic on a copy), so that a particle whose step ends at s gets the
+ * whole old kick; the particles whose step ends at s listed in b->act (b->nends of them)
+ * and marked in b->ends. One loop over the particles, the arrays and offsets held in
+ * locals: a byte store may alias anything, and with the fields read through b the
+ * compiler would load them again for every particle. */
+static void DriftPredict(TS_SpamBlock *b, const SpamLayout *l, int dim, double *y, PetscInt64 s, double dt, double tau)
 {
-  for (PetscInt i = 0; i < b->n; i++) {
-    const double *p = y + (size_t)i * b->nv, *r = b->f + (size_t)i * b->nv;
-    double       *q = b->yp + (size_t)i * b->nv;
-    const double  dt = (double)b->len[i] * tau, since = (double)(s - b->start[i]) * tau, c = since - 0.5 * dt;
-    for (int k = 0; k < l->x; k++) q[k] = p[k] + c * r[k]; /* Kick's arithmetic on a copy */
-    for (int k = l->x; k < l->x + dim; k++) q[k] = p[k];
-    for (int k = l->x + dim; k < l->nvar; k++) q[k] = p[k] + c * r[k];
+  const PetscInt    n = b->n, nv = b->nv;
+  const int         lx = l->x, lv = l->v, nvar = l->nvar;
+  const double     *f = b->f;
+  double           *yp = b->yp;
+  const PetscInt64 *start = b->start, *len = b->len;
+  unsigned char    *ends = b->ends;
+  PetscInt         *act = b->act, na = 0;
+
+  for (PetscInt i = 0; i < n; i++) {
+    double       *p = y + (size_t)i * nv, *q = yp + (size_t)i * nv;
+    const double *r = f + (size_t)i * nv;
+    const double  dl = (double)len[i] * tau, since = (double)(s - start[i]) * tau, c = since - 0.5 * dl;
+    for (int d = 0; d < dim; d++) p[lx + d] += dt * p[lv + d];
+    for (int k = 0; k < lx; k++) q[k] = p[k] + c * r[k];
+    for (int k = lx; k < lx + dim; k++) q[k] = p[k];
+    for (int k = lx + dim; k < nvar; k++) q[k] = p[k] + c * r[k];
+    ends[i] = (unsigned char)(start[i] + len[i] == s);
+    if (ends[i]) act[na++] = i;
   }
+  b->nends = b->nact = na;
 }
 
 /* The limiter against the bins just made deeper at tick s (b->chg), one ring of
@@ -295,6 +316,7 @@ static PetscErrorCode Wake(SpamSim *sim, TS_SpamBlock *b, double *y, PetscInt64 
       Kick(l, dim, y + (size_t)i * b->nv, b->f + (size_t)i * b->nv, 0.5 * (ran - old));
       b->ends[i] = 1;
       b->woke[i] = 1;
+      b->act[b->nact++] = i;
       b->woken++;
       b->psteps++;
     }
@@ -311,11 +333,10 @@ static PetscErrorCode WokenKicks(SpamTsApp *app, TS_SpamBlock *b, double *y, Pet
 {
   const SpamLayout *l   = &app->sim->model.layout;
   const int         dim = app->sim->model.dim;
-  PetscBool         any = PETSC_FALSE;
+  PetscBool         any = (PetscBool)(b->nact > b->nends); /* the woken follow the ends in b->act */
 
   PetscFunctionBeginUser;
   *ok = PETSC_TRUE;
-  for (PetscInt i = 0; i < b->n && !any; i++) any = (PetscBool)b->woke[i];
   PetscCall(AnyRank(app->sim, MPI_LOR, &any)); /* the restricted evaluation is collective */
   if (!any) PetscFunctionReturn(0);
   if (b->set.restricted) { /* the full pass left every rate in g already */
@@ -323,8 +344,8 @@ static PetscErrorCode WokenKicks(SpamTsApp *app, TS_SpamBlock *b, double *y, Pet
     b->wake_evals++;
     if (!*ok) PetscFunctionReturn(0);
   }
-  for (PetscInt i = 0; i < b->n; i++) {
-    if (!b->woke[i]) continue;
+  for (PetscInt a = b->nends; a < b->nact; a++) {
+    const PetscInt i = b->act[a];
     Kick(l, dim, y + (size_t)i * b->nv, b->g + (size_t)i * b->nv, 0.5 * (double)(s - b->start[i]) * tau);
     b->woke[i] = 0;
   }
@@ -348,11 +369,11 @@ static PetscErrorCode Rebin(TS ts, SpamTsApp *app, TS_SpamBlock *b, double *y, P
   PetscFunctionBeginUser;
   *ok = PETSC_TRUE;
   PetscCall(SpamBlockNeighbours(sim, b->yp, b->lev, b->ends, &b->walk));
-  for (PetscInt i = 0; i < b->n && row < 0; i++) {
-    b->chg[i] = 0;
-    if (!b->ends[i]) continue;
-    const double want = SpamBlockWanted(sim, &b->set, &b->walk, i, b->g + (size_t)i * b->nv, Controlled(b, i));
-    int          k    = LevelFor(want, D, L);
+  PetscCall(PetscArrayzero(b->chg, b->n));
+  for (PetscInt a = 0; a < b->nends && row < 0; a++) {
+    const PetscInt i    = b->act[a];
+    const double   want = SpamBlockWanted(sim, &b->set, &b->walk, i, b->g + (size_t)i * b->nv, Controlled(b, i));
+    int            k    = LevelFor(want, D, L);
     if (k < 0) {
       row  = SpamSimRowOf(sim, i);
       wrow = want;
@@ -370,8 +391,8 @@ static PetscErrorCode Rebin(TS ts, SpamTsApp *app, TS_SpamBlock *b, double *y, P
   for (int ring = 0; deeper && ring <= L; ring++) PetscCall(Wake(sim, b, y, s, L, ticks, tau, &deeper));
   PetscCall(WokenKicks(app, b, y, s, t0, tau, ok));
   if (!*ok) PetscFunctionReturn(0);
-  for (PetscInt i = 0; i < b->n; i++) {
-    if (!b->ends[i]) continue;
+  for (PetscInt a = 0; a < b->nact; a++) { /* the ends and the woken */
+    const PetscInt i = b->act[a];
     PetscCall(PetscArraycpy(b->f + (size_t)i * b->nv, b->g + (size_t)i * b->nv, b->nv));
     b->len[i] = ticks >> b->lev[i];
     Kick(l, dim, y + (size_t)i * b->nv, b->f + (size_t)i * b->nv, 0.5 * (double)b->len[i] * tau);
@@ -417,11 +438,11 @@ static PetscErrorCode Estimate(const SpamSim *sim, TS_SpamBlock *b, const double
   PetscBool bad = PETSC_FALSE;
 
   PetscFunctionBeginUser;
-  for (PetscInt i = 0; i < b->n; i++) {
-    const size_t o  = (size_t)i * b->nv;
-    const double dt = (double)b->len[i] * tau;
-    double       e;
-    if (!b->ends[i]) continue;
+  for (PetscInt a = 0; a < b->nends; a++) {
+    const PetscInt i  = b->act[a];
+    const size_t   o  = (size_t)i * b->nv;
+    const double   dt = (double)b->len[i] * tau;
+    double         e;
     e          = SpamBlockError(sim, &b->ectl, y + o, b->f + o, b->g + o, dt, b->wscr);
     b->want[i] = SpamBlockErrorStep(dt, e);
     b->ests++;
@@ -438,32 +459,27 @@ static PetscErrorCode Estimate(const SpamSim *sim, TS_SpamBlock *b, const double
 }
 
 /* One tick: drift everyone to tick s, evaluate on the predicted state, second half kick of
- * the particles whose step ends there. */
+ * the particles whose step ends there. The evaluation is the restricted pass (where the
+ * settings ask for it) even when every particle's step ends (the cycle's last tick): it
+ * skips the full pass's gradient walk, of which the gas it covers reads nothing. */
 static PetscErrorCode Tick(SpamTsApp *app, TS_SpamBlock *b, double *y, PetscInt64 from, PetscInt64 s, double t0, double tau, PetscBool *ok, PetscBool *rejected)
 {
   SpamSim          *sim = app->sim;
   const SpamLayout *l   = &sim->model.layout;
   const int         dim = sim->model.dim;
   const double      dt  = (double)(s - from) * tau;
-  PetscInt64        nact = 0, all;
+  PetscInt64        nact, all;
 
   PetscFunctionBeginUser;
-  for (PetscInt i = 0; i < b->n; i++) {
-    double *p = y + (size_t)i * b->nv;
-    for (int d = 0; d < dim; d++) p[l->x + d] += dt * p[l->v + d];
-  }
-  Predict(b, l, dim, y, s, tau);
-  for (PetscInt i = 0; i < b->n; i++) {
-    b->ends[i] = (unsigned char)(b->start[i] + b->len[i] == s);
-    nact += b->ends[i];
-  }
-  all = nact;
+  DriftPredict(b, l, dim, y, s, dt, tau);
+  nact = b->nact;
+  all      = nact;
   PetscCall(RankReduce(sim, MPIU_INT64, MPI_SUM, &all));
-  PetscCall(EvaluateMarked(app, b, t0 + (double)s * tau, b->yp, b->g, all < sim->p.nglobal ? b->ends : NULL, ok));
+  PetscCall(EvaluateMarked(app, b, t0 + (double)s * tau, b->yp, b->g, b->ends, ok));
   b->evals++;
   if (!*ok) PetscFunctionReturn(0);
-  for (PetscInt i = 0; i < b->n; i++) {
-    if (!b->ends[i]) continue;
+  for (PetscInt a = 0; a < b->nends; a++) {
+    const PetscInt i = b->act[a];
     Kick(l, dim, y + (size_t)i * b->nv, b->g + (size_t)i * b->nv, 0.5 * (double)b->len[i] * tau);
   }
   if (b->want) PetscCall(Estimate(sim, b, y, tau, rejected));
@@ -675,7 +691,7 @@ static PetscErrorCode TSSetUp_SpamBlock(TS ts)
   PetscCall(PetscMalloc3((size_t)b->n * b->nv + 1, &b->f, (size_t)b->n * b->nv + 1, &b->g, (size_t)b->n * b->nv + 1, &b->yp));
   PetscCall(PetscMalloc4(b->n + 1, &b->lev, b->n + 1, &b->start, b->n + 1, &b->len, b->n + 1, &b->ends));
   PetscCall(PetscCalloc4(b->n + 1, &b->chg, b->n + 1, &b->nxt, b->n + 1, &b->woke, 2 * b->n + 1, &b->near));
-  PetscCall(PetscMalloc1(b->n + 1, &b->gid));
+  PetscCall(PetscMalloc2(b->n + 1, &b->gid, b->n + 1, &b->act));
   PetscCall(PetscArraycpy(b->gid, sim->p.gid, b->n));
   if (b->set.criterion == SPAM_BLOCK_CRITERION_ERROR) {
     PetscCall(PetscMalloc4(b->n + 1, &b->want, b->n + 1, &b->cut, b->n + 1, &b->want0, b->n + 1, &b->cap));
@@ -699,7 +715,7 @@ static PetscErrorCode TSReset_SpamBlock(TS ts)
   if (b->f) PetscCall(PetscFree3(b->f, b->g, b->yp));
   if (b->lev) PetscCall(PetscFree4(b->lev, b->start, b->len, b->ends));
   if (b->chg) PetscCall(PetscFree4(b->chg, b->nxt, b->woke, b->near));
-  PetscCall(PetscFree(b->gid));
+  if (b->gid) PetscCall(PetscFree2(b->gid, b->act));
   if (b->want) PetscCall(PetscFree4(b->want, b->cut, b->want0, b->cap));
   if (b->y0) PetscCall(PetscFree4(b->y0, b->f0, b->h0, b->wscr));
   PetscCall(SpamBlockWalkDestroy(&b->walk));
