@@ -20,12 +20,13 @@ implicit case. Per RHS = the instructions over summary.json's rhs_evals_process.
 
 import argparse
 import json
-import re
 import shutil
 import subprocess
 import sys
 import tempfile
 from pathlib import Path
+
+from run_callgrind_h import totals  # the counted instructions of a callgrind output file
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
 CASES = {
@@ -40,15 +41,6 @@ def parse_args(argv):
     ap.add_argument("--readings", default=None, help="write the table to this JSON (examples/chart_readings.py)")
     ap.add_argument("--workdir", default=None, help="scratch directory (default: a temporary one)")
     return ap.parse_args(argv)
-
-
-def totals(path):
-    """The counted instructions of a callgrind output file (its 'totals:' or 'summary:' line)."""
-    for line in Path(path).read_text().splitlines():
-        m = re.match(r"^(?:totals|summary):\s+(\d+)", line)
-        if m:
-            return int(m.group(1))
-    raise SystemExit("no totals line in %s" % path)
 
 
 def run_one(args, case, lin, toggle, workdir):
