@@ -19,14 +19,12 @@ implicit case. Per RHS = the instructions over summary.json's rhs_evals_process.
 """
 
 import argparse
-import json
 import shutil
-import subprocess
 import sys
 import tempfile
 from pathlib import Path
 
-from run_callgrind_h import totals  # the counted instructions of a callgrind output file
+from run_callgrind_h import counted_run  # spam-ark under callgrind: its summary and counts
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
 CASES = {
@@ -49,15 +47,8 @@ def run_one(args, case, lin, toggle, workdir):
     cg = workdir / ("callgrind_%s.out" % name)
     cmd = [args.spam_ark, *CASES[case], "-conduction_linear", "true" if lin else "false", "-output_interval", "0",
            "-snapshot_interval", "0", "-output_dir", str(out), "-output_overwrite", "-quiet"]
-    vg = ["valgrind", "--tool=callgrind", "--toggle-collect=" + toggle, "--callgrind-out-file=%s" % cg]
-    log = workdir / ("callgrind_%s.log" % name)
-    with open(log, "w") as fh:
-        rc = subprocess.run(vg + cmd, stdout=fh, stderr=subprocess.STDOUT, cwd=str(REPO_ROOT)).returncode
-    if rc != 0:
-        raise SystemExit("callgrind run failed (rc %d): see %s" % (rc, log))
-    sm = json.loads((out / "summary.json").read_text())
-    ir, evals = totals(cg), int(sm["rhs_evals_process"])
-    return {"command": " ".join(vg[:2] + ["--toggle-collect=" + toggle] + cmd[1:]).replace(str(REPO_ROOT) + "/", "").replace(str(workdir) + "/", ""),
+    sm, ir, evals, command = counted_run(cmd, toggle, cg, workdir / ("callgrind_%s.log" % name), out, cwd=str(REPO_ROOT))
+    return {"command": command.replace(str(REPO_ROOT) + "/", "").replace(str(workdir) + "/", ""),
             "n_particles": int(sm["n_particles"]), "rhs_evals": evals, "steps": int(sm["steps"]), "instructions": ir,
             "instructions_per_rhs": ir / evals}
 

@@ -52,6 +52,19 @@ def totals(path):
     raise SystemExit("no totals line in %s" % path)
 
 
+def counted_run(cmd, toggle, cg, log, out, cwd=None):
+    """Runs spam-ark's cmd under callgrind, counting inside the function toggle: its
+    summary.json (in out), the counted instructions, the process's RHS evaluations and the
+    command as run (valgrind's tool and toggle, then spam-ark's arguments)."""
+    vg = ["valgrind", "--tool=callgrind", "--toggle-collect=" + toggle, "--callgrind-out-file=%s" % cg]
+    with open(log, "w") as fh:
+        rc = subprocess.run(vg + cmd, stdout=fh, stderr=subprocess.STDOUT, cwd=cwd).returncode
+    if rc != 0:
+        raise SystemExit("callgrind run failed (rc %d): see %s" % (rc, log))
+    sm = json.loads((Path(out) / "summary.json").read_text())
+    return sm, totals(cg), int(sm["rhs_evals_process"]), " ".join(vg[:3] + [str(x) for x in cmd[1:]])
+
+
 def run_one(args, case, name, extra, workdir):
     label, dim, n, t_end = case
     out = workdir / ("%s_%s" % (label, name))
@@ -59,15 +72,8 @@ def run_one(args, case, name, extra, workdir):
     cmd = [args.spam_ark, "-options_file", str(REPO_ROOT / "options" / "sedov.opts"), "-dim", str(dim),
            "-sedov_n", str(n), "-ts_max_time", str(t_end), "-output_interval", str(t_end),
            "-snapshot_interval", "0", "-snapshot_hdf5", "0", "-output_dir", str(out), "-output_overwrite", "-quiet"] + extra
-    vg = ["valgrind", "--tool=callgrind", "--toggle-collect=" + TOGGLE, "--callgrind-out-file=%s" % cg]
-    log = workdir / ("callgrind_%s_%s.log" % (label, name))
-    with open(log, "w") as fh:
-        rc = subprocess.run(vg + cmd, stdout=fh, stderr=subprocess.STDOUT).returncode
-    if rc != 0:
-        raise SystemExit("callgrind run failed (rc %d): see %s" % (rc, log))
-    sm = json.loads((out / "summary.json").read_text())
-    ir, evals = totals(cg), int(sm["rhs_evals_process"])
-    return {"command": " ".join(vg[:2] + ["--toggle-collect=" + TOGGLE] + cmd[1:]).replace(str(REPO_ROOT) + "/", ""),
+    sm, ir, evals, command = counted_run(cmd, TOGGLE, cg, workdir / ("callgrind_%s_%s.log" % (label, name)), out)
+    return {"command": command.replace(str(REPO_ROOT) + "/", ""),
             "n_particles": int(sm["n_particles"]), "rhs_evals": evals, "instructions": ir,
             "instructions_per_rhs": ir / evals, "instructions_per_particle_rhs": ir / evals / int(sm["n_particles"]),
             "pair_visits_per_rhs": sm["pair_interactions_per_s"] * sm["rhs_time_s"] / evals}
