@@ -130,12 +130,16 @@ def roll_amplitudes(out, k, y, fields):
     advecting the mean gradient gives a T' of the same sin-like shape: C 0.99 at 1.2 Ra_c,
     seed 1e-2, while the projection decays and its phase turns by 2 rad); the phase does.
     The v_y profile would tell them apart as well, but its noise floor (the cell's sound)
-    keeps its correlation low up to A ~ 1e-3."""
+    keeps its correlation low up to A ~ 1e-3.
+    H2, the share of the second harmonic: |k-component of T - T0 at 2k| over |at k| (mass-
+    weighted, no profile): the roll's own nonlinear harmonic is of order (A / saturation) x
+    its saturated share (0.09 at 1.2 Ra_c), so a larger H2 while A is small is a second
+    disturbance (two roll pairs), which the roll's k-component couples to (k x 2k -> k)."""
     wT, wv = fields["T"].real, fields["v"].real
     beta = (cell.t_bottom - cell.t_top) / cell.H
     edges = np.linspace(0.0, cell.H, cell.ny + 1)
     eig = np.interp(0.5 * (edges[1:] + edges[:-1]), y, wT)
-    ts, aT, av, cs, phs = [], [], [], [], []
+    ts, aT, av, cs, phs, h2s = [], [], [], [], [], []
     for path in manifest_files(out, "snapshot_csv"):
         with open(path) as f:
             first = f.readline()
@@ -148,6 +152,8 @@ def roll_amplitudes(out, k, y, fields):
         projT = np.sum(d["m"] * dT * pT * ph)
         aT.append(2 * abs(projT) / np.sum(d["m"] * pT * pT))
         phs.append(float(np.angle(projT)))
+        f1, f2 = abs(np.sum(d["m"] * dT * ph)), abs(np.sum(d["m"] * dT * ph * ph))
+        h2s.append(f2 / f1 if f1 > 0 else float("nan"))
         av.append(2 * abs(np.sum(d["m"] * d["vy"] * pv * ph)) / np.sum(d["m"] * pv * pv))
         row = np.clip(np.digitize(d["y"], edges) - 1, 0, cell.ny - 1)
         mass = np.maximum(np.bincount(row, d["m"], cell.ny), 1e-300)
@@ -155,7 +161,7 @@ def roll_amplitudes(out, k, y, fields):
         norm = math.sqrt(np.sum(abs(prof) ** 2) * np.sum(eig ** 2))
         cs.append(abs(np.sum(prof * eig)) / norm if norm > 0 else 0.0)
     order = np.argsort(ts)
-    return tuple(np.array(q)[order] for q in (ts, aT, av, cs, phs))
+    return tuple(np.array(q)[order] for q in (ts, aT, av, cs, phs, h2s))
 
 
 # The fit window's start: the disturbance is the linear eigenmode once its T' row profile
@@ -252,6 +258,29 @@ def band_rates(t, A, t_start):
     return out
 
 
+# Fractions of the saturated amplitude (the mean from t_sat on, as exponential_fit) that
+# sat_band_rates fits in: the roll's rate as it grows, on one scale for every seed and Ra.
+SAT_BANDS = (0.003, 0.01, 0.02, 0.05, 0.1, 0.2, 0.5)
+
+
+def sat_band_rates(t, A, H2, t_sat, t_start):
+    """({band: rate}, {band: max H2}) of ln A within each range of SAT_BANDS (A over its
+    saturated value), fitted as band_rates fits a decade (the snapshots after t_start in the
+    range before A first leaves it upwards, at least 3): where, on the way to saturation, the
+    rate departs from the fit's, and how much second harmonic (roll_amplitudes' H2) the
+    disturbance carries there."""
+    sat = np.mean(A[t >= t_sat]) if np.any(t >= t_sat) else A[-1]
+    rates, harm = {}, {}
+    for lo, hi in zip(SAT_BANDS[:-1], SAT_BANDS[1:]):
+        above = next((i for i in range(len(t)) if t[i] >= t_start and A[i] >= hi * sat), len(t))
+        idx = [i for i in range(above) if t[i] >= t_start and lo * sat <= A[i] < hi * sat]
+        if len(idx) >= 3:
+            key = f"{lo:g}-{hi:g}"
+            rates[key] = float(np.polyfit(t[idx], np.log(A[idx]), 1)[0])
+            harm[key] = float(np.nanmax(H2[idx]))
+    return rates, harm
+
+
 def effective_ra(rate, k):
     """The Ra at which the continuum's roll grows at this rate (bisection in log Ra between
     Ra_c and 1000 Ra_c; the rate rises with Ra): how far SPAM's cell is from the
@@ -297,10 +326,18 @@ def write_readings(path, results, seeds):
                                  [[f"{r['ra_over_ra_c']:g}", f"{r['amplitude']:g}", f"{r['s_theory']:.2e}"]
                                   + [format(r["band_rates"][d] / abs(r["s_theory"]), "+.2f") if d in r["band_rates"] else ""
                                      for d in decades] for r in results["runs"]])
+    # The same by fraction of the saturated amplitude (sat_band_rates), with the largest
+    # second-harmonic share in each range.
+    sb = [f"{lo:g}-{hi:g}" for lo, hi in zip(SAT_BANDS[:-1], SAT_BANDS[1:])]
+    sat_bands = chart_readings.table(["Ra / Ra_c", "seed", "fit"] + [f"A/A_sat {b}" for b in sb],
+                                     [[f"{r['ra_over_ra_c']:g}", f"{r['amplitude']:g}", f"{r['s_ratio']:.2f}"]
+                                      + [f"{r['sat_band_rates'][b] / abs(r['s_theory']):+.2f} ({r['sat_band_h2'][b]:.3f})"
+                                         if b in r["sat_band_rates"] else "" for b in sb] for r in results["runs"]])
     chart_readings.write_json(path, {"ra_c": results["ra_c"], "options": results["extra"],
                                      "growth": chart_readings.table(columns, rows), "onset": onset, "bands": bands,
+                                     "sat_bands": sat_bands,
                                      "runs": [{k: r[k] for k in ("ra_over_ra_c", "amplitude", "s_theory", "s_measured", "s_ratio",
-                                                                 "nu", "band_rates", "post_step_jumps", "ke_end",
+                                                                 "nu", "band_rates", "sat_band_rates", "sat_band_h2", "post_step_jumps", "ke_end",
                                                                  "fit", "seed_share", "fit_from", "fit_to", "nu_from_t", "t_end", "saturated", "extensions")} for r in results["runs"]]})
 
 
@@ -334,7 +371,7 @@ for f in factors:
             code, so, err = run(a.spam_ark, args + ["-ts_max_time", t_end], out, timeout=6 * 3600)
         if not c.check(code == 0, f"{name}: run completes (exit {code}, {time.time() - w0:.1f} s) {err.strip()[-300:]}"):
             continue
-        tt, A, Av, C, phi = roll_amplitudes(out, k1, y, fields)
+        tt, A, Av, C, phi, H2 = roll_amplitudes(out, k1, y, fields)
         extensions, saturated = 0, True
         if extend:
             saturated = False
@@ -352,7 +389,7 @@ for f in factors:
                 code, so, err = run(a.spam_ark, args + ["-ts_max_time", t_end, "-restart", os.path.join(out, "checkpoint.h5")], out, timeout=6 * 3600)
                 if not c.check(code == 0, f"{name}: continued run completes (exit {code}) {err.strip()[-300:]}"):
                     break
-                tt, A, Av, C, phi = roll_amplitudes(out, k1, y, fields)
+                tt, A, Av, C, phi, H2 = roll_amplitudes(out, k1, y, fields)
         wall = time.time() - w0
         sm, ts = summary(out), table(os.path.join(out, "timeseries.csv"))
         if err == "(reused)":
@@ -373,6 +410,7 @@ for f in factors:
         rate, fa, fb, note = exponential_fit(tt, A, C, phi, lag, t_avg, seed_share)
         rate_v = exponential_fit(tt, Av, C, phi, lag, t_avg, seed_share)[0]
         bands = band_rates(tt, A, t_start)
+        sat_rates, sat_h2 = sat_band_rates(tt, A, H2, t_avg, t_start)
         # saturation: the roll's amplitude over the last 1.5 e-folding times against the 1.5 before
         last = A[tt >= t_end - 1.5 / s_theory] if s_theory > 0 else A[-3:]
         prev = A[(tt >= t_end - 3.0 / s_theory) & (tt < t_end - 1.5 / s_theory)] if s_theory > 0 else A[-6:-3]
@@ -381,8 +419,8 @@ for f in factors:
         ra_eff = effective_ra(rate, k1) if note != "none" else float("nan")
         r = {"ra_over_ra_c": f, "ra": ra, "amplitude": amp, "t_end": t_end, "wall_s": wall, "rhs_evals": sm["rhs_evals"],
              "post_step_jumps": sm.get("post_step_jumps"), "s_theory": s_theory, "s_measured": rate, "s_measured_vy": rate_v, "ra_effective_over_ra_c": ra_eff / ra_c, "fit_from": fa, "fit_to": fb,
-             "band_rates": bands,
-             "fit": note, "seed_share": seed_share, "mode_corr_end": float(C[-1]), "series": {"t": tt.tolist(), "A": A.tolist(), "C": C.tolist(), "phase": phi.tolist()}, "saturated": saturated, "extensions": extensions,
+             "band_rates": bands, "sat_band_rates": sat_rates, "sat_band_h2": sat_h2,
+             "fit": note, "seed_share": seed_share, "mode_corr_end": float(C[-1]), "series": {"t": tt.tolist(), "A": A.tolist(), "C": C.tolist(), "phase": phi.tolist(), "H2": H2.tolist()}, "saturated": saturated, "extensions": extensions,
              "roll_amplitude_min": float(A[1:].min()), "roll_amplitude_end": float(A[-1]),
              "roll_amplitude_vy_end": float(Av[-1]),
              "saturation_drift": drift, "nu": nu, "nu_hot": nub, "nu_cold": nut, "nu_start": 0.5 * (qb[0] + qt[0]),
@@ -393,6 +431,8 @@ for f in factors:
               f"(hot {nub:.4f}, cold {nut:.4f}, start {r['nu_start']:.4f}); KE {ke[0]:.3g} -> {ke[-1]:.3g}", flush=True)
         print(f"{name}: rate / |linear rate| by decade of the roll's amplitude: "
               + ", ".join(f"{k}: {v / abs(s_theory):+.2f}" for k, v in bands.items()), flush=True)
+        print(f"{name}: rate / |linear rate| (largest second-harmonic share) by A / saturated A: "
+              + ", ".join(f"{k}: {v / abs(s_theory):+.2f} ({sat_h2[k]:.3f})" for k, v in sat_rates.items()), flush=True)
 
 # (a) growth rates
 print("\nRa/Ra_c  amplitude  t_end    wall s  s theory    s measured  ratio   fit              fit from  s from v_y  Ra_eff/Ra_c  Nu       Nu from  sat. drift")
