@@ -337,7 +337,8 @@ def write_readings(path, results, seeds):
                                      "growth": chart_readings.table(columns, rows), "onset": onset, "bands": bands,
                                      "sat_bands": sat_bands,
                                      "runs": [{k: r[k] for k in ("ra_over_ra_c", "amplitude", "s_theory", "s_measured", "s_ratio",
-                                                                 "nu", "band_rates", "sat_band_rates", "sat_band_h2", "post_step_jumps", "ke_end",
+                                                                 "nu", "band_rates", "sat_band_ratio", "sat_band_h2_max", "h2_saturated", "mode_corr_min_fit",
+                                                                 "ra_effective_over_ra_c", "post_step_jumps", "ke_end",
                                                                  "fit", "seed_share", "fit_from", "fit_to", "nu_from_t", "t_end", "saturated", "extensions")} for r in results["runs"]]})
 
 
@@ -411,15 +412,22 @@ for f in factors:
         rate_v = exponential_fit(tt, Av, C, phi, lag, t_avg, seed_share)[0]
         bands = band_rates(tt, A, t_start)
         sat_rates, sat_h2 = sat_band_rates(tt, A, H2, t_avg, t_start)
+        # the same keyed for the page's markers (no dot in a key): "to0_02" is the range 0.01-0.02
+        key_of = {f"{lo:g}-{hi:g}": "to" + f"{hi:g}".replace(".", "_") for lo, hi in zip(SAT_BANDS[:-1], SAT_BANDS[1:])}
         # saturation: the roll's amplitude over the last 1.5 e-folding times against the 1.5 before
         last = A[tt >= t_end - 1.5 / s_theory] if s_theory > 0 else A[-3:]
         prev = A[(tt >= t_end - 3.0 / s_theory) & (tt < t_end - 1.5 / s_theory)] if s_theory > 0 else A[-6:-3]
         drift = float(np.mean(last) / np.mean(prev)) if len(last) and len(prev) else float("nan")
         ke = ts["kinetic"]
         ra_eff = effective_ra(rate, k1) if note != "none" else float("nan")
+        in_fit = (tt >= fa) & (tt <= fb)
         r = {"ra_over_ra_c": f, "ra": ra, "amplitude": amp, "t_end": t_end, "wall_s": wall, "rhs_evals": sm["rhs_evals"],
              "post_step_jumps": sm.get("post_step_jumps"), "s_theory": s_theory, "s_measured": rate, "s_measured_vy": rate_v, "ra_effective_over_ra_c": ra_eff / ra_c, "fit_from": fa, "fit_to": fb,
              "band_rates": bands, "sat_band_rates": sat_rates, "sat_band_h2": sat_h2,
+             "sat_band_ratio": {key_of[b]: v / abs(s_theory) for b, v in sat_rates.items()},
+             "sat_band_h2_max": {key_of[b]: v for b, v in sat_h2.items()},
+             "h2_saturated": float(np.nanmean(H2[tt >= t_avg])) if np.any(tt >= t_avg) else float("nan"),
+             "mode_corr_min_fit": float(np.min(C[in_fit])) if np.any(in_fit) else float("nan"),
              "fit": note, "seed_share": seed_share, "mode_corr_end": float(C[-1]), "series": {"t": tt.tolist(), "A": A.tolist(), "C": C.tolist(), "phase": phi.tolist(), "H2": H2.tolist()}, "saturated": saturated, "extensions": extensions,
              "roll_amplitude_min": float(A[1:].min()), "roll_amplitude_end": float(A[-1]),
              "roll_amplitude_vy_end": float(Av[-1]),
