@@ -182,7 +182,7 @@ def main():
         crossed = [x for x in ok if x[5]]
         if crossed:  # particles crossed the walls (reflected after the step): not a clean roll
             ax.plot([x[0] for x in crossed], [x[1] for x in crossed], "o", ms=14, mfc="none", mec=colour, mew=1.5,
-                    label=f"{name}: particles crossed the walls (broken down)")
+                    label=f"{name}: particles crossed the walls, reflected (post_step_jumps > 0)")
         ax.plot([x[0] for x in ok] * 2, [x[2] for x in ok] + [x[3] for x in ok], "_", color=colour, ms=9)
         if failed:
             ax.plot(failed, [1.0] * len(failed), "x", color=colour, ms=10, mew=2, label=f"{name}: run failed")
