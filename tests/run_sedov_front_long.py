@@ -24,9 +24,12 @@ strong-shock limit (gamma + 1)/(gamma - 1) = 4; the energy kept to 1e-5 of the t
 (rtol 1e-6). Control: the same readings against the radius of gamma = 1.4's xi0 (at equal
 E0 and t) lie outside 2%, so the bound can fail.
 
-Measured (this test's readings):
-  3D 48^3, t = 9.116: R_front +1.45%, R_moment +1.78%, half level +2.88%, peak 2.48
-  2D 128^2, t = 15: R_front +1.10%, R_moment +1.03%, half level +1.26%, peak 3.46"""
+Measured (this test's readings, docs/scenes/sedov_front_long.json):
+  2D 128^2, t = 16.59: R_front +1.12% (lead 0.53 spacings), R_moment +0.95%, half level +1.27%,
+           peak 3.48; 2092 right-hand sides, 534 s wall
+  3D 48^3, t = 9.116: R_front +1.45% (lead 0.26), R_moment +1.78%, half level +2.88%, peak 2.48;
+           730 right-hand sides, 1118 s wall (load 10-12 on 2 cores)
+  control: +16.2% (2D), +13.1% (3D) against gamma 1.4's radius."""
 import os
 import sys
 
