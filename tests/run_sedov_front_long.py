@@ -69,7 +69,7 @@ def main():
         # Control: the radius of another gamma's xi0, at the same E0 and t, is missed by more than the bound.
         wrong = q["R_front"] / (q["R_exact"] * sedov_xi0(dim, 1.4) / res["xi0"]) - 1.0
         c.check(abs(wrong) > TOL, f"{name}: control: R_front against gamma 1.4's radius {wrong:+.2%}, outside the bound")
-        for key in ("front_err", "moment_err", "half_err", "peak", "t"):
+        for key in ("front_err", "front_lead", "moment_err", "moment_lead", "half_err", "peak", "t"):
             c.reading(f"{name}.{key}", q[key])
         c.reading(f"{name}.rhs_evals", sm["rhs_evals"])
         c.reading(f"{name}.wall_time_s", sm["wall_time_s"])
