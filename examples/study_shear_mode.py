@@ -605,6 +605,9 @@ def main():
     p.add_argument("--keep-snapshots", action="store_true")
     p.add_argument("--from-csv", metavar="CSV", help="redraw the chart, tables and readings from a stored "
                    "shear_mode.csv (of the same options) instead of running")
+    p.add_argument("--reuse", action="append", default=[], metavar="VARIANT=CSV",
+                   help="take the rows of VARIANT from a stored shear_mode.csv instead of running them (a variant "
+                        "whose code path a change of the build did not touch; the page says so and how it was checked)")
     p.add_argument("--amplitude", type=float, default=U, help="U (default 0.01): the rows' slide, about "
                    "0.06 (U / 0.01) (c h / nu) spacings over an e-folding, is linear only well under 1/(2 pi)")
     a = p.parse_args()
@@ -622,12 +625,24 @@ def main():
     os.makedirs(a.out, exist_ok=True)
     cases = [(lat, k, v, o, X) for v, o in variants for lat in lattices for k in kernels for X in ratios]
     rows, t0, ran = [], time.time(), 0
+    if a.from_csv and a.reuse:
+        raise SystemExit("--from-csv redraws every row from one CSV: --reuse is for a study that runs")
     if a.from_csv:
         rows = [r for r in rows_of_csv(a.from_csv) if (r["lattice"], r["kernel"], r["variant"], r["ch_over_nu"])
                 in {(lat, k, v, X) for lat, k, v, _, X in cases}]
         if len(rows) != len(cases):
             raise SystemExit(f"{a.from_csv} holds {len(rows)} of the {len(cases)} cases these options ask for")
         cases = []
+    for spec in a.reuse:
+        v, _, path = spec.partition("=")
+        if v not in vnames or not path:
+            raise SystemExit(f"--reuse {spec}: VARIANT=CSV with VARIANT one of {', '.join(vnames)}")
+        wanted = {(lat, k, X) for lat, k, cv, _, X in cases if cv == v}
+        got = [r for r in rows_of_csv(path) if r["variant"] == v and (r["lattice"], r["kernel"], r["ch_over_nu"]) in wanted]
+        if len(got) != len(wanted):
+            raise SystemExit(f"{path} holds {len(got)} of the {len(wanted)} cases of variant {v} these options ask for")
+        rows += got
+        cases = [cs for cs in cases if cs[2] != v]
     for i, (lat, k, v, o, X) in enumerate(cases):
         row, skipped = run_case(a, lat, k, v, o, X)
         rows.append(row)
@@ -651,7 +666,8 @@ def main():
     chart(rows, chart_path, readings, lattices, vnames, kernels, a.efolds)
     # Not CHART.json: OUT/shear_mode.json is the rows' file, and the chart defaults to OUT/shear_mode.png.
     chart_readings.write_json(os.path.splitext(chart_path)[0] + "_readings.json", cell_readings(rows),
-                              runs=[a.from_csv or a.out], chart=os.path.basename(chart_path))
+                              runs=[a.from_csv or a.out] + [spec.partition("=")[2] for spec in a.reuse],
+                              chart=os.path.basename(chart_path))
     md = markdown(rows, vnames, lattices, kernels, ratios, readings, made_line(sys.argv[1:]))
     with open(os.path.join(a.out, "shear_mode.md"), "w") as f:
         f.write(md)
