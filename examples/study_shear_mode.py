@@ -393,6 +393,8 @@ def variant_style(i):
 
 
 def chart(rows, path, readings, lattices, variants, kernels, efolds):
+    # One kernel: each variant its own colour (with several, colour is the kernel, marker the variant).
+    by_variant = len(kernels) == 1
     width = max(11.0, 6.5 * len(lattices))
     text = [piece for line in readings for piece in textwrap.wrap(line, int(width * 15), subsequent_indent="    ")]
     height = 9.6 + 0.16 * len(text)
@@ -407,9 +409,9 @@ def chart(rows, path, readings, lattices, variants, kernels, efolds):
         axd.axhspan(0.95, 1.05, color="green", alpha=0.15, lw=0)
         axd.axhline(1.0, color="green", lw=0.8)
         for kernel in kernels:
-            colour = style(kernel)["color"]
             for vi, v in enumerate(variants):
                 marker, ls = variant_style(vi)
+                colour = f"C{vi}" if by_variant else style(kernel)["color"]
                 rs = sorted((r for r in rows if r["lattice"] == lat and r["kernel"] == kernel and r["variant"] == v),
                             key=lambda r: r["ch_over_nu"])
                 if not rs:
@@ -431,7 +433,7 @@ def chart(rows, path, readings, lattices, variants, kernels, efolds):
                         th = np.array([r["theory_" + key] for r in rs], float)
                         if key == "decay_ratio":
                             th = np.clip(np.where(th > 0, th, FLOOR), FLOOR, 1e3)
-                        ax.plot(X, th, ":", color=colour, lw=0.9, alpha=0.9)
+                        ax.plot(X, th, ":", color="grey" if by_variant else colour, lw=0.9, alpha=0.9)
         finite = [r["decay_ratio"] for r in rows if math.isfinite(r["decay_ratio"])]
         axd.set_ylim(FLOOR * 0.7, max([10.0] + [min(v, 1e3) * 1.4 for v in finite]))
         axd.axhline(FLOOR, color="grey", lw=0.6, ls="--")
@@ -445,9 +447,10 @@ def chart(rows, path, readings, lattices, variants, kernels, efolds):
         axw.set_ylabel("ringing frequency w / (nu k^2)  (0 = no ringing)")
         for ax in (axd, axw):
             ax.set_xlabel("c h / nu  (sound speed x kernel range / kinematic viscosity; dimensionless)")
-    handles = [Line2D([], [], color=style(k)["color"], lw=2, label=k) for k in kernels]
-    handles += [Line2D([], [], color="grey", marker=variant_style(i)[0], linestyle=variant_style(i)[1],
-                       label=f"variant {v}") for i, v in enumerate(variants)]
+    handles = [Line2D([], [], color="black" if by_variant else style(k)["color"], lw=2,
+                      label=f"kernel {k}" if by_variant else k) for k in kernels]
+    handles += [Line2D([], [], color=f"C{i}" if by_variant else "grey", marker=variant_style(i)[0],
+                       linestyle=variant_style(i)[1], label=f"variant {v}") for i, v in enumerate(variants)]
     handles += [Line2D([], [], **UNSTABLE, label="flagged: failed, grew or disordered (kernel marker hollow)"),
                 Line2D([], [], color="grey", linestyle=":", lw=0.8, label="linear theory, perfect lattice"),
                 matplotlib.patches.Patch(color="green", alpha=0.15, label="goal: within 5 % of nu k^2")]
