@@ -14,7 +14,8 @@ the scene: -taylorgreen_n 24, -dim 2, -viscosity_shear 2, -mass 1).
 
 With several DIRs (the same vortex at other resolutions, Reynolds numbers or schemes) each
 run is one marker against the one continuum line exp(-x), x the time in e-foldings of
-that run's own continuum rate; the readings (OUT.json) are per run, keyed L<n>_<scheme>:
+that run's own continuum rate; the readings (OUT.json) are per run, keyed L<n>_<scheme>
+(and _re<Re> when the runs' Reynolds numbers differ):
 Re = U L / nu, the fitted and continuum rates, and the KE at the end over the continuum's.
 """
 import argparse
@@ -81,12 +82,12 @@ def main():
         if len(runs) == 1:
             label = f"SPAM (fitted rate {r['fit']:.5g})"
         else:
-            label = (f"L = {r['L']:g}, Re = {r['re']:.3g}{', ' + r['scheme'] if r['scheme'] else ''}: "
+            label = (f"L = {r['L']:g}, Re = {r['re']:.4g}{', ' + r['scheme'] if r['scheme'] else ''}: "
                      f"KE / continuum at the end {r['ke_over_continuum']:.4f}")
         ax.semilogy(x, r["ke"] / r["ke"][0], "osD^v"[i % 5], ms=4, color=f"C{i}", label=label)
         if len(runs) > 1:
             ax2.plot(x, r["ke"] / r["ke"][0] / np.exp(-x), "osD^v"[i % 5] + "-", ms=4, lw=0.8, color=f"C{i}",
-                     label=f"L = {r['L']:g}, Re = {r['re']:.3g}{', ' + r['scheme'] if r['scheme'] else ''}")
+                     label=f"L = {r['L']:g}, Re = {r['re']:.4g}{', ' + r['scheme'] if r['scheme'] else ''}")
     xx = np.linspace(0, xmax, 200)
     if len(runs) == 1:
         r = runs[0]
@@ -115,8 +116,9 @@ def main():
                                        relative_error=r["fit"] / r["rate"] - 1), runs=[a.dir[0]])
         return
     readings = {}
+    several_re = len({round(r["re"], 6) for r in runs}) > 1
     for d, r in zip(a.dir, runs):
-        key = f"L{r['L']:g}" + (f"_{r['scheme']}" if r["scheme"] else "")
+        key = f"L{r['L']:g}" + (f"_{r['scheme']}" if r["scheme"] else "") + (f"_re{r['re']:.4g}" if several_re else "")
         readings[key] = dict(chart_readings.books(d), L=r["L"], re=r["re"], rate=r["fit"], continuum=r["rate"],
                              ke_over_continuum=r["ke_over_continuum"], t_over_e_folding=float(r["t"][-1] * r["rate"]))
         print(f"{key}: Re {r['re']:.4g}, KE at the end over the continuum's {r['ke_over_continuum']:.4f} "
