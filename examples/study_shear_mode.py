@@ -393,6 +393,8 @@ def variant_style(i):
 
 
 def chart(rows, path, readings, lattices, variants, kernels, efolds):
+    # One kernel: each variant its own colour (with several, colour is the kernel, marker the variant).
+    by_variant = len(kernels) == 1
     width = max(11.0, 6.5 * len(lattices))
     text = [piece for line in readings for piece in textwrap.wrap(line, int(width * 15), subsequent_indent="    ")]
     height = 9.6 + 0.16 * len(text)
@@ -407,9 +409,9 @@ def chart(rows, path, readings, lattices, variants, kernels, efolds):
         axd.axhspan(0.95, 1.05, color="green", alpha=0.15, lw=0)
         axd.axhline(1.0, color="green", lw=0.8)
         for kernel in kernels:
-            colour = style(kernel)["color"]
             for vi, v in enumerate(variants):
                 marker, ls = variant_style(vi)
+                colour = f"C{vi}" if by_variant else style(kernel)["color"]
                 rs = sorted((r for r in rows if r["lattice"] == lat and r["kernel"] == kernel and r["variant"] == v),
                             key=lambda r: r["ch_over_nu"])
                 if not rs:
@@ -431,7 +433,7 @@ def chart(rows, path, readings, lattices, variants, kernels, efolds):
                         th = np.array([r["theory_" + key] for r in rs], float)
                         if key == "decay_ratio":
                             th = np.clip(np.where(th > 0, th, FLOOR), FLOOR, 1e3)
-                        ax.plot(X, th, ":", color=colour, lw=0.9, alpha=0.9)
+                        ax.plot(X, th, ":", color="grey" if by_variant else colour, lw=0.9, alpha=0.9)
         finite = [r["decay_ratio"] for r in rows if math.isfinite(r["decay_ratio"])]
         axd.set_ylim(FLOOR * 0.7, max([10.0] + [min(v, 1e3) * 1.4 for v in finite]))
         axd.axhline(FLOOR, color="grey", lw=0.6, ls="--")
@@ -445,9 +447,10 @@ def chart(rows, path, readings, lattices, variants, kernels, efolds):
         axw.set_ylabel("ringing frequency w / (nu k^2)  (0 = no ringing)")
         for ax in (axd, axw):
             ax.set_xlabel("c h / nu  (sound speed x kernel range / kinematic viscosity; dimensionless)")
-    handles = [Line2D([], [], color=style(k)["color"], lw=2, label=k) for k in kernels]
-    handles += [Line2D([], [], color="grey", marker=variant_style(i)[0], linestyle=variant_style(i)[1],
-                       label=f"variant {v}") for i, v in enumerate(variants)]
+    handles = [Line2D([], [], color="black" if by_variant else style(k)["color"], lw=2,
+                      label=f"kernel {k}" if by_variant else k) for k in kernels]
+    handles += [Line2D([], [], color=f"C{i}" if by_variant else "grey", marker=variant_style(i)[0],
+                       linestyle=variant_style(i)[1], label=f"variant {v}") for i, v in enumerate(variants)]
     handles += [Line2D([], [], **UNSTABLE, label="flagged: failed, grew or disordered (kernel marker hollow)"),
                 Line2D([], [], color="grey", linestyle=":", lw=0.8, label="linear theory, perfect lattice"),
                 matplotlib.patches.Patch(color="green", alpha=0.15, label="goal: within 5 % of nu k^2")]
@@ -605,6 +608,9 @@ def main():
     p.add_argument("--keep-snapshots", action="store_true")
     p.add_argument("--from-csv", metavar="CSV", help="redraw the chart, tables and readings from a stored "
                    "shear_mode.csv (of the same options) instead of running")
+    p.add_argument("--reuse", action="append", default=[], metavar="VARIANT=CSV",
+                   help="take the rows of VARIANT from a stored shear_mode.csv instead of running them (a variant "
+                        "whose code path a change of the build did not touch; the page says so and how it was checked)")
     p.add_argument("--amplitude", type=float, default=U, help="U (default 0.01): the rows' slide, about "
                    "0.06 (U / 0.01) (c h / nu) spacings over an e-folding, is linear only well under 1/(2 pi)")
     a = p.parse_args()
@@ -622,12 +628,24 @@ def main():
     os.makedirs(a.out, exist_ok=True)
     cases = [(lat, k, v, o, X) for v, o in variants for lat in lattices for k in kernels for X in ratios]
     rows, t0, ran = [], time.time(), 0
+    if a.from_csv and a.reuse:
+        raise SystemExit("--from-csv redraws every row from one CSV: --reuse is for a study that runs")
     if a.from_csv:
         rows = [r for r in rows_of_csv(a.from_csv) if (r["lattice"], r["kernel"], r["variant"], r["ch_over_nu"])
                 in {(lat, k, v, X) for lat, k, v, _, X in cases}]
         if len(rows) != len(cases):
             raise SystemExit(f"{a.from_csv} holds {len(rows)} of the {len(cases)} cases these options ask for")
         cases = []
+    for spec in a.reuse:
+        v, _, path = spec.partition("=")
+        if v not in vnames or not path:
+            raise SystemExit(f"--reuse {spec}: VARIANT=CSV with VARIANT one of {', '.join(vnames)}")
+        wanted = {(lat, k, X) for lat, k, cv, _, X in cases if cv == v}
+        got = [r for r in rows_of_csv(path) if r["variant"] == v and (r["lattice"], r["kernel"], r["ch_over_nu"]) in wanted]
+        if len(got) != len(wanted):
+            raise SystemExit(f"{path} holds {len(got)} of the {len(wanted)} cases of variant {v} these options ask for")
+        rows += got
+        cases = [cs for cs in cases if cs[2] != v]
     for i, (lat, k, v, o, X) in enumerate(cases):
         row, skipped = run_case(a, lat, k, v, o, X)
         rows.append(row)
@@ -651,7 +669,8 @@ def main():
     chart(rows, chart_path, readings, lattices, vnames, kernels, a.efolds)
     # Not CHART.json: OUT/shear_mode.json is the rows' file, and the chart defaults to OUT/shear_mode.png.
     chart_readings.write_json(os.path.splitext(chart_path)[0] + "_readings.json", cell_readings(rows),
-                              runs=[a.from_csv or a.out], chart=os.path.basename(chart_path))
+                              runs=[a.from_csv or a.out] + [spec.partition("=")[2] for spec in a.reuse],
+                              chart=os.path.basename(chart_path))
     md = markdown(rows, vnames, lattices, kernels, ratios, readings, made_line(sys.argv[1:]))
     with open(os.path.join(a.out, "shear_mode.md"), "w") as f:
         f.write(md)

@@ -18,12 +18,17 @@ Asserted is only what is physics today:
   (0.952), which the linear theory holds and the smoothing bound would not;
 - no ringing there (the mode does not change sign);
 - every run completes (exit 0) and its snapshots are read.
-Printed, not asserted: c h / nu = 100, where pressure dominates; today the square lattice
-under Wendland C4 has a negative shear stiffness (the linear theory's mode grows) and the
-run's amplitude passes 1.05 U (flag "grew") and then rings. A scheme that fixes the shear
-mode is to tighten this: decay within 5 % of nu k^2 at every c h / nu.
+Printed, not asserted: c h / nu = 100 under the plain scheme, where pressure dominates; the
+square lattice under Wendland C4 has a negative shear stiffness (the linear theory's mode
+grows) and the run's amplitude passes 1.05 U (flag "grew") and then rings.
+The default scheme of a viscous gas (the flow scheme, no option) at c h / nu = 100, the same
+kernel and lattice: asserted within (1 - |K|^2/k^2) / 4 + 0.005 of nu k^2 (its pair
+Laplacian smooths the mode a quarter as much as the two-pass form, docs/gas-flow.md; plus
+the measurement's 0.005), no ringing, no flag. The issue's goal, 5 %, is wider. The full
+chart (every kernel, both starts, up to c h / nu = 1000) is docs/shear-mode.md's.
 
-Measured run time: 6-9 s (machine load 2-5), 32 s beside a run of the full study."""
+Measured run time: 6-9 s (machine load 2-5), 32 s beside a run of the full study, before the
+flow scheme's run (about 4 s alone) was added."""
 import json
 import os
 import subprocess
@@ -83,7 +88,28 @@ def main():
             print(f"info: c h/nu {X:g}: s/(nu k^2) = {ratio:.4g} (linear theory {th:.4g}), "
                   f"w/(nu k^2) = {r['ringing_ratio']:.4g}, flags: {r['flag'] or 'none'}, "
                   f"final A/U = {r['final_amplitude']:.3g}, max transverse displacement {r['max_dy']:.3g}")
+    flow(a, c)
     c.finish()
+
+
+def flow(a, c):
+    """The default scheme of a viscous gas where pressure dominates (c h / nu = 100)."""
+    out = os.path.join(a.workdir, "study_flow")
+    argv = [sys.executable, os.path.join(os.path.dirname(HERE), "examples", "study_shear_mode.py"), "--quick",
+            "--spam-ark", a.spam_ark, "--out", out, "--variant", "flow=", "--ratio", "100"]
+    p = subprocess.run(argv, capture_output=True, text=True, timeout=600)
+    print(p.stdout)
+    if not c.check(p.returncode == 0, f"the flow scheme's run completes (exit {p.returncode}) {p.stderr.strip()[-2000:]}"):
+        return
+    for r in json.load(open(os.path.join(out, "shear_mode.json"))):
+        ratio, bound = r["decay_ratio"], (1 - r["laplacian_factor"]) / 4 + 0.005
+        c.check(r["exit_code"] == 0 and r["snapshots"] >= 40,
+                f"flow, c h/nu {r['ch_over_nu']:g}: run exit {r['exit_code']}, {r['snapshots']} snapshots read")
+        c.check(abs(ratio - 1) <= bound, f"flow, c h/nu {r['ch_over_nu']:g}: s/(nu k^2) = {ratio:.5f}, within "
+                                         f"{bound:.4f} of 1 (a quarter of the kernel's smoothing, plus 0.005)")
+        c.check(r["ringing_ratio"] == 0 and r["crossings"] == 0 and not r["flag"],
+                f"flow, c h/nu {r['ch_over_nu']:g}: no ringing ({r['crossings']} zero crossings), "
+                f"no flag ({r['flag'] or 'none'})")
 
 
 if __name__ == "__main__":
