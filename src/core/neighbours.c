@@ -429,6 +429,15 @@ static int HalfStencilRanges(const SpamNeighbours *nl, const SpamBox *box, int c
   return nr;
 }
 
+/* The half stencils of the last few cells a run of rows met: the particles are in the
+ * order of cells of width h, the list's cells are h + skin wide, so consecutive particles
+ * go back and forth between a few list cells, and the ranges were found again at nearly
+ * every row. */
+#define SPAM_STENCIL_MEMO 4
+typedef struct {
+  int cell, nr, r0[14], r1[14];
+} StencilMemo;
+
 /* The rows from the half stencil: particle i takes the rest of its own cell after it
  * and the forward cells, so each pair is found once, in the row of either particle.
  * Against the full stencil with the j > i suffixes below, a build of N = 65536 took
@@ -440,13 +449,25 @@ static int HalfStencilRanges(const SpamNeighbours *nl, const SpamBox *box, int c
  * room it needs in *need. */
 static int AppendRowsHalf(SpamNeighbours *nl, const SpamBox *box, const SpamImage *im, int i, int i1, SpamPairBuffer *b, size_t *need)
 {
-  int r0[14], r1[14], nr = 0, cell = -1;
+  int          r0[14], r1[14], nr = 0, cell = -1, next = 0;
+  StencilMemo memo[SPAM_STENCIL_MEMO];
 
+  for (int k = 0; k < SPAM_STENCIL_MEMO; k++) memo[k].cell = -1;
   for (; i < i1; i++) {
     size_t cand = 0;
     if (nl->cell_of[i] != cell) {
-      cell = nl->cell_of[i];
-      nr   = HalfStencilRanges(nl, box, cell, r0, r1);
+      int k = 0;
+      cell  = nl->cell_of[i];
+      while (k < SPAM_STENCIL_MEMO && memo[k].cell != cell) k++;
+      if (k == SPAM_STENCIL_MEMO) {
+        k             = next;
+        next          = (next + 1) % SPAM_STENCIL_MEMO;
+        memo[k].cell  = cell;
+        memo[k].nr    = HalfStencilRanges(nl, box, cell, memo[k].r0, memo[k].r1);
+      }
+      nr = memo[k].nr;
+      memcpy(r0, memo[k].r0, (size_t)nr * sizeof *r0);
+      memcpy(r1, memo[k].r1, (size_t)nr * sizeof *r1);
     }
     const int own = r0[0];
     r0[0]         = nl->slot[i] + 1;
