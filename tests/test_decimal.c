@@ -1,7 +1,8 @@
 /* SpamFormatG17 (format_g17.c) against snprintf's "%.17g", byte for byte, and
  * SpamParseDouble (parse_double.c) against strtod, bit for bit and to the same end: for
  * values drawn over every binary exponent a run's state can take and beyond (both sides of
- * the 128-bit fast paths' edges, where they hand over to the library), the values next to
+ * the 128-bit fast paths' edges, where they hand over to the library or, for the formatter,
+ * to its wide path below about 1e-6, down to the subnormals), the values next to
  * powers of ten (where the decimal exponent and the rounding carry change), exact decimal
  * ties at the 17th digit (rounded to even), zeros, subnormals and non-finite values; for
  * the parser also decimal strings of 1 to 22 digits with any point and exponent, halfway
@@ -61,8 +62,23 @@ int main(void)
       const double m = 1.0 + TestUniform(&seed);
       Same((k & 1 ? -1.0 : 1.0) * ldexp(m, e), &bad);
     }
+  /* every smaller binary exponent down to the subnormals (the wide path), fewer values each */
+  for (int e = -1074; e < -60; e++)
+    for (int k = 0; k < 60; k++, n++) {
+      const double m = 1.0 + TestUniform(&seed);
+      Same((k & 1 ? -1.0 : 1.0) * ldexp(m, e), &bad); /* rounded to the subnormals below 2^-1022 */
+    }
+  /* small odd multiples of 2^-sh, among them the exact ties of the wide path (3 2^-25 =
+   * 8.94069671630859375e-08 rounds its 17th digit up to even), and their neighbours */
+  for (int sh = 16; sh <= 40; sh++)
+    for (int k = 1; k < 64; k += 2, n += 3) {
+      const double x = ldexp((double)k, -sh);
+      Same(x, &bad);
+      Same(nextafter(x, 0.0), &bad);
+      Same(nextafter(x, 1.0), &bad);
+    }
   /* the neighbours of powers of ten, and of their halfway points at 17 digits */
-  for (int p = -8; p <= 40; p++) {
+  for (int p = -323; p <= 40; p++) {
     double x = pow(10.0, p);
     for (int k = 0; k < 40; k++, n += 2) {
       Same(x, &bad);

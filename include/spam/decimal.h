@@ -2,7 +2,8 @@
  * values of a run's scale: the particle CSV files (written at start and end, read by the
  * file scene) hold hundreds of thousands of them, and glibc's printf and strtod spend
  * thousands of instructions on each (multi-precision arithmetic). Both do the common case
- * in exact 128-bit integer arithmetic and leave every other case to the library. */
+ * in exact 128-bit integer arithmetic, the formatter its small values (below about 1e-6)
+ * in a wider integer, and leave every other case to the library. */
 #ifndef SPAM_DECIMAL_H
 #define SPAM_DECIMAL_H
 

@@ -311,6 +311,83 @@ SPAM_BUILD_CLONES static size_t AppendRowDim(int dim, const SpamNeighbours *nl, 
   }
 }
 
+/* The 2D and 3D rows of particles whose cell sees no periodic image, in AVX2 intrinsics
+ * where the processor has it: the distances of 4 candidates a vector and the hits packed
+ * into the row by one byte shuffle (pshufb, from the comparison's 4-bit mask) and one
+ * store, instead of a store, a compare and an add a candidate. The same rows, bit for bit:
+ * the same differences, products and sums in the same order (no FMA; the 2D sum's + 0 * 0
+ * of AppendRow leaves a sum of squares as it is), the same comparison, the same order of
+ * hits. Velocity Verlet at N = 65536, 200 steps (51 builds, 43 % of the run's instructions
+ * in them): 714 instructions a particle a build in AppendRowDim's AVX2 clone, 388 here with
+ * the dispatch (callgrind). */
+#if defined(__x86_64__) && !defined(SPAM_ONE_ISA)
+#include <immintrin.h>
+#define SPAM_APPEND_AVX2 1
+/* For each 4-bit mask, the bytes of the set 32-bit lanes moved to the front. */
+static const signed char pack4[16][16] = {{-1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1},
+                                            {0, 1, 2, 3, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1},
+                                            {4, 5, 6, 7, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1},
+                                            {0, 1, 2, 3, 4, 5, 6, 7, -1, -1, -1, -1, -1, -1, -1, -1},
+                                            {8, 9, 10, 11, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1},
+                                            {0, 1, 2, 3, 8, 9, 10, 11, -1, -1, -1, -1, -1, -1, -1, -1},
+                                            {4, 5, 6, 7, 8, 9, 10, 11, -1, -1, -1, -1, -1, -1, -1, -1},
+                                            {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, -1, -1, -1, -1},
+                                            {12, 13, 14, 15, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1, -1},
+                                            {0, 1, 2, 3, 12, 13, 14, 15, -1, -1, -1, -1, -1, -1, -1, -1},
+                                            {4, 5, 6, 7, 12, 13, 14, 15, -1, -1, -1, -1, -1, -1, -1, -1},
+                                            {0, 1, 2, 3, 4, 5, 6, 7, 12, 13, 14, 15, -1, -1, -1, -1},
+                                            {8, 9, 10, 11, 12, 13, 14, 15, -1, -1, -1, -1, -1, -1, -1, -1},
+                                            {0, 1, 2, 3, 8, 9, 10, 11, 12, 13, 14, 15, -1, -1, -1, -1},
+                                            {4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, -1, -1, -1, -1},
+                                            {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15}};
+
+static inline __attribute__((always_inline, target("avx2"))) size_t AppendRowAvx2(const int dim, const SpamNeighbours *nl, int i, const int *r0, const int *r1, int nr, int *nbr, size_t np)
+{
+  const double  rc2 = nl->rc2, ui0 = nl->u[0][i], ui1 = nl->u[1][i], ui2 = dim > 2 ? nl->u[2][i] : 0.0;
+  const __m256d x = _mm256_set1_pd(ui0), y = _mm256_set1_pd(ui1), z = _mm256_set1_pd(ui2), r = _mm256_set1_pd(rc2);
+  for (int a = 0; a < nr; a++) {
+    int k = r0[a];
+    for (; k + 4 <= r1[a]; k += 4) {
+      const __m256d dx = _mm256_sub_pd(x, _mm256_loadu_pd(nl->ucell[0] + k)), dy = _mm256_sub_pd(y, _mm256_loadu_pd(nl->ucell[1] + k));
+      __m256d       d2 = _mm256_add_pd(_mm256_mul_pd(dx, dx), _mm256_mul_pd(dy, dy));
+      if (dim > 2) {
+        const __m256d dz = _mm256_sub_pd(z, _mm256_loadu_pd(nl->ucell[2] + k));
+        d2               = _mm256_add_pd(d2, _mm256_mul_pd(dz, dz));
+      }
+      const int     m  = _mm256_movemask_pd(_mm256_cmp_pd(d2, r, _CMP_LT_OQ));
+      const __m128i js = _mm_loadu_si128((const __m128i *)(nl->cell_list + k));
+      _mm_storeu_si128((__m128i *)(nbr + np), _mm_shuffle_epi8(js, _mm_loadu_si128((const __m128i *)pack4[m])));
+      np += (size_t)__builtin_popcount((unsigned)m);
+    }
+    for (; k < r1[a]; k++) {
+      const double dx = ui0 - nl->ucell[0][k], dy = ui1 - nl->ucell[1][k], dz = dim > 2 ? ui2 - nl->ucell[2][k] : 0.0;
+      nbr[np]         = nl->cell_list[k];
+      np += (size_t)((dim > 2 ? dx * dx + dy * dy + dz * dz : dx * dx + dy * dy) < rc2);
+    }
+  }
+  return np;
+}
+
+static __attribute__((target("avx2"))) size_t AppendRow2Avx2(const SpamNeighbours *nl, int i, const int *r0, const int *r1, int nr, int *nbr, size_t np)
+{
+  return AppendRowAvx2(2, nl, i, r0, r1, nr, nbr, np);
+}
+
+static __attribute__((target("avx2"))) size_t AppendRow3Avx2(const SpamNeighbours *nl, int i, const int *r0, const int *r1, int nr, int *nbr, size_t np)
+{
+  return AppendRowAvx2(3, nl, i, r0, r1, nr, nbr, np);
+}
+#endif
+
+/* Row i's candidates appended: by the AVX2 packing above where it applies, else AppendRow. */
+static size_t AppendRowAny(int dim, const SpamNeighbours *nl, const SpamImage *im, int i, const int *r0, const int *r1, int nr, int *nbr, size_t np)
+{
+#ifdef SPAM_APPEND_AVX2
+  if (dim >= 2 && !nl->image[i] && __builtin_cpu_supports("avx2")) return dim == 2 ? AppendRow2Avx2(nl, i, r0, r1, nr, nbr, np) : AppendRow3Avx2(nl, i, r0, r1, nr, nbr, np);
+#endif
+  return AppendRowDim(dim, nl, im, i, r0, r1, nr, nbr, np);
+}
+
 /* Whether the half stencil below visits every adjacent pair of cells once: a periodic
  * direction needs three cells or more, or its neighbours -1 and +1 would coincide. */
 static PetscBool HalfStencilValid(const SpamNeighbours *nl, const SpamBox *box)
@@ -352,6 +429,15 @@ static int HalfStencilRanges(const SpamNeighbours *nl, const SpamBox *box, int c
   return nr;
 }
 
+/* The half stencils of the last few cells a run of rows met: the particles are in the
+ * order of cells of width h, the list's cells are h + skin wide, so consecutive particles
+ * go back and forth between a few list cells, and the ranges were found again at nearly
+ * every row. */
+#define SPAM_STENCIL_MEMO 4
+typedef struct {
+  int cell, nr, r0[14], r1[14];
+} StencilMemo;
+
 /* The rows from the half stencil: particle i takes the rest of its own cell after it
  * and the forward cells, so each pair is found once, in the row of either particle.
  * Against the full stencil with the j > i suffixes below, a build of N = 65536 took
@@ -363,13 +449,25 @@ static int HalfStencilRanges(const SpamNeighbours *nl, const SpamBox *box, int c
  * room it needs in *need. */
 static int AppendRowsHalf(SpamNeighbours *nl, const SpamBox *box, const SpamImage *im, int i, int i1, SpamPairBuffer *b, size_t *need)
 {
-  int r0[14], r1[14], nr = 0, cell = -1;
+  int          r0[14], r1[14], nr = 0, cell = -1, next = 0;
+  StencilMemo memo[SPAM_STENCIL_MEMO];
 
+  for (int k = 0; k < SPAM_STENCIL_MEMO; k++) memo[k].cell = -1;
   for (; i < i1; i++) {
     size_t cand = 0;
     if (nl->cell_of[i] != cell) {
-      cell = nl->cell_of[i];
-      nr   = HalfStencilRanges(nl, box, cell, r0, r1);
+      int k = 0;
+      cell  = nl->cell_of[i];
+      while (k < SPAM_STENCIL_MEMO && memo[k].cell != cell) k++;
+      if (k == SPAM_STENCIL_MEMO) {
+        k             = next;
+        next          = (next + 1) % SPAM_STENCIL_MEMO;
+        memo[k].cell  = cell;
+        memo[k].nr    = HalfStencilRanges(nl, box, cell, memo[k].r0, memo[k].r1);
+      }
+      nr = memo[k].nr;
+      memcpy(r0, memo[k].r0, (size_t)nr * sizeof *r0);
+      memcpy(r1, memo[k].r1, (size_t)nr * sizeof *r1);
     }
     const int own = r0[0];
     r0[0]         = nl->slot[i] + 1;
@@ -378,7 +476,7 @@ static int AppendRowsHalf(SpamNeighbours *nl, const SpamBox *box, const SpamImag
       *need = b->n + cand;
       return i;
     }
-    b->n             = AppendRowDim(box->dim, nl, im, i, r0, r1, nr, b->nbr, b->n);
+    b->n             = AppendRowAny(box->dim, nl, im, i, r0, r1, nr, b->nbr, b->n);
     nl->start[i + 1] = (int)b->n;
     r0[0]            = own;
   }
@@ -423,7 +521,7 @@ static int AppendRowsFull(SpamNeighbours *nl, const SpamBox *box, const SpamImag
       *need = b->n + cand;
       return i;
     }
-    b->n             = AppendRowDim(box->dim, nl, im, i, r0, r1, na, b->nbr, b->n);
+    b->n             = AppendRowAny(box->dim, nl, im, i, r0, r1, na, b->nbr, b->n);
     nl->start[i + 1] = (int)b->n;
   }
   return i1;

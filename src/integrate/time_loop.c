@@ -27,6 +27,8 @@ typedef SpamSchedule Schedule;
  * ~1e-13 that repeats the last row, snapshot and steps.csv line. 1e-13 is ~500 ulps, far
  * below any step a run takes (the step floor is 1e-12 t_end). */
 #define SPAM_TIME_ROUNDOFF 1e-13
+/* Particles a block of CheckState's loops (a few KiB of state: in the first-level cache). */
+#define SPAM_CHECK_BLOCK 128
 
 /* t has reached target, to round-off. */
 static PetscBool Reached(double t, double target)
@@ -241,6 +243,22 @@ static PetscErrorCode Interrupted(SpamSim *sim, const SpamRunOptions *o, SpamOut
   PetscFunctionReturn(0);
 }
 
+/* Whether any of the n doubles is an infinity or a NaN: all its exponent bits set, so
+ * that adding 2^52 to them carries into the sign bit. Adds, ands and ors of 64-bit
+ * integers, which vectorise on the baseline x86-64 (SSE2 has no 64-bit compare). */
+static PetscBool NonFinite(const PetscScalar *y, size_t n)
+{
+  const uint64_t exp = (uint64_t)0x7ff << 52, one = (uint64_t)1 << 52;
+  uint64_t       any = 0;
+
+  for (size_t k = 0; k < n; k++) {
+    uint64_t b;
+    memcpy(&b, y + k, sizeof b);
+    any |= (b & exp) + one;
+  }
+  return (PetscBool)((any >> 63) != 0);
+}
+
 /* Why the state after a step is unacceptable, or an empty string: a non-finite entry, a
  * non-positive carried density, or kinetic energy grown past the bound. */
 static PetscErrorCode CheckState(const SpamSim *sim, const SpamRunOptions *o, const SpamRunResult *r, double t, long step, char *why, size_t len)
@@ -254,12 +272,33 @@ static PetscErrorCode CheckState(const SpamSim *sim, const SpamRunOptions *o, co
   PetscFunctionBeginUser;
   why[0] = 0;
   PetscCall(VecGetArrayRead(sim->p.X, &y));
-  for (PetscInt i = 0; i < sim->p.n; i++) {
-    const PetscScalar *s = y + (size_t)i * nv;
-    for (int k = 0; k < nv; k++)
-      if (!isfinite(s[k]) && bad < 0) bad = i;
-    if (l->rho >= 0 && !(s[l->rho] > 0) && neg < 0) neg = i;
-    for (int d = 0; d < sim->model.dim; d++) ke += 0.5 * sim->model.mass * s[l->v + d] * s[l->v + d];
+  /* By blocks of particles, each read once from memory: the scan for non-finite entries
+   * (NonFinite: integer operations that vectorise; the particle is looked for only in a
+   * block that has one), the densities, and the kinetic energy summed in particle order as
+   * before, in a local sum (ke's address is taken below, and the compiler stored it at
+   * every term). As one loop with a test a value it took 68 instructions a particle a step
+   * (callgrind, velocity Verlet, N = 65536: 7 % of the run). */
+  for (PetscInt i0 = 0; i0 < sim->p.n; i0 += SPAM_CHECK_BLOCK) {
+    const PetscInt i1  = PetscMin(sim->p.n, i0 + SPAM_CHECK_BLOCK);
+    const double   m2  = 0.5 * sim->model.mass;
+    const int      dim = sim->model.dim, v = l->v;
+    double         sum = ke;
+    if (bad < 0 && NonFinite(y + (size_t)i0 * nv, (size_t)(i1 - i0) * (size_t)nv))
+      for (PetscInt i = i0; i < i1 && bad < 0; i++)
+        for (int k = 0; k < nv; k++)
+          if (!isfinite(y[(size_t)i * nv + k])) bad = i;
+    for (PetscInt i = i0; l->rho >= 0 && i < i1 && neg < 0; i++)
+      if (!(y[(size_t)i * nv + l->rho] > 0)) neg = i;
+    if (dim == 2) /* the common case with a literal dim: no inner loop */
+      for (PetscInt i = i0; i < i1; i++) {
+        const PetscScalar *s = y + (size_t)i * nv + v;
+        sum += m2 * s[0] * s[0];
+        sum += m2 * s[1] * s[1];
+      }
+    else
+      for (PetscInt i = i0; i < i1; i++)
+        for (int d = 0; d < dim; d++) sum += m2 * y[(size_t)i * nv + v + d] * y[(size_t)i * nv + v + d];
+    ke = sum;
   }
   PetscCall(VecRestoreArrayRead(sim->p.X, &y));
   PetscCallMPI(MPIU_Allreduce(MPI_IN_PLACE, &ke, 1, MPI_DOUBLE, MPI_SUM, sim->p.comm));

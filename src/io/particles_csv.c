@@ -29,31 +29,24 @@ static void Header(SpamFile *f, const SpamLayout *l, PetscBool rho_sum)
   SpamFilePrintf(f, ",id%s\n", rho_sum ? ",rho_sum" : "");
 }
 
-/* SpamFilePrintf(f, "%s%.17g", sep, v), one write call, without printf's digits. */
-static void Value(SpamFile *f, const char *sep, double v)
+/* sep (if any) and "%.17g" of v at p, without printf's digits; returns the new end. */
+static char *Value(char *p, char sep, double v)
 {
-  char buf[40];
-  int  k = 0;
-
-  while (*sep) buf[k++] = *sep++;
-  (void)SpamFormatG17(v, buf + k);
-  SpamFilePuts(f, buf);
+  if (sep) *p++ = sep;
+  return p + SpamFormatG17(v, p);
 }
 
-/* SpamFilePrintf(f, ",%" PetscInt64_FMT, id), one write call. */
-static void Id(SpamFile *f, PetscInt64 id)
+/* ",%" PetscInt64_FMT " of id at p; returns the new end. */
+static char *Id(char *p, PetscInt64 id)
 {
-  char buf[24], *p = buf + sizeof buf - 1;
+  char buf[24], *q = buf + sizeof buf;
 
-  if (id < 0) {
-    SpamFilePrintf(f, ",%" PetscInt64_FMT, id);
-    return;
-  }
-  *p = 0;
-  do *--p = (char)('0' + id % 10);
+  if (id < 0) return p + snprintf(p, 24, ",%" PetscInt64_FMT, id);
+  do *--q = (char)('0' + id % 10);
   while ((id /= 10) > 0);
-  *--p = ',';
-  SpamFilePuts(f, p);
+  *p++ = ',';
+  memcpy(p, q, (size_t)(buf + sizeof buf - q));
+  return p + (buf + sizeof buf - q);
 }
 
 /* The rows gathered on rank 0 and what to write around them. */
@@ -79,17 +72,23 @@ static PetscErrorCode WriteRowsOnRoot(void *ctx)
   PetscCall(SpamFileBegin(w->path, &f));
   if (w->comment) SpamFilePrintf(&f, "# %s\n", w->comment);
   Header(&f, l, w->rho_sum);
+  /* A row is one write: a write a value took 0.4 of the row's instructions in the C
+   * library's stream functions (callgrind, 65536 particles). At most 16 values of 32 bytes
+   * (SpamFormatG17) and an id in the row's buffer. */
   for (PetscInt r = 0; r < rows->n; r++) {
     const double *p = rows->y + (size_t)r * l->nvar;
-    for (int d = 0; d < dim; d++) Value(&f, d ? "," : "", SpamSnapshotPosition(&sim->geo.box, d, p[l->x + d]));
-    for (int d = 0; d < dim; d++) Value(&f, ",", p[l->v + d]);
-    Value(&f, ",", rows->m[r]);
-    if (l->e >= 0) Value(&f, ",", p[l->e]);
-    if (l->rho >= 0) Value(&f, ",", p[l->rho]);
-    for (int k = 0; l->s >= 0 && k < dim * (dim + 1) / 2; k++) Value(&f, ",", p[l->s + k]);
-    Id(&f, rows->gid[r]);
-    if (w->rho_sum) Value(&f, ",", rows->rho_sum[r]);
-    SpamFilePuts(&f, "\n");
+    char          row[640], *e = row;
+    for (int d = 0; d < dim; d++) e = Value(e, d ? ',' : 0, SpamSnapshotPosition(&sim->geo.box, d, p[l->x + d]));
+    for (int d = 0; d < dim; d++) e = Value(e, ',', p[l->v + d]);
+    e = Value(e, ',', rows->m[r]);
+    if (l->e >= 0) e = Value(e, ',', p[l->e]);
+    if (l->rho >= 0) e = Value(e, ',', p[l->rho]);
+    for (int k = 0; l->s >= 0 && k < dim * (dim + 1) / 2; k++) e = Value(e, ',', p[l->s + k]);
+    e = Id(e, rows->gid[r]);
+    if (w->rho_sum) e = Value(e, ',', rows->rho_sum[r]);
+    *e++ = '\n';
+    *e   = 0;
+    SpamFilePuts(&f, row);
   }
   PetscCall(SpamFileCommit(&f));
   PetscFunctionReturn(0);
