@@ -124,7 +124,8 @@ def one_run(spam_ark, work, case, method, rtol):
     lin = re.search(r"^LS iters\s*=\s*(\d+)", p.stdout, re.M)
     jac = re.search(r"^Jacobian assemblies\s*=\s*(\d+)", p.stdout, re.M)
     implicit = s["rhs_evals_diffusion"]
-    return {"method": method[1], "rtol": rtol, "error": error(str(out) + ".initial.csv", str(out) + ".final.csv"),
+    nu = re.search(r"\bnu = ([0-9.eE+-]+)", p.stdout)
+    return {"method": method[1], "rtol": rtol, "dt_mean": s["t_final"] / max(s["steps"], 1), "nu": float(nu.group(1)) if nu else None, "error": error(str(out) + ".initial.csv", str(out) + ".final.csv"),
             "steps": s["steps"], "rejected": s["rejected_steps"], "explicit": s["rhs_evals_process"] - implicit,
             "implicit": implicit, "linear": int(lin.group(1)) if lin else 0, "assemblies": int(jac.group(1)) if jac else 0,
             "wall": s["wall_time_s"], "cpu": cpu,
@@ -156,9 +157,9 @@ def chart(path, runs, failed, title, table):
     for method, rs in runs.items():
         if not rs:
             continue
-        name = NAMES[method].format(table=table)
+        name = NAMES.get(method, "IMEX {table}, preconditioned, " + method[2:] + " (" + VARIANTS.get(method, "") + ")").format(table=table)
         err = [r["error"] for r in rs]
-        st = style(STYLE_KEYS[method])
+        st = style(STYLE_KEYS.get(method, "IMEX, " + method[2:]))
         axes[0].loglog([r["wall"] for r in rs], err, "-", label=name, **st)
         axes[1].loglog([evaluations(r) for r in rs], err, "-", **st)
     for method, rtol in failed:
@@ -177,6 +178,7 @@ def chart(path, runs, failed, title, table):
 
 DISCRETE = {}
 REFERENCE = {}
+VARIANTS = {}  # --variants: method -> its options
 STYLE_KEYS = {"dp5": "DP5", "imex": "IMEX, unpreconditioned", "imex_pc": "IMEX, preconditioned", "imex_jv": "IMEX, assembled J v"}
 NAMES = {"dp5": "DP5 (explicit, -ts_type arkode)", "imex": "IMEX {table}, GMRES unpreconditioned",
          "imex_pc": "IMEX {table}, GMRES preconditioned (-arkode_imex_pc diffusion)",
@@ -196,6 +198,7 @@ def main():
     ap.add_argument("--dp5-rtols", default=None, help="DP5's own sweep (default --rtols), to bracket the IMEX runs' errors")
     ap.add_argument("--pcs", default="none", help="IMEX stage preconditioners, comma-separated: none, diffusion")
     ap.add_argument("--pc-options", default="", help="options of the preconditioner's KSP, e.g. '-imex_pc_pc_type lu'")
+    ap.add_argument("--variants", default="", help="more preconditioned IMEX runs, 'name=options;name=options' (say 'previous=-arkode_imex_predictor 0')")
     ap.add_argument("--repeat", type=int, default=1, help="runs of each method and tolerance; the one of least CPU time is kept")
     ap.add_argument("--chart", default=None)
     ap.add_argument("--readings", default=None, help="also write the runs, table and ratios the pages quote to this JSON")
@@ -211,6 +214,10 @@ def main():
             extra = ["-arkode_imex_jv", "assembled"] + extra
         name = {"none": "imex", "diffusion": "imex_pc", "assembled": "imex_jv"}[pc]
         methods.append((["-ts_type", "arkode_imex", "-arkode_imex_table", a.table, "-arkode_imex_pc", "none" if pc == "none" else "diffusion"] + extra, name))
+    for v in filter(None, a.variants.split(";")):
+        vname, vopts = v.split("=", 1)
+        methods.append((["-ts_type", "arkode_imex", "-arkode_imex_table", a.table, "-arkode_imex_pc", "diffusion"] + vopts.split(), "v:" + vname.strip()))
+        VARIANTS["v:" + vname.strip()] = vopts.strip()
     with tempfile.TemporaryDirectory() as work:
         if a.case in ("couette", "convection"):
             ref = one_run(a.spam_ark, work, (case[0], lambda f, l: 0.0), (["-ts_type", "arkode"], "reference"), 1e-11)
@@ -234,10 +241,13 @@ def main():
         print(f"Couette from rest, nu = {a.nu:g} (Re = {0.1 * 32 / a.nu:.2f}), to 1.5 H^2/nu; error = max |vx - vx_ref| / U")
     else:
         print(f"heat mode 2D {a.L} x {LY}, to T = 1/sigma_v; error = max |e - exact| / (eps e0)")
-    print(f"{'method':7} {'rtol':>7} {'error':>9} {'steps':>6} {'rej':>4} {'f_E':>7} {'f_I':>7} {'GMRES':>7} {'J':>4} {'wall s':>7} {'cpu s':>7} {'dE/E':>8}")
+    print(f"{'method':12} {'rtol':>7} {'error':>9} {'steps':>6} {'rej':>4} {'mean dt':>8} {'f_E':>7} {'f_I':>7} {'GMRES':>7} {'J':>4} {'wall s':>7} {'cpu s':>7} {'dE/E':>8}")
     for m in runs.values():
         for r in m:
-            print(f"{r['method']:7} {r['rtol']:7.0e} {r['error']:9.2e} {r['steps']:6d} {r['rejected']:4d} {r['explicit']:7d} {r['implicit']:7d} {r['linear']:7d} {r['assemblies']:4d} {r['wall']:7.2f} {r['cpu']:7.2f} {r['drift']:8.1e}")
+            print(f"{r['method']:12} {r['rtol']:7.0e} {r['error']:9.2e} {r['steps']:6d} {r['rejected']:4d} {r['dt_mean']:8.3g} {r['explicit']:7d} {r['implicit']:7d} {r['linear']:7d} {r['assemblies']:4d} {r['wall']:7.2f} {r['cpu']:7.2f} {r['drift']:8.1e}")
+    nu = next((r["nu"] for m in runs.values() for r in m if r.get("nu")), None)
+    if nu:
+        print(f"nu = {nu:g}: h^2/nu = {H * H / nu:.3g} (DP5's mean steps above)")
     all_ratios = {}
     for method in runs:
         if method == "dp5":
@@ -258,12 +268,14 @@ def main():
         sys.path.insert(0, str(ROOT / "examples"))
         import chart_readings
         label = {"dp5": "DP5", "imex": "IMEX", "imex_pc": "IMEX, pc", "imex_jv": "IMEX, pc, J v"}
-        rows = [[label[r["method"]], f"{r['rtol']:.0e}".replace("e-0", "e-"),
+        rows = [[label.get(r["method"], r["method"][2:]), f"{r['rtol']:.0e}".replace("e-0", "e-"),
                  f"{r['error']:.2e}".replace("e-0", "e-"), f"{r['steps']} ({r['rejected']})", r["explicit"], r["implicit"],
                  r["linear"], r["assemblies"], f"{r['wall']:.1f}", f"{r['cpu']:.1f}"] for m in runs.values() for r in m]
         chart_readings.write_json(a.readings, {
             "runs": runs, "ratios": all_ratios.get("imex", []), "ratios_pc": all_ratios.get("imex_pc", []),
             "ratios_jv": all_ratios.get("imex_jv", []), "repeat": a.repeat,
+            "ratios_variants": {m[2:]: v for m, v in all_ratios.items() if m.startswith("v:")}, "variants": a.variants,
+            "nu": nu, "h2_over_nu": H * H / nu if nu else None,
             "failed": [{"method": m, "rtol": t} for m, t in failed], "pc_options": a.pc_options,
             "reference_steps": ref["steps"] if ref else None,
             "table": chart_readings.table(["method", "rtol", "error", "steps (rejected)", "f_E", "f_I", "GMRES", "J", "wall s", "CPU s"], rows)},

@@ -107,7 +107,8 @@ def couette(a, c, pc, ranks=1, extra=()):
     s = summary(out)
     vx, e, ids = columns(last, ["vx", "e", "id"])
     order = np.argsort(ids)
-    return (vx[order], e[order]), gmres(so), s["energy_rel_drift_max"], s["steps"], s["n_particles"]
+    reused = re.search(r"^Diffusion fields reused\s*=\s*(\d+) of (\d+)", so, re.M)
+    return (vx[order], e[order]), gmres(so), s["energy_rel_drift_max"], s["steps"], s["n_particles"], (int(reused.group(1)), int(reused.group(2))) if reused else None
 
 
 a = arguments()
@@ -132,9 +133,15 @@ none = couette(a, c, "none")
 pre = couette(a, c, "diffusion", extra=("-imex_pc_pc_type", "ilu"))  # its KSP's options accepted
 pre2 = couette(a, c, "diffusion", ranks=2)
 asm = couette(a, c, "diffusion", extra=("-arkode_imex_jv", "assembled", "-arkode_imex_max_nonlin_iters", 10))
+fresh = couette(a, c, "diffusion", extra=("-imex_pc_pc_type", "ilu", "-arkode_imex_reuse_fields", "false"))
+if pre and fresh:
+    # the diffusion part's kept densities and moments give the bits computed afresh
+    same = bool(np.array_equal(pre[0][0], fresh[0][0]) and np.array_equal(pre[0][1], fresh[0][1]))
+    c.check(same and pre[5] is not None and pre[5][0] > 0 and fresh[5] == (0, 0),
+            f"couette: the reused diffusion fields ({pre[5]} evaluations) give the same bits as computed afresh ({fresh[5]}): {same}")
 if none and pre:
-    (v0, e0), it0, drift0, steps, n = none
-    (v1, e1), it1, drift, _, _ = pre
+    (v0, e0), it0, drift0, steps, n, _ = none
+    (v1, e1), it1, drift, _, _, _ = pre
     newton = 6 * steps * NEWTON * COUETTE_RTOL * math.sqrt(n * 5)
     dv = float(np.max(np.abs(v1 - v0)))
     c.check(dv < newton * COUETTE_C0, f"couette: max |vx pc - vx none| {dv:.1e} within the Newton tolerance's {newton * COUETTE_C0:.1e} ({steps} steps)")

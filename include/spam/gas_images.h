@@ -23,6 +23,8 @@
 
 /* Whether the images carry the density of their place (flow scheme, gas, mirror walls). */
 PetscBool SpamGasImagesOfPlace(const SpamSim *sim);
+/* rho_g / rho_i of mirror ghost k (the ghost slot n + k) at the gathered temperatures. */
+double SpamGasImagesPlaceRatio(const SpamSim *sim, int k);
 /* e and T of the local particles from y, gathered to the ghosts with the walls' rules: the
  * tensor path's fields, and what a density pass alone needs for the images' densities. */
 PetscErrorCode SpamGasImagesTemperatures(SpamSim *sim, const double *y);

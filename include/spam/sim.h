@@ -10,6 +10,7 @@
 #include <spam/walls.h>
 #include <spam/wall_books.h>
 #include <spam/fields.h>
+#include <spam/diffusion_cache.h>
 
 /* Per-particle data kept outside the state, copied into the swarm only to travel with
  * their particle through a migration (migrate.c): the mass and the body label. These and
@@ -76,6 +77,7 @@ typedef struct {
   PetscBool      reproducible;    /* -reproducible: canonical pair sums (the list's      */
                                   /* canonical rows) and a partition-independent norm  */
   long           ghost_mass_build; /* the list build whose ghost slots hold their masses */
+  SpamDiffusionCache dcache;      /* the diffusion part's position fields (IMEX)         */
 } SpamPairState;
 
 /* What the run counts and times. */

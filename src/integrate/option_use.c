@@ -173,7 +173,7 @@ static PetscErrorCode GivenFree(Given *g)
  * its 32-bit PetscInt without a range check, so 2147483648 arrives as -2147483648 and a
  * longer number as whatever its low bits say: check the text itself first. These and the
  * scenes' of type SPAM_SCENE_OPTION_INT. */
-static const char *const IntegerOptions[] = {"dim", "threads", "ts_max_steps", "ts_max_reject", "ts_ssp_nstages", "cvode_max_order", "arkode_imex_max_nonlin_iters", "arkode_imex_krylov_dim", "snapshot_max", "block_max_level"};
+static const char *const IntegerOptions[] = {"dim", "threads", "ts_max_steps", "ts_max_reject", "ts_ssp_nstages", "cvode_max_order", "arkode_imex_max_nonlin_iters", "arkode_imex_krylov_dim", "arkode_imex_predictor", "arkode_imex_lsetup_freq", "snapshot_max", "block_max_level"};
 
 /* The name of integer option name as the program spells it, or NULL: not an integer. */
 static const char *IntegerOption(const char *name)

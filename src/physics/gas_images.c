@@ -36,7 +36,7 @@ static double Descent(const SpamSim *sim, int k, double xg[3], double xs[3])
 
 /* rho_g / rho_i = (T_i + g.(x_g - x_i)) / T_g of mirror ghost k, bounded to [1/2, 2]
  * (continuous in T_g, also where the rule gives T_g <= 0); 1 outside the flow scheme. */
-static double PlaceRatio(const SpamSim *sim, int k)
+double SpamGasImagesPlaceRatio(const SpamSim *sim, int k)
 {
   const SpamFields *f = &sim->pair.f;
   const int         n = (int)sim->p.n;
@@ -73,7 +73,7 @@ void SpamGasImagesMasses(SpamSim *sim)
 
   for (int k = 0; k < gh->n; k++) {
     if (gh->kind[k] != SPAM_GHOST_MIRROR) continue;
-    f->m[n + k] *= PlaceRatio(sim, k);
+    f->m[n + k] *= SpamGasImagesPlaceRatio(sim, k);
     if (f->minv) f->minv[n + k] = 1.0 / f->m[n + k];
   }
   sim->pair.ghost_mass_build = -1;
@@ -85,7 +85,7 @@ void SpamGasImagesDensities(SpamSim *sim)
   const int         n  = (int)sim->p.n;
 
   for (int k = 0; k < gh->n; k++)
-    if (gh->kind[k] == SPAM_GHOST_MIRROR) sim->pair.f.rho[n + k] *= PlaceRatio(sim, k);
+    if (gh->kind[k] == SPAM_GHOST_MIRROR) sim->pair.f.rho[n + k] *= SpamGasImagesPlaceRatio(sim, k);
 }
 
 /* sigma_g/rho_g^2 from the gathered sigma_i/rho_i^2: sigma_g = sigma_i - rho_i g.(x_g - x_i)
@@ -101,7 +101,7 @@ void SpamGasImagesStresses(SpamSim *sim, const SpamBackground *bg)
   for (int k = 0; k < gh->n; k++) {
     double xg[3], xs[3];
     if (gh->kind[k] != SPAM_GHOST_MIRROR) continue;
-    const double dphi = Descent(sim, k, xg, xs), r = PlaceRatio(sim, k), rho = f->rho[n + k] / r;
+    const double dphi = Descent(sim, k, xg, xs), r = SpamGasImagesPlaceRatio(sim, k), rho = f->rho[n + k] / r;
     const double dB = SpamBackgroundAt(bg, dim, xg) - SpamBackgroundAt(bg, dim, xs);
     double      *q  = f->qs + (size_t)(n + k) * dim * dim;
     for (int a = 0; a < dim; a++) q[a * dim + a] += -dphi / rho + dB / (rho * rho);

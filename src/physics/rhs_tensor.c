@@ -212,7 +212,7 @@ static void Zero(double *a, size_t len)
 
 /* Per-particle fields of y for the local slots, then gathered into the ghosts: velocity,
  * energy and temperature, mass, and the density (summed, or the state's). */
-static PetscErrorCode FillFields(SpamSim *sim, const double *y, PetscInt *bad)
+static PetscErrorCode FillFields(SpamSim *sim, const double *y, PetscBool *reused, PetscInt *bad)
 {
   const SpamLayout      *l   = &sim->model.layout;
   const SpamSolidParams *p   = &sim->model.solid;
@@ -232,6 +232,8 @@ static PetscErrorCode FillFields(SpamSim *sim, const double *y, PetscInt *bad)
   PetscCall(SpamGhostsGatherWall(gh, dim, n, SPAM_WALL_FIELD_VELOCITY, f->v));
   PetscCall(SpamGasImagesTemperatures(sim, y));
   if (p->density == SPAM_DENSITY_SUMMATION) {
+    if (reused) SpamDiffusionCacheRestore(sim, reused); /* the diffusion part's kept densities */
+    if (reused && *reused) PetscFunctionReturn(0);
     PetscCall(SpamDensityOfList(sim)); /* the list of the update above: one per evaluation */
     PetscFunctionReturn(0);
   }
@@ -554,7 +556,7 @@ PetscErrorCode SpamRhsSolidDiffusionFields(SpamSim *sim, const double *y, PetscI
   TensorPass c;
 
   PetscFunctionBeginUser;
-  PetscCall(FillFields(sim, y, bad));
+  PetscCall(FillFields(sim, y, NULL, bad));
   if (*bad >= 0) PetscFunctionReturn(0);
   c         = PassOf(sim, SPAM_RHS_DIFFUSION);
   c.heatlin = 0; /* the Jacobian reads the moment, not grad T (diffusion_jacobian.c) */
@@ -566,7 +568,7 @@ PetscErrorCode SpamRhsSolidDiffusionFields(SpamSim *sim, const double *y, PetscI
  * fields FillFields left; positions and densities take none, nor does the flow scheme's
  * book (its laws are in the other part). The walls' books take this part's exchanges:
  * the books are linear in the accumulations, so the two parts' books sum to the whole's. */
-static PetscErrorCode Diffusion(SpamSim *sim, TensorPass *c, double *ydot)
+static PetscErrorCode Diffusion(SpamSim *sim, TensorPass *c, PetscBool keep, PetscBool reused, double *ydot)
 {
   const SpamLayout *l   = &sim->model.layout;
   SpamFields       *f   = c->f;
@@ -574,7 +576,8 @@ static PetscErrorCode Diffusion(SpamSim *sim, TensorPass *c, double *ydot)
   const int         dim = f->dim, n = (int)sim->p.n, slots = SpamNeighboursSlots(&sim->pair.nl);
 
   PetscFunctionBeginUser;
-  PetscCall(DiffusionMoments(sim, c));
+  if (!reused) PetscCall(DiffusionMoments(sim, c));
+  if (keep && !reused) PetscCall(SpamDiffusionCacheKeep(sim));
   ZeroRates(f, slots, dim, PETSC_FALSE);
   if (c->heatlin) PetscCall(LinearGradient(sim, c));
   PetscCall(WalkDiffusion(&sim->pair.nl, &sim->model.kernel, c));
@@ -599,14 +602,16 @@ static PetscErrorCode Diffusion(SpamSim *sim, TensorPass *c, double *ydot)
 PetscErrorCode SpamRhsSolidPart(SpamSim *sim, const double *y, double *ydot, SpamRhsPart part, PetscInt *bad)
 {
   TensorPass c;
+  PetscBool  keep = PETSC_FALSE, reused = PETSC_FALSE;
 
   PetscFunctionBeginUser;
-  PetscCall(FillFields(sim, y, bad));
+  if (part == SPAM_RHS_DIFFUSION) keep = SpamDiffusionCacheApplies(sim, (PetscBool)PassOf(sim, part).heatlin);
+  PetscCall(FillFields(sim, y, keep ? &reused : NULL, bad));
   if (*bad >= 0) PetscFunctionReturn(0);
   c = PassOf(sim, part);
   if (part == SPAM_RHS_DIFFUSION) {
     PetscCall(PetscLogEventBegin(sim->run.ev.force, 0, 0, 0, 0));
-    PetscCall(Diffusion(sim, &c, ydot));
+    PetscCall(Diffusion(sim, &c, keep, reused, ydot));
     PetscCall(PetscLogEventEnd(sim->run.ev.force, 0, 0, 0, 0));
     PetscFunctionReturn(0);
   }
@@ -816,7 +821,7 @@ PetscErrorCode SpamTensorTorqueSum(SpamSim *sim, const double *y, double *total)
 
   PetscFunctionBeginUser;
   *total = NAN;
-  PetscCall(FillFields(sim, y, &bad));
+  PetscCall(FillFields(sim, y, NULL, &bad));
   if (bad >= 0 || sim->model.dim != 2) PetscFunctionReturn(0);
   c = PassOf(sim, SPAM_RHS_ALL);
   if (c.flow) PetscCall(SpamGasFlowFit(sim, y, &c.bg));

@@ -271,6 +271,7 @@ PetscErrorCode SpamSimDestroy(SpamSim *sim)
   PetscFunctionBeginUser;
   PetscCall(SpamSwarmCloseState(&sim->p));
   PetscCall(SpamFieldsDestroy(&sim->pair.f));
+  PetscCall(SpamDiffusionCacheDestroy(&sim->pair.dcache));
   if (sim->pair.nl.start) {
     PetscCall(PetscFree2(sim->pair.tacc, sim->pair.trho));
     PetscCall(SpamNeighboursDestroy(&sim->pair.nl));
