@@ -52,6 +52,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests"))
 import plot_convection as pc  # noqa: E402
 import convection_linear  # noqa: E402
+import convection_roll as roll  # noqa: E402
+from spamrun import manifest_files  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -79,24 +81,35 @@ def end_time(a, cell, ratio, amplitude):
 
 def run_one(a, cell, ratio, name, extra):
     """(Ra, Nu, Nu_bottom, Nu_top, KE_final, ms per RHS, Nu at the start, end time, wall
-    crossings) of one run, or None when it fails."""
+    crossings, the time Nu is averaged from, how: "second half", "saturated", "not saturated",
+    "conducts", "sized") of one run, or None when it fails."""
     out = os.path.join(a.workdir, name, f"ra{ratio:g}")
     t_end, t_from, _ = end_time(a, cell, ratio, amplitude_of(a, extra))
+    how = "second half" if t_from is None else "sized"
+    s = mode = None
+    if a.saturate:
+        s, y, fields = convection_linear.mode(cell, 2 * math.pi / cell.L, ratio * pc.RA_CRITICAL)
+        s, mode = s.real, (y, fields)
     args = [a.spam_ark, "-options_file", os.path.join(HERE, "..", "options", "convection.opts"),
             "-convection_nx", a.nx, "-convection_ny", a.ny, "-convection_g", 0.1 * 2.0 / a.ny,
-            "-convection_ra", ratio * pc.RA_CRITICAL, "-convection_amplitude", a.amplitude, "-snapshot_interval", 0,
-            "-output_dir", out, "-output_overwrite", "-output_interval", t_end / 200 if t_end else 20]
-    if t_end:
-        args += ["-ts_max_time", t_end]
+            "-convection_ra", ratio * pc.RA_CRITICAL, "-convection_amplitude", a.amplitude,
+            "-output_dir", out, "-output_interval", t_end / 200 if t_end else 20]
+    if a.saturate:  # CSV snapshots for the roll's amplitude, a checkpoint every 1/s to continue from
+        args += ["-snapshot_interval", max(0.125 / s, t_end / 200) if s > 0 else t_end / 200, "-snapshot_hdf5", 0]
+        args += ["-checkpoint_interval", 1.0 / s] if s > 0 else []
+    else:
+        args += ["-snapshot_interval", 0]
     args = [str(x) for x in args] + extra
     done = os.path.join(out, "summary.json")
     reused = False
     if a.reuse and os.path.exists(done) and os.path.exists(os.path.join(out, "stdout.txt")):
         with open(done) as f:
             sm = json.load(f)
-        reused = sm.get("status") == "ok" and (not t_end or abs(sm["t_final"] - t_end) < 1e-6 * t_end)
+        # --saturate: a run continued past its end time counts, if it has the snapshots
+        reused = sm.get("status") == "ok" and (not t_end or abs(sm["t_final"] - t_end) < 1e-6 * t_end
+                                                or (a.saturate and sm["t_final"] > t_end and manifest_files(out, "snapshot_csv")))
     if not reused:
-        p = subprocess.run(args, capture_output=True, text=True)
+        p = subprocess.run(args + ["-output_overwrite"] + (["-ts_max_time", str(t_end)] if t_end else []), capture_output=True, text=True)
         if p.returncode != 0:
             print(f"run failed (exit {p.returncode}): {' '.join(args)}: {p.stderr.strip()[-300:]}", file=sys.stderr)
             return None
@@ -104,12 +117,46 @@ def run_one(a, cell, ratio, name, extra):
             f.write(p.stdout)
     with open(os.path.join(out, "stdout.txt")) as f:
         m = re.search(r"convection: Ra = ([0-9.eE+-]+)", f.read())
+    if a.saturate:
+        t_from, how = saturate(args, out, cell, s, mode, summary_t(out), f"{name} {ratio:g}")
     summary, series, _ = pc.load(out)
     t_last = series["t"][-1]
     nu, nub, nut, (qb, qt) = pc.nusselt(summary, series, a.t_bottom, a.t_top, 0.5 * t_last if t_from is None else t_from)
     ms = 1e3 * summary["rhs_time_s"] / summary["rhs_evals"]
     return (float(m.group(1)), nu, nub, nut, series["kinetic"][-1], ms, 0.5 * (qb[0] + qt[0]), t_last,
-            summary.get("post_step_jumps", 0))
+            summary.get("post_step_jumps", 0), 0.5 * t_last if t_from is None else t_from, how)
+
+
+def summary_t(out):
+    with open(os.path.join(out, "summary.json")) as f:
+        return json.load(f)["t_final"]
+
+
+def saturate(args, out, cell, s, mode, t_end, label):
+    """(the time Nu is averaged from, how) by the onset study's rule (tests/convection_roll.py):
+    where the roll grows (linear rate s > 0 and roll.grew: its end value 3 x its minimum or
+    more), the run is continued from its checkpoint until Nu's average, from one e-folding
+    time 1/s after saturation, spans 3/s ("saturated"; "not saturated" when it cannot be);
+    a run below the cell's linear onset (s <= 0) or whose roll did not grow conducts: Nu
+    over the second half ("conducts"), not continued."""
+    k = 2 * math.pi / cell.L
+
+    def amplitudes():
+        return roll.roll_amplitudes(cell, out, k, *mode)
+    t, A = amplitudes()[:2]
+    if not (s > 0 and roll.grew(t, A)):
+        return None, "conducts"
+    ckpt = os.path.join(out, "checkpoint.h5")
+
+    def go_on(t_to):
+        if not os.path.exists(ckpt):
+            return None
+        p = subprocess.run(args + ["-ts_max_time", str(t_to), "-restart", ckpt], capture_output=True, text=True)
+        if p.returncode != 0:
+            print(f"continuation failed (exit {p.returncode}): {label}: {p.stderr.strip()[-300:]}", file=sys.stderr)
+        return p.returncode == 0
+    _, series, _, saturated = roll.run_to_saturation(t_end, s, amplitudes, go_on, log=lambda msg: print(f"{label}: {msg}", flush=True))
+    return roll.nu_from(series[0], series[1], s), "saturated" if saturated else "not saturated"
 
 
 def onset(points):
@@ -137,12 +184,15 @@ def main():
     ap.add_argument("--t-top", type=float, default=0.75)
     ap.add_argument("--variant", action="append", default=None, help='NAME="OPTIONS" run at every ratio (repeatable)')
     ap.add_argument("--sized-end", action="store_true", help="end time from the linear growth rate where it is positive (see above)")
+    ap.add_argument("--saturate", action="store_true", help="continue each run whose roll grows until it has saturated; Nu by the onset study's rule (see above)")
     ap.add_argument("--onset", action="store_true", help="draw and report each variant's onset from Nu - 1 (see above)")
     ap.add_argument("--xscale", choices=("log", "linear"), default="log", help="the Ra axis")
     ap.add_argument("--reuse", action="store_true", help="analyse the runs already in --workdir that reached their end time")
     ap.add_argument("-o", "--out", default=None)
     ap.add_argument("--readings", action="store_true", help="write the runs and the table beside the chart (OUT.json)")
     a = ap.parse_args()
+    if a.saturate and not (a.t_end or a.sized_end):
+        sys.exit("convection_sweep: error: --saturate needs --t-end or --sized-end (the first end time)")
     variants = []
     for v in a.variant or ["default="]:
         name, _, opts = v.partition("=")
@@ -161,7 +211,7 @@ def main():
     ax.set_xscale(a.xscale)
     cell = convection_linear.Cell(nx=a.nx, ny=a.ny, g=0.1 * 2.0 / a.ny, t_bottom=a.t_bottom, t_top=a.t_top)
     ra_cell, _ = convection_linear.cell_critical(cell)
-    print("variant ratio Ra Nu Nu_bottom Nu_top ke_final ms_per_rhs t_end")
+    print("variant ratio Ra Nu Nu_bottom Nu_top ke_final ms_per_rhs t_end nu_from_t nu_rule")
     runs, onsets = {}, {}
     for (name, extra), (colour, marker) in zip(variants, STYLES):
         ok, failed = [], []
@@ -171,12 +221,13 @@ def main():
                 failed.append(r)
                 print(f"{name} {r:g} failed", flush=True)
                 continue
-            ra, nu, nub, nut, ke, ms, nu0, t_end, jumps = got
-            ok.append((r, nu, nub, nut, nu0, jumps))
+            ra, nu, nub, nut, ke, ms, nu0, t_end, jumps, nu_from, how = got
+            ok.append((r, nu, nub, nut, nu0, jumps, how))
             runs.setdefault(name, {})[f"{r:g}".replace(".", "_")] = {"ratio": r, "Ra": ra, "Nu": nu, "Nu_bottom": nub,
                                                                    "Nu_top": nut, "wall_difference": nut - nub, "ke_final": ke,
-                                                                   "Nu_start": nu0, "t_end": t_end, "post_step_jumps": jumps}
-            print(f"{name} {r:g} {ra:.6g} {nu:.5f} {nub:.5f} {nut:.5f} {ke:.5g} {ms:.4f} {t_end:.0f}", flush=True)
+                                                                   "Nu_start": nu0, "t_end": t_end, "post_step_jumps": jumps,
+                                                                   "nu_from_t": nu_from, "nu_rule": how}
+            print(f"{name} {r:g} {ra:.6g} {nu:.5f} {nub:.5f} {nut:.5f} {ke:.5g} {ms:.4f} {t_end:.0f} {nu_from:.0f} {how.replace(' ', '_')}", flush=True)
         label = f"{name}: {' '.join(extra)}" if extra else name
         ax.plot([x[0] for x in ok], [x[1] for x in ok], "-", color=colour, marker=marker, label=f"{label} (mean of both walls)")
         crossed = [x for x in ok if x[5]]
@@ -184,6 +235,10 @@ def main():
             ax.plot([x[0] for x in crossed], [x[1] for x in crossed], "o", ms=14, mfc="none", mec=colour, mew=1.5,
                     label=f"{name}: particles crossed the walls, reflected (post_step_jumps > 0)")
         ax.plot([x[0] for x in ok] * 2, [x[2] for x in ok] + [x[3] for x in ok], "_", color=colour, ms=9)
+        short = [x for x in ok if x[6] == "not saturated"]
+        if short:  # the roll had not saturated by the last continuation: Nu is low
+            ax.plot([x[0] for x in short], [x[1] for x in short], "s", ms=13, mfc="none", mec=colour, mew=1.5,
+                    label=f"{name}: roll not saturated by the run's end")
         if failed:
             ax.plot(failed, [1.0] * len(failed), "x", color=colour, ms=10, mew=2, label=f"{name}: run failed")
         if a.onset and len(ok) >= 2:
@@ -204,7 +259,9 @@ def main():
     ax.set_xlabel("Ra / Ra_c (superadiabatic Rayleigh number over 1707.76)")
     ax.set_ylabel("Nusselt number Nu")
     ax.set_title(f"scene convection: Nu against Ra\n{a.nx} x {a.ny} lattice, Pr = 1, T_b = {a.t_bottom:g}, T_t = {a.t_top:g}, "
-                 f"kick {a.amplitude:g} c_s unless the variant sets it", fontsize=9)
+                 f"kick {a.amplitude:g} c_s unless the variant sets it"
+                 + ("\neach run continued until its roll saturated, Nu from 1/s after saturation (squares: not saturated)" if a.saturate else ""),
+                 fontsize=9)
     ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12))
     out = a.out or os.path.join(a.workdir, "convection_nu_ra.png")
     fig.tight_layout()
