@@ -3,7 +3,7 @@
 
 Usage:
     examples/convection_sweep.py --spam-ark build/spam-ark [--workdir DIR]
-        [--ratios 0.5,0.8,1.2,1.6,2,3,4,5] [--nx 32 --ny 16] [--t-end T] [--amplitude A]
+        [--ratios 0.5,0.8,1.2,1.6,2,3,4,5] [--nx 32 --ny 16] [--t-end T] [--amplitude A] [--saturate] [--sized-end] [--onset]
         [--variant NAME="OPTIONS" ...] [-o OUT.png] [--readings]
 
 Runs -scene convection (options/convection.opts: T_b = 1.25, T_t = 0.75, Pr = 1,
@@ -30,6 +30,19 @@ saturate and 3 to average Nu over (end time (ln(0.5 / amplitude) + 6) / s, Nu ov
 3 / s). Where s <= 0 (below onset) the run ends at --t-end (or the options file's) and Nu
 is the mean over its second half. A variant may set its own -convection_amplitude (the
 last value given wins); the sized end time uses it.
+
+--saturate (with --t-end or --sized-end: the first end time) makes each run last until its
+roll has saturated, by the rule of tests/run_convection_onset.py (tests/convection_roll.py):
+the run writes CSV snapshots (every 1/(8 s), at least t_end / 200 apart) and a checkpoint
+every 1/s (s: the cell's linear rate at its Ra); the roll's amplitude A is the projection of
+T - T0(y) on the linear eigenfunction; saturation is where A first reaches 0.9 of its end
+value (its mean over the last 1/s); a run that ends before saturation + 4/s is continued
+from its checkpoint to that time (again while it moves, at most 4 times; then drawn as a
+hollow square, "not saturated"), and Nu is averaged from saturation + 1/s to the end. A
+run that conducts, below the cell's linear onset (s <= 0) or whose roll did not grow (A at
+the end, its mean over the run's last tenth, below 3 x its minimum), is not continued: its
+Nu is over the second half. The readings give each run's rule (nu_rule) and start of Nu's
+average (nu_from_t). --reuse takes a run continued past its end time if it has snapshots.
 
 --onset draws, per variant, the line of Nu - 1 through the two lowest ratios that convect
 (Nu - 1 above 3 x the discrete flux error of the start, |Nu(t = 0) - 1|, as
