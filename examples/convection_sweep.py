@@ -48,7 +48,9 @@ average (nu_from_t). --reuse takes a run continued past its end time if it has s
 (Nu - 1 above 3 x the discrete flux error of the start, |Nu(t = 0) - 1|, as
 tests/run_convection_onset.py counts them) extrapolated to Nu = 1: weakly nonlinear theory
 has Nu - 1 linear in Ra - Ra_c near onset, so the intercept is the onset. With --readings
-the onset of each variant (in units of 1707.76 and of the cell's linear Ra_c) is written too.
+the onset of each variant (in units of 1707.76 and of the cell's linear Ra_c) is written too,
+and that of the line through the next two ratios (without the lowest): how far the curvature
+of Nu - 1 in Ra moves it.
 --reuse analyses runs already in --workdir that reached their end time again.
 """
 
@@ -258,6 +260,10 @@ def main():
             r_on, used, floor = onset([(x[0], x[1], x[4]) for x in ok])
             onsets[name] = {"ra_onset_over_1707": r_on, "ra_onset_over_ra_c_cell": r_on * pc.RA_CRITICAL / ra_cell,
                             "ratios_fitted": used, "noise_floor": floor}
+            if len(used) == 2:  # the same line without the lowest convecting ratio: how far Nu - 1 curves
+                r_next, used_next, _ = onset([(x[0], x[1], x[4]) for x in ok if x[0] != used[0]])
+                onsets[name].update({"next_ratios_fitted": used_next, "next_ra_onset_over_ra_c_cell": r_next * pc.RA_CRITICAL / ra_cell})
+                print(f"{name}: the same through ratios {used_next}: {r_next * pc.RA_CRITICAL / ra_cell:.4f} of the cell's linear Ra_c", flush=True)
             print(f"{name}: onset from Nu - 1 through ratios {used} (floor {floor:.4f}): Ra = {r_on:.4g} x 1707.76 "
                   f"= {r_on * pc.RA_CRITICAL / ra_cell:.4f} of the cell's linear Ra_c", flush=True)
             if math.isfinite(r_on):
