@@ -42,7 +42,9 @@ hollow square, "not saturated"), and Nu is averaged from saturation + 1/s to the
 run that conducts, below the cell's linear onset (s <= 0) or whose roll did not grow (A at
 the end, its mean over the run's last tenth, below 3 x its minimum), is not continued: its
 Nu is over the second half. The readings give each run's rule (nu_rule) and start of Nu's
-average (nu_from_t). --reuse takes a run continued past its end time if it has snapshots.
+average (nu_from_t). --reuse takes a run continued past its end time if it has snapshots;
+a run made without --saturate (no snapshots) it keeps as it is, Nu over its second half
+(nu_rule "second half, kept"; drawn with a dot inside).
 
 --onset draws, per variant, the line of Nu - 1 through the two lowest ratios that convect
 (Nu - 1 above 3 x the discrete flux error of the start, |Nu(t = 0) - 1|, as
@@ -132,7 +134,9 @@ def run_one(a, cell, ratio, name, extra):
             f.write(p.stdout)
     with open(os.path.join(out, "stdout.txt")) as f:
         m = re.search(r"convection: Ra = ([0-9.eE+-]+)", f.read())
-    if a.saturate:
+    if a.saturate and reused and not manifest_files(out, "snapshot_csv"):
+        how = "second half, kept"  # a run made without --saturate: no roll to measure, taken as it is
+    elif a.saturate:
         t_from, how = saturate(args, out, cell, s, mode, summary_t(out), f"{name} {ratio:g}")
     summary, series, _ = pc.load(out)
     t_last = series["t"][-1]
@@ -250,6 +254,10 @@ def main():
             ax.plot([x[0] for x in crossed], [x[1] for x in crossed], "o", ms=14, mfc="none", mec=colour, mew=1.5,
                     label=f"{name}: particles crossed the walls, reflected (post_step_jumps > 0)")
         ax.plot([x[0] for x in ok] * 2, [x[2] for x in ok] + [x[3] for x in ok], "_", color=colour, ms=9)
+        kept = [x for x in ok if x[6] == "second half, kept"]
+        if kept:  # reused runs made without --saturate: Nu over their second half, the roll not measured
+            ax.plot([x[0] for x in kept], [x[1] for x in kept], "o", ms=3.5, mfc="w", mec="0.2", mew=0.5, ls="none",
+                    label=f"{name}, white dot: run kept from a sweep without --saturate (Nu over its second half)")
         short = [x for x in ok if x[6] == "not saturated"]
         if short:  # the roll had not saturated by the last continuation: Nu is low
             ax.plot([x[0] for x in short], [x[1] for x in short], "s", ms=13, mfc="none", mec=colour, mew=1.5,
@@ -260,12 +268,12 @@ def main():
             r_on, used, floor = onset([(x[0], x[1], x[4]) for x in ok])
             onsets[name] = {"ra_onset_over_1707": r_on, "ra_onset_over_ra_c_cell": r_on * pc.RA_CRITICAL / ra_cell,
                             "ratios_fitted": used, "noise_floor": floor}
+            print(f"{name}: onset from Nu - 1 through ratios {used} (floor {floor:.4f}): Ra = {r_on:.4g} x 1707.76 "
+                  f"= {r_on * pc.RA_CRITICAL / ra_cell:.4f} of the cell's linear Ra_c", flush=True)
             if len(used) == 2:  # the same line without the lowest convecting ratio: how far Nu - 1 curves
                 r_next, used_next, _ = onset([(x[0], x[1], x[4]) for x in ok if x[0] != used[0]])
                 onsets[name].update({"next_ratios_fitted": used_next, "next_ra_onset_over_ra_c_cell": r_next * pc.RA_CRITICAL / ra_cell})
                 print(f"{name}: the same through ratios {used_next}: {r_next * pc.RA_CRITICAL / ra_cell:.4f} of the cell's linear Ra_c", flush=True)
-            print(f"{name}: onset from Nu - 1 through ratios {used} (floor {floor:.4f}): Ra = {r_on:.4g} x 1707.76 "
-                  f"= {r_on * pc.RA_CRITICAL / ra_cell:.4f} of the cell's linear Ra_c", flush=True)
             if math.isfinite(r_on):
                 nus = {x[0]: x[1] for x in ok}
                 ax.plot([r_on, used[1]], [1.0, nus[used[1]]], "--", color=colour, lw=1,
@@ -279,7 +287,7 @@ def main():
     ax.set_ylabel("Nusselt number Nu")
     ax.set_title(f"scene convection: Nu against Ra\n{a.nx} x {a.ny} lattice, Pr = 1, T_b = {a.t_bottom:g}, T_t = {a.t_top:g}, "
                  f"kick {a.amplitude:g} c_s unless the variant sets it"
-                 + ("\neach run continued until its roll saturated, Nu from 1/s after saturation (squares: not saturated)" if a.saturate else ""),
+                 + ("\nruns whose roll grows continued until it saturated, Nu from 1/s after saturation (hollow squares: not saturated)" if a.saturate else ""),
                  fontsize=9)
     ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12))
     out = a.out or os.path.join(a.workdir, "convection_nu_ra.png")
