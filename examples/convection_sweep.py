@@ -15,7 +15,9 @@ Nu against Ra / Ra_c with the continuum onset (rigid-rigid walls, Boussinesq: 17
 marked. Each --variant NAME="OPTIONS" (repeatable; default one variant, "default", with no
 options) runs every ratio with those options added; each variant has its own colour and
 marker, and a run that fails (say exit 3, unstable) is drawn as a cross on Nu = 1 and
-listed. Prints one line per run: variant ratio Ra Nu Nu_bottom Nu_top ke_final ms_per_rhs t_end.
+listed. Prints one line per run: variant ratio Ra Nu Nu_bottom Nu_top ke_final ms_per_rhs t_end
+nu_from_t nu_rule nu_last_quarter (Nu over the last quarter of its average: equal to Nu in a
+steady state).
 A run whose particles crossed the walls (summary.json post_step_jumps > 0) is circled: its
 Nu is not that of clean rolls.
 With --readings, the runs and a table of Nu (hot, cold wall) per ratio and variant are
@@ -99,7 +101,8 @@ def end_time(a, cell, ratio, amplitude):
 def run_one(a, cell, ratio, name, extra):
     """(Ra, Nu, Nu_bottom, Nu_top, KE_final, ms per RHS, Nu at the start, end time, wall
     crossings, the time Nu is averaged from, how: "second half", "saturated", "not saturated",
-    "conducts", "sized") of one run, or None when it fails."""
+    "conducts", "sized", "second half, kept"; Nu over the last quarter of its average) of one
+    run, or None when it fails."""
     out = os.path.join(a.workdir, name, f"ra{ratio:g}")
     t_end, t_from, _ = end_time(a, cell, ratio, amplitude_of(a, extra))
     how = "second half" if t_from is None else "sized"
@@ -140,10 +143,13 @@ def run_one(a, cell, ratio, name, extra):
         t_from, how = saturate(args, out, cell, s, mode, summary_t(out), f"{name} {ratio:g}")
     summary, series, _ = pc.load(out)
     t_last = series["t"][-1]
-    nu, nub, nut, (qb, qt) = pc.nusselt(summary, series, a.t_bottom, a.t_top, 0.5 * t_last if t_from is None else t_from)
+    t_from = 0.5 * t_last if t_from is None else t_from
+    nu, nub, nut, (qb, qt) = pc.nusselt(summary, series, a.t_bottom, a.t_top, t_from)
+    # Nu over the last quarter of that average: a steady state has the same
+    nu_late = pc.nusselt(summary, series, a.t_bottom, a.t_top, t_last - 0.25 * (t_last - t_from))[0]
     ms = 1e3 * summary["rhs_time_s"] / summary["rhs_evals"]
     return (float(m.group(1)), nu, nub, nut, series["kinetic"][-1], ms, 0.5 * (qb[0] + qt[0]), t_last,
-            summary.get("post_step_jumps", 0), 0.5 * t_last if t_from is None else t_from, how)
+            summary.get("post_step_jumps", 0), t_from, how, nu_late)
 
 
 def summary_t(out):
@@ -230,7 +236,7 @@ def main():
     ax.set_xscale(a.xscale)
     cell = convection_linear.Cell(nx=a.nx, ny=a.ny, g=0.1 * 2.0 / a.ny, t_bottom=a.t_bottom, t_top=a.t_top)
     ra_cell, _ = convection_linear.cell_critical(cell)
-    print("variant ratio Ra Nu Nu_bottom Nu_top ke_final ms_per_rhs t_end nu_from_t nu_rule")
+    print("variant ratio Ra Nu Nu_bottom Nu_top ke_final ms_per_rhs t_end nu_from_t nu_rule nu_last_quarter")
     runs, onsets = {}, {}
     for (name, extra), (colour, marker) in zip(variants, STYLES):
         ok, failed = [], []
@@ -240,13 +246,13 @@ def main():
                 failed.append(r)
                 print(f"{name} {r:g} failed", flush=True)
                 continue
-            ra, nu, nub, nut, ke, ms, nu0, t_end, jumps, nu_from, how = got
+            ra, nu, nub, nut, ke, ms, nu0, t_end, jumps, nu_from, how, nu_late = got
             ok.append((r, nu, nub, nut, nu0, jumps, how))
             runs.setdefault(name, {})[f"{r:g}".replace(".", "_")] = {"ratio": r, "Ra": ra, "Nu": nu, "Nu_bottom": nub,
                                                                    "Nu_top": nut, "wall_difference": nut - nub, "ke_final": ke,
                                                                    "Nu_start": nu0, "t_end": t_end, "post_step_jumps": jumps,
-                                                                   "nu_from_t": nu_from, "nu_rule": how}
-            print(f"{name} {r:g} {ra:.6g} {nu:.5f} {nub:.5f} {nut:.5f} {ke:.5g} {ms:.4f} {t_end:.0f} {nu_from:.0f} {how.replace(' ', '_')}", flush=True)
+                                                                   "nu_from_t": nu_from, "nu_rule": how, "Nu_last_quarter": nu_late}
+            print(f"{name} {r:g} {ra:.6g} {nu:.5f} {nub:.5f} {nut:.5f} {ke:.5g} {ms:.4f} {t_end:.0f} {nu_from:.0f} {how.replace(' ', '_')} {nu_late:.5f}", flush=True)
         label = f"{name}: {' '.join(extra)}" if extra else name
         ax.plot([x[0] for x in ok], [x[1] for x in ok], "-", color=colour, marker=marker, label=f"{label} (mean of both walls)")
         crossed = [x for x in ok if x[5]]
