@@ -3,7 +3,7 @@
 
 Usage:
     examples/convection_sweep.py --spam-ark build/spam-ark [--workdir DIR]
-        [--ratios 0.5,0.8,1.2,1.6,2,3,4,5] [--nx 32 --ny 16] [--t-end T] [--amplitude A]
+        [--ratios 0.5,0.8,1.2,1.6,2,3,4,5] [--nx 32 --ny 16] [--t-end T] [--amplitude A] [--saturate] [--sized-end] [--onset]
         [--variant NAME="OPTIONS" ...] [-o OUT.png] [--readings]
 
 Runs -scene convection (options/convection.opts: T_b = 1.25, T_t = 0.75, Pr = 1,
@@ -15,7 +15,9 @@ Nu against Ra / Ra_c with the continuum onset (rigid-rigid walls, Boussinesq: 17
 marked. Each --variant NAME="OPTIONS" (repeatable; default one variant, "default", with no
 options) runs every ratio with those options added; each variant has its own colour and
 marker, and a run that fails (say exit 3, unstable) is drawn as a cross on Nu = 1 and
-listed. Prints one line per run: variant ratio Ra Nu Nu_bottom Nu_top ke_final ms_per_rhs t_end.
+listed. Prints one line per run: variant ratio Ra Nu Nu_bottom Nu_top ke_final ms_per_rhs t_end
+nu_from_t nu_rule nu_last_quarter (Nu over the last quarter of its average: equal to Nu in a
+steady state).
 A run whose particles crossed the walls (summary.json post_step_jumps > 0) is circled: its
 Nu is not that of clean rolls.
 With --readings, the runs and a table of Nu (hot, cold wall) per ratio and variant are
@@ -31,11 +33,28 @@ saturate and 3 to average Nu over (end time (ln(0.5 / amplitude) + 6) / s, Nu ov
 is the mean over its second half. A variant may set its own -convection_amplitude (the
 last value given wins); the sized end time uses it.
 
+--saturate (with --t-end or --sized-end: the first end time) makes each run last until its
+roll has saturated, by the rule of tests/run_convection_onset.py (tests/convection_roll.py):
+the run writes CSV snapshots (every 1/(8 s), at least t_end / 200 apart) and a checkpoint
+every 1/s (s: the cell's linear rate at its Ra); the roll's amplitude A is the projection of
+T - T0(y) on the linear eigenfunction; saturation is where A first reaches 0.9 of its end
+value (its mean over the last 1/s); a run that ends before saturation + 4/s is continued
+from its checkpoint to that time (again while it moves, at most 4 times; then drawn as a
+hollow square, "not saturated"), and Nu is averaged from saturation + 1/s to the end. A
+run that conducts, below the cell's linear onset (s <= 0) or whose roll did not grow (A at
+the end, its mean over the run's last tenth, below 3 x its minimum), is not continued: its
+Nu is over the second half. The readings give each run's rule (nu_rule) and start of Nu's
+average (nu_from_t). --reuse takes a run continued past its end time if it has snapshots;
+a run made without --saturate (no snapshots) it keeps as it is, Nu over its second half
+(nu_rule "second half, kept"; drawn with a dot inside).
+
 --onset draws, per variant, the line of Nu - 1 through the two lowest ratios that convect
 (Nu - 1 above 3 x the discrete flux error of the start, |Nu(t = 0) - 1|, as
 tests/run_convection_onset.py counts them) extrapolated to Nu = 1: weakly nonlinear theory
 has Nu - 1 linear in Ra - Ra_c near onset, so the intercept is the onset. With --readings
-the onset of each variant (in units of 1707.76 and of the cell's linear Ra_c) is written too.
+the onset of each variant (in units of 1707.76 and of the cell's linear Ra_c) is written too,
+and that of the line through the next two ratios (without the lowest): how far the curvature
+of Nu - 1 in Ra moves it.
 --reuse analyses runs already in --workdir that reached their end time again.
 """
 
@@ -52,6 +71,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "tests"))
 import plot_convection as pc  # noqa: E402
 import convection_linear  # noqa: E402
+import convection_roll as roll  # noqa: E402
+from spamrun import manifest_files  # noqa: E402
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 
@@ -79,24 +100,36 @@ def end_time(a, cell, ratio, amplitude):
 
 def run_one(a, cell, ratio, name, extra):
     """(Ra, Nu, Nu_bottom, Nu_top, KE_final, ms per RHS, Nu at the start, end time, wall
-    crossings) of one run, or None when it fails."""
+    crossings, the time Nu is averaged from, how: "second half", "saturated", "not saturated",
+    "conducts", "sized", "second half, kept"; Nu over the last quarter of its average) of one
+    run, or None when it fails."""
     out = os.path.join(a.workdir, name, f"ra{ratio:g}")
     t_end, t_from, _ = end_time(a, cell, ratio, amplitude_of(a, extra))
+    how = "second half" if t_from is None else "sized"
+    s = mode = None
+    if a.saturate:
+        s, y, fields = convection_linear.mode(cell, 2 * math.pi / cell.L, ratio * pc.RA_CRITICAL)
+        s, mode = s.real, (y, fields)
     args = [a.spam_ark, "-options_file", os.path.join(HERE, "..", "options", "convection.opts"),
             "-convection_nx", a.nx, "-convection_ny", a.ny, "-convection_g", 0.1 * 2.0 / a.ny,
-            "-convection_ra", ratio * pc.RA_CRITICAL, "-convection_amplitude", a.amplitude, "-snapshot_interval", 0,
-            "-output_dir", out, "-output_overwrite", "-output_interval", t_end / 200 if t_end else 20]
-    if t_end:
-        args += ["-ts_max_time", t_end]
+            "-convection_ra", ratio * pc.RA_CRITICAL, "-convection_amplitude", a.amplitude,
+            "-output_dir", out, "-output_interval", t_end / 200 if t_end else 20]
+    if a.saturate:  # CSV snapshots for the roll's amplitude, a checkpoint every 1/s to continue from
+        args += ["-snapshot_interval", max(0.125 / s, t_end / 200) if s > 0 else t_end / 200, "-snapshot_hdf5", 0]
+        args += ["-checkpoint_interval", 1.0 / s] if s > 0 else []
+    else:
+        args += ["-snapshot_interval", 0]
     args = [str(x) for x in args] + extra
     done = os.path.join(out, "summary.json")
     reused = False
     if a.reuse and os.path.exists(done) and os.path.exists(os.path.join(out, "stdout.txt")):
         with open(done) as f:
             sm = json.load(f)
-        reused = sm.get("status") == "ok" and (not t_end or abs(sm["t_final"] - t_end) < 1e-6 * t_end)
+        # --saturate: a run continued past its end time counts, if it has the snapshots
+        reused = sm.get("status") == "ok" and (not t_end or abs(sm["t_final"] - t_end) < 1e-6 * t_end
+                                                or (a.saturate and sm["t_final"] > t_end and manifest_files(out, "snapshot_csv")))
     if not reused:
-        p = subprocess.run(args, capture_output=True, text=True)
+        p = subprocess.run(args + ["-output_overwrite"] + (["-ts_max_time", str(t_end)] if t_end else []), capture_output=True, text=True)
         if p.returncode != 0:
             print(f"run failed (exit {p.returncode}): {' '.join(args)}: {p.stderr.strip()[-300:]}", file=sys.stderr)
             return None
@@ -104,12 +137,51 @@ def run_one(a, cell, ratio, name, extra):
             f.write(p.stdout)
     with open(os.path.join(out, "stdout.txt")) as f:
         m = re.search(r"convection: Ra = ([0-9.eE+-]+)", f.read())
+    if a.saturate and reused and not manifest_files(out, "snapshot_csv"):
+        how = "second half, kept"  # a run made without --saturate: no roll to measure, taken as it is
+    elif a.saturate:
+        t_from, how = saturate(args, out, cell, s, mode, summary_t(out), f"{name} {ratio:g}")
     summary, series, _ = pc.load(out)
     t_last = series["t"][-1]
-    nu, nub, nut, (qb, qt) = pc.nusselt(summary, series, a.t_bottom, a.t_top, 0.5 * t_last if t_from is None else t_from)
+    t_from = 0.5 * t_last if t_from is None else t_from
+    nu, nub, nut, (qb, qt) = pc.nusselt(summary, series, a.t_bottom, a.t_top, t_from)
+    # Nu over the last quarter of that average: a steady state has the same
+    nu_late = pc.nusselt(summary, series, a.t_bottom, a.t_top, t_last - 0.25 * (t_last - t_from))[0]
     ms = 1e3 * summary["rhs_time_s"] / summary["rhs_evals"]
     return (float(m.group(1)), nu, nub, nut, series["kinetic"][-1], ms, 0.5 * (qb[0] + qt[0]), t_last,
-            summary.get("post_step_jumps", 0))
+            summary.get("post_step_jumps", 0), t_from, how, nu_late)
+
+
+def summary_t(out):
+    with open(os.path.join(out, "summary.json")) as f:
+        return json.load(f)["t_final"]
+
+
+def saturate(args, out, cell, s, mode, t_end, label):
+    """(the time Nu is averaged from, how) by the onset study's rule (tests/convection_roll.py):
+    where the roll grows (linear rate s > 0 and roll.grew: its end value 3 x its minimum or
+    more), the run is continued from its checkpoint until Nu's average, from one e-folding
+    time 1/s after saturation, spans 3/s ("saturated"; "not saturated" when it cannot be);
+    a run below the cell's linear onset (s <= 0) or whose roll did not grow conducts: Nu
+    over the second half ("conducts"), not continued."""
+    k = 2 * math.pi / cell.L
+
+    def amplitudes():
+        return roll.roll_amplitudes(cell, out, k, *mode)
+    t, A = amplitudes()[:2]
+    if not (s > 0 and roll.grew(t, A)):
+        return None, "conducts"
+    ckpt = os.path.join(out, "checkpoint.h5")
+
+    def go_on(t_to):
+        if not os.path.exists(ckpt):
+            return None
+        p = subprocess.run(args + ["-ts_max_time", str(t_to), "-restart", ckpt], capture_output=True, text=True)
+        if p.returncode != 0:
+            print(f"continuation failed (exit {p.returncode}): {label}: {p.stderr.strip()[-300:]}", file=sys.stderr)
+        return p.returncode == 0
+    _, series, _, saturated = roll.run_to_saturation(t_end, s, amplitudes, go_on, log=lambda msg: print(f"{label}: {msg}", flush=True))
+    return roll.nu_from(series[0], series[1], s), "saturated" if saturated else "not saturated"
 
 
 def onset(points):
@@ -137,12 +209,15 @@ def main():
     ap.add_argument("--t-top", type=float, default=0.75)
     ap.add_argument("--variant", action="append", default=None, help='NAME="OPTIONS" run at every ratio (repeatable)')
     ap.add_argument("--sized-end", action="store_true", help="end time from the linear growth rate where it is positive (see above)")
+    ap.add_argument("--saturate", action="store_true", help="continue each run whose roll grows until it has saturated; Nu by the onset study's rule (see above)")
     ap.add_argument("--onset", action="store_true", help="draw and report each variant's onset from Nu - 1 (see above)")
     ap.add_argument("--xscale", choices=("log", "linear"), default="log", help="the Ra axis")
     ap.add_argument("--reuse", action="store_true", help="analyse the runs already in --workdir that reached their end time")
     ap.add_argument("-o", "--out", default=None)
     ap.add_argument("--readings", action="store_true", help="write the runs and the table beside the chart (OUT.json)")
     a = ap.parse_args()
+    if a.saturate and not (a.t_end or a.sized_end):
+        sys.exit("convection_sweep: error: --saturate needs --t-end or --sized-end (the first end time)")
     variants = []
     for v in a.variant or ["default="]:
         name, _, opts = v.partition("=")
@@ -161,7 +236,7 @@ def main():
     ax.set_xscale(a.xscale)
     cell = convection_linear.Cell(nx=a.nx, ny=a.ny, g=0.1 * 2.0 / a.ny, t_bottom=a.t_bottom, t_top=a.t_top)
     ra_cell, _ = convection_linear.cell_critical(cell)
-    print("variant ratio Ra Nu Nu_bottom Nu_top ke_final ms_per_rhs t_end")
+    print("variant ratio Ra Nu Nu_bottom Nu_top ke_final ms_per_rhs t_end nu_from_t nu_rule nu_last_quarter")
     runs, onsets = {}, {}
     for (name, extra), (colour, marker) in zip(variants, STYLES):
         ok, failed = [], []
@@ -171,12 +246,13 @@ def main():
                 failed.append(r)
                 print(f"{name} {r:g} failed", flush=True)
                 continue
-            ra, nu, nub, nut, ke, ms, nu0, t_end, jumps = got
-            ok.append((r, nu, nub, nut, nu0, jumps))
+            ra, nu, nub, nut, ke, ms, nu0, t_end, jumps, nu_from, how, nu_late = got
+            ok.append((r, nu, nub, nut, nu0, jumps, how))
             runs.setdefault(name, {})[f"{r:g}".replace(".", "_")] = {"ratio": r, "Ra": ra, "Nu": nu, "Nu_bottom": nub,
                                                                    "Nu_top": nut, "wall_difference": nut - nub, "ke_final": ke,
-                                                                   "Nu_start": nu0, "t_end": t_end, "post_step_jumps": jumps}
-            print(f"{name} {r:g} {ra:.6g} {nu:.5f} {nub:.5f} {nut:.5f} {ke:.5g} {ms:.4f} {t_end:.0f}", flush=True)
+                                                                   "Nu_start": nu0, "t_end": t_end, "post_step_jumps": jumps,
+                                                                   "nu_from_t": nu_from, "nu_rule": how, "Nu_last_quarter": nu_late}
+            print(f"{name} {r:g} {ra:.6g} {nu:.5f} {nub:.5f} {nut:.5f} {ke:.5g} {ms:.4f} {t_end:.0f} {nu_from:.0f} {how.replace(' ', '_')} {nu_late:.5f}", flush=True)
         label = f"{name}: {' '.join(extra)}" if extra else name
         ax.plot([x[0] for x in ok], [x[1] for x in ok], "-", color=colour, marker=marker, label=f"{label} (mean of both walls)")
         crossed = [x for x in ok if x[5]]
@@ -184,6 +260,14 @@ def main():
             ax.plot([x[0] for x in crossed], [x[1] for x in crossed], "o", ms=14, mfc="none", mec=colour, mew=1.5,
                     label=f"{name}: particles crossed the walls, reflected (post_step_jumps > 0)")
         ax.plot([x[0] for x in ok] * 2, [x[2] for x in ok] + [x[3] for x in ok], "_", color=colour, ms=9)
+        kept = [x for x in ok if x[6] == "second half, kept"]
+        if kept:  # reused runs made without --saturate: Nu over their second half, the roll not measured
+            ax.plot([x[0] for x in kept], [x[1] for x in kept], "o", ms=3.5, mfc="w", mec="0.2", mew=0.5, ls="none",
+                    label=f"{name}, white dot: run kept from a sweep without --saturate (Nu over its second half)")
+        short = [x for x in ok if x[6] == "not saturated"]
+        if short:  # the roll had not saturated by the last continuation: Nu is low
+            ax.plot([x[0] for x in short], [x[1] for x in short], "s", ms=13, mfc="none", mec=colour, mew=1.5,
+                    label=f"{name}: roll not saturated by the run's end")
         if failed:
             ax.plot(failed, [1.0] * len(failed), "x", color=colour, ms=10, mew=2, label=f"{name}: run failed")
         if a.onset and len(ok) >= 2:
@@ -192,6 +276,10 @@ def main():
                             "ratios_fitted": used, "noise_floor": floor}
             print(f"{name}: onset from Nu - 1 through ratios {used} (floor {floor:.4f}): Ra = {r_on:.4g} x 1707.76 "
                   f"= {r_on * pc.RA_CRITICAL / ra_cell:.4f} of the cell's linear Ra_c", flush=True)
+            if len(used) == 2:  # the same line without the lowest convecting ratio: how far Nu - 1 curves
+                r_next, used_next, _ = onset([(x[0], x[1], x[4]) for x in ok if x[0] != used[0]])
+                onsets[name].update({"next_ratios_fitted": used_next, "next_ra_onset_over_ra_c_cell": r_next * pc.RA_CRITICAL / ra_cell})
+                print(f"{name}: the same through ratios {used_next}: {r_next * pc.RA_CRITICAL / ra_cell:.4f} of the cell's linear Ra_c", flush=True)
             if math.isfinite(r_on):
                 nus = {x[0]: x[1] for x in ok}
                 ax.plot([r_on, used[1]], [1.0, nus[used[1]]], "--", color=colour, lw=1,
@@ -204,7 +292,9 @@ def main():
     ax.set_xlabel("Ra / Ra_c (superadiabatic Rayleigh number over 1707.76)")
     ax.set_ylabel("Nusselt number Nu")
     ax.set_title(f"scene convection: Nu against Ra\n{a.nx} x {a.ny} lattice, Pr = 1, T_b = {a.t_bottom:g}, T_t = {a.t_top:g}, "
-                 f"kick {a.amplitude:g} c_s unless the variant sets it", fontsize=9)
+                 f"kick {a.amplitude:g} c_s unless the variant sets it"
+                 + ("\nruns whose roll grows continued until it saturated, Nu from 1/s after saturation (hollow squares: not saturated)" if a.saturate else ""),
+                 fontsize=9)
     ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.12))
     out = a.out or os.path.join(a.workdir, "convection_nu_ra.png")
     fig.tight_layout()

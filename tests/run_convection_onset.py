@@ -52,7 +52,8 @@ ln(0.5 / amplitude) e-foldings; then 3 e-foldings to saturate and 3 to average N
 t_end = (ln(0.5 / amplitude) + 6) / s (1.2 Ra_c, amplitude 1e-4: s = 9.8e-4, t_end = 14,800).
 That is a first guess (a seed's disturbance may first decay: 1.2 Ra_c, seed 1e-2, for about
 3000 time units): a run is continued until Nu's average, from saturation + 1/s, spans 3/s
-(SAT_LEVEL, NU_WINDOW; every run alike). --t-end keeps the end time given.
+(tests/convection_roll.py: SAT_LEVEL, NU_WINDOW; every run alike, and the Nu-Ra chart's runs with
+examples/convection_sweep.py --saturate). --t-end keeps the end time given.
 --t-scale multiplies it, --t-end replaces it. Snapshots every 1/(8 s)
 (about 18 points per decade of growth).
 
@@ -73,8 +74,9 @@ import time
 
 import numpy as np
 
-from spamrun import Checks, run, table, summary, manifest_files
+from spamrun import Checks, run, table, summary
 import convection_linear as cl
+from convection_roll import roll_amplitudes, run_to_saturation, nu_from
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "examples"))
@@ -111,57 +113,6 @@ ra_c, kc = cl.critical(cell)
 k1 = 2 * math.pi / cell.L
 print(f"linear theory ({time.time() - t0:.1f} s): Ra_c = {ra_c:.4f}, k_c H = {kc:.4f}; the runs' roll k H = {k1 * cell.H:.4f}; "
       f"cell {cell.nx} x {cell.ny}, g = {cell.g:g}, T_b = {cell.t_bottom:g}, T_t = {cell.t_top:g}, Pr = {cell.prandtl:g}")
-
-
-def roll_amplitudes(out, k, y, fields):
-    """(t, A_T, A_v, C, phi) in every CSV snapshot: the roll's amplitude (its peak vertical velocity,
-    the eigenfunction's scale) from the projection of T - T0(y) on T'(y) exp(i k x), and from
-    that of v_y on v(y) exp(i k x), both mass-weighted. The temperature carries the roll
-    more than the sound waves that fill the cell (the eigenfunction's T' peaks at 2.4 x
-    its v at 3 Ra_c, a sound wave's T' is (gamma - 1) T v / c_s ~ 0.7 v), and the runs
-    show it: A_T's noise floor is about 1e-4, A_v's 1e-3 (the cell's sound at the same k).
-    A_T is the measure fitted.
-    C and phi tell the disturbance from the linear eigenmode: C the correlation of its
-    T - T0 row profile (the complex k-component in each of the cell's ny rows, the
-    mass-weighted mean over the row's particles) with the eigenfunction's T' there,
-    |<c, T'>| / (|c| |T'|), 1 for the eigenmode at any amplitude and phase; phi the phase
-    of A_T's projection (where the roll sits along x), constant for the eigenmode, which is
-    stationary. C alone does not tell the mode from the seed's transient (the seed's v
-    advecting the mean gradient gives a T' of the same sin-like shape: C 0.99 at 1.2 Ra_c,
-    seed 1e-2, while the projection decays and its phase turns by 2 rad); the phase does.
-    The v_y profile would tell them apart as well, but its noise floor (the cell's sound)
-    keeps its correlation low up to A ~ 1e-3.
-    H2, the share of the second harmonic: |k-component of T - T0 at 2k| over |at k| (mass-
-    weighted, no profile): the roll's own nonlinear harmonic is of order (A / saturation) x
-    its saturated share (0.09 at 1.2 Ra_c), so a larger H2 while A is small is a second
-    disturbance (two roll pairs), which the roll's k-component couples to (k x 2k -> k)."""
-    wT, wv = fields["T"].real, fields["v"].real
-    beta = (cell.t_bottom - cell.t_top) / cell.H
-    edges = np.linspace(0.0, cell.H, cell.ny + 1)
-    eig = np.interp(0.5 * (edges[1:] + edges[:-1]), y, wT)
-    ts, aT, av, cs, phs, h2s = [], [], [], [], [], []
-    for path in manifest_files(out, "snapshot_csv"):
-        with open(path) as f:
-            first = f.readline()
-        t = float(first.split("=")[1])
-        d = np.genfromtxt(path, delimiter=",", names=True, skip_header=1)
-        ph = np.exp(-1j * k * d["x"])
-        dT = (cell.gamma - 1.0) * d["e"] - (cell.t_bottom - beta * d["y"])
-        pT, pv = np.interp(d["y"], y, wT), np.interp(d["y"], y, wv)
-        ts.append(t)
-        projT = np.sum(d["m"] * dT * pT * ph)
-        aT.append(2 * abs(projT) / np.sum(d["m"] * pT * pT))
-        phs.append(float(np.angle(projT)))
-        f1, f2 = abs(np.sum(d["m"] * dT * ph)), abs(np.sum(d["m"] * dT * ph * ph))
-        h2s.append(f2 / f1 if f1 > 0 else float("nan"))
-        av.append(2 * abs(np.sum(d["m"] * d["vy"] * pv * ph)) / np.sum(d["m"] * pv * pv))
-        row = np.clip(np.digitize(d["y"], edges) - 1, 0, cell.ny - 1)
-        mass = np.maximum(np.bincount(row, d["m"], cell.ny), 1e-300)
-        prof = (np.bincount(row, (d["m"] * dT * ph).real, cell.ny) + 1j * np.bincount(row, (d["m"] * dT * ph).imag, cell.ny)) / mass
-        norm = math.sqrt(np.sum(abs(prof) ** 2) * np.sum(eig ** 2))
-        cs.append(abs(np.sum(prof * eig)) / norm if norm > 0 else 0.0)
-    order = np.argsort(ts)
-    return tuple(np.array(q)[order] for q in (ts, aT, av, cs, phs, h2s))
 
 
 # The fit window's start: the disturbance is the linear eigenmode once its T' row profile
@@ -219,26 +170,6 @@ def exponential_fit(t, A, C, phi, lag, t_sat, seed_share):
         return float("nan"), float(t[i0]), float(t[i1]), note + " (too few snapshots)"
     p = np.polyfit(t[i0:i1 + 1], np.log(A[i0:i1 + 1]), 1)
     return float(p[0]), float(t[i0]), float(t[i1]), note
-
-
-# Saturation, for Nu: the roll's amplitude has saturated at t_sat, the first snapshot where
-# A reaches SAT_LEVEL x its mean over the run's last e-folding time 1/s; Nu is averaged from
-# t_sat + 1/s (one e-folding time to settle) to the end, over at least NU_WINDOW / s. A run
-# whose end comes sooner is continued from its last checkpoint (taken every 1/s) to
-# t_sat + (1 + NU_WINDOW) / s and looked at again, up to MAX_EXTENSIONS times; then its Nu
-# is flagged "not saturated". The runs' sized end times assume the roll grows from t = 0;
-# a seed whose disturbance first decays (1.2 Ra_c, seed 1e-2: for about 3000 time units)
-# ends during the rise, and its Nu, averaged over the last 3 / s, took in part of it
-# (1.214 against 1.223-1.229 at saturation).
-SAT_LEVEL, NU_WINDOW, MAX_EXTENSIONS = 0.9, 3.0, 4
-
-
-def saturation(t, A, s):
-    """(t_sat, A_end): t_sat the first time A reaches SAT_LEVEL x A_end, the mean of A over the
-    run's last 1/s."""
-    a_end = float(np.mean(A[t >= t[-1] - 1.0 / s]))
-    i = next((i for i in range(len(t)) if t[i] > 0 and A[i] >= SAT_LEVEL * a_end), len(t) - 1)
-    return float(t[i]), a_end
 
 
 def band_rates(t, A, t_start):
@@ -372,31 +303,29 @@ for f in factors:
             code, so, err = run(a.spam_ark, args + ["-ts_max_time", t_end], out, timeout=6 * 3600)
         if not c.check(code == 0, f"{name}: run completes (exit {code}, {time.time() - w0:.1f} s) {err.strip()[-300:]}"):
             continue
-        tt, A, Av, C, phi, H2 = roll_amplitudes(out, k1, y, fields)
         extensions, saturated = 0, True
+
+        def amplitudes():
+            return roll_amplitudes(cell, out, k1, y, fields)
+
+        def go_on(t):
+            """Continues the run from its checkpoint to t (None: no checkpoint)."""
+            if not os.path.exists(os.path.join(out, "checkpoint.h5")):
+                return None
+            code, so, err = run(a.spam_ark, args + ["-ts_max_time", t, "-restart", os.path.join(out, "checkpoint.h5")], out, timeout=6 * 3600)
+            return c.check(code == 0, f"{name}: continued run completes (exit {code}) {err.strip()[-300:]}")
         if extend:
-            saturated = False
-            while True:
-                t_sat, a_end = saturation(tt, A, s_theory)
-                t_need = t_sat + (1.0 + NU_WINDOW) / s_theory
-                if t_end >= t_need * (1 - 1e-9):
-                    saturated = True
-                    break
-                if extensions == MAX_EXTENSIONS or not os.path.exists(os.path.join(out, "checkpoint.h5")):
-                    break
-                extensions += 1
-                t_end = t_need
-                print(f"{name}: A reaches {SAT_LEVEL} x its end value {a_end:.3g} at t = {t_sat:.0f}: continued to {t_end:.0f}", flush=True)
-                code, so, err = run(a.spam_ark, args + ["-ts_max_time", t_end, "-restart", os.path.join(out, "checkpoint.h5")], out, timeout=6 * 3600)
-                if not c.check(code == 0, f"{name}: continued run completes (exit {code}) {err.strip()[-300:]}"):
-                    break
-                tt, A, Av, C, phi, H2 = roll_amplitudes(out, k1, y, fields)
+            t_end, series, extensions, saturated = run_to_saturation(t_end, s_theory, amplitudes, go_on,
+                                                                     log=lambda m: print(f"{name}: {m}", flush=True))
+        else:
+            series = amplitudes()
+        tt, A, Av, C, phi, H2 = series
         wall = time.time() - w0
         sm, ts = summary(out), table(os.path.join(out, "timeseries.csv"))
         if err == "(reused)":
             wall = sm["wall_time_s"]  # the run's own time, not the analysis's
         if extend:
-            t_avg = saturation(tt, A, s_theory)[0] + 1.0 / s_theory
+            t_avg = nu_from(tt, A, s_theory)
         else:
             t_avg = t_end - 3.0 / s_theory if s_theory > 0 else 0.5 * t_end
         nu, nub, nut, (qb, qt) = pc.nusselt(sm, ts, cell.t_bottom, cell.t_top, t_avg)
