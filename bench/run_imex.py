@@ -147,7 +147,7 @@ def evaluations(r):
     return r["explicit"] + r["implicit"] + r.get("assemblies", 0)
 
 
-def chart(path, runs, failed, title, table):
+def chart(path, runs, failed, title, table, load):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -170,7 +170,7 @@ def chart(path, runs, failed, title, table):
         ax.set_ylabel("max-norm error (relative)")
         ax.grid(True, which="both", alpha=0.3)
     fig.legend(loc="lower center", ncol=2, fontsize=8, frameon=False)
-    fig.suptitle(f"{title}: work at equal error (load {os.getloadavg()[0]:.0f} on {os.cpu_count()} cores)")
+    fig.suptitle(f"{title}: work at equal error (load {load:.0f} on {os.cpu_count()} cores)")
     fig.tight_layout(rect=(0, 0.1, 1, 1))
     fig.savefig(path, dpi=110)
     print(f"chart: {path}")
@@ -183,6 +183,27 @@ STYLE_KEYS = {"dp5": "DP5", "imex": "IMEX, unpreconditioned", "imex_pc": "IMEX, 
 NAMES = {"dp5": "DP5 (explicit, -ts_type arkode)", "imex": "IMEX {table}, GMRES unpreconditioned",
          "imex_pc": "IMEX {table}, GMRES preconditioned (-arkode_imex_pc diffusion)",
          "imex_jv": "IMEX {table}, preconditioned, assembled J v (-arkode_imex_jv assembled)"}
+
+
+def chart_title(a):
+    if a.case == "convection":
+        return f"Convection 32 x 16, Ra = 5 Ra_c, Pr = {a.prandtl:g}, to t = {a.t_end:g}"
+    if a.case == "couette":
+        return f"Couette from rest, nu = {a.nu:g} (Re = {0.1 * 32 / a.nu:.2g})"
+    return f"Heat mode, 2D {a.L} x {LY}, h = 3, to one e-folding"
+
+
+def redraw(a):
+    """The chart again from a readings file's runs (its load, not today's), e.g. after a style change."""
+    if not (a.readings and a.chart):
+        sys.exit("run_imex.py: --redraw needs --readings (to read) and --chart (to draw)")
+    d = json.load(open(a.readings))
+    r = d["readings"]
+    for v in filter(None, (r.get("variants") or "").split(";")):
+        vname, vopts = v.split("=", 1)
+        VARIANTS["v:" + vname.strip()] = vopts.strip()
+    failed = [(f["method"], f["rtol"]) for f in r["failed"]]
+    chart(a.chart, r["runs"], failed, chart_title(a), a.table, d["load_1min"])
 
 
 def main():
@@ -202,7 +223,11 @@ def main():
     ap.add_argument("--repeat", type=int, default=1, help="runs of each method and tolerance; the one of least CPU time is kept")
     ap.add_argument("--chart", default=None)
     ap.add_argument("--readings", default=None, help="also write the runs, table and ratios the pages quote to this JSON")
+    ap.add_argument("--redraw", action="store_true", help="run nothing: draw --chart from the runs in --readings (made with the same case options)")
     a = ap.parse_args()
+    if a.redraw:
+        redraw(a)
+        return
     DISCRETE[a.L] = heat_mode(2, a.L, H, E0, GAMMA, KAPPA, "pair")[0]
     rtols = [float(x) for x in a.rtols.split(",")]
     dp5_rtols = [float(x) for x in a.dp5_rtols.split(",")] if a.dp5_rtols else rtols
@@ -281,13 +306,7 @@ def main():
             "table": chart_readings.table(["method", "rtol", "error", "steps (rejected)", "f_E", "f_I", "GMRES", "J", "wall s", "CPU s"], rows)},
             chart=a.chart)
     if a.chart:
-        if a.case == "convection":
-            title = f"Convection 32 x 16, Ra = 5 Ra_c, Pr = {a.prandtl:g}, to t = {a.t_end:g}"
-        elif a.case == "couette":
-            title = f"Couette from rest, nu = {a.nu:g} (Re = {0.1 * 32 / a.nu:.2g})"
-        else:
-            title = f"Heat mode, 2D {a.L} x {LY}, h = 3, to one e-folding"
-        chart(a.chart, runs, failed, title, a.table)
+        chart(a.chart, runs, failed, chart_title(a), a.table, os.getloadavg()[0])
 
 
 if __name__ == "__main__":

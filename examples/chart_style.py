@@ -26,6 +26,9 @@ STYLES = {
     "IMEX, unpreconditioned": ("#1f77b4", "o"),
     "IMEX, preconditioned": ("#2ca02c", "D"),
     "IMEX, assembled J v": ("#d62728", "^"),
+    # variants of the preconditioned runs (bench/run_imex.py --variants)
+    "IMEX, predictor5": ("#9467bd", "v"),
+    "IMEX, previous": ("#8c564b", "<"),
     # symplectic, fixed steps (precision, drift, stability)
     "Verlet": ("#e377c2", ">"),
     "Symp3": ("#17becf", "p"),
