@@ -57,13 +57,14 @@ import numpy as np  # noqa: E402
 import chart_readings  # noqa: E402
 import spam_manifest  # noqa: E402
 from shock_exact import (half_level_radius, sedov_gathered_adaptive, sedov_gathered_density,  # noqa: E402
-                         sedov_profile, sedov_xi0)
+                         sedov_energy_fraction, sedov_profile, sedov_xi0)
 
 BIN = 0.5
 
 
 def snapshot(path, dim, extra=False):
-    """(t, x, m, rho_sum) of a CSV snapshot, rows in particle id order; with extra, also v."""
+    """(t, x, m, rho_sum) of a CSV snapshot, rows in particle id order; with extra, also v
+    and e (the internal energy per unit mass)."""
     with open(path) as f:
         t = float(f.readline().split("=")[1])
         rows = list(csv.DictReader(f))
@@ -71,8 +72,16 @@ def snapshot(path, dim, extra=False):
     x = np.array([[float(r[a]) for a in "xyz"[:dim]] for r in rows])
     out = (t, x, np.array([float(r["m"]) for r in rows]), np.array([float(r["rho_sum"]) for r in rows]))
     if extra:
-        out += (np.array([[float(r["v" + a]) for a in "xyz"[:dim]] for r in rows]),)
+        out += (np.array([[float(r["v" + a]) for a in "xyz"[:dim]] for r in rows]), np.array([float(r["e"]) for r in rows]))
     return out
+
+
+def energy_inside(r, v, m, e, e_amb, r_cut):
+    """The share of the blast's energy, sum m (v^2/2 + e - e_amb), held by the particles
+    with r < r_cut (the ambient's internal energy subtracted: the self-similar blast has
+    none)."""
+    q = m * (0.5 * np.sum(v * v, axis=1) + e - e_amb)
+    return float(np.sum(q[r < r_cut]) / np.sum(q))
 
 
 def lagrangian_radius(dim, gamma):
@@ -189,6 +198,8 @@ def run_radii(d, reference=True, reference_times=None):
     n = spam_manifest.option(man, "sedov_n", 20.0 if dim == 3 else 48.0)
     e0 = spam_manifest.option(man, "sedov_energy", 1e4)
     xi0, cm, prof = sedov_xi0(dim, gamma), moment_constant(dim, gamma), sedov_profile(dim, gamma)
+    e_amb = spam_manifest.option(man, "gas_e0", 1e-3)
+    half_exact, _ = sedov_energy_fraction(dim, gamma, 0.5, prof)
     sigma = {2: 2.0 * np.pi, 3: 4.0 * np.pi}[dim]
     centre = 0.5 * n
     _, x0, m0, _ = snapshot(snaps[0][1], dim)
@@ -196,7 +207,7 @@ def run_radii(d, reference=True, reference_times=None):
     r0, lag = np.linalg.norm(x0 - centre, axis=1), lagrangian_radius(dim, gamma)
     rows = []
     for t, path in snaps[1:]:
-        t, x, m, rho, v = snapshot(path, dim, extra=True)
+        t, x, m, rho, v, e = snapshot(path, dim, extra=True)
         r = np.linalg.norm(x - centre, axis=1)
         b = np.floor(r / BIN).astype(int)
         cnt, s = np.bincount(b), np.bincount(b, rho / m)
@@ -209,6 +220,8 @@ def run_radii(d, reference=True, reference_times=None):
                "half_err": r_half / r_ex - 1.0, "moment_err": r_mom / r_ex - 1.0, "half_lead": r_half - r_ex, "moment_lead": r_mom - r_ex}
         r_vel, disp = kernel_free(r, r0, x - centre, v, r_ex, t, dim, lag)
         row.update({"R_velocity": r_vel, "velocity_lead": r_vel - r_ex, "shell_displacement": disp})
+        row["energy_inside_half"] = energy_inside(r, v, m, e, e_amb, 0.5 * r_ex)
+        row["energy_inside_half_exact"] = half_exact
         i2_inv = inviscid_moment(d, dim, gamma, e0, t)
         row["I2_over_inviscid"] = i2 / i2_inv - 1.0
         row["R_moment_inviscid_err"] = (i2_inv / (sigma * cm)) ** (1.0 / (dim + 2)) / r_ex - 1.0

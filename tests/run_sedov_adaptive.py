@@ -61,9 +61,9 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "examples"))
-from sedov_radii import run_radii  # noqa: E402
+from sedov_radii import energy_inside, run_radii, snapshot  # noqa: E402
 from run_sedov import radial_profile
-from shock_exact import half_level_radius, sedov_profile, sedov_smoothed_density, sedov_xi0
+from shock_exact import half_level_radius, sedov_energy_fraction, sedov_profile, sedov_smoothed_density, sedov_xi0
 from spamrun import Checks, arguments, manifest_files, run, summary
 
 DIM, N, H, E0, GAMMA = 2, 48, 3.0, 1e4, 5.0 / 3.0
@@ -78,6 +78,7 @@ NARROW = ["-options_file", os.path.join(os.path.dirname(os.path.abspath(__file__
 # The front's lead over eta at 64^2 (t = 4, beta = 2, eta = 2.4, 3, 3.6: 0.28, 0.30, 0.28
 # spacings per unit eta; docs/scenes/sedov_layer_width.json): the largest, rounded up.
 LEAD_PER_ETA = 0.31
+E_AMBIENT = 1e-3  # the scene's ambient internal energy per unit mass (-gas_e0)
 
 
 def adaptive_smoothed_density(grid, radius, prof):
@@ -97,6 +98,35 @@ def adaptive_smoothed_density(grid, radius, prof):
         w = f[j, k] / (f[j, k] - f[j + 1, k])
         out[k] = (1 - w) * table[j, k] + w * table[j + 1, k]
     return out
+
+
+def energy_half_bound(dim, gamma, radius, h, eta, h_max):
+    """(fraction, bound, range): the self-similar share of the energy inside R/2 and the bound
+    on a run's departure from it. A particle carries its energy where it is, but the pressure
+    that works on it is an average over its range: the gas within a range of the cut at R/2
+    exchanges work across it, and its share of the energy is the self-similar energy density
+    at R/2 (d fraction/dl there) times that range over R. The range at R/2 is the fixed h, or
+    eta (m/rho(R/2))^(1/D) at the self-similar density there (m = 1, rho0 = 1), held at the
+    run's h_max."""
+    prof = sedov_profile(dim, gamma)
+    frac, slope = sedov_energy_fraction(dim, gamma, 0.5, prof)
+    rng = h if eta is None else min(eta * np.interp(0.5, prof[0][::-1], prof[2][::-1]) ** (-1.0 / dim), h_max)
+    return frac, slope * rng / radius, rng
+
+
+def check_energy_half(c, name, q, sm, res):
+    """The share of the energy inside half the self-similar radius (sedov_radii's row q)
+    against the self-similar share, within energy_half_bound; returns the departure."""
+    adaptive = sm.get("smoothing_length", "fixed") != "fixed"
+    frac, bound, rng = energy_half_bound(res["dim"], float(sm["gas_gamma"]), q["R_exact"], float(sm["h"]),
+                                         (res["h_eta"] or float(sm["h"])) if adaptive else None, float(sm.get("h_max", 2.0)) * float(sm["h"]))
+    got = q["energy_inside_half"]
+    c.check(abs(got - frac) <= bound, f"{name}, t = {q['t']:.4g}: energy inside R/2 {got:.4f} of the total against the self-similar {frac:.4f}: "
+            f"{got - frac:+.4f} (bound: its slope at R/2 times the range there, {rng:.2f}, over R: {bound:.4f})")
+    c.reading(f"{name}.energy_inside_half", got)
+    c.reading(f"{name}.energy_inside_half_exact", frac)
+    c.reading(f"{name}.energy_inside_half_bound", bound)
+    return got - frac
 
 
 def kinetic_share(out, t):
@@ -157,11 +187,37 @@ def main():
             f"t = {T_CHECK[-1]}: kinetic share {share['adaptive']:.4f} against the self-similar {ke / (ke + ie):.4f}: {err['adaptive']:+.2%} (bound h_f/R = {bound:.2%}; fixed {share['fixed']:.4f}, {err['fixed']:+.2%})")
     c.reading("adaptive.kinetic_share_error", err["adaptive"])
     c.reading("fixed.kinetic_share_error", err["fixed"])
+    energy_half_48(a, c)
     for name in RUNS:
         sm = got[name]["summary"]
         c.check(sm["energy_rel_drift_max"] < 1e-5, f"{name}: energy drift {sm['energy_rel_drift_max']:.2e} < 1e-5 (rtol 1e-6)")
     narrow_front(a, c)
     c.finish(a.readings)
+
+
+def energy_half_48(a, c):
+    """The energy inside half the self-similar radius at t = T_END, fixed against adaptive: the
+    fixed range's core holds its heat (the bound of energy_half_bound at h = 3 is exceeded:
+    the check can fail), the adaptive range's is closer to the self-similar share."""
+    frac, bound, _ = energy_half_bound(DIM, GAMMA, xi0_radius(T_END), H, None, 2.0 * H)
+    err = {}
+    for name in RUNS:
+        out = os.path.join(a.workdir, name)
+        path = [p for p in manifest_files(out, "snapshot_csv")][-1]
+        t, x, m, _, v, e = snapshot(path, DIM, extra=True)
+        r = np.linalg.norm(x - 0.5 * N, axis=1)
+        share = energy_inside(r, v, m, e, E_AMBIENT, 0.5 * xi0_radius(t))
+        err[name] = share - frac
+        c.reading(f"{name}.energy_inside_half", share)
+    c.reading("energy_inside_half_exact", frac)
+    c.check(abs(err["adaptive"]) < abs(err["fixed"]) and abs(err["fixed"]) > bound,
+            f"t = {T_END}: energy inside R/2 against the self-similar {frac:.4f}: adaptive {err['adaptive']:+.4f}, fixed {err['fixed']:+.4f} "
+            f"(the adaptive closer; the fixed outside the bound at its range, {bound:.4f})")
+
+
+def xi0_radius(t):
+    """The self-similar radius xi0 (E0 t^2)^(1/(D+2)) of this test's blast."""
+    return sedov_xi0(DIM, GAMMA) * (E0 * t * t) ** (1.0 / (DIM + 2))
 
 
 def narrow_front(a, c):
@@ -192,6 +248,7 @@ def narrow_front(a, c):
         c.reading(f"narrow.{key}_err", q[f"{key}_err"])
         c.reading(f"narrow.{key}_lead", q[f"{key}_lead"])
     c.check(abs(q["front_err"]) <= 0.02, f"narrow layer: R_front within 2% of the self-similar radius at 64^2 ({q['front_err']:+.2%})")
+    check_energy_half(c, "narrow", q, sm, res)
     c.check(sm["energy_rel_drift_max"] < 1e-5, f"narrow layer: energy drift {sm['energy_rel_drift_max']:.2e} < 1e-5 (rtol 1e-6)")
 
 
