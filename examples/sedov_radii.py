@@ -36,6 +36,9 @@ For every snapshot after t = 0 of every run directory (-scene sedov, CSV snapsho
   started between 0.7 R and 0.98 R lie beyond where the self-similar flow puts the gas that
   started there (a shell displaced by d puts the shock's equal-mass position about
   d rho2/(rho2 - rho0) ahead).
+- energy_inside_half: the share of the blast's energy, sum m (v^2/2 + e - e0) with the
+  ambient e0 subtracted, held by the particles within R_exact/2, beside the self-similar
+  share (shock_exact.sedov_energy_fraction) and energy_half_bound's bound on the difference.
 Then, per run, the time offset t0 and the space offset dR fitted to R_moment (and to
 R_half) over the snapshots: R = R_exact(t - t0) and R = R_exact(t) + dR, least squares,
 with the rms residual of each: a blast started from a blob of finite size is the point
@@ -82,6 +85,20 @@ def energy_inside(r, v, m, e, e_amb, r_cut):
     none)."""
     q = m * (0.5 * np.sum(v * v, axis=1) + e - e_amb)
     return float(np.sum(q[r < r_cut]) / np.sum(q))
+
+
+def energy_half_bound(dim, gamma, radius, h, eta=None, h_max=None, profile=None):
+    """(fraction, bound, range): the self-similar share of the energy inside R/2 and the bound
+    on a run's departure from it. A particle carries its energy where it is, but the pressure
+    that works on it is an average over its range: the gas within a range of the cut at R/2
+    exchanges work across it, and its share of the energy is the self-similar energy density
+    at R/2 (d fraction/dl there) times that range over R. The range at R/2 is the fixed h
+    (eta None), or eta (m/rho(R/2))^(1/D) at the self-similar density there (m = 1,
+    rho0 = 1), held at h_max."""
+    prof = profile if profile is not None else sedov_profile(dim, gamma)
+    frac, slope = sedov_energy_fraction(dim, gamma, 0.5, prof)
+    rng = h if eta is None else min(eta * np.interp(0.5, prof[0][::-1], prof[2][::-1]) ** (-1.0 / dim), h_max)
+    return frac, slope * rng / radius, rng
 
 
 def lagrangian_radius(dim, gamma):
@@ -199,7 +216,9 @@ def run_radii(d, reference=True, reference_times=None):
     e0 = spam_manifest.option(man, "sedov_energy", 1e4)
     xi0, cm, prof = sedov_xi0(dim, gamma), moment_constant(dim, gamma), sedov_profile(dim, gamma)
     e_amb = spam_manifest.option(man, "gas_e0", 1e-3)
-    half_exact, _ = sedov_energy_fraction(dim, gamma, 0.5, prof)
+    adaptive = sm.get("smoothing_length", "fixed") != "fixed"
+    h = float(sm["h"])
+    eta = (float(sm.get("h_eta", 0.0) or 0.0) or h) if adaptive else None
     sigma = {2: 2.0 * np.pi, 3: 4.0 * np.pi}[dim]
     centre = 0.5 * n
     _, x0, m0, _ = snapshot(snaps[0][1], dim)
@@ -220,8 +239,9 @@ def run_radii(d, reference=True, reference_times=None):
                "half_err": r_half / r_ex - 1.0, "moment_err": r_mom / r_ex - 1.0, "half_lead": r_half - r_ex, "moment_lead": r_mom - r_ex}
         r_vel, disp = kernel_free(r, r0, x - centre, v, r_ex, t, dim, lag)
         row.update({"R_velocity": r_vel, "velocity_lead": r_vel - r_ex, "shell_displacement": disp})
-        row["energy_inside_half"] = energy_inside(r, v, m, e, e_amb, 0.5 * r_ex)
-        row["energy_inside_half_exact"] = half_exact
+        half_exact, bound, rng = energy_half_bound(dim, gamma, r_ex, h, eta, float(sm.get("h_max", 2.0)) * h, prof)
+        row.update({"energy_inside_half": energy_inside(r, v, m, e, e_amb, 0.5 * r_ex), "energy_inside_half_exact": half_exact,
+                    "energy_inside_half_bound": bound, "range_at_half": rng})
         i2_inv = inviscid_moment(d, dim, gamma, e0, t)
         row["I2_over_inviscid"] = i2 / i2_inv - 1.0
         row["R_moment_inviscid_err"] = (i2_inv / (sigma * cm)) ** (1.0 / (dim + 2)) / r_ex - 1.0
@@ -270,7 +290,8 @@ def main():
         for q in res["snapshots"]:
             print(f"{d}: t = {q['t']:.4g}: R_exact {q['R_exact']:.3f}, R_half {q['R_half']:.3f} ({q['half_err']:+.2%}), "
                   f"R_moment {q['R_moment']:.3f} ({q['moment_err']:+.2%}; I2 {q['I2_over_inviscid']:+.2%} over the inviscid virial's), peak {q['peak']:.3f}, "
-                  f"velocity's half level {q['velocity_lead']:+.3f}, shell displaced {q['shell_displacement']:+.3f}"
+                  f"velocity's half level {q['velocity_lead']:+.3f}, shell displaced {q['shell_displacement']:+.3f}, "
+                  f"energy inside R/2 {q['energy_inside_half']:.4f} (self-similar {q['energy_inside_half_exact']:.4f}, bound {q['energy_inside_half_bound']:.4f})"
                   + (f"; averaged exact: half level {q['R_half_averaged_exact']:.3f} (lead {q['half_lead_over_averaged']:+.3f}), "
                      f"peak {q['peak_averaged_exact']:.3f}; R_front {q['R_front']:.3f} ({q['front_err']:+.2%}); spread to the peak "
                      f"(sigma {q['spread_sigma']:.2f}): R_front {q['R_front_spread']:.3f} ({q['front_spread_err']:+.2%})" if "R_front" in q else ""))

@@ -61,9 +61,9 @@ import sys
 import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "examples"))
-from sedov_radii import energy_inside, run_radii, snapshot  # noqa: E402
+from sedov_radii import energy_half_bound, energy_inside, run_radii, snapshot  # noqa: E402
 from run_sedov import radial_profile
-from shock_exact import half_level_radius, sedov_energy_fraction, sedov_profile, sedov_smoothed_density, sedov_xi0
+from shock_exact import half_level_radius, sedov_profile, sedov_smoothed_density, sedov_xi0
 from spamrun import Checks, arguments, manifest_files, run, summary
 
 DIM, N, H, E0, GAMMA = 2, 48, 3.0, 1e4, 5.0 / 3.0
@@ -100,29 +100,13 @@ def adaptive_smoothed_density(grid, radius, prof):
     return out
 
 
-def energy_half_bound(dim, gamma, radius, h, eta, h_max):
-    """(fraction, bound, range): the self-similar share of the energy inside R/2 and the bound
-    on a run's departure from it. A particle carries its energy where it is, but the pressure
-    that works on it is an average over its range: the gas within a range of the cut at R/2
-    exchanges work across it, and its share of the energy is the self-similar energy density
-    at R/2 (d fraction/dl there) times that range over R. The range at R/2 is the fixed h, or
-    eta (m/rho(R/2))^(1/D) at the self-similar density there (m = 1, rho0 = 1), held at the
-    run's h_max."""
-    prof = sedov_profile(dim, gamma)
-    frac, slope = sedov_energy_fraction(dim, gamma, 0.5, prof)
-    rng = h if eta is None else min(eta * np.interp(0.5, prof[0][::-1], prof[2][::-1]) ** (-1.0 / dim), h_max)
-    return frac, slope * rng / radius, rng
-
-
-def check_energy_half(c, name, q, sm, res):
+def check_energy_half(c, name, q):
     """The share of the energy inside half the self-similar radius (sedov_radii's row q)
-    against the self-similar share, within energy_half_bound; returns the departure."""
-    adaptive = sm.get("smoothing_length", "fixed") != "fixed"
-    frac, bound, rng = energy_half_bound(res["dim"], float(sm["gas_gamma"]), q["R_exact"], float(sm["h"]),
-                                         (res["h_eta"] or float(sm["h"])) if adaptive else None, float(sm.get("h_max", 2.0)) * float(sm["h"]))
-    got = q["energy_inside_half"]
+    against the self-similar share, within sedov_radii.energy_half_bound; returns the
+    departure."""
+    got, frac, bound = q["energy_inside_half"], q["energy_inside_half_exact"], q["energy_inside_half_bound"]
     c.check(abs(got - frac) <= bound, f"{name}, t = {q['t']:.4g}: energy inside R/2 {got:.4f} of the total against the self-similar {frac:.4f}: "
-            f"{got - frac:+.4f} (bound: its slope at R/2 times the range there, {rng:.2f}, over R: {bound:.4f})")
+            f"{got - frac:+.4f} (bound: its slope at R/2 times the range there, {q['range_at_half']:.2f}, over R: {bound:.4f})")
     c.reading(f"{name}.energy_inside_half", got)
     c.reading(f"{name}.energy_inside_half_exact", frac)
     c.reading(f"{name}.energy_inside_half_bound", bound)
@@ -199,7 +183,7 @@ def energy_half_48(a, c):
     """The energy inside half the self-similar radius at t = T_END, fixed against adaptive: the
     fixed range's core holds its heat (the bound of energy_half_bound at h = 3 is exceeded:
     the check can fail), the adaptive range's is closer to the self-similar share."""
-    frac, bound, _ = energy_half_bound(DIM, GAMMA, xi0_radius(T_END), H, None, 2.0 * H)
+    frac, bound, _ = energy_half_bound(DIM, GAMMA, xi0_radius(T_END), H)
     err = {}
     for name in RUNS:
         out = os.path.join(a.workdir, name)
@@ -248,7 +232,7 @@ def narrow_front(a, c):
         c.reading(f"narrow.{key}_err", q[f"{key}_err"])
         c.reading(f"narrow.{key}_lead", q[f"{key}_lead"])
     c.check(abs(q["front_err"]) <= 0.02, f"narrow layer: R_front within 2% of the self-similar radius at 64^2 ({q['front_err']:+.2%})")
-    check_energy_half(c, "narrow", q, sm, res)
+    check_energy_half(c, "narrow", q)
     c.check(sm["energy_rel_drift_max"] < 1e-5, f"narrow layer: energy drift {sm['energy_rel_drift_max']:.2e} < 1e-5 (rtol 1e-6)")
 
 
