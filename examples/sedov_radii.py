@@ -240,7 +240,8 @@ def run_radii(d, reference=True, reference_times=None):
         r_vel, disp = kernel_free(r, r0, x - centre, v, r_ex, t, dim, lag)
         row.update({"R_velocity": r_vel, "velocity_lead": r_vel - r_ex, "shell_displacement": disp})
         half_exact, bound, rng = energy_half_bound(dim, gamma, r_ex, h, eta, float(sm.get("h_max", 2.0)) * h, prof)
-        row.update({"energy_inside_half": energy_inside(r, v, m, e, e_amb, 0.5 * r_ex), "energy_inside_half_exact": half_exact,
+        share = energy_inside(r, v, m, e, e_amb, 0.5 * r_ex)
+        row.update({"energy_inside_half": share, "energy_inside_half_exact": half_exact, "energy_inside_half_diff": share - half_exact,
                     "energy_inside_half_bound": bound, "range_at_half": rng})
         i2_inv = inviscid_moment(d, dim, gamma, e0, t)
         row["I2_over_inviscid"] = i2 / i2_inv - 1.0
