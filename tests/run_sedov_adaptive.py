@@ -171,7 +171,7 @@ def main():
             f"t = {T_CHECK[-1]}: kinetic share {share['adaptive']:.4f} against the self-similar {ke / (ke + ie):.4f}: {err['adaptive']:+.2%} (bound h_f/R = {bound:.2%}; fixed {share['fixed']:.4f}, {err['fixed']:+.2%})")
     c.reading("adaptive.kinetic_share_error", err["adaptive"])
     c.reading("fixed.kinetic_share_error", err["fixed"])
-    energy_half_48(a, c)
+    energy_half_48(a, c, prof)
     for name in RUNS:
         sm = got[name]["summary"]
         c.check(sm["energy_rel_drift_max"] < 1e-5, f"{name}: energy drift {sm['energy_rel_drift_max']:.2e} < 1e-5 (rtol 1e-6)")
@@ -179,12 +179,12 @@ def main():
     c.finish(a.readings)
 
 
-def energy_half_48(a, c):
+def energy_half_48(a, c, prof):
     """The energy inside half the self-similar radius at t = T_END, fixed against adaptive: the
     fixed range's core holds its heat (the bound of energy_half_bound at h = 3 is exceeded:
     the check can fail), the adaptive range's is closer to the self-similar share. Measured:
     fixed 0.4408, adaptive 0.1749 against 0.1279 (bound at h = 3: 0.0893)."""
-    frac, bound, _ = energy_half_bound(DIM, GAMMA, xi0_radius(T_END), H)
+    frac, bound, _ = energy_half_bound(DIM, GAMMA, xi0_radius(T_END), H, profile=prof)
     err = {}
     for name in RUNS:
         out = os.path.join(a.workdir, name)
