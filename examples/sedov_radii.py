@@ -36,6 +36,9 @@ For every snapshot after t = 0 of every run directory (-scene sedov, CSV snapsho
   started between 0.7 R and 0.98 R lie beyond where the self-similar flow puts the gas that
   started there (a shell displaced by d puts the shock's equal-mass position about
   d rho2/(rho2 - rho0) ahead).
+- energy_inside_half: the share of the blast's energy, sum m (v^2/2 + e - e0) with the
+  ambient e0 subtracted, held by the particles within R_exact/2, beside the self-similar
+  share (shock_exact.sedov_energy_fraction) and energy_half_bound's bound on the difference.
 Then, per run, the time offset t0 and the space offset dR fitted to R_moment (and to
 R_half) over the snapshots: R = R_exact(t - t0) and R = R_exact(t) + dR, least squares,
 with the rms residual of each: a blast started from a blob of finite size is the point
@@ -57,13 +60,14 @@ import numpy as np  # noqa: E402
 import chart_readings  # noqa: E402
 import spam_manifest  # noqa: E402
 from shock_exact import (half_level_radius, sedov_gathered_adaptive, sedov_gathered_density,  # noqa: E402
-                         sedov_profile, sedov_xi0)
+                         sedov_energy_fraction, sedov_profile, sedov_xi0)
 
 BIN = 0.5
 
 
 def snapshot(path, dim, extra=False):
-    """(t, x, m, rho_sum) of a CSV snapshot, rows in particle id order; with extra, also v."""
+    """(t, x, m, rho_sum) of a CSV snapshot, rows in particle id order; with extra, also v
+    and e (the internal energy per unit mass)."""
     with open(path) as f:
         t = float(f.readline().split("=")[1])
         rows = list(csv.DictReader(f))
@@ -71,8 +75,30 @@ def snapshot(path, dim, extra=False):
     x = np.array([[float(r[a]) for a in "xyz"[:dim]] for r in rows])
     out = (t, x, np.array([float(r["m"]) for r in rows]), np.array([float(r["rho_sum"]) for r in rows]))
     if extra:
-        out += (np.array([[float(r["v" + a]) for a in "xyz"[:dim]] for r in rows]),)
+        out += (np.array([[float(r["v" + a]) for a in "xyz"[:dim]] for r in rows]), np.array([float(r["e"]) for r in rows]))
     return out
+
+
+def energy_inside(r, v, m, e, e_amb, r_cut):
+    """The share of the blast's energy, sum m (v^2/2 + e - e_amb), held by the particles
+    with r < r_cut (the ambient's internal energy subtracted: the self-similar blast has
+    none)."""
+    q = m * (0.5 * np.sum(v * v, axis=1) + e - e_amb)
+    return float(np.sum(q[r < r_cut]) / np.sum(q))
+
+
+def energy_half_bound(dim, gamma, radius, h, eta=None, h_max=None, profile=None):
+    """(fraction, bound, range): the self-similar share of the energy inside R/2 and the bound
+    on a run's departure from it. A particle carries its energy where it is, but the pressure
+    that works on it is an average over its range: the gas within a range of the cut at R/2
+    exchanges work across it, and its share of the energy is the self-similar energy density
+    at R/2 (d fraction/dl there) times that range over R. The range at R/2 is the fixed h
+    (eta None), or eta (m/rho(R/2))^(1/D) at the self-similar density there (m = 1,
+    rho0 = 1), held at h_max."""
+    prof = profile if profile is not None else sedov_profile(dim, gamma)
+    frac, slope = sedov_energy_fraction(dim, gamma, 0.5, prof)
+    rng = h if eta is None else min(eta * np.interp(0.5, prof[0][::-1], prof[2][::-1]) ** (-1.0 / dim), h_max)
+    return frac, slope * rng / radius, rng
 
 
 def lagrangian_radius(dim, gamma):
@@ -189,6 +215,10 @@ def run_radii(d, reference=True, reference_times=None):
     n = spam_manifest.option(man, "sedov_n", 20.0 if dim == 3 else 48.0)
     e0 = spam_manifest.option(man, "sedov_energy", 1e4)
     xi0, cm, prof = sedov_xi0(dim, gamma), moment_constant(dim, gamma), sedov_profile(dim, gamma)
+    e_amb = spam_manifest.option(man, "gas_e0", 1e-3)
+    adaptive = sm.get("smoothing_length", "fixed") != "fixed"
+    h = float(sm["h"])
+    eta = (float(sm.get("h_eta", 0.0) or 0.0) or h) if adaptive else None
     sigma = {2: 2.0 * np.pi, 3: 4.0 * np.pi}[dim]
     centre = 0.5 * n
     _, x0, m0, _ = snapshot(snaps[0][1], dim)
@@ -196,7 +226,7 @@ def run_radii(d, reference=True, reference_times=None):
     r0, lag = np.linalg.norm(x0 - centre, axis=1), lagrangian_radius(dim, gamma)
     rows = []
     for t, path in snaps[1:]:
-        t, x, m, rho, v = snapshot(path, dim, extra=True)
+        t, x, m, rho, v, e = snapshot(path, dim, extra=True)
         r = np.linalg.norm(x - centre, axis=1)
         b = np.floor(r / BIN).astype(int)
         cnt, s = np.bincount(b), np.bincount(b, rho / m)
@@ -209,6 +239,10 @@ def run_radii(d, reference=True, reference_times=None):
                "half_err": r_half / r_ex - 1.0, "moment_err": r_mom / r_ex - 1.0, "half_lead": r_half - r_ex, "moment_lead": r_mom - r_ex}
         r_vel, disp = kernel_free(r, r0, x - centre, v, r_ex, t, dim, lag)
         row.update({"R_velocity": r_vel, "velocity_lead": r_vel - r_ex, "shell_displacement": disp})
+        half_exact, bound, rng = energy_half_bound(dim, gamma, r_ex, h, eta, float(sm.get("h_max", 2.0)) * h, prof)
+        share = energy_inside(r, v, m, e, e_amb, 0.5 * r_ex)
+        row.update({"energy_inside_half": share, "energy_inside_half_exact": half_exact, "energy_inside_half_diff": share - half_exact,
+                    "energy_inside_half_bound": bound, "range_at_half": rng})
         i2_inv = inviscid_moment(d, dim, gamma, e0, t)
         row["I2_over_inviscid"] = i2 / i2_inv - 1.0
         row["R_moment_inviscid_err"] = (i2_inv / (sigma * cm)) ** (1.0 / (dim + 2)) / r_ex - 1.0
@@ -257,7 +291,8 @@ def main():
         for q in res["snapshots"]:
             print(f"{d}: t = {q['t']:.4g}: R_exact {q['R_exact']:.3f}, R_half {q['R_half']:.3f} ({q['half_err']:+.2%}), "
                   f"R_moment {q['R_moment']:.3f} ({q['moment_err']:+.2%}; I2 {q['I2_over_inviscid']:+.2%} over the inviscid virial's), peak {q['peak']:.3f}, "
-                  f"velocity's half level {q['velocity_lead']:+.3f}, shell displaced {q['shell_displacement']:+.3f}"
+                  f"velocity's half level {q['velocity_lead']:+.3f}, shell displaced {q['shell_displacement']:+.3f}, "
+                  f"energy inside R/2 {q['energy_inside_half']:.4f} (self-similar {q['energy_inside_half_exact']:.4f}, bound {q['energy_inside_half_bound']:.4f})"
                   + (f"; averaged exact: half level {q['R_half_averaged_exact']:.3f} (lead {q['half_lead_over_averaged']:+.3f}), "
                      f"peak {q['peak_averaged_exact']:.3f}; R_front {q['R_front']:.3f} ({q['front_err']:+.2%}); spread to the peak "
                      f"(sigma {q['spread_sigma']:.2f}): R_front {q['R_front_spread']:.3f} ({q['front_spread_err']:+.2%})" if "R_front" in q else ""))

@@ -153,14 +153,32 @@ def sedov_profile(nu, gamma, steps=4000, l_min=1e-3):
     return ls, out[:, 0], out[:, 1], out[:, 2]
 
 
+def sedov_energy_density(nu, gamma, profile):
+    """The blast's energy (kinetic + internal, the ambient's zero) per unit l = r/R in
+    similarity variables: (g f^2/2 + h/(gamma - 1)) l^(nu-1), along the profile's l."""
+    l, f, g, h = profile
+    return (0.5 * g * f * f + h / (gamma - 1.0)) * l ** (nu - 1)
+
+
 def sedov_xi0(nu, gamma):
     """xi0 of R = xi0 (E t^2/rho0)^(1/(nu+2)) from the energy integral."""
-    l, f, g, h = sedov_profile(nu, gamma)
-    integrand = (0.5 * g * f * f + h / (gamma - 1.0)) * l ** (nu - 1)
-    i = -np.trapz(integrand, l)  # l decreases along the arrays
+    prof = sedov_profile(nu, gamma)
+    i = -np.trapz(sedov_energy_density(nu, gamma, prof), prof[0])  # l decreases along the arrays
     a = 2.0 / (nu + 2.0)
     sigma = {2: 2.0 * math.pi, 3: 4.0 * math.pi}[nu]
     return (sigma * a * a * i) ** (-1.0 / (nu + 2.0))
+
+
+def sedov_energy_fraction(nu, gamma, l_cut=0.5, profile=None):
+    """(fraction, slope): the share of the blast's energy inside r < l_cut R in the
+    self-similar solution, and its derivative d(fraction)/dl at l_cut (the energy density
+    there over the total: what a shift or a smearing of the cut by dl costs). The integral
+    is cut exactly at l_cut (the profile interpolated linearly in l there)."""
+    prof = profile if profile is not None else sedov_profile(nu, gamma)
+    l, eps = prof[0][::-1], sedov_energy_density(nu, gamma, prof)[::-1]  # l increasing
+    total = np.trapz(eps, l)
+    x = np.concatenate([l[l < l_cut], [l_cut]])
+    return float(np.trapz(np.interp(x, l, eps), x) / total), float(np.interp(l_cut, l, eps) / total)
 
 
 if __name__ == "__main__":
