@@ -147,6 +147,19 @@ def evaluations(r):
     return r["explicit"] + r["implicit"] + r.get("assemblies", 0)
 
 
+def narrow_log_ticks(axis, lim):
+    """Over two decades or less matplotlib labels a log axis's minor ticks, and the labels
+    run into each other (or labels only one decade): there, labels at 1, 2 and 5 of each
+    decade (within one decade also at 1.5, 3 and 7), written as plain numbers, none between."""
+    from matplotlib.ticker import FuncFormatter, LogLocator, NullFormatter
+    span = lim[1] / lim[0]
+    if span < 100:
+        subs = (1.0, 1.5, 2.0, 3.0, 5.0, 7.0) if span < 10 else (1.0, 2.0, 5.0)
+        axis.set_major_locator(LogLocator(base=10, subs=subs))
+        axis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+        axis.set_minor_formatter(NullFormatter())
+
+
 def chart(path, runs, failed, title, table, load):
     import matplotlib
     matplotlib.use("Agg")
@@ -169,6 +182,7 @@ def chart(path, runs, failed, title, table, load):
     for ax in axes:
         ax.set_ylabel("max-norm error (relative)")
         ax.grid(True, which="both", alpha=0.3)
+        narrow_log_ticks(ax.xaxis, ax.get_xlim())
     fig.legend(loc="lower center", ncol=2, fontsize=8, frameon=False)
     fig.suptitle(f"{title}: work at equal error (load {load:.0f} on {os.cpu_count()} cores)")
     fig.tight_layout(rect=(0, 0.1, 1, 1))
