@@ -24,7 +24,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from run_callgrind_h import counted_run  # spam-ark under callgrind: its summary and counts
+from run_callgrind_h import counted_record  # spam-ark under callgrind: its summary and counts
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
 CASES = {
@@ -44,13 +44,9 @@ def parse_args(argv):
 def run_one(args, case, lin, toggle, workdir):
     name = "%s_%s_%s" % (case, "on" if lin else "off", toggle)
     out = workdir / name
-    cg = workdir / ("callgrind_%s.out" % name)
     cmd = [args.spam_ark, *CASES[case], "-conduction_linear", "true" if lin else "false", "-output_interval", "0",
            "-snapshot_interval", "0", "-output_dir", str(out), "-output_overwrite", "-quiet"]
-    sm, ir, evals, command = counted_run(cmd, toggle, cg, workdir / ("callgrind_%s.log" % name), out, cwd=str(REPO_ROOT))
-    return {"command": command.replace(str(REPO_ROOT) + "/", "").replace(str(workdir) + "/", ""),
-            "n_particles": int(sm["n_particles"]), "rhs_evals": evals, "steps": int(sm["steps"]), "instructions": ir,
-            "instructions_per_rhs": ir / evals}
+    return counted_record(cmd, toggle, workdir, name, out)
 
 
 def main(argv=None):

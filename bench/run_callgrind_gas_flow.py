@@ -28,7 +28,7 @@ import sys
 import tempfile
 from pathlib import Path
 
-from run_callgrind_h import counted_run  # spam-ark under callgrind: its summary and counts
+from run_callgrind_h import counted_record  # spam-ark under callgrind: its summary and counts
 
 REPO_ROOT = Path(__file__).resolve().parent.parent
 TOGGLE = "SpamRhs"
@@ -62,13 +62,9 @@ def parse_args(argv):
 def run_one(args, case, variant, workdir):
     name = "%s_%s" % (case, variant.replace(":", "_"))
     out = workdir / name
-    cg = workdir / ("callgrind_%s.out" % name)
     cmd = [args.spam_ark, *CASES[case], *VARIANTS[variant], "-output_interval", "0", "-snapshot_interval", "0",
            "-output_dir", str(out), "-output_overwrite", "-quiet"]
-    sm, ir, evals, command = counted_run(cmd, TOGGLE, cg, workdir / ("callgrind_%s.log" % name), out, cwd=str(REPO_ROOT))
-    return {"command": command.replace(str(REPO_ROOT) + "/", "").replace(str(workdir) + "/", ""),
-            "n_particles": int(sm["n_particles"]), "rhs_evals": evals, "steps": int(sm["steps"]), "instructions": ir,
-            "instructions_per_rhs": ir / evals}
+    return counted_record(cmd, TOGGLE, workdir, name, out)
 
 
 def main(argv=None):

@@ -65,6 +65,16 @@ def counted_run(cmd, toggle, cg, log, out, cwd=None):
     return sm, totals(cg), int(sm["rhs_evals_process"]), " ".join(vg[:3] + [str(x) for x in cmd[1:]])
 
 
+def counted_record(cmd, toggle, workdir, name, out):
+    """counted_run of one named run in workdir, as the record the callgrind benches keep:
+    the command (paths relative), particles, evaluations, steps, instructions in all and per RHS."""
+    sm, ir, evals, command = counted_run(cmd, toggle, workdir / ("callgrind_%s.out" % name), workdir / ("callgrind_%s.log" % name),
+                                         out, cwd=str(REPO_ROOT))
+    return {"command": command.replace(str(REPO_ROOT) + "/", "").replace(str(workdir) + "/", ""),
+            "n_particles": int(sm["n_particles"]), "rhs_evals": evals, "steps": int(sm["steps"]), "instructions": ir,
+            "instructions_per_rhs": ir / evals}
+
+
 def run_one(args, case, name, extra, workdir):
     label, dim, n, t_end = case
     out = workdir / ("%s_%s" % (label, name))
